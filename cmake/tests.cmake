@@ -1,0 +1,15 @@
+# Test registration. Unit tests: one ctest entry per doctest test suite file group.
+# CLI tests: shell scripts in tests/cli, run against the built fovref binary.
+include(doctest)
+doctest_discover_tests(fovref_tests WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+
+file(GLOB FOVREF_CLI_TESTS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/tests/cli/*.sh)
+foreach(script ${FOVREF_CLI_TESTS})
+  get_filename_component(name ${script} NAME_WE)
+  add_test(NAME cli.${name} COMMAND bash ${script} $<TARGET_FILE:fovref_cli> ${PROJECT_SOURCE_DIR})
+  set_tests_properties(cli.${name} PROPERTIES WORKING_DIRECTORY ${PROJECT_BINARY_DIR})
+endforeach()
+
+# The renderer library must import no libm transcendental (SPEC §0).
+add_test(NAME core.no_libm_transcendentals
+  COMMAND bash ${PROJECT_SOURCE_DIR}/tools/check_no_libm.sh $<TARGET_FILE:fovref>)

@@ -1,0 +1,47 @@
+// Image files (SPEC §1): PFM for float buffers, PNG for previews, EXR for exchange with GPU tools.
+// Every reader validates the header and the size of the payload against the file, and throws
+// fovref::Error naming the file and what is wrong; a truncated or corrupt file never crashes.
+// Writers write to a temporary file beside the target and rename it, so a failed write never
+// leaves a half-written file under the target name.
+#pragma once
+
+#include <string>
+
+#include "ref/image/image.h"
+
+namespace fovref {
+
+enum class Endian { little, big };
+
+/// PFM: "PF" (3 channels) or "Pf" (1 channel), "W H", scale (negative = little-endian), rows
+/// bottom-to-top in the file. Images with 2 or 4+ channels cannot be PFM and are rejected.
+Image read_pfm(const std::string& path);
+void write_pfm(const std::string& path, const Image& image, Endian endian = Endian::little);
+
+/// PNG preview: 1 channel -> grey, 3 -> RGB, 4 -> RGBA; values clamped to [0,1] and sRGB-encoded
+/// (the alpha channel is linear), 8 bits. 2-channel buffers are written as RG with B = 0.
+void write_png(const std::string& path, const Image& image);
+
+/// PNG read: 8- or 16-bit, grey/grey-alpha/RGB/RGBA. With `srgb_decode` the colour channels are
+/// decoded from sRGB to linear; otherwise the stored value / 255 (or / 65535) is returned.
+Image read_png(const std::string& path, bool srgb_decode = true);
+
+/// EXR: written as 32-bit float channels (R,G,B / Y / R,G,B,A, or C0..Cn for other counts),
+/// lossless (ZIP). Read: any pixel type converted to float; Y, RGB, RGBA or C0..Cn layouts.
+Image read_exr(const std::string& path);
+void write_exr(const std::string& path, const Image& image);
+
+/// By extension: .pfm, .png, .exr (case-insensitive).
+Image read_image(const std::string& path);
+void write_image(const std::string& path, const Image& image);
+
+/// sRGB transfer functions (IEC 61966-2-1), deterministic (dm::pow).
+float srgb_encode(float linear);
+float srgb_decode(float encoded);
+
+/// Write `bytes` to `path` atomically (temporary file + rename). Throws fovref::Error.
+void write_file_atomic(const std::string& path, const std::string& bytes);
+/// Read a whole file. Throws fovref::Error naming the file when it cannot be opened.
+std::string read_file(const std::string& path);
+
+}  // namespace fovref

@@ -1,0 +1,125 @@
+#include "ref/scene/scene.h"
+
+#include <cmath>
+#include <string>
+
+#include "ref/core/error.h"
+
+namespace fovref {
+
+namespace {
+bool finite3(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+}  // namespace
+
+float triangle_double_area(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    return glm::length(glm::cross(b - a, c - a));
+}
+
+Bounds scene_bounds(const Scene& scene) {
+    Bounds bounds;
+    if (scene.positions.empty()) return bounds;
+    bounds.min = bounds.max = scene.positions[0];
+    for (const glm::vec3& p : scene.positions) {
+        bounds.min = glm::min(bounds.min, p);
+        bounds.max = glm::max(bounds.max, p);
+    }
+    return bounds;
+}
+
+void finalize_scene(Scene& scene) {
+    const std::size_t triangles = scene.material_ids.size();
+    // Check the invariants every stage relies on.
+    if (scene.positions.size() != 3 * triangles || scene.normals.size() != 3 * triangles ||
+        scene.uvs.size() != 3 * triangles)
+        throw Error(scene.source + ": inconsistent triangle arrays: " + std::to_string(triangles) +
+                    " triangles, " + std::to_string(scene.positions.size()) + " positions, " +
+                    std::to_string(scene.normals.size()) + " normals, " +
+                    std::to_string(scene.uvs.size()) + " uvs");
+    for (std::size_t t = 0; t < triangles; ++t) {
+        const std::int32_t m = scene.material_ids[t];
+        if (m < 0 || static_cast<std::size_t>(m) >= scene.materials.size())
+            throw Error(scene.source + ": triangle " + std::to_string(t) + " has material " +
+                        std::to_string(m) + ", but the scene has " +
+                        std::to_string(scene.materials.size()) + " materials");
+        for (int k = 0; k < 3; ++k) {
+            if (!finite3(scene.positions[3 * t + k]) || !finite3(scene.normals[3 * t + k]))
+                throw Error(scene.source + ": triangle " + std::to_string(t) +
+                            " has a non-finite position or normal");
+        }
+    }
+    for (const Material& material : scene.materials) {
+        if (material.texture < -1 || material.texture >= static_cast<int>(scene.textures.size()))
+            throw Error(scene.source + ": material '" + material.name + "' has texture index " +
+                        std::to_string(material.texture) + " out of range");
+        if (!finite3(material.albedo) || !finite3(material.emission) || !finite3(material.specular) ||
+            !std::isfinite(material.roughness))
+            throw Error(scene.source + ": material '" + material.name + "' has a non-finite value");
+    }
+    for (const Texture& texture : scene.textures)
+        if (texture.image.channels != 3 || texture.image.empty())
+            throw Error(scene.source + ": texture '" + texture.name + "' is empty or not RGB");
+
+    // Emissive triangles become triangle lights, in triangle order (after the explicit lights).
+    for (std::size_t t = 0; t < triangles; ++t) {
+        const Material& material = scene.materials[scene.material_ids[t]];
+        if (material.emission.x > 0.0f || material.emission.y > 0.0f || material.emission.z > 0.0f) {
+            Light light;
+            light.type = Light::Type::triangle;
+            light.position = scene.positions[3 * t];
+            light.edge_u = scene.positions[3 * t + 1] - scene.positions[3 * t];
+            light.edge_v = scene.positions[3 * t + 2] - scene.positions[3 * t];
+            light.intensity = material.emission;
+            light.primitive = static_cast<int>(t);
+            scene.lights.push_back(light);
+        }
+    }
+    Bounds bounds = scene_bounds(scene);
+    float diagonal = glm::length(bounds.max - bounds.min);
+    scene.scene_scale = diagonal > 0.0f ? diagonal : 1.0f;
+}
+
+Camera camera_at(const Scene& scene, float time) {
+    const std::vector<CameraKey>& path = scene.camera_path;
+    if (path.empty()) return scene.camera;
+    auto make = [&](glm::vec3 position, glm::quat orientation) {
+        return camera_from_quat(position, orientation, scene.camera.vfov_deg);
+    };
+    if (!(time > path.front().time)) return make(path.front().position, path.front().orientation);
+    if (!(time < path.back().time)) return make(path.back().position, path.back().orientation);
+    std::size_t k = 1;
+    while (path[k].time < time) ++k;  // path times are strictly increasing (checked on load)
+    const CameraKey& a = path[k - 1];
+    const CameraKey& b = path[k];
+    float t = (time - a.time) / (b.time - a.time);
+    glm::vec3 position = a.position + (b.position - a.position) * t;
+    return make(position, slerp_deterministic(a.orientation, b.orientation, t));
+}
+
+glm::vec3 sample_texture_bilinear(const Texture& texture, glm::vec2 uv) {
+    const Image& image = texture.image;
+    // Texel centres at (i + 0.5) / W; v = 0 is the bottom row (the image's last row).
+    float x = uv.x * static_cast<float>(image.width) - 0.5f;
+    float y = (1.0f - uv.y) * static_cast<float>(image.height) - 0.5f;
+    if (!std::isfinite(x) || !std::isfinite(y)) return glm::vec3(0.0f);
+    float fx = std::floor(x);
+    float fy = std::floor(y);
+    float tx = x - fx;
+    float ty = y - fy;
+    auto wrap = [](float i, int n) {
+        // i is integral; reduce with fmod-free arithmetic to avoid int overflow for huge uvs.
+        double r = static_cast<double>(i) - std::floor(static_cast<double>(i) / n) * n;
+        int k = static_cast<int>(r);
+        return k >= n ? k - n : (k < 0 ? k + n : k);
+    };
+    int x0 = wrap(fx, image.width), x1 = wrap(fx + 1.0f, image.width);
+    int y0 = wrap(fy, image.height), y1 = wrap(fy + 1.0f, image.height);
+    glm::vec3 result(0.0f);
+    for (int c = 0; c < 3; ++c) {
+        float top = image.at(x0, y0, c) * (1.0f - tx) + image.at(x1, y0, c) * tx;
+        float bottom = image.at(x0, y1, c) * (1.0f - tx) + image.at(x1, y1, c) * tx;
+        result[c] = top * (1.0f - ty) + bottom * ty;
+    }
+    return result;
+}
+
+}  // namespace fovref

@@ -1,0 +1,28 @@
+// Scene files (SPEC §2): a JSON document naming OBJ/MTL meshes, textures, materials, lights, the
+// camera, a camera path, the display model and presets. docs/scene-format.md documents every key.
+// Errors name the file and line (JSON and OBJ alike); zero-area triangles are dropped and
+// counted in Scene::load_stats.
+#pragma once
+
+#include <string>
+
+#include "ref/scene/scene.h"
+
+namespace fovref {
+
+/// Load a scene file. Throws fovref::Error("file:line: message") on any invalid input.
+Scene load_scene_file(const std::string& path);
+
+/// Load one OBJ file (with its MTL and textures) into `scene`, appending triangles and materials.
+/// `transform` maps object to world space. Used by load_scene_file; exposed for tests.
+void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& transform);
+
+/// Write the scene as OBJ + MTL + PNG/PFM textures + scene.json into `directory` (created), so
+/// that load_scene_file(directory + "/scene.json") gives back the same triangles, materials,
+/// lights and camera. Positions are written with 9 significant digits, which round-trips binary32.
+void export_scene(const Scene& scene, const std::string& directory);
+
+/// A scene argument as the CLI takes it: a procedural scene's name or a path to a scene file.
+Scene load_scene(const std::string& name_or_path);
+
+}  // namespace fovref
