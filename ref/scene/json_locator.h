@@ -1,0 +1,51 @@
+// Source lines of JSON values, for error messages (SPEC §2: "reported with file and line").
+//
+// nlohmann::json parses a document but forgets where each value was. The locator walks the same
+// text once with a tiny tokenizer that tracks the JSON pointer (RFC 6901) of the value it is in,
+// and records for every value the line of its key (array elements: of the value) and the line
+// where the value starts. The scene loader validates the parsed document and, on a semantic
+// error, asks the locator for the line of the offending pointer.
+//
+// The walk also finds what nlohmann accepts or rejects without a position: duplicate keys
+// (nlohmann keeps the last one silently) and numbers that overflow binary64 (nlohmann throws
+// out_of_range without a byte offset). Both are thrown as fovref::Error with file:line.
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <string>
+
+namespace fovref {
+
+struct JsonLocation {
+    int key_line = 0;    ///< line of the member's key; for array elements, of the value
+    int value_line = 0;  ///< line of the value's first character
+};
+
+class JsonLocator {
+public:
+    /// Walks `text`, which should be valid JSON (parse it with nlohmann first; anything the
+    /// tokenizer cannot follow is reported as a syntax error with line and column). Throws
+    /// fovref::Error naming `file` on duplicate keys, numbers beyond binary64 and nesting deeper
+    /// than max_depth.
+    JsonLocator(const std::string& text, const std::string& file);
+
+    /// Location of the value at `pointer` ("" = the root, "/camera/position/1"); zero lines when
+    /// the pointer names no value in the text.
+    JsonLocation find(const std::string& pointer) const;
+
+    static constexpr int max_depth = 256;
+
+private:
+    std::map<std::string, JsonLocation> locations_;
+};
+
+/// JSON pointer of a member or element: escapes '~' as "~0" and '/' as "~1" (RFC 6901).
+std::string json_pointer_member(const std::string& pointer, const std::string& key);
+std::string json_pointer_element(const std::string& pointer, std::size_t index);
+
+/// 1-based line and column of byte `offset` (0-based) in `text`; offsets past the end point at
+/// the last character.
+void json_line_column(const std::string& text, std::size_t offset, int& line, int& column);
+
+}  // namespace fovref

@@ -1,0 +1,519 @@
+// OBJ + MTL meshes (SPEC §2), parsed by tinyobjloader.
+//
+// tinyobjloader reports few problems and almost never with a line: it reads a malformed number
+// as 0, "nan" as 0, and an out-of-range face index as an error without context. So before
+// handing the text to it, a light validating pre-scan walks the OBJ (and every MTL it names)
+// statement by statement: numbers must parse completely and be finite binary32, face indices
+// must be in range (1-based or negative-relative, as OBJ defines them), named MTL files and
+// textures must exist, usemtl must name a material defined earlier. Each failure is thrown as
+// fovref::Error "file:line: message". The pre-scan also records the line of every face, which
+// is how a zero-area triangle's warning names its line.
+//
+// Geometry then comes from tinyobjloader (triangulate = false: we fan-triangulate ourselves,
+// polygon (v0, v1, ..., vn-1) -> (v0, vk, vk+1) for k = 1 .. n-2, in order), so the triangle
+// order is the face order of the file. Each triangle is transformed to world space, dropped if
+// its area is zero or not finite (counted), and given geometric normals where the file has none
+// (counted) and uv (0,0) where it has no texture coordinates.
+#include <tiny_obj_loader.h>
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <sstream>
+#include <string_view>
+#include <vector>
+
+#include "ref/core/error.h"
+#include "ref/image/image_io.h"
+#include "ref/scene/obj_loader.h"
+#include "ref/scene/scene_file.h"
+
+namespace fovref {
+
+namespace {
+
+constexpr int max_zero_area_warnings = 5;
+// Normals whose squared length is within this of 1 are kept as written (so an exported scene
+// reloads bit-exactly); others are normalised. Float normalisation leaves |n|^2 - 1 within a
+// few ulp (~2e-7), well inside it.
+constexpr float unit_length_tolerance = 1e-6f;
+
+std::string location(const std::string& file, int line) {
+    return file + ":" + std::to_string(line);
+}
+
+std::string directory_of(const std::string& path) {
+    return std::filesystem::path(path).parent_path().string();
+}
+
+std::string join_path(const std::string& directory, const std::string& name) {
+    if (directory.empty()) return name;
+    return (std::filesystem::path(directory) / name).string();
+}
+
+// --- Statements: non-empty, non-comment lines split on blanks -----------------------------------
+
+// Calls fn(line, tokens) for each statement. Lines end at "\n", "\r\n" or a lone "\r" (as
+// tinyobjloader's reader does), so line numbers agree with it.
+template <class Fn>
+void for_each_statement(const std::string& text, Fn&& fn) {
+    std::vector<std::string_view> tokens;
+    std::size_t pos = 0;
+    int line = 0;
+    while (pos < text.size()) {
+        std::size_t end = pos;
+        while (end < text.size() && text[end] != '\n' && text[end] != '\r') ++end;
+        ++line;
+        tokens.clear();
+        std::size_t i = pos;
+        while (i < end) {
+            while (i < end && (text[i] == ' ' || text[i] == '\t')) ++i;
+            std::size_t start = i;
+            while (i < end && text[i] != ' ' && text[i] != '\t') ++i;
+            if (i > start) tokens.emplace_back(text.data() + start, i - start);
+        }
+        if (!tokens.empty() && tokens[0][0] != '#') fn(line, tokens);
+        pos = end;
+        if (pos < text.size() && text[pos] == '\r') {
+            ++pos;
+            if (pos < text.size() && text[pos] == '\n') ++pos;
+        } else if (pos < text.size()) {
+            ++pos;  // '\n'
+        }
+    }
+}
+
+// --- Numbers ------------------------------------------------------------------------------------
+
+// Parses a whole token as a finite binary32 number (correctly rounded, std::from_chars), or
+// throws "file:line: ..." saying what is wrong with it.
+float parse_number(std::string_view token, const std::string& file, int line, const char* what) {
+    std::string_view digits = token;
+    if (digits.size() > 1 && digits[0] == '+') digits.remove_prefix(1);
+    float value = 0.0f;
+    auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    if (ec == std::errc::result_out_of_range)
+        throw file_error(file, line,
+                         std::string(what) + ": number '" + std::string(token) +
+                             "' is outside the binary32 range");
+    if (ec != std::errc() || end != digits.data() + digits.size())
+        throw file_error(file, line,
+                         std::string(what) + ": malformed number '" + std::string(token) + "'");
+    if (!std::isfinite(value))
+        throw file_error(
+            file, line,
+            std::string(what) + ": number '" + std::string(token) + "' is NaN or infinite");
+    return value;
+}
+
+void check_numbers(const std::vector<std::string_view>& tokens, std::size_t min_count,
+                   std::size_t max_count, const std::string& file, int line) {
+    const std::size_t count = tokens.size() - 1;
+    if (count < min_count || count > max_count) {
+        std::string expected = min_count == max_count
+                                   ? std::to_string(min_count)
+                                   : std::to_string(min_count) + " to " + std::to_string(max_count);
+        throw file_error(file, line,
+                         "'" + std::string(tokens[0]) + "' needs " + expected + " numbers, got " +
+                             std::to_string(count));
+    }
+    for (std::size_t k = 1; k < tokens.size(); ++k)
+        parse_number(tokens[k], file, line, std::string(tokens[0]).c_str());
+}
+
+// --- MTL pre-scan ----------------------------------------------------------------------------
+
+struct MtlMaterialInfo {
+    std::string file;  ///< the MTL file that defines it
+    int line = 0;      ///< its newmtl line
+    bool has_kd = false;
+    bool has_pr = false;
+    bool has_ns = false;
+    int map_kd_line = 0;
+};
+
+struct MtlScan {
+    std::map<std::string, MtlMaterialInfo> materials;
+    std::map<std::string, std::string> texts;  ///< mtllib name as written -> file contents
+};
+
+void scan_mtl(const std::string& mtl_path, const std::string& text, MtlScan& scan) {
+    MtlMaterialInfo* current = nullptr;
+    for_each_statement(text, [&](int line, const std::vector<std::string_view>& tokens) {
+        const std::string_view keyword = tokens[0];
+        if (keyword == "newmtl") {
+            if (tokens.size() != 2)
+                throw file_error(mtl_path, line, "newmtl needs one material name without blanks");
+            std::string name(tokens[1]);
+            auto [it, inserted] = scan.materials.emplace(name, MtlMaterialInfo{});
+            if (!inserted)
+                throw file_error(mtl_path, line,
+                                 "material '" + name + "' is already defined at " +
+                                     location(it->second.file, it->second.line));
+            it->second.file = mtl_path;
+            it->second.line = line;
+            current = &it->second;
+            return;
+        }
+        const bool used = keyword == "Kd" || keyword == "Ks" || keyword == "Ke" ||
+                          keyword == "Ns" || keyword == "Pr" || keyword == "map_Kd";
+        if (!used) return;  // other MTL statements (Ka, d, illum, Ni, map_Bump, ...) are ignored
+        if (current == nullptr)
+            throw file_error(mtl_path, line, "'" + std::string(keyword) + "' before any newmtl");
+        if (keyword == "map_Kd") {
+            if (tokens.size() < 2) throw file_error(mtl_path, line, "map_Kd needs a file name");
+            current->map_kd_line = line;
+            return;
+        }
+        if (keyword == "Ns" || keyword == "Pr") {
+            check_numbers(tokens, 1, 1, mtl_path, line);
+            float value = parse_number(tokens[1], mtl_path, line, "value");
+            if (keyword == "Pr" && !(value >= 0.0f && value <= 1.0f))
+                throw file_error(mtl_path, line, "Pr (roughness) must be in [0, 1]");
+            if (keyword == "Ns" && !(value >= 0.0f))
+                throw file_error(mtl_path, line, "Ns must be >= 0");
+            (keyword == "Pr" ? current->has_pr : current->has_ns) = true;
+            return;
+        }
+        check_numbers(tokens, 3, 3, mtl_path, line);
+        for (std::size_t k = 1; k < 4; ++k)
+            if (parse_number(tokens[k], mtl_path, line, "value") < 0.0f)
+                throw file_error(mtl_path, line, std::string(keyword) + " values must be >= 0");
+        if (keyword == "Kd") current->has_kd = true;
+    });
+}
+
+// --- OBJ pre-scan ----------------------------------------------------------------------------
+
+struct ObjScan {
+    std::vector<int> face_lines;  ///< line of each f statement, in file order
+    std::size_t positions = 0;
+    std::size_t normals = 0;
+    std::size_t texcoords = 0;
+    MtlScan mtl;
+};
+
+// One face corner "v", "v/t", "v//n" or "v/t/n"; checks each index against the count of
+// elements defined so far (negative indices count back from the last one, OBJ's relative form).
+void check_corner(std::string_view corner, const ObjScan& scan, const std::string& file, int line) {
+    std::string_view parts[3];
+    int part_count = 0;
+    std::size_t start = 0;
+    while (true) {
+        std::size_t slash = corner.find('/', start);
+        if (part_count == 3)
+            throw file_error(file, line, "malformed face corner '" + std::string(corner) + "'");
+        parts[part_count++] = corner.substr(
+            start, slash == std::string_view::npos ? std::string_view::npos : slash - start);
+        if (slash == std::string_view::npos) break;
+        start = slash + 1;
+    }
+    const char* kinds[3] = {"vertex", "texture coordinate", "normal"};
+    const std::size_t counts[3] = {scan.positions, scan.texcoords, scan.normals};
+    for (int k = 0; k < part_count; ++k) {
+        if (parts[k].empty()) {
+            if (k == 1 && part_count == 3) continue;  // v//n
+            throw file_error(file, line, "malformed face corner '" + std::string(corner) + "'");
+        }
+        long long index = 0;
+        auto [end, ec] = std::from_chars(parts[k].data(), parts[k].data() + parts[k].size(), index);
+        if (ec != std::errc() || end != parts[k].data() + parts[k].size())
+            throw file_error(
+                file, line,
+                "malformed " + std::string(kinds[k]) + " index '" + std::string(parts[k]) + "'");
+        const long long count = static_cast<long long>(counts[k]);
+        const long long resolved = index < 0 ? count + index + 1 : index;
+        if (index == 0 || resolved < 1 || resolved > count)
+            throw file_error(file, line,
+                             std::string(kinds[k]) + " index " + std::to_string(index) +
+                                 " out of range (" + std::to_string(count) + " defined so far)");
+    }
+}
+
+ObjScan scan_obj(const std::string& obj_path, const std::string& text) {
+    ObjScan scan;
+    const std::string directory = directory_of(obj_path);
+    for_each_statement(text, [&](int line, const std::vector<std::string_view>& tokens) {
+        const std::string_view keyword = tokens[0];
+        if (keyword == "v") {
+            // x y z, optionally w or r g b (vertex colour), as tinyobjloader reads them.
+            check_numbers(tokens, 3, 7, obj_path, line);
+            ++scan.positions;
+        } else if (keyword == "vn") {
+            check_numbers(tokens, 3, 3, obj_path, line);
+            ++scan.normals;
+        } else if (keyword == "vt") {
+            check_numbers(tokens, 1, 3, obj_path, line);
+            ++scan.texcoords;
+        } else if (keyword == "f") {
+            const std::size_t corners = tokens.size() - 1;
+            if (corners < 3)
+                throw file_error(
+                    obj_path, line,
+                    "a face needs at least 3 vertices, got " + std::to_string(corners));
+            // tinyobjloader stores a face's vertex count in an unsigned char.
+            if (corners > 255)
+                throw file_error(obj_path, line,
+                                 "faces with more than 255 vertices are not supported");
+            for (std::size_t k = 1; k < tokens.size(); ++k)
+                check_corner(tokens[k], scan, obj_path, line);
+            scan.face_lines.push_back(line);
+        } else if (keyword == "mtllib") {
+            if (tokens.size() != 2)
+                throw file_error(obj_path, line,
+                                 "mtllib needs exactly one file name (use one mtllib per file)");
+            const std::string name(tokens[1]);
+            if (scan.mtl.texts.count(name) != 0) return;  // tinyobjloader reads each file once
+            const std::string mtl_path = join_path(directory, name);
+            std::error_code ec;
+            if (!std::filesystem::is_regular_file(mtl_path, ec))
+                throw file_error(obj_path, line,
+                                 "MTL file '" + name + "' not found (looked for " + mtl_path + ")");
+            std::string mtl_text;
+            try {
+                mtl_text = read_file(mtl_path);
+            } catch (const Error& e) {
+                throw file_error(obj_path, line, e.what());
+            }
+            scan_mtl(mtl_path, mtl_text, scan.mtl);
+            scan.mtl.texts.emplace(name, std::move(mtl_text));
+        } else if (keyword == "usemtl") {
+            if (tokens.size() != 2)
+                throw file_error(obj_path, line, "usemtl needs one material name without blanks");
+            if (scan.mtl.materials.count(std::string(tokens[1])) == 0)
+                throw file_error(obj_path, line,
+                                 "material '" + std::string(tokens[1]) +
+                                     "' is not defined by an mtllib before this line");
+        }
+        // Other statements (o, g, s, l, p, vp, ...) are left to tinyobjloader, which ignores them
+        // for triangle meshes.
+    });
+    return scan;
+}
+
+// tinyobjloader reads MTL files through this: it gets the text the pre-scan already read and
+// checked, so both see the same bytes.
+class PrescannedMaterialReader : public tinyobj::MaterialReader {
+public:
+    explicit PrescannedMaterialReader(const MtlScan& scan) : scan_(scan) {}
+    bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
+                    std::map<std::string, int>* material_map, std::string* warn,
+                    std::string* err) override {
+        auto it = scan_.texts.find(name);
+        if (it == scan_.texts.end()) return false;
+        std::istringstream stream(it->second);
+        tinyobj::LoadMtl(material_map, materials, &stream, warn, err);
+        return true;
+    }
+
+private:
+    const MtlScan& scan_;
+};
+
+// --- Materials --------------------------------------------------------------------------------
+
+glm::vec3 vec3_of(const tinyobj::real_t* values) { return {values[0], values[1], values[2]}; }
+
+Material convert_material(Scene& scene, const tinyobj::material_t& source,
+                          const MtlMaterialInfo& info, TextureCache& cache) {
+    Material material;
+    material.name = source.name;
+    // Kd absent: white under a texture (the texture is the albedo), else Material's default 0.8.
+    if (info.has_kd) {
+        material.albedo = vec3_of(source.diffuse);
+    } else {
+        material.albedo = glm::vec3(source.diffuse_texname.empty() ? 0.8f : 1.0f);
+    }
+    material.emission = vec3_of(source.emission);
+    material.specular = vec3_of(source.specular);
+    // Roughness: Pr when given, else from Ns, else 1 (the roughest).
+    if (info.has_pr) {
+        material.roughness = source.roughness;
+    } else if (info.has_ns) {
+        material.roughness = ns_to_roughness(source.shininess);
+    }
+    if (!source.diffuse_texname.empty())
+        material.texture =
+            load_texture_file(scene, join_path(directory_of(info.file), source.diffuse_texname),
+                              source.diffuse_texname, cache, location(info.file, info.map_kd_line));
+    return material;
+}
+
+glm::vec3 corner_vec3(const std::vector<tinyobj::real_t>& values, int index) {
+    const std::size_t i = static_cast<std::size_t>(index) * 3;
+    return {values[i], values[i + 1], values[i + 2]};
+}
+
+}  // namespace
+
+float ns_to_roughness(float ns) {
+    const float alpha = std::sqrt(2.0f / (std::max(ns, 0.0f) + 2.0f));
+    return std::sqrt(alpha);
+}
+
+int intern_material(Scene& scene, const Material& material, const std::string& defined_at) {
+    for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+        if (scene.materials[m].name != material.name) continue;
+        if (scene.materials[m] == material) return static_cast<int>(m);
+        throw Error(defined_at + ": material '" + material.name +
+                    "' differs from an earlier material of the same name (material names must "
+                    "be unique in a scene)");
+    }
+    scene.materials.push_back(material);
+    return static_cast<int>(scene.materials.size() - 1);
+}
+
+void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& transform,
+                   TextureCache& cache, const std::string& referenced_at) {
+    // Read and pre-scan.
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(obj_path, ec))
+        throw Error((referenced_at.empty() ? obj_path : referenced_at) + ": OBJ file '" + obj_path +
+                    "' not found");
+    const std::string text = read_file(obj_path);
+    const ObjScan scan = scan_obj(obj_path, text);
+
+    // Parse with tinyobjloader.
+    tinyobj::attrib_t attrib;
+    std::vector<tinyobj::shape_t> shapes;
+    std::vector<tinyobj::material_t> source_materials;
+    std::string warn, err;
+    std::istringstream stream(text);
+    PrescannedMaterialReader material_reader(scan.mtl);
+    if (!tinyobj::LoadObj(&attrib, &shapes, &source_materials, &warn, &err, &stream,
+                          &material_reader, /*triangulate=*/false,
+                          /*default_vcols_fallback=*/false))
+        throw Error(obj_path + ": " + err);
+    std::size_t face_count = 0;
+    for (const tinyobj::shape_t& shape : shapes) face_count += shape.mesh.num_face_vertices.size();
+    if (attrib.vertices.size() != 3 * scan.positions || face_count != scan.face_lines.size())
+        throw Error(
+            obj_path + ": tinyobjloader read " + std::to_string(attrib.vertices.size() / 3) +
+            " vertices and " + std::to_string(face_count) + " faces, the pre-scan " +
+            std::to_string(scan.positions) + " and " + std::to_string(scan.face_lines.size()));
+
+    // Materials: every material of the MTL files, in file order; faces without usemtl get
+    // "default".
+    std::vector<int> material_index(source_materials.size());
+    for (std::size_t m = 0; m < source_materials.size(); ++m) {
+        auto info = scan.mtl.materials.find(source_materials[m].name);
+        if (info == scan.mtl.materials.end())
+            throw Error(obj_path + ": tinyobjloader read a material '" + source_materials[m].name +
+                        "' that the pre-scan did not see");
+        Material material = convert_material(scene, source_materials[m], info->second, cache);
+        material_index[m] =
+            intern_material(scene, material, location(info->second.file, info->second.line));
+    }
+    int default_material = -1;
+
+    // Object-to-world transform: positions by M, normals by the inverse transpose; a mirroring
+    // transform (det < 0) swaps corners 1 and 2 to keep the winding (and the geometric normal)
+    // facing the same way relative to the surface.
+    const bool identity = transform == glm::mat4(1.0f);
+    const glm::mat3 linear(transform);
+    const float determinant = glm::determinant(linear);
+    if (!(std::fabs(determinant) > 0.0f) || !std::isfinite(determinant))
+        throw Error((referenced_at.empty() ? obj_path : referenced_at) +
+                    ": the instance transform is singular or not finite");
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
+    const bool mirror = determinant < 0.0f;
+
+    // Triangles.
+    SceneLoadStats& stats = scene.load_stats;
+    std::int64_t dropped_here = 0;
+    std::size_t face = 0;
+    for (const tinyobj::shape_t& shape : shapes) {
+        std::size_t offset = 0;
+        for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f, ++face) {
+            const std::size_t corners = shape.mesh.num_face_vertices[f];
+            const int line = scan.face_lines[face];
+            const int source_material = shape.mesh.material_ids[f];
+            int material = -1;
+            if (source_material >= 0 &&
+                static_cast<std::size_t>(source_material) < material_index.size()) {
+                material = material_index[source_material];
+            } else {
+                if (default_material < 0) {
+                    Material fallback;
+                    fallback.name = "default";
+                    default_material = intern_material(scene, fallback, location(obj_path, line));
+                }
+                material = default_material;
+            }
+            if (corners > 3) ++stats.polygons_triangulated;
+            for (std::size_t k = 1; k + 1 < corners; ++k) {
+                tinyobj::index_t index[3] = {shape.mesh.indices[offset],
+                                             shape.mesh.indices[offset + k],
+                                             shape.mesh.indices[offset + k + 1]};
+                if (mirror) std::swap(index[1], index[2]);
+                glm::vec3 position[3];
+                glm::vec3 normal[3];
+                glm::vec2 uv[3];
+                bool has_normal[3];
+                for (int c = 0; c < 3; ++c) {
+                    position[c] = corner_vec3(attrib.vertices, index[c].vertex_index);
+                    if (!identity)
+                        position[c] = glm::vec3(transform * glm::vec4(position[c], 1.0f));
+                    has_normal[c] = index[c].normal_index >= 0;
+                    if (has_normal[c]) {
+                        normal[c] = corner_vec3(attrib.normals, index[c].normal_index);
+                        if (!identity) normal[c] = normal_matrix * normal[c];
+                    }
+                    uv[c] = glm::vec2(0.0f);
+                    if (index[c].texcoord_index >= 0) {
+                        const std::size_t t = static_cast<std::size_t>(index[c].texcoord_index) * 2;
+                        uv[c] = glm::vec2(attrib.texcoords[t], attrib.texcoords[t + 1]);
+                    }
+                }
+                // Zero-area (or non-finite) triangles are dropped: they are never hit (SPEC §2).
+                const float double_area =
+                    triangle_double_area(position[0], position[1], position[2]);
+                if (!(double_area > 0.0f) || !std::isfinite(double_area)) {
+                    ++stats.zero_area_triangles_dropped;
+                    if (++dropped_here <= max_zero_area_warnings)
+                        stats.warnings.push_back(location(obj_path, line) +
+                                                 ": zero-area triangle dropped");
+                    continue;
+                }
+                // Normals: as written when unit length, normalised otherwise, the geometric
+                // normal cross(p1 - p0, p2 - p0) / |...| where missing or zero.
+                const glm::vec3 geometric =
+                    glm::cross(position[1] - position[0], position[2] - position[0]) / double_area;
+                bool generated = false;
+                for (int c = 0; c < 3; ++c) {
+                    float length2 = has_normal[c] ? glm::dot(normal[c], normal[c]) : 0.0f;
+                    if (!(length2 > 0.0f) || !std::isfinite(length2)) {
+                        normal[c] = geometric;
+                        generated = true;
+                    } else if (std::fabs(length2 - 1.0f) > unit_length_tolerance) {
+                        normal[c] = normal[c] / std::sqrt(length2);
+                    }
+                }
+                if (generated) ++stats.normals_generated;
+                for (int c = 0; c < 3; ++c) {
+                    scene.positions.push_back(position[c]);
+                    scene.normals.push_back(normal[c]);
+                    scene.uvs.push_back(uv[c]);
+                }
+                scene.material_ids.push_back(material);
+            }
+            offset += corners;
+        }
+    }
+    if (dropped_here > max_zero_area_warnings)
+        stats.warnings.push_back(obj_path + ": " + std::to_string(dropped_here) +
+                                 " zero-area triangles dropped (the first " +
+                                 std::to_string(max_zero_area_warnings) + " are listed)");
+    // tinyobjloader's own warnings, one per line.
+    std::istringstream warnings(warn);
+    for (std::string line; std::getline(warnings, line);)
+        if (!line.empty()) stats.warnings.push_back(obj_path + ": " + line);
+}
+
+void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& transform) {
+    TextureCache cache;
+    load_obj_into(scene, obj_path, transform, cache, "");
+}
+
+}  // namespace fovref
