@@ -93,8 +93,11 @@ int scene_info(const Options& o) {
                                       {"roughness", m.roughness}});
         j["textures"] = nlohmann::json::array();
         for (const Texture& t : scene.textures)
-            j["textures"].push_back({{"name", t.name}, {"width", t.image.width}, {"height", t.image.height}});
-        j["lights"] = {{"point", lights_by_type[0]}, {"quad", lights_by_type[1]}, {"triangle", lights_by_type[2]}};
+            j["textures"].push_back(
+                {{"name", t.name}, {"width", t.image.width}, {"height", t.image.height}});
+        j["lights"] = {{"point", lights_by_type[0]},
+                       {"quad", lights_by_type[1]},
+                       {"triangle", lights_by_type[2]}};
         j["camera_path_keys"] = scene.camera_path.size();
         j["presets"] = nlohmann::json::array();
         for (const auto& [name, text] : scene.presets) j["presets"].push_back(name);
@@ -113,12 +116,14 @@ int scene_info(const Options& o) {
     std::printf("materials  %zu\n", scene.materials.size());
     for (std::size_t k = 0; k < scene.materials.size(); ++k) {
         const Material& m = scene.materials[k];
-        std::printf("  [%zu] %-20s albedo %s%s%s%s\n", k, m.name.c_str(), vec3_text(m.albedo).c_str(),
-                    m.texture >= 0 ? (" texture " + scene.textures[m.texture].name).c_str() : "",
-                    m.emission != glm::vec3(0.0f) ? (" emission " + vec3_text(m.emission)).c_str() : "",
-                    m.specular != glm::vec3(0.0f)
-                        ? (" specular " + vec3_text(m.specular) + " roughness " + std::to_string(m.roughness)).c_str()
-                        : "");
+        std::printf(
+            "  [%zu] %-20s albedo %s%s%s%s\n", k, m.name.c_str(), vec3_text(m.albedo).c_str(),
+            m.texture >= 0 ? (" texture " + scene.textures[m.texture].name).c_str() : "",
+            m.emission != glm::vec3(0.0f) ? (" emission " + vec3_text(m.emission)).c_str() : "",
+            m.specular != glm::vec3(0.0f) ? (" specular " + vec3_text(m.specular) + " roughness " +
+                                             std::to_string(m.roughness))
+                                                .c_str()
+                                          : "");
     }
     std::printf("textures   %zu\n", scene.textures.size());
     for (const Texture& t : scene.textures)
@@ -127,19 +132,20 @@ int scene_info(const Options& o) {
                 lights_by_type[0], lights_by_type[1], lights_by_type[2]);
     for (const Light& l : scene.lights)
         if (l.type != Light::Type::triangle)
-            std::printf("  %-5s at %s intensity %s\n", light_type_name(l.type), vec3_text(l.position).c_str(),
-                        vec3_text(l.intensity).c_str());
+            std::printf("  %-5s at %s intensity %s\n", light_type_name(l.type),
+                        vec3_text(l.position).c_str(), vec3_text(l.intensity).c_str());
     const Camera& c = scene.camera;
     std::printf("camera     at %s forward %s vfov %.6g deg\n", vec3_text(c.position).c_str(),
                 vec3_text(c.forward).c_str(), static_cast<double>(c.vfov_deg));
-    if (scene.camera_path.empty()) std::printf("path       none (static camera)\n");
+    if (scene.camera_path.empty())
+        std::printf("path       none (static camera)\n");
     else
         std::printf("path       %zu keys, t = %.6g .. %.6g\n", scene.camera_path.size(),
                     static_cast<double>(scene.camera_path.front().time),
                     static_cast<double>(scene.camera_path.back().time));
     const char* display = scene.display.kind == DisplayModel::Kind::field_of_view ? "field of view"
                           : scene.display.kind == DisplayModel::Kind::diagonal    ? "diagonal"
-                                                                                  : "fixed distance";
+                                                                               : "fixed distance";
     std::printf("display    %s\n", display);
     std::string presets;
     for (const auto& [name, text] : scene.presets) presets += (presets.empty() ? "" : ", ") + name;
@@ -149,15 +155,16 @@ int scene_info(const Options& o) {
     std::printf("repaired   %lld polygons triangulated, %lld triangles without normals\n",
                 static_cast<long long>(scene.load_stats.polygons_triangulated),
                 static_cast<long long>(scene.load_stats.normals_generated));
-    for (const std::string& w : scene.load_stats.warnings) std::printf("warning    %s\n", w.c_str());
+    for (const std::string& w : scene.load_stats.warnings)
+        std::printf("warning    %s\n", w.c_str());
     return exit_ok;
 }
 
 int scene_export(const Options& o) {
     const Scene scene = load_scene(o.scene);
     export_scene(scene, o.directory);
-    say(o, "exported " + scene.name + " (" + std::to_string(scene.triangle_count()) + " triangles) to " +
-               o.directory + "/scene.json");
+    say(o, "exported " + scene.name + " (" + std::to_string(scene.triangle_count()) +
+               " triangles) to " + o.directory + "/scene.json");
     return exit_ok;
 }
 
@@ -174,13 +181,15 @@ int modes_list(const Options&) {
         std::printf("%-12s %s%s\n", mode.name.c_str(), mode.description.c_str(),
                     mode.needs_scene ? "" : " (no scene needed)");
         for (const ParamSpec& p : mode.params)
-            std::printf("    --param %s=<%s>  %s\n", p.name.c_str(), p.default_value.c_str(), p.doc.c_str());
+            std::printf("    --param %s=<%s>  %s\n", p.name.c_str(), p.default_value.c_str(),
+                        p.doc.c_str());
     }
     return exit_ok;
 }
 
 int render_command(const Options& o) {
-    if (o.out_dir.empty() && o.dump_dir.empty()) throw Error("render: give --out DIR and/or --dump DIR");
+    if (o.out_dir.empty() && o.dump_dir.empty())
+        throw Error("render: give --out DIR and/or --dump DIR");
     const ModeInfo& mode = find_mode(o.mode);
     std::optional<Scene> scene;
     if (mode.needs_scene) {
@@ -208,16 +217,19 @@ int render_command(const Options& o) {
         options.previews_for_all = true;
         options.include_timings = true;
         write_bundle(o.dump_dir, run, frames, options);
-        say(o, "dumped every buffer of " + std::to_string(frames.size()) + " frame(s) to " + o.dump_dir);
+        say(o, "dumped every buffer of " + std::to_string(frames.size()) + " frame(s) to " +
+                   o.dump_dir);
     }
     if (!o.out_dir.empty()) {
         std::vector<FrameResult> finals = frames;
         const Pipeline pipeline = mode.build(scene ? &*scene : nullptr, RenderSettings{});
-        const std::vector<std::string> wanted = o.outputs.empty() ? pipeline.final_outputs : o.outputs;
+        const std::vector<std::string> wanted =
+            o.outputs.empty() ? pipeline.final_outputs : o.outputs;
         for (FrameResult& f : finals) {
             std::vector<Buffer> kept;
             for (Buffer& b : f.buffers)
-                if (std::find(wanted.begin(), wanted.end(), b.name) != wanted.end()) kept.push_back(std::move(b));
+                if (std::find(wanted.begin(), wanted.end(), b.name) != wanted.end())
+                    kept.push_back(std::move(b));
             f.buffers = std::move(kept);
         }
         BundleOptions options;
@@ -228,8 +240,7 @@ int render_command(const Options& o) {
     }
     for (const FrameResult& f : frames) {
         std::string line = "frame " + std::to_string(f.frame) + ":";
-        for (const StageRun& s : f.stages)
-            line += " " + s.name + (s.ran ? "" : " (skipped)");
+        for (const StageRun& s : f.stages) line += " " + s.name + (s.ran ? "" : " (skipped)");
         for (const auto& [k, v] : f.counters.values) line += ", " + k + " " + std::to_string(v);
         say(o, line);
     }
@@ -270,16 +281,17 @@ int golden_verify(const Options& o) {
         const GoldenCase& c = cases[k];
         const std::string bundle = dir + "/" + c.name;
         if (!fs::exists(bundle + "/manifest.json")) {
-            std::printf("FAIL %s: no bundle at %s (run `fovref golden update --case %s`)\n", c.name.c_str(),
-                        bundle.c_str(), c.name.c_str());
+            std::printf("FAIL %s: no bundle at %s (run `fovref golden update --case %s`)\n",
+                        c.name.c_str(), bundle.c_str(), c.name.c_str());
             ++failed;
             continue;
         }
         const Manifest manifest = read_manifest(bundle);
         if (!(manifest.golden_case == c)) {
-            std::printf("FAIL %s: the bundle was made for a different case definition (run `fovref golden "
-                        "update --case %s`)\n",
-                        c.name.c_str(), c.name.c_str());
+            std::printf(
+                "FAIL %s: the bundle was made for a different case definition (run `fovref golden "
+                "update --case %s`)\n",
+                c.name.c_str(), c.name.c_str());
             ++failed;
             continue;
         }
@@ -289,13 +301,15 @@ int golden_verify(const Options& o) {
         for (const FrameResult& f : frames) buffers += f.buffers.size();
         if (differences.empty()) {
             if (!o.quiet)
-                std::printf("ok   %-28s %zu buffers, %d frame(s)\n", c.name.c_str(), buffers, c.frames);
+                std::printf("ok   %-28s %zu buffers, %d frame(s)\n", c.name.c_str(), buffers,
+                            c.frames);
         } else {
             ++failed;
             std::printf("FAIL %s: %zu difference(s); first in pipeline order:\n", c.name.c_str(),
                         differences.size());
             for (const GoldenDifference& d : differences)
-                std::printf("     frame %d, buffer %s: %s\n", d.frame, d.buffer.c_str(), d.what.c_str());
+                std::printf("     frame %d, buffer %s: %s\n", d.frame, d.buffer.c_str(),
+                            d.what.c_str());
         }
         progress.update(static_cast<double>(k + 1) / static_cast<double>(cases.size()));
     }
@@ -315,7 +329,8 @@ int golden_update(const Options& o) {
     for (const GoldenCase& c : cases) {
         if (c.width > golden_max_width || c.height > golden_max_height)
             throw Error("golden case '" + c.name + "': " + std::to_string(c.width) + "x" +
-                        std::to_string(c.height) + " exceeds the repository limit of 320x180 (use "
+                        std::to_string(c.height) +
+                        " exceeds the repository limit of 320x180 (use "
                         "`fovref golden export --width --height` for larger bundles)");
         const std::string bundle = dir + "/" + c.name;
         const std::vector<FrameResult> frames = render_golden_case(c, scenes.get(c.scene), {"all"});
@@ -323,12 +338,15 @@ int golden_update(const Options& o) {
         if (fs::exists(bundle + "/manifest.json")) {
             const Manifest old = read_manifest(bundle);
             const std::vector<GoldenDifference> differences =
-                old.golden_case == c ? compare_with_bundle(bundle, frames) : std::vector<GoldenDifference>{};
+                old.golden_case == c ? compare_with_bundle(bundle, frames)
+                                     : std::vector<GoldenDifference>{};
             status = !(old.golden_case == c) ? "case definition changed"
-                     : differences.empty()   ? "unchanged"
-                                             : std::to_string(differences.size()) + " buffer(s) changed";
+                     : differences.empty()
+                         ? "unchanged"
+                         : std::to_string(differences.size()) + " buffer(s) changed";
             for (const GoldenDifference& d : differences)
-                say(o, "  " + c.name + " frame " + std::to_string(d.frame) + " " + d.buffer + ": " + d.what);
+                say(o, "  " + c.name + " frame " + std::to_string(d.frame) + " " + d.buffer + ": " +
+                           d.what);
         }
         write_bundle(bundle, c, frames, options);
         say(o, "updated " + c.name + ": " + status);
@@ -362,8 +380,9 @@ int golden_export(const Options& o) {
     BundleOptions options;
     options.previews_for_all = true;
     write_bundle(o.directory, c, frames, options);
-    say(o, "exported " + c.name + " at " + std::to_string(c.width) + "x" + std::to_string(c.height) + ", " +
-               std::to_string(c.frames) + " frame(s), to " + o.directory);
+    say(o, "exported " + c.name + " at " + std::to_string(c.width) + "x" +
+               std::to_string(c.height) + ", " + std::to_string(c.frames) + " frame(s), to " +
+               o.directory);
     return exit_ok;
 }
 
@@ -371,55 +390,91 @@ int golden_export(const Options& o) {
 
 int main(int argc, char** argv) {
     Options o;
-    CLI::App app{"fovref: deterministic reference renderer for foveated ray and path tracing.\n"
-                 "Exit codes: 0 ok, 1 a check failed, 2 usage or input error."};
+    CLI::App app{
+        "fovref: deterministic reference renderer for foveated ray and path tracing.\n"
+        "Exit codes: 0 ok, 1 a check failed, 2 usage or input error."};
     app.set_version_flag("--version", "fovref " + fovref_version());
     app.add_flag("-q,--quiet", o.quiet, "print only errors and failures, no progress bar");
     app.require_subcommand(1);
+    app.fallthrough();  // global options (--quiet) may follow a subcommand
+    app.footer(
+        "Commands:\n"
+        "  fovref scene list                      the procedural scenes\n"
+        "  fovref scene info SCENE [--json]       counts, bounds, materials, lights, camera, "
+        "drops\n"
+        "  fovref scene export SCENE DIR          OBJ + MTL + textures + scene.json\n"
+        "  fovref modes                           render modes and their parameters\n"
+        "  fovref render --scene S --mode M --width W --height H [--frames N] [--param k=v]\n"
+        "                [--output a,b] [--out DIR] [--dump DIR]\n"
+        "  fovref golden list                     the golden cases (golden/cases.json)\n"
+        "  fovref golden verify [--case C]        recompute, compare bit-exactly, exit 1 on a "
+        "difference\n"
+        "  fovref golden update [--case C]        recompute and rewrite, saying what changed\n"
+        "  fovref golden export CASE DIR [--width W --height H --frames N]\n"
+        "SCENE is a procedural scene name (see `scene list`) or a scene file or directory.\n"
+        "Run `fovref COMMAND --help` for each command's options.");
 
     // scene
     CLI::App* scene = app.add_subcommand("scene", "inspect, list and export scenes");
     scene->require_subcommand(1);
+    scene->fallthrough();
     CLI::App* scene_info_cmd = scene->add_subcommand(
-        "info", "triangles, lights, bounds, materials, camera, and what the loader dropped or repaired");
-    scene_info_cmd->add_option("SCENE", o.scene, "procedural scene name or scene file/directory")->required();
+        "info",
+        "triangles, lights, bounds, materials, camera, and what the loader dropped or repaired");
+    scene_info_cmd->add_option("SCENE", o.scene, "procedural scene name or scene file/directory")
+        ->required();
     scene_info_cmd->add_flag("--json", o.json, "machine-readable output");
     CLI::App* scene_export_cmd = scene->add_subcommand(
         "export", "write any scene (procedural ones too) as OBJ + MTL + textures + scene.json");
-    scene_export_cmd->add_option("SCENE", o.scene, "procedural scene name or scene file")->required();
+    scene_export_cmd->add_option("SCENE", o.scene, "procedural scene name or scene file")
+        ->required();
     scene_export_cmd->add_option("DIR", o.directory, "output directory (created)")->required();
     CLI::App* scene_list_cmd = scene->add_subcommand("list", "the procedural scenes");
 
     // render
-    CLI::App* render_cmd = app.add_subcommand("render", "render frames of a mode and write its buffers");
+    CLI::App* render_cmd =
+        app.add_subcommand("render", "render frames of a mode and write its buffers");
     render_cmd->add_option("--scene", o.scene, "procedural scene name or scene file");
-    render_cmd->add_option("--mode", o.mode, "render mode (see `fovref modes`)")->capture_default_str();
+    render_cmd->add_option("--mode", o.mode, "render mode (see `fovref modes`)")
+        ->capture_default_str();
     render_cmd->add_option("--width", o.width, "screen width in pixels")->capture_default_str();
     render_cmd->add_option("--height", o.height, "screen height in pixels")->capture_default_str();
     render_cmd->add_option("--frames", o.frames, "number of frames")->capture_default_str();
-    render_cmd->add_option("--time-start", o.time_start, "camera-path time of frame 0")->capture_default_str();
-    render_cmd->add_option("--time-step", o.time_step, "camera-path time between frames")->capture_default_str();
+    render_cmd->add_option("--time-start", o.time_start, "camera-path time of frame 0")
+        ->capture_default_str();
+    render_cmd->add_option("--time-step", o.time_step, "camera-path time between frames")
+        ->capture_default_str();
     render_cmd->add_option("--param", o.params, "mode parameter key=value (repeatable)");
-    render_cmd->add_option("--output", o.outputs, "buffers to produce (default: the mode's final outputs)")
+    render_cmd
+        ->add_option("--output", o.outputs,
+                     "buffers to produce (default: the mode's final outputs)")
         ->delimiter(',');
-    render_cmd->add_option("--out", o.out_dir, "write the final buffers (PFM/EXR + PNG + manifest.json) here");
-    render_cmd->add_option("--dump", o.dump_dir,
-                           "write every intermediate buffer (PFM/EXR + PNG preview + manifest.json) here");
+    render_cmd->add_option("--out", o.out_dir,
+                           "write the final buffers (PFM/EXR + PNG + manifest.json) here");
+    render_cmd->add_option(
+        "--dump", o.dump_dir,
+        "write every intermediate buffer (PFM/EXR + PNG preview + manifest.json) here");
     CLI::App* modes_cmd = app.add_subcommand("modes", "list render modes and their parameters");
 
     // golden
-    CLI::App* golden = app.add_subcommand("golden", "verify, update, list and export golden bundles");
+    CLI::App* golden =
+        app.add_subcommand("golden", "verify, update, list and export golden bundles");
     golden->require_subcommand(1);
-    golden->add_option("--dir", o.golden_dir, "golden directory (default: ./golden, else the source tree's)");
-    CLI::App* verify_cmd = golden->add_subcommand(
-        "verify", "recompute every golden and compare bit-exactly; names the first differing buffer and pixel");
+    golden->fallthrough();
+    golden->add_option("--dir", o.golden_dir,
+                       "golden directory (default: ./golden, else the source tree's)");
+    CLI::App* verify_cmd = golden->add_subcommand("verify",
+                                                  "recompute every golden and compare bit-exactly; "
+                                                  "names the first differing buffer and pixel");
     verify_cmd->add_option("--case", o.case_names, "only these cases");
-    CLI::App* update_cmd = golden->add_subcommand("update", "recompute and rewrite goldens, saying what changed");
+    CLI::App* update_cmd =
+        golden->add_subcommand("update", "recompute and rewrite goldens, saying what changed");
     update_cmd->add_option("--case", o.case_names, "only these cases");
     CLI::App* list_cmd = golden->add_subcommand("list", "the golden cases");
     CLI::App* export_cmd = golden->add_subcommand(
         "export", "write a full bundle (every buffer of every frame) of a case at any size");
-    export_cmd->add_option("CASE", o.case_name, "golden case name (see `fovref golden list`)")->required();
+    export_cmd->add_option("CASE", o.case_name, "golden case name (see `fovref golden list`)")
+        ->required();
     export_cmd->add_option("DIR", o.directory, "output directory")->required();
     export_cmd->add_option("--width", o.export_width, "override the case's width");
     export_cmd->add_option("--height", o.export_height, "override the case's height");

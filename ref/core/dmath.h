@@ -17,19 +17,19 @@ namespace fovref::dm {
 inline constexpr float pi = 3.14159265358979323846f;
 inline constexpr double pi_d = 3.14159265358979323846;
 
-float exp(float x);               ///< e^x. Max error 1 ulp (measured: see docs/determinism.md).
-float exp2(float x);              ///< 2^x, exact for integer x. Max error 1 ulp.
-float log(float x);               ///< natural log; log(0) = -inf, log(x<0) = NaN. Max error 1 ulp.
-float log2(float x);              ///< log base 2, exact for powers of two. Max error 1 ulp.
-float log10(float x);             ///< log base 10. Max error 1 ulp.
-float pow(float x, float y);      ///< x^y with C99 special cases. Max error 1 ulp.
-float sin(float x);               ///< full float range (Payne-Hanek reduction). Max error 1 ulp.
-float cos(float x);               ///< full float range. Max error 1 ulp.
-float tan(float x);               ///< full float range. Max error 1 ulp.
-float atan(float x);              ///< Max error 1 ulp.
-float atan2(float y, float x);    ///< C99 quadrant and zero/infinity rules. Max error 1 ulp.
-float asin(float x);              ///< |x| > 1 -> NaN. Max error 1 ulp.
-float acos(float x);              ///< |x| > 1 -> NaN. Max error 1 ulp.
+float exp(float x);             ///< e^x. Max error 1 ulp (measured: see docs/determinism.md).
+float exp2(float x);            ///< 2^x, exact for integer x. Max error 1 ulp.
+float log(float x);             ///< natural log; log(0) = -inf, log(x<0) = NaN. Max error 1 ulp.
+float log2(float x);            ///< log base 2, exact for powers of two. Max error 1 ulp.
+float log10(float x);           ///< log base 10. Max error 1 ulp.
+float pow(float x, float y);    ///< x^y with C99 special cases. Max error 1 ulp.
+float sin(float x);             ///< full float range (Payne-Hanek reduction). Max error 1 ulp.
+float cos(float x);             ///< full float range. Max error 1 ulp.
+float tan(float x);             ///< full float range. Max error 1 ulp.
+float atan(float x);            ///< Max error 1 ulp.
+float atan2(float y, float x);  ///< C99 quadrant and zero/infinity rules. Max error 1 ulp.
+float asin(float x);            ///< |x| > 1 -> NaN. Max error 1 ulp.
+float acos(float x);            ///< |x| > 1 -> NaN. Max error 1 ulp.
 
 /// Degrees to radians in float: x * (pi / 180) with the constant rounded once.
 inline float radians(float degrees) { return degrees * 0.0174532925199432957692f; }

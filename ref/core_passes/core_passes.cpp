@@ -12,9 +12,9 @@ Image camera_rays(const Camera& camera, int width, int height) {
     const float tan_half = tan_half_vfov(camera);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            glm::vec3 d = primary_ray_direction(camera, tan_half, width, height,
-                                                static_cast<float>(x) + 0.5f,
-                                                static_cast<float>(y) + 0.5f);
+            glm::vec3 d =
+                primary_ray_direction(camera, tan_half, width, height, static_cast<float>(x) + 0.5f,
+                                      static_cast<float>(y) + 0.5f);
             for (int c = 0; c < 3; ++c) rays.at(x, y, c) = d[c];
         }
     return rays;

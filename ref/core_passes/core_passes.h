@@ -25,10 +25,10 @@ Image halton_image(bool scaled);
 /// A trivial stand-in for a renderer whose buffers pin the scene's geometry, materials and
 /// textures (albedo = material albedo x texture at the centroid's uv) and the camera path.
 struct SplatBuffers {
-    Image depth;      ///< view depth, 0 where nothing landed
-    Image primitive;  ///< triangle index as float, -1 where nothing landed
-    Image normal;     ///< unit geometric normal
-    Image albedo;     ///< linear RGB
+    Image depth;                  ///< view depth, 0 where nothing landed
+    Image primitive;              ///< triangle index as float, -1 where nothing landed
+    Image normal;                 ///< unit geometric normal
+    Image albedo;                 ///< linear RGB
     std::int64_t splatted = 0;    ///< centroids that landed on screen in front of the camera
     std::int64_t behind = 0;      ///< centroids at view depth <= near
     std::int64_t off_screen = 0;  ///< centroids in front but outside the screen

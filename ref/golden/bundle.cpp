@@ -54,8 +54,8 @@ json case_to_json(const GoldenCase& c) {
 GoldenCase case_from_json(const json& j, const std::string& where) {
     auto fail = [&](const std::string& message) { return Error(where + ": " + message); };
     if (!j.is_object()) throw fail("a case must be a JSON object");
-    static const char* known[] = {"name", "description", "scene", "mode", "width", "height",
-                                  "frames", "time_start", "time_step", "params"};
+    static const char* known[] = {"name",   "description", "scene",      "mode",      "width",
+                                  "height", "frames",      "time_start", "time_step", "params"};
     for (const auto& item : j.items()) {
         bool ok = false;
         for (const char* k : known) ok = ok || item.key() == k;
@@ -98,9 +98,11 @@ std::vector<GoldenCase> load_golden_cases(const std::string& path) {
         throw Error(path + ": expected an object with a \"cases\" array");
     std::vector<GoldenCase> cases;
     for (std::size_t k = 0; k < document["cases"].size(); ++k) {
-        GoldenCase c = case_from_json(document["cases"][k], path + ": cases[" + std::to_string(k) + "]");
+        GoldenCase c =
+            case_from_json(document["cases"][k], path + ": cases[" + std::to_string(k) + "]");
         for (const GoldenCase& other : cases)
-            if (other.name == c.name) throw Error(path + ": case '" + c.name + "' is defined twice");
+            if (other.name == c.name)
+                throw Error(path + ": case '" + c.name + "' is defined twice");
         cases.push_back(std::move(c));
     }
     return cases;
@@ -280,7 +282,8 @@ Manifest read_manifest(const std::string& directory) {
 std::ptrdiff_t first_difference(const Image& expected, const Image& actual) {
     const std::size_t n = std::min(expected.data.size(), actual.data.size());
     for (std::size_t i = 0; i < n; ++i)
-        if (std::bit_cast<std::uint32_t>(expected.data[i]) != std::bit_cast<std::uint32_t>(actual.data[i]))
+        if (std::bit_cast<std::uint32_t>(expected.data[i]) !=
+            std::bit_cast<std::uint32_t>(actual.data[i]))
             return static_cast<std::ptrdiff_t>(i);
     if (expected.data.size() != actual.data.size()) return static_cast<std::ptrdiff_t>(n);
     return -1;
@@ -305,9 +308,11 @@ std::string describe_difference(const Image& expected, const Image& actual, std:
     char e[64], a[64];
     value(expected, i, e, sizeof e);
     value(actual, i, a, sizeof a);
-    const std::string channel_name =
-        channel < static_cast<int>(channel_names.size()) ? channel_names[channel] : std::to_string(channel);
-    std::snprintf(text, sizeof text, "first difference at pixel (%zu, %zu) channel %s: expected %s, got %s",
+    const std::string channel_name = channel < static_cast<int>(channel_names.size())
+                                         ? channel_names[channel]
+                                         : std::to_string(channel);
+    std::snprintf(text, sizeof text,
+                  "first difference at pixel (%zu, %zu) channel %s: expected %s, got %s",
                   pixel % width, pixel / width, channel_name.c_str(), e, a);
     return text;
 }
@@ -322,7 +327,8 @@ std::vector<GoldenDifference> compare_with_bundle(const std::string& directory,
         for (const FrameResult& frame : frames)
             if (frame.frame == stored.frame && frame.find(stored.name)) present = true;
         if (!present)
-            differences.push_back({stored.frame, stored.name, "in the golden but not produced any more"});
+            differences.push_back(
+                {stored.frame, stored.name, "in the golden but not produced any more"});
     }
     for (const FrameResult& frame : frames) {
         for (const Buffer& buffer : frame.buffers) {
@@ -338,22 +344,25 @@ std::vector<GoldenDifference> compare_with_bundle(const std::string& directory,
                 stored->channels != image.channels) {
                 differences.push_back(
                     {frame.frame, buffer.name,
-                     "shape " + std::to_string(image.width) + "x" + std::to_string(image.height) + "x" +
-                         std::to_string(image.channels) + ", golden has " + std::to_string(stored->width) +
-                         "x" + std::to_string(stored->height) + "x" + std::to_string(stored->channels)});
+                     "shape " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                         "x" + std::to_string(image.channels) + ", golden has " +
+                         std::to_string(stored->width) + "x" + std::to_string(stored->height) +
+                         "x" + std::to_string(stored->channels)});
                 continue;
             }
             if (canonical_sha256(image) == stored->sha256) continue;
             std::string what;
             if (stored->file.empty()) {
-                what = "SHA-256 differs (buffer kept by hash only; `fovref golden export` on both "
-                       "builds and `fovref diff` locate the pixel)";
+                what =
+                    "SHA-256 differs (buffer kept by hash only; `fovref golden export` on both "
+                    "builds and `fovref diff` locate the pixel)";
             } else {
                 const Image expected = read_image((fs::path(directory) / stored->file).string());
                 const std::ptrdiff_t index = first_difference(expected, image);
-                what = index < 0 ? "SHA-256 differs from the manifest but the stored file matches: "
-                                   "the bundle is inconsistent, run `fovref golden update`"
-                                 : describe_difference(expected, image, index, buffer.channel_names);
+                what = index < 0
+                           ? "SHA-256 differs from the manifest but the stored file matches: "
+                             "the bundle is inconsistent, run `fovref golden update`"
+                           : describe_difference(expected, image, index, buffer.channel_names);
             }
             differences.push_back({frame.frame, buffer.name, what});
         }

@@ -91,12 +91,15 @@ Image preview_image(const Buffer& buffer) {
                 float shown = 0.0f;
                 switch (buffer.kind) {
                     case BufferKind::color: shown = std::isfinite(v) ? v : 0.0f; break;
-                    case BufferKind::vector: shown = c < src.channels ? v * 0.5f + 0.5f : 0.0f; break;
+                    case BufferKind::vector:
+                        shown = c < src.channels ? v * 0.5f + 0.5f : 0.0f;
+                        break;
                     case BufferKind::depth:
                         shown = v > 0.0f ? 1.0f - 0.9f * normalise(v, ranges[0]) : 0.0f;
                         break;
                     case BufferKind::scalar:
-                        shown = c < src.channels || src.channels == 1 ? normalise(v, ranges[sc]) : 0.0f;
+                        shown =
+                            c < src.channels || src.channels == 1 ? normalise(v, ranges[sc]) : 0.0f;
                         break;
                     case BufferKind::id: {
                         if (v < 0.0f || !std::isfinite(v)) break;

@@ -35,8 +35,8 @@ struct Buffer {
 struct StageRun {
     std::string name;
     bool ran = false;
-    std::string note;     ///< why it was skipped, or what it did
-    double seconds = 0;   ///< wall time (never part of a golden)
+    std::string note;    ///< why it was skipped, or what it did
+    double seconds = 0;  ///< wall time (never part of a golden)
 };
 
 /// Ordered integer statistics (rays traced, texels skipped, NaNs replaced, ...).

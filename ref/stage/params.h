@@ -31,7 +31,8 @@ public:
     std::string get_string(const std::vector<ParamSpec>& specs, const std::string& key) const;
     float get_float(const std::vector<ParamSpec>& specs, const std::string& key, float min,
                     float max) const;
-    int get_int(const std::vector<ParamSpec>& specs, const std::string& key, int min, int max) const;
+    int get_int(const std::vector<ParamSpec>& specs, const std::string& key, int min,
+                int max) const;
     bool get_bool(const std::vector<ParamSpec>& specs, const std::string& key) const;
 
     const std::map<std::string, std::string>& values() const { return values_; }

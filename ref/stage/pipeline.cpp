@@ -30,8 +30,8 @@ std::vector<bool> Pipeline::plan(const std::vector<std::string>& requested) cons
             if (std::find(known.begin(), known.end(), name) == known.end()) {
                 std::string list;
                 for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-                throw Error("buffer '" + name + "' is not produced by this mode (it produces: " +
-                            list + ")");
+                throw Error("buffer '" + name +
+                            "' is not produced by this mode (it produces: " + list + ")");
             }
     // Walk backwards: a stage is needed when one of its outputs is wanted; its inputs then are.
     std::vector<bool> needed(stages.size(), everything);
@@ -39,7 +39,8 @@ std::vector<bool> Pipeline::plan(const std::vector<std::string>& requested) cons
         for (std::size_t k = stages.size(); k-- > 0;) {
             const StageDef& stage = stages[k];
             for (const std::string& output : stage.outputs)
-                if (std::find(wanted.begin(), wanted.end(), output) != wanted.end()) needed[k] = true;
+                if (std::find(wanted.begin(), wanted.end(), output) != wanted.end())
+                    needed[k] = true;
             if (needed[k]) wanted.insert(wanted.end(), stage.inputs.begin(), stage.inputs.end());
         }
     return needed;
@@ -60,7 +61,8 @@ FrameResult Pipeline::run_frame(FrameContext& context,
             context.note.clear();
             const auto start = std::chrono::steady_clock::now();
             stages[k].run(context);
-            run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            run.seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             run.note = context.note;
             for (const std::string& output : stages[k].outputs)
                 FOVREF_CHECK(result.find(output) != nullptr,
@@ -79,7 +81,8 @@ void validate_settings(const RenderSettings& settings) {
     if (settings.height < 1 || settings.height > max_side)
         throw Error("--height " + std::to_string(settings.height) + ": must be in [1, 16384]");
     if (settings.frame_count < 1 || settings.frame_count > 100000)
-        throw Error("--frames " + std::to_string(settings.frame_count) + ": must be in [1, 100000]");
+        throw Error("--frames " + std::to_string(settings.frame_count) +
+                    ": must be in [1, 100000]");
     if (!std::isfinite(settings.time_start) || !std::isfinite(settings.time_step) ||
         settings.time_step < 0.0f)
         throw Error("--time-start/--time-step must be finite and the step non-negative");

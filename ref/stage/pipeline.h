@@ -19,9 +19,9 @@ struct RenderSettings {
     int width = 320;
     int height = 180;
     int frame_count = 1;
-    float time_start = 0.0f;       ///< camera-path time of frame 0
-    float time_step = 1.0f / 30;   ///< camera-path time between frames
-    Params params;                 ///< mode parameters (validated against the mode's list)
+    float time_start = 0.0f;      ///< camera-path time of frame 0
+    float time_step = 1.0f / 30;  ///< camera-path time between frames
+    Params params;                ///< mode parameters (validated against the mode's list)
     /// Buffers wanted: empty = the mode's final outputs; {"all"} = every buffer of every stage.
     std::vector<std::string> requested;
     /// Called with the fraction done (0..1) after each frame; may be empty.
