@@ -89,6 +89,7 @@ Camera camera_at(const Scene& scene, float time) {
     if (!(time < path.back().time)) return make(path.back().position, path.back().orientation);
     std::size_t k = 1;
     while (path[k].time < time) ++k;  // path times are strictly increasing (checked on load)
+    if (path[k].time == time) return make(path[k].position, path[k].orientation);  // exact at keys
     const CameraKey& a = path[k - 1];
     const CameraKey& b = path[k];
     float t = (time - a.time) / (b.time - a.time);

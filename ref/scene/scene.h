@@ -34,6 +34,7 @@ struct Texture {
     bool operator==(const Texture&) const = default;
 };
 
+/// Area lights (quad, triangle) emit from the side their normal cross(edge_u, edge_v) points to.
 struct Light {
     enum class Type { point, quad, triangle };
     Type type = Type::point;
