@@ -26,7 +26,7 @@
 namespace fovref {
 
 namespace fs = std::filesystem;
-using nlohmann::json;
+using json = nlohmann::ordered_json;
 
 std::string fovref_version() { return FOVREF_VERSION; }
 std::string fovref_compiler() { return FOVREF_COMPILER; }
