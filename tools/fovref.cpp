@@ -1,1 +1,507 @@
-int main() { return 0; }
+// fovref: the command-line tool of the reference renderer.
+// Exit codes: 0 ok, 1 a check failed (golden verify, diff), 2 usage or input error.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "ref/core/error.h"
+#include "ref/golden/bundle.h"
+#include "ref/image/image_io.h"
+#include "ref/scene/procedural.h"
+#include "ref/scene/scene_file.h"
+#include "ref/stage/pipeline.h"
+#include "tools/progress.h"
+
+#ifndef FOVREF_SOURCE_DIR
+#define FOVREF_SOURCE_DIR "."
+#endif
+
+namespace fs = std::filesystem;
+using namespace fovref;
+
+namespace {
+
+constexpr int exit_ok = 0, exit_check_failed = 1, exit_usage = 2;
+constexpr int golden_max_width = 320, golden_max_height = 180;
+
+struct Options {
+    bool quiet = false;
+    // scene
+    std::string scene;
+    std::string directory;
+    bool json = false;
+    // render
+    std::string mode = "splat";
+    int width = 320, height = 180, frames = 1;
+    float time_start = 0.0f, time_step = 1.0f / 30;
+    std::vector<std::string> params;
+    std::vector<std::string> outputs;
+    std::string out_dir, dump_dir;
+    // golden
+    std::string golden_dir;
+    std::vector<std::string> case_names;
+    std::string case_name;
+    int export_width = 0, export_height = 0, export_frames = 0;
+};
+
+void say(const Options& o, const std::string& line) {
+    if (!o.quiet) std::cout << line << "\n";
+}
+
+std::string vec3_text(glm::vec3 v) {
+    char text[96];
+    std::snprintf(text, sizeof text, "(%.6g, %.6g, %.6g)", static_cast<double>(v.x),
+                  static_cast<double>(v.y), static_cast<double>(v.z));
+    return text;
+}
+
+const char* light_type_name(Light::Type type) {
+    switch (type) {
+        case Light::Type::point: return "point";
+        case Light::Type::quad: return "quad";
+        case Light::Type::triangle: return "triangle";
+    }
+    return "?";
+}
+
+// ---- scene ------------------------------------------------------------------------------------
+
+int scene_info(const Options& o) {
+    const Scene scene = load_scene(o.scene);
+    const Bounds bounds = scene_bounds(scene);
+    int lights_by_type[3] = {0, 0, 0};
+    for (const Light& light : scene.lights) ++lights_by_type[static_cast<int>(light.type)];
+    if (o.json) {
+        nlohmann::json j;
+        j["name"] = scene.name;
+        j["source"] = scene.source;
+        j["triangles"] = scene.triangle_count();
+        j["bounds"] = {{"min", {bounds.min.x, bounds.min.y, bounds.min.z}},
+                       {"max", {bounds.max.x, bounds.max.y, bounds.max.z}}};
+        j["scene_scale"] = scene.scene_scale;
+        j["materials"] = nlohmann::json::array();
+        for (const Material& m : scene.materials)
+            j["materials"].push_back({{"name", m.name},
+                                      {"albedo", {m.albedo.x, m.albedo.y, m.albedo.z}},
+                                      {"texture", m.texture},
+                                      {"emission", {m.emission.x, m.emission.y, m.emission.z}},
+                                      {"specular", {m.specular.x, m.specular.y, m.specular.z}},
+                                      {"roughness", m.roughness}});
+        j["textures"] = nlohmann::json::array();
+        for (const Texture& t : scene.textures)
+            j["textures"].push_back(
+                {{"name", t.name}, {"width", t.image.width}, {"height", t.image.height}});
+        j["lights"] = {{"point", lights_by_type[0]},
+                       {"quad", lights_by_type[1]},
+                       {"triangle", lights_by_type[2]}};
+        j["camera_path_keys"] = scene.camera_path.size();
+        j["presets"] = nlohmann::json::array();
+        for (const auto& [name, text] : scene.presets) j["presets"].push_back(name);
+        j["dropped"] = {{"zero_area_triangles", scene.load_stats.zero_area_triangles_dropped}};
+        j["repaired"] = {{"polygons_triangulated", scene.load_stats.polygons_triangulated},
+                         {"normals_generated", scene.load_stats.normals_generated}};
+        j["warnings"] = scene.load_stats.warnings;
+        std::cout << j.dump(2) << "\n";
+        return exit_ok;
+    }
+    std::printf("scene      %s\n", scene.name.c_str());
+    std::printf("source     %s\n", scene.source.c_str());
+    std::printf("triangles  %zu\n", scene.triangle_count());
+    std::printf("bounds     %s .. %s (scale %.6g)\n", vec3_text(bounds.min).c_str(),
+                vec3_text(bounds.max).c_str(), static_cast<double>(scene.scene_scale));
+    std::printf("materials  %zu\n", scene.materials.size());
+    for (std::size_t k = 0; k < scene.materials.size(); ++k) {
+        const Material& m = scene.materials[k];
+        std::printf(
+            "  [%zu] %-20s albedo %s%s%s%s\n", k, m.name.c_str(), vec3_text(m.albedo).c_str(),
+            m.texture >= 0 ? (" texture " + scene.textures[m.texture].name).c_str() : "",
+            m.emission != glm::vec3(0.0f) ? (" emission " + vec3_text(m.emission)).c_str() : "",
+            m.specular != glm::vec3(0.0f) ? (" specular " + vec3_text(m.specular) + " roughness " +
+                                             std::to_string(m.roughness))
+                                                .c_str()
+                                          : "");
+    }
+    std::printf("textures   %zu\n", scene.textures.size());
+    for (const Texture& t : scene.textures)
+        std::printf("  %s %dx%d\n", t.name.c_str(), t.image.width, t.image.height);
+    std::printf("lights     %zu (point %d, quad %d, emissive triangles %d)\n", scene.lights.size(),
+                lights_by_type[0], lights_by_type[1], lights_by_type[2]);
+    for (const Light& l : scene.lights)
+        if (l.type != Light::Type::triangle)
+            std::printf("  %-5s at %s intensity %s\n", light_type_name(l.type),
+                        vec3_text(l.position).c_str(), vec3_text(l.intensity).c_str());
+    const Camera& c = scene.camera;
+    std::printf("camera     at %s forward %s vfov %.6g deg\n", vec3_text(c.position).c_str(),
+                vec3_text(c.forward).c_str(), static_cast<double>(c.vfov_deg));
+    if (scene.camera_path.empty())
+        std::printf("path       none (static camera)\n");
+    else
+        std::printf("path       %zu keys, t = %.6g .. %.6g\n", scene.camera_path.size(),
+                    static_cast<double>(scene.camera_path.front().time),
+                    static_cast<double>(scene.camera_path.back().time));
+    const char* display = scene.display.kind == DisplayModel::Kind::field_of_view ? "field of view"
+                          : scene.display.kind == DisplayModel::Kind::diagonal    ? "diagonal"
+                                                                               : "fixed distance";
+    std::printf("display    %s\n", display);
+    std::string presets;
+    for (const auto& [name, text] : scene.presets) presets += (presets.empty() ? "" : ", ") + name;
+    std::printf("presets    %s\n", presets.empty() ? "none" : presets.c_str());
+    std::printf("dropped    %lld zero-area triangles\n",
+                static_cast<long long>(scene.load_stats.zero_area_triangles_dropped));
+    std::printf("repaired   %lld polygons triangulated, %lld triangles without normals\n",
+                static_cast<long long>(scene.load_stats.polygons_triangulated),
+                static_cast<long long>(scene.load_stats.normals_generated));
+    for (const std::string& w : scene.load_stats.warnings)
+        std::printf("warning    %s\n", w.c_str());
+    return exit_ok;
+}
+
+int scene_export(const Options& o) {
+    const Scene scene = load_scene(o.scene);
+    export_scene(scene, o.directory);
+    say(o, "exported " + scene.name + " (" + std::to_string(scene.triangle_count()) +
+               " triangles) to " + o.directory + "/scene.json");
+    return exit_ok;
+}
+
+int scene_list(const Options&) {
+    for (const ProceduralSceneInfo& info : procedural_scenes())
+        std::printf("%-14s %s\n", info.name.c_str(), info.description.c_str());
+    return exit_ok;
+}
+
+// ---- render -----------------------------------------------------------------------------------
+
+int modes_list(const Options&) {
+    for (const ModeInfo& mode : render_modes()) {
+        std::printf("%-12s %s%s\n", mode.name.c_str(), mode.description.c_str(),
+                    mode.needs_scene ? "" : " (no scene needed)");
+        for (const ParamSpec& p : mode.params)
+            std::printf("    --param %s=<%s>  %s\n", p.name.c_str(), p.default_value.c_str(),
+                        p.doc.c_str());
+    }
+    return exit_ok;
+}
+
+int render_command(const Options& o) {
+    if (o.out_dir.empty() && o.dump_dir.empty())
+        throw Error("render: give --out DIR and/or --dump DIR");
+    const ModeInfo& mode = find_mode(o.mode);
+    std::optional<Scene> scene;
+    if (mode.needs_scene) {
+        if (o.scene.empty()) throw Error("render: mode '" + o.mode + "' needs --scene");
+        scene = load_scene(o.scene);
+    }
+    GoldenCase run;
+    run.name = "render";
+    run.scene = o.scene;
+    run.mode = o.mode;
+    run.width = o.width;
+    run.height = o.height;
+    run.frames = o.frames;
+    run.time_start = o.time_start;
+    run.time_step = o.time_step;
+    for (const std::string& p : o.params) run.params.set_from_assignment(p);
+    std::vector<std::string> requested = o.outputs;
+    if (!o.dump_dir.empty()) requested = {"all"};
+    Progress progress("render " + o.mode, o.quiet);
+    const std::vector<FrameResult> frames = render_golden_case(
+        run, scene ? &*scene : nullptr, requested, [&](double f) { progress.update(f); });
+    progress.finish();
+    if (!o.dump_dir.empty()) {
+        BundleOptions options;
+        options.previews_for_all = true;
+        options.include_timings = true;
+        write_bundle(o.dump_dir, run, frames, options);
+        say(o, "dumped every buffer of " + std::to_string(frames.size()) + " frame(s) to " +
+                   o.dump_dir);
+    }
+    if (!o.out_dir.empty()) {
+        std::vector<FrameResult> finals = frames;
+        const Pipeline pipeline = mode.build(scene ? &*scene : nullptr, RenderSettings{});
+        const std::vector<std::string> wanted =
+            o.outputs.empty() ? pipeline.final_outputs : o.outputs;
+        for (FrameResult& f : finals) {
+            std::vector<Buffer> kept;
+            for (Buffer& b : f.buffers)
+                if (std::find(wanted.begin(), wanted.end(), b.name) != wanted.end())
+                    kept.push_back(std::move(b));
+            f.buffers = std::move(kept);
+        }
+        BundleOptions options;
+        options.previews_for_all = true;
+        options.include_timings = true;
+        write_bundle(o.out_dir, run, finals, options);
+        say(o, "wrote " + std::to_string(frames.size()) + " frame(s) to " + o.out_dir);
+    }
+    for (const FrameResult& f : frames) {
+        std::string line = "frame " + std::to_string(f.frame) + ":";
+        for (const StageRun& s : f.stages) line += " " + s.name + (s.ran ? "" : " (skipped)");
+        for (const auto& [k, v] : f.counters.values) line += ", " + k + " " + std::to_string(v);
+        say(o, line);
+    }
+    return exit_ok;
+}
+
+// ---- golden -----------------------------------------------------------------------------------
+
+std::string golden_directory(const Options& o) {
+    if (!o.golden_dir.empty()) return o.golden_dir;
+    if (fs::exists("golden/cases.json")) return "golden";
+    return (fs::path(FOVREF_SOURCE_DIR) / "golden").string();
+}
+
+std::vector<GoldenCase> selected_cases(const Options& o, const std::vector<GoldenCase>& all) {
+    if (o.case_names.empty()) return all;
+    std::vector<GoldenCase> chosen;
+    for (const std::string& name : o.case_names) chosen.push_back(find_golden_case(all, name));
+    return chosen;
+}
+
+int golden_list(const Options& o) {
+    const std::string dir = golden_directory(o);
+    for (const GoldenCase& c : load_golden_cases(dir + "/cases.json"))
+        std::printf("%-28s %-12s %-14s %dx%d x%d  %s\n", c.name.c_str(), c.mode.c_str(),
+                    c.scene.empty() ? "-" : c.scene.c_str(), c.width, c.height, c.frames,
+                    c.description.c_str());
+    return exit_ok;
+}
+
+int golden_verify(const Options& o) {
+    const std::string dir = golden_directory(o);
+    const std::vector<GoldenCase> cases = selected_cases(o, load_golden_cases(dir + "/cases.json"));
+    SceneCache scenes(fs::path(dir).parent_path().string());
+    int failed = 0;
+    Progress progress("golden verify", o.quiet);
+    for (std::size_t k = 0; k < cases.size(); ++k) {
+        const GoldenCase& c = cases[k];
+        const std::string bundle = dir + "/" + c.name;
+        if (!fs::exists(bundle + "/manifest.json")) {
+            std::printf("FAIL %s: no bundle at %s (run `fovref golden update --case %s`)\n",
+                        c.name.c_str(), bundle.c_str(), c.name.c_str());
+            ++failed;
+            continue;
+        }
+        const Manifest manifest = read_manifest(bundle);
+        if (!(manifest.golden_case == c)) {
+            std::printf(
+                "FAIL %s: the bundle was made for a different case definition (run `fovref golden "
+                "update --case %s`)\n",
+                c.name.c_str(), c.name.c_str());
+            ++failed;
+            continue;
+        }
+        const std::vector<FrameResult> frames = render_golden_case(c, scenes.get(c.scene), {"all"});
+        const std::vector<GoldenDifference> differences = compare_with_bundle(bundle, frames);
+        std::size_t buffers = 0;
+        for (const FrameResult& f : frames) buffers += f.buffers.size();
+        if (differences.empty()) {
+            if (!o.quiet)
+                std::printf("ok   %-28s %zu buffers, %d frame(s)\n", c.name.c_str(), buffers,
+                            c.frames);
+        } else {
+            ++failed;
+            std::printf("FAIL %s: %zu difference(s); first in pipeline order:\n", c.name.c_str(),
+                        differences.size());
+            for (const GoldenDifference& d : differences)
+                std::printf("     frame %d, buffer %s: %s\n", d.frame, d.buffer.c_str(),
+                            d.what.c_str());
+        }
+        progress.update(static_cast<double>(k + 1) / static_cast<double>(cases.size()));
+    }
+    progress.finish();
+    std::printf("golden verify: %zu cases, %d failed (%s, %s)\n", cases.size(), failed,
+                fovref_compiler().c_str(), fovref_build_flags().c_str());
+    return failed ? exit_check_failed : exit_ok;
+}
+
+int golden_update(const Options& o) {
+    const std::string dir = golden_directory(o);
+    const std::vector<GoldenCase> all = load_golden_cases(dir + "/cases.json");
+    const std::vector<GoldenCase> cases = selected_cases(o, all);
+    SceneCache scenes(fs::path(dir).parent_path().string());
+    BundleOptions options;
+    options.max_stored_pixels = static_cast<std::size_t>(golden_max_width) * golden_max_height;
+    for (const GoldenCase& c : cases) {
+        if (c.width > golden_max_width || c.height > golden_max_height)
+            throw Error("golden case '" + c.name + "': " + std::to_string(c.width) + "x" +
+                        std::to_string(c.height) +
+                        " exceeds the repository limit of 320x180 (use "
+                        "`fovref golden export --width --height` for larger bundles)");
+        const std::string bundle = dir + "/" + c.name;
+        const std::vector<FrameResult> frames = render_golden_case(c, scenes.get(c.scene), {"all"});
+        std::string status = "new";
+        if (fs::exists(bundle + "/manifest.json")) {
+            const Manifest old = read_manifest(bundle);
+            const std::vector<GoldenDifference> differences =
+                old.golden_case == c ? compare_with_bundle(bundle, frames)
+                                     : std::vector<GoldenDifference>{};
+            status = !(old.golden_case == c) ? "case definition changed"
+                     : differences.empty()
+                         ? "unchanged"
+                         : std::to_string(differences.size()) + " buffer(s) changed";
+            for (const GoldenDifference& d : differences)
+                say(o, "  " + c.name + " frame " + std::to_string(d.frame) + " " + d.buffer + ": " +
+                           d.what);
+        }
+        write_bundle(bundle, c, frames, options);
+        say(o, "updated " + c.name + ": " + status);
+    }
+    // Bundles whose case is gone from cases.json are stale.
+    if (o.case_names.empty())
+        for (const auto& entry : fs::directory_iterator(dir)) {
+            if (!entry.is_directory() || !fs::exists(entry.path() / "manifest.json")) continue;
+            const std::string name = entry.path().filename().string();
+            bool known = false;
+            for (const GoldenCase& c : all) known = known || c.name == name;
+            if (!known) {
+                fs::remove_all(entry.path());
+                say(o, "removed " + name + ": no longer in cases.json");
+            }
+        }
+    return exit_ok;
+}
+
+int golden_export(const Options& o) {
+    const std::string dir = golden_directory(o);
+    GoldenCase c = find_golden_case(load_golden_cases(dir + "/cases.json"), o.case_name);
+    if (o.export_width > 0) c.width = o.export_width;
+    if (o.export_height > 0) c.height = o.export_height;
+    if (o.export_frames > 0) c.frames = o.export_frames;
+    SceneCache scenes(fs::path(dir).parent_path().string());
+    Progress progress("golden export " + c.name, o.quiet);
+    const std::vector<FrameResult> frames =
+        render_golden_case(c, scenes.get(c.scene), {"all"}, [&](double f) { progress.update(f); });
+    progress.finish();
+    BundleOptions options;
+    options.previews_for_all = true;
+    write_bundle(o.directory, c, frames, options);
+    say(o, "exported " + c.name + " at " + std::to_string(c.width) + "x" +
+               std::to_string(c.height) + ", " + std::to_string(c.frames) + " frame(s), to " +
+               o.directory);
+    return exit_ok;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    CLI::App app{
+        "fovref: deterministic reference renderer for foveated ray and path tracing.\n"
+        "Exit codes: 0 ok, 1 a check failed, 2 usage or input error."};
+    app.set_version_flag("--version", "fovref " + fovref_version());
+    app.add_flag("-q,--quiet", o.quiet, "print only errors and failures, no progress bar");
+    app.require_subcommand(1);
+    app.fallthrough();  // global options (--quiet) may follow a subcommand
+    app.footer(
+        "Commands:\n"
+        "  fovref scene list                      the procedural scenes\n"
+        "  fovref scene info SCENE [--json]       counts, bounds, materials, lights, camera, "
+        "drops\n"
+        "  fovref scene export SCENE DIR          OBJ + MTL + textures + scene.json\n"
+        "  fovref modes                           render modes and their parameters\n"
+        "  fovref render --scene S --mode M --width W --height H [--frames N] [--param k=v]\n"
+        "                [--output a,b] [--out DIR] [--dump DIR]\n"
+        "  fovref golden list                     the golden cases (golden/cases.json)\n"
+        "  fovref golden verify [--case C]        recompute, compare bit-exactly, exit 1 on a "
+        "difference\n"
+        "  fovref golden update [--case C]        recompute and rewrite, saying what changed\n"
+        "  fovref golden export CASE DIR [--width W --height H --frames N]\n"
+        "SCENE is a procedural scene name (see `scene list`) or a scene file or directory.\n"
+        "Run `fovref COMMAND --help` for each command's options.");
+
+    // scene
+    CLI::App* scene = app.add_subcommand("scene", "inspect, list and export scenes");
+    scene->require_subcommand(1);
+    scene->fallthrough();
+    CLI::App* scene_info_cmd = scene->add_subcommand(
+        "info",
+        "triangles, lights, bounds, materials, camera, and what the loader dropped or repaired");
+    scene_info_cmd->add_option("SCENE", o.scene, "procedural scene name or scene file/directory")
+        ->required();
+    scene_info_cmd->add_flag("--json", o.json, "machine-readable output");
+    CLI::App* scene_export_cmd = scene->add_subcommand(
+        "export", "write any scene (procedural ones too) as OBJ + MTL + textures + scene.json");
+    scene_export_cmd->add_option("SCENE", o.scene, "procedural scene name or scene file")
+        ->required();
+    scene_export_cmd->add_option("DIR", o.directory, "output directory (created)")->required();
+    CLI::App* scene_list_cmd = scene->add_subcommand("list", "the procedural scenes");
+
+    // render
+    CLI::App* render_cmd =
+        app.add_subcommand("render", "render frames of a mode and write its buffers");
+    render_cmd->add_option("--scene", o.scene, "procedural scene name or scene file");
+    render_cmd->add_option("--mode", o.mode, "render mode (see `fovref modes`)")
+        ->capture_default_str();
+    render_cmd->add_option("--width", o.width, "screen width in pixels")->capture_default_str();
+    render_cmd->add_option("--height", o.height, "screen height in pixels")->capture_default_str();
+    render_cmd->add_option("--frames", o.frames, "number of frames")->capture_default_str();
+    render_cmd->add_option("--time-start", o.time_start, "camera-path time of frame 0")
+        ->capture_default_str();
+    render_cmd->add_option("--time-step", o.time_step, "camera-path time between frames")
+        ->capture_default_str();
+    render_cmd->add_option("--param", o.params, "mode parameter key=value (repeatable)");
+    render_cmd
+        ->add_option("--output", o.outputs,
+                     "buffers to produce (default: the mode's final outputs)")
+        ->delimiter(',');
+    render_cmd->add_option("--out", o.out_dir,
+                           "write the final buffers (PFM/EXR + PNG + manifest.json) here");
+    render_cmd->add_option(
+        "--dump", o.dump_dir,
+        "write every intermediate buffer (PFM/EXR + PNG preview + manifest.json) here");
+    CLI::App* modes_cmd = app.add_subcommand("modes", "list render modes and their parameters");
+
+    // golden
+    CLI::App* golden =
+        app.add_subcommand("golden", "verify, update, list and export golden bundles");
+    golden->require_subcommand(1);
+    golden->fallthrough();
+    golden->add_option("--dir", o.golden_dir,
+                       "golden directory (default: ./golden, else the source tree's)");
+    CLI::App* verify_cmd = golden->add_subcommand("verify",
+                                                  "recompute every golden and compare bit-exactly; "
+                                                  "names the first differing buffer and pixel");
+    verify_cmd->add_option("--case", o.case_names, "only these cases");
+    CLI::App* update_cmd =
+        golden->add_subcommand("update", "recompute and rewrite goldens, saying what changed");
+    update_cmd->add_option("--case", o.case_names, "only these cases");
+    CLI::App* list_cmd = golden->add_subcommand("list", "the golden cases");
+    CLI::App* export_cmd = golden->add_subcommand(
+        "export", "write a full bundle (every buffer of every frame) of a case at any size");
+    export_cmd->add_option("CASE", o.case_name, "golden case name (see `fovref golden list`)")
+        ->required();
+    export_cmd->add_option("DIR", o.directory, "output directory")->required();
+    export_cmd->add_option("--width", o.export_width, "override the case's width");
+    export_cmd->add_option("--height", o.export_height, "override the case's height");
+    export_cmd->add_option("--frames", o.export_frames, "override the case's frame count");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int code = app.exit(e);
+        return code == 0 ? exit_ok : exit_usage;
+    }
+    try {
+        if (scene_info_cmd->parsed()) return scene_info(o);
+        if (scene_export_cmd->parsed()) return scene_export(o);
+        if (scene_list_cmd->parsed()) return scene_list(o);
+        if (render_cmd->parsed()) return render_command(o);
+        if (modes_cmd->parsed()) return modes_list(o);
+        if (verify_cmd->parsed()) return golden_verify(o);
+        if (update_cmd->parsed()) return golden_update(o);
+        if (list_cmd->parsed()) return golden_list(o);
+        if (export_cmd->parsed()) return golden_export(o);
+    } catch (const Error& e) {
+        std::fprintf(stderr, "fovref: %s\n", e.what());
+        return exit_usage;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "fovref: unexpected error: %s\n", e.what());
+        return exit_usage;
+    }
+    return exit_usage;
+}

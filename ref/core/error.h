@@ -20,11 +20,12 @@ inline Error file_error(const std::string& file, int line, const std::string& me
 }
 
 /// Checks stay on in every build and print both sides (STYLE.md).
-#define FOVREF_CHECK(cond, message)                                                              \
-    do {                                                                                         \
-        if (!(cond)) throw ::fovref::Error(std::string("internal check failed: ") + #cond +     \
-                                           " (" + std::string(message) + ") at " + __FILE__ +    \
-                                           ":" + std::to_string(__LINE__));                      \
+#define FOVREF_CHECK(cond, message)                                                       \
+    do {                                                                                  \
+        if (!(cond))                                                                      \
+            throw ::fovref::Error(std::string("internal check failed: ") + #cond + " (" + \
+                                  std::string(message) + ") at " + __FILE__ + ":" +       \
+                                  std::to_string(__LINE__));                              \
     } while (0)
 
 }  // namespace fovref

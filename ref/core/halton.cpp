@@ -27,10 +27,12 @@ Fraction radical_inverse(std::uint32_t index, std::uint32_t base) {
 }  // namespace
 
 float halton(std::uint32_t index, std::uint32_t base) {
-    if (base != 2 && base != 3) throw Error("halton: base must be 2 or 3, got " + std::to_string(base));
+    if (base != 2 && base != 3)
+        throw Error("halton: base must be 2 or 3, got " + std::to_string(base));
     Fraction f = radical_inverse(index, base);
     // numerator, denominator < 2^53: the quotient is rounded once in binary64, then to float.
-    return static_cast<float>(static_cast<double>(f.numerator) / static_cast<double>(f.denominator));
+    return static_cast<float>(static_cast<double>(f.numerator) /
+                              static_cast<double>(f.denominator));
 }
 
 std::array<Offset2, 16> halton23_points16() {

@@ -34,7 +34,8 @@ Camera look_at(glm::vec3 position, glm::vec3 target, glm::vec3 world_up, float v
 
 Camera camera_from_quat(glm::vec3 position, glm::quat orientation, float vfov_deg) {
     float norm = std::sqrt(glm::dot(orientation, orientation));
-    if (!(norm > 0.0f) || !std::isfinite(norm)) throw Error("camera: orientation quaternion is zero or not finite");
+    if (!(norm > 0.0f) || !std::isfinite(norm))
+        throw Error("camera: orientation quaternion is zero or not finite");
     glm::quat q = orientation / norm;
     Camera camera;
     camera.position = position;

@@ -51,8 +51,8 @@ void finalize_scene(Scene& scene) {
         if (material.texture < -1 || material.texture >= static_cast<int>(scene.textures.size()))
             throw Error(scene.source + ": material '" + material.name + "' has texture index " +
                         std::to_string(material.texture) + " out of range");
-        if (!finite3(material.albedo) || !finite3(material.emission) || !finite3(material.specular) ||
-            !std::isfinite(material.roughness))
+        if (!finite3(material.albedo) || !finite3(material.emission) ||
+            !finite3(material.specular) || !std::isfinite(material.roughness))
             throw Error(scene.source + ": material '" + material.name + "' has a non-finite value");
     }
     for (const Texture& texture : scene.textures)
@@ -62,7 +62,8 @@ void finalize_scene(Scene& scene) {
     // Emissive triangles become triangle lights, in triangle order (after the explicit lights).
     for (std::size_t t = 0; t < triangles; ++t) {
         const Material& material = scene.materials[scene.material_ids[t]];
-        if (material.emission.x > 0.0f || material.emission.y > 0.0f || material.emission.z > 0.0f) {
+        if (material.emission.x > 0.0f || material.emission.y > 0.0f ||
+            material.emission.z > 0.0f) {
             Light light;
             light.type = Light::Type::triangle;
             light.position = scene.positions[3 * t];
@@ -88,6 +89,7 @@ Camera camera_at(const Scene& scene, float time) {
     if (!(time < path.back().time)) return make(path.back().position, path.back().orientation);
     std::size_t k = 1;
     while (path[k].time < time) ++k;  // path times are strictly increasing (checked on load)
+    if (path[k].time == time) return make(path[k].position, path[k].orientation);  // exact at keys
     const CameraKey& a = path[k - 1];
     const CameraKey& b = path[k];
     float t = (time - a.time) / (b.time - a.time);

@@ -34,6 +34,7 @@ struct Texture {
     bool operator==(const Texture&) const = default;
 };
 
+/// Area lights (quad, triangle) emit from the side their normal cross(edge_u, edge_v) points to.
 struct Light {
     enum class Type { point, quad, triangle };
     Type type = Type::point;
@@ -66,9 +67,9 @@ struct Scene {
     std::string name;
     std::string source;  ///< file path, or "procedural:<name>"
 
-    std::vector<glm::vec3> positions;  ///< 3 per triangle, world space
-    std::vector<glm::vec3> normals;    ///< 3 per triangle, unit shading normals
-    std::vector<glm::vec2> uvs;        ///< 3 per triangle (0,0 when the mesh has none)
+    std::vector<glm::vec3> positions;        ///< 3 per triangle, world space
+    std::vector<glm::vec3> normals;          ///< 3 per triangle, unit shading normals
+    std::vector<glm::vec2> uvs;              ///< 3 per triangle (0,0 when the mesh has none)
     std::vector<std::int32_t> material_ids;  ///< 1 per triangle
 
     std::vector<Material> materials;

@@ -38,6 +38,7 @@ TEST_CASE("halton offsets: mean exactly 0.5 per axis (Lund eq. 3.11)") {
     // The unscaled mean is not 0.5 (that is why Lund scales): 7.53125/16 and 200/27/16.
     CHECK(raw_x / 16.0 == doctest::Approx(7.53125 / 16.0).epsilon(1e-7));
     CHECK(raw_x / 16.0 != 0.5);
+    CHECK(raw_y / 16.0 == doctest::Approx(200.0 / 27.0 / 16.0).epsilon(1e-7));
     for (int i = 0; i < 16; ++i) {
         double exact_x = static_cast<double>(points[i].x) * 0.5 / (7.53125 / 16.0);
         CHECK(std::abs(offsets[i].x - exact_x) <= 1.0 / (1 << 20));
@@ -58,7 +59,7 @@ TEST_CASE("pcg hash and wang hash: published reference values") {
     CHECK(wang_hash(1u) == 663891101u);
 }
 
-TEST_CASE("rand: independent of evaluation order, distinct across dimensions, in [0,1)") {
+TEST_CASE("rand: independent of evaluation order, distinct across dimensions, in the unit interval") {
     std::set<std::uint32_t> seen;
     double sum = 0;
     const int n = 1 << 16;

@@ -1,0 +1,571 @@
+// Deterministic transcendental functions (SPEC §0). See dmath.h for the contract and
+// docs/determinism.md for the methods, the error bounds and the measured errors.
+//
+// Rules this file keeps so that every compiler and optimisation level gives the same bits:
+//   * only + - * /, std::sqrt (IEEE correctly rounded) and integer bit manipulation; no libm call
+//     (not even ldexp/frexp/copysign: exponents and signs are handled on the bits);
+//   * no std::fma and no contraction (the build uses -ffp-contract=off), so every expression is
+//     evaluated exactly as written, one IEEE rounding per operation, left to right;
+//   * float functions widen to binary64, reduce and evaluate there, and round once to float.
+//
+// Rounding to the nearest integer uses the "shifter" trick (t + 1.5*2^52) - 1.5*2^52, exact round
+// half to even for |t| < 2^51; it is a plain IEEE addition and subtraction, which no
+// value-preserving compiler may fold.
+#include "ref/core/dmath.h"
+
+#include <bit>
+#include <cmath>  // std::sqrt only
+#include <cstdint>
+#include <limits>
+
+namespace fovref::dm {
+namespace {
+
+using u32 = std::uint32_t;
+using u64 = std::uint64_t;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// ---- Constants ------------------------------------------------------------------------------
+// ln 2 split as in fdlibm: kLn2Hi has 32 significant bits, so k * kLn2Hi is exact for |k| < 2^21;
+// kLn2Hi + kLn2Lo equals ln 2 to 2^-85 relative.
+constexpr double kLn2Hi = 0x1.62e42fee00000p-1;
+constexpr double kLn2Lo = 0x1.a39ef35793c76p-33;
+constexpr double kInvLn2 = 0x1.71547652b82fep+0;      // 1/ln 2 rounded
+constexpr double kInvLn2Lo = 0x1.777d0ffda0d24p-56;   // 1/ln 2 - kInvLn2
+constexpr double kInvLn10 = 0x1.bcb7b1526e50ep-2;     // 1/ln 10 rounded
+constexpr double kInvLn10Lo = 0x1.95355baaafad3p-57;  // 1/ln 10 - kInvLn10
+constexpr double kTwoThirds = 0x1.5555555555555p-1;   // 2/3 rounded
+constexpr double kTwoThirdsLo = 0x1.5555555555555p-55;
+constexpr double kSqrt2 = 0x1.6a09e667f3bcdp+0;
+constexpr double kPi = 0x1.921fb54442d18p+1;
+constexpr double kPiOver2 = 0x1.921fb54442d18p+0;  // exactly kPi / 2
+constexpr double kTwoOverPi = 0x1.45f306dc9c883p-1;
+// pi/2 in three parts (fdlibm pio2_1, pio2_2, pio2_2t): the first two have 33 significant bits,
+// so k * part is exact for |k| < 2^20; the sum equals pi/2 to 1e-37.
+constexpr double kPio2Part1 = 0x1.921fb54400000p+0;
+constexpr double kPio2Part2 = 0x1.0b4611a600000p-34;
+constexpr double kPio2Part3 = 0x1.3198a2e037073p-69;
+
+// ---- Bits -----------------------------------------------------------------------------------
+inline u64 bits_of(double x) { return std::bit_cast<u64>(x); }
+inline double double_of(u64 b) { return std::bit_cast<double>(b); }
+inline u32 bits_of(float x) { return std::bit_cast<u32>(x); }
+inline float float_of(u32 b) { return std::bit_cast<float>(b); }
+
+inline bool is_nan(double x) {
+    return (bits_of(x) & 0x7fffffffffffffffull) > 0x7ff0000000000000ull;
+}
+inline bool sign_bit(double x) { return (bits_of(x) >> 63) != 0; }
+inline double abs_of(double x) { return double_of(bits_of(x) & 0x7fffffffffffffffull); }
+/// |magnitude| with the sign of `sign`.
+inline double with_sign(double magnitude, bool negative) {
+    return double_of((bits_of(magnitude) & 0x7fffffffffffffffull) | (negative ? 1ull << 63 : 0));
+}
+
+/// 2^k as a double, for -1022 <= k <= 1023 (built from the exponent bits).
+inline double pow2i(int k) { return double_of(static_cast<u64>(k + 1023) << 52); }
+
+/// v * 2^k with a single rounding, for v in [0.5, 2] and -1122 <= k <= 2046. Results below the
+/// normal range are scaled in two steps whose first is exact, so a subnormal is rounded once.
+inline double scale_pow2(double v, int k) {
+    if (k > 1023) return v * pow2i(1023) * pow2i(k - 1023);
+    if (k < -1022) return v * pow2i(k + 100) * pow2i(-100);
+    return v * pow2i(k);
+}
+
+/// Nearest integer (ties to even) for |t| < 2^51.
+inline double nearest_int(double t) {
+    constexpr double shifter = 0x1.8p52;
+    return (t + shifter) - shifter;
+}
+
+// ---- Double-double helpers (Dekker 1971, Knuth TAOCP 4.2.2); exact without FMA ---------------
+struct DD {
+    double hi;
+    double lo;
+};
+
+/// a + b = s + e exactly, any order of magnitude.
+inline DD two_sum(double a, double b) {
+    double s = a + b;
+    double bb = s - a;
+    double e = (a - (s - bb)) + (b - bb);
+    return {s, e};
+}
+
+/// a + b = s + e exactly, requires |a| >= |b| (or a == 0).
+inline DD fast_two_sum(double a, double b) {
+    double s = a + b;
+    return {s, b - (s - a)};
+}
+
+/// Veltkamp split: a = hi + lo with hi, lo on 26 bits each.
+inline DD split(double a) {
+    double t = 134217729.0 * a;  // 2^27 + 1
+    double hi = t - (t - a);
+    return {hi, a - hi};
+}
+
+/// a * b = p + e exactly (Dekker), barring overflow and underflow.
+inline DD two_prod(double a, double b) {
+    double p = a * b;
+    DD as = split(a);
+    DD bs = split(b);
+    double e = ((as.hi * bs.hi - p) + as.hi * bs.lo + as.lo * bs.hi) + as.lo * bs.lo;
+    return {p, e};
+}
+
+/// (a.hi + a.lo) * (c_hi + c_lo) to about 2^-100 relative, as a double-double.
+inline DD mul_dd(DD a, double c_hi, double c_lo) {
+    DD p = two_prod(a.hi, c_hi);
+    double lo = p.lo + (a.hi * c_lo + a.lo * c_hi);
+    return fast_two_sum(p.hi, lo);
+}
+
+// ---- exp ------------------------------------------------------------------------------------
+// exp(hi + lo) for -746 <= hi <= 710 and |lo| <= 2^-40 |hi|:
+//   k = nearest(hi / ln2), r = (hi - k*ln2_hi) - (k*ln2_lo - lo), |r| <= ln2/2 + tiny,
+//   exp(r) = 1 + r + r^2 (1/2! + r/3! + ... + r^11/13!)   (Taylor; the r^14 term is < 2^-57)
+//   exp(hi + lo) = exp(r) * 2^k.
+// hi - k*ln2_hi is exact (the product is exact and the difference is a Sterbenz subtraction);
+// r_hi is kept apart from the small terms so that 1 + (r_hi + (p - r_lo)) rounds only twice.
+double exp_core(double hi, double lo) {
+    double kd = nearest_int(hi * kInvLn2);
+    int k = static_cast<int>(kd);
+    double r_hi = hi - kd * kLn2Hi;
+    double r_lo = kd * kLn2Lo - lo;
+    double r = r_hi - r_lo;
+    // Taylor coefficients 1/n! for n = 2..13, Horner from the highest degree.
+    double q = 1.0 / 6227020800.0;
+    q = 1.0 / 479001600.0 + r * q;
+    q = 1.0 / 39916800.0 + r * q;
+    q = 1.0 / 3628800.0 + r * q;
+    q = 1.0 / 362880.0 + r * q;
+    q = 1.0 / 40320.0 + r * q;
+    q = 1.0 / 5040.0 + r * q;
+    q = 1.0 / 720.0 + r * q;
+    q = 1.0 / 120.0 + r * q;
+    q = 1.0 / 24.0 + r * q;
+    q = 1.0 / 6.0 + r * q;
+    q = 0.5 + r * q;
+    double p = (r * r) * q;
+    double v = 1.0 + (r_hi + (p - r_lo));
+    return scale_pow2(v, k);
+}
+
+// ---- log ------------------------------------------------------------------------------------
+// log(x) for finite x > 0 as a double-double, to about 2^-64 relative:
+//   x = m * 2^e with m in [sqrt(1/2), sqrt(2)) (exponent and mantissa taken from the bits,
+//   subnormals first scaled by 2^54), f = m - 1 (exact, Sterbenz), s = f / (m + 1) = f / (2 + f),
+//   log(m) = 2 atanh(s) = 2s + (2/3) s^3 + sum_{j>=2} 2/(2j+1) s^(2j+1),   |s| <= 0.1716.
+// 2s and (2/3)s^3 are carried in double-double (s = s_hi + s_lo from the exact division
+// remainder); the rest is below 2^-12.5 |log m| and is summed in double up to s^25 (the first
+// omitted term is below 2^-70 |log m|). log(x) = e*ln2_hi (exact) + e*ln2_lo + log(m).
+DD log_dd(double x) {
+    int e = 0;
+    u64 b = bits_of(x);
+    if ((b >> 52) == 0) {  // subnormal
+        x = x * 0x1p54;
+        b = bits_of(x);
+        e = -54;
+    }
+    e += static_cast<int>(b >> 52) - 1023;
+    double m = double_of((b & 0x000fffffffffffffull) | 0x3ff0000000000000ull);  // [1, 2)
+    if (m >= kSqrt2) {
+        m = m * 0.5;  // exact
+        e += 1;
+    }
+    double ed = static_cast<double>(e);
+    double f = m - 1.0;
+
+    // s = f / (m + 1) in double-double.
+    DD u = two_sum(m, 1.0);
+    double s_hi = f / u.hi;
+    DD su = two_prod(s_hi, u.hi);
+    double s_lo = (((f - su.hi) - su.lo) - s_hi * u.lo) / u.hi;
+
+    // (2/3) s^3 in double-double.
+    DD s2 = two_prod(s_hi, s_hi);
+    DD s3 = two_prod(s_hi, s2.hi);
+    double s3_lo = s3.lo + (s_hi * s2.lo + 3.0 * s2.hi * s_lo);
+    DD t1 = two_prod(s3.hi, kTwoThirds);
+    double t1_lo = t1.lo + (s3.hi * kTwoThirdsLo + s3_lo * kTwoThirds);
+
+    // sum_{j=2..12} 2/(2j+1) s^(2j+1) in double.
+    double z = s2.hi;
+    double q = 2.0 / 25.0;
+    q = 2.0 / 23.0 + z * q;
+    q = 2.0 / 21.0 + z * q;
+    q = 2.0 / 19.0 + z * q;
+    q = 2.0 / 17.0 + z * q;
+    q = 2.0 / 15.0 + z * q;
+    q = 2.0 / 13.0 + z * q;
+    q = 2.0 / 11.0 + z * q;
+    q = 2.0 / 9.0 + z * q;
+    q = 2.0 / 7.0 + z * q;
+    q = 2.0 / 5.0 + z * q;
+    double rest = (s_hi * (z * z)) * q;
+
+    // Assemble e*ln2 + 2s + (2/3)s^3 + rest, large parts exactly, small parts in order.
+    DD a = two_sum(2.0 * s_hi, t1.hi);
+    DD h = two_sum(ed * kLn2Hi, a.hi);
+    double lo = h.lo + (a.lo + (2.0 * s_lo + (t1_lo + (rest + ed * kLn2Lo))));
+    return fast_two_sum(h.hi, lo);
+}
+
+// ---- pow ------------------------------------------------------------------------------------
+/// 0: y is not an integer, 1: odd integer, 2: even integer (y finite).
+int integer_kind(double y) {
+    u64 b = bits_of(y) & 0x7fffffffffffffffull;
+    int exponent = static_cast<int>(b >> 52) - 1023;
+    if (b == 0) return 2;
+    if (exponent < 0) return 0;
+    if (exponent >= 53) return 2;  // every double >= 2^53 is even
+    u64 significand = (b & 0x000fffffffffffffull) | (1ull << 52);
+    int frac_bits = 52 - exponent;
+    if (frac_bits > 0 && (significand & ((1ull << frac_bits) - 1)) != 0) return 0;
+    return ((significand >> frac_bits) & 1) ? 1 : 2;
+}
+
+// ---- atan -----------------------------------------------------------------------------------
+// atan(t) for 0 <= t <= 1: two argument halvings atan(t) = 2 atan(t / (1 + sqrt(1 + t^2)))
+// bring t below tan(pi/16) = 0.199, then the Taylor series to t^23 (first omitted term below
+// 2^-55 relative), times 4.
+double atan_core(double t) {
+    t = t / (1.0 + std::sqrt(1.0 + t * t));
+    t = t / (1.0 + std::sqrt(1.0 + t * t));
+    double z = t * t;
+    double q = -1.0 / 23.0;
+    q = 1.0 / 21.0 + z * q;
+    q = -1.0 / 19.0 + z * q;
+    q = 1.0 / 17.0 + z * q;
+    q = -1.0 / 15.0 + z * q;
+    q = 1.0 / 13.0 + z * q;
+    q = -1.0 / 11.0 + z * q;
+    q = 1.0 / 9.0 + z * q;
+    q = -1.0 / 7.0 + z * q;
+    q = 1.0 / 5.0 + z * q;
+    q = -1.0 / 3.0 + z * q;
+    return 4.0 * (t + t * (z * q));
+}
+
+/// atan2 for ay, ax >= 0, finite, not both zero: angle in [0, pi/2].
+double atan2_first_quadrant(double ay, double ax) {
+    if (ay <= ax) return atan_core(ay / ax);
+    return kPiOver2 - atan_core(ax / ay);
+}
+
+/// Full atan2 on doubles holding float values (finite or infinite, no NaN), C99 Annex F rules.
+double atan2_core(double y, double x) {
+    bool y_neg = sign_bit(y);
+    bool x_neg = sign_bit(x);
+    double ay = abs_of(y);
+    double ax = abs_of(x);
+    double a;
+    if (ay == 0.0) {
+        a = x_neg ? kPi : 0.0;  // atan2(±0, -0 or x<0) = ±pi, atan2(±0, +0 or x>0) = ±0
+    } else if (ax == kInf) {
+        if (ay == kInf)
+            a = x_neg ? 3.0 * (kPi / 4.0) : kPi / 4.0;
+        else
+            a = x_neg ? kPi : 0.0;
+    } else if (ay == kInf) {
+        a = kPiOver2;
+    } else {
+        a = atan2_first_quadrant(ay, ax);  // also covers x = ±0: ratio 0 -> pi/2
+        if (x_neg) a = kPi - a;
+    }
+    return with_sign(a, y_neg);
+}
+
+// ---- sin, cos, tan --------------------------------------------------------------------------
+// sin(r), cos(r) for |r| <= pi/4 (+ tiny): Taylor to r^15 and r^16 (first omitted terms below
+// 2^-54 relative).
+double sin_poly(double r) {
+    double z = r * r;
+    double q = -1.0 / 1307674368000.0;
+    q = 1.0 / 6227020800.0 + z * q;
+    q = -1.0 / 39916800.0 + z * q;
+    q = 1.0 / 362880.0 + z * q;
+    q = -1.0 / 5040.0 + z * q;
+    q = 1.0 / 120.0 + z * q;
+    q = -1.0 / 6.0 + z * q;
+    return r + r * (z * q);
+}
+
+double cos_poly(double r) {
+    double z = r * r;
+    double q = 1.0 / 20922789888000.0;
+    q = -1.0 / 87178291200.0 + z * q;
+    q = 1.0 / 479001600.0 + z * q;
+    q = -1.0 / 3628800.0 + z * q;
+    q = 1.0 / 40320.0 + z * q;
+    q = -1.0 / 720.0 + z * q;
+    q = 1.0 / 24.0 + z * q;
+    q = -0.5 + z * q;
+    return 1.0 + z * q;
+}
+
+struct Reduced {
+    double r;    ///< x - q*pi/2, |r| <= pi/4 (+ tiny)
+    unsigned q;  ///< quadrant, q mod 4
+};
+
+// 2/pi in binary, 32 bits per word, most significant first (bits 1..256 after the point), with
+// one leading zero word for the bits at and before the point. Checked against mpmath.
+constexpr u32 kTwoOverPiBits[9] = {0x00000000, 0xa2f9836e, 0x4e441529, 0xfc2757d1, 0xf534ddc0,
+                                   0xdb629599, 0x3c439041, 0xfe5163ab, 0xdebbc561};
+
+// Payne-Hanek reduction of a finite float |x| >= 2^19 (Payne & Hanek 1983). With x = m * 2^E
+// (m the 24-bit integer significand) and 2/pi = sum_i b_i 2^-i, the bits b_i with i <= E - 2
+// give multiples of 4 quarter turns and are dropped; the 96 bits b_{E-1} .. b_{E+94} form the
+// integer W, and x * 2/pi mod 4 = m * W / 2^94 (an exact 120-bit product) up to the omitted
+// bits, less than 2^-70. The top two bits of the product are the quadrant, the next 94 the
+// fraction, which is rounded to the nearest quarter turn and converted to double exactly in two
+// pieces before one multiplication by pi/2.
+__extension__ typedef unsigned __int128 u128;
+
+Reduced reduce_payne_hanek(float ax) {
+    u32 b = bits_of(ax);
+    int exponent = static_cast<int>((b >> 23) & 0xff) - 150;  // ax = m * 2^exponent
+    u64 m = (b & 0x7fffff) | 0x800000;
+    // Bit b_i sits at 0-based position i + 31 of kTwoOverPiBits; the window starts at i = E - 1.
+    int start = exponent + 30;
+    int word = start / 32;
+    int shift = start % 32;
+    u128 v = (static_cast<u128>(kTwoOverPiBits[word]) << 96) |
+             (static_cast<u128>(kTwoOverPiBits[word + 1]) << 64) |
+             (static_cast<u128>(kTwoOverPiBits[word + 2]) << 32) |
+             static_cast<u128>(kTwoOverPiBits[word + 3]);
+    u128 window = (v << shift) >> 32;  // 96 bits
+    u128 product = static_cast<u128>(m) * window;
+    unsigned q = static_cast<unsigned>(product >> 94) & 3u;
+    u128 frac = product & ((static_cast<u128>(1) << 94) - 1);
+    bool negative = false;
+    if (frac >= (static_cast<u128>(1) << 93)) {  // fraction >= 1/2: round up the quadrant
+        frac = (static_cast<u128>(1) << 94) - frac;
+        q = (q + 1) & 3u;
+        negative = true;
+    }
+    double f_hi = static_cast<double>(static_cast<std::int64_t>(frac >> 41));  // < 2^53: exact
+    double f_lo = static_cast<double>(static_cast<std::int64_t>(frac & ((u128{1} << 41) - 1)));
+    double f = f_hi * 0x1p-53 + f_lo * 0x1p-94;
+    double r = f * kPiOver2;
+    return {negative ? -r : r, q};
+}
+
+/// x = q*pi/2 + r for finite float x.
+Reduced reduce_pio2(float x) {
+    float ax = float_of(bits_of(x) & 0x7fffffffu);
+    if (ax < 0x1p19f) {
+        // Cody-Waite: k < 2^19, so k * part1 and k * part2 are exact; x - k*part1 is exact
+        // (Sterbenz) and the remainder keeps about 119 bits of pi/2.
+        double xd = x;
+        double kd = nearest_int(xd * kTwoOverPi);
+        double r = ((xd - kd * kPio2Part1) - kd * kPio2Part2) - kd * kPio2Part3;
+        unsigned q = static_cast<unsigned>(static_cast<std::int64_t>(kd)) & 3u;
+        return {r, q};
+    }
+    Reduced red = reduce_payne_hanek(ax);
+    if (x < 0.0f) {  // -x = (-q) pi/2 + (-r)
+        red.r = -red.r;
+        red.q = (4u - red.q) & 3u;
+    }
+    return red;
+}
+
+inline bool float_not_finite(float x) { return (bits_of(x) & 0x7f800000u) == 0x7f800000u; }
+inline float float_abs(float x) { return float_of(bits_of(x) & 0x7fffffffu); }
+
+// Below 2^-12 the correctly rounded sin, tan, atan and asin of a float x is x itself (the
+// relative correction x^2/3 is below 2^-25.5, less than half the float spacing); returning x
+// also keeps the sign of zero.
+constexpr float kTinyArg = 0x1p-12f;
+
+}  // namespace
+
+// ---- Public binary64 functions ----------------------------------------------------------------
+
+double exp_d(double x) {
+    if (is_nan(x)) return x + x;
+    if (x > 710.0) return kInf;  // exp(709.79) already overflows; below 710 scale_pow2 does it
+    if (x < -746.0) return 0.0;  // exp(-745.14) already rounds to 0
+    return exp_core(x, 0.0);
+}
+
+double log_d(double x) {
+    if (is_nan(x)) return x + x;
+    if (x < 0.0) return kNaN;
+    if (x == 0.0) return -kInf;
+    if (x == kInf) return kInf;
+    return log_dd(x).hi;
+}
+
+double log10_d(double x) {
+    if (is_nan(x)) return x + x;
+    if (x < 0.0) return kNaN;
+    if (x == 0.0) return -kInf;
+    if (x == kInf) return kInf;
+    DD l = mul_dd(log_dd(x), kInvLn10, kInvLn10Lo);
+    return l.hi;
+}
+
+// pow(x, y) = exp(y * log|x|) with log in double-double and the product y * log|x| formed
+// exactly (two_prod), so that the argument of exp is good to about 2^-63 relative even near
+// the overflow threshold; the sign comes from the parity of y. Special cases: C99 F.9.4.4.
+double pow_d(double x, double y) {
+    // Special cases that hold even for NaN.
+    if (y == 0.0) return 1.0;
+    if (x == 1.0) return 1.0;
+    if (is_nan(x) || is_nan(y)) return x + y;
+
+    int kind = (abs_of(y) == kInf) ? 2 : integer_kind(y);
+    bool x_neg = sign_bit(x);
+    double ax = abs_of(x);
+
+    if (abs_of(y) == kInf) {
+        if (ax == 1.0) return 1.0;  // pow(-1, ±inf) = 1
+        bool big = (ax > 1.0) == (y > 0.0);
+        return big ? kInf : 0.0;
+    }
+    if (ax == 0.0) {  // pow(±0, y): sign kept only for odd integer y
+        bool neg = x_neg && kind == 1;
+        return with_sign(y < 0.0 ? kInf : 0.0, neg);
+    }
+    if (ax == kInf) {
+        bool neg = x_neg && kind == 1;
+        return with_sign(y < 0.0 ? 0.0 : kInf, neg);
+    }
+    if (x_neg && kind == 0) return kNaN;  // negative base, non-integer exponent
+    bool negate = x_neg && kind == 1;
+
+    // |y| >= 2^64 with |x| != 1 always overflows or underflows: |log|x|| >= 2^-53.
+    if (abs_of(y) >= 0x1p64 && ax != 1.0) {
+        bool big = (ax > 1.0) == (y > 0.0);
+        return with_sign(big ? kInf : 0.0, negate);
+    }
+    DD l = log_dd(ax);
+    DD p = two_prod(y, l.hi);
+    double p_lo = p.lo + y * l.lo;
+    double r;
+    if (p.hi > 710.0)
+        r = kInf;
+    else if (p.hi < -746.0)
+        r = 0.0;
+    else
+        r = exp_core(p.hi, p_lo);
+    return with_sign(r, negate);
+}
+
+// ---- Public binary32 functions ----------------------------------------------------------------
+
+float exp(float x) { return static_cast<float>(exp_d(x)); }
+
+// 2^x = 2^k * e^(r ln 2) with k = nearest(x) and r = x - k exact, so integer x gives exactly 2^k.
+float exp2(float x) {
+    double xd = x;
+    if (is_nan(xd)) return x + x;
+    if (xd > 200.0) return std::numeric_limits<float>::infinity();
+    if (xd < -200.0) return 0.0f;
+    double kd = nearest_int(xd);
+    double r = xd - kd;
+    double v = exp_core(r * kLn2Hi + r * kLn2Lo, 0.0);  // |r ln2| <= 0.35: k = 0 inside
+    return static_cast<float>(scale_pow2(v, static_cast<int>(kd)));
+}
+
+float log(float x) { return static_cast<float>(log_d(x)); }
+
+float log10(float x) { return static_cast<float>(log10_d(x)); }
+
+// log2 = log * (1/ln2) in double-double; for x = 2^k the product is k(1 + O(2^-84)), which
+// rounds to exactly k.
+float log2(float x) {
+    double xd = x;
+    if (is_nan(xd)) return x + x;
+    if (xd < 0.0) return std::numeric_limits<float>::quiet_NaN();
+    if (xd == 0.0) return -std::numeric_limits<float>::infinity();
+    if (xd == kInf) return x;
+    DD l = mul_dd(log_dd(xd), kInvLn2, kInvLn2Lo);
+    return static_cast<float>(l.hi);
+}
+
+float pow(float x, float y) { return static_cast<float>(pow_d(x, y)); }
+
+float sin(float x) {
+    if (float_not_finite(x)) return x - x;  // NaN for NaN and ±inf
+    if (float_abs(x) < kTinyArg) return x;
+    Reduced red = reduce_pio2(x);
+    double v;
+    switch (red.q) {
+        case 0: v = sin_poly(red.r); break;
+        case 1: v = cos_poly(red.r); break;
+        case 2: v = -sin_poly(red.r); break;
+        default: v = -cos_poly(red.r); break;
+    }
+    return static_cast<float>(v);
+}
+
+float cos(float x) {
+    if (float_not_finite(x)) return x - x;
+    Reduced red = reduce_pio2(x);
+    double v;
+    switch (red.q) {
+        case 0: v = cos_poly(red.r); break;
+        case 1: v = -sin_poly(red.r); break;
+        case 2: v = -cos_poly(red.r); break;
+        default: v = sin_poly(red.r); break;
+    }
+    return static_cast<float>(v);
+}
+
+float tan(float x) {
+    if (float_not_finite(x)) return x - x;
+    if (float_abs(x) < kTinyArg) return x;
+    Reduced red = reduce_pio2(x);
+    double s = sin_poly(red.r);
+    double c = cos_poly(red.r);
+    double v = (red.q & 1u) ? -c / s : s / c;
+    return static_cast<float>(v);
+}
+
+float atan(float x) {
+    double xd = x;
+    if (is_nan(xd)) return x + x;
+    if (float_abs(x) < kTinyArg) return x;
+    double t = abs_of(xd);
+    double a = (t <= 1.0) ? atan_core(t) : kPiOver2 - atan_core(1.0 / t);
+    return static_cast<float>(with_sign(a, sign_bit(xd)));
+}
+
+float atan2(float y, float x) {
+    if (is_nan(static_cast<double>(x)) || is_nan(static_cast<double>(y))) return x + y;
+    return static_cast<float>(atan2_core(y, x));
+}
+
+// asin x = atan2(x, sqrt((1 - x)(1 + x))): near |x| = 1 the factor 1 - |x| is exact (Sterbenz),
+// so there is no cancellation; for small |x| the product is 1 - x^2 to 2^-52.
+float asin(float x) {
+    double xd = x;
+    if (is_nan(xd)) return x + x;
+    double ax = abs_of(xd);
+    if (ax > 1.0) return std::numeric_limits<float>::quiet_NaN();
+    if (ax < kTinyArg) return x;
+    double c = std::sqrt((1.0 - ax) * (1.0 + ax));
+    return static_cast<float>(with_sign(atan2_first_quadrant(ax, c), sign_bit(xd)));
+}
+
+// acos x = atan2(sqrt((1 - x)(1 + x)), x): acos(1) = +0, acos(-1) = pi rounded.
+float acos(float x) {
+    double xd = x;
+    if (is_nan(xd)) return x + x;
+    double ax = abs_of(xd);
+    if (ax > 1.0) return std::numeric_limits<float>::quiet_NaN();
+    double c = std::sqrt((1.0 - ax) * (1.0 + ax));
+    double a = atan2_first_quadrant(c, ax);
+    if (sign_bit(xd)) a = kPi - a;
+    return static_cast<float>(a);
+}
+
+}  // namespace fovref::dm

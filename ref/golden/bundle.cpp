@@ -1,0 +1,376 @@
+#include "ref/golden/bundle.h"
+
+#include <bit>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <system_error>
+
+#include "ref/core/error.h"
+#include "ref/image/image_io.h"
+#include "ref/scene/scene_file.h"
+
+#ifndef FOVREF_VERSION
+#define FOVREF_VERSION "unknown"
+#endif
+#ifndef FOVREF_COMPILER
+#define FOVREF_COMPILER "unknown"
+#endif
+#ifndef FOVREF_BUILD_FLAGS
+#define FOVREF_BUILD_FLAGS "unknown"
+#endif
+
+namespace fovref {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+
+std::string fovref_version() { return FOVREF_VERSION; }
+std::string fovref_compiler() { return FOVREF_COMPILER; }
+std::string fovref_build_flags() { return FOVREF_BUILD_FLAGS; }
+
+// ---- Cases ----------------------------------------------------------------------------------
+
+namespace {
+
+json case_to_json(const GoldenCase& c) {
+    json j;
+    j["name"] = c.name;
+    if (!c.description.empty()) j["description"] = c.description;
+    j["scene"] = c.scene;
+    j["mode"] = c.mode;
+    j["width"] = c.width;
+    j["height"] = c.height;
+    j["frames"] = c.frames;
+    j["time_start"] = c.time_start;
+    j["time_step"] = c.time_step;
+    j["params"] = json(c.params.values());
+    return j;
+}
+
+GoldenCase case_from_json(const json& j, const std::string& where) {
+    auto fail = [&](const std::string& message) { return Error(where + ": " + message); };
+    if (!j.is_object()) throw fail("a case must be a JSON object");
+    static const char* known[] = {"name",   "description", "scene",      "mode",      "width",
+                                  "height", "frames",      "time_start", "time_step", "params"};
+    for (const auto& item : j.items()) {
+        bool ok = false;
+        for (const char* k : known) ok = ok || item.key() == k;
+        if (!ok) throw fail("unknown key '" + item.key() + "'");
+    }
+    GoldenCase c;
+    try {
+        c.name = j.at("name").get<std::string>();
+        c.description = j.value("description", std::string());
+        c.scene = j.value("scene", std::string());
+        c.mode = j.at("mode").get<std::string>();
+        c.width = j.at("width").get<int>();
+        c.height = j.at("height").get<int>();
+        c.frames = j.value("frames", 1);
+        c.time_start = j.value("time_start", 0.0f);
+        c.time_step = j.value("time_step", 1.0f / 30);
+        if (j.contains("params"))
+            for (const auto& item : j.at("params").items())
+                c.params.set(item.key(), item.value().is_string() ? item.value().get<std::string>()
+                                                                  : item.value().dump());
+    } catch (const json::exception& e) {
+        throw fail(std::string("bad case: ") + e.what());
+    }
+    if (c.name.empty() || c.name.find_first_of("/\\. ") != std::string::npos)
+        throw fail("case name '" + c.name + "' must be non-empty without '/', '\\', '.' or spaces");
+    return c;
+}
+
+}  // namespace
+
+std::vector<GoldenCase> load_golden_cases(const std::string& path) {
+    const std::string text = read_file(path);
+    json document;
+    try {
+        document = json::parse(text);
+    } catch (const json::parse_error& e) {
+        throw Error(path + ": " + e.what());
+    }
+    if (!document.is_object() || !document.contains("cases") || !document["cases"].is_array())
+        throw Error(path + ": expected an object with a \"cases\" array");
+    std::vector<GoldenCase> cases;
+    for (std::size_t k = 0; k < document["cases"].size(); ++k) {
+        GoldenCase c =
+            case_from_json(document["cases"][k], path + ": cases[" + std::to_string(k) + "]");
+        for (const GoldenCase& other : cases)
+            if (other.name == c.name)
+                throw Error(path + ": case '" + c.name + "' is defined twice");
+        cases.push_back(std::move(c));
+    }
+    return cases;
+}
+
+const GoldenCase& find_golden_case(const std::vector<GoldenCase>& cases, const std::string& name) {
+    for (const GoldenCase& c : cases)
+        if (c.name == name) return c;
+    std::string names;
+    for (const GoldenCase& c : cases) names += (names.empty() ? "" : ", ") + c.name;
+    throw Error("unknown golden case '" + name + "' (cases: " + names + ")");
+}
+
+const Scene* SceneCache::get(const std::string& scene) {
+    if (scene.empty()) return nullptr;
+    auto it = scenes_.find(scene);
+    if (it != scenes_.end()) return &it->second;
+    std::string path = scene;
+    if (!fs::path(scene).is_absolute() && fs::exists(fs::path(base_dir_) / scene))
+        path = (fs::path(base_dir_) / scene).string();
+    return &scenes_.emplace(scene, load_scene(path)).first->second;
+}
+
+std::vector<FrameResult> render_golden_case(const GoldenCase& golden_case, const Scene* scene,
+                                            const std::vector<std::string>& requested,
+                                            const std::function<void(double)>& progress) {
+    RenderSettings settings;
+    settings.width = golden_case.width;
+    settings.height = golden_case.height;
+    settings.frame_count = golden_case.frames;
+    settings.time_start = golden_case.time_start;
+    settings.time_step = golden_case.time_step;
+    settings.params = golden_case.params;
+    settings.requested = requested;
+    settings.progress = progress;
+    return render(scene, golden_case.mode, settings);
+}
+
+// ---- Writing ---------------------------------------------------------------------------------
+
+namespace {
+
+std::string buffer_file_name(int frame, const Buffer& buffer) {
+    char prefix[32];
+    std::snprintf(prefix, sizeof prefix, "f%03d_", frame);
+    const bool pfm = buffer.image.channels == 1 || buffer.image.channels == 3;
+    return prefix + buffer.name + (pfm ? ".pfm" : ".exr");
+}
+
+json counters_to_json(const Counters& counters) {
+    json j = json::object();
+    for (const auto& [key, value] : counters.values) j[key] = value;
+    return j;
+}
+
+}  // namespace
+
+void write_bundle(const std::string& directory, const GoldenCase& golden_case,
+                  const std::vector<FrameResult>& frames, const BundleOptions& options) {
+    // Write everything into a sibling temporary directory, then swap it in.
+    const fs::path target(directory);
+    const fs::path staging = target.string() + ".writing";
+    const fs::path previous = target.string() + ".previous";
+    std::error_code ec;
+    fs::remove_all(staging, ec);
+    fs::create_directories(staging, ec);
+    if (ec) throw Error(staging.string() + ": cannot create directory: " + ec.message());
+
+    json manifest;
+    manifest["format"] = "fovref-bundle-1";
+    manifest["case"] = case_to_json(golden_case);
+    manifest["fovref_version"] = fovref_version();
+    manifest["compiler"] = fovref_compiler();
+    manifest["flags"] = fovref_build_flags();
+    manifest["canonical_data"] =
+        "SHA-256 of row-major, top-row-first, little-endian binary32, channels interleaved";
+    json frame_list = json::array();
+    for (const FrameResult& frame : frames) {
+        json jf;
+        jf["frame"] = frame.frame;
+        jf["time"] = frame.time;
+        json buffers = json::array();
+        for (const Buffer& buffer : frame.buffers) {
+            json jb;
+            jb["name"] = buffer.name;
+            jb["kind"] = buffer_kind_name(buffer.kind);
+            jb["width"] = buffer.image.width;
+            jb["height"] = buffer.image.height;
+            jb["channels"] = buffer.image.channels;
+            jb["channel_names"] = buffer.channel_names;
+            jb["sha256"] = canonical_sha256(buffer.image);
+            if (buffer.image.pixel_count() <= options.max_stored_pixels) {
+                const std::string file = buffer_file_name(frame.frame, buffer);
+                write_image((staging / file).string(), buffer.image);
+                jb["file"] = file;
+            } else {
+                jb["file"] = nullptr;  // hash only: too large for the repository
+            }
+            const bool is_final = buffer.name == "final";
+            if (options.previews_for_all || is_final) {
+                std::string png = buffer_file_name(frame.frame, buffer);
+                png = png.substr(0, png.rfind('.')) + ".png";
+                write_png((staging / png).string(), preview_image(buffer));
+                jb["preview"] = png;
+            }
+            buffers.push_back(jb);
+        }
+        jf["buffers"] = buffers;
+        jf["counters"] = counters_to_json(frame.counters);
+        json stages = json::array();
+        for (const StageRun& run : frame.stages) {
+            json js;
+            js["name"] = run.name;
+            js["ran"] = run.ran;
+            if (!run.note.empty()) js["note"] = run.note;
+            if (options.include_timings) js["seconds"] = run.seconds;
+            stages.push_back(js);
+        }
+        jf["stages"] = stages;
+        frame_list.push_back(jf);
+    }
+    manifest["frames"] = frame_list;
+    write_file_atomic((staging / "manifest.json").string(), manifest.dump(1) + "\n");
+
+    fs::remove_all(previous, ec);
+    if (fs::exists(target)) {
+        fs::rename(target, previous, ec);
+        if (ec) throw Error(directory + ": cannot replace: " + ec.message());
+    }
+    fs::rename(staging, target, ec);
+    if (ec) {
+        fs::rename(previous, target);  // put the old bundle back
+        throw Error(directory + ": cannot move the new bundle in place: " + ec.message());
+    }
+    fs::remove_all(previous, ec);
+}
+
+// ---- Reading and comparing ---------------------------------------------------------------------
+
+Manifest read_manifest(const std::string& directory) {
+    const std::string path = (fs::path(directory) / "manifest.json").string();
+    const std::string text = read_file(path);
+    Manifest m;
+    try {
+        json j = json::parse(text);
+        m.golden_case = case_from_json(j.at("case"), path + ": case");
+        m.fovref_version = j.value("fovref_version", "");
+        m.compiler = j.value("compiler", "");
+        m.flags = j.value("flags", "");
+        for (const json& jf : j.at("frames")) {
+            const int frame = jf.at("frame").get<int>();
+            for (const json& jb : jf.at("buffers")) {
+                ManifestBuffer b;
+                b.frame = frame;
+                b.name = jb.at("name").get<std::string>();
+                b.kind = jb.value("kind", "scalar");
+                b.width = jb.at("width").get<int>();
+                b.height = jb.at("height").get<int>();
+                b.channels = jb.at("channels").get<int>();
+                b.channel_names = jb.value("channel_names", std::vector<std::string>());
+                b.sha256 = jb.at("sha256").get<std::string>();
+                b.file = jb.at("file").is_null() ? "" : jb.at("file").get<std::string>();
+                m.buffers.push_back(std::move(b));
+            }
+            Counters counters;
+            if (jf.contains("counters"))
+                for (const auto& item : jf.at("counters").items())
+                    counters.add(item.key(), item.value().get<std::int64_t>());
+            m.frame_counters.push_back(counters);
+        }
+    } catch (const json::exception& e) {
+        throw Error(path + ": malformed manifest: " + e.what());
+    }
+    return m;
+}
+
+std::ptrdiff_t first_difference(const Image& expected, const Image& actual) {
+    const std::size_t n = std::min(expected.data.size(), actual.data.size());
+    for (std::size_t i = 0; i < n; ++i)
+        if (std::bit_cast<std::uint32_t>(expected.data[i]) !=
+            std::bit_cast<std::uint32_t>(actual.data[i]))
+            return static_cast<std::ptrdiff_t>(i);
+    if (expected.data.size() != actual.data.size()) return static_cast<std::ptrdiff_t>(n);
+    return -1;
+}
+
+std::string describe_difference(const Image& expected, const Image& actual, std::ptrdiff_t index,
+                                const std::vector<std::string>& channel_names) {
+    const int channels = std::max(1, actual.channels);
+    const auto i = static_cast<std::size_t>(index);
+    const std::size_t pixel = i / channels;
+    const int channel = static_cast<int>(i % channels);
+    const int width = std::max(1, actual.width);
+    char text[256];
+    auto value = [](const Image& image, std::size_t k, char* out, std::size_t size) {
+        if (k >= image.data.size()) {
+            std::snprintf(out, size, "(absent)");
+            return;
+        }
+        std::snprintf(out, size, "%.9g (0x%08" PRIx32 ")", static_cast<double>(image.data[k]),
+                      std::bit_cast<std::uint32_t>(image.data[k]));
+    };
+    char e[64], a[64];
+    value(expected, i, e, sizeof e);
+    value(actual, i, a, sizeof a);
+    const std::string channel_name = channel < static_cast<int>(channel_names.size())
+                                         ? channel_names[channel]
+                                         : std::to_string(channel);
+    std::snprintf(text, sizeof text,
+                  "first difference at pixel (%zu, %zu) channel %s: expected %s, got %s",
+                  pixel % width, pixel / width, channel_name.c_str(), e, a);
+    return text;
+}
+
+std::vector<GoldenDifference> compare_with_bundle(const std::string& directory,
+                                                  const std::vector<FrameResult>& frames) {
+    const Manifest manifest = read_manifest(directory);
+    std::vector<GoldenDifference> differences;
+    // Buffers in the manifest that the recomputation lacks.
+    for (const ManifestBuffer& stored : manifest.buffers) {
+        bool present = false;
+        for (const FrameResult& frame : frames)
+            if (frame.frame == stored.frame && frame.find(stored.name)) present = true;
+        if (!present)
+            differences.push_back(
+                {stored.frame, stored.name, "in the golden but not produced any more"});
+    }
+    for (const FrameResult& frame : frames) {
+        for (const Buffer& buffer : frame.buffers) {
+            const ManifestBuffer* stored = nullptr;
+            for (const ManifestBuffer& b : manifest.buffers)
+                if (b.frame == frame.frame && b.name == buffer.name) stored = &b;
+            if (!stored) {
+                differences.push_back({frame.frame, buffer.name, "produced but not in the golden"});
+                continue;
+            }
+            const Image& image = buffer.image;
+            if (stored->width != image.width || stored->height != image.height ||
+                stored->channels != image.channels) {
+                differences.push_back(
+                    {frame.frame, buffer.name,
+                     "shape " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                         "x" + std::to_string(image.channels) + ", golden has " +
+                         std::to_string(stored->width) + "x" + std::to_string(stored->height) +
+                         "x" + std::to_string(stored->channels)});
+                continue;
+            }
+            if (canonical_sha256(image) == stored->sha256) continue;
+            std::string what;
+            if (stored->file.empty()) {
+                what =
+                    "SHA-256 differs (buffer kept by hash only; `fovref golden export` on both "
+                    "builds and `fovref diff` locate the pixel)";
+            } else {
+                const Image expected = read_image((fs::path(directory) / stored->file).string());
+                const std::ptrdiff_t index = first_difference(expected, image);
+                what = index < 0
+                           ? "SHA-256 differs from the manifest but the stored file matches: "
+                             "the bundle is inconsistent, run `fovref golden update`"
+                           : describe_difference(expected, image, index, buffer.channel_names);
+            }
+            differences.push_back({frame.frame, buffer.name, what});
+        }
+        if (static_cast<std::size_t>(frame.frame) < manifest.frame_counters.size() &&
+            !(manifest.frame_counters[frame.frame] == frame.counters))
+            differences.push_back({frame.frame, "(counters)", "statistics differ from the golden"});
+    }
+    return differences;
+}
+
+}  // namespace fovref

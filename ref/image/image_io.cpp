@@ -1,0 +1,697 @@
+// Image files (SPEC §1): PFM, PNG (stb_image / stb_image_write) and EXR (OpenEXR 3.1), the sRGB
+// transfer functions, and whole-file read / atomic write.
+//
+// Hardening, shared by every reader: the whole file is read into memory first, so that each
+// header can be checked against the real file size BEFORE any pixel buffer is allocated (a forged
+// "100000 100000" header on a 20-byte file fails at once instead of asking for 120 GB), and every
+// failure becomes a fovref::Error whose message starts with the file name.
+#include "ref/image/image_io.h"
+
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+
+#include <Iex.h>
+#include <ImfChannelList.h>
+#include <ImfCompression.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfIO.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <ImfThreading.h>
+
+#include <unistd.h>
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+#include "ref/core/dmath.h"
+#include "ref/core/error.h"
+
+namespace fovref {
+
+namespace {
+
+Error io_error(const std::string& path, const std::string& message) {
+    return file_error(path, 0, message);
+}
+
+std::string errno_text(int error) { return std::generic_category().message(error); }
+
+/// Printable form of a few bytes of a (possibly binary) header, for error messages.
+std::string quoted(std::string_view text, std::size_t max_length = 16) {
+    std::string out = "\"";
+    for (std::size_t i = 0; i < text.size() && i < max_length; ++i) {
+        const unsigned char c = static_cast<unsigned char>(text[i]);
+        if (c >= 0x20 && c < 0x7f && c != '"' && c != '\\') {
+            out += static_cast<char>(c);
+        } else {
+            static const char hex[] = "0123456789abcdef";
+            out += "\\x";
+            out += hex[c >> 4];
+            out += hex[c & 15];
+        }
+    }
+    if (text.size() > max_length) out += "...";
+    return out + "\"";
+}
+
+std::string shape_text(std::uint64_t width, std::uint64_t height, std::uint64_t channels) {
+    return std::to_string(width) + "x" + std::to_string(height) + "x" + std::to_string(channels);
+}
+
+/// Writers refuse images whose data does not match their shape, and empty images (no format
+/// here can store a 0-pixel image, and our readers reject one).
+void check_writable(const std::string& path, const Image& image) {
+    if (image.width <= 0 || image.height <= 0 || image.channels <= 0)
+        throw io_error(path,
+                       "cannot write an empty image (" +
+                           shape_text(static_cast<std::uint64_t>(std::max(image.width, 0)),
+                                      static_cast<std::uint64_t>(std::max(image.height, 0)),
+                                      static_cast<std::uint64_t>(std::max(image.channels, 0))) +
+                           ")");
+    const std::size_t expected = image.pixel_count() * static_cast<std::size_t>(image.channels);
+    if (image.data.size() != expected)
+        throw io_error(path, "image data holds " + std::to_string(image.data.size()) +
+                                 " floats, its shape " +
+                                 shape_text(static_cast<std::uint64_t>(image.width),
+                                            static_cast<std::uint64_t>(image.height),
+                                            static_cast<std::uint64_t>(image.channels)) +
+                                 " needs " + std::to_string(expected));
+}
+
+std::string lower_extension(const std::string& path) {
+    const std::size_t slash = path.find_last_of('/');
+    const std::size_t dot = path.find_last_of('.');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+    std::string ext = path.substr(dot);
+    for (char& c : ext)
+        if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+    return ext;
+}
+
+}  // namespace
+
+// ---- Whole files -------------------------------------------------------------------------------
+
+std::string read_file(const std::string& path) {
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (!file) throw io_error(path, "cannot open: " + errno_text(errno));
+    std::string bytes;
+    std::array<char, 1 << 16> buffer;
+    while (true) {
+        const std::size_t got = std::fread(buffer.data(), 1, buffer.size(), file);
+        bytes.append(buffer.data(), got);
+        if (got < buffer.size()) break;
+    }
+    // fread of a directory opens fine on Linux and then fails with EISDIR: caught here.
+    const bool failed = std::ferror(file) != 0;
+    const int error = errno;
+    std::fclose(file);
+    if (failed) throw io_error(path, "read error: " + errno_text(error));
+    return bytes;
+}
+
+void write_file_atomic(const std::string& path, const std::string& bytes) {
+    // The temporary file lives in the target's directory, so the final std::rename never crosses
+    // a file system and replaces the target in one step (POSIX rename semantics).
+    const std::string temporary = path + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
+    std::FILE* file = std::fopen(temporary.c_str(), "wb");
+    if (!file) throw io_error(path, "cannot create " + temporary + ": " + errno_text(errno));
+    const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
+    const bool flushed = std::fflush(file) == 0;
+    const int error = errno;
+    const bool closed = std::fclose(file) == 0;
+    if (!written || !flushed || !closed) {
+        std::remove(temporary.c_str());
+        throw io_error(path, "write error: " + errno_text(error));
+    }
+    if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+        const int rename_error = errno;
+        std::remove(temporary.c_str());
+        throw io_error(path, "cannot rename " + temporary + " to it: " + errno_text(rename_error));
+    }
+}
+
+// ---- sRGB transfer functions -------------------------------------------------------------------
+//
+// IEC 61966-2-1:1999, in binary32 with dm::pow:
+//   encode(L) = 12.92 L                      for L <= 0.0031308
+//               1.055 L^(1/2.4) - 0.055      otherwise
+//   decode(V) = V / 12.92                    for V <= 0.04045
+//               ((V + 0.055) / 1.055)^2.4    otherwise
+// Values outside [0,1] follow the same formulas (no clamping here; write_png clamps first).
+
+float srgb_encode(float linear) {
+    if (linear <= 0.0031308f) return 12.92f * linear;
+    return 1.055f * dm::pow(linear, 1.0f / 2.4f) - 0.055f;
+}
+
+float srgb_decode(float encoded) {
+    if (encoded <= 0.04045f) return encoded / 12.92f;
+    return dm::pow((encoded + 0.055f) / 1.055f, 2.4f);
+}
+
+// ---- PFM ---------------------------------------------------------------------------------------
+//
+// Header (Debevec's PFM, netpbm whitespace rules): "PF" or "Pf", whitespace, width, whitespace,
+// height, whitespace, scale, then EXACTLY ONE whitespace character, then the raster. Whitespace is
+// space, TAB, CR, LF, VT or FF. No comments, no signs on the sizes. The scale's sign gives the
+// byte order (negative = little-endian); its magnitude is ignored on read and written as 1.
+// The raster is W*H*C binary32 values, rows from the BOTTOM of the image to the top, each row
+// left to right with channels interleaved. The file must end exactly after the raster.
+
+namespace {
+
+bool is_pfm_space(char c) {
+    return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
+}
+
+struct PfmHeader {
+    int width = 0;
+    int height = 0;
+    int channels = 0;
+    Endian endian = Endian::little;
+    std::size_t raster_offset = 0;
+};
+
+class PfmHeaderParser {
+public:
+    PfmHeaderParser(const std::string& path, const std::string& bytes)
+        : path_(path), bytes_(bytes) {}
+
+    PfmHeader parse() {
+        PfmHeader header;
+        // Magic.
+        if (bytes_.empty()) throw io_error(path_, "empty file (expected a PFM header)");
+        const std::string_view start(bytes_.data(), std::min<std::size_t>(bytes_.size(), 3));
+        if (bytes_.size() < 3 || bytes_[0] != 'P' || (bytes_[1] != 'F' && bytes_[1] != 'f') ||
+            !is_pfm_space(bytes_[2]))
+            throw io_error(path_, "not a PFM file: bad magic " + quoted(start) +
+                                      " (expected \"PF\" or \"Pf\" followed by whitespace)");
+        header.channels = bytes_[1] == 'F' ? 3 : 1;
+        pos_ = 2;
+
+        // Sizes.
+        header.width = parse_size("width");
+        header.height = parse_size("height");
+
+        // Scale: a finite, non-zero decimal number; its sign is the byte order.
+        skip_space("scale");
+        const std::string_view token = next_token("scale");
+        double scale = 0.0;
+        const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), scale);
+        if (ec != std::errc() || end != token.data() + token.size() || !std::isfinite(scale) ||
+            scale == 0.0)
+            throw io_error(path_,
+                           "PFM scale " + quoted(token) + " is not a finite non-zero number");
+        header.endian = scale < 0.0 ? Endian::little : Endian::big;
+
+        // Exactly one whitespace character separates the scale from the raster.
+        if (pos_ >= bytes_.size())
+            throw io_error(path_, "PFM header ends after the scale (no raster follows)");
+        ++pos_;  // next_token stopped on whitespace.
+        header.raster_offset = pos_;
+        return header;
+    }
+
+private:
+    void skip_space(const char* field) {
+        const std::size_t begin = pos_;
+        while (pos_ < bytes_.size() && is_pfm_space(bytes_[pos_])) ++pos_;
+        if (pos_ == bytes_.size())
+            throw io_error(path_, std::string("PFM header ends before the ") + field);
+        if (pos_ == begin)
+            throw io_error(path_,
+                           std::string("PFM header: expected whitespace before the ") + field);
+    }
+
+    std::string_view next_token(const char* field) {
+        // A header field is short; a long run of non-space bytes is binary garbage.
+        constexpr std::size_t max_token = 32;
+        const std::size_t begin = pos_;
+        while (pos_ < bytes_.size() && !is_pfm_space(bytes_[pos_]) && pos_ - begin <= max_token)
+            ++pos_;
+        const std::string_view token(bytes_.data() + begin, pos_ - begin);
+        if (token.size() > max_token)
+            throw io_error(path_, std::string("PFM ") + field + " " + quoted(token) +
+                                      " is not a number (field too long)");
+        return token;
+    }
+
+    int parse_size(const char* field) {
+        skip_space(field);
+        const std::string_view token = next_token(field);
+        // Accept an optional sign only to report a negative size precisely.
+        std::size_t i = 0;
+        const bool negative = token[0] == '-';
+        if (token[0] == '-' || token[0] == '+') i = 1;
+        if (i == token.size())
+            throw io_error(
+                path_, std::string("PFM ") + field + " " + quoted(token) + " is not an integer");
+        std::int64_t value = 0;
+        for (; i < token.size(); ++i) {
+            if (token[i] < '0' || token[i] > '9')
+                throw io_error(path_, std::string("PFM ") + field + " " + quoted(token) +
+                                          " is not an integer");
+            value = std::min<std::int64_t>(value * 10 + (token[i] - '0'), std::int64_t{1} << 40);
+        }
+        if (negative || value == 0)
+            throw io_error(path_, std::string("PFM ") + field + " " + std::string(token) +
+                                      " must be positive");
+        if (value > std::numeric_limits<int>::max())
+            throw io_error(
+                path_, std::string("PFM ") + field + " " + std::string(token) + " is too large");
+        return static_cast<int>(value);
+    }
+
+    const std::string& path_;
+    const std::string& bytes_;
+    std::size_t pos_ = 0;
+};
+
+std::uint32_t load_u32(const char* p, Endian endian) {
+    const auto b = [p](int i) {
+        return static_cast<std::uint32_t>(static_cast<unsigned char>(p[i]));
+    };
+    if (endian == Endian::little) return b(0) | b(1) << 8 | b(2) << 16 | b(3) << 24;
+    return b(3) | b(2) << 8 | b(1) << 16 | b(0) << 24;
+}
+
+void store_u32(char* p, std::uint32_t bits, Endian endian) {
+    for (int i = 0; i < 4; ++i) {
+        const int shift = endian == Endian::little ? 8 * i : 8 * (3 - i);
+        p[i] = static_cast<char>(static_cast<unsigned char>(bits >> shift));
+    }
+}
+
+}  // namespace
+
+Image read_pfm(const std::string& path) {
+    const std::string bytes = read_file(path);
+    const PfmHeader header = PfmHeaderParser(path, bytes).parse();
+
+    // Size check before allocating: W*H*C*4 must equal what is left of the file. W and H are
+    // below 2^31, so W*H*C < 3*2^62 fits in 64 bits; the byte count may not, hence the division.
+    const std::uint64_t floats = static_cast<std::uint64_t>(header.width) *
+                                 static_cast<std::uint64_t>(header.height) *
+                                 static_cast<std::uint64_t>(header.channels);
+    const std::uint64_t remaining = bytes.size() - header.raster_offset;
+    const std::string floats_text = "header says " +
+                                    shape_text(static_cast<std::uint64_t>(header.width),
+                                               static_cast<std::uint64_t>(header.height),
+                                               static_cast<std::uint64_t>(header.channels)) +
+                                    " floats (" +
+                                    (floats <= std::numeric_limits<std::uint64_t>::max() / 4
+                                         ? std::to_string(floats * 4)
+                                         : std::to_string(floats) + " x 4") +
+                                    " bytes), file has " + std::to_string(remaining) +
+                                    " bytes after the header";
+    if (floats > remaining / 4) throw io_error(path, "truncated: " + floats_text);
+    if (floats * 4 < remaining) throw io_error(path, "trailing bytes: " + floats_text);
+
+    Image image(header.width, header.height, header.channels);
+    const std::size_t row_floats =
+        static_cast<std::size_t>(header.width) * static_cast<std::size_t>(header.channels);
+    const char* raster = bytes.data() + header.raster_offset;
+    for (int file_row = 0; file_row < header.height; ++file_row) {
+        // File row 0 is the bottom row of the image.
+        const int y = header.height - 1 - file_row;
+        const char* src = raster + static_cast<std::size_t>(file_row) * row_floats * 4;
+        float* dst = image.data.data() + static_cast<std::size_t>(y) * row_floats;
+        for (std::size_t i = 0; i < row_floats; ++i)
+            dst[i] = std::bit_cast<float>(load_u32(src + 4 * i, header.endian));
+    }
+    return image;
+}
+
+void write_pfm(const std::string& path, const Image& image, Endian endian) {
+    check_writable(path, image);
+    if (image.channels != 1 && image.channels != 3)
+        throw io_error(
+            path, "PFM stores 1 or 3 channels, the image has " + std::to_string(image.channels));
+    std::string bytes = std::string(image.channels == 3 ? "PF" : "Pf") + "\n" +
+                        std::to_string(image.width) + " " + std::to_string(image.height) + "\n" +
+                        (endian == Endian::little ? "-1.0" : "1.0") + "\n";
+    const std::size_t header_size = bytes.size();
+    const std::size_t row_floats =
+        static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.channels);
+    bytes.resize(header_size + image.data.size() * 4);
+    for (int file_row = 0; file_row < image.height; ++file_row) {
+        const int y = image.height - 1 - file_row;
+        const float* src = image.data.data() + static_cast<std::size_t>(y) * row_floats;
+        char* dst =
+            bytes.data() + header_size + static_cast<std::size_t>(file_row) * row_floats * 4;
+        for (std::size_t i = 0; i < row_floats; ++i)
+            store_u32(dst + 4 * i, std::bit_cast<std::uint32_t>(src[i]), endian);
+    }
+    write_file_atomic(path, bytes);
+}
+
+// ---- PNG ---------------------------------------------------------------------------------------
+
+namespace {
+
+constexpr unsigned char png_signature[8] = {137, 80, 78, 71, 13, 10, 26, 10};
+
+/// Colour channels are sRGB-coded, alpha (channel 1 of grey+alpha, 3 of RGBA) is linear.
+bool is_colour_channel(int channel, int channels) {
+    return !((channels == 2 && channel == 1) || (channels == 4 && channel == 3));
+}
+
+/// Rejects, from the IHDR chunk, a PNG whose raster could not come out of its compressed data:
+/// deflate expands at most 1032:1 (a 258-byte match coded in 2 bits), so a raster of more than
+/// about 1032 x the file size is a forged header. This runs before stb_image allocates the
+/// output (stb_image allocates W*H*C before checking that enough data follows).
+void check_png_header(const std::string& path, const std::string& bytes) {
+    const auto u8 = [&](std::size_t i) { return static_cast<unsigned char>(bytes[i]); };
+    const auto u32 = [&](std::size_t i) {
+        return static_cast<std::uint64_t>(u8(i)) << 24 |
+               static_cast<std::uint64_t>(u8(i + 1)) << 16 |
+               static_cast<std::uint64_t>(u8(i + 2)) << 8 | static_cast<std::uint64_t>(u8(i + 3));
+    };
+    if (bytes.empty()) throw io_error(path, "empty file (expected a PNG)");
+    if (bytes.size() < 8 || std::memcmp(bytes.data(), png_signature, 8) != 0)
+        throw io_error(path, "not a PNG file: bad signature " + quoted(bytes.substr(0, 8)));
+    if (bytes.size() < 33 || bytes.compare(12, 4, "IHDR") != 0) return;  // stb_image reports it.
+    const std::uint64_t width = u32(16), height = u32(20), depth = u8(24), colour_type = u8(25);
+    const std::uint64_t samples = colour_type == 2   ? 3
+                                  : colour_type == 4 ? 2
+                                  : colour_type == 6 ? 4
+                                                     : 1;
+    // Lower bound of the raster's bytes (filter bytes left out), in double: W*H*C*depth can
+    // exceed 2^64 in a forged header, and a bound needs no exactness.
+    const double raster_bytes = static_cast<double>(width) * static_cast<double>(height) *
+                                static_cast<double>(samples * depth) / 8.0;
+    const double max_bytes = 1032.0 * static_cast<double>(bytes.size()) + 65536.0;
+    if (raster_bytes > max_bytes)
+        throw io_error(path, "PNG header says " + std::to_string(width) + "x" +
+                                 std::to_string(height) + " pixels (" + std::to_string(samples) +
+                                 " x " + std::to_string(depth) + "-bit samples), more than a " +
+                                 std::to_string(bytes.size()) + "-byte file can hold");
+}
+
+struct StbFree {
+    void operator()(void* pixels) const { stbi_image_free(pixels); }
+};
+
+std::string stb_reason() {
+    const char* reason = stbi_failure_reason();
+    return reason ? reason : "unknown error";
+}
+
+void append_to_string(void* context, void* data, int size) {
+    if (size > 0)
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                                   static_cast<std::size_t>(size));
+}
+
+}  // namespace
+
+Image read_png(const std::string& path, bool srgb_decode_colour) {
+    const std::string bytes = read_file(path);
+    check_png_header(path, bytes);
+    if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+        throw io_error(
+            path, "PNG file too large for the reader (" + std::to_string(bytes.size()) + " bytes)");
+    const auto* buffer = reinterpret_cast<const stbi_uc*>(bytes.data());
+    const int length = static_cast<int>(bytes.size());
+
+    int width = 0, height = 0, channels = 0;
+    const bool sixteen_bit = stbi_is_16_bit_from_memory(buffer, length) != 0;
+    std::unique_ptr<void, StbFree> pixels(
+        sixteen_bit ? static_cast<void*>(
+                          stbi_load_16_from_memory(buffer, length, &width, &height, &channels, 0))
+                    : static_cast<void*>(
+                          stbi_load_from_memory(buffer, length, &width, &height, &channels, 0)));
+    if (!pixels) throw io_error(path, "cannot decode PNG: " + stb_reason());
+    if (width <= 0 || height <= 0 || channels < 1 || channels > 4)
+        throw io_error(path, "PNG decoder returned an unusable shape " +
+                                 shape_text(static_cast<std::uint64_t>(std::max(width, 0)),
+                                            static_cast<std::uint64_t>(std::max(height, 0)),
+                                            static_cast<std::uint64_t>(std::max(channels, 0))));
+
+    // Stored value / 255 (or / 65535), correctly rounded division; colour channels optionally
+    // sRGB-decoded. 8-bit values go through a 256-entry table of the same function.
+    Image image(width, height, channels);
+    const std::size_t count = image.data.size();
+    if (sixteen_bit) {
+        const auto* src = static_cast<const std::uint16_t*>(pixels.get());
+        for (std::size_t i = 0; i < count; ++i) {
+            const float value = static_cast<float>(src[i]) / 65535.0f;
+            const bool colour = is_colour_channel(static_cast<int>(i % channels), channels);
+            image.data[i] = srgb_decode_colour && colour ? srgb_decode(value) : value;
+        }
+    } else {
+        std::array<float, 256> linear, decoded;
+        for (int k = 0; k < 256; ++k) {
+            linear[k] = static_cast<float>(k) / 255.0f;
+            decoded[k] = srgb_decode(linear[k]);
+        }
+        const auto* src = static_cast<const stbi_uc*>(pixels.get());
+        for (std::size_t i = 0; i < count; ++i) {
+            const bool colour = is_colour_channel(static_cast<int>(i % channels), channels);
+            image.data[i] = srgb_decode_colour && colour ? decoded[src[i]] : linear[src[i]];
+        }
+    }
+    return image;
+}
+
+void write_png(const std::string& path, const Image& image) {
+    check_writable(path, image);
+    if (image.channels > 4)
+        throw io_error(
+            path, "PNG stores 1 to 4 channels, the image has " + std::to_string(image.channels));
+    // 2-channel buffers (e.g. offsets) are previewed as RG with B = 0.
+    const int in_channels = image.channels;
+    const int out_channels = in_channels == 2 ? 3 : in_channels;
+    if (image.width > std::numeric_limits<int>::max() / out_channels)
+        throw io_error(path, "PNG row too wide (" + std::to_string(image.width) + " pixels)");
+
+    // Clamp to [0,1] (NaN -> 0), sRGB-encode colour channels, round to nearest 8-bit code.
+    const auto quantize = [](float value, bool colour) {
+        float v = value > 0.0f ? value : 0.0f;
+        v = v < 1.0f ? v : 1.0f;
+        if (colour) v = srgb_encode(v);
+        return static_cast<unsigned char>(std::floor(v * 255.0f + 0.5f));
+    };
+    std::vector<unsigned char> pixels(image.pixel_count() * static_cast<std::size_t>(out_channels),
+                                      0);
+    for (std::size_t p = 0; p < image.pixel_count(); ++p)
+        for (int c = 0; c < in_channels; ++c)
+            pixels[p * static_cast<std::size_t>(out_channels) + static_cast<std::size_t>(c)] =
+                quantize(image.data[p * static_cast<std::size_t>(in_channels) +
+                                    static_cast<std::size_t>(c)],
+                         is_colour_channel(c, in_channels));
+
+    std::string bytes;
+    if (stbi_write_png_to_func(append_to_string, &bytes, image.width, image.height, out_channels,
+                               pixels.data(), image.width * out_channels) == 0)
+        throw io_error(path, "PNG encoder failed");
+    write_file_atomic(path, bytes);
+}
+
+// ---- EXR ---------------------------------------------------------------------------------------
+//
+// OpenEXR runs without worker threads (SPEC §0: single-threaded reference path) and reads from /
+// writes to memory: reading sees the file size up front, writing ends in write_file_atomic.
+
+namespace {
+
+class MemoryIStream final : public Imf::IStream {
+public:
+    MemoryIStream(const std::string& path, const std::string& bytes)
+        : Imf::IStream(path.c_str()), bytes_(bytes) {}
+    bool read(char c[], int n) override {
+        if (n < 0 || pos_ > bytes_.size() || static_cast<std::uint64_t>(n) > bytes_.size() - pos_)
+            throw Iex::InputExc("unexpected end of file");
+        if (n > 0) std::memcpy(c, bytes_.data() + pos_, static_cast<std::size_t>(n));
+        pos_ += static_cast<std::uint64_t>(n);
+        return pos_ < bytes_.size();
+    }
+    std::uint64_t tellg() override { return pos_; }
+    void seekg(std::uint64_t pos) override { pos_ = pos; }  // read() checks the range.
+    void clear() override {}
+
+private:
+    const std::string& bytes_;
+    std::uint64_t pos_ = 0;
+};
+
+class MemoryOStream final : public Imf::OStream {
+public:
+    explicit MemoryOStream(const std::string& path) : Imf::OStream(path.c_str()) {}
+    void write(const char c[], int n) override {
+        if (n <= 0) return;
+        const std::size_t end = static_cast<std::size_t>(pos_) + static_cast<std::size_t>(n);
+        if (end > bytes_.size()) bytes_.resize(end);
+        std::memcpy(bytes_.data() + pos_, c, static_cast<std::size_t>(n));
+        pos_ = end;
+    }
+    std::uint64_t tellp() override { return pos_; }
+    void seekp(std::uint64_t pos) override { pos_ = pos; }
+    const std::string& bytes() const { return bytes_; }
+
+private:
+    std::string bytes_;
+    std::uint64_t pos_ = 0;
+};
+
+std::vector<std::string> exr_channel_names(int channels) {
+    if (channels == 1) return {"Y"};
+    if (channels == 3) return {"R", "G", "B"};
+    if (channels == 4) return {"R", "G", "B", "A"};
+    std::vector<std::string> names;
+    for (int c = 0; c < channels; ++c) names.push_back("C" + std::to_string(c));
+    return names;
+}
+
+/// The file's channels in our order, if they form one of the accepted layouts: Y, R G B,
+/// R G B A, C0..Cn, or any single channel.
+std::vector<std::string> exr_layout(const std::string& path, const Imf::ChannelList& list) {
+    std::vector<std::string> present;  // ChannelList iterates in name order: deterministic.
+    for (auto it = list.begin(); it != list.end(); ++it) {
+        if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
+            throw io_error(
+                path, std::string("EXR channel ") + it.name() + " is subsampled (not supported)");
+        present.emplace_back(it.name());
+    }
+    if (present.empty()) throw io_error(path, "EXR file has no channels");
+    if (present.size() == 1) return present;
+    std::vector<std::string> wanted = exr_channel_names(static_cast<int>(present.size()));
+    std::vector<std::string> sorted_wanted = wanted;
+    std::sort(sorted_wanted.begin(), sorted_wanted.end());
+    if (sorted_wanted == present) return wanted;
+    if (present.size() == 3 || present.size() == 4) {  // C0..C2 / C0..C3 are accepted too.
+        std::vector<std::string> numbered;
+        for (std::size_t c = 0; c < present.size(); ++c)
+            numbered.push_back("C" + std::to_string(c));
+        if (numbered == present) return numbered;
+    }
+    std::string names;
+    for (const std::string& name : present) names += (names.empty() ? "" : ",") + name;
+    throw io_error(path, "unsupported EXR channel layout (" + names +
+                             "); expected Y, R,G,B, R,G,B,A, C0..Cn or one channel");
+}
+
+}  // namespace
+
+Image read_exr(const std::string& path) {
+    Imf::setGlobalThreadCount(0);
+    const std::string bytes = read_file(path);
+    if (bytes.empty()) throw io_error(path, "empty file (expected an EXR)");
+    try {
+        MemoryIStream stream(path, bytes);
+        Imf::InputFile file(stream, 0);
+        const Imath::Box2i window = file.header().dataWindow();
+        const std::int64_t width = std::int64_t{window.max.x} - window.min.x + 1;
+        const std::int64_t height = std::int64_t{window.max.y} - window.min.y + 1;
+        if (width <= 0 || height <= 0)
+            throw io_error(path, "EXR data window has no pixels (" + std::to_string(width) + "x" +
+                                     std::to_string(height) + ")");
+        // Limits checked before allocating: at most 2^28 pixels, and no more decoded bytes than
+        // 65536 x the file size (far above what OpenEXR's codecs reach) plus 64 MiB, so a forged
+        // header on a small file cannot make us allocate gigabytes.
+        constexpr std::int64_t max_pixels = std::int64_t{1} << 28;
+        if (width > max_pixels / height)
+            throw io_error(path, "EXR data window " + std::to_string(width) + "x" +
+                                     std::to_string(height) + " exceeds 2^28 pixels");
+        const std::vector<std::string> names = exr_layout(path, file.header().channels());
+        const int channels = static_cast<int>(names.size());
+        const double decoded_bytes =
+            static_cast<double>(width) * static_cast<double>(height) * channels * 4.0;
+        if (decoded_bytes > 65536.0 * static_cast<double>(bytes.size()) + 64.0 * 1024 * 1024)
+            throw io_error(path, "EXR data window " + std::to_string(width) + "x" +
+                                     std::to_string(height) + "x" + std::to_string(channels) +
+                                     " is implausibly large for a " + std::to_string(bytes.size()) +
+                                     "-byte file");
+
+        Image image(static_cast<int>(width), static_cast<int>(height), channels);
+        const std::size_t x_stride = static_cast<std::size_t>(channels) * sizeof(float);
+        const std::size_t y_stride = x_stride * static_cast<std::size_t>(width);
+        Imf::FrameBuffer frame_buffer;
+        for (int c = 0; c < channels; ++c)
+            frame_buffer.insert(
+                names[static_cast<std::size_t>(c)],
+                Imf::Slice::Make(Imf::FLOAT, image.data.data() + c, window, x_stride, y_stride));
+        file.setFrameBuffer(frame_buffer);
+        file.readPixels(window.min.y, window.max.y);
+        return image;
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw io_error(path, std::string("cannot read EXR: ") + e.what());
+    } catch (...) {
+        throw io_error(path, "cannot read EXR: unknown exception");
+    }
+}
+
+void write_exr(const std::string& path, const Image& image) {
+    check_writable(path, image);
+    Imf::setGlobalThreadCount(0);
+    std::string bytes;
+    try {
+        const std::vector<std::string> names = exr_channel_names(image.channels);
+        Imf::Header header(image.width, image.height);
+        header.compression() = Imf::ZIP_COMPRESSION;
+        for (const std::string& name : names)
+            header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+        // OpenEXR's Slice takes a mutable pointer even for output; the data is only read.
+        char* base = const_cast<char*>(reinterpret_cast<const char*>(image.data.data()));
+        const std::size_t x_stride = static_cast<std::size_t>(image.channels) * sizeof(float);
+        const std::size_t y_stride = x_stride * static_cast<std::size_t>(image.width);
+        Imf::FrameBuffer frame_buffer;
+        for (int c = 0; c < image.channels; ++c)
+            frame_buffer.insert(
+                names[static_cast<std::size_t>(c)],
+                Imf::Slice(Imf::FLOAT, base + c * sizeof(float), x_stride, y_stride));
+        MemoryOStream stream(path);
+        {
+            // The line offset table is written when the file object is destroyed.
+            Imf::OutputFile file(stream, header, 0);
+            file.setFrameBuffer(frame_buffer);
+            file.writePixels(image.height);
+        }
+        bytes = stream.bytes();
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw io_error(path, std::string("cannot write EXR: ") + e.what());
+    } catch (...) {
+        throw io_error(path, "cannot write EXR: unknown exception");
+    }
+    write_file_atomic(path, bytes);
+}
+
+// ---- Dispatch by extension ---------------------------------------------------------------------
+
+Image read_image(const std::string& path) {
+    const std::string ext = lower_extension(path);
+    if (ext == ".pfm") return read_pfm(path);
+    if (ext == ".png") return read_png(path);
+    if (ext == ".exr") return read_exr(path);
+    throw io_error(path,
+                   "unknown image extension " + quoted(ext, 32) + " (expected .pfm, .png or .exr)");
+}
+
+void write_image(const std::string& path, const Image& image) {
+    const std::string ext = lower_extension(path);
+    if (ext == ".pfm") return write_pfm(path, image);
+    if (ext == ".png") return write_png(path, image);
+    if (ext == ".exr") return write_exr(path, image);
+    throw io_error(path,
+                   "unknown image extension " + quoted(ext, 32) + " (expected .pfm, .png or .exr)");
+}
+
+}  // namespace fovref

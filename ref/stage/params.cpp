@@ -1,0 +1,72 @@
+#include "ref/stage/params.h"
+
+#include <charconv>
+#include <cmath>
+#include <system_error>
+
+#include "ref/core/error.h"
+
+namespace fovref {
+
+void Params::set_from_assignment(const std::string& assignment) {
+    const auto eq = assignment.find('=');
+    if (eq == std::string::npos || eq == 0)
+        throw Error("parameter '" + assignment + "': expected key=value");
+    values_[assignment.substr(0, eq)] = assignment.substr(eq + 1);
+}
+
+void Params::check_known(const std::vector<ParamSpec>& specs, const std::string& mode) const {
+    for (const auto& [key, value] : values_) {
+        bool known = false;
+        for (const ParamSpec& spec : specs) known = known || spec.name == key;
+        if (!known) {
+            std::string names;
+            for (const ParamSpec& spec : specs) names += (names.empty() ? "" : ", ") + spec.name;
+            throw Error("parameter '" + key + "' is not a parameter of mode '" + mode + "'" +
+                        (names.empty() ? " (it takes none)" : " (it takes: " + names + ")"));
+        }
+    }
+}
+
+std::string Params::get_string(const std::vector<ParamSpec>& specs, const std::string& key) const {
+    auto it = values_.find(key);
+    if (it != values_.end()) return it->second;
+    for (const ParamSpec& spec : specs)
+        if (spec.name == key) return spec.default_value;
+    throw Error("internal: parameter '" + key + "' has no specification");
+}
+
+float Params::get_float(const std::vector<ParamSpec>& specs, const std::string& key, float min,
+                        float max) const {
+    const std::string text = get_string(specs, key);
+    float value = 0.0f;
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
+        throw Error("parameter '" + key + "': '" + text + "' is not a finite number");
+    if (value < min || value > max)
+        throw Error("parameter '" + key + "': " + text + " is outside [" + std::to_string(min) +
+                    ", " + std::to_string(max) + "]");
+    return value;
+}
+
+int Params::get_int(const std::vector<ParamSpec>& specs, const std::string& key, int min,
+                    int max) const {
+    const std::string text = get_string(specs, key);
+    int value = 0;
+    auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (ec != std::errc() || end != text.data() + text.size())
+        throw Error("parameter '" + key + "': '" + text + "' is not an integer");
+    if (value < min || value > max)
+        throw Error("parameter '" + key + "': " + text + " is outside [" + std::to_string(min) +
+                    ", " + std::to_string(max) + "]");
+    return value;
+}
+
+bool Params::get_bool(const std::vector<ParamSpec>& specs, const std::string& key) const {
+    const std::string text = get_string(specs, key);
+    if (text == "1" || text == "true" || text == "on") return true;
+    if (text == "0" || text == "false" || text == "off") return false;
+    throw Error("parameter '" + key + "': '" + text + "' is not a boolean (true/false)");
+}
+
+}  // namespace fovref

@@ -1,0 +1,45 @@
+// Mode parameters: plain key = value pairs, validated against each mode's declared list, with
+// documented defaults. A bad value is an error naming the parameter.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace fovref {
+
+struct ParamSpec {
+    std::string name;
+    std::string default_value;
+    std::string doc;
+};
+
+class Params {
+public:
+    Params() = default;
+    explicit Params(std::map<std::string, std::string> values) : values_(std::move(values)) {}
+
+    /// Parses "key=value"; throws fovref::Error when malformed.
+    void set_from_assignment(const std::string& assignment);
+    void set(const std::string& key, const std::string& value) { values_[key] = value; }
+
+    /// Throws fovref::Error naming the first key that is not in `specs`.
+    void check_known(const std::vector<ParamSpec>& specs, const std::string& mode) const;
+
+    // Typed getters: the value given, else the spec's default; a malformed or out-of-range value
+    // throws fovref::Error("parameter 'name': ...").
+    std::string get_string(const std::vector<ParamSpec>& specs, const std::string& key) const;
+    float get_float(const std::vector<ParamSpec>& specs, const std::string& key, float min,
+                    float max) const;
+    int get_int(const std::vector<ParamSpec>& specs, const std::string& key, int min,
+                int max) const;
+    bool get_bool(const std::vector<ParamSpec>& specs, const std::string& key) const;
+
+    const std::map<std::string, std::string>& values() const { return values_; }
+    bool operator==(const Params&) const = default;
+
+private:
+    std::map<std::string, std::string> values_;  // ordered: deterministic manifests
+};
+
+}  // namespace fovref

@@ -1,0 +1,125 @@
+#include "ref/stage/pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "ref/core/error.h"
+
+namespace fovref {
+
+const Image& FrameContext::input(const std::string& name) const {
+    const Buffer* buffer = result->find(name);
+    FOVREF_CHECK(buffer != nullptr, "stage input '" + name + "' was not produced");
+    return buffer->image;
+}
+
+std::vector<std::string> Pipeline::all_outputs() const {
+    std::vector<std::string> names;
+    for (const StageDef& stage : stages)
+        for (const std::string& output : stage.outputs) names.push_back(output);
+    return names;
+}
+
+std::vector<bool> Pipeline::plan(const std::vector<std::string>& requested) const {
+    std::vector<std::string> wanted = requested.empty() ? final_outputs : requested;
+    const bool everything = std::find(wanted.begin(), wanted.end(), "all") != wanted.end();
+    const std::vector<std::string> known = all_outputs();
+    if (!everything)
+        for (const std::string& name : wanted)
+            if (std::find(known.begin(), known.end(), name) == known.end()) {
+                std::string list;
+                for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+                throw Error("buffer '" + name +
+                            "' is not produced by this mode (it produces: " + list + ")");
+            }
+    // Walk backwards: a stage is needed when one of its outputs is wanted; its inputs then are.
+    std::vector<bool> needed(stages.size(), everything);
+    if (!everything)
+        for (std::size_t k = stages.size(); k-- > 0;) {
+            const StageDef& stage = stages[k];
+            for (const std::string& output : stage.outputs)
+                if (std::find(wanted.begin(), wanted.end(), output) != wanted.end())
+                    needed[k] = true;
+            if (needed[k]) wanted.insert(wanted.end(), stage.inputs.begin(), stage.inputs.end());
+        }
+    return needed;
+}
+
+FrameResult Pipeline::run_frame(FrameContext& context,
+                                const std::vector<std::string>& requested) const {
+    FrameResult result;
+    result.frame = context.frame;
+    result.time = context.time;
+    context.result = &result;
+    const std::vector<bool> needed = plan(requested);
+    for (std::size_t k = 0; k < stages.size(); ++k) {
+        StageRun run{stages[k].name, needed[k], "", 0.0};
+        if (!needed[k]) {
+            run.note = "skipped: no requested output consumes it";
+        } else {
+            context.note.clear();
+            const auto start = std::chrono::steady_clock::now();
+            stages[k].run(context);
+            run.seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            run.note = context.note;
+            for (const std::string& output : stages[k].outputs)
+                FOVREF_CHECK(result.find(output) != nullptr,
+                             "stage '" + stages[k].name + "' did not produce '" + output + "'");
+        }
+        result.stages.push_back(run);
+    }
+    context.result = nullptr;
+    return result;
+}
+
+void validate_settings(const RenderSettings& settings) {
+    constexpr int max_side = 16384;
+    if (settings.width < 1 || settings.width > max_side)
+        throw Error("--width " + std::to_string(settings.width) + ": must be in [1, 16384]");
+    if (settings.height < 1 || settings.height > max_side)
+        throw Error("--height " + std::to_string(settings.height) + ": must be in [1, 16384]");
+    if (settings.frame_count < 1 || settings.frame_count > 100000)
+        throw Error("--frames " + std::to_string(settings.frame_count) +
+                    ": must be in [1, 100000]");
+    if (!std::isfinite(settings.time_start) || !std::isfinite(settings.time_step) ||
+        settings.time_step < 0.0f)
+        throw Error("--time-start/--time-step must be finite and the step non-negative");
+}
+
+const ModeInfo& find_mode(const std::string& name) {
+    for (const ModeInfo& mode : render_modes())
+        if (mode.name == name) return mode;
+    std::string names;
+    for (const ModeInfo& mode : render_modes()) names += (names.empty() ? "" : ", ") + mode.name;
+    throw Error("unknown mode '" + name + "' (modes: " + names + ")");
+}
+
+std::vector<FrameResult> render(const Scene* scene, const std::string& mode_name,
+                                const RenderSettings& settings) {
+    validate_settings(settings);
+    const ModeInfo& mode = find_mode(mode_name);
+    settings.params.check_known(mode.params, mode.name);
+    if (mode.needs_scene && scene == nullptr) throw Error("mode '" + mode.name + "' needs a scene");
+    const Pipeline pipeline = mode.build(scene, settings);
+    pipeline.plan(settings.requested);  // reject unknown buffer names before any work
+
+    std::vector<FrameResult> frames;
+    FrameContext context;
+    context.scene = scene;
+    context.settings = &settings;
+    for (int f = 0; f < settings.frame_count; ++f) {
+        context.frame = f;
+        context.time = settings.time_start + static_cast<float>(f) * settings.time_step;
+        const Camera camera = scene ? camera_at(*scene, context.time) : Camera{};
+        context.previous_camera = f == 0 ? camera : context.camera;
+        context.has_previous = f > 0;
+        context.camera = camera;
+        frames.push_back(pipeline.run_frame(context, settings.requested));
+        if (settings.progress) settings.progress(static_cast<double>(f + 1) / settings.frame_count);
+    }
+    return frames;
+}
+
+}  // namespace fovref

@@ -1,0 +1,88 @@
+// The stage framework. A frame is computed by a list of stages, each a plain function from named
+// input buffers to named output buffers (one GPU pass each). Before a frame runs, the pipeline is
+// planned backwards from the requested outputs: a stage runs only if something consumes one of
+// its outputs, and every stage that does not run is recorded as skipped with the reason. Stages
+// may also skip work that the scene does not need (no lights: no shadow rays) and say so.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "ref/scene/scene.h"
+#include "ref/stage/frame.h"
+#include "ref/stage/params.h"
+
+namespace fovref {
+
+struct RenderSettings {
+    int width = 320;
+    int height = 180;
+    int frame_count = 1;
+    float time_start = 0.0f;      ///< camera-path time of frame 0
+    float time_step = 1.0f / 30;  ///< camera-path time between frames
+    Params params;                ///< mode parameters (validated against the mode's list)
+    /// Buffers wanted: empty = the mode's final outputs; {"all"} = every buffer of every stage.
+    std::vector<std::string> requested;
+    /// Called with the fraction done (0..1) after each frame; may be empty.
+    std::function<void(double)> progress;
+};
+
+/// What a stage sees: the scene, the settings, this frame's cameras and the frame's buffers.
+struct FrameContext {
+    const Scene* scene = nullptr;  ///< null for modes that need no scene
+    const RenderSettings* settings = nullptr;
+    int frame = 0;
+    float time = 0.0f;
+    Camera camera;
+    Camera previous_camera;  ///< equal to camera on the first frame
+    bool has_previous = false;
+    FrameResult* result = nullptr;
+    std::string note;  ///< set by a stage to explain what it did or skipped
+
+    const Image& input(const std::string& name) const;
+};
+
+struct StageDef {
+    std::string name;
+    std::vector<std::string> inputs;
+    std::vector<std::string> outputs;
+    std::function<void(FrameContext&)> run;
+};
+
+struct Pipeline {
+    std::vector<StageDef> stages;            ///< in execution order
+    std::vector<std::string> final_outputs;  ///< what a plain render writes
+
+    /// Every buffer name the stages produce, in pipeline order.
+    std::vector<std::string> all_outputs() const;
+    /// Names of the stages needed for `requested` (empty = final outputs, {"all"} = all).
+    /// Throws fovref::Error naming an unknown buffer.
+    std::vector<bool> plan(const std::vector<std::string>& requested) const;
+    /// Runs the planned stages for one frame.
+    FrameResult run_frame(FrameContext& context, const std::vector<std::string>& requested) const;
+};
+
+struct ModeInfo {
+    std::string name;
+    std::string description;
+    bool needs_scene = true;
+    std::vector<ParamSpec> params;
+    /// Builds the pipeline for a scene (null when !needs_scene) and validated settings; the
+    /// closures may hold state carried from frame to frame (TAA history, ...).
+    std::function<Pipeline(const Scene*, const RenderSettings&)> build;
+};
+
+/// Every render mode, in the order `fovref render --help` lists them.
+const std::vector<ModeInfo>& render_modes();
+/// Throws fovref::Error listing the valid names.
+const ModeInfo& find_mode(const std::string& name);
+
+/// Renders frames 0..frame_count-1 of `mode`. Validates the settings and parameters first.
+std::vector<FrameResult> render(const Scene* scene, const std::string& mode,
+                                const RenderSettings& settings);
+
+/// Checks width/height/frame counts and times; throws fovref::Error naming the setting.
+void validate_settings(const RenderSettings& settings);
+
+}  // namespace fovref

@@ -1,0 +1,159 @@
+#include <doctest/doctest.h>
+
+#include <unistd.h>
+#include <bit>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "ref/core/error.h"
+#include "ref/golden/bundle.h"
+#include "ref/image/image_io.h"
+
+using namespace fovref;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct TempDir {
+    fs::path path;
+    TempDir() {
+        path = fs::temp_directory_path() / ("fovref-golden-test-" + std::to_string(getpid()));
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempDir() { fs::remove_all(path); }
+};
+
+GoldenCase rng_case() {
+    GoldenCase c;
+    c.name = "rng-small";
+    c.mode = "rng";
+    c.width = 7;
+    c.height = 5;
+    c.frames = 2;
+    return c;
+}
+
+void write_text(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+}  // namespace
+
+TEST_CASE("bundle: write, read back and compare bit-exactly; a one-ulp change is located") {
+    TempDir tmp;
+    const GoldenCase c = rng_case();
+    std::vector<FrameResult> frames = render_golden_case(c, nullptr, {"all"});
+    const std::string dir = (tmp.path / "bundle").string();
+    write_bundle(dir, c, frames, BundleOptions{});
+
+    Manifest m = read_manifest(dir);
+    CHECK(m.golden_case == c);
+    REQUIRE(m.buffers.size() == 2);
+    CHECK(m.buffers[1].frame == 1);
+    CHECK(m.buffers[0].sha256 == canonical_sha256(frames[0].buffers[0].image));
+    CHECK(m.buffers[0].file == "f000_rng.pfm");
+    CHECK(bit_equal(read_image(dir + "/f000_rng.pfm"), frames[0].buffers[0].image));
+    CHECK(compare_with_bundle(dir, frames).empty());
+
+    // One ulp at pixel (3, 2), channel 1 of frame 1.
+    std::vector<FrameResult> perturbed = frames;
+    float& v = perturbed[1].buffers[0].image.at(3, 2, 1);
+    v = std::nextafter(v, 2.0f);
+    auto differences = compare_with_bundle(dir, perturbed);
+    REQUIRE(differences.size() == 1);
+    CHECK(differences[0].frame == 1);
+    CHECK(differences[0].buffer == "rng");
+    CHECK(differences[0].what.find("pixel (3, 2) channel d1") != std::string::npos);
+
+    // Rewriting replaces the bundle whole; nothing is left beside it.
+    write_bundle(dir, c, perturbed, BundleOptions{});
+    CHECK(compare_with_bundle(dir, perturbed).empty());
+    CHECK_FALSE(fs::exists(dir + ".writing"));
+    CHECK_FALSE(fs::exists(dir + ".previous"));
+}
+
+TEST_CASE("bundle: hash-only buffers, missing and extra buffers, changed shapes") {
+    TempDir tmp;
+    GoldenCase c = rng_case();
+    c.frames = 1;
+    std::vector<FrameResult> frames = render_golden_case(c, nullptr, {"all"});
+    const std::string dir = (tmp.path / "b").string();
+    BundleOptions options;
+    options.max_stored_pixels = 10;  // 7x5 = 35 pixels: hash only
+    write_bundle(dir, c, frames, options);
+    CHECK(read_manifest(dir).buffers[0].file.empty());
+    CHECK_FALSE(fs::exists(dir + "/f000_rng.pfm"));
+
+    std::vector<FrameResult> changed = frames;
+    changed[0].buffers[0].image.data[0] += 1.0f;
+    auto d = compare_with_bundle(dir, changed);
+    REQUIRE(d.size() == 1);
+    CHECK(d[0].what.find("hash only") != std::string::npos);
+
+    std::vector<FrameResult> reshaped = frames;
+    reshaped[0].buffers[0].image = Image(5, 7, 3);
+    d = compare_with_bundle(dir, reshaped);
+    REQUIRE(d.size() == 1);
+    CHECK(d[0].what.find("shape 5x7x3") != std::string::npos);
+
+    std::vector<FrameResult> renamed = frames;
+    renamed[0].buffers[0].name = "other";
+    d = compare_with_bundle(dir, renamed);
+    CHECK(d.size() == 2);  // rng missing, other extra
+}
+
+TEST_CASE("bundle: a failed write leaves the previous bundle untouched") {
+    TempDir tmp;
+    const GoldenCase c = rng_case();
+    std::vector<FrameResult> frames = render_golden_case(c, nullptr, {"all"});
+    write_text(tmp.path / "file", "x");
+    CHECK_THROWS_AS(
+        write_bundle((tmp.path / "file" / "bundle").string(), c, frames, BundleOptions{}), Error);
+}
+
+TEST_CASE("first_difference and describe_difference") {
+    Image a(3, 2, 2, 0.25f), b = a;
+    CHECK(first_difference(a, b) == -1);
+    b.at(1, 1, 1) = -0.0f;
+    a.at(1, 1, 1) = 0.0f;
+    CHECK(first_difference(a, b) ==
+          static_cast<std::ptrdiff_t>(a.index(1, 1, 1)));  // -0 != +0 in bits
+    b.at(2, 0, 0) = std::bit_cast<float>(0x3e800001u);
+    const std::ptrdiff_t i = first_difference(a, b);
+    CHECK(i == static_cast<std::ptrdiff_t>(a.index(2, 0, 0)));
+    const std::string text = describe_difference(a, b, i, {"u", "v"});
+    CHECK(text ==
+          "first difference at pixel (2, 0) channel u: expected 0.25 (0x3e800000), got "
+          "0.25000003 (0x3e800001)");
+}
+
+TEST_CASE("golden cases file: good and bad definitions") {
+    TempDir tmp;
+    const fs::path file = tmp.path / "cases.json";
+    write_text(file, R"({"cases": [
+      {"name": "a", "mode": "rng", "width": 8, "height": 4, "frames": 2, "params": {"k": 1.5}},
+      {"name": "b", "scene": "cornell", "mode": "splat", "width": 16, "height": 9}
+    ]})");
+    auto cases = load_golden_cases(file.string());
+    REQUIRE(cases.size() == 2);
+    CHECK(cases[0].frames == 2);
+    CHECK(cases[0].params.values().at("k") == "1.5");
+    CHECK(cases[1].scene == "cornell");
+    CHECK(find_golden_case(cases, "b").width == 16);
+    CHECK_THROWS_WITH_AS(find_golden_case(cases, "zzz"), doctest::Contains("cases: a, b"), Error);
+
+    write_text(file,
+               R"({"cases": [{"name": "a", "mode": "rng", "width": 8, "height": 4, "color": 1}]})");
+    CHECK_THROWS_WITH_AS(load_golden_cases(file.string()), doctest::Contains("unknown key 'color'"),
+                         Error);
+    write_text(file, R"({"cases": [{"name": "a", "mode": "rng", "width": 8, "height": 4},
+                                   {"name": "a", "mode": "rng", "width": 8, "height": 4}]})");
+    CHECK_THROWS_WITH_AS(load_golden_cases(file.string()), doctest::Contains("defined twice"),
+                         Error);
+    write_text(file, R"({"cases": [{"name": "a/b", "mode": "rng", "width": 8, "height": 4}]})");
+    CHECK_THROWS_AS(load_golden_cases(file.string()), Error);
+    write_text(file, R"({"cases": [ {"name": )");
+    CHECK_THROWS_WITH_AS(load_golden_cases(file.string()), doctest::Contains("cases.json"), Error);
+    CHECK_THROWS_WITH_AS(load_golden_cases((tmp.path / "missing.json").string()),
+                         doctest::Contains("missing.json"), Error);
+}

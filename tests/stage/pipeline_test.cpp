@@ -1,0 +1,196 @@
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "ref/core/error.h"
+#include "ref/core/rng.h"
+#include "ref/core_passes/core_passes.h"
+#include "ref/stage/pipeline.h"
+
+using namespace fovref;
+
+namespace {
+
+// A three-stage toy pipeline: a -> b, and an independent c.
+Pipeline toy_pipeline(int* runs) {
+    Pipeline p;
+    p.stages.push_back({"make_a", {}, {"a"}, [runs](FrameContext& ctx) {
+                            ++runs[0];
+                            ctx.result->add("a", BufferKind::scalar, {"v"}, Image(2, 2, 1, 1.0f));
+                        }});
+    p.stages.push_back({"a_to_b", {"a"}, {"b"}, [runs](FrameContext& ctx) {
+                            ++runs[1];
+                            Image b = ctx.input("a");
+                            for (float& v : b.data) v *= 2.0f;
+                            ctx.result->add("b", BufferKind::scalar, {"v"}, b);
+                        }});
+    p.stages.push_back({"make_c", {}, {"c"}, [runs](FrameContext& ctx) {
+                            ++runs[2];
+                            ctx.note = "made c";
+                            ctx.result->add("c", BufferKind::scalar, {"v"}, Image(1, 1, 1, 3.0f));
+                        }});
+    p.final_outputs = {"b"};
+    return p;
+}
+
+}  // namespace
+
+TEST_CASE("pipeline: only stages whose outputs are consumed run; the others are recorded") {
+    int runs[3] = {0, 0, 0};
+    Pipeline p = toy_pipeline(runs);
+    FrameContext ctx;
+    FrameResult r = p.run_frame(ctx, {});
+    CHECK(runs[0] == 1);
+    CHECK(runs[1] == 1);
+    CHECK(runs[2] == 0);  // nobody asked for c
+    REQUIRE(r.stages.size() == 3);
+    CHECK(r.stages[2].name == "make_c");
+    CHECK_FALSE(r.stages[2].ran);
+    CHECK(r.stages[2].note.find("skipped") != std::string::npos);
+    REQUIRE(r.find("b") != nullptr);
+    CHECK(r.find("b")->image.data[0] == 2.0f);
+    CHECK(r.find("c") == nullptr);
+
+    FrameResult only_c = p.run_frame(ctx, {"c"});
+    CHECK(runs[0] == 1);
+    CHECK(runs[2] == 1);
+    CHECK(only_c.stages[2].note == "made c");
+
+    FrameResult all = p.run_frame(ctx, {"all"});
+    CHECK(all.buffers.size() == 3);
+    CHECK_THROWS_WITH_AS(p.run_frame(ctx, {"nope"}), doctest::Contains("'nope'"), Error);
+}
+
+TEST_CASE("render: settings and parameters are validated with the setting's name") {
+    RenderSettings s;
+    s.width = 0;
+    CHECK_THROWS_WITH_AS(render(nullptr, "rng", s), doctest::Contains("--width"), Error);
+    s.width = 8;
+    s.height = 100000;
+    CHECK_THROWS_WITH_AS(render(nullptr, "rng", s), doctest::Contains("--height"), Error);
+    s.height = 4;
+    s.frame_count = 0;
+    CHECK_THROWS_WITH_AS(render(nullptr, "rng", s), doctest::Contains("--frames"), Error);
+    s.frame_count = 1;
+    CHECK_THROWS_WITH_AS(render(nullptr, "no-such-mode", s), doctest::Contains("modes:"), Error);
+    s.params.set("alpha", "2");
+    CHECK_THROWS_WITH_AS(render(nullptr, "rng", s), doctest::Contains("'alpha'"), Error);
+    s.params = Params();
+    CHECK_THROWS_WITH_AS(render(nullptr, "splat", s), doctest::Contains("needs a scene"), Error);
+    s.time_step = std::nanf("");
+    CHECK_THROWS_AS(render(nullptr, "rng", s), Error);
+}
+
+TEST_CASE("params: typed getters reject malformed and out-of-range values by name") {
+    const std::vector<ParamSpec> specs = {{"alpha", "1", "kernel exponent"},
+                                          {"rings", "20", "ring count"},
+                                          {"taa", "off", "temporal accumulation"}};
+    Params p;
+    CHECK(p.get_float(specs, "alpha", 1.0f, 8.0f) == 1.0f);
+    p.set_from_assignment("alpha=3.5");
+    CHECK(p.get_float(specs, "alpha", 1.0f, 8.0f) == 3.5f);
+    p.set_from_assignment("alpha=3.5x");
+    CHECK_THROWS_WITH_AS(p.get_float(specs, "alpha", 1, 8), doctest::Contains("'alpha'"), Error);
+    p.set_from_assignment("alpha=nan");
+    CHECK_THROWS_AS(p.get_float(specs, "alpha", 1, 8), Error);
+    p.set_from_assignment("alpha=9");
+    CHECK_THROWS_WITH_AS(p.get_float(specs, "alpha", 1, 8), doctest::Contains("outside"), Error);
+    p.set_from_assignment("rings=7");
+    CHECK(p.get_int(specs, "rings", 1, 100) == 7);
+    p.set_from_assignment("rings=7.5");
+    CHECK_THROWS_AS(p.get_int(specs, "rings", 1, 100), Error);
+    CHECK_FALSE(p.get_bool(specs, "taa"));
+    p.set_from_assignment("taa=maybe");
+    CHECK_THROWS_AS(p.get_bool(specs, "taa"), Error);
+    CHECK_THROWS_AS(p.set_from_assignment("novalue"), Error);
+    CHECK_THROWS_AS(p.set_from_assignment("=3"), Error);
+    Params unknown;
+    unknown.set("beta", "1");
+    CHECK_THROWS_WITH_AS(unknown.check_known(specs, "kfov"), doctest::Contains("alpha, rings, taa"),
+                         Error);
+}
+
+TEST_CASE("counters keep insertion order and accumulate") {
+    Counters c;
+    c.add("rays", 3);
+    c.add("shadow", 1);
+    c.add("rays", 4);
+    CHECK(c.get("rays") == 7);
+    CHECK(c.get("absent") == 0);
+    REQUIRE(c.values.size() == 2);
+    CHECK(c.values[0].first == "rays");
+}
+
+TEST_CASE("camera rays: the centre ray is F, rays are unit, and the screen is symmetric") {
+    Camera camera = look_at({1, 2, 3}, {1, 2, -7}, {0, 1, 0}, 60.0f);
+    // 3x3: pixel (1,1) has centre (1.5, 1.5), the screen centre.
+    Image rays = camera_rays(camera, 3, 3);
+    CHECK(rays.at(1, 1, 0) == 0.0f);
+    CHECK(rays.at(1, 1, 1) == 0.0f);
+    CHECK(rays.at(1, 1, 2) == -1.0f);
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 3; ++x) {
+            float len2 = rays.at(x, y, 0) * rays.at(x, y, 0) + rays.at(x, y, 1) * rays.at(x, y, 1) +
+                         rays.at(x, y, 2) * rays.at(x, y, 2);
+            CHECK(len2 == doctest::Approx(1.0f).epsilon(1e-6));  // normalised in float
+        }
+    // Left/right and top/bottom mirror exactly; screen y grows downwards (top row looks up).
+    CHECK(rays.at(0, 1, 0) == -rays.at(2, 1, 0));
+    CHECK(rays.at(1, 0, 1) == -rays.at(1, 2, 1));
+    CHECK(rays.at(1, 0, 1) > 0.0f);
+    // Top edge midpoint of a 2x2 screen: the ray tilts up by exactly vfov/2 = 30 degrees.
+    glm::vec3 edge = primary_ray_direction(camera, tan_half_vfov(camera), 2, 2, 1.0f, 0.0f);
+    CHECK(edge.y == doctest::Approx(0.5f).epsilon(1e-6));  // sin(30 deg)
+}
+
+TEST_CASE("rng image holds rand_unit(frame, y*W+x, d)") {
+    Image image = rng_image(7, 5, 3);
+    CHECK(image.at(4, 2, 1) == rand_unit(7, 14, 1));
+    CHECK(image.at(0, 0, 0) == rand_unit(7, 0, 0));
+    CHECK(image.at(3, 1, 2) != rng_image(8, 5, 3).at(3, 1, 2));
+}
+
+TEST_CASE("centroid splat: nearest wins, equal depth goes to the lowest primitive id") {
+    Scene scene;
+    scene.source = "test";
+    scene.materials.push_back(Material{"red", {1, 0, 0}});
+    scene.materials.push_back(Material{"blue", {0, 0, 1}});
+    auto add_triangle = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c, int material) {
+        scene.positions.insert(scene.positions.end(), {a, b, c});
+        glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
+        scene.normals.insert(scene.normals.end(), {n, n, n});
+        scene.uvs.insert(scene.uvs.end(), {glm::vec2(0), glm::vec2(0), glm::vec2(0)});
+        scene.material_ids.push_back(material);
+    };
+    // Triangles 0 and 1 have the same centroid (0,0,-5) and depth; 2 is nearer at depth 3;
+    // 3 is behind the camera; 4 is off screen to the right.
+    // (Depth 3 < 5, but at another pixel.)
+    add_triangle({-1, -1, -5}, {1, -1, -5}, {0, 2, -5}, 1);
+    add_triangle({1, -1, -5}, {-1, -1, -5}, {0, 2, -5}, 0);
+    add_triangle({2.6f, -1, -3}, {2.8f, -1, -3}, {2.7f, 2, -3}, 0);
+    add_triangle({-1, -1, 5}, {1, -1, 5}, {0, 2, 5}, 0);
+    add_triangle({99, -1, -5}, {101, -1, -5}, {100, 2, -5}, 0);
+    finalize_scene(scene);
+    Camera camera = look_at({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 90.0f);
+    SplatBuffers s = centroid_splat(scene, camera, 4, 4);
+    CHECK(s.splatted == 3);
+    CHECK(s.behind == 1);
+    CHECK(s.off_screen == 1);
+    // Centroid (0,0,-5) projects to the screen centre (2, 2): pixel (2, 2).
+    CHECK(s.primitive.at(2, 2) == 0.0f);
+    CHECK(s.depth.at(2, 2) == 5.0f);
+    CHECK(s.albedo.at(2, 2, 2) == 1.0f);  // material 1 (blue) of triangle 0
+    CHECK(s.primitive.at(0, 0) == -1.0f);
+    // Centroid (2.7, 0, -3): ndc x = 0.9 -> screen x 3.8, y 2 -> pixel (3, 2).
+    CHECK(s.primitive.at(3, 2) == 2.0f);
+    CHECK(s.depth.at(3, 2) == 3.0f);
+    Image shaded = headlight_shade(s.albedo, s.normal, s.primitive, camera);
+    CHECK(shaded.at(2, 2, 2) == 1.0f);  // facing the camera: 0.2 + 0.8 * 1
+    CHECK(shaded.at(0, 0, 0) == 0.0f);
+
+    // A later, nearer triangle on the same pixel wins over the earlier ones.
+    add_triangle({-0.5f, -0.5f, -2.5f}, {0.5f, -0.5f, -2.5f}, {0, 1, -2.5f}, 0);
+    SplatBuffers nearer = centroid_splat(scene, camera, 4, 4);
+    CHECK(nearer.primitive.at(2, 2) == 5.0f);
+    CHECK(nearer.depth.at(2, 2) == 2.5f);
+}
