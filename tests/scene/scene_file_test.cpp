@@ -14,6 +14,7 @@
 #include "ref/core/error.h"
 #include "ref/image/image_io.h"
 #include "ref/scene/json_locator.h"
+#include "ref/scene/procedural.h"
 #include "ref/scene/scene_file.h"
 
 using namespace fovref;
@@ -101,6 +102,7 @@ TEST_CASE("scene file: textured-room loads with the expected contents") {
     CHECK(scene.load_stats.polygons_triangulated == 5 + 2 * 6);
     CHECK(scene.load_stats.normals_generated == 2 + 2 * 12);  // lamp and boxes have no vn
     CHECK(scene.load_stats.zero_area_triangles_dropped == 0);
+    CHECK(scene.load_stats.warnings.empty());  // a clean scene: no tinyobjloader warnings either
     // room.mtl's 6 materials, once each although box.obj loads room.mtl twice more.
     REQUIRE(scene.materials.size() == 6);
     const char* names[6] = {"floor", "white", "red", "green", "lamp", "box"};
@@ -709,4 +711,14 @@ TEST_CASE("scene file: corrupted inputs load or throw fovref::Error, never anyth
     }
     CHECK(errors + loads == 450);
     CHECK(errors > 100);  // most corruptions are errors; some (in comments, digits) still load
+}
+
+TEST_CASE("scene export: round trip of the small procedural scenes is exact") {
+    // Procedural scenes are built in code (their textures, names and cameras were not made by
+    // the loader), so they exercise the exporter on scenes it did not read itself.
+    for (const char* name : {"cornell", "checker-room", "glossy-floor"}) {
+        INFO("scene " << name);
+        TempDir dir(std::string("export_") + name);
+        check_round_trip(make_procedural_scene(name), dir.file("out"));
+    }
 }
