@@ -59,7 +59,8 @@ TEST_CASE("pcg hash and wang hash: published reference values") {
     CHECK(wang_hash(1u) == 663891101u);
 }
 
-TEST_CASE("rand: independent of evaluation order, distinct across dimensions, in the unit interval") {
+TEST_CASE(
+    "rand: independent of evaluation order, distinct across dimensions, in the unit interval") {
     std::set<std::uint32_t> seen;
     double sum = 0;
     const int n = 1 << 16;
