@@ -1,10 +1,12 @@
 // fovref: the command-line tool of the reference renderer.
 // Exit codes: 0 ok, 1 a check failed (golden verify, diff), 2 usage or input error.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,7 +47,7 @@ struct Options {
     std::string golden_dir;
     std::vector<std::string> case_names;
     std::string case_name;
-    int export_width = 0, export_height = 0, export_frames = 0;
+    std::optional<int> export_width, export_height, export_frames;
 };
 
 void say(const Options& o, const std::string& line) {
@@ -206,53 +208,66 @@ int render_command(const Options& o) {
     run.time_start = o.time_start;
     run.time_step = o.time_step;
     for (const std::string& p : o.params) run.params.set_from_assignment(p);
-    std::vector<std::string> requested = o.outputs;
-    if (!o.dump_dir.empty()) requested = {"all"};
+    const bool keep_all = std::find(o.outputs.begin(), o.outputs.end(), "all") != o.outputs.end();
+    // With --dump every buffer is computed; --out keeps the requested (or final) ones.
+    const std::vector<std::string> requested =
+        o.dump_dir.empty() ? o.outputs : std::vector<std::string>{"all"};
+
+    BundleOptions options;
+    options.previews_for_all = true;
+    options.include_timings = true;
+    std::optional<BundleWriter> dump, out;
+    if (!o.dump_dir.empty()) dump.emplace(o.dump_dir, run, options);
+    if (!o.out_dir.empty()) out.emplace(o.out_dir, run, options);
+    const std::vector<std::string> wanted =
+        o.outputs.empty() ? find_mode(o.mode)
+                                .build(scene ? &*scene : nullptr, case_settings(run, {}))
+                                .final_outputs
+                          : o.outputs;
     Progress progress("render " + o.mode, o.quiet);
-    const std::vector<FrameResult> frames = render_golden_case(
-        run, scene ? &*scene : nullptr, requested, [&](double f) { progress.update(f); });
+    std::vector<std::string> lines;
+    render_each(
+        scene ? &*scene : nullptr, o.mode,
+        case_settings(run, requested, [&](double f) { progress.update(f); }), [&](FrameResult& f) {
+            std::string line = "frame " + std::to_string(f.frame) + ":";
+            for (const StageRun& stage : f.stages)
+                line += " " + stage.name + (stage.ran ? "" : " (skipped)");
+            for (const auto& [k, v] : f.counters.values) line += ", " + k + " " + std::to_string(v);
+            lines.push_back(line);
+            if (dump) dump->add_frame(f);
+            if (out) {
+                if (!keep_all)
+                    std::erase_if(f.buffers, [&](const Buffer& b) {
+                        return std::find(wanted.begin(), wanted.end(), b.name) == wanted.end();
+                    });
+                out->add_frame(f);
+            }
+        });
     progress.finish();
-    if (!o.dump_dir.empty()) {
-        BundleOptions options;
-        options.previews_for_all = true;
-        options.include_timings = true;
-        write_bundle(o.dump_dir, run, frames, options);
-        say(o, "dumped every buffer of " + std::to_string(frames.size()) + " frame(s) to " +
-                   o.dump_dir);
-    }
-    if (!o.out_dir.empty()) {
-        std::vector<FrameResult> finals = frames;
-        const Pipeline pipeline = mode.build(scene ? &*scene : nullptr, RenderSettings{});
-        const std::vector<std::string> wanted =
-            o.outputs.empty() ? pipeline.final_outputs : o.outputs;
-        for (FrameResult& f : finals) {
-            std::vector<Buffer> kept;
-            for (Buffer& b : f.buffers)
-                if (std::find(wanted.begin(), wanted.end(), b.name) != wanted.end())
-                    kept.push_back(std::move(b));
-            f.buffers = std::move(kept);
-        }
-        BundleOptions options;
-        options.previews_for_all = true;
-        options.include_timings = true;
-        write_bundle(o.out_dir, run, finals, options);
-        say(o, "wrote " + std::to_string(frames.size()) + " frame(s) to " + o.out_dir);
-    }
-    for (const FrameResult& f : frames) {
-        std::string line = "frame " + std::to_string(f.frame) + ":";
-        for (const StageRun& s : f.stages) line += " " + s.name + (s.ran ? "" : " (skipped)");
-        for (const auto& [k, v] : f.counters.values) line += ", " + k + " " + std::to_string(v);
-        say(o, line);
-    }
+    if (dump) dump->commit();
+    if (out) out->commit();
+    for (const std::string& line : lines) say(o, line);
+    if (dump)
+        say(o, "dumped every buffer of " + std::to_string(o.frames) + " frame(s) to " + o.dump_dir);
+    if (out) say(o, "wrote " + std::to_string(o.frames) + " frame(s) to " + o.out_dir);
     return exit_ok;
 }
 
 // ---- golden -----------------------------------------------------------------------------------
 
+// The golden directory as an absolute, normalised path without a trailing separator; its parent
+// is the repository root that relative scene paths in cases.json are resolved against.
 std::string golden_directory(const Options& o) {
-    if (!o.golden_dir.empty()) return o.golden_dir;
-    if (fs::exists("golden/cases.json")) return "golden";
-    return (fs::path(FOVREF_SOURCE_DIR) / "golden").string();
+    fs::path dir = !o.golden_dir.empty()             ? fs::path(o.golden_dir)
+                   : fs::exists("golden/cases.json") ? fs::path("golden")
+                                                     : fs::path(FOVREF_SOURCE_DIR) / "golden";
+    dir = fs::absolute(dir).lexically_normal();
+    if (dir.filename().empty()) dir = dir.parent_path();
+    return dir.string();
+}
+
+std::string repository_root(const std::string& golden_dir) {
+    return fs::path(golden_dir).parent_path().string();
 }
 
 std::vector<GoldenCase> selected_cases(const Options& o, const std::vector<GoldenCase>& all) {
@@ -274,43 +289,54 @@ int golden_list(const Options& o) {
 int golden_verify(const Options& o) {
     const std::string dir = golden_directory(o);
     const std::vector<GoldenCase> cases = selected_cases(o, load_golden_cases(dir + "/cases.json"));
-    SceneCache scenes(fs::path(dir).parent_path().string());
+    SceneCache scenes(repository_root(dir));
     int failed = 0;
     Progress progress("golden verify", o.quiet);
     for (std::size_t k = 0; k < cases.size(); ++k) {
         const GoldenCase& c = cases[k];
         const std::string bundle = dir + "/" + c.name;
-        if (!fs::exists(bundle + "/manifest.json")) {
-            std::printf("FAIL %s: no bundle at %s (run `fovref golden update --case %s`)\n",
-                        c.name.c_str(), bundle.c_str(), c.name.c_str());
-            ++failed;
-            continue;
+        std::vector<std::string> report;  // printed after the progress line is cleared
+        try {
+            if (!fs::exists(bundle + "/manifest.json")) {
+                report.push_back("FAIL " + c.name + ": no bundle at " + bundle +
+                                 " (run `fovref golden update --case " + c.name + "`)");
+            } else {
+                const Manifest manifest = read_manifest(bundle);
+                if (!(manifest.golden_case == c)) {
+                    report.push_back(
+                        "FAIL " + c.name +
+                        ": the bundle was made for a different case definition (run `fovref golden "
+                        "update --case " +
+                        c.name + "`)");
+                } else {
+                    const std::vector<FrameResult> frames =
+                        render_golden_case(c, scenes.get(c.scene), {"all"});
+                    const std::vector<GoldenDifference> differences =
+                        compare_with_bundle(bundle, manifest, frames);
+                    std::size_t buffers = 0;
+                    for (const FrameResult& f : frames) buffers += f.buffers.size();
+                    if (differences.empty()) {
+                        char line[160];
+                        std::snprintf(line, sizeof line, "ok   %-28s %zu buffers, %d frame(s)",
+                                      c.name.c_str(), buffers, c.frames);
+                        if (!o.quiet) report.push_back(line);
+                    } else {
+                        report.push_back("FAIL " + c.name + ": " +
+                                         std::to_string(differences.size()) +
+                                         " difference(s); first in pipeline order:");
+                        for (const GoldenDifference& d : differences)
+                            report.push_back("     frame " + std::to_string(d.frame) + ", buffer " +
+                                             d.buffer + ": " + d.what);
+                    }
+                }
+            }
+        } catch (const Error& e) {
+            report.push_back("FAIL " + c.name + ": " + e.what());
         }
-        const Manifest manifest = read_manifest(bundle);
-        if (!(manifest.golden_case == c)) {
-            std::printf(
-                "FAIL %s: the bundle was made for a different case definition (run `fovref golden "
-                "update --case %s`)\n",
-                c.name.c_str(), c.name.c_str());
-            ++failed;
-            continue;
-        }
-        const std::vector<FrameResult> frames = render_golden_case(c, scenes.get(c.scene), {"all"});
-        const std::vector<GoldenDifference> differences = compare_with_bundle(bundle, frames);
-        std::size_t buffers = 0;
-        for (const FrameResult& f : frames) buffers += f.buffers.size();
-        if (differences.empty()) {
-            if (!o.quiet)
-                std::printf("ok   %-28s %zu buffers, %d frame(s)\n", c.name.c_str(), buffers,
-                            c.frames);
-        } else {
-            ++failed;
-            std::printf("FAIL %s: %zu difference(s); first in pipeline order:\n", c.name.c_str(),
-                        differences.size());
-            for (const GoldenDifference& d : differences)
-                std::printf("     frame %d, buffer %s: %s\n", d.frame, d.buffer.c_str(),
-                            d.what.c_str());
-        }
+        if (!report.empty() && report.front().rfind("FAIL", 0) == 0) ++failed;
+        progress.clear();
+        for (const std::string& line : report) std::printf("%s\n", line.c_str());
+        std::fflush(stdout);
         progress.update(static_cast<double>(k + 1) / static_cast<double>(cases.size()));
     }
     progress.finish();
@@ -323,7 +349,7 @@ int golden_update(const Options& o) {
     const std::string dir = golden_directory(o);
     const std::vector<GoldenCase> all = load_golden_cases(dir + "/cases.json");
     const std::vector<GoldenCase> cases = selected_cases(o, all);
-    SceneCache scenes(fs::path(dir).parent_path().string());
+    SceneCache scenes(repository_root(dir));
     BundleOptions options;
     options.max_stored_pixels = static_cast<std::size_t>(golden_max_width) * golden_max_height;
     for (const GoldenCase& c : cases) {
@@ -338,7 +364,7 @@ int golden_update(const Options& o) {
         if (fs::exists(bundle + "/manifest.json")) {
             const Manifest old = read_manifest(bundle);
             const std::vector<GoldenDifference> differences =
-                old.golden_case == c ? compare_with_bundle(bundle, frames)
+                old.golden_case == c ? compare_with_bundle(bundle, old, frames)
                                      : std::vector<GoldenDifference>{};
             status = !(old.golden_case == c) ? "case definition changed"
                      : differences.empty()
@@ -351,35 +377,41 @@ int golden_update(const Options& o) {
         write_bundle(bundle, c, frames, options);
         say(o, "updated " + c.name + ": " + status);
     }
-    // Bundles whose case is gone from cases.json are stale.
-    if (o.case_names.empty())
+    // Bundles whose case is gone from cases.json are stale (removed in name order).
+    if (o.case_names.empty()) {
+        std::vector<std::string> stale;
         for (const auto& entry : fs::directory_iterator(dir)) {
             if (!entry.is_directory() || !fs::exists(entry.path() / "manifest.json")) continue;
             const std::string name = entry.path().filename().string();
             bool known = false;
             for (const GoldenCase& c : all) known = known || c.name == name;
-            if (!known) {
-                fs::remove_all(entry.path());
-                say(o, "removed " + name + ": no longer in cases.json");
-            }
+            if (!known) stale.push_back(name);
         }
+        std::sort(stale.begin(), stale.end());
+        for (const std::string& name : stale) {
+            fs::remove_all(fs::path(dir) / name);
+            say(o, "removed " + name + ": no longer in cases.json");
+        }
+    }
     return exit_ok;
 }
 
 int golden_export(const Options& o) {
     const std::string dir = golden_directory(o);
     GoldenCase c = find_golden_case(load_golden_cases(dir + "/cases.json"), o.case_name);
-    if (o.export_width > 0) c.width = o.export_width;
-    if (o.export_height > 0) c.height = o.export_height;
-    if (o.export_frames > 0) c.frames = o.export_frames;
-    SceneCache scenes(fs::path(dir).parent_path().string());
-    Progress progress("golden export " + c.name, o.quiet);
-    const std::vector<FrameResult> frames =
-        render_golden_case(c, scenes.get(c.scene), {"all"}, [&](double f) { progress.update(f); });
-    progress.finish();
+    if (o.export_width) c.width = *o.export_width;
+    if (o.export_height) c.height = *o.export_height;
+    if (o.export_frames) c.frames = *o.export_frames;
+    SceneCache scenes(repository_root(dir));
+    const Scene* scene = scenes.get(c.scene);
     BundleOptions options;
     options.previews_for_all = true;
-    write_bundle(o.directory, c, frames, options);
+    BundleWriter writer(o.directory, c, options);
+    Progress progress("golden export " + c.name, o.quiet);
+    render_each(scene, c.mode, case_settings(c, {"all"}, [&](double f) { progress.update(f); }),
+                [&](FrameResult& frame) { writer.add_frame(frame); });
+    progress.finish();
+    writer.commit();
     say(o, "exported " + c.name + " at " + std::to_string(c.width) + "x" +
                std::to_string(c.height) + ", " + std::to_string(c.frames) + " frame(s), to " +
                o.directory);
@@ -397,6 +429,9 @@ int main(int argc, char** argv) {
     app.add_flag("-q,--quiet", o.quiet, "print only errors and failures, no progress bar");
     app.require_subcommand(1);
     app.fallthrough();  // global options (--quiet) may follow a subcommand
+    app.failure_message([](const CLI::App*, const CLI::Error& e) {
+        return std::string("fovref: ") + e.what() + " (see --help)\n";
+    });
     app.footer(
         "Commands:\n"
         "  fovref scene list                      the procedural scenes\n"
@@ -476,9 +511,12 @@ int main(int argc, char** argv) {
     export_cmd->add_option("CASE", o.case_name, "golden case name (see `fovref golden list`)")
         ->required();
     export_cmd->add_option("DIR", o.directory, "output directory")->required();
-    export_cmd->add_option("--width", o.export_width, "override the case's width");
-    export_cmd->add_option("--height", o.export_height, "override the case's height");
-    export_cmd->add_option("--frames", o.export_frames, "override the case's frame count");
+    export_cmd->add_option("--width", o.export_width, "override the case's width")
+        ->check(CLI::Range(1, 16384));
+    export_cmd->add_option("--height", o.export_height, "override the case's height")
+        ->check(CLI::Range(1, 16384));
+    export_cmd->add_option("--frames", o.export_frames, "override the case's frame count")
+        ->check(CLI::Range(1, 16384));
 
     try {
         app.parse(argc, argv);

@@ -26,10 +26,16 @@ public:
         const int filled = static_cast<int>(fraction * width + 0.5);
         std::string bar(static_cast<std::size_t>(filled), '#');
         bar.resize(width, ' ');
-        std::fprintf(stderr, "\r%s [%s] %3d%% %.1f s", label_.c_str(), bar.c_str(),
+        std::fprintf(stderr, "\r\033[K%s [%s] %3d%% %.1f s", label_.c_str(), bar.c_str(),
                      static_cast<int>(fraction * 100 + 0.5), elapsed);
         std::fflush(stderr);
         shown_ = true;
+    }
+    /// Erases the bar so that other output can be printed on a clean line.
+    void clear() {
+        if (shown_) std::fprintf(stderr, "\r\033[K");
+        std::fflush(stderr);
+        shown_ = false;
     }
     void finish() {
         if (shown_) std::fprintf(stderr, "\n");

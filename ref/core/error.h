@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace fovref {
 
@@ -17,6 +18,13 @@ public:
 inline Error file_error(const std::string& file, int line, const std::string& message) {
     if (line > 0) return Error(file + ":" + std::to_string(line) + ": " + message);
     return Error(file + ": " + message);
+}
+
+/// "a, b, c": for messages that list the valid choices.
+inline std::string join_names(const std::vector<std::string>& names) {
+    std::string text;
+    for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
+    return text;
 }
 
 /// Checks stay on in every build and print both sides (STYLE.md).

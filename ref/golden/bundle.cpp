@@ -11,6 +11,7 @@
 
 #include "ref/core/error.h"
 #include "ref/image/image_io.h"
+#include "ref/scene/procedural.h"
 #include "ref/scene/scene_file.h"
 
 #ifndef FOVREF_VERSION
@@ -111,9 +112,9 @@ std::vector<GoldenCase> load_golden_cases(const std::string& path) {
 const GoldenCase& find_golden_case(const std::vector<GoldenCase>& cases, const std::string& name) {
     for (const GoldenCase& c : cases)
         if (c.name == name) return c;
-    std::string names;
-    for (const GoldenCase& c : cases) names += (names.empty() ? "" : ", ") + c.name;
-    throw Error("unknown golden case '" + name + "' (cases: " + names + ")");
+    std::vector<std::string> names;
+    for (const GoldenCase& c : cases) names.push_back(c.name);
+    throw Error("unknown golden case '" + name + "' (cases: " + join_names(names) + ")");
 }
 
 const Scene* SceneCache::get(const std::string& scene) {
@@ -121,14 +122,14 @@ const Scene* SceneCache::get(const std::string& scene) {
     auto it = scenes_.find(scene);
     if (it != scenes_.end()) return &it->second;
     std::string path = scene;
-    if (!fs::path(scene).is_absolute() && fs::exists(fs::path(base_dir_) / scene))
+    if (!is_procedural_scene(scene) && !fs::path(scene).is_absolute())
         path = (fs::path(base_dir_) / scene).string();
     return &scenes_.emplace(scene, load_scene(path)).first->second;
 }
 
-std::vector<FrameResult> render_golden_case(const GoldenCase& golden_case, const Scene* scene,
-                                            const std::vector<std::string>& requested,
-                                            const std::function<void(double)>& progress) {
+RenderSettings case_settings(const GoldenCase& golden_case,
+                             const std::vector<std::string>& requested,
+                             const std::function<void(double)>& progress) {
     RenderSettings settings;
     settings.width = golden_case.width;
     settings.height = golden_case.height;
@@ -138,18 +139,26 @@ std::vector<FrameResult> render_golden_case(const GoldenCase& golden_case, const
     settings.params = golden_case.params;
     settings.requested = requested;
     settings.progress = progress;
-    return render(scene, golden_case.mode, settings);
+    return settings;
+}
+
+std::vector<FrameResult> render_golden_case(const GoldenCase& golden_case, const Scene* scene,
+                                            const std::vector<std::string>& requested,
+                                            const std::function<void(double)>& progress) {
+    return render(scene, golden_case.mode, case_settings(golden_case, requested, progress));
 }
 
 // ---- Writing ---------------------------------------------------------------------------------
 
 namespace {
 
-std::string buffer_file_name(int frame, const Buffer& buffer) {
+constexpr const char* bundle_format = "fovref-bundle-1";
+
+std::string buffer_file_name(int frame, const Buffer& buffer, const char* extension = nullptr) {
     char prefix[32];
     std::snprintf(prefix, sizeof prefix, "f%03d_", frame);
     const bool pfm = buffer.image.channels == 1 || buffer.image.channels == 3;
-    return prefix + buffer.name + (pfm ? ".pfm" : ".exr");
+    return prefix + buffer.name + (extension ? extension : pfm ? ".pfm" : ".exr");
 }
 
 json counters_to_json(const Counters& counters) {
@@ -158,86 +167,177 @@ json counters_to_json(const Counters& counters) {
     return j;
 }
 
+// Rows [first, first + count) as their own image.
+Image row_block(const Image& image, int first, int count) {
+    Image block(image.width, count, image.channels);
+    const std::size_t row = static_cast<std::size_t>(image.width) * image.channels;
+    std::copy(image.data.begin() + static_cast<std::ptrdiff_t>(first * row),
+              image.data.begin() + static_cast<std::ptrdiff_t>((first + count) * row),
+              block.data.begin());
+    return block;
+}
+
+std::vector<std::string> block_hashes(const Image& image, int block_rows) {
+    std::vector<std::string> hashes;
+    for (int first = 0; first < image.height; first += block_rows)
+        hashes.push_back(
+            canonical_sha256(row_block(image, first, std::min(block_rows, image.height - first))));
+    return hashes;
+}
+
+// The target as a clean path: no trailing separator, not '.', '..' or a root.
+fs::path bundle_target(const std::string& directory) {
+    fs::path target = fs::path(directory).lexically_normal();
+    if (!target.empty() && target.filename().empty()) target = target.parent_path();
+    const std::string name = target.filename().string();
+    if (target.empty() || name.empty() || name == "." || name == ".." ||
+        target == target.root_path())
+        throw Error("'" + directory +
+                    "': not usable as a bundle directory (name a new or existing bundle "
+                    "directory)");
+    return target;
+}
+
+bool is_bundle_directory(const fs::path& directory) {
+    std::error_code ec;
+    if (fs::is_empty(directory, ec) && !ec) return true;
+    const fs::path manifest = directory / "manifest.json";
+    if (!fs::is_regular_file(manifest, ec)) return false;
+    try {
+        const json j = json::parse(read_file(manifest.string()));
+        return j.is_object() && j.value("format", "") == bundle_format;
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
 }  // namespace
 
-void write_bundle(const std::string& directory, const GoldenCase& golden_case,
-                  const std::vector<FrameResult>& frames, const BundleOptions& options) {
-    // Write everything into a sibling temporary directory, then swap it in.
-    const fs::path target(directory);
-    const fs::path staging = target.string() + ".writing";
-    const fs::path previous = target.string() + ".previous";
-    std::error_code ec;
-    fs::remove_all(staging, ec);
-    fs::create_directories(staging, ec);
-    if (ec) throw Error(staging.string() + ": cannot create directory: " + ec.message());
+int hash_block_rows(int height) { return std::max(1, (height + 255) / 256); }
 
+struct BundleWriter::State {
+    fs::path target, staging, previous;
+    GoldenCase golden_case;
+    BundleOptions options;
+    json frames = json::array();
+    bool committed = false;
+};
+
+BundleWriter::BundleWriter(const std::string& directory, GoldenCase golden_case,
+                           BundleOptions options)
+    : state_(std::make_unique<State>()) {
+    State& s = *state_;
+    s.target = bundle_target(directory);
+    s.golden_case = std::move(golden_case);
+    s.options = options;
+    std::error_code ec;
+    if (fs::exists(s.target, ec)) {
+        if (!fs::is_directory(s.target, ec))
+            throw Error(s.target.string() + ": exists and is not a directory; not overwritten");
+        if (!is_bundle_directory(s.target))
+            throw Error(s.target.string() +
+                        ": exists and is not a fovref bundle (no manifest.json of format " +
+                        bundle_format +
+                        "); not overwritten: remove it or choose another directory");
+    }
+    const fs::path parent = s.target.has_parent_path() ? s.target.parent_path() : fs::path(".");
+    s.staging = parent / (s.target.filename().string() + ".writing");
+    s.previous = parent / (s.target.filename().string() + ".previous");
+    fs::create_directories(parent, ec);
+    fs::remove_all(s.staging, ec);
+    fs::create_directories(s.staging, ec);
+    if (ec) throw Error(s.staging.string() + ": cannot create directory: " + ec.message());
+}
+
+BundleWriter::~BundleWriter() {
+    if (state_ && !state_->committed) {
+        std::error_code ec;
+        fs::remove_all(state_->staging, ec);  // nothing half-written is left behind
+    }
+}
+
+void BundleWriter::add_frame(const FrameResult& frame) {
+    State& s = *state_;
+    json jf;
+    jf["frame"] = frame.frame;
+    jf["time"] = frame.time;
+    json buffers = json::array();
+    for (const Buffer& buffer : frame.buffers) {
+        json jb;
+        jb["name"] = buffer.name;
+        jb["kind"] = buffer_kind_name(buffer.kind);
+        jb["width"] = buffer.image.width;
+        jb["height"] = buffer.image.height;
+        jb["channels"] = buffer.image.channels;
+        jb["channel_names"] = buffer.channel_names;
+        jb["sha256"] = canonical_sha256(buffer.image);
+        if (buffer.image.pixel_count() <= s.options.max_stored_pixels) {
+            const std::string file = buffer_file_name(frame.frame, buffer);
+            write_image((s.staging / file).string(), buffer.image);
+            jb["file"] = file;
+        } else {
+            jb["file"] = nullptr;  // hash only: too large for the repository
+            jb["block_rows"] = hash_block_rows(buffer.image.height);
+            jb["block_sha256"] = block_hashes(buffer.image, hash_block_rows(buffer.image.height));
+        }
+        if (s.options.previews_for_all || buffer.name == "final") {
+            const std::string png = buffer_file_name(frame.frame, buffer, ".png");
+            write_png((s.staging / png).string(), preview_image(buffer));
+            jb["preview"] = png;
+        }
+        buffers.push_back(jb);
+    }
+    jf["buffers"] = buffers;
+    jf["counters"] = counters_to_json(frame.counters);
+    json stages = json::array();
+    for (const StageRun& run : frame.stages) {
+        json js;
+        js["name"] = run.name;
+        js["ran"] = run.ran;
+        if (!run.note.empty()) js["note"] = run.note;
+        if (s.options.include_timings) js["seconds"] = run.seconds;
+        stages.push_back(js);
+    }
+    jf["stages"] = stages;
+    s.frames.push_back(jf);
+}
+
+void BundleWriter::commit() {
+    State& s = *state_;
     json manifest;
-    manifest["format"] = "fovref-bundle-1";
-    manifest["case"] = case_to_json(golden_case);
+    manifest["format"] = bundle_format;
+    manifest["case"] = case_to_json(s.golden_case);
     manifest["fovref_version"] = fovref_version();
     manifest["compiler"] = fovref_compiler();
     manifest["flags"] = fovref_build_flags();
     manifest["canonical_data"] =
         "SHA-256 of row-major, top-row-first, little-endian binary32, channels interleaved";
-    json frame_list = json::array();
-    for (const FrameResult& frame : frames) {
-        json jf;
-        jf["frame"] = frame.frame;
-        jf["time"] = frame.time;
-        json buffers = json::array();
-        for (const Buffer& buffer : frame.buffers) {
-            json jb;
-            jb["name"] = buffer.name;
-            jb["kind"] = buffer_kind_name(buffer.kind);
-            jb["width"] = buffer.image.width;
-            jb["height"] = buffer.image.height;
-            jb["channels"] = buffer.image.channels;
-            jb["channel_names"] = buffer.channel_names;
-            jb["sha256"] = canonical_sha256(buffer.image);
-            if (buffer.image.pixel_count() <= options.max_stored_pixels) {
-                const std::string file = buffer_file_name(frame.frame, buffer);
-                write_image((staging / file).string(), buffer.image);
-                jb["file"] = file;
-            } else {
-                jb["file"] = nullptr;  // hash only: too large for the repository
-            }
-            const bool is_final = buffer.name == "final";
-            if (options.previews_for_all || is_final) {
-                std::string png = buffer_file_name(frame.frame, buffer);
-                png = png.substr(0, png.rfind('.')) + ".png";
-                write_png((staging / png).string(), preview_image(buffer));
-                jb["preview"] = png;
-            }
-            buffers.push_back(jb);
-        }
-        jf["buffers"] = buffers;
-        jf["counters"] = counters_to_json(frame.counters);
-        json stages = json::array();
-        for (const StageRun& run : frame.stages) {
-            json js;
-            js["name"] = run.name;
-            js["ran"] = run.ran;
-            if (!run.note.empty()) js["note"] = run.note;
-            if (options.include_timings) js["seconds"] = run.seconds;
-            stages.push_back(js);
-        }
-        jf["stages"] = stages;
-        frame_list.push_back(jf);
-    }
-    manifest["frames"] = frame_list;
-    write_file_atomic((staging / "manifest.json").string(), manifest.dump(1) + "\n");
+    manifest["frames"] = s.frames;
+    write_file_atomic((s.staging / "manifest.json").string(), manifest.dump(1) + "\n");
 
-    fs::remove_all(previous, ec);
-    if (fs::exists(target)) {
-        fs::rename(target, previous, ec);
-        if (ec) throw Error(directory + ": cannot replace: " + ec.message());
+    // Swap: target -> previous, staging -> target, then drop previous.
+    std::error_code ec;
+    fs::remove_all(s.previous, ec);
+    const bool had_previous = fs::exists(s.target, ec);
+    if (had_previous) {
+        fs::rename(s.target, s.previous, ec);
+        if (ec) throw Error(s.target.string() + ": cannot replace: " + ec.message());
     }
-    fs::rename(staging, target, ec);
+    fs::rename(s.staging, s.target, ec);
     if (ec) {
-        fs::rename(previous, target);  // put the old bundle back
-        throw Error(directory + ": cannot move the new bundle in place: " + ec.message());
+        const std::string message = ec.message();
+        if (had_previous) fs::rename(s.previous, s.target, ec);  // put the old bundle back
+        throw Error(s.target.string() + ": cannot move the new bundle in place: " + message);
     }
-    fs::remove_all(previous, ec);
+    s.committed = true;
+    fs::remove_all(s.previous, ec);
+}
+
+void write_bundle(const std::string& directory, const GoldenCase& golden_case,
+                  const std::vector<FrameResult>& frames, const BundleOptions& options) {
+    BundleWriter writer(directory, golden_case, options);
+    for (const FrameResult& frame : frames) writer.add_frame(frame);
+    writer.commit();
 }
 
 // ---- Reading and comparing ---------------------------------------------------------------------
@@ -265,6 +365,8 @@ Manifest read_manifest(const std::string& directory) {
                 b.channel_names = jb.value("channel_names", std::vector<std::string>());
                 b.sha256 = jb.at("sha256").get<std::string>();
                 b.file = jb.at("file").is_null() ? "" : jb.at("file").get<std::string>();
+                b.block_rows = jb.value("block_rows", 0);
+                b.block_sha256 = jb.value("block_sha256", std::vector<std::string>());
                 m.buffers.push_back(std::move(b));
             }
             Counters counters;
@@ -318,8 +420,8 @@ std::string describe_difference(const Image& expected, const Image& actual, std:
 }
 
 std::vector<GoldenDifference> compare_with_bundle(const std::string& directory,
+                                                  const Manifest& manifest,
                                                   const std::vector<FrameResult>& frames) {
-    const Manifest manifest = read_manifest(directory);
     std::vector<GoldenDifference> differences;
     // Buffers in the manifest that the recomputation lacks.
     for (const ManifestBuffer& stored : manifest.buffers) {
@@ -353,9 +455,19 @@ std::vector<GoldenDifference> compare_with_bundle(const std::string& directory,
             if (canonical_sha256(image) == stored->sha256) continue;
             std::string what;
             if (stored->file.empty()) {
-                what =
-                    "SHA-256 differs (buffer kept by hash only; `fovref golden export` on both "
-                    "builds and `fovref diff` locate the pixel)";
+                what = "SHA-256 differs; kept by hash only";
+                if (stored->block_rows > 0) {
+                    const std::vector<std::string> now = block_hashes(image, stored->block_rows);
+                    for (std::size_t k = 0; k < now.size(); ++k)
+                        if (k >= stored->block_sha256.size() || now[k] != stored->block_sha256[k]) {
+                            const int first = static_cast<int>(k) * stored->block_rows;
+                            const int last = std::min(first + stored->block_rows, image.height) - 1;
+                            what += ", first differing rows " + std::to_string(first) + ".." +
+                                    std::to_string(last);
+                            break;
+                        }
+                }
+                what += " (export the case from both builds to compare pixels)";
             } else {
                 const Image expected = read_image((fs::path(directory) / stored->file).string());
                 const std::ptrdiff_t index = first_difference(expected, image);

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <limits>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -42,7 +43,8 @@ struct BundleOptions {
     std::size_t max_stored_pixels = std::numeric_limits<std::size_t>::max();
 };
 
-/// Loads scenes for cases once each: a procedural name, or a path relative to `base_dir`.
+/// Loads scenes for cases once each: a procedural name, an absolute path, or a path relative to
+/// `base_dir` (the repository root for golden/cases.json; never the current directory).
 class SceneCache {
 public:
     explicit SceneCache(std::string base_dir) : base_dir_(std::move(base_dir)) {}
@@ -54,15 +56,42 @@ private:
     std::map<std::string, Scene> scenes_;
 };
 
-/// Renders a case with the given width/height (the case's own when 0).
+/// The render settings of a case.
+RenderSettings case_settings(const GoldenCase& golden_case,
+                             const std::vector<std::string>& requested,
+                             const std::function<void(double)>& progress = {});
+
+/// Renders a case, keeping every frame.
 std::vector<FrameResult> render_golden_case(const GoldenCase& golden_case, const Scene* scene,
                                             const std::vector<std::string>& requested,
                                             const std::function<void(double)>& progress = {});
 
-/// Writes a bundle into `directory`, replacing it only once everything is written (a failure
-/// leaves the previous contents untouched).
+/// Writes a bundle frame by frame into a staging directory beside the target and swaps it in on
+/// commit(), so a failure (or an exception before commit) leaves the target as it was and no
+/// staging directory behind. The target must be absent, an empty directory, or a fovref bundle
+/// (a directory whose manifest.json says "format": "fovref-bundle-1"): anything else is refused,
+/// never overwritten.
+class BundleWriter {
+public:
+    BundleWriter(const std::string& directory, GoldenCase golden_case, BundleOptions options);
+    ~BundleWriter();
+    BundleWriter(const BundleWriter&) = delete;
+    BundleWriter& operator=(const BundleWriter&) = delete;
+
+    void add_frame(const FrameResult& frame);
+    void commit();
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+/// Writes a whole bundle at once (BundleWriter with every frame).
 void write_bundle(const std::string& directory, const GoldenCase& golden_case,
                   const std::vector<FrameResult>& frames, const BundleOptions& options);
+
+/// Rows per block for the per-block hashes of a hash-only buffer: at most 256 blocks.
+int hash_block_rows(int height);
 
 struct ManifestBuffer {
     int frame = 0;
@@ -72,6 +101,9 @@ struct ManifestBuffer {
     std::vector<std::string> channel_names;
     std::string sha256;
     std::string file;  ///< "" when recorded by hash only
+    /// Hash-only buffers: SHA-256 of each block of block_rows rows, to locate a difference.
+    int block_rows = 0;
+    std::vector<std::string> block_sha256;
 };
 
 struct Manifest {
@@ -90,10 +122,12 @@ struct GoldenDifference {
     std::string what;  ///< human-readable: which pixel differs and both values, or why
 };
 
-/// Compares freshly rendered frames with the bundle in `directory`, buffer by buffer in pipeline
-/// order, bit-exactly. For a differing buffer with a stored file, names the first differing
-/// pixel (row-major, then channel) with both values.
+/// Compares freshly rendered frames with the bundle in `directory` (whose manifest is given),
+/// buffer by buffer in pipeline order, bit-exactly, and the per-frame counters. For a differing
+/// buffer with a stored file, names the first differing pixel (row-major, then channel) with both
+/// values; for a hash-only buffer, the first differing block of rows.
 std::vector<GoldenDifference> compare_with_bundle(const std::string& directory,
+                                                  const Manifest& manifest,
                                                   const std::vector<FrameResult>& frames);
 
 /// The first element (row-major, then channel) whose bits differ; -1 when bit-equal.

@@ -102,7 +102,7 @@ Image preview_image(const Buffer& buffer) {
                             c < src.channels || src.channels == 1 ? normalise(v, ranges[sc]) : 0.0f;
                         break;
                     case BufferKind::id: {
-                        if (v < 0.0f || !std::isfinite(v)) break;
+                        if (!(v >= 0.0f && v < 16777216.0f)) break;  // ids are exact below 2^24
                         std::uint32_t h = pcg_hash(static_cast<std::uint32_t>(v) * 3u + c);
                         shown = 0.25f + 0.75f * u32_to_unit(h);
                         break;

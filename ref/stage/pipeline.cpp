@@ -21,18 +21,35 @@ std::vector<std::string> Pipeline::all_outputs() const {
     return names;
 }
 
+void Pipeline::validate(const std::string& mode) const {
+    std::vector<std::string> produced;
+    for (const StageDef& stage : stages) {
+        for (const std::string& input : stage.inputs)
+            FOVREF_CHECK(std::find(produced.begin(), produced.end(), input) != produced.end(),
+                         "mode '" + mode + "': stage '" + stage.name + "' reads '" + input +
+                             "' before any stage produces it");
+        for (const std::string& output : stage.outputs) {
+            FOVREF_CHECK(std::find(produced.begin(), produced.end(), output) == produced.end(),
+                         "mode '" + mode + "': buffer '" + output + "' is produced twice");
+            produced.push_back(output);
+        }
+    }
+    for (const std::string& output : final_outputs)
+        FOVREF_CHECK(std::find(produced.begin(), produced.end(), output) != produced.end(),
+                     "mode '" + mode + "': final output '" + output + "' is never produced");
+}
+
 std::vector<bool> Pipeline::plan(const std::vector<std::string>& requested) const {
     std::vector<std::string> wanted = requested.empty() ? final_outputs : requested;
     const bool everything = std::find(wanted.begin(), wanted.end(), "all") != wanted.end();
     const std::vector<std::string> known = all_outputs();
-    if (!everything)
-        for (const std::string& name : wanted)
-            if (std::find(known.begin(), known.end(), name) == known.end()) {
-                std::string list;
-                for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-                throw Error("buffer '" + name +
-                            "' is not produced by this mode (it produces: " + list + ")");
-            }
+    for (const std::string& name : wanted)
+        if (name != "all" && std::find(known.begin(), known.end(), name) == known.end()) {
+            std::string list;
+            for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+            throw Error("buffer '" + name + "' is not produced by this mode (it produces: " + list +
+                        ")");
+        }
     // Walk backwards: a stage is needed when one of its outputs is wanted; its inputs then are.
     std::vector<bool> needed(stages.size(), everything);
     if (!everything)
@@ -53,12 +70,18 @@ FrameResult Pipeline::run_frame(FrameContext& context,
     result.time = context.time;
     context.result = &result;
     const std::vector<bool> needed = plan(requested);
+    const auto stage_count = static_cast<double>(stages.size());
+    const std::function<void(double)> frame_progress = context.stage_progress;
     for (std::size_t k = 0; k < stages.size(); ++k) {
         StageRun run{stages[k].name, needed[k], "", 0.0};
         if (!needed[k]) {
             run.note = "skipped: no requested output consumes it";
         } else {
             context.note.clear();
+            if (frame_progress)
+                context.stage_progress = [&frame_progress, k, stage_count](double f) {
+                    frame_progress((static_cast<double>(k) + f) / stage_count);
+                };
             const auto start = std::chrono::steady_clock::now();
             stages[k].run(context);
             run.seconds =
@@ -69,7 +92,9 @@ FrameResult Pipeline::run_frame(FrameContext& context,
                              "stage '" + stages[k].name + "' did not produce '" + output + "'");
         }
         result.stages.push_back(run);
+        if (frame_progress) frame_progress(static_cast<double>(k + 1) / stage_count);
     }
+    context.stage_progress = frame_progress;
     context.result = nullptr;
     return result;
 }
@@ -91,24 +116,26 @@ void validate_settings(const RenderSettings& settings) {
 const ModeInfo& find_mode(const std::string& name) {
     for (const ModeInfo& mode : render_modes())
         if (mode.name == name) return mode;
-    std::string names;
-    for (const ModeInfo& mode : render_modes()) names += (names.empty() ? "" : ", ") + mode.name;
-    throw Error("unknown mode '" + name + "' (modes: " + names + ")");
+    std::vector<std::string> names;
+    for (const ModeInfo& mode : render_modes()) names.push_back(mode.name);
+    throw Error("unknown mode '" + name + "' (modes: " + join_names(names) + ")");
 }
 
-std::vector<FrameResult> render(const Scene* scene, const std::string& mode_name,
-                                const RenderSettings& settings) {
+std::vector<std::string> render_each(const Scene* scene, const std::string& mode_name,
+                                     const RenderSettings& settings,
+                                     const std::function<void(FrameResult&)>& on_frame) {
     validate_settings(settings);
     const ModeInfo& mode = find_mode(mode_name);
     settings.params.check_known(mode.params, mode.name);
     if (mode.needs_scene && scene == nullptr) throw Error("mode '" + mode.name + "' needs a scene");
     const Pipeline pipeline = mode.build(scene, settings);
+    pipeline.validate(mode.name);
     pipeline.plan(settings.requested);  // reject unknown buffer names before any work
 
-    std::vector<FrameResult> frames;
     FrameContext context;
     context.scene = scene;
     context.settings = &settings;
+    const auto frames = static_cast<double>(settings.frame_count);
     for (int f = 0; f < settings.frame_count; ++f) {
         context.frame = f;
         context.time = settings.time_start + static_cast<float>(f) * settings.time_step;
@@ -116,9 +143,21 @@ std::vector<FrameResult> render(const Scene* scene, const std::string& mode_name
         context.previous_camera = f == 0 ? camera : context.camera;
         context.has_previous = f > 0;
         context.camera = camera;
-        frames.push_back(pipeline.run_frame(context, settings.requested));
-        if (settings.progress) settings.progress(static_cast<double>(f + 1) / settings.frame_count);
+        if (settings.progress)
+            context.stage_progress = [&settings, f, frames](double within) {
+                settings.progress((static_cast<double>(f) + within) / frames);
+            };
+        FrameResult result = pipeline.run_frame(context, settings.requested);
+        on_frame(result);
     }
+    return pipeline.final_outputs;
+}
+
+std::vector<FrameResult> render(const Scene* scene, const std::string& mode_name,
+                                const RenderSettings& settings) {
+    std::vector<FrameResult> frames;
+    render_each(scene, mode_name, settings,
+                [&frames](FrameResult& f) { frames.push_back(std::move(f)); });
     return frames;
 }
 

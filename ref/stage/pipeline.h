@@ -24,7 +24,8 @@ struct RenderSettings {
     Params params;                ///< mode parameters (validated against the mode's list)
     /// Buffers wanted: empty = the mode's final outputs; {"all"} = every buffer of every stage.
     std::vector<std::string> requested;
-    /// Called with the fraction done (0..1) after each frame; may be empty.
+    /// Called with the fraction done (0..1) after each stage (and by long stages as they go);
+    /// may be empty.
     std::function<void(double)> progress;
 };
 
@@ -39,8 +40,14 @@ struct FrameContext {
     bool has_previous = false;
     FrameResult* result = nullptr;
     std::string note;  ///< set by a stage to explain what it did or skipped
+    /// Set by the pipeline: reports the fraction of the current stage done (0..1).
+    std::function<void(double)> stage_progress;
 
     const Image& input(const std::string& name) const;
+    /// For long stages: report progress through the current stage (e.g. after each row).
+    void report(double fraction_of_stage) const {
+        if (stage_progress) stage_progress(fraction_of_stage);
+    }
 };
 
 struct StageDef {
@@ -56,6 +63,8 @@ struct Pipeline {
 
     /// Every buffer name the stages produce, in pipeline order.
     std::vector<std::string> all_outputs() const;
+    /// Throws when an output is produced twice or an input is not produced by an earlier stage.
+    void validate(const std::string& mode) const;
     /// Names of the stages needed for `requested` (empty = final outputs, {"all"} = all).
     /// Throws fovref::Error naming an unknown buffer.
     std::vector<bool> plan(const std::vector<std::string>& requested) const;
@@ -78,7 +87,14 @@ const std::vector<ModeInfo>& render_modes();
 /// Throws fovref::Error listing the valid names.
 const ModeInfo& find_mode(const std::string& name);
 
-/// Renders frames 0..frame_count-1 of `mode`. Validates the settings and parameters first.
+/// Renders frames 0..frame_count-1 of `mode`, handing each frame to `on_frame` as soon as it is
+/// done (so long runs need not keep every frame in memory). Validates the settings, parameters
+/// and requested buffers before any work. Returns the mode's final outputs.
+std::vector<std::string> render_each(const Scene* scene, const std::string& mode,
+                                     const RenderSettings& settings,
+                                     const std::function<void(FrameResult&)>& on_frame);
+
+/// render_each, keeping every frame.
 std::vector<FrameResult> render(const Scene* scene, const std::string& mode,
                                 const RenderSettings& settings);
 

@@ -53,13 +53,13 @@ TEST_CASE("bundle: write, read back and compare bit-exactly; a one-ulp change is
     CHECK(m.buffers[0].sha256 == canonical_sha256(frames[0].buffers[0].image));
     CHECK(m.buffers[0].file == "f000_rng.pfm");
     CHECK(bit_equal(read_image(dir + "/f000_rng.pfm"), frames[0].buffers[0].image));
-    CHECK(compare_with_bundle(dir, frames).empty());
+    CHECK(compare_with_bundle(dir, read_manifest(dir), frames).empty());
 
     // One ulp at pixel (3, 2), channel 1 of frame 1.
     std::vector<FrameResult> perturbed = frames;
     float& v = perturbed[1].buffers[0].image.at(3, 2, 1);
     v = std::nextafter(v, 2.0f);
-    auto differences = compare_with_bundle(dir, perturbed);
+    auto differences = compare_with_bundle(dir, read_manifest(dir), perturbed);
     REQUIRE(differences.size() == 1);
     CHECK(differences[0].frame == 1);
     CHECK(differences[0].buffer == "rng");
@@ -67,7 +67,7 @@ TEST_CASE("bundle: write, read back and compare bit-exactly; a one-ulp change is
 
     // Rewriting replaces the bundle whole; nothing is left beside it.
     write_bundle(dir, c, perturbed, BundleOptions{});
-    CHECK(compare_with_bundle(dir, perturbed).empty());
+    CHECK(compare_with_bundle(dir, read_manifest(dir), perturbed).empty());
     CHECK_FALSE(fs::exists(dir + ".writing"));
     CHECK_FALSE(fs::exists(dir + ".previous"));
 }
@@ -86,29 +86,101 @@ TEST_CASE("bundle: hash-only buffers, missing and extra buffers, changed shapes"
 
     std::vector<FrameResult> changed = frames;
     changed[0].buffers[0].image.data[0] += 1.0f;
-    auto d = compare_with_bundle(dir, changed);
+    auto d = compare_with_bundle(dir, read_manifest(dir), changed);
     REQUIRE(d.size() == 1);
     CHECK(d[0].what.find("hash only") != std::string::npos);
+    CHECK(d[0].what.find("rows 0..0") != std::string::npos);  // 5 rows: one row per block
 
     std::vector<FrameResult> reshaped = frames;
     reshaped[0].buffers[0].image = Image(5, 7, 3);
-    d = compare_with_bundle(dir, reshaped);
+    d = compare_with_bundle(dir, read_manifest(dir), reshaped);
     REQUIRE(d.size() == 1);
     CHECK(d[0].what.find("shape 5x7x3") != std::string::npos);
 
     std::vector<FrameResult> renamed = frames;
     renamed[0].buffers[0].name = "other";
-    d = compare_with_bundle(dir, renamed);
+    d = compare_with_bundle(dir, read_manifest(dir), renamed);
     CHECK(d.size() == 2);  // rng missing, other extra
 }
 
-TEST_CASE("bundle: a failed write leaves the previous bundle untouched") {
+TEST_CASE("bundle: a failed write leaves the previous bundle untouched and nothing beside it") {
     TempDir tmp;
     const GoldenCase c = rng_case();
     std::vector<FrameResult> frames = render_golden_case(c, nullptr, {"all"});
+    const std::string dir = (tmp.path / "bundle").string();
+    write_bundle(dir, c, frames, BundleOptions{});
+    const Manifest before = read_manifest(dir);
+
+    // An empty buffer cannot be written: the write fails after frame 0 was written.
+    std::vector<FrameResult> broken = frames;
+    broken[1].buffers[0].image = Image();
+    CHECK_THROWS_AS(write_bundle(dir, c, broken, BundleOptions{}), Error);
+    CHECK(read_manifest(dir).buffers[1].sha256 == before.buffers[1].sha256);
+    CHECK(bit_equal(read_image(dir + "/f001_rng.pfm"), frames[1].buffers[0].image));
+    CHECK_FALSE(fs::exists(dir + ".writing"));
+    CHECK_FALSE(fs::exists(dir + ".previous"));
+
+    // A writer dropped before commit leaves nothing either.
+    { BundleWriter abandoned((tmp.path / "never").string(), c, BundleOptions{}); }
+    CHECK_FALSE(fs::exists(tmp.path / "never"));
+    CHECK_FALSE(fs::exists(tmp.path / "never.writing"));
+
+    // A path under a regular file cannot be created.
     write_text(tmp.path / "file", "x");
     CHECK_THROWS_AS(
         write_bundle((tmp.path / "file" / "bundle").string(), c, frames, BundleOptions{}), Error);
+}
+
+TEST_CASE("bundle: only absent, empty or bundle directories are replaced") {
+    TempDir tmp;
+    const GoldenCase c = rng_case();
+    std::vector<FrameResult> frames = render_golden_case(c, nullptr, {"all"});
+
+    // A directory holding someone's files is refused and left alone.
+    fs::create_directories(tmp.path / "mydocs");
+    write_text(tmp.path / "mydocs" / "thesis.txt", "precious");
+    CHECK_THROWS_WITH_AS(write_bundle((tmp.path / "mydocs").string(), c, frames, BundleOptions{}),
+                         doctest::Contains("not a fovref bundle"), Error);
+    CHECK(fs::exists(tmp.path / "mydocs" / "thesis.txt"));
+    // So is a regular file.
+    write_text(tmp.path / "notes.txt", "keep");
+    CHECK_THROWS_WITH_AS(
+        write_bundle((tmp.path / "notes.txt").string(), c, frames, BundleOptions{}),
+        doctest::Contains("not a directory"), Error);
+    CHECK(fs::is_regular_file(tmp.path / "notes.txt"));
+    // '.', '..' and a root are never bundle directories.
+    CHECK_THROWS_AS(write_bundle(".", c, frames, BundleOptions{}), Error);
+    CHECK_THROWS_AS(write_bundle("/", c, frames, BundleOptions{}), Error);
+    // An empty directory is fine, and so is a trailing slash (staging goes beside, not inside).
+    fs::create_directories(tmp.path / "empty");
+    write_bundle((tmp.path / "empty").string() + "/", c, frames, BundleOptions{});
+    CHECK(fs::exists(tmp.path / "empty" / "manifest.json"));
+    CHECK_FALSE(fs::exists(tmp.path / "empty" / ".writing"));
+    // An existing bundle is replaced.
+    write_bundle((tmp.path / "empty").string(), c, frames, BundleOptions{});
+    CHECK(read_manifest((tmp.path / "empty").string()).buffers.size() == 2);
+}
+
+TEST_CASE("bundle: hash-only buffers locate the first differing block of rows") {
+    TempDir tmp;
+    GoldenCase c = rng_case();
+    c.width = 3;
+    c.height = 600;  // 600 rows -> blocks of 3 rows (at most 256 blocks)
+    c.frames = 1;
+    std::vector<FrameResult> frames = render_golden_case(c, nullptr, {"all"});
+    const std::string dir = (tmp.path / "b").string();
+    BundleOptions options;
+    options.max_stored_pixels = 100;
+    write_bundle(dir, c, frames, options);
+    const Manifest m = read_manifest(dir);
+    CHECK(m.buffers[0].block_rows == hash_block_rows(600));
+    CHECK(hash_block_rows(600) == 3);
+    CHECK(m.buffers[0].block_sha256.size() == 200);
+    std::vector<FrameResult> changed = frames;
+    changed[0].buffers[0].image.at(1, 400, 2) += 0.5f;
+    auto d = compare_with_bundle(dir, m, changed);
+    REQUIRE(d.size() == 1);
+    CHECK(d[0].what.find("first differing rows 399..401") != std::string::npos);
 }
 
 TEST_CASE("first_difference and describe_difference") {
