@@ -194,3 +194,37 @@ TEST_CASE("centroid splat: nearest wins, equal depth goes to the lowest primitiv
     CHECK(nearer.primitive.at(2, 2) == 5.0f);
     CHECK(nearer.depth.at(2, 2) == 2.5f);
 }
+
+TEST_CASE("pipeline validation: inputs must come from earlier stages, outputs are unique") {
+    auto noop = [](FrameContext&) {};
+    Pipeline reads_later;
+    reads_later.stages.push_back({"b", {"a"}, {"b"}, noop});
+    reads_later.stages.push_back({"a", {}, {"a"}, noop});
+    CHECK_THROWS_WITH_AS(reads_later.validate("m"), doctest::Contains("reads 'a'"), Error);
+    Pipeline twice;
+    twice.stages.push_back({"a1", {}, {"a"}, noop});
+    twice.stages.push_back({"a2", {}, {"a"}, noop});
+    CHECK_THROWS_WITH_AS(twice.validate("m"), doctest::Contains("produced twice"), Error);
+    Pipeline missing_final;
+    missing_final.stages.push_back({"a", {}, {"a"}, noop});
+    missing_final.final_outputs = {"z"};
+    CHECK_THROWS_AS(missing_final.validate("m"), Error);
+    // Every registered mode is well formed.
+    for (const ModeInfo& mode : render_modes()) {
+        Scene empty;
+        CHECK_NOTHROW(mode.build(&empty, RenderSettings{}).validate(mode.name));
+    }
+}
+
+TEST_CASE("render reports progress through stages and frames, ending at 1") {
+    RenderSettings s;
+    s.width = 4;
+    s.height = 2;
+    s.frame_count = 3;
+    std::vector<double> reports;
+    s.progress = [&reports](double f) { reports.push_back(f); };
+    render(nullptr, "halton", s);
+    REQUIRE(reports.size() >= 3);
+    for (std::size_t k = 1; k < reports.size(); ++k) CHECK(reports[k] >= reports[k - 1]);
+    CHECK(reports.back() == 1.0);
+}
