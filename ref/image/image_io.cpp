@@ -91,6 +91,10 @@ void check_writable(const std::string& path, const Image& image) {
                                  " needs " + std::to_string(expected));
 }
 
+}  // namespace
+
+// ---- File names --------------------------------------------------------------------------------
+
 std::string lower_extension(const std::string& path) {
     const std::size_t slash = path.find_last_of('/');
     const std::size_t dot = path.find_last_of('.');
@@ -100,8 +104,6 @@ std::string lower_extension(const std::string& path) {
         if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
     return ext;
 }
-
-}  // namespace
 
 // ---- Whole files -------------------------------------------------------------------------------
 

@@ -31,6 +31,10 @@ Image read_png(const std::string& path, bool srgb_decode = true);
 Image read_exr(const std::string& path);
 void write_exr(const std::string& path, const Image& image);
 
+/// The extension of the last path component, dot included, in lower case ("a/B.PFM" -> ".pfm");
+/// "" when it has none.
+std::string lower_extension(const std::string& path);
+
 /// By extension: .pfm, .png, .exr (case-insensitive).
 Image read_image(const std::string& path);
 void write_image(const std::string& path, const Image& image);

@@ -5,15 +5,12 @@
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
+#include "ref/core/vec.h"
 
 namespace fovref {
 
-namespace {
-bool finite3(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-}  // namespace
-
 Camera look_at(glm::vec3 position, glm::vec3 target, glm::vec3 world_up, float vfov_deg) {
-    if (!finite3(position) || !finite3(target) || !finite3(world_up))
+    if (!is_finite(position) || !is_finite(target) || !is_finite(world_up))
         throw Error("camera: position, target and up must be finite");
     if (!(vfov_deg > 0.0f && vfov_deg < 180.0f))
         throw Error("camera: vfov_deg must be in (0, 180), got " + std::to_string(vfov_deg));
@@ -79,27 +76,31 @@ float display_distance_px(const DisplayModel& display, int width, int height, fl
     return 0.0f;
 }
 
+// Slerp (Shoemake 1985): q(t) = (sin((1 - t) θ) a + sin(t θ) b) / sin θ, θ = acos(a·b), on the
+// shorter arc (b negated when a·b < 0).
+//
+// Threshold: when a·b >= 1 - 1e-6 (θ <= 1.41e-3 rad between the quaternions) normalised lerp is
+// used instead. There the slerp weights tend to (1 - t, t), and normalised lerp's angle differs
+// from slerp's t θ by at most 0.016 θ³ <= 4.6e-11 rad, far below binary32 resolution; slerp
+// itself would divide by a small sin θ computed from a float a·b that has lost most of its
+// digits to the "1 -". The same branch takes a·b >= 1 (rounding of unit inputs) and NaN.
 glm::quat slerp_deterministic(glm::quat a, glm::quat b, float t) {
+    constexpr float nlerp_threshold = 1.0f - 1e-6f;
     float cos_angle = glm::dot(a, b);
     if (cos_angle < 0.0f) {  // shortest arc
         b = -b;
         cos_angle = -cos_angle;
     }
     glm::quat result;
-    if (cos_angle > 1.0f - 5e-9f || !(cos_angle < 1.0f)) {
-        result = a * (1.0f - t) + b * t;  // nearly parallel: normalised lerp
+    if (!(cos_angle < nlerp_threshold)) {
+        result = a * (1.0f - t) + b * t;
     } else {
-        float angle = dm::acos(cos_angle);
-        if (angle < 1e-4f) {
-            result = a * (1.0f - t) + b * t;
-        } else {
-            float sin_angle = dm::sin(angle);
-            float wa = dm::sin((1.0f - t) * angle) / sin_angle;
-            float wb = dm::sin(t * angle) / sin_angle;
-            result = a * wa + b * wb;
-        }
+        const float angle = dm::acos(cos_angle);
+        const float sin_angle = dm::sin(angle);
+        result =
+            a * (dm::sin((1.0f - t) * angle) / sin_angle) + b * (dm::sin(t * angle) / sin_angle);
     }
-    float norm = std::sqrt(glm::dot(result, result));
+    const float norm = std::sqrt(glm::dot(result, result));
     return result / norm;
 }
 

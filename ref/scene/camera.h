@@ -67,8 +67,8 @@ struct CameraKey {
     bool operator==(const CameraKey&) const = default;
 };
 
-/// Deterministic quaternion slerp (shortest arc; falls back to normalised lerp when the angle is
-/// below 1e-4 rad), using dm::acos / dm::sin.
+/// Deterministic quaternion slerp of unit quaternions, using dm::acos / dm::sin: shortest arc,
+/// normalised lerp instead when a·b >= 1 - 1e-6 (the two are then equal to float precision).
 glm::quat slerp_deterministic(glm::quat a, glm::quat b, float t);
 
 }  // namespace fovref

@@ -10,7 +10,11 @@ Scene load_scene(const std::string& name_or_path) {
     if (is_procedural_scene(name_or_path)) return make_procedural_scene(name_or_path);
     std::filesystem::path path(name_or_path);
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) path /= "scene.json";
+    if (std::filesystem::is_directory(path, ec)) {
+        path /= "scene.json";
+        if (!std::filesystem::exists(path, ec))
+            throw Error(name_or_path + ": directory has no scene.json");
+    }
     if (!std::filesystem::exists(path, ec)) {
         std::string names;
         for (const ProceduralSceneInfo& info : procedural_scenes())

@@ -1,21 +1,33 @@
-// OBJ + MTL meshes (SPEC §2), parsed by tinyobjloader.
+// OBJ + MTL meshes (SPEC §2): faces, groups and material names by tinyobjloader, every number
+// by our own pre-scan.
 //
 // tinyobjloader reports few problems and almost never with a line: it reads a malformed number
 // as 0, "nan" as 0, and an out-of-range face index as an error without context. So before
-// handing the text to it, a light validating pre-scan walks the OBJ (and every MTL it names)
+// handing the text to it, a validating pre-scan walks the OBJ (and every MTL it names)
 // statement by statement: numbers must parse completely and be finite binary32, face indices
 // must be in range (1-based or negative-relative, as OBJ defines them), named MTL files and
 // textures must exist, usemtl must name a material defined earlier. Each failure is thrown as
 // fovref::Error "file:line: message". The pre-scan also records the line of every face, which
 // is how a zero-area triangle's warning names its line.
 //
-// Geometry then comes from tinyobjloader (triangulate = false: we fan-triangulate ourselves,
+// Numbers: the pre-scan parses each one with std::from_chars<float>, i.e. correctly rounded
+// straight to binary32, and keeps the v, vt, vn and MTL Kd/Ks/Ke/Ns/Pr values. These are the
+// values used. tinyobjloader's own values are not: its tryParseDouble builds the number with
+// libm std::pow and rounds twice (decimal -> binary64 -> binary32), so a decimal close to a
+// binary32 rounding boundary ("1.00000005960464477539062500001") can come out one ulp away from
+// the correctly rounded float that any other careful reader (a GPU tool) gets, and libm is not
+// allowed to feed a golden (SPEC §0). tinyobjloader's vertex/normal/texcoord indices count
+// v/vn/vt statements in file order, exactly as the pre-scan stores them (checked by comparing
+// the counts), so they index the pre-scan's arrays directly.
+//
+// Geometry: tinyobjloader gives the faces (triangulate = false: we fan-triangulate ourselves,
 // polygon (v0, v1, ..., vn-1) -> (v0, vk, vk+1) for k = 1 .. n-2, in order), so the triangle
 // order is the face order of the file. Each triangle is transformed to world space, dropped if
 // its area is zero or not finite (counted), and given geometric normals where the file has none
 // (counted) and uv (0,0) where it has no texture coordinates.
 #include <tiny_obj_loader.h>
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -107,8 +119,11 @@ float parse_number(std::string_view token, const std::string& file, int line, co
     return value;
 }
 
-void check_numbers(const std::vector<std::string_view>& tokens, std::size_t min_count,
-                   std::size_t max_count, const std::string& file, int line) {
+// Parses a statement's numbers (between min_count and max_count of them, at most 7) into
+// values[0 .. count) and returns count; throws "file:line: ..." on a wrong count or bad number.
+std::size_t parse_numbers(const std::vector<std::string_view>& tokens, std::size_t min_count,
+                          std::size_t max_count, const std::string& file, int line,
+                          std::array<float, 7>& values) {
     const std::size_t count = tokens.size() - 1;
     if (count < min_count || count > max_count) {
         std::string expected = min_count == max_count
@@ -119,14 +134,23 @@ void check_numbers(const std::vector<std::string_view>& tokens, std::size_t min_
                              std::to_string(count));
     }
     for (std::size_t k = 1; k < tokens.size(); ++k)
-        parse_number(tokens[k], file, line, std::string(tokens[0]).c_str());
+        values[k - 1] = parse_number(tokens[k], file, line, std::string(tokens[0]).c_str());
+    return count;
 }
 
 // --- MTL pre-scan ----------------------------------------------------------------------------
 
+// What the pre-scan learns about one material: where it is defined and its numbers, correctly
+// rounded (see the top of the file). Absent values keep tinyobjloader's defaults (Kd, Ks, Ke 0,
+// Ns 1, Pr 0); a repeated statement overrides the earlier one, as in tinyobjloader.
 struct MtlMaterialInfo {
     std::string file;  ///< the MTL file that defines it
     int line = 0;      ///< its newmtl line
+    glm::vec3 kd{0.0f};
+    glm::vec3 ks{0.0f};
+    glm::vec3 ke{0.0f};
+    float ns = 1.0f;
+    float pr = 0.0f;
     bool has_kd = false;
     bool has_pr = false;
     bool has_ns = false;
@@ -166,31 +190,48 @@ void scan_mtl(const std::string& mtl_path, const std::string& text, MtlScan& sca
             current->map_kd_line = line;
             return;
         }
+        std::array<float, 7> values{};
         if (keyword == "Ns" || keyword == "Pr") {
-            check_numbers(tokens, 1, 1, mtl_path, line);
-            float value = parse_number(tokens[1], mtl_path, line, "value");
+            parse_numbers(tokens, 1, 1, mtl_path, line, values);
+            const float value = values[0];
             if (keyword == "Pr" && !(value >= 0.0f && value <= 1.0f))
                 throw file_error(mtl_path, line, "Pr (roughness) must be in [0, 1]");
             if (keyword == "Ns" && !(value >= 0.0f))
                 throw file_error(mtl_path, line, "Ns must be >= 0");
-            (keyword == "Pr" ? current->has_pr : current->has_ns) = true;
+            if (keyword == "Pr") {
+                current->pr = value;
+                current->has_pr = true;
+            } else {
+                current->ns = value;
+                current->has_ns = true;
+            }
             return;
         }
-        check_numbers(tokens, 3, 3, mtl_path, line);
-        for (std::size_t k = 1; k < 4; ++k)
-            if (parse_number(tokens[k], mtl_path, line, "value") < 0.0f)
-                throw file_error(mtl_path, line, std::string(keyword) + " values must be >= 0");
-        if (keyword == "Kd") current->has_kd = true;
+        parse_numbers(tokens, 3, 3, mtl_path, line, values);
+        const glm::vec3 colour(values[0], values[1], values[2]);
+        if (colour.x < 0.0f || colour.y < 0.0f || colour.z < 0.0f)
+            throw file_error(mtl_path, line, std::string(keyword) + " values must be >= 0");
+        if (keyword == "Kd") {
+            current->kd = colour;
+            current->has_kd = true;
+        } else if (keyword == "Ks") {
+            current->ks = colour;
+        } else {
+            current->ke = colour;
+        }
     });
 }
 
 // --- OBJ pre-scan ----------------------------------------------------------------------------
 
+// The OBJ's numbers, correctly rounded, in statement order: element i of positions is the i-th
+// "v" statement (its x y z; w or a vertex colour are checked and dropped), of normals the i-th
+// "vn", of texcoords the i-th "vt" (u and v; v = 0 when absent, w dropped, as tinyobjloader).
 struct ObjScan {
     std::vector<int> face_lines;  ///< line of each f statement, in file order
-    std::size_t positions = 0;
-    std::size_t normals = 0;
-    std::size_t texcoords = 0;
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;
+    std::vector<glm::vec2> texcoords;
     MtlScan mtl;
 };
 
@@ -210,7 +251,8 @@ void check_corner(std::string_view corner, const ObjScan& scan, const std::strin
         start = slash + 1;
     }
     const char* kinds[3] = {"vertex", "texture coordinate", "normal"};
-    const std::size_t counts[3] = {scan.positions, scan.texcoords, scan.normals};
+    const std::size_t counts[3] = {scan.positions.size(), scan.texcoords.size(),
+                                   scan.normals.size()};
     for (int k = 0; k < part_count; ++k) {
         if (parts[k].empty()) {
             if (k == 1 && part_count == 3) continue;  // v//n
@@ -236,16 +278,18 @@ ObjScan scan_obj(const std::string& obj_path, const std::string& text) {
     const std::string directory = directory_of(obj_path);
     for_each_statement(text, [&](int line, const std::vector<std::string_view>& tokens) {
         const std::string_view keyword = tokens[0];
+        std::array<float, 7> values{};
         if (keyword == "v") {
             // x y z, optionally w or r g b (vertex colour), as tinyobjloader reads them.
-            check_numbers(tokens, 3, 7, obj_path, line);
-            ++scan.positions;
+            parse_numbers(tokens, 3, 7, obj_path, line, values);
+            scan.positions.emplace_back(values[0], values[1], values[2]);
         } else if (keyword == "vn") {
-            check_numbers(tokens, 3, 3, obj_path, line);
-            ++scan.normals;
+            parse_numbers(tokens, 3, 3, obj_path, line, values);
+            scan.normals.emplace_back(values[0], values[1], values[2]);
         } else if (keyword == "vt") {
-            check_numbers(tokens, 1, 3, obj_path, line);
-            ++scan.texcoords;
+            // u, optionally v (default 0) and w (dropped).
+            const std::size_t count = parse_numbers(tokens, 1, 3, obj_path, line, values);
+            scan.texcoords.emplace_back(values[0], count >= 2 ? values[1] : 0.0f);
         } else if (keyword == "f") {
             const std::size_t corners = tokens.size() - 1;
             if (corners < 3)
@@ -313,25 +357,24 @@ private:
 
 // --- Materials --------------------------------------------------------------------------------
 
-glm::vec3 vec3_of(const tinyobj::real_t* values) { return {values[0], values[1], values[2]}; }
-
+// Numbers from the pre-scan (info), names and the texture file from tinyobjloader (source).
 Material convert_material(Scene& scene, const tinyobj::material_t& source,
                           const MtlMaterialInfo& info, TextureCache& cache) {
     Material material;
     material.name = source.name;
     // Kd absent: white under a texture (the texture is the albedo), else Material's default 0.8.
     if (info.has_kd) {
-        material.albedo = vec3_of(source.diffuse);
+        material.albedo = info.kd;
     } else {
         material.albedo = glm::vec3(source.diffuse_texname.empty() ? 0.8f : 1.0f);
     }
-    material.emission = vec3_of(source.emission);
-    material.specular = vec3_of(source.specular);
+    material.emission = info.ke;
+    material.specular = info.ks;
     // Roughness: Pr when given, else from Ns, else 1 (the roughest).
     if (info.has_pr) {
-        material.roughness = source.roughness;
+        material.roughness = info.pr;
     } else if (info.has_ns) {
-        material.roughness = ns_to_roughness(source.shininess);
+        material.roughness = ns_to_roughness(info.ns);
     }
     if (!source.diffuse_texname.empty())
         material.texture =
@@ -340,9 +383,16 @@ Material convert_material(Scene& scene, const tinyobj::material_t& source,
     return material;
 }
 
-glm::vec3 corner_vec3(const std::vector<tinyobj::real_t>& values, int index) {
-    const std::size_t i = static_cast<std::size_t>(index) * 3;
-    return {values[i], values[i + 1], values[i + 2]};
+// Element `index` (0-based, as tinyobjloader resolved it) of a pre-scanned array. The pre-scan
+// has checked every index, so a bad one here means the two parsers read a line differently.
+template <class T>
+T element(const std::vector<T>& values, int index, const std::string& file, int line) {
+    if (index < 0 || static_cast<std::size_t>(index) >= values.size())
+        throw file_error(file, line,
+                         "tinyobjloader resolved an index to " + std::to_string(index) +
+                             ", outside the " + std::to_string(values.size()) +
+                             " elements the pre-scan read");
+    return values[static_cast<std::size_t>(index)];
 }
 
 }  // namespace
@@ -385,13 +435,20 @@ void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& t
                           &material_reader, /*triangulate=*/false,
                           /*default_vcols_fallback=*/false))
         throw Error(obj_path + ": " + err);
+    // tinyobjloader's indices refer to its own v/vt/vn arrays; the pre-scan's arrays must hold
+    // the same statements for the indices to carry over (and faces must match face_lines).
     std::size_t face_count = 0;
     for (const tinyobj::shape_t& shape : shapes) face_count += shape.mesh.num_face_vertices.size();
-    if (attrib.vertices.size() != 3 * scan.positions || face_count != scan.face_lines.size())
+    if (attrib.vertices.size() != 3 * scan.positions.size() ||
+        attrib.texcoords.size() != 2 * scan.texcoords.size() ||
+        attrib.normals.size() != 3 * scan.normals.size() || face_count != scan.face_lines.size())
         throw Error(
             obj_path + ": tinyobjloader read " + std::to_string(attrib.vertices.size() / 3) +
-            " vertices and " + std::to_string(face_count) + " faces, the pre-scan " +
-            std::to_string(scan.positions) + " and " + std::to_string(scan.face_lines.size()));
+            " v, " + std::to_string(attrib.texcoords.size() / 2) + " vt, " +
+            std::to_string(attrib.normals.size() / 3) + " vn and " + std::to_string(face_count) +
+            " faces, the pre-scan " + std::to_string(scan.positions.size()) + ", " +
+            std::to_string(scan.texcoords.size()) + ", " + std::to_string(scan.normals.size()) +
+            " and " + std::to_string(scan.face_lines.size()));
 
     // Materials: every material of the MTL files, in file order; faces without usemtl get
     // "default".
@@ -452,19 +509,17 @@ void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& t
                 glm::vec2 uv[3];
                 bool has_normal[3];
                 for (int c = 0; c < 3; ++c) {
-                    position[c] = corner_vec3(attrib.vertices, index[c].vertex_index);
+                    position[c] = element(scan.positions, index[c].vertex_index, obj_path, line);
                     if (!identity)
                         position[c] = glm::vec3(transform * glm::vec4(position[c], 1.0f));
                     has_normal[c] = index[c].normal_index >= 0;
                     if (has_normal[c]) {
-                        normal[c] = corner_vec3(attrib.normals, index[c].normal_index);
+                        normal[c] = element(scan.normals, index[c].normal_index, obj_path, line);
                         if (!identity) normal[c] = normal_matrix * normal[c];
                     }
-                    uv[c] = glm::vec2(0.0f);
-                    if (index[c].texcoord_index >= 0) {
-                        const std::size_t t = static_cast<std::size_t>(index[c].texcoord_index) * 2;
-                        uv[c] = glm::vec2(attrib.texcoords[t], attrib.texcoords[t + 1]);
-                    }
+                    uv[c] = index[c].texcoord_index >= 0
+                                ? element(scan.texcoords, index[c].texcoord_index, obj_path, line)
+                                : glm::vec2(0.0f);
                 }
                 // Zero-area (or non-finite) triangles are dropped: they are never hit (SPEC §2).
                 const float double_area =

@@ -4,12 +4,9 @@
 #include <string>
 
 #include "ref/core/error.h"
+#include "ref/core/vec.h"
 
 namespace fovref {
-
-namespace {
-bool finite3(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-}  // namespace
 
 float triangle_double_area(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
     return glm::length(glm::cross(b - a, c - a));
@@ -42,7 +39,7 @@ void finalize_scene(Scene& scene) {
                         std::to_string(m) + ", but the scene has " +
                         std::to_string(scene.materials.size()) + " materials");
         for (int k = 0; k < 3; ++k) {
-            if (!finite3(scene.positions[3 * t + k]) || !finite3(scene.normals[3 * t + k]))
+            if (!is_finite(scene.positions[3 * t + k]) || !is_finite(scene.normals[3 * t + k]))
                 throw Error(scene.source + ": triangle " + std::to_string(t) +
                             " has a non-finite position or normal");
         }
@@ -51,8 +48,8 @@ void finalize_scene(Scene& scene) {
         if (material.texture < -1 || material.texture >= static_cast<int>(scene.textures.size()))
             throw Error(scene.source + ": material '" + material.name + "' has texture index " +
                         std::to_string(material.texture) + " out of range");
-        if (!finite3(material.albedo) || !finite3(material.emission) ||
-            !finite3(material.specular) || !std::isfinite(material.roughness))
+        if (!is_finite(material.albedo) || !is_finite(material.emission) ||
+            !is_finite(material.specular) || !std::isfinite(material.roughness))
             throw Error(scene.source + ": material '" + material.name + "' has a non-finite value");
     }
     for (const Texture& texture : scene.textures)

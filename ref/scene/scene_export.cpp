@@ -4,9 +4,11 @@
 //
 // Exactness: every float is written with "%.9g". Nine significant digits identify a binary32
 // value uniquely, and the decimal lies within 5e-9 (relative) of it while the nearest rounding
-// boundary is at least 3e-8 away, so any parser that is accurate to binary64 (tinyobjloader's,
-// nlohmann's strtod) rounds it back to the same float. Textures are linear floats and go to PFM,
-// which is lossless (an 8-bit PNG would quantise and need an sRGB round trip).
+// boundary is at least 3e-8 away, so a correctly rounded parser (the loader's std::from_chars for
+// OBJ and MTL numbers) reads it back exactly, and so does any parser accurate to binary64 before
+// rounding to binary32 (nlohmann's strtod for scene.json). Textures are linear floats and go to
+// PFM, which is lossless (an 8-bit PNG would quantise and need an sRGB round trip). Each file is
+// written with write_file_atomic (temporary file + rename).
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -106,43 +108,6 @@ std::string compact_number_arrays(const std::string& text) {
     return result;
 }
 
-// Write a text file through a temporary file and a rename (streamed: OBJ files of million-triangle
-// scenes are hundreds of MB).
-class TextFile {
-public:
-    explicit TextFile(const std::string& path) : path_(path), temporary_(path + ".tmp") {
-        file_ = std::fopen(temporary_.c_str(), "wb");
-        if (file_ == nullptr) throw Error(path_ + ": cannot write file");
-    }
-    ~TextFile() {
-        if (file_ != nullptr) {
-            std::fclose(file_);
-            std::remove(temporary_.c_str());
-        }
-    }
-    TextFile(const TextFile&) = delete;
-    TextFile& operator=(const TextFile&) = delete;
-
-    void write(const std::string& text) { std::fwrite(text.data(), 1, text.size(), file_); }
-    void close() {
-        const bool failed = std::ferror(file_) != 0;
-        const bool close_failed = std::fclose(file_) != 0;
-        file_ = nullptr;
-        std::error_code ec;
-        if (failed || close_failed) {
-            std::remove(temporary_.c_str());
-            throw Error(path_ + ": write failed");
-        }
-        std::filesystem::rename(temporary_, path_, ec);
-        if (ec) throw Error(path_ + ": cannot rename " + temporary_ + ": " + ec.message());
-    }
-
-private:
-    std::string path_;
-    std::string temporary_;
-    std::FILE* file_ = nullptr;
-};
-
 }  // namespace
 
 void export_scene(const Scene& scene, const std::string& directory) {
@@ -196,38 +161,25 @@ void export_scene(const Scene& scene, const std::string& directory) {
             if (material.texture >= 0)
                 mtl += "map_Kd " + texture_files[static_cast<std::size_t>(material.texture)] + "\n";
         }
-        TextFile file((root / "scene.mtl").string());
-        file.write(mtl);
-        file.close();
+        write_file_atomic((root / "scene.mtl").string(), mtl);
     }
 
     // OBJ: one v, vt, vn per triangle corner (corner k of triangle t is element 3t + k + 1),
     // faces in triangle order, usemtl where the material changes.
     {
-        TextFile file((root / "scene.obj").string());
-        file.write("# fovref export_scene: " + std::to_string(scene.triangle_count()) +
-                   " triangles, one v/vt/vn per corner\nmtllib scene.mtl\n");
-        std::string chunk;
-        auto flush = [&](bool force) {
-            if (force || chunk.size() > (1u << 20)) {
-                file.write(chunk);
-                chunk.clear();
-            }
-        };
-        for (const glm::vec3& p : scene.positions) {
-            chunk +=
+        // Built in memory and written in one piece (temporary file + rename); for the 1M-triangle
+        // scene this is ~0.3 GB, about what loading it back reads into memory too.
+        std::string obj = "# fovref export_scene: " + std::to_string(scene.triangle_count()) +
+                          " triangles, one v/vt/vn per corner\nmtllib scene.mtl\n";
+        obj.reserve(scene.positions.size() * 100);
+        for (const glm::vec3& p : scene.positions)
+            obj +=
                 "v " + format_float(p.x) + " " + format_float(p.y) + " " + format_float(p.z) + "\n";
-            flush(false);
-        }
-        for (const glm::vec2& uv : scene.uvs) {
-            chunk += "vt " + format_float(uv.x) + " " + format_float(uv.y) + "\n";
-            flush(false);
-        }
-        for (const glm::vec3& n : scene.normals) {
-            chunk += "vn " + format_float(n.x) + " " + format_float(n.y) + " " + format_float(n.z) +
-                     "\n";
-            flush(false);
-        }
+        for (const glm::vec2& uv : scene.uvs)
+            obj += "vt " + format_float(uv.x) + " " + format_float(uv.y) + "\n";
+        for (const glm::vec3& n : scene.normals)
+            obj += "vn " + format_float(n.x) + " " + format_float(n.y) + " " + format_float(n.z) +
+                   "\n";
         int current_material = -1;
         for (std::size_t t = 0; t < scene.triangle_count(); ++t) {
             const int material = scene.material_ids[t];
@@ -235,19 +187,17 @@ void export_scene(const Scene& scene, const std::string& directory) {
                 throw Error(directory + ": triangle " + std::to_string(t) + " has material " +
                             std::to_string(material) + " out of range");
             if (material != current_material) {
-                chunk += "usemtl " + material_names[static_cast<std::size_t>(material)] + "\n";
+                obj += "usemtl " + material_names[static_cast<std::size_t>(material)] + "\n";
                 current_material = material;
             }
-            chunk += "f";
+            obj += "f";
             for (std::size_t k = 0; k < 3; ++k) {
                 const std::string index = std::to_string(3 * t + k + 1);
-                chunk += " " + index + "/" + index + "/" + index;
+                obj += " " + index + "/" + index + "/" + index;
             }
-            chunk += "\n";
-            flush(false);
+            obj += "\n";
         }
-        flush(true);
-        file.close();
+        write_file_atomic((root / "scene.obj").string(), obj);
     }
 
     // scene.json: camera as its exact basis, the path as quaternions, explicit lights only
@@ -304,9 +254,8 @@ void export_scene(const Scene& scene, const std::string& directory) {
         for (const auto& [name, text] : scene.presets) presets[name] = json::parse(text);
         document["presets"] = presets;
     }
-    TextFile file((root / "scene.json").string());
-    file.write(compact_number_arrays(document.dump(2)) + "\n");
-    file.close();
+    write_file_atomic((root / "scene.json").string(),
+                      compact_number_arrays(document.dump(2)) + "\n");
 }
 
 }  // namespace fovref

@@ -24,7 +24,8 @@ void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& t
 /// Files: scene.json, scene.obj, scene.mtl, textures/<name>.pfm.
 void export_scene(const Scene& scene, const std::string& directory);
 
-/// A scene argument as the CLI takes it: a procedural scene's name or a path to a scene file.
+/// A scene argument as the CLI takes it: a procedural scene's name, a path to a scene file, or a
+/// directory holding scene.json ("DIR: directory has no scene.json" when it holds none).
 Scene load_scene(const std::string& name_or_path);
 
 /// Instance transform T * Rz * Ry * Rx * S (docs/scene-format.md): scale first, then rotate about

@@ -1,6 +1,4 @@
 // Texture files for scenes (SPEC §2): read with fovref's image reader, converted to linear RGB.
-#include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -12,13 +10,6 @@
 namespace fovref {
 
 namespace {
-
-std::string lower_extension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext;
-}
 
 // Grey -> RGB (replicated), grey+alpha -> RGB, RGBA -> RGB (alpha dropped).
 Image to_rgb(const Image& image, const std::string& where) {

@@ -17,13 +17,12 @@
 #include <vector>
 
 #include "ref/core/error.h"
+#include "ref/core/vec.h"
 #include "ref/scene/procedural.h"
 
 using namespace fovref;
 
 namespace {
-
-bool finite3(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // Printable forms, so that failed equality checks show both sides (doctest cannot print glm).
 std::string show(glm::vec3 v) {
@@ -57,7 +56,7 @@ bool ray_hits_box(glm::vec3 p, glm::vec3 d, Bounds box) {
 /// Camera axes finite and orthonormal. 1e-5: camera_from_quat rotates unit axes by a normalised
 /// quaternion in float (a few ulp of error per component).
 void check_camera_frame(const Camera& camera) {
-    REQUIRE(finite3(camera.position));
+    REQUIRE(is_finite(camera.position));
     CHECK(std::fabs(glm::length(camera.forward) - 1.0f) <= 1e-5f);
     CHECK(std::fabs(glm::length(camera.right) - 1.0f) <= 1e-5f);
     CHECK(std::fabs(glm::length(camera.up) - 1.0f) <= 1e-5f);
@@ -150,7 +149,7 @@ void check_invariants(const Scene& scene, const std::string& name) {
     REQUIRE(!scene.lights.empty());
     for (const Light& light : scene.lights) {
         CHECK(light.intensity.x > 0.0f);
-        CHECK(finite3(light.position));
+        CHECK(is_finite(light.position));
         if (light.type == Light::Type::triangle) {
             REQUIRE(light.primitive >= 0);
             REQUIRE(static_cast<std::size_t>(light.primitive) < triangles);

@@ -3,7 +3,12 @@
 #include <doctest/doctest.h>
 #include <unistd.h>
 
+#include <bit>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -436,6 +441,15 @@ TEST_CASE("scene file errors: JSON syntax and semantics name scene.json and the 
         const std::string message = error_of([&] { load_scene_file(dir.file("none.json")); });
         CHECK(contains(message, "none.json: scene file not found"));
     }
+    SUBCASE("load_scene: a directory without scene.json, a name that is nothing") {
+        fs::create_directories(dir.file("empty"));
+        CHECK(error_of([&] { load_scene(dir.file("empty")); }) ==
+              dir.file("empty") + ": directory has no scene.json");
+        CHECK(contains(error_of([&] { load_scene(dir.file("nothing")); }),
+                       "no such file, and not a procedural scene"));
+        // A directory with a scene.json loads it.
+        CHECK(load_scene(dir.path.string()).triangle_count() == 1);
+    }
 }
 
 TEST_CASE("scene file errors: OBJ and MTL problems name their file and line") {
@@ -674,6 +688,105 @@ TEST_CASE("scene export: round trip of polygons, missing normals and odd values"
     CHECK(original.materials[0].albedo == glm::vec3(0.8f));  // no Kd, no texture: the default
     CHECK(original.materials[1].roughness == ns_to_roughness(37.0f));
     check_round_trip(original, dir.file("out"));
+}
+
+TEST_CASE("scene file: OBJ and MTL numbers are correctly rounded to binary32") {
+    // Each decimal lies just above the midpoint between two adjacent floats. Correct rounding
+    // (std::from_chars) goes up; rounding to binary64 first lands exactly on the midpoint and
+    // then ties to even, one ulp lower (what tinyobjloader's parser does).
+    const char* above_one = "1.00000005960464477539062500001";   // 1 + 2^-24 + 1e-29
+    const char* above_half = "0.50000002980232238769531250001";  // 0.5 + 2^-25 + 1e-29
+    const char* above_200 = "200.00000762939453125001";          // 200 + 2^-17 + 1e-20
+    auto correctly_rounded = [](const char* text) {
+        float value = 0.0f;
+        const auto [end, ec] = std::from_chars(text, text + std::strlen(text), value);
+        REQUIRE(ec == std::errc());
+        REQUIRE(*end == '\0');
+        return value;
+    };
+    for (const char* text : {above_one, above_half, above_200}) {
+        INFO(text);
+        // The inputs are hard cases: double rounding gives another float (else this test
+        // could not tell the parsers apart).
+        CHECK(correctly_rounded(text) != static_cast<float>(std::strtod(text, nullptr)));
+        CHECK(correctly_rounded(text) ==
+              std::nextafter(static_cast<float>(std::strtod(text, nullptr)), 1e30f));
+    }
+    const float one_up = correctly_rounded(above_one);
+    CHECK(one_up == std::nextafter(1.0f, 2.0f));
+
+    TempDir dir("rounding");
+    dir.write("mesh.mtl", std::string("newmtl hard\n") + "Kd 0.1 " + above_half + " 0.25\n" +
+                              "Ks " + above_half + " 0 0\nKe 0 " + above_200 + " 0\nNs " +
+                              above_200 + "\n" + "newmtl rough\nPr " + above_half + "\n");
+    dir.write("mesh.obj", std::string("mtllib mesh.mtl\n") + "v " + above_one + " 0.1 " +
+                              above_200 + "\nv 2 0 0\nv 0 2 0\n" + "vt " + above_one + " 0.1\n" +
+                              "vn 0 0 " + above_one + "\n" + "usemtl hard\nf 1/1/1 2/1/1 3/1/1\n" +
+                              "usemtl rough\nf 1 3 2\n");
+    dir.write("scene.json", minimal_scene("mesh.obj"));
+    const Scene scene = load_scene_file(dir.file("scene.json"));
+    REQUIRE(scene.triangle_count() == 2);
+    // Positions, uvs, normals: bit-exact (no instance transform, so taken as parsed; the normal's
+    // |n|^2 - 1 = 2.4e-7 is within the loader's 1e-6 unit-length tolerance, so it is kept).
+    const glm::vec3 p = scene.positions[0];
+    CHECK(std::bit_cast<std::uint32_t>(p.x) == std::bit_cast<std::uint32_t>(one_up));
+    CHECK(std::bit_cast<std::uint32_t>(p.y) == std::bit_cast<std::uint32_t>(0.1f));
+    CHECK(std::bit_cast<std::uint32_t>(p.z) ==
+          std::bit_cast<std::uint32_t>(correctly_rounded(above_200)));
+    CHECK(scene.uvs[0].x == one_up);
+    CHECK(scene.uvs[0].y == 0.1f);
+    CHECK(scene.normals[0].z == one_up);
+    // MTL values.
+    const Material& hard = scene.materials[static_cast<std::size_t>(scene.material_ids[0])];
+    CHECK(hard.albedo.x == 0.1f);
+    CHECK(hard.albedo.y == correctly_rounded(above_half));
+    CHECK(hard.specular.x == correctly_rounded(above_half));
+    CHECK(hard.emission.y == correctly_rounded(above_200));
+    CHECK(hard.roughness == ns_to_roughness(correctly_rounded(above_200)));
+    const Material& rough = scene.materials[static_cast<std::size_t>(scene.material_ids[1])];
+    CHECK(rough.name == "rough");
+    CHECK(rough.roughness == correctly_rounded(above_half));
+    // And the exported scene reloads to the same bits.
+    check_round_trip(scene, dir.file("out"));
+}
+
+TEST_CASE("scene export: round trip of floats over the whole binary32 range is exact") {
+    // Triangles with coordinates of every exponent from 2^-60 to 2^30, both signs, random
+    // mantissas (a fixed LCG), written as %.9g like the exporter does. (Larger values would
+    // overflow the area test, |cross|^2 > 2^128, and be dropped as not finite.)
+    TempDir dir("export_range");
+    std::uint32_t state = 12345u;
+    auto next_float = [&state] {
+        state = state * 1664525u + 1013904223u;  // LCG (Numerical Recipes constants)
+        const std::uint32_t exponent = 127u - 60u + (state >> 8) % 91u;
+        const std::uint32_t bits =
+            (state & 0x80000000u) | (exponent << 23) | ((state * 2654435761u) & 0x7fffffu);
+        return std::bit_cast<float>(bits);
+    };
+    std::vector<glm::vec3> expected;
+    std::string obj;
+    char buffer[32];
+    for (int t = 0; t < 300; ++t) {
+        // Corner 0 random, corners 1 and 2 offset along x and y so the area is never zero.
+        glm::vec3 p0(next_float(), next_float(), next_float());
+        for (glm::vec3 p : {p0, p0 + glm::vec3(std::fabs(p0.x) + 1.0f, 0.0f, 0.0f),
+                            p0 + glm::vec3(0.0f, std::fabs(p0.y) + 1.0f, 0.0f)}) {
+            std::snprintf(buffer, sizeof buffer, "v %.9g", static_cast<double>(p.x));
+            obj += buffer;
+            std::snprintf(buffer, sizeof buffer, " %.9g", static_cast<double>(p.y));
+            obj += buffer;
+            std::snprintf(buffer, sizeof buffer, " %.9g\n", static_cast<double>(p.z));
+            obj += buffer;
+            expected.push_back(p);
+        }
+        obj += "f -3 -2 -1\n";
+    }
+    dir.write("mesh.obj", obj);
+    dir.write("scene.json", minimal_scene("mesh.obj"));
+    const Scene scene = load_scene_file(dir.file("scene.json"));
+    REQUIRE(scene.load_stats.zero_area_triangles_dropped == 0);
+    CHECK(same_bits(scene.positions, expected));
+    check_round_trip(scene, dir.file("out"));
 }
 
 // --- Robustness ----------------------------------------------------------------------------------
