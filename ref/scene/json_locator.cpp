@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <set>
+#include <system_error>
 
 #include "ref/core/error.h"
 
@@ -186,7 +187,7 @@ private:
         if (depth > JsonLocator::max_depth)
             throw file_error(file_, line_,
                              "JSON nested deeper than " + std::to_string(JsonLocator::max_depth));
-        locations_[pointer] = JsonLocation{key_line, line_};
+        locations_[pointer] = JsonLocation{key_line, line_, pos_};
         char c = peek();
         if (c == '{') {
             ++pos_;
@@ -254,8 +255,21 @@ private:
 
 }  // namespace
 
-JsonLocator::JsonLocator(const std::string& text, const std::string& file) {
+JsonLocator::JsonLocator(const std::string& text, const std::string& file) : text_(text) {
     Walker(text, file, locations_).document();
+}
+
+bool JsonLocator::number_as_float(const std::string& pointer, float& value) const {
+    auto it = locations_.find(pointer);
+    if (it == locations_.end()) return false;
+    std::size_t begin = it->second.value_offset;
+    while (begin < text_.size() && (text_[begin] == ' ' || text_[begin] == '\t' ||
+                                    text_[begin] == '\n' || text_[begin] == '\r'))
+        ++begin;
+    const char* first = text_.data() + begin;
+    const char* last = text_.data() + text_.size();
+    const auto [end, ec] = std::from_chars(first, last, value);
+    return ec == std::errc() && end != first;
 }
 
 JsonLocation JsonLocator::find(const std::string& pointer) const {

@@ -11,6 +11,7 @@
 // out_of_range without a byte offset). Both are thrown as fovref::Error with file:line.
 #pragma once
 
+#include <charconv>
 #include <cstddef>
 #include <map>
 #include <string>
@@ -18,8 +19,9 @@
 namespace fovref {
 
 struct JsonLocation {
-    int key_line = 0;    ///< line of the member's key; for array elements, of the value
-    int value_line = 0;  ///< line of the value's first character
+    int key_line = 0;              ///< line of the member's key; for array elements, of the value
+    int value_line = 0;            ///< line of the value's first character
+    std::size_t value_offset = 0;  ///< byte offset of the value's first character
 };
 
 class JsonLocator {
@@ -34,9 +36,16 @@ public:
     /// the pointer names no value in the text.
     JsonLocation find(const std::string& pointer) const;
 
+    /// The binary32 nearest to the number at `pointer`, parsed from the document's own text with
+    /// std::from_chars (correctly rounded; nlohmann reads binary64, and rounding that again to
+    /// float can differ by one ulp for decimals close to a float midpoint). False when the pointer
+    /// names no number.
+    bool number_as_float(const std::string& pointer, float& value) const;
+
     static constexpr int max_depth = 256;
 
 private:
+    std::string text_;
     std::map<std::string, JsonLocation> locations_;
 };
 

@@ -4,6 +4,7 @@
 // the line coming from JsonLocator (nlohmann does not keep lines).
 #include <nlohmann/json.hpp>
 
+#include <bit>
 #include <cmath>
 #include <filesystem>
 #include <initializer_list>
@@ -110,7 +111,16 @@ public:
     float number(const json& value, const std::string& pointer) const {
         if (!value.is_number())
             fail(pointer, std::string("expected a number, got ") + value.type_name());
-        const float result = static_cast<float>(value.get<double>());
+        // Correctly rounded from the text (not binary64 rounded again to binary32); the two
+        // differ by at most one ulp, which also proves the pointer names this very number.
+        const float via_double = static_cast<float>(value.get<double>());
+        float result = via_double;
+        if (locator_.number_as_float(pointer, result) && std::isfinite(via_double)) {
+            const auto a = std::bit_cast<std::int32_t>(result),
+                       b = std::bit_cast<std::int32_t>(via_double);
+            FOVREF_CHECK(a - b <= 1 && b - a <= 1,
+                         "JSON number at " + pointer + " read inconsistently");
+        }
         if (!std::isfinite(result)) fail(pointer, "number is not a finite binary32 value");
         return result;
     }

@@ -835,3 +835,22 @@ TEST_CASE("scene export: round trip of the small procedural scenes is exact") {
         check_round_trip(make_procedural_scene(name), dir.file("out"));
     }
 }
+
+TEST_CASE("scene JSON numbers are rounded to binary32 once, from the text") {
+    // 1 + 2^-24 + 2^-80 lies just above the midpoint between 1 and the next float: correctly
+    // rounded it is 1.0000001f, but rounded to binary64 first it becomes exactly the midpoint
+    // 1 + 2^-24 and then rounds (to even) down to 1.0f.
+    const std::string hard = "1.00000005960464477539062500001";
+    REQUIRE(static_cast<float>(std::stod(hard)) == 1.0f);
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("fovref-json-round-" + std::to_string(getpid()));
+    std::filesystem::create_directories(dir);
+    {
+        std::ofstream out(dir / "scene.json");
+        out << R"({"version": 1, "camera": {"position": [0, 0, )" << hard
+            << R"(], "look_at": [0, 0, -1], "vfov_deg": 60}})";
+    }
+    Scene scene = load_scene_file((dir / "scene.json").string());
+    CHECK(scene.camera.position.z == std::nextafter(1.0f, 2.0f));
+    std::filesystem::remove_all(dir);
+}
