@@ -48,23 +48,19 @@ SplatBuffers centroid_splat(const Scene& scene, const Camera& camera, int width,
     out.normal = Image(width, height, 3, 0.0f);
     out.albedo = Image(width, height, 3, 0.0f);
     const float tan_half = tan_half_vfov(camera);
-    const float aspect = static_cast<float>(width) / static_cast<float>(height);
     const float near = 1e-4f * scene.scene_scale;
     for (std::size_t t = 0; t < scene.triangle_count(); ++t) {
-        // Project the centroid (the inverse of SPEC §1's primary-ray formula).
         const glm::vec3 a = scene.positions[3 * t], b = scene.positions[3 * t + 1],
                         c = scene.positions[3 * t + 2];
         const glm::vec3 centroid = (a + b + c) / 3.0f;
-        const glm::vec3 d = centroid - camera.position;
-        const float z = glm::dot(d, camera.forward);
-        if (!(z > near)) {
+        glm::vec2 screen;
+        float z = 0.0f;
+        if (!project_to_screen(camera, tan_half, width, height, centroid, screen, z) ||
+            !(z > near)) {
             ++out.behind;
             continue;
         }
-        const float ndc_x = glm::dot(d, camera.right) / (z * tan_half * aspect);
-        const float ndc_y = glm::dot(d, camera.up) / (z * tan_half);
-        const float sx = (ndc_x + 1.0f) * 0.5f * static_cast<float>(width);
-        const float sy = (1.0f - ndc_y) * 0.5f * static_cast<float>(height);
+        const float sx = screen.x, sy = screen.y;
         if (!(sx >= 0.0f && sx < static_cast<float>(width) && sy >= 0.0f &&
               sy < static_cast<float>(height))) {
             ++out.off_screen;

@@ -62,6 +62,20 @@ glm::vec3 primary_ray_direction(const Camera& camera, float tan_half, int width,
     return d / std::sqrt(glm::dot(d, d));
 }
 
+bool project_to_screen(const Camera& camera, float tan_half, int width, int height, glm::vec3 p,
+                       glm::vec2& screen, float& depth) {
+    // Invert SPEC §1: d = F + sx R - sy U with sx = (2x/W - 1) tan (W/H), sy = (2y/H - 1) tan.
+    const glm::vec3 d = p - camera.position;
+    depth = glm::dot(d, camera.forward);
+    if (!(depth > 0.0f)) return false;
+    const float w = static_cast<float>(width), h = static_cast<float>(height);
+    const float sx = glm::dot(d, camera.right) / depth;
+    const float sy = -glm::dot(d, camera.up) / depth;
+    screen.x = (sx / (tan_half * (w / h)) + 1.0f) * 0.5f * w;
+    screen.y = (sy / tan_half + 1.0f) * 0.5f * h;
+    return true;
+}
+
 float display_distance_px(const DisplayModel& display, int width, int height, float vfov_deg) {
     switch (display.kind) {
         case DisplayModel::Kind::field_of_view:

@@ -38,6 +38,12 @@ float tan_half_vfov(const Camera& camera);
 glm::vec3 primary_ray_direction(const Camera& camera, float tan_half, int width, int height,
                                 float x, float y);
 
+/// The inverse of primary_ray_direction: the screen point (x, y) whose primary ray passes
+/// through world point p, and p's view depth. Returns false when p is not in front of the camera
+/// (depth <= 0); the screen point may lie outside [0, W) x [0, H).
+bool project_to_screen(const Camera& camera, float tan_half, int width, int height, glm::vec3 p,
+                       glm::vec2& screen, float& depth);
+
 /// View-space depth of world point p along F (SPEC §1, used by TAA).
 inline float view_depth(const Camera& camera, glm::vec3 p) {
     return glm::dot(p - camera.position, camera.forward);
