@@ -1,6 +1,7 @@
 // Bounding volume hierarchy over triangles (SPEC §3): SAH BVH2 with a deterministic build,
-// watertight ray-triangle intersection (Woop, Benthin, Wald 2013), closest hit with the SPEC
-// tie-break, any hit for shadow rays. docs/bvh.md documents the build constants.
+// watertight ray-triangle intersection (Woop, Benthin, Wald 2013; ref/bvh/watertight.h), closest
+// hit with the SPEC tie-break, any hit for shadow rays. docs/bvh.md documents the build constants,
+// the robust box test and the measured performance.
 #pragma once
 
 #include <cstdint>
@@ -12,16 +13,23 @@
 
 namespace fovref {
 
+/// Binned SAH build constants (docs/bvh.md). The SAH cost of a split is
+/// traversal_cost + intersection_cost * (A_left N_left + A_right N_right) / A_node, of a leaf
+/// intersection_cost * N.
 struct BvhBuildSettings {
-    float traversal_cost = 1.0f;    ///< SAH cost of visiting an inner node
-    float intersection_cost = 1.0f; ///< SAH cost of one ray-triangle test
-    int bins = 32;                  ///< binned SAH: bins per axis
-    int max_leaf_size = 8;          ///< a node with more triangles is always split
+    float traversal_cost = 1.0f;     ///< SAH cost of visiting an inner node
+    float intersection_cost = 1.0f;  ///< SAH cost of one ray-triangle test
+    int bins = 32;                   ///< binned SAH: bins per axis (2 .. 256)
+    int max_leaf_size = 8;           ///< a node with more triangles is always split (1 .. 64)
     bool operator==(const BvhBuildSettings&) const = default;
 };
 
-/// A node: an inner node has count == 0 and its children at `first` and `first + 1`; a leaf has
-/// count > 0 triangles at Bvh::primitives[first .. first + count).
+/// Deepest tree the builder makes (the root has depth 0): a node at this depth becomes a leaf
+/// whatever its size, so the traversal stack has a fixed size and bad input cannot overflow it.
+inline constexpr int bvh_max_depth = 60;
+
+/// A node (32 bytes): an inner node has count == 0 and its children at `first` and `first + 1`;
+/// a leaf has count > 0 triangles at Bvh::primitives[first .. first + count).
 struct BvhNode {
     glm::vec3 bounds_min{0.0f};
     std::uint32_t first = 0;
@@ -34,26 +42,32 @@ struct BvhBuildStats {
     std::int64_t nodes = 0;
     std::int64_t leaves = 0;
     std::int64_t max_depth = 0;
+    std::int64_t triangles = 0;             ///< in the tree
+    std::int64_t degenerate_triangles = 0;  ///< zero area or non-finite corners: left out
     double sah_cost = 0.0;  ///< of the whole tree, relative to the root's surface area
 };
 
-/// Plain data: two trees built from the same input compare equal with ==.
+/// Plain data: two trees built from the same input compare equal with ==. A scene without a
+/// hittable triangle has no nodes.
 struct Bvh {
-    std::vector<BvhNode> nodes;              ///< nodes[0] is the root
-    std::vector<std::uint32_t> primitives;   ///< triangle indices in leaf order
-    std::vector<glm::vec3> triangle_corners; ///< 3 per triangle, in `primitives` order
+    std::vector<BvhNode> nodes;               ///< nodes[0] is the root; depth-first order
+    std::vector<std::uint32_t> primitives;    ///< triangle indices in leaf order
+    std::vector<glm::vec3> triangle_corners;  ///< 3 per triangle, in `primitives` order
     BvhBuildStats stats;
     bool operator==(const Bvh& o) const {
-        return nodes == o.nodes && primitives == o.primitives && triangle_corners == o.triangle_corners;
+        return nodes == o.nodes && primitives == o.primitives &&
+               triangle_corners == o.triangle_corners;
     }
 };
 
 /// Builds over `positions` (3 corners per triangle, as in Scene::positions). Deterministic: same
 /// input -> same tree; ties between equal costs or centroids are broken by triangle index.
 /// Triangles with zero area or non-finite corners are never hit (they are kept out of the tree).
+/// Throws fovref::Error when positions.size() is not a multiple of 3 or a setting is out of range.
 Bvh build_bvh(const std::vector<glm::vec3>& positions, const BvhBuildSettings& settings = {});
 
-/// Closest hit (SPEC §3 tie-break). `stats` is incremented.
+/// Closest hit (SPEC §3 tie-break). `stats` is incremented. A ray with a zero or non-finite
+/// direction, a non-finite origin or a NaN t_min / t_max misses (and is counted).
 Hit trace_closest(const Bvh& bvh, const Ray& ray, TraceStats& stats);
 
 /// Any hit in (t_min, t_max], returning on the first one found (shadow rays).

@@ -1,0 +1,140 @@
+// Watertight ray-triangle intersection (Woop, Benthin, Wald 2013, "Watertight Ray/Triangle
+// Intersection", JCGT 2(1)), as small inline functions that a GPU port can copy line for line.
+//
+// The ray is transformed so that it starts at the origin and runs along +z of a sheared space:
+// kz is the axis of the largest |direction| component, kx and ky the next two (swapped when
+// direction[kz] < 0 so the winding of the projected triangle is preserved), and the shear
+// (Sx, Sy, Sz) = (d[kx]/d[kz], d[ky]/d[kz], 1/d[kz]) maps the direction to (0, 0, 1). The scaled
+// barycentrics U, V, W are 2D edge functions of the sheared corners; an edge shared by two
+// triangles gives exactly opposite values in both (a*b is commutative in IEEE arithmetic), so no
+// ray slips between them. When one of U, V, W is exactly 0 it is recomputed in binary64, where
+// the products of two floats are exact, so its sign is exact too. Back faces are not culled: the
+// edge test accepts U, V, W all >= 0 or all <= 0.
+//
+// A ray through an edge or vertex (U, V or W exactly 0) hits every triangle sharing it, at the
+// same surface point; the closest-hit query then reports the lowest primitive index (SPEC §3).
+#pragma once
+
+#include <cmath>
+
+#include <glm/glm.hpp>
+
+namespace fovref {
+
+/// Per-ray constants of the watertight test (the paper's precomputation).
+struct WatertightRay {
+    glm::vec3 origin{0.0f};
+    int kx = 0, ky = 1, kz = 2;  ///< permutation: kz = axis of the largest |direction|
+    float shear_x = 0.0f;        ///< Sx = d[kx] / d[kz]
+    float shear_y = 0.0f;        ///< Sy = d[ky] / d[kz]
+    float shear_z = 1.0f;        ///< Sz = 1 / d[kz]
+    float t_min = 0.0f;
+    float t_max = 0.0f;
+};
+
+/// The paper's per-ray setup. kz is the first axis with the largest |d| (strict '>', so ties go
+/// to the lower axis). The direction must be finite and non-zero (trace_* check that first).
+inline WatertightRay make_watertight_ray(glm::vec3 origin, glm::vec3 direction, float t_min,
+                                         float t_max) {
+    WatertightRay r;
+    r.origin = origin;
+    r.t_min = t_min;
+    r.t_max = t_max;
+    int kz = 0;
+    if (std::fabs(direction.y) > std::fabs(direction[kz])) kz = 1;
+    if (std::fabs(direction.z) > std::fabs(direction[kz])) kz = 2;
+    int kx = kz + 1 == 3 ? 0 : kz + 1;
+    int ky = kx + 1 == 3 ? 0 : kx + 1;
+    // Swap kx and ky to preserve the winding direction of triangles.
+    if (direction[kz] < 0.0f) {
+        const int swap = kx;
+        kx = ky;
+        ky = swap;
+    }
+    r.kx = kx;
+    r.ky = ky;
+    r.kz = kz;
+    r.shear_x = direction[kx] / direction[kz];
+    r.shear_y = direction[ky] / direction[kz];
+    r.shear_z = 1.0f / direction[kz];
+    return r;
+}
+
+/// The 2D edge function of sheared corners, recomputed in binary64 (exact products, one
+/// rounding) when the float value is exactly 0, as the paper prescribes.
+inline float watertight_edge_fallback(float px, float py, float qx, float qy) {
+    const double e = static_cast<double>(qx) * static_cast<double>(py) -
+                     static_cast<double>(qy) * static_cast<double>(px);
+    return static_cast<float>(e);
+}
+
+/// Intersects the ray with triangle (a, b, c). On a hit with t in (t_min, t_max] it sets t and
+/// the barycentrics (u, v) of corners b and c (P = (1 - u - v) a + u b + v c) and returns true.
+/// NaN anywhere (non-finite corners) never produces a hit: every acceptance test is written so
+/// that NaN fails it.
+inline bool intersect_watertight(const WatertightRay& ray, glm::vec3 a, glm::vec3 b, glm::vec3 c,
+                                 float& t, float& u, float& v) {
+    // Corners relative to the ray origin.
+    const glm::vec3 A = a - ray.origin;
+    const glm::vec3 B = b - ray.origin;
+    const glm::vec3 C = c - ray.origin;
+
+    // Shear and scale of the corners (x and y; z follows once the triangle is known to be hit).
+    const float Ax = A[ray.kx] - ray.shear_x * A[ray.kz];
+    const float Ay = A[ray.ky] - ray.shear_y * A[ray.kz];
+    const float Bx = B[ray.kx] - ray.shear_x * B[ray.kz];
+    const float By = B[ray.ky] - ray.shear_y * B[ray.kz];
+    const float Cx = C[ray.kx] - ray.shear_x * C[ray.kz];
+    const float Cy = C[ray.ky] - ray.shear_y * C[ray.kz];
+
+    // Scaled barycentrics: U weights a, V weights b, W weights c.
+    float U = Cx * By - Cy * Bx;
+    float V = Ax * Cy - Ay * Cx;
+    float W = Bx * Ay - By * Ax;
+    if (U == 0.0f || V == 0.0f || W == 0.0f) {
+        U = watertight_edge_fallback(Bx, By, Cx, Cy);
+        V = watertight_edge_fallback(Cx, Cy, Ax, Ay);
+        W = watertight_edge_fallback(Ax, Ay, Bx, By);
+    }
+
+    // Edge tests; both signs are accepted (no back-face culling).
+    if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
+
+    // Determinant: 0 when the ray lies in the triangle's plane (or misses it along an edge line).
+    const float det = U + V + W;
+    if (det == 0.0f) return false;
+
+    // Scaled hit distance T = t * det, compared against t_min * |det| and t_max * |det| (the
+    // sign of det flipped into T, as the paper's xorf(T, sign(det))).
+    const float Az = ray.shear_z * A[ray.kz];
+    const float Bz = ray.shear_z * B[ray.kz];
+    const float Cz = ray.shear_z * C[ray.kz];
+    const float T = U * Az + V * Bz + W * Cz;
+    const float T_signed = det < 0.0f ? -T : T;
+    const float det_abs = std::fabs(det);
+    if (!(T_signed > ray.t_min * det_abs && T_signed <= ray.t_max * det_abs)) return false;
+
+    // Normalise. The scaled comparison can accept t one rounding outside (t_min, t_max]; the
+    // final test makes the returned t obey the contract exactly.
+    const float rcp_det = 1.0f / det;
+    const float t_hit = T * rcp_det;
+    if (!(t_hit > ray.t_min && t_hit <= ray.t_max)) return false;
+    t = t_hit;
+    u = V * rcp_det;
+    v = W * rcp_det;
+    return true;
+}
+
+/// Whether a triangle can ever be hit: finite corners and non-zero area. Degenerate triangles
+/// are kept out of the BVH and skipped by the brute-force intersector alike (SPEC §2).
+inline bool triangle_is_hittable(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    const bool finite = std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z) &&
+                        std::isfinite(b.x) && std::isfinite(b.y) && std::isfinite(b.z) &&
+                        std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z);
+    if (!finite) return false;
+    const glm::vec3 n = glm::cross(b - a, c - a);
+    const float double_area_squared = glm::dot(n, n);
+    return double_area_squared > 0.0f && std::isfinite(double_area_squared);
+}
+
+}  // namespace fovref

@@ -1,0 +1,555 @@
+// BVH and watertight intersection (SPEC §3): hand-made cases (shared edges and vertices of closed
+// meshes, grazing and parallel rays, rays starting on a surface, inclusive t_max, the equal-t
+// tie-break, any hit), bit-identical agreement with the brute-force intersector on fixed-seed
+// random rays over every procedural scene, determinism and structural invariants of the tree.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ref/bvh/bvh.h"
+#include "ref/bvh/watertight.h"
+#include "ref/core/error.h"
+#include "ref/core/rng.h"
+#include "ref/scene/camera.h"
+#include "ref/scene/procedural.h"
+
+using namespace fovref;
+
+namespace {
+
+using Mesh = std::vector<glm::vec3>;
+
+std::string show(glm::vec3 v) {
+    std::ostringstream out;
+    out.precision(9);
+    out << "(" << v.x << ", " << v.y << ", " << v.z << ")";
+    return out.str();
+}
+std::string show(const Hit& h) {
+    std::ostringstream out;
+    out.precision(9);
+    out << "{t " << h.t << ", primitive " << h.primitive << ", u " << h.u << ", v " << h.v << "}";
+    return out.str();
+}
+std::string show(const Ray& r) {
+    return "ray " + show(r.origin) + " + t " + show(r.direction) + ", t in (" +
+           std::to_string(r.t_min) + ", " + std::to_string(r.t_max) + "]";
+}
+
+/// Bit-identical hits (== would equate 0 and -0).
+bool same_bits(const Hit& a, const Hit& b) {
+    return std::bit_cast<std::uint32_t>(a.t) == std::bit_cast<std::uint32_t>(b.t) &&
+           a.primitive == b.primitive &&
+           std::bit_cast<std::uint32_t>(a.u) == std::bit_cast<std::uint32_t>(b.u) &&
+           std::bit_cast<std::uint32_t>(a.v) == std::bit_cast<std::uint32_t>(b.v);
+}
+
+Ray make_ray(glm::vec3 origin, glm::vec3 direction, float t_min = 0.0f,
+             float t_max = std::numeric_limits<float>::infinity()) {
+    Ray r;
+    r.origin = origin;
+    r.direction = direction;
+    r.t_min = t_min;
+    r.t_max = t_max;
+    return r;
+}
+
+void add_triangle(Mesh& m, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    m.push_back(a);
+    m.push_back(b);
+    m.push_back(c);
+}
+
+/// Unit cube [0,1]^3, outward winding. Each face is split along the diagonal from its corner
+/// nearest the origin to the opposite one, so axis-aligned rays through (0.5, 0.5) cross that
+/// diagonal exactly. 12 triangles, every edge shared by exactly two.
+Mesh unit_cube() {
+    const glm::vec3 p[8] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0},
+                            {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
+    // Quads (a, b, c, d) counter-clockwise seen from outside; diagonal a-c.
+    const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                             {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    Mesh m;
+    for (const auto& q : quads) {
+        add_triangle(m, p[q[0]], p[q[1]], p[q[2]]);
+        add_triangle(m, p[q[0]], p[q[2]], p[q[3]]);
+    }
+    return m;
+}
+
+/// Regular-ish octahedron with vertices on the axes at distance 1: four triangles meet at every
+/// vertex, so rays along an axis go through a vertex on entry and exit.
+Mesh octahedron() {
+    const glm::vec3 px{1, 0, 0}, nx{-1, 0, 0}, py{0, 1, 0}, ny{0, -1, 0}, pz{0, 0, 1}, nz{0, 0, -1};
+    Mesh m;
+    add_triangle(m, px, py, pz);
+    add_triangle(m, py, nx, pz);
+    add_triangle(m, nx, ny, pz);
+    add_triangle(m, ny, px, pz);
+    add_triangle(m, py, px, nz);
+    add_triangle(m, nx, py, nz);
+    add_triangle(m, ny, nx, nz);
+    add_triangle(m, px, ny, nz);
+    return m;
+}
+
+/// Every triangle the watertight test reports along the whole ray, sorted by t, grouped into
+/// surface crossings: reports whose t differ by less than 1e-4 relative belong to one crossing.
+/// (A ray through a shared edge or vertex is reported by each triangle that shares it; their t
+/// are the same surface point computed from different corners, equal to a few ulp. Distinct
+/// surfaces along the rays used here are at least 0.1 apart along t.)
+struct Crossing {
+    float t;
+    std::vector<int> triangles;
+};
+std::vector<Crossing> crossings(const Mesh& mesh, const Ray& ray) {
+    const WatertightRay r = make_watertight_ray(ray.origin, ray.direction, ray.t_min, ray.t_max);
+    std::vector<std::pair<float, int>> reports;
+    for (std::size_t i = 0; i < mesh.size() / 3; ++i) {
+        float t, u, v;
+        if (intersect_watertight(r, mesh[3 * i], mesh[3 * i + 1], mesh[3 * i + 2], t, u, v))
+            reports.emplace_back(t, static_cast<int>(i));
+    }
+    std::sort(reports.begin(), reports.end());
+    std::vector<Crossing> result;
+    for (const auto& [t, i] : reports) {
+        if (result.empty() || t - result.back().t > 1e-4f * std::fabs(t)) result.push_back({t, {}});
+        result.back().triangles.push_back(i);
+    }
+    return result;
+}
+
+/// BVH closest hit, any hit and brute force agree (bit for bit); returns the hit.
+Hit check_agreement(const Mesh& mesh, const Bvh& bvh, const Ray& ray) {
+    TraceStats stats;
+    const Hit fast = trace_closest(bvh, ray, stats);
+    const Hit slow = trace_brute_force(mesh, ray);
+    CHECK_MESSAGE(same_bits(fast, slow),
+                  (show(ray) + ": bvh " + show(fast) + " vs brute force " + show(slow)));
+    CHECK_MESSAGE(trace_any(bvh, ray, stats) == slow.hit(), show(ray));
+    return slow;
+}
+
+/// A point on the segment a-b (parameter s), computed in float.
+glm::vec3 lerp(glm::vec3 a, glm::vec3 b, float s) { return a + (b - a) * s; }
+
+}  // namespace
+
+TEST_CASE(
+    "watertight: rays through shared edges and vertices of closed meshes cross each "
+    "surface exactly once") {
+    for (const Mesh& mesh : {unit_cube(), octahedron()}) {
+        const Bvh bvh = build_bvh(mesh);
+        glm::vec3 centre{0.0f};
+        for (glm::vec3 p : mesh) centre += p;
+        centre /= static_cast<float>(mesh.size());
+
+        // Points on every edge (several parameters, including the end points = vertices), and
+        // rays from outside through each towards the interior: the ray enters at the point and
+        // leaves once, so exactly two crossings, each reported by at least one triangle.
+        int rays = 0;
+        for (std::size_t tri = 0; tri < mesh.size() / 3; ++tri) {
+            for (int k = 0; k < 3; ++k) {
+                const glm::vec3 a = mesh[3 * tri + k], b = mesh[3 * tri + (k + 1) % 3];
+                for (float s : {0.0f, 0.125f, 0.3f, 0.5f, 0.77f}) {
+                    const glm::vec3 p = lerp(a, b, s);
+                    // Several directions: straight at the centre, and tilted by hashed offsets.
+                    for (std::uint32_t j = 0; j < 4; ++j) {
+                        glm::vec3 target = centre;
+                        if (j > 0)
+                            for (int c = 0; c < 3; ++c)
+                                target[c] += 0.3f * (rand_unit(7, rays, c) - 0.5f);
+                        const glm::vec3 origin = p + (p - target) * 2.0f;
+                        const Ray ray = make_ray(origin, target - origin);
+                        const std::vector<Crossing> found = crossings(mesh, ray);
+                        CHECK_MESSAGE(found.size() == 2,
+                                      (show(ray) + " crossings " + std::to_string(found.size())));
+                        const Hit hit = check_agreement(mesh, bvh, ray);
+                        // The closest hit is the first crossing's lowest-t report.
+                        if (!found.empty()) CHECK(hit.t == found[0].t);
+                        ++rays;
+                    }
+                }
+            }
+        }
+        CHECK(rays > 100);
+    }
+}
+
+TEST_CASE(
+    "watertight: an axis-aligned ray exactly through a shared diagonal hits both triangles "
+    "at the same t; the closest hit reports the lower index") {
+    const Mesh cube = unit_cube();
+    const Bvh bvh = build_bvh(cube);
+    // Down the z axis through (0.5, 0.5): the diagonals of the z = 1 face (triangles 2, 3) and
+    // the z = 0 face (triangles 0, 1) are crossed exactly (their edge function is exactly 0).
+    const Ray ray = make_ray({0.5f, 0.5f, 3.0f}, {0.0f, 0.0f, -1.0f});
+    const std::vector<Crossing> found = crossings(cube, ray);
+    REQUIRE(found.size() == 2);
+    CHECK(found[0].t == 2.0f);
+    CHECK(found[0].triangles == std::vector<int>{2, 3});
+    CHECK(found[1].t == 3.0f);
+    CHECK(found[1].triangles == std::vector<int>{0, 1});
+    const Hit hit = check_agreement(cube, bvh, ray);
+    CHECK(hit.primitive == 2);
+    CHECK(hit.t == 2.0f);
+    // Starting just past the entry: the exit face, again the lower index of the pair.
+    const Hit exit_hit = check_agreement(cube, bvh, make_ray(ray.origin, ray.direction, 2.0f));
+    CHECK(exit_hit.primitive == 0);
+    CHECK(exit_hit.t == 3.0f);
+    // Through the cube's vertex (1, 1, 1) along -z: enters at the corner, leaves at (1, 1, 0).
+    const Ray corner = make_ray({1.0f, 1.0f, 2.0f}, {0.0f, 0.0f, -1.0f});
+    const std::vector<Crossing> corner_found = crossings(cube, corner);
+    REQUIRE(corner_found.size() == 2);
+    CHECK(corner_found[0].t == 1.0f);
+    CHECK(corner_found[1].t == 2.0f);
+    check_agreement(cube, bvh, corner);
+}
+
+TEST_CASE("watertight: barycentrics, winding and both faces") {
+    const Mesh tri{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    const Bvh bvh = build_bvh(tri);
+    TraceStats stats;
+    // From the front (+z) and the back (-z): no back-face culling, same point, same u, v.
+    for (float side : {1.0f, -1.0f}) {
+        const Hit h =
+            trace_closest(bvh, make_ray({0.25f, 0.5f, 2.0f * side}, {0, 0, -side}), stats);
+        REQUIRE(h.hit());
+        CHECK(h.t == 2.0f);
+        // P = (1 - u - v) p0 + u p1 + v p2 = (u, v, 0); 0.25 and 0.5 are exact.
+        CHECK(h.u == 0.25f);
+        CHECK(h.v == 0.5f);
+    }
+    // Just outside the hypotenuse (x + y > 1) misses; on it hits.
+    CHECK_FALSE(trace_closest(bvh, make_ray({0.5f, 0.5000001f, 1.0f}, {0, 0, -1}), stats).hit());
+    CHECK(trace_closest(bvh, make_ray({0.5f, 0.5f, 1.0f}, {0, 0, -1}), stats).hit());
+    // A non-normalised direction: t is in its units.
+    const Hit scaled = trace_closest(bvh, make_ray({0.25f, 0.25f, 4.0f}, {0, 0, -2}), stats);
+    CHECK(scaled.t == 2.0f);
+}
+
+TEST_CASE("grazing and parallel rays") {
+    const Mesh cube = unit_cube();
+    const Bvh bvh = build_bvh(cube);
+    // In the plane of the face z = 0 and inside it: the face is parallel (det = 0, never hit);
+    // the ray meets the faces x = 0 and x = 1 at t = 1 and 2.
+    Hit h = check_agreement(cube, bvh, make_ray({-1.0f, 0.5f, 0.0f}, {1, 0, 0}));
+    CHECK(h.t == 1.0f);
+    // Along the cube's edge line y = 0, z = 0: only the corner vertex (0, 0, 0) of the face x = 0
+    // is met, at t = 1; the two faces containing the line are parallel to the ray.
+    h = check_agreement(cube, bvh, make_ray({-1.0f, 0.0f, 0.0f}, {1, 0, 0}));
+    CHECK(h.t == 1.0f);
+    // Parallel to a face, just outside the cube: misses everything.
+    h = check_agreement(cube, bvh, make_ray({-1.0f, 0.5f, -1e-6f}, {1, 0, 0}));
+    CHECK_FALSE(h.hit());
+    // Parallel to the face z = 1 and 1e-6 inside the cube: hits x = 0 at t = 1.
+    h = check_agreement(cube, bvh, make_ray({-1.0f, 0.5f, 1.0f - 1e-6f}, {1, 0, 0}));
+    CHECK(h.t == 1.0f);
+    // Grazing rays at shallow angles over the face z = 1, from above: they meet it (or the
+    // side faces) once on entry; BVH and brute force agree bit for bit.
+    for (std::uint32_t i = 0; i < 200; ++i) {
+        const float slope = 1e-4f * (1.0f + static_cast<float>(i));
+        const Ray ray = make_ray({-0.5f, rand_unit(3, i, 0), 1.0f + 0.6f * slope},
+                                 {1.0f, 0.1f * (rand_unit(3, i, 1) - 0.5f), -slope});
+        check_agreement(cube, bvh, ray);
+    }
+}
+
+TEST_CASE("rays starting on a surface; t_min exclusive, t_max inclusive") {
+    // Floor z = 0 (two triangles) and ceiling z = 2.
+    Mesh m;
+    add_triangle(m, {-1, -1, 0}, {1, -1, 0}, {1, 1, 0});
+    add_triangle(m, {-1, -1, 0}, {1, 1, 0}, {-1, 1, 0});
+    add_triangle(m, {-1, -1, 2}, {1, 1, 2}, {1, -1, 2});
+    add_triangle(m, {-1, -1, 2}, {-1, 1, 2}, {1, 1, 2});
+    const Bvh bvh = build_bvh(m);
+    // Origin on the floor: up finds the ceiling, down finds nothing (t = 0 is not > t_min = 0).
+    Hit h = check_agreement(m, bvh, make_ray({0.3f, 0.2f, 0.0f}, {0, 0, 1}));
+    CHECK(h.t == 2.0f);
+    CHECK(h.primitive >= 2);
+    h = check_agreement(m, bvh, make_ray({0.3f, 0.2f, 0.0f}, {0, 0, -1}));
+    CHECK_FALSE(h.hit());
+    // A shadow-style ray from a point on the floor with t_min = 1e-4 and a slanted direction.
+    h = check_agreement(m, bvh, make_ray({0.3f, 0.2f, 0.0f}, {0.1f, 0.2f, 1.0f}, 1e-4f));
+    CHECK(h.t == 2.0f);
+    // t_max = exactly the hit distance: hit (inclusive); one ulp less: miss.
+    const glm::vec3 o{0.3f, 0.2f, 0.5f}, d{0, 0, 1};
+    const float t_hit = 1.5f;
+    h = check_agreement(m, bvh, make_ray(o, d, 0.0f, t_hit));
+    CHECK(h.t == t_hit);
+    h = check_agreement(m, bvh, make_ray(o, d, 0.0f, std::nextafter(t_hit, 0.0f)));
+    CHECK_FALSE(h.hit());
+    // t_min = exactly the hit distance: excluded; one ulp less: included.
+    h = check_agreement(m, bvh, make_ray(o, d, t_hit, 10.0f));
+    CHECK_FALSE(h.hit());
+    h = check_agreement(m, bvh, make_ray(o, d, std::nextafter(t_hit, 0.0f), 10.0f));
+    CHECK(h.t == t_hit);
+    // A non-axis-aligned ray: t_max set to the t the brute force reports is inclusive too.
+    const Ray slanted = make_ray({-0.7f, 0.4f, 1.3f}, {0.31f, -0.17f, 0.93f});
+    const Hit first = trace_brute_force(m, slanted);
+    REQUIRE(first.hit());
+    h = check_agreement(m, bvh, make_ray(slanted.origin, slanted.direction, 0.0f, first.t));
+    CHECK(same_bits(h, first));
+    h = check_agreement(
+        m, bvh, make_ray(slanted.origin, slanted.direction, 0.0f, std::nextafter(first.t, 0.0f)));
+    CHECK_FALSE(h.hit());
+}
+
+TEST_CASE("equal t: the lowest primitive index wins, whatever the order") {
+    const glm::vec3 a{0, 0, 0}, b{1, 0, 0}, c{0, 1, 0};
+    const Ray ray = make_ray({0.2f, 0.3f, 1.0f}, {0, 0, -1});
+    // Two coincident triangles, in both orders and with their corners rotated (same plane, same
+    // t, different barycentrics): always primitive 0, with its own barycentrics.
+    for (int order = 0; order < 4; ++order) {
+        const bool rotated = order & 1, swapped = order & 2;
+        Mesh first{a, b, c}, second = rotated ? Mesh{b, c, a} : Mesh{a, b, c};
+        if (swapped) std::swap(first, second);
+        Mesh m = first;
+        m.insert(m.end(), second.begin(), second.end());
+        const Bvh bvh = build_bvh(m);
+        const Hit h = check_agreement(m, bvh, ray);
+        CHECK(h.primitive == 0);
+        CHECK(h.t == 1.0f);
+    }
+    // Many copies among other triangles, so that the coincident ones land in different leaves:
+    // copies at indices 37, 50, 63, ...; the lowest (37) must win.
+    Mesh m;
+    for (int i = 0; i < 200; ++i) {
+        if (i >= 37 && (i - 37) % 13 == 0) {
+            add_triangle(m, a, b, c);
+        } else {
+            const glm::vec3 shift{2.0f + static_cast<float>(i % 10), static_cast<float>(i / 10),
+                                  0.01f * static_cast<float>(i)};
+            add_triangle(m, a + shift, b + shift, c + shift);
+        }
+    }
+    const Bvh bvh = build_bvh(m, BvhBuildSettings{1.0f, 1.0f, 8, 1});
+    const Hit h = check_agreement(m, bvh, ray);
+    CHECK(h.primitive == 37);
+}
+
+TEST_CASE("degenerate triangles are never hit; bad rays miss; input errors") {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    Mesh m;
+    add_triangle(m, {0, 0, 0}, {1, 0, 0}, {2, 0, 0});     // collinear: zero area
+    add_triangle(m, {0, 0, 0}, {0, 0, 0}, {0, 1, 0});     // repeated corner
+    add_triangle(m, {0, 0, 0}, {nan, 0, 0}, {0, 1, 0});   // NaN corner
+    add_triangle(m, {0, 0, 0}, {inf, 0, 0}, {0, 1, 0});   // infinite corner
+    add_triangle(m, {-1, -1, 0}, {1, -1, 0}, {0, 1, 0});  // the only valid one (index 4)
+    const Bvh bvh = build_bvh(m);
+    CHECK(bvh.stats.triangles == 1);
+    CHECK(bvh.stats.degenerate_triangles == 4);
+    CHECK(bvh.primitives == std::vector<std::uint32_t>{4});
+    for (float x : {0.0f, 0.5f, 1.5f}) {
+        const Hit h = check_agreement(m, bvh, make_ray({x, 0.0f, 1.0f}, {0, 0, -1}));
+        CHECK(h.primitive == (x < 1.0f ? 4 : -1));
+    }
+    // Only degenerate triangles: no nodes, every ray misses.
+    const Mesh bad(m.begin(), m.begin() + 12);
+    const Bvh empty = build_bvh(bad);
+    CHECK(empty.nodes.empty());
+    check_agreement(bad, empty, make_ray({0.5f, 0.0f, 1.0f}, {0, 0, -1}));
+    const Bvh none = build_bvh({});
+    CHECK(none.nodes.empty());
+    // Bad rays: zero or non-finite direction, non-finite origin, NaN interval. Counted, missed.
+    TraceStats stats;
+    for (const Ray& ray :
+         {make_ray({0, 0, 1}, {0, 0, 0}), make_ray({0, 0, 1}, {0, nan, -1}),
+          make_ray({0, 0, 1}, {0, 0, -inf}), make_ray({nan, 0, 1}, {0, 0, -1}),
+          make_ray({0, 0, 1}, {0, 0, -1}, nan), make_ray({0, 0, 1}, {0, 0, -1}, 0, nan)}) {
+        CHECK_FALSE(trace_closest(bvh, ray, stats).hit());
+        CHECK_FALSE(trace_any(bvh, ray, stats));
+        CHECK_FALSE(trace_brute_force(m, ray).hit());
+    }
+    CHECK(stats.rays == 12);
+    CHECK(stats.hits == 0);
+    // t_min > t_max: empty interval.
+    CHECK_FALSE(check_agreement(m, bvh, make_ray({0, 0, 1}, {0, 0, -1}, 2.0f, 0.5f)).hit());
+    // Input errors.
+    CHECK_THROWS_AS(build_bvh(Mesh(4)), Error);
+    CHECK_THROWS_AS(build_bvh(m, BvhBuildSettings{1.0f, 1.0f, 1, 8}), Error);
+    CHECK_THROWS_AS(build_bvh(m, BvhBuildSettings{1.0f, 1.0f, 32, 0}), Error);
+    CHECK_THROWS_AS(build_bvh(m, BvhBuildSettings{1.0f, 0.0f, 32, 8}), Error);
+    CHECK_THROWS_AS(build_bvh(m, BvhBuildSettings{nan, 1.0f, 32, 8}), Error);
+}
+
+namespace {
+
+/// Structural invariants: children inside parents, leaves hold their triangles, every hittable
+/// triangle exactly once, the corners in leaf order, the depth limit.
+void check_structure(const Bvh& bvh, const Mesh& mesh) {
+    REQUIRE_FALSE(bvh.nodes.empty());
+    std::vector<int> seen(mesh.size() / 3, 0);
+    std::vector<std::pair<std::uint32_t, int>> stack{{0u, 0}};
+    std::int64_t leaves = 0, max_depth = 0;
+    bool ok = true;
+    while (!stack.empty()) {
+        const auto [index, depth] = stack.back();
+        stack.pop_back();
+        const BvhNode& n = bvh.nodes[index];
+        max_depth = std::max<std::int64_t>(max_depth, depth);
+        auto inside = [&](glm::vec3 p) {
+            return glm::all(glm::lessThanEqual(n.bounds_min, p)) &&
+                   glm::all(glm::lessThanEqual(p, n.bounds_max));
+        };
+        if (n.count > 0) {
+            ++leaves;
+            for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
+                const std::uint32_t t = bvh.primitives[i];
+                ++seen[t];
+                for (int k = 0; k < 3; ++k) {
+                    ok = ok && bvh.triangle_corners[3 * i + k] == mesh[3 * t + k];
+                    ok = ok && inside(mesh[3 * t + k]);
+                }
+            }
+        } else {
+            // Depth-first order: children after their parent, inside the array.
+            if (!(n.first > index && n.first + 1 < bvh.nodes.size())) {
+                FAIL_CHECK("node " << index << " has children at " << n.first);
+                return;
+            }
+            for (std::uint32_t c = n.first; c < n.first + 2; ++c) {
+                ok = ok && inside(bvh.nodes[c].bounds_min) && inside(bvh.nodes[c].bounds_max);
+                stack.push_back({c, depth + 1});
+            }
+        }
+    }
+    CHECK(ok);
+    CHECK(leaves == bvh.stats.leaves);
+    CHECK(max_depth == bvh.stats.max_depth);
+    CHECK(max_depth <= bvh_max_depth);
+    CHECK(static_cast<std::int64_t>(bvh.nodes.size()) == 2 * leaves - 1);
+    for (std::size_t t = 0; t < seen.size(); ++t) {
+        const bool hittable = triangle_is_hittable(mesh[3 * t], mesh[3 * t + 1], mesh[3 * t + 2]);
+        if (seen[t] != (hittable ? 1 : 0)) {
+            FAIL_CHECK("triangle " << t << " appears " << seen[t] << " times");
+            break;
+        }
+    }
+}
+
+struct SceneBvh {
+    Scene scene;
+    Bvh bvh;
+};
+
+/// Each scene and its BVH are built once per test run (million takes a while under ASan).
+const SceneBvh& scene_bvh(const std::string& name) {
+    static std::map<std::string, std::unique_ptr<SceneBvh>> cache;
+    auto& entry = cache[name];
+    if (!entry) {
+        entry = std::make_unique<SceneBvh>();
+        entry->scene = make_procedural_scene(name);
+        entry->bvh = build_bvh(entry->scene.positions);
+    }
+    return *entry;
+}
+
+}  // namespace
+
+TEST_CASE("BVH vs brute force on fixed-seed random rays over every procedural scene") {
+    for (const ProceduralSceneInfo& info : procedural_scenes()) {
+        CAPTURE(info.name);
+        const SceneBvh& s = scene_bvh(info.name);
+        const Mesh& mesh = s.scene.positions;
+        check_structure(s.bvh, mesh);
+        CHECK(s.bvh.stats.triangles == static_cast<std::int64_t>(s.scene.triangle_count()));
+
+        // Brute force costs O(triangles) per ray: keep ~30M triangle tests per scene.
+        const std::uint32_t rays = static_cast<std::uint32_t>(
+            std::clamp<std::size_t>(30'000'000 / (mesh.size() / 3), 64, 4000));
+        const Bounds bounds = scene_bounds(s.scene);
+        const glm::vec3 extent = bounds.max - bounds.min;
+        const Camera& camera = s.scene.camera;
+        const float tan_half = tan_half_vfov(camera);
+        TraceStats stats;
+        int hits = 0, mismatches = 0;
+        for (std::uint32_t i = 0; i < rays; ++i) {
+            auto r = [&](std::uint32_t dim) { return rand_unit(11, i, dim); };
+            Ray ray;
+            switch (i % 3) {
+                case 0:  // camera ray through a random screen point
+                    ray = make_ray(
+                        camera.position,
+                        primary_ray_direction(camera, tan_half, 320, 180, 320 * r(0), 180 * r(1)));
+                    break;
+                case 1:  // random origin in the (slightly enlarged) bounds, random direction
+                    ray = make_ray(
+                        bounds.min - 0.1f * extent + 1.2f * extent * glm::vec3(r(0), r(1), r(2)),
+                        glm::vec3(r(3), r(4), r(5)) * 2.0f - 1.0f);
+                    break;
+                default:  // random segment with t_min and t_max (shadow-ray like)
+                    ray = make_ray(bounds.min + extent * glm::vec3(r(0), r(1), r(2)),
+                                   glm::vec3(r(3), r(4), r(5)) * 2.0f - 1.0f, 1e-4f, 0.5f * r(6));
+                    break;
+            }
+            const Hit fast = trace_closest(s.bvh, ray, stats);
+            const Hit slow = trace_brute_force(mesh, ray);
+            const bool any = trace_any(s.bvh, ray, stats);
+            if (!same_bits(fast, slow) || any != slow.hit()) {
+                if (++mismatches <= 5)
+                    FAIL_CHECK(show(ray) << ": bvh " << show(fast) << " brute force " << show(slow)
+                                         << " any " << any);
+            }
+            hits += slow.hit() ? 1 : 0;
+        }
+        CHECK(mismatches == 0);
+        // The rays are not all misses (the comparison would then be vacuous): camera rays hit.
+        CHECK(hits >= static_cast<int>(rays / 3));
+        CHECK(stats.rays == 2 * static_cast<std::int64_t>(rays));
+        // The BVH tests far fewer triangles than brute force would.
+        CHECK(stats.triangles_tested < static_cast<std::int64_t>(rays) * (mesh.size() / 3 + 8));
+        MESSAGE(info.name << ": " << rays << " rays, " << hits << " hits, nodes "
+                          << s.bvh.stats.nodes << ", depth " << s.bvh.stats.max_depth
+                          << ", SAH cost " << s.bvh.stats.sah_cost);
+    }
+}
+
+TEST_CASE("deterministic build: the same input gives the same tree") {
+    for (const char* name : {"cornell", "checker-room", "glossy-floor", "sphere-grid"}) {
+        CAPTURE(name);
+        const SceneBvh& s = scene_bvh(name);
+        const Bvh again = build_bvh(s.scene.positions);
+        CHECK(again == s.bvh);
+        CHECK(again.stats.sah_cost == s.bvh.stats.sah_cost);
+    }
+    // Other settings give a valid, different tree; one triangle per leaf is allowed.
+    const SceneBvh& s = scene_bvh("glossy-floor");
+    const Bvh fine = build_bvh(s.scene.positions, BvhBuildSettings{1.0f, 1.0f, 8, 1});
+    check_structure(fine, s.scene.positions);
+    CHECK_FALSE(fine == s.bvh);
+    for (std::uint32_t i = 0; i < 64; ++i) {
+        const Ray ray = make_ray(
+            s.scene.camera.position,
+            glm::vec3(rand_unit(5, i, 0), rand_unit(5, i, 1), rand_unit(5, i, 2)) * 2.0f - 1.0f);
+        check_agreement(s.scene.positions, fine, ray);
+    }
+}
+
+TEST_CASE("statistics count rays, nodes, triangles and hits") {
+    const Mesh cube = unit_cube();
+    const Bvh bvh = build_bvh(cube);
+    TraceStats stats;
+    CHECK(trace_closest(bvh, make_ray({0.5f, 0.5f, 3.0f}, {0, 0, -1}), stats).hit());
+    CHECK_FALSE(trace_closest(bvh, make_ray({5.0f, 0.5f, 3.0f}, {0, 0, -1}), stats).hit());
+    CHECK(trace_any(bvh, make_ray({0.5f, 0.5f, 3.0f}, {0, 0, -1}), stats));
+    CHECK(stats.rays == 3);
+    CHECK(stats.hits == 2);
+    CHECK(stats.nodes_visited >= 2);  // the root, at least, for each hitting ray
+    CHECK(stats.triangles_tested >= 2);
+    CHECK(stats.triangles_tested <= 2 * 12);
+    TraceStats total;
+    total += stats;
+    total += stats;
+    CHECK(total.rays == 6);
+}
