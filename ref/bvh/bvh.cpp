@@ -317,7 +317,7 @@ TraversalRay make_traversal_ray(const Bvh& bvh, const Ray& ray) {
 /// A zero direction component gives (plane - origin) * inf = +-inf, or NaN when the origin lies
 /// on the plane; std::max(acc, x) and std::min(acc, x) keep the accumulator when x is NaN, so a
 /// ray in a box face's plane counts as inside that slab (IEEE semantics, as fmaxf/fminf on GPUs).
-inline float box_entry(const BvhNode& node, const TraversalRay& r, float t_hi) {
+FOVREF_FORCE_INLINE float box_entry(const BvhNode& node, const TraversalRay& r, float t_hi) {
     const glm::vec3 near_plane{r.negative[0] ? node.bounds_max.x : node.bounds_min.x,
                                r.negative[1] ? node.bounds_max.y : node.bounds_min.y,
                                r.negative[2] ? node.bounds_max.z : node.bounds_min.z};
