@@ -20,7 +20,7 @@ struct GBuffer {
     Image albedo;            ///< 3: material albedo x bilinear texture (repeat wrap)
     Image material_id;       ///< 1: -1 on background
     Image primitive_id;      ///< 1: -1 on background
-    Image motion;            ///< 2: previous-camera projection of the world point minus the pixel centre
+    Image motion;  ///< 2: previous-camera projection of the world point minus the pixel centre
 
     GBuffer() = default;
     GBuffer(int width, int height);  ///< background everywhere

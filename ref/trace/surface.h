@@ -15,7 +15,7 @@ struct SurfacePoint {
     glm::vec3 shading_normal{0.0f};    ///< normalised interpolated vertex normal
     glm::vec3 geometric_normal{0.0f};  ///< normalised cross(p1 - p0, p2 - p0)
     glm::vec2 uv{0.0f};
-    glm::vec3 albedo{0.0f};            ///< material albedo x bilinear texture lookup
+    glm::vec3 albedo{0.0f};  ///< material albedo x bilinear texture lookup
     std::int32_t material = -1;
 };
 
