@@ -244,11 +244,11 @@ int run_bench_rays(const BenchRaysOptions& options) {
         }
         std::fflush(stdout);
     }
-    if (!options.quiet) {
-        std::printf(
-            "build rows: rays = triangles, times in ms, the ratio column is Embree/fovref build "
-            "time (> 1: fovref builds faster)\n");
-    }
+    if (!options.quiet)
+        std::printf("build rows: rays = triangles, times in ms%s\n",
+                    have_embree ? "; the ratio is Embree's build time over fovref's (> 1: fovref "
+                                  "builds faster)"
+                                : "");
     return 0;
 }
 
