@@ -290,9 +290,11 @@ float widen_down(float t) { return std::max(t - std::fabs(t) * cull_margin, -flo
 /// Robust slab test setup. The watertight test decides a hit exactly for its rounded, sheared
 /// corners, which lie within 6 eps |corner - origin| (eps = 2^-24) of the true corners along the
 /// two sheared axes; the slab distances themselves carry up to 3 eps relative rounding (the
-/// concern of Ize 2013). Padding every box by pad = 2^-19 (max |scene coordinate| +
-/// max |origin|) = 32 eps (...) covers both with room to spare, so a box is never missed when the
-/// triangle test would report a hit inside it (Woop et al. 2013 make the same argument).
+/// concern of Ize 2013, "Robust BVH Ray Traversal"). Padding every box by
+/// pad = 2^-19 (max |scene coordinate| + max |origin coordinate|), i.e. 32 eps times a bound on
+/// |corner - origin|, covers both with room to spare, so a box is never culled when the triangle
+/// test would report a hit inside it (the argument of Woop et al. 2013 for a conservative box
+/// test).
 TraversalRay make_traversal_ray(const Bvh& bvh, const Ray& ray) {
     TraversalRay r;
     r.triangle = make_triangle_ray(ray);
@@ -314,10 +316,11 @@ TraversalRay make_traversal_ray(const Bvh& bvh, const Ray& ray) {
 }
 
 /// Entry distance of the ray into the padded box within [t_lo, t_hi], or +inf when it misses.
-/// A zero direction component gives (plane - origin) * inf = +-inf, or NaN when the origin lies
-/// on the plane; std::max(acc, x) and std::min(acc, x) keep the accumulator when x is NaN, so a
-/// ray in a box face's plane counts as inside that slab (IEEE semantics, as fmaxf/fminf on GPUs).
-inline float box_entry(const BvhNode& node, const TraversalRay& r, float t_hi) {
+/// A zero direction component gives (plane - shifted origin) * inf = +-inf, or NaN when the
+/// shifted origin lies exactly on the plane; std::max(acc, x) and std::min(acc, x) keep the
+/// accumulator when x is NaN, so that axis then decides nothing and the ray counts as inside the
+/// slab (IEEE comparisons, as fmaxf / fminf on GPUs).
+FOVREF_FORCE_INLINE float box_entry(const BvhNode& node, const TraversalRay& r, float t_hi) {
     const glm::vec3 near_plane{r.negative[0] ? node.bounds_max.x : node.bounds_min.x,
                                r.negative[1] ? node.bounds_max.y : node.bounds_min.y,
                                r.negative[2] ? node.bounds_max.z : node.bounds_min.z};

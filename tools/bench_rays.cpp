@@ -1,0 +1,255 @@
+// `fovref bench rays`: for each procedural scene, the single-thread BVH build time and the
+// throughput of three ray sets (docs/bvh.md has the measured table):
+//   primary     one camera ray through each pixel centre, row by row (coherent);
+//   incoherent  as many rays with fixed-seed random origins inside the scene bounds and random
+//               directions (uniform on the sphere);
+//   shadow      from each primary hit point towards the scene's first light (its position, or a
+//               quad light's centre; a fixed point above the scene when there is none), any hit,
+//               t in (1e-4 scene_scale, distance - 1e-4 scene_scale].
+// With Embree (FOVREF_HAVE_EMBREE) the same rays are traced by Embree on one thread and the table
+// adds its figures, the ratio and the hit/miss agreement.
+#include "tools/bench_rays.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "ref/bvh/bvh.h"
+#include "ref/core/error.h"
+#include "ref/core/rng.h"
+#include "ref/scene/camera.h"
+#include "ref/scene/procedural.h"
+#include "tools/bench_embree.h"
+
+namespace fovref {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+/// The fastest of `repeats` runs of f (the machine is shared; the minimum is the most stable).
+template <class F>
+double best_time(int repeats, F&& f) {
+    double best = 1e300;
+    for (int r = 0; r < repeats; ++r) {
+        const auto start = Clock::now();
+        f();
+        best = std::min(best, seconds_since(start));
+    }
+    return best;
+}
+
+std::vector<Ray> primary_rays(const Scene& scene, int width, int height) {
+    const Camera& camera = scene.camera;
+    const float tan_half = tan_half_vfov(camera);
+    std::vector<Ray> rays;
+    rays.reserve(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            Ray r;
+            r.origin = camera.position;
+            r.direction =
+                primary_ray_direction(camera, tan_half, width, height, static_cast<float>(x) + 0.5f,
+                                      static_cast<float>(y) + 0.5f);
+            rays.push_back(r);
+        }
+    return rays;
+}
+
+std::vector<Ray> incoherent_rays(const Scene& scene, std::size_t count) {
+    const Bounds bounds = scene_bounds(scene);
+    const glm::vec3 extent = bounds.max - bounds.min;
+    std::vector<Ray> rays(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        const auto index = static_cast<std::uint32_t>(i);
+        auto r = [&](std::uint32_t dim) { return rand_unit(1, index, dim); };
+        // Uniform direction on the sphere: z = 1 - 2 r, azimuth 2 pi r (tools may use libm).
+        const float z = 1.0f - 2.0f * r(3);
+        const float radius = std::sqrt(std::max(0.0f, 1.0f - z * z));
+        const float phi = 6.28318531f * r(4);
+        rays[i].origin = bounds.min + extent * glm::vec3(r(0), r(1), r(2));
+        rays[i].direction = glm::vec3(radius * std::cos(phi), radius * std::sin(phi), z);
+    }
+    return rays;
+}
+
+glm::vec3 light_point(const Scene& scene) {
+    for (const Light& light : scene.lights) {
+        if (light.type == Light::Type::point) return light.position;
+        if (light.type == Light::Type::quad)
+            return light.position + 0.5f * light.edge_u + 0.5f * light.edge_v;
+        return light.position + (light.edge_u + light.edge_v) * (1.0f / 3.0f);
+    }
+    const Bounds b = scene_bounds(scene);
+    return glm::vec3(0.5f * (b.min.x + b.max.x), b.max.y + 0.5f * scene.scene_scale,
+                     0.5f * (b.min.z + b.max.z));
+}
+
+std::vector<Ray> shadow_rays(const Scene& scene, const std::vector<Ray>& primary,
+                             const std::vector<Hit>& hits) {
+    const glm::vec3 light = light_point(scene);
+    const float epsilon = 1e-4f * scene.scene_scale;
+    std::vector<Ray> rays;
+    for (std::size_t i = 0; i < primary.size(); ++i) {
+        if (!hits[i].hit()) continue;
+        const glm::vec3 p = primary[i].origin + hits[i].t * primary[i].direction;
+        const glm::vec3 to_light = light - p;
+        const float distance = glm::length(to_light);
+        if (!(distance > 2.0f * epsilon)) continue;
+        Ray r;
+        r.origin = p;
+        r.direction = to_light / distance;
+        r.t_min = epsilon;
+        r.t_max = distance - epsilon;
+        rays.push_back(r);
+    }
+    return rays;
+}
+
+struct Row {
+    std::string scene, kind;
+    std::size_t rays = 0;
+    double ref = 0.0;      // seconds
+    double embree = -1.0;  // seconds; < 0: not measured
+    std::size_t disagree = 0, primitive_differs = 0, both_hit = 0;
+    double nodes_per_ray = 0.0, triangles_per_ray = 0.0;
+};
+
+void print_row(const Row& r, bool have_embree) {
+    if (r.kind == "build") {
+        std::printf("| %-12s | %-10s | %9zu | %8.1f ms |", r.scene.c_str(), r.kind.c_str(), r.rays,
+                    1e3 * r.ref);
+        if (have_embree)
+            std::printf(" %8.1f ms | %6.2f |                |            |", 1e3 * r.embree,
+                        r.embree / r.ref);
+        std::printf("             |\n");
+        return;
+    }
+    const double ref_rate = static_cast<double>(r.rays) / r.ref * 1e-6;
+    std::printf("| %-12s | %-10s | %9zu | %11.2f |", r.scene.c_str(), r.kind.c_str(), r.rays,
+                ref_rate);
+    if (have_embree) {
+        const double embree_rate = static_cast<double>(r.rays) / r.embree * 1e-6;
+        const double agreement = r.rays > 0 ? 100.0 * static_cast<double>(r.rays - r.disagree) /
+                                                  static_cast<double>(r.rays)
+                                            : 100.0;
+        const double differs = r.both_hit > 0 ? 100.0 * static_cast<double>(r.primitive_differs) /
+                                                    static_cast<double>(r.both_hit)
+                                              : 0.0;
+        std::printf(" %11.2f | %6.2f | %13.4f%% | %9.4f%% |", embree_rate, ref_rate / embree_rate,
+                    agreement, differs);
+    }
+    std::printf(" %5.1f / %4.1f |\n", r.nodes_per_ray, r.triangles_per_ray);
+}
+
+}  // namespace
+
+int run_bench_rays(const BenchRaysOptions& options) {
+    if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
+        throw Error("bench rays: --width and --height must be in 1..16384");
+    if (options.repeats < 1) throw Error("bench rays: --repeats must be at least 1");
+    std::vector<std::string> scenes = options.scenes;
+    if (scenes.empty())
+        for (const ProceduralSceneInfo& info : procedural_scenes()) scenes.push_back(info.name);
+    for (const std::string& name : scenes)
+        if (!is_procedural_scene(name)) make_procedural_scene(name);  // throws, listing the names
+
+#ifdef FOVREF_HAVE_EMBREE
+    const bool have_embree = true;
+#else
+    const bool have_embree = false;
+#endif
+    if (!options.quiet) {
+        std::printf("fovref bench rays: %dx%d, one thread, fastest of %d runs; Mrays/s\n",
+                    options.width, options.height, options.repeats);
+        std::printf("%s\n", have_embree ? "comparison: Embree 3 (one thread, build quality high, "
+                                          "rtcIntersect1 / rtcOccluded1)"
+                                        : "comparison: none (Embree not found at configure time)");
+    }
+    std::printf("| scene        | kind       |      rays |    fovref   |");
+    if (have_embree) std::printf("    Embree   | fovref/Embree | hit/miss agree | prim differs |");
+    std::printf(" nodes / tris per ray |\n");
+    std::printf("|---|---|---:|---:|%s---:|\n", have_embree ? "---:|---:|---:|---:|" : "");
+
+    for (const std::string& name : scenes) {
+        const Scene scene = make_procedural_scene(name);
+
+        // Build: the fastest of the repeats (a build is deterministic, so any copy is the tree).
+        Bvh bvh;
+        Row build{name, "build", scene.triangle_count()};
+        build.ref = best_time(options.repeats, [&] { bvh = build_bvh(scene.positions); });
+#ifdef FOVREF_HAVE_EMBREE
+        const EmbreeScene embree(scene.positions);
+        build.embree = embree.build_seconds();
+#endif
+        print_row(build, have_embree);
+
+        const std::vector<Ray> primary = primary_rays(scene, options.width, options.height);
+        const std::vector<Ray> incoherent = incoherent_rays(scene, primary.size());
+        std::vector<Hit> primary_hits;
+
+        for (const char* kind : {"primary", "incoherent", "shadow"}) {
+            const bool shadow = std::string(kind) == "shadow";
+            const std::vector<Ray> rays =
+                shadow ? shadow_rays(scene, primary, primary_hits)
+                       : (std::string(kind) == "primary" ? primary : incoherent);
+            Row row{name, kind, rays.size()};
+            std::vector<Hit> hits(rays.size());
+            std::vector<std::uint8_t> blocked(rays.size());
+            TraceStats stats;
+            row.ref = best_time(options.repeats, [&] {
+                stats = TraceStats{};
+                if (shadow)
+                    for (std::size_t i = 0; i < rays.size(); ++i)
+                        blocked[i] = trace_any(bvh, rays[i], stats) ? 1 : 0;
+                else
+                    for (std::size_t i = 0; i < rays.size(); ++i)
+                        hits[i] = trace_closest(bvh, rays[i], stats);
+            });
+            const double n = std::max<double>(1.0, static_cast<double>(rays.size()));
+            row.nodes_per_ray = static_cast<double>(stats.nodes_visited) / n;
+            row.triangles_per_ray = static_cast<double>(stats.triangles_tested) / n;
+#ifdef FOVREF_HAVE_EMBREE
+            std::vector<Hit> embree_hits;
+            std::vector<std::uint8_t> embree_blocked;
+            row.embree = best_time(options.repeats, [&] {
+                if (shadow)
+                    embree.occluded(rays, embree_blocked);
+                else
+                    embree.intersect(rays, embree_hits);
+            });
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                if (shadow) {
+                    row.disagree += blocked[i] != embree_blocked[i] ? 1 : 0;
+                } else {
+                    row.disagree += hits[i].hit() != embree_hits[i].hit() ? 1 : 0;
+                    if (hits[i].hit() && embree_hits[i].hit()) {
+                        ++row.both_hit;
+                        row.primitive_differs +=
+                            hits[i].primitive != embree_hits[i].primitive ? 1 : 0;
+                    }
+                }
+            }
+#endif
+            if (std::string(kind) == "primary") primary_hits = hits;
+            print_row(row, have_embree);
+        }
+        std::fflush(stdout);
+    }
+    if (!options.quiet)
+        std::printf("build rows: rays = triangles, times in ms%s\n",
+                    have_embree ? "; the ratio is Embree's build time over fovref's (> 1: fovref "
+                                  "builds faster)"
+                                : "");
+    return 0;
+}
+
+}  // namespace fovref

@@ -1,0 +1,23 @@
+// `fovref bench rays` (issue 3, point 7): BVH build time and ray throughput of the reference on
+// the procedural scenes, optionally side by side with Embree (tools/bench_embree.h). A benchmark,
+// not a test: it prints figures and checks nothing but the agreement it reports.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace fovref {
+
+struct BenchRaysOptions {
+    std::vector<std::string> scenes;  ///< empty: every procedural scene
+    int width = 1280;                 ///< primary rays: one through each pixel centre
+    int height = 720;
+    int repeats = 3;     ///< each timing is the fastest of this many runs
+    bool quiet = false;  ///< only the table
+};
+
+/// Runs the benchmark and prints its table on stdout. Returns 0; throws fovref::Error for an
+/// unknown scene or a bad size.
+int run_bench_rays(const BenchRaysOptions& options);
+
+}  // namespace fovref
