@@ -10,12 +10,15 @@
 #include <string>
 #include <vector>
 
+#include "ref/bvh/bvh.h"
 #include "ref/core/error.h"
 #include "ref/golden/bundle.h"
 #include "ref/image/image_io.h"
 #include "ref/scene/procedural.h"
 #include "ref/scene/scene_file.h"
 #include "ref/stage/pipeline.h"
+#include "ref/trace/rays_file.h"
+#include "tools/bench_rays.h"
 #include "tools/progress.h"
 
 #ifndef FOVREF_SOURCE_DIR
@@ -48,6 +51,15 @@ struct Options {
     std::vector<std::string> case_names;
     std::string case_name;
     std::optional<int> export_width, export_height, export_frames;
+    // rays
+    std::string rays_path, hits_path;
+    bool any_hit = false;
+    bool make_camera = false;
+    std::uint32_t random_count = 0, seed = 1;
+    float time = 0.0f;
+    std::string primary;
+    // bench
+    BenchRaysOptions bench;
 };
 
 void say(const Options& o, const std::string& line) {
@@ -208,6 +220,7 @@ int render_command(const Options& o) {
     run.time_start = o.time_start;
     run.time_step = o.time_step;
     for (const std::string& p : o.params) run.params.set_from_assignment(p);
+    if (!o.primary.empty()) run.params.set("primary", o.primary);
     const bool keep_all = std::find(o.outputs.begin(), o.outputs.end(), "all") != o.outputs.end();
     // With --dump every buffer is computed; --out keeps the requested (or final) ones.
     const std::vector<std::string> requested =
@@ -250,6 +263,61 @@ int render_command(const Options& o) {
     if (dump)
         say(o, "dumped every buffer of " + std::to_string(o.frames) + " frame(s) to " + o.dump_dir);
     if (out) say(o, "wrote " + std::to_string(o.frames) + " frame(s) to " + o.out_dir);
+    return exit_ok;
+}
+
+// ---- rays -------------------------------------------------------------------------------------
+
+int rays_trace(const Options& o) {
+    const Scene scene = load_scene(o.scene);
+    const std::vector<Ray> rays = read_rays(o.rays_path);
+    Progress progress("rays trace", o.quiet);
+    const Bvh bvh = build_bvh(scene.positions);
+    TraceStats stats;
+    const std::size_t step = std::max<std::size_t>(1, rays.size() / 100);
+    if (o.any_hit) {
+        std::vector<std::uint32_t> occluded(rays.size());
+        for (std::size_t k = 0; k < rays.size(); ++k) {
+            occluded[k] = trace_any(bvh, rays[k], stats) ? 1u : 0u;
+            if (k % step == 0)
+                progress.update(static_cast<double>(k) / static_cast<double>(rays.size()));
+        }
+        progress.finish();
+        write_occlusion(o.hits_path, occluded);
+    } else {
+        std::vector<Hit> hits(rays.size());
+        for (std::size_t k = 0; k < rays.size(); ++k) {
+            hits[k] = trace_closest(bvh, rays[k], stats);
+            if (k % step == 0)
+                progress.update(static_cast<double>(k) / static_cast<double>(rays.size()));
+        }
+        progress.finish();
+        write_hits(o.hits_path, hits);
+    }
+    say(o, "traced " + std::to_string(rays.size()) + (o.any_hit ? " occlusion" : " closest-hit") +
+               " rays: " + std::to_string(stats.hits) + " hit, " +
+               std::to_string(stats.nodes_visited) + " nodes visited, " +
+               std::to_string(stats.triangles_tested) + " triangles tested -> " + o.hits_path);
+    return exit_ok;
+}
+
+int rays_make(const Options& o) {
+    const Scene scene = load_scene(o.scene);
+    std::vector<Ray> rays;
+    if (o.make_camera == (o.random_count > 0))
+        throw Error(
+            "rays make: give exactly one of --camera (with --width/--height) or --random N");
+    if (o.make_camera) {
+        RenderSettings check;
+        check.width = o.width;
+        check.height = o.height;
+        validate_settings(check);
+        rays = camera_rays_list(camera_at(scene, o.time), o.width, o.height);
+    } else {
+        rays = random_rays(scene, o.random_count, o.seed);
+    }
+    write_rays(o.rays_path, rays);
+    say(o, "wrote " + std::to_string(rays.size()) + " rays to " + o.rays_path);
     return exit_ok;
 }
 
@@ -441,6 +509,10 @@ int main(int argc, char** argv) {
         "  fovref modes                           render modes and their parameters\n"
         "  fovref render --scene S --mode M --width W --height H [--frames N] [--param k=v]\n"
         "                [--output a,b] [--out DIR] [--dump DIR]\n"
+        "  fovref rays make SCENE RAYS (--camera --width W --height H | --random N [--seed S])\n"
+        "  fovref rays trace SCENE RAYS HITS [--any-hit]   closest hits / occlusion of a ray file\n"
+        "  fovref bench rays [--scene S] [--width W --height H]   BVH and ray throughput (vs "
+        "Embree)\n"
         "  fovref golden list                     the golden cases (golden/cases.json)\n"
         "  fovref golden verify [--case C]        recompute, compare bit-exactly, exit 1 on a "
         "difference\n"
@@ -481,6 +553,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     render_cmd->add_option("--param", o.params, "mode parameter key=value (repeatable)");
     render_cmd
+        ->add_option("--primary", o.primary,
+                     "primary visibility for 'basic': ray or raster (= --param primary=...)")
+        ->check(CLI::IsMember({"ray", "raster"}));
+    render_cmd
         ->add_option("--output", o.outputs,
                      "buffers to produce (default: the mode's final outputs)")
         ->delimiter(',');
@@ -490,6 +566,61 @@ int main(int argc, char** argv) {
         "--dump", o.dump_dir,
         "write every intermediate buffer (PFM/EXR + PNG preview + manifest.json) here");
     CLI::App* modes_cmd = app.add_subcommand("modes", "list render modes and their parameters");
+
+    // rays
+    CLI::App* rays =
+        app.add_subcommand("rays", "trace ray files (check a GPU traversal) and make them");
+    rays->require_subcommand(1);
+    rays->fallthrough();
+    CLI::App* rays_trace_cmd =
+        rays->add_subcommand("trace",
+                             "closest hits (t, primitive, u, v; miss = -1) or, with --any-hit, "
+                             "occlusion of every ray in RAYS");
+    rays_trace_cmd->add_option("SCENE", o.scene, "procedural scene name or scene file")->required();
+    rays_trace_cmd->add_option("RAYS", o.rays_path, "ray file: 8 x binary32 per ray (docs/rays.md)")
+        ->required();
+    rays_trace_cmd
+        ->add_option("HITS", o.hits_path, "output: 16-byte hit records, or 4-byte occlusion flags")
+        ->required();
+    rays_trace_cmd->add_flag("--any-hit", o.any_hit,
+                             "occlusion queries (shadow rays) instead of closest hits");
+    CLI::App* rays_make_cmd =
+        rays->add_subcommand("make", "write a camera's primary rays or fixed-seed random rays");
+    rays_make_cmd->add_option("SCENE", o.scene, "procedural scene name or scene file")->required();
+    rays_make_cmd->add_option("RAYS", o.rays_path, "output ray file")->required();
+    rays_make_cmd->add_flag("--camera", o.make_camera, "primary rays through every pixel centre");
+    rays_make_cmd->add_option("--width", o.width, "with --camera")->capture_default_str();
+    rays_make_cmd->add_option("--height", o.height, "with --camera")->capture_default_str();
+    rays_make_cmd->add_option("--time", o.time, "camera-path time, with --camera")
+        ->capture_default_str();
+    rays_make_cmd
+        ->add_option("--random", o.random_count,
+                     "N random rays: origins in the scene bounds, uniform "
+                     "directions")
+        ->check(CLI::Range(1u, 100000000u));
+    rays_make_cmd->add_option("--seed", o.seed, "seed of the random rays (the rand() frame)")
+        ->capture_default_str();
+
+    // bench
+    CLI::App* bench = app.add_subcommand("bench", "benchmarks (figures, not tests)");
+    bench->require_subcommand(1);
+    bench->fallthrough();
+    CLI::App* bench_rays_cmd =
+        bench->add_subcommand("rays",
+                              "BVH build, Mrays/s for primary, incoherent and shadow rays, "
+                              "G-buffer pass times; with Embree "
+                              "installed, the same rays through Embree in the same run");
+    bench_rays_cmd->add_option("--scene", o.bench.scenes,
+                               "procedural scene (repeatable; default: all)");
+    bench_rays_cmd->add_option("--width", o.bench.width, "primary rays: screen width")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    bench_rays_cmd->add_option("--height", o.bench.height, "primary rays: screen height")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    bench_rays_cmd->add_option("--repeats", o.bench.repeats, "each timing is the fastest of N runs")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
 
     // golden
     CLI::App* golden =
@@ -530,6 +661,13 @@ int main(int argc, char** argv) {
         if (scene_list_cmd->parsed()) return scene_list(o);
         if (render_cmd->parsed()) return render_command(o);
         if (modes_cmd->parsed()) return modes_list(o);
+        if (rays_trace_cmd->parsed()) return rays_trace(o);
+        if (bench_rays_cmd->parsed()) {
+            BenchRaysOptions options = o.bench;
+            options.quiet = o.quiet;
+            return run_bench_rays(options);
+        }
+        if (rays_make_cmd->parsed()) return rays_make(o);
         if (verify_cmd->parsed()) return golden_verify(o);
         if (update_cmd->parsed()) return golden_update(o);
         if (list_cmd->parsed()) return golden_list(o);

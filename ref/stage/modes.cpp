@@ -5,6 +5,7 @@
 #include "ref/core/error.h"
 #include "ref/core_passes/core_passes.h"
 #include "ref/stage/pipeline.h"
+#include "ref/trace/trace_modes.h"
 
 namespace fovref {
 
@@ -102,6 +103,14 @@ Pipeline geometry_pipeline(const Scene* scene, const RenderSettings&) {
 
 const std::vector<ModeInfo>& render_modes() {
     static const std::vector<ModeInfo> modes = {
+        {"basic",
+         "one ray per pixel centre, Lambertian shading with one shadow ray per light (Lund §3.1)",
+         true, basic_params(), basic_pipeline},
+        {"ground-truth",
+         "16 Halton(2,3) rays per pixel, shaded as basic, box-filtered (Lund §3.2)",
+         true,
+         {},
+         ground_truth_pipeline},
         {"splat",
          "centroid splat of every triangle with headlight shading (a trivial pass that "
          "pins scene, materials, textures and camera path)",

@@ -1,0 +1,19 @@
+// The ground-truth ray tracer (Lund §3.2, SPEC §12): 16 rays per pixel at the screen points
+// (i + h_x, j + h_y), h = Halton(2,3) points 1..16 (unscaled: the centre-relative offsets of Lund
+// are h - 0.5), each shaded like the basic ray tracer with its own random-number dimensions, and
+// box-filtered: the 16 radiances are summed in sample order in float and multiplied by 1/16.
+#pragma once
+
+#include "ref/bvh/bvh.h"
+#include "ref/image/image.h"
+#include "ref/trace/direct_light.h"
+
+namespace fovref {
+
+inline constexpr int ground_truth_samples = 16;
+
+Image render_ground_truth(const Scene& scene, const Bvh& bvh, const Camera& camera,
+                          std::uint32_t frame, int width, int height, TraceStats& primary_stats,
+                          ShadingStats& shading_stats);
+
+}  // namespace fovref

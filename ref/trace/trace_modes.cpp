@@ -1,0 +1,148 @@
+#include "ref/trace/trace_modes.h"
+
+#include <memory>
+#include <optional>
+
+#include "ref/bvh/bvh.h"
+#include "ref/core/error.h"
+#include "ref/raster/gbuffer.h"
+#include "ref/raster/rasterizer.h"
+#include "ref/trace/direct_light.h"
+#include "ref/trace/ground_truth.h"
+#include "ref/trace/raycast_gbuffer.h"
+
+namespace fovref {
+
+namespace {
+
+// The scene's BVH, built on first use and kept for later frames.
+struct LazyBvh {
+    std::optional<Bvh> bvh;
+    const Bvh& get(const Scene& scene, Counters& counters) {
+        if (!bvh) {
+            bvh = build_bvh(scene.positions);
+            counters.add("bvh_built_nodes", bvh->stats.nodes);
+            counters.add("bvh_built_leaves", bvh->stats.leaves);
+        }
+        return *bvh;
+    }
+};
+
+void add_trace_counters(Counters& counters, const std::string& kind, const TraceStats& stats) {
+    counters.add("rays_" + kind, stats.rays);
+    counters.add(kind + "_nodes_visited", stats.nodes_visited);
+    counters.add(kind + "_triangles_tested", stats.triangles_tested);
+    counters.add(kind + "_hits", stats.hits);
+}
+
+void add_shading_counters(Counters& counters, const ShadingStats& stats) {
+    counters.add("pixels_shaded", stats.shaded);
+    counters.add("texture_fetches", stats.texture_fetches);
+    counters.add("light_samples_facing_away", stats.lights_facing_away);
+    counters.add("shadow_rays_occluded", stats.shadow_rays_occluded);
+    add_trace_counters(counters, "shadow", stats.shadow_trace);
+}
+
+std::string shadow_note(const Scene& scene) {
+    return scene.lights.empty() ? "no lights: no shadow rays traced" : "";
+}
+
+}  // namespace
+
+std::vector<ParamSpec> basic_params() {
+    return {
+        {"primary", "ray", "primary visibility: 'ray' (ray casting) or 'raster' (the rasterizer)"}};
+}
+
+Pipeline basic_pipeline(const Scene* scene, const RenderSettings& settings) {
+    const std::string primary = settings.params.get_string(basic_params(), "primary");
+    if (primary != "ray" && primary != "raster")
+        throw Error("parameter 'primary': '" + primary + "' is neither 'ray' nor 'raster'");
+    auto bvh = std::make_shared<LazyBvh>();
+    Pipeline p;
+    p.stages.push_back(
+        {"primary_visibility", {}, gbuffer_names(), [scene, bvh, primary](FrameContext& ctx) {
+             const RenderSettings& s = *ctx.settings;
+             if (primary == "raster") {
+                 RasterStats stats;
+                 GBuffer g = rasterize_gbuffer(*scene, ctx.camera, ctx.previous_camera, s.width,
+                                               s.height, stats);
+                 ctx.result->counters.add("raster_triangles_rasterized",
+                                          stats.triangles_rasterized);
+                 ctx.result->counters.add("raster_fragments_written", stats.fragments_written);
+                 ctx.note = "rasterized";
+                 add_gbuffer(*ctx.result, std::move(g));
+             } else {
+                 TraceStats stats;
+                 GBuffer g =
+                     raycast_gbuffer(*scene, bvh->get(*scene, ctx.result->counters), ctx.camera,
+                                     ctx.previous_camera, s.width, s.height, stats);
+                 add_trace_counters(ctx.result->counters, "primary", stats);
+                 ctx.note = "ray cast";
+                 add_gbuffer(*ctx.result, std::move(g));
+             }
+         }});
+    p.stages.push_back(
+        {"shade_direct",
+         {"gbuffer_world_position", "gbuffer_shading_normal", "gbuffer_geometric_normal",
+          "gbuffer_albedo", "gbuffer_material_id", "gbuffer_primitive_id"},
+         {"final"},
+         [scene, bvh](FrameContext& ctx) {
+             const Image& position = ctx.input("gbuffer_world_position");
+             const Image& shading_normal = ctx.input("gbuffer_shading_normal");
+             const Image& geometric_normal = ctx.input("gbuffer_geometric_normal");
+             const Image& albedo = ctx.input("gbuffer_albedo");
+             const Image& material = ctx.input("gbuffer_material_id");
+             const Image& primitive = ctx.input("gbuffer_primitive_id");
+             const Bvh* tree =
+                 scene->lights.empty() ? nullptr : &bvh->get(*scene, ctx.result->counters);
+             Image out(position.width, position.height, 3, 0.0f);
+             ShadingStats stats;
+             for (int y = 0; y < out.height; ++y)
+                 for (int x = 0; x < out.width; ++x) {
+                     if (primitive.at(x, y) < 0.0f) continue;  // background
+                     SurfacePoint surface;
+                     for (int c = 0; c < 3; ++c) {
+                         surface.position[c] = position.at(x, y, c);
+                         surface.shading_normal[c] = shading_normal.at(x, y, c);
+                         surface.geometric_normal[c] = geometric_normal.at(x, y, c);
+                         surface.albedo[c] = albedo.at(x, y, c);
+                     }
+                     surface.material = static_cast<std::int32_t>(material.at(x, y));
+                     if (scene->materials[static_cast<std::size_t>(surface.material)].texture >= 0)
+                         ++stats.texture_fetches;  // the G-buffer pass fetched it
+                     const glm::vec3 l =
+                         shade_direct(*scene, tree, surface, ctx.camera.position,
+                                      static_cast<std::uint32_t>(ctx.frame),
+                                      static_cast<std::uint32_t>(y * out.width + x), 0, stats);
+                     for (int c = 0; c < 3; ++c) out.at(x, y, c) = l[c];
+                 }
+             add_shading_counters(ctx.result->counters, stats);
+             ctx.note = shadow_note(*scene);
+             ctx.result->add("final", BufferKind::color, {"r", "g", "b"}, std::move(out));
+         }});
+    p.final_outputs = {"final"};
+    return p;
+}
+
+Pipeline ground_truth_pipeline(const Scene* scene, const RenderSettings&) {
+    auto bvh = std::make_shared<LazyBvh>();
+    Pipeline p;
+    p.stages.push_back(
+        {"supersample", {}, {"final"}, [scene, bvh](FrameContext& ctx) {
+             TraceStats primary;
+             ShadingStats shading;
+             Image image =
+                 render_ground_truth(*scene, bvh->get(*scene, ctx.result->counters), ctx.camera,
+                                     static_cast<std::uint32_t>(ctx.frame), ctx.settings->width,
+                                     ctx.settings->height, primary, shading);
+             add_trace_counters(ctx.result->counters, "primary", primary);
+             add_shading_counters(ctx.result->counters, shading);
+             ctx.note = shadow_note(*scene);
+             ctx.result->add("final", BufferKind::color, {"r", "g", "b"}, std::move(image));
+         }});
+    p.final_outputs = {"final"};
+    return p;
+}
+
+}  // namespace fovref

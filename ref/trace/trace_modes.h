@@ -1,0 +1,19 @@
+// The basic and ground-truth ray tracers as render modes (Lund §3.1, §3.2; SPEC §12).
+//
+// basic:         primary_visibility (G-buffer by rays or by the rasterizer) -> shade_direct ->
+// final ground-truth:  supersample (16 Halton rays per pixel, shaded, box-filtered) -> final The
+// BVH is built only when something traces a ray (ray primaries or shadow rays), once per render;
+// its build appears in the counters of the frame that needed it.
+#pragma once
+
+#include <vector>
+
+#include "ref/stage/pipeline.h"
+
+namespace fovref {
+
+std::vector<ParamSpec> basic_params();
+Pipeline basic_pipeline(const Scene* scene, const RenderSettings& settings);
+Pipeline ground_truth_pipeline(const Scene* scene, const RenderSettings& settings);
+
+}  // namespace fovref

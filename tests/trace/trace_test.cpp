@@ -1,0 +1,187 @@
+#include <doctest/doctest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "ref/core/error.h"
+#include "ref/core/rng.h"
+#include "ref/trace/direct_light.h"
+#include "ref/trace/ground_truth.h"
+#include "ref/trace/raycast_gbuffer.h"
+#include "ref/trace/rays_file.h"
+
+using namespace fovref;
+namespace fs = std::filesystem;
+
+namespace {
+
+void add_quad(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, int material) {
+    // Two triangles a b c and a c d, normals from the winding.
+    const glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
+    for (glm::vec3 p : {a, b, c, a, c, d}) {
+        scene.positions.push_back(p);
+        scene.normals.push_back(n);
+        scene.uvs.push_back(glm::vec2(0.0f));
+    }
+    scene.material_ids.push_back(material);
+    scene.material_ids.push_back(material);
+}
+
+// A 20 x 20 floor at y = 0 (normal +y), albedo 0.5, a point light of intensity 4 at height 2,
+// a camera looking straight down from height 1.
+Scene floor_scene(bool with_light) {
+    Scene scene;
+    scene.source = "test:floor";
+    scene.materials.push_back(Material{"floor", glm::vec3(0.5f)});
+    add_quad(scene, {-10, 0, -10}, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, 0);
+    if (with_light) {
+        Light light;
+        light.type = Light::Type::point;
+        light.position = {0, 2, 0};
+        light.intensity = glm::vec3(4.0f);
+        scene.lights.push_back(light);
+    }
+    scene.camera = look_at({0, 1, 0}, {0, 0, 0}, {0, 0, -1}, 60.0f);
+    finalize_scene(scene);
+    return scene;
+}
+
+}  // namespace
+
+TEST_CASE("direct light: a point light above a Lambertian floor gives albedo/pi * I / d^2") {
+    Scene scene = floor_scene(true);
+    Bvh bvh = build_bvh(scene.positions);
+    // 3x3 screen: the centre pixel looks straight down at (0, 0, 0), right below the light.
+    TraceStats primary;
+    GBuffer g = raycast_gbuffer(scene, bvh, scene.camera, scene.camera, 3, 3, primary);
+    REQUIRE(g.primitive_id.at(1, 1) >= 0.0f);
+    SurfacePoint s;
+    for (int c = 0; c < 3; ++c) {
+        s.position[c] = g.world_position.at(1, 1, c);
+        s.shading_normal[c] = g.shading_normal.at(1, 1, c);
+        s.geometric_normal[c] = g.geometric_normal.at(1, 1, c);
+        s.albedo[c] = g.albedo.at(1, 1, c);
+    }
+    s.material = 0;
+    CHECK(std::fabs(s.position.x) < 1e-6f);
+    ShadingStats stats;
+    glm::vec3 l = shade_direct(scene, &bvh, s, scene.camera.position, 0, 4, 0, stats);
+    // 0.5 / pi * 4 / 2^2 = 0.5 / pi.
+    CHECK(l.x == doctest::Approx(0.5 / 3.14159265358979).epsilon(1e-6));
+    CHECK(stats.shadow_rays == 1);
+    CHECK(stats.shadow_rays_occluded == 0);
+    // At (1, 0, 0): cos = 2/sqrt(5), d^2 = 5 -> 0.5/pi * 4 * 2 / 5^1.5.
+    s.position = {1, 0, 0};
+    l = shade_direct(scene, &bvh, s, scene.camera.position, 0, 4, 0, stats);
+    CHECK(l.y == doctest::Approx(0.5 / 3.14159265358979 * 8.0 / std::pow(5.0, 1.5)).epsilon(1e-6));
+}
+
+TEST_CASE("direct light: a blocker casts a shadow; the light behind the surface casts no ray") {
+    Scene scene = floor_scene(true);
+    // A small blocker at height 1 facing down, between the light and the origin.
+    scene.materials.push_back(Material{"blocker", glm::vec3(0.1f)});
+    add_quad(scene, {-0.2f, 1, -0.2f}, {0.2f, 1, -0.2f}, {0.2f, 1, 0.2f}, {-0.2f, 1, 0.2f}, 1);
+    scene.lights.clear();
+    Light light;
+    light.position = {0, 2, 0};
+    light.intensity = glm::vec3(4.0f);
+    scene.lights.push_back(light);
+    finalize_scene(scene);
+    Bvh bvh = build_bvh(scene.positions);
+    SurfacePoint s;
+    s.position = {0, 0, 0};
+    s.shading_normal = s.geometric_normal = {0, 1, 0};
+    s.albedo = glm::vec3(0.5f);
+    s.material = 0;
+    ShadingStats stats;
+    CHECK(shade_direct(scene, &bvh, s, {0, 0.5f, 0.5f}, 0, 0, 0, stats) == glm::vec3(0.0f));
+    CHECK(stats.shadow_rays_occluded == 1);
+    // Seen from below, the floor's lit side faces away: no contribution, no shadow ray.
+    s.position = {3, 0, 0};
+    ShadingStats below;
+    CHECK(shade_direct(scene, &bvh, s, {3, -1, 0}, 0, 0, 0, below) == glm::vec3(0.0f));
+    CHECK(below.shadow_rays == 0);
+    CHECK(below.lights_facing_away == 1);
+}
+
+TEST_CASE("direct light: emitters seen directly, and no shadow rays without lights") {
+    Scene scene = floor_scene(false);
+    scene.materials[0].emission = glm::vec3(0.5f);
+    scene.lights.clear();
+    finalize_scene(scene);  // the two emissive triangles become lights
+    CHECK(scene.lights.size() == 2);
+    Scene dark = floor_scene(false);
+    CHECK(dark.lights.empty());
+    SurfacePoint s;
+    s.position = {0, 0, 0};
+    s.shading_normal = s.geometric_normal = {0, 1, 0};
+    s.albedo = glm::vec3(0.5f);
+    s.material = 0;
+    ShadingStats stats;
+    CHECK(shade_direct(dark, nullptr, s, {0, 1, 0}, 0, 0, 0, stats) == glm::vec3(0.0f));
+    CHECK(stats.shadow_rays == 0);
+    dark.materials[0].emission = glm::vec3(0.5f);
+    CHECK(shade_direct(dark, nullptr, s, {0, 1, 0}, 0, 0, 0, stats) == glm::vec3(0.5f));
+    CHECK(shade_direct(dark, nullptr, s, {0, -1, 0}, 0, 0, 0, stats) ==
+          glm::vec3(0.0f));  // back side
+}
+
+TEST_CASE("ground truth of a constant emitter equals the emission exactly") {
+    Scene scene = floor_scene(false);
+    scene.materials[0].emission = glm::vec3(0.5f);
+    scene.materials[0].albedo = glm::vec3(0.0f);  // its own light adds nothing
+    finalize_scene(scene);
+    Bvh bvh = build_bvh(scene.positions);
+    TraceStats primary;
+    ShadingStats shading;
+    Image image = render_ground_truth(scene, bvh, scene.camera, 0, 4, 3, primary, shading);
+    for (float v : image.data) CHECK(v == 0.5f);
+    CHECK(primary.rays == 16 * 12);
+}
+
+TEST_CASE("ray files: round trip, empty, truncated, NaN") {
+    const fs::path dir = fs::temp_directory_path() / ("fovref-rays-" + std::to_string(getpid()));
+    fs::create_directories(dir);
+    Scene scene = floor_scene(true);
+    std::vector<Ray> rays = random_rays(scene, 50, 7);
+    for (const Ray& r : rays)
+        CHECK(glm::dot(r.direction, r.direction) == doctest::Approx(1.0f).epsilon(1e-6));
+    write_rays((dir / "r.bin").string(), rays);
+    CHECK(fs::file_size(dir / "r.bin") == 50 * 32);
+    std::vector<Ray> back = read_rays((dir / "r.bin").string());
+    REQUIRE(back.size() == 50);
+    CHECK(back[17].origin == rays[17].origin);
+    CHECK(back[17].t_max == std::numeric_limits<float>::infinity());
+    std::vector<Hit> hits = {Hit{1.5f, 3, 0.25f, 0.5f}, Hit{}};
+    write_hits((dir / "h.bin").string(), hits);
+    std::vector<Hit> hits_back = read_hits((dir / "h.bin").string());
+    CHECK(hits_back[0] == hits[0]);
+    CHECK(hits_back[1].t == -1.0f);
+    CHECK(hits_back[1].primitive == -1);
+    // Layout: the first record's bytes are the first ray's origin x as little-endian binary32.
+    std::ifstream in(dir / "r.bin", std::ios::binary);
+    float first = 0.0f;
+    in.read(reinterpret_cast<char*>(&first), 4);
+    CHECK(first == rays[0].origin.x);
+    write_rays((dir / "empty.bin").string(), {});
+    CHECK(read_rays((dir / "empty.bin").string()).empty());
+    fs::resize_file(dir / "r.bin", 50 * 32 - 5);
+    CHECK_THROWS_WITH_AS(read_rays((dir / "r.bin").string()), doctest::Contains("truncated"),
+                         Error);
+    rays[3].origin.y = std::nanf("");
+    write_rays((dir / "nan.bin").string(), rays);
+    CHECK_THROWS_WITH_AS(read_rays((dir / "nan.bin").string()), doctest::Contains("ray 3"), Error);
+    CHECK_THROWS_AS(read_rays((dir / "missing.bin").string()), Error);
+    fs::remove_all(dir);
+}
+
+TEST_CASE("camera ray list matches the primary rays of the G-buffer pass") {
+    Scene scene = floor_scene(true);
+    std::vector<Ray> rays = camera_rays_list(scene.camera, 5, 4);
+    REQUIRE(rays.size() == 20);
+    const float tan_half = tan_half_vfov(scene.camera);
+    CHECK(rays[7].direction == primary_ray_direction(scene.camera, tan_half, 5, 4, 2.5f, 1.5f));
+}
