@@ -1,5 +1,9 @@
 #include "ref/raster/gbuffer.h"
 
+#include <cmath>
+
+#include "ref/trace/surface.h"
+
 namespace fovref {
 
 GBuffer::GBuffer(int width, int height)
@@ -12,6 +16,31 @@ GBuffer::GBuffer(int width, int height)
       material_id(width, height, 1, -1.0f),
       primitive_id(width, height, 1, -1.0f),
       motion(width, height, 2, 0.0f) {}
+
+bool write_gbuffer_pixel(GBuffer& g, int x, int y, const Scene& scene, const Camera& camera,
+                         const Camera& previous_camera, float previous_tan_half,
+                         std::int32_t primitive, float u, float v) {
+    const SurfacePoint s = surface_at(scene, primitive, u, v);
+    const glm::vec3 to_point = s.position - camera.position;
+    g.view_depth.at(x, y) = view_depth(camera, s.position);
+    g.hit_distance.at(x, y) = std::sqrt(glm::dot(to_point, to_point));
+    for (int c = 0; c < 3; ++c) {
+        g.world_position.at(x, y, c) = s.position[c];
+        g.shading_normal.at(x, y, c) = s.shading_normal[c];
+        g.geometric_normal.at(x, y, c) = s.geometric_normal[c];
+        g.albedo.at(x, y, c) = s.albedo[c];
+    }
+    g.material_id.at(x, y) = static_cast<float>(s.material);
+    g.primitive_id.at(x, y) = static_cast<float>(primitive);
+    glm::vec2 previous{0.0f};
+    float previous_depth = 0.0f;
+    if (!project_to_screen(previous_camera, previous_tan_half, g.view_depth.width,
+                           g.view_depth.height, s.position, previous, previous_depth))
+        return false;
+    g.motion.at(x, y, 0) = previous.x - (static_cast<float>(x) + 0.5f);
+    g.motion.at(x, y, 1) = previous.y - (static_cast<float>(y) + 0.5f);
+    return true;
+}
 
 std::vector<std::string> gbuffer_names(const std::string& prefix) {
     return {prefix + "view_depth",     prefix + "hit_distance",     prefix + "world_position",

@@ -6,7 +6,10 @@
 #include <string>
 #include <vector>
 
+#include <cstdint>
+
 #include "ref/image/image.h"
+#include "ref/scene/scene.h"
 #include "ref/stage/frame.h"
 
 namespace fovref {
@@ -25,6 +28,15 @@ struct GBuffer {
     GBuffer() = default;
     GBuffer(int width, int height);  ///< background everywhere
 };
+
+/// Fills pixel (x, y) from triangle `primitive` at barycentrics (u, v) (surface_at): view depth
+/// and hit distance of the surface point, its attributes, and the motion vector (the point's
+/// screen position under `previous_camera` minus the pixel centre). Returns false when the point
+/// is not in front of the previous camera; the motion is then 0. Both the rasterizer and the ray
+/// caster write their pixels with this one function.
+bool write_gbuffer_pixel(GBuffer& gbuffer, int x, int y, const Scene& scene, const Camera& camera,
+                         const Camera& previous_camera, float previous_tan_half,
+                         std::int32_t primitive, float u, float v);
 
 /// The G-buffer's buffer names in SPEC §4 order, with a prefix ("gbuffer_" by default).
 void add_gbuffer(FrameResult& result, GBuffer gbuffer, const std::string& prefix = "gbuffer_");

@@ -410,29 +410,9 @@ GBuffer resolve_gbuffer(const Scene& scene, const VisibilityBuffer& vis, const C
                 static_cast<std::size_t>(primitive) < scene.triangle_count(),
                 "visibility buffer primitive " + std::to_string(primitive) + " out of range");
             ++stats.pixels_covered;
-            const SurfacePoint s = surface_at(scene, primitive, vis.u[index], vis.v[index]);
-            const glm::vec3 d = s.position - camera.position;
-            g.view_depth.at(i, j) = view_depth(camera, s.position);
-            g.hit_distance.at(i, j) = std::sqrt(glm::dot(d, d));
-            for (int c = 0; c < 3; ++c) {
-                g.world_position.at(i, j, c) = s.position[c];
-                g.shading_normal.at(i, j, c) = s.shading_normal[c];
-                g.geometric_normal.at(i, j, c) = s.geometric_normal[c];
-                g.albedo.at(i, j, c) = s.albedo[c];
-            }
-            g.material_id.at(i, j) = static_cast<float>(s.material);
-            g.primitive_id.at(i, j) = static_cast<float>(primitive);
-            // Motion: previous-frame screen point minus this pixel's centre; 0 when the point
-            // is not in front of the previous camera (no meaningful reprojection).
-            glm::vec2 previous_screen{0.0f};
-            float previous_depth = 0.0f;
-            if (project_to_screen(previous_camera, previous_tan_half, vis.width, vis.height,
-                                  s.position, previous_screen, previous_depth)) {
-                g.motion.at(i, j, 0) = previous_screen.x - (static_cast<float>(i) + 0.5f);
-                g.motion.at(i, j, 1) = previous_screen.y - (static_cast<float>(j) + 0.5f);
-            } else {
-                ++stats.motion_behind_previous;
-            }
+            if (!write_gbuffer_pixel(g, i, j, scene, camera, previous_camera, previous_tan_half,
+                                     primitive, vis.u[index], vis.v[index]))
+                ++stats.motion_behind_previous;  // motion 0: no meaningful reprojection
         }
     }
     return g;

@@ -1,6 +1,7 @@
 #include "ref/trace/ground_truth.h"
 
 #include "ref/core/halton.h"
+#include "ref/trace/raycast_gbuffer.h"
 
 namespace fovref {
 
@@ -16,11 +17,9 @@ Image render_ground_truth(const Scene& scene, const Bvh& bvh, const Camera& came
             const auto pixel = static_cast<std::uint32_t>(y * width + x);
             glm::vec3 sum(0.0f);
             for (int s = 0; s < ground_truth_samples; ++s) {
-                Ray ray;
-                ray.origin = camera.position;
-                ray.direction = primary_ray_direction(camera, tan_half, width, height,
-                                                      static_cast<float>(x) + points[s].x,
-                                                      static_cast<float>(y) + points[s].y);
+                const Ray ray = primary_ray(camera, tan_half, width, height,
+                                            static_cast<float>(x) + points[s].x,
+                                            static_cast<float>(y) + points[s].y);
                 const Hit hit = trace_closest(bvh, ray, primary_stats);
                 if (!hit.hit()) continue;  // background is black
                 const SurfacePoint surface = surface_at(scene, hit.primitive, hit.u, hit.v);

@@ -9,10 +9,14 @@
 
 namespace fovref {
 
-/// Fills the G-buffer pixel (x, y) from a closest hit of the ray from `camera` (background when
-/// `hit` is a miss). Shared by every primary-ray pass.
-void write_gbuffer_pixel(GBuffer& gbuffer, int x, int y, const Scene& scene, const Camera& camera,
-                         const Camera& previous_camera, float previous_tan_half, const Hit& hit);
+/// The primary ray through screen point (x, y) (SPEC §1): from the camera, t in (0, inf).
+inline Ray primary_ray(const Camera& camera, float tan_half, int width, int height, float x,
+                       float y) {
+    Ray ray;
+    ray.origin = camera.position;
+    ray.direction = primary_ray_direction(camera, tan_half, width, height, x, y);
+    return ray;
+}
 
 /// Primary rays through every pixel centre (t in (0, inf)).
 GBuffer raycast_gbuffer(const Scene& scene, const Bvh& bvh, const Camera& camera,

@@ -9,6 +9,7 @@
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
 #include "ref/image/image_io.h"
+#include "ref/trace/raycast_gbuffer.h"
 
 namespace fovref {
 
@@ -105,12 +106,8 @@ std::vector<Ray> camera_rays_list(const Camera& camera, int width, int height) {
     const float tan_half = tan_half_vfov(camera);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            Ray ray;
-            ray.origin = camera.position;
-            ray.direction =
-                primary_ray_direction(camera, tan_half, width, height, static_cast<float>(x) + 0.5f,
-                                      static_cast<float>(y) + 0.5f);
-            rays.push_back(ray);
+            rays.push_back(primary_ray(camera, tan_half, width, height,
+                                       static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f));
         }
     return rays;
 }
