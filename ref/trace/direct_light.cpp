@@ -36,7 +36,10 @@ glm::vec3 shade_direct(const Scene& scene, const Bvh* bvh, const SurfacePoint& s
     // Two-sided: turn both normals towards the viewer.
     const bool front = glm::dot(surface.geometric_normal, to_eye) >= 0.0f;
     const glm::vec3 n_g = front ? surface.geometric_normal : -surface.geometric_normal;
-    glm::vec3 n_s = front ? surface.shading_normal : -surface.shading_normal;
+    // The shading normal goes to the geometric normal's side (vertex normals may disagree with
+    // the winding: an OBJ wound clockwise with outward normals).
+    const glm::vec3 n_s = glm::dot(surface.shading_normal, n_g) < 0.0f ? -surface.shading_normal
+                                                                       : surface.shading_normal;
 
     glm::vec3 radiance = front ? material.emission : glm::vec3(0.0f);
     const glm::vec3 brdf = surface.albedo * inv_pi;
@@ -54,7 +57,10 @@ glm::vec3 shade_direct(const Scene& scene, const Bvh* bvh, const SurfacePoint& s
             const float r2 = rand_unit(frame, pixel, dimension + 1);
             const glm::vec3 cross = glm::cross(light.edge_u, light.edge_v);
             const float cross_length = std::sqrt(glm::dot(cross, cross));
-            if (!(cross_length > 0.0f)) continue;
+            if (!(cross_length > 0.0f)) {
+                ++stats.light_samples_degenerate;
+                continue;
+            }
             light_normal = cross / cross_length;
             if (light.type == Light::Type::quad) {
                 y = light.position + light.edge_u * r1 + light.edge_v * r2;
@@ -67,7 +73,10 @@ glm::vec3 shade_direct(const Scene& scene, const Bvh* bvh, const SurfacePoint& s
         }
         const glm::vec3 to_light = y - surface.position;
         const float d2 = glm::dot(to_light, to_light);
-        if (!(d2 > 0.0f)) continue;
+        if (!(d2 > min_light_distance2)) {  // on the light (or closer than float can divide by)
+            ++stats.light_samples_degenerate;
+            continue;
+        }
         const float d = std::sqrt(d2);
         const float cos_surface = glm::dot(n_s, to_light) / d;
         float geometry = cos_surface / d2;

@@ -3,7 +3,8 @@
 namespace fovref {
 
 GBuffer raycast_gbuffer(const Scene& scene, const Bvh& bvh, const Camera& camera,
-                        const Camera& previous_camera, int width, int height, TraceStats& stats) {
+                        const Camera& previous_camera, int width, int height, TraceStats& stats,
+                        std::int64_t* motion_behind_previous) {
     GBuffer g(width, height);
     const float tan_half = tan_half_vfov(camera);
     const float previous_tan_half = tan_half_vfov(previous_camera);
@@ -12,11 +13,22 @@ GBuffer raycast_gbuffer(const Scene& scene, const Bvh& bvh, const Camera& camera
             const Ray ray = primary_ray(camera, tan_half, width, height,
                                         static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
             const Hit hit = trace_closest(bvh, ray, stats);
-            if (hit.hit())  // misses keep the background values
-                write_gbuffer_pixel(g, x, y, scene, camera, previous_camera, previous_tan_half,
-                                    hit.primitive, hit.u, hit.v);
+            if (!hit.hit()) continue;  // misses keep the background values
+            if (!write_gbuffer_pixel(g, x, y, scene, camera, previous_camera, previous_tan_half,
+                                     hit.primitive, hit.u, hit.v) &&
+                motion_behind_previous)
+                ++*motion_behind_previous;
         }
     return g;
+}
+
+std::int64_t gbuffer_texture_fetches(const Scene& scene, const GBuffer& gbuffer) {
+    std::int64_t fetches = 0;
+    for (std::size_t i = 0; i < gbuffer.material_id.data.size(); ++i) {
+        const float id = gbuffer.material_id.data[i];
+        if (id >= 0.0f && scene.materials[static_cast<std::size_t>(id)].texture >= 0) ++fetches;
+    }
+    return fetches;
 }
 
 }  // namespace fovref

@@ -18,8 +18,14 @@ inline Ray primary_ray(const Camera& camera, float tan_half, int width, int heig
     return ray;
 }
 
-/// Primary rays through every pixel centre (t in (0, inf)).
+/// Primary rays through every pixel centre (t in (0, inf)). `motion_behind_previous`, when given,
+/// counts pixels whose point is not in front of the previous camera (motion 0).
 GBuffer raycast_gbuffer(const Scene& scene, const Bvh& bvh, const Camera& camera,
-                        const Camera& previous_camera, int width, int height, TraceStats& stats);
+                        const Camera& previous_camera, int width, int height, TraceStats& stats,
+                        std::int64_t* motion_behind_previous = nullptr);
+
+/// Texels fetched while filling a G-buffer: surface_at samples the texture exactly once for
+/// every covered pixel whose material has one.
+std::int64_t gbuffer_texture_fetches(const Scene& scene, const GBuffer& gbuffer);
 
 }  // namespace fovref

@@ -58,10 +58,16 @@ std::vector<Ray> read_rays(const std::string& path) {
         rays[k].direction = {v[3], v[4], v[5]};
         rays[k].t_min = v[6];
         rays[k].t_max = v[7];
+        // Every field finite except t_max, which may be +inf; the direction must not be zero.
+        static const char* const names[8] = {"origin x",    "origin y",    "origin z",
+                                             "direction x", "direction y", "direction z",
+                                             "t_min",       "t_max"};
         for (int i = 0; i < 8; ++i)
-            if (std::isnan(v[i]))
-                throw Error(path + ": ray " + std::to_string(k) + " has a NaN component (" +
-                            std::to_string(i) + ")");
+            if (std::isnan(v[i]) || (std::isinf(v[i]) && !(i == 7 && v[i] > 0.0f)))
+                throw Error(path + ": ray " + std::to_string(k) + ": " + names[i] + " is " +
+                            std::to_string(v[i]) + " (must be finite; only t_max may be +inf)");
+        if (v[3] == 0.0f && v[4] == 0.0f && v[5] == 0.0f)
+            throw Error(path + ": ray " + std::to_string(k) + ": the direction is zero");
     }
     return rays;
 }

@@ -4,7 +4,8 @@
 //   hits:      per ray t (binary32), primitive (int32), u, v (binary32)          (16 bytes)
 //              a miss is t = -1, primitive = -1, u = v = 0
 //   occlusion: per ray one uint32: 1 = something in (t_min, t_max], 0 = nothing    (4 bytes)
-// A file whose size is not a whole number of records is rejected as truncated.
+// A file whose size is not a whole number of records is rejected as truncated; a ray with a
+// NaN or infinite field (t_max may be +inf) or a zero direction is rejected with its index.
 #pragma once
 
 #include <cstdint>
@@ -27,7 +28,7 @@ std::vector<std::uint32_t> read_occlusion(const std::string& path);
 std::vector<Ray> camera_rays_list(const Camera& camera, int width, int height);
 
 /// `count` rays with origins uniform in the scene bounds and directions uniform on the sphere,
-/// from rand(seed, ray index, 0..3) (SPEC §0); t in (0, inf).
+/// from rand(seed, ray index, 0..4) (SPEC §0); t in (0, inf).
 std::vector<Ray> random_rays(const Scene& scene, std::uint32_t count, std::uint32_t seed);
 
 }  // namespace fovref

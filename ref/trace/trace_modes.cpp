@@ -39,12 +39,40 @@ void add_shading_counters(Counters& counters, const ShadingStats& stats) {
     counters.add("pixels_shaded", stats.shaded);
     counters.add("texture_fetches", stats.texture_fetches);
     counters.add("light_samples_facing_away", stats.lights_facing_away);
+    counters.add("light_samples_degenerate", stats.light_samples_degenerate);
+    counters.add("nonfinite_inputs_replaced", stats.nonfinite_inputs);
+    counters.add("invalid_material_ids", stats.invalid_material_ids);
     counters.add("shadow_rays_occluded", stats.shadow_rays_occluded);
     add_trace_counters(counters, "shadow", stats.shadow_trace);
 }
 
 std::string shadow_note(const Scene& scene) {
     return scene.lights.empty() ? "no lights: no shadow rays traced" : "";
+}
+
+StageDef primary_visibility_stage(const Scene* scene, std::shared_ptr<LazyBvh> bvh,
+                                  const std::string& primary) {
+    return StageDef{
+        "primary_visibility", {}, gbuffer_names(), [scene, bvh, primary](FrameContext& ctx) {
+            const RenderSettings& s = *ctx.settings;
+            if (primary == "raster") {
+                RasterStats stats;
+                GBuffer g = rasterize_gbuffer(*scene, ctx.camera, ctx.previous_camera, s.width,
+                                              s.height, stats);
+                ctx.result->counters.add("raster_triangles_rasterized", stats.triangles_rasterized);
+                ctx.result->counters.add("raster_fragments_written", stats.fragments_written);
+                ctx.note = "rasterized";
+                add_gbuffer(*ctx.result, std::move(g));
+            } else {
+                TraceStats stats;
+                GBuffer g =
+                    raycast_gbuffer(*scene, bvh->get(*scene, ctx.result->counters), ctx.camera,
+                                    ctx.previous_camera, s.width, s.height, stats);
+                add_trace_counters(ctx.result->counters, "primary", stats);
+                ctx.note = "ray cast";
+                add_gbuffer(*ctx.result, std::move(g));
+            }
+        }};
 }
 
 }  // namespace
@@ -60,28 +88,7 @@ Pipeline basic_pipeline(const Scene* scene, const RenderSettings& settings) {
         throw Error("parameter 'primary': '" + primary + "' is neither 'ray' nor 'raster'");
     auto bvh = std::make_shared<LazyBvh>();
     Pipeline p;
-    p.stages.push_back(
-        {"primary_visibility", {}, gbuffer_names(), [scene, bvh, primary](FrameContext& ctx) {
-             const RenderSettings& s = *ctx.settings;
-             if (primary == "raster") {
-                 RasterStats stats;
-                 GBuffer g = rasterize_gbuffer(*scene, ctx.camera, ctx.previous_camera, s.width,
-                                               s.height, stats);
-                 ctx.result->counters.add("raster_triangles_rasterized",
-                                          stats.triangles_rasterized);
-                 ctx.result->counters.add("raster_fragments_written", stats.fragments_written);
-                 ctx.note = "rasterized";
-                 add_gbuffer(*ctx.result, std::move(g));
-             } else {
-                 TraceStats stats;
-                 GBuffer g =
-                     raycast_gbuffer(*scene, bvh->get(*scene, ctx.result->counters), ctx.camera,
-                                     ctx.previous_camera, s.width, s.height, stats);
-                 add_trace_counters(ctx.result->counters, "primary", stats);
-                 ctx.note = "ray cast";
-                 add_gbuffer(*ctx.result, std::move(g));
-             }
-         }});
+    p.stages.push_back(primary_visibility_stage(scene, bvh, primary));
     p.stages.push_back(
         {"shade_direct",
          {"gbuffer_world_position", "gbuffer_shading_normal", "gbuffer_geometric_normal",
@@ -98,19 +105,33 @@ Pipeline basic_pipeline(const Scene* scene, const RenderSettings& settings) {
                  scene->lights.empty() ? nullptr : &bvh->get(*scene, ctx.result->counters);
              Image out(position.width, position.height, 3, 0.0f);
              ShadingStats stats;
+             // SPEC §0: NaN/Inf in an input buffer is replaced by 0 and counted.
+             auto read = [&stats](const Image& image, int x, int y, int c) {
+                 const float v = image.at(x, y, c);
+                 if (std::isfinite(v)) return v;
+                 ++stats.nonfinite_inputs;
+                 return 0.0f;
+             };
+             const auto material_count = static_cast<float>(scene->materials.size());
              for (int y = 0; y < out.height; ++y)
                  for (int x = 0; x < out.width; ++x) {
-                     if (primitive.at(x, y) < 0.0f) continue;  // background
+                     const float id = read(primitive, x, y, 0);
+                     const float material_id = read(material, x, y, 0);
+                     if (id < 0.0f) continue;  // background
+                     // An id that is not a valid material index is treated as background.
+                     if (!(material_id >= 0.0f && material_id < material_count) ||
+                         material_id != std::floor(material_id)) {
+                         ++stats.invalid_material_ids;
+                         continue;
+                     }
                      SurfacePoint surface;
                      for (int c = 0; c < 3; ++c) {
-                         surface.position[c] = position.at(x, y, c);
-                         surface.shading_normal[c] = shading_normal.at(x, y, c);
-                         surface.geometric_normal[c] = geometric_normal.at(x, y, c);
-                         surface.albedo[c] = albedo.at(x, y, c);
+                         surface.position[c] = read(position, x, y, c);
+                         surface.shading_normal[c] = read(shading_normal, x, y, c);
+                         surface.geometric_normal[c] = read(geometric_normal, x, y, c);
+                         surface.albedo[c] = read(albedo, x, y, c);
                      }
-                     surface.material = static_cast<std::int32_t>(material.at(x, y));
-                     if (scene->materials[static_cast<std::size_t>(surface.material)].texture >= 0)
-                         ++stats.texture_fetches;  // the G-buffer pass fetched it
+                     surface.material = static_cast<std::int32_t>(material_id);
                      const glm::vec3 l =
                          shade_direct(*scene, tree, surface, ctx.camera.position,
                                       static_cast<std::uint32_t>(ctx.frame),
@@ -128,6 +149,8 @@ Pipeline basic_pipeline(const Scene* scene, const RenderSettings& settings) {
 Pipeline ground_truth_pipeline(const Scene* scene, const RenderSettings&) {
     auto bvh = std::make_shared<LazyBvh>();
     Pipeline p;
+    // The pixel-centre G-buffer: consumed by nothing here, produced for --dump and golden bundles.
+    p.stages.push_back(primary_visibility_stage(scene, bvh, "ray"));
     p.stages.push_back(
         {"supersample", {}, {"final"}, [scene, bvh](FrameContext& ctx) {
              TraceStats primary;

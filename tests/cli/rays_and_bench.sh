@@ -14,6 +14,15 @@ head -c 100 "$TMP/r.bin" > "$TMP/cut.bin"
 expect 2 "truncated ray file" -- "$FOVREF" rays trace cornell "$TMP/cut.bin" "$TMP/ch.bin"
 contains "truncated" "truncated ray file"
 expect 2 "missing ray file" -- "$FOVREF" rays trace cornell "$TMP/none.bin" "$TMP/nh.bin"
+# A ray with NaN in it (the first float of the file: origin x of ray 0) is rejected by index.
+cp "$TMP/r.bin" "$TMP/nan.bin"
+printf '\x00\x00\xc0\x7f' | dd of="$TMP/nan.bin" bs=1 seek=0 conv=notrunc status=none
+expect 2 "NaN ray" -- "$FOVREF" rays trace cornell "$TMP/nan.bin" "$TMP/nanh.bin"
+contains "ray 0: origin x" "NaN ray"
+for f in ch.bin nh.bin nanh.bin; do
+  checks=$((checks + 1))
+  if [ -e "$TMP/$f" ]; then echo "FAIL: $f written after an error"; failures=$((failures + 1)); fi
+done
 expect 2 "make needs a kind" -- "$FOVREF" rays make cornell "$TMP/x.bin"
 expect 0 "bench smoke run" -- "$FOVREF" bench rays --scene cornell --width 32 --height 18 --repeats 1
 contains "| cornell      | primary" "bench table"

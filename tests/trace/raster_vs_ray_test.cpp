@@ -14,17 +14,23 @@ using namespace fovref;
 
 namespace {
 
-// A pixel "touches an edge" when the primitive id is not constant over its 3x3 neighbourhood in
-// either G-buffer (the neighbourhood includes the screen border's outside as "different").
-bool touches_edge(const Image& a, const Image& b, int x, int y) {
-    const float id = a.at(x, y);
+// A pixel "touches an edge" when a triangle edge passes within about a pixel of its centre: in
+// either G-buffer on its own, some pixel of its 3x3 neighbourhood shows another primitive than
+// the centre (the outside of the screen counts as another). The two G-buffers are not compared
+// here, so a pixel where they disagree while each is uniform around it is an interior mismatch.
+bool uniform_around(const Image& ids, int x, int y) {
+    const float id = ids.at(x, y);
     for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
             const int nx = x + dx, ny = y + dy;
-            if (nx < 0 || ny < 0 || nx >= a.width || ny >= a.height) return true;
-            if (a.at(nx, ny) != id || b.at(nx, ny) != id) return true;
+            if (nx < 0 || ny < 0 || nx >= ids.width || ny >= ids.height) return false;
+            if (ids.at(nx, ny) != id) return false;
         }
-    return false;
+    return true;
+}
+
+bool touches_edge(const Image& a, const Image& b, int x, int y) {
+    return !uniform_around(a, x, y) || !uniform_around(b, x, y);
 }
 
 }  // namespace
@@ -79,14 +85,18 @@ TEST_CASE(
                               << interior_mismatch << " differ), edge pixels " << edge << " ("
                               << edge_mismatch << " differ), max position difference "
                               << max_position_error_px << " px");
-            // Away from edges the two must agree exactly on visibility.
+            // Away from edges the two must agree exactly on visibility, and "away from edges"
+            // must be a real share of the screen (sphere-grid and million are mostly edges at
+            // this size: small triangles).
             CHECK(interior_mismatch == 0);
+            CHECK(interior >= width * height / 4);
             // Where they agree on the triangle, the points differ by the rasterizer's float
             // barycentrics (about 0.004 px, docs/raster.md) against the watertight test's: 0.02 px.
             CHECK(max_position_error_px <= 0.02);
             // Edge pixels may differ (the rasterizer samples coverage in 1/256-pixel fixed point,
-            // the ray caster in float), but rarely.
-            CHECK(edge_mismatch <= edge / 20 + 2);
+            // the ray caster in float): a disagreement needs an edge within ~1/256 px of the pixel
+            // centre. Measured at most 1.9% of edge pixels (million); bound 3%.
+            CHECK(edge_mismatch * 100 <= edge * 3);
         }
     }
 }
@@ -117,6 +127,8 @@ TEST_CASE("basic mode: --primary raster and --primary ray give the same image aw
     MESSAGE("basic ray vs raster: " << compared << " interior pixels, max radiance difference "
                                     << max_difference);
     CHECK(compared > a.width * a.height / 2);
-    // Same light samples (same rand dimensions); the shading points differ by float rounding only.
-    CHECK(max_difference <= 2e-4);  // measured 9.4e-5 on cornell
+    // Same light samples (same rand dimensions); the shading points differ by ~0.003 px, which
+    // moves the radiance by about that fraction of its gradient: relative (to max(1, L)) 2e-4,
+    // measured 9.4e-5 on cornell.
+    CHECK(max_difference <= 2e-4);
 }

@@ -174,14 +174,127 @@ TEST_CASE("ray files: round trip, empty, truncated, NaN") {
     rays[3].origin.y = std::nanf("");
     write_rays((dir / "nan.bin").string(), rays);
     CHECK_THROWS_WITH_AS(read_rays((dir / "nan.bin").string()), doctest::Contains("ray 3"), Error);
+    rays[3].origin.y = 0.0f;
+    rays[4].direction = glm::vec3(0.0f);
+    write_rays((dir / "zero.bin").string(), rays);
+    CHECK_THROWS_WITH_AS(read_rays((dir / "zero.bin").string()),
+                         doctest::Contains("ray 4: the direction is zero"), Error);
+    rays[4].direction = {0, 0, 1};
+    rays[5].t_min = std::numeric_limits<float>::infinity();
+    write_rays((dir / "inf.bin").string(), rays);
+    CHECK_THROWS_WITH_AS(read_rays((dir / "inf.bin").string()), doctest::Contains("ray 5: t_min"),
+                         Error);
     CHECK_THROWS_AS(read_rays((dir / "missing.bin").string()), Error);
     fs::remove_all(dir);
 }
 
-TEST_CASE("camera ray list matches the primary rays of the G-buffer pass") {
+TEST_CASE("camera ray list: row-major pixel-centre rays that hit what the G-buffer pass sees") {
     Scene scene = floor_scene(true);
     std::vector<Ray> rays = camera_rays_list(scene.camera, 5, 4);
     REQUIRE(rays.size() == 20);
-    const float tan_half = tan_half_vfov(scene.camera);
-    CHECK(rays[7].direction == primary_ray_direction(scene.camera, tan_half, 5, 4, 2.5f, 1.5f));
+    Bvh bvh = build_bvh(scene.positions);
+    TraceStats stats;
+    GBuffer g = raycast_gbuffer(scene, bvh, scene.camera, scene.camera, 5, 4, stats);
+    for (int k = 0; k < 20; ++k) {
+        const Ray& ray = rays[static_cast<std::size_t>(k)];
+        const Hit hit = trace_closest(bvh, ray, stats);
+        CHECK(static_cast<float>(hit.primitive) == g.primitive_id.at(k % 5, k / 5));
+        // Ray k goes through the centre of pixel (k % 5, k / 5): it projects back there.
+        glm::vec2 screen;
+        float depth = 0.0f;
+        REQUIRE(project_to_screen(scene.camera, tan_half_vfov(scene.camera), 5, 4,
+                                  ray.origin + ray.direction, screen, depth));
+        CHECK(screen.x == doctest::Approx(static_cast<float>(k % 5) + 0.5f).epsilon(1e-5));
+        CHECK(screen.y == doctest::Approx(static_cast<float>(k / 5) + 0.5f).epsilon(1e-5));
+    }
+}
+
+TEST_CASE("direct light: a quad light against E = Le cos cos A / d^2, and as two triangle lights") {
+    // A 0.2 x 0.2 quad light at height 2 facing down over the floor point (0, 0, 0): small
+    // enough that cos ~ 1 and d ~ 2 over it: E ~ Le A / d^2 = 3 * 0.04 / 4 = 0.03 (the exact
+    // integral is within 0.5% of that). The mean over N = 4096 pixel indices has a relative
+    // standard deviation below 0.5%; tolerance 2%.
+    Scene scene = floor_scene(false);
+    Light quad;
+    quad.type = Light::Type::quad;
+    quad.position = {-0.1f, 2, -0.1f};
+    quad.edge_u = {0.2f, 0, 0};
+    quad.edge_v = {0, 0, 0.2f};  // cross(u, v) = (0, -0.04, 0): facing down
+    quad.intensity = glm::vec3(3.0f);
+    scene.lights = {quad};
+    finalize_scene(scene);
+    Bvh bvh = build_bvh(scene.positions);
+    SurfacePoint s;
+    s.position = {0, 0, 0};
+    s.shading_normal = s.geometric_normal = {0, 1, 0};
+    s.albedo = glm::vec3(1.0f);
+    s.material = 0;
+    const int n = 4096;
+    const double expected = 1.0 / 3.14159265358979 * 3.0 * 0.04 / 4.0;
+    double sum = 0.0;
+    ShadingStats stats;
+    for (int p = 0; p < n; ++p)
+        sum +=
+            shade_direct(scene, &bvh, s, {0, 1, 0}, 0, static_cast<std::uint32_t>(p), 0, stats).x;
+    CHECK(sum / n == doctest::Approx(expected).epsilon(0.02));
+    CHECK(stats.shadow_rays == n);
+    CHECK(stats.shadow_rays_occluded == 0);
+
+    // The same quad as two triangle lights (same orientation) has the same expected value.
+    Light t1 = quad, t2 = quad;
+    t1.type = t2.type = Light::Type::triangle;
+    t1.edge_u = {0.2f, 0, 0};
+    t1.edge_v = {0.2f, 0, 0.2f};
+    t2.edge_u = {0.2f, 0, 0.2f};
+    t2.edge_v = {0, 0, 0.2f};
+    scene.lights = {t1, t2};
+    double sum_triangles = 0.0;
+    for (int p = 0; p < n; ++p)
+        sum_triangles +=
+            shade_direct(scene, &bvh, s, {0, 1, 0}, 0, static_cast<std::uint32_t>(p), 0, stats).x;
+    CHECK(sum_triangles / n == doctest::Approx(expected).epsilon(0.02));
+
+    // Flipped, the quad faces away: no light and no shadow ray.
+    std::swap(quad.edge_u, quad.edge_v);
+    scene.lights = {quad};
+    ShadingStats away;
+    CHECK(shade_direct(scene, &bvh, s, {0, 1, 0}, 0, 0, 0, away) == glm::vec3(0.0f));
+    CHECK(away.shadow_rays == 0);
+    CHECK(away.lights_facing_away == 1);
+}
+
+TEST_CASE("direct light: an emissive panel lights the floor without shadowing itself") {
+    Scene scene = floor_scene(false);
+    scene.materials.push_back(Material{"panel", glm::vec3(0.0f)});
+    scene.materials[1].emission = glm::vec3(2.0f);
+    // A panel at height 1 facing down (the winding gives the normal -y).
+    add_quad(scene, {-0.5f, 1, -0.5f}, {0.5f, 1, -0.5f}, {0.5f, 1, 0.5f}, {-0.5f, 1, 0.5f}, 1);
+    finalize_scene(scene);
+    REQUIRE(scene.lights.size() == 2);
+    REQUIRE(glm::cross(scene.lights[0].edge_u, scene.lights[0].edge_v).y < 0.0f);
+    Bvh bvh = build_bvh(scene.positions);
+    SurfacePoint s;
+    s.position = {0.05f, 0, 0.1f};
+    s.shading_normal = s.geometric_normal = {0, 1, 0};
+    s.albedo = glm::vec3(0.5f);
+    s.material = 0;
+    ShadingStats stats;
+    for (std::uint32_t p = 0; p < 64; ++p)
+        CHECK(shade_direct(scene, &bvh, s, {0, 0.5f, 0}, 0, p, 0, stats).x > 0.0f);
+    CHECK(stats.shadow_rays == 128);
+    CHECK(stats.shadow_rays_occluded == 0);
+}
+
+TEST_CASE("direct light: vertex normals opposite to the winding still light the front") {
+    Scene scene = floor_scene(true);
+    Bvh bvh = build_bvh(scene.positions);
+    SurfacePoint s;
+    s.position = {0, 0, 0};
+    s.geometric_normal = {0, -1, 0};  // the winding says down
+    s.shading_normal = {0, 1, 0};     // the vertex normals say up
+    s.albedo = glm::vec3(0.5f);
+    s.material = 0;
+    ShadingStats stats;
+    const glm::vec3 l = shade_direct(scene, &bvh, s, {0, 1, 0}, 0, 0, 0, stats);
+    CHECK(l.x == doctest::Approx(0.5 / 3.14159265358979).epsilon(1e-6));
 }
