@@ -13,6 +13,8 @@ endforeach()
 # The renderer library must import no libm transcendental (SPEC §0).
 add_test(NAME core.no_libm_transcendentals
   COMMAND bash ${PROJECT_SOURCE_DIR}/tools/check_no_libm.sh $<TARGET_FILE:fovref>)
+add_test(NAME core.no_libm_in_cli
+  COMMAND bash ${PROJECT_SOURCE_DIR}/tools/check_no_libm.sh $<TARGET_FILE:fovref_cli>)
 add_test(NAME core.no_libm_check_self_test
   COMMAND ${CMAKE_COMMAND} -E env CXX=${CMAKE_CXX_COMPILER}
           bash ${PROJECT_SOURCE_DIR}/tools/check_no_libm.sh --self-test)

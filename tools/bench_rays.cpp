@@ -25,6 +25,7 @@
 #include "ref/scene/camera.h"
 #include "ref/scene/procedural.h"
 #include "ref/trace/raycast_gbuffer.h"
+#include "ref/trace/rays_file.h"
 #include "tools/bench_embree.h"
 
 namespace fovref {
@@ -49,38 +50,14 @@ double best_time(int repeats, F&& f) {
     return best;
 }
 
+// The rays are those `fovref rays make` writes, so a GPU run can trace the very same files:
+// primary = `rays make SCENE F --camera --width W --height H`, incoherent = `--random N --seed 1`.
 std::vector<Ray> primary_rays(const Scene& scene, int width, int height) {
-    const Camera& camera = scene.camera;
-    const float tan_half = tan_half_vfov(camera);
-    std::vector<Ray> rays;
-    rays.reserve(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            Ray r;
-            r.origin = camera.position;
-            r.direction =
-                primary_ray_direction(camera, tan_half, width, height, static_cast<float>(x) + 0.5f,
-                                      static_cast<float>(y) + 0.5f);
-            rays.push_back(r);
-        }
-    return rays;
+    return camera_rays_list(scene.camera, width, height);
 }
 
 std::vector<Ray> incoherent_rays(const Scene& scene, std::size_t count) {
-    const Bounds bounds = scene_bounds(scene);
-    const glm::vec3 extent = bounds.max - bounds.min;
-    std::vector<Ray> rays(count);
-    for (std::size_t i = 0; i < count; ++i) {
-        const auto index = static_cast<std::uint32_t>(i);
-        auto r = [&](std::uint32_t dim) { return rand_unit(1, index, dim); };
-        // Uniform direction on the sphere: z = 1 - 2 r, azimuth 2 pi r (tools may use libm).
-        const float z = 1.0f - 2.0f * r(3);
-        const float radius = std::sqrt(std::max(0.0f, 1.0f - z * z));
-        const float phi = 6.28318531f * r(4);
-        rays[i].origin = bounds.min + extent * glm::vec3(r(0), r(1), r(2));
-        rays[i].direction = glm::vec3(radius * std::cos(phi), radius * std::sin(phi), z);
-    }
-    return rays;
+    return random_rays(scene, static_cast<std::uint32_t>(count), 1);
 }
 
 glm::vec3 light_point(const Scene& scene) {
