@@ -1,14 +1,23 @@
-// BVH2 build (binned SAH, deterministic) and traversal (ordered, robust slab test, watertight
-// triangles). docs/bvh.md explains the constants and the choices.
+// BVH2 build (binned SAH, deterministic), its collapse into the BVH4 that rays traverse, and the
+// traversal (ordered, robust slab test on four boxes at once, watertight triangles). docs/bvh.md
+// explains the constants, the layouts and the choices.
 #include "ref/bvh/bvh.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <string>
 
 #include "ref/bvh/watertight.h"
 #include "ref/core/error.h"
+
+// The box test uses SSE (baseline x86-64) when available; FOVREF_BVH_SCALAR forces the plain
+// path, which computes the same values lane by lane (the tests can be run with either).
+#if (defined(__SSE2__) || defined(_M_X64)) && !defined(FOVREF_BVH_SCALAR)
+#define FOVREF_BVH_SSE 1
+#include <xmmintrin.h>
+#endif
 
 namespace fovref {
 
@@ -114,6 +123,9 @@ public:
         }
         bvh_.stats.nodes = static_cast<std::int64_t>(bvh_.nodes.size());
         bvh_.stats.sah_cost = root_area > 0.0 ? cost / root_area : 0.0;
+
+        bvh_.wide_nodes.reserve(bvh_.nodes.size() / 2 + 1);
+        collapse(0);
         return std::move(bvh_);
     }
 
@@ -236,6 +248,62 @@ private:
         return write;
     }
 
+    /// Appends the BVH4 node collapsed from BVH2 node `index` (and, depth first, those of its
+    /// inner children) to bvh.wide_nodes; returns its position. The children start as the BVH2
+    /// node's two; while there are fewer than 4, the inner child with the largest surface area
+    /// (the first on ties) is replaced in place by its two children, so the slots keep the BVH2's
+    /// left-to-right order. A root that is a leaf becomes the single child of the wide root.
+    std::uint32_t collapse(std::uint32_t index) {
+        const std::vector<BvhNode>& nodes = bvh_.nodes;
+        std::uint32_t slots[4];
+        int used = 0;
+        if (nodes[index].count > 0) {
+            slots[used++] = index;
+        } else {
+            slots[used++] = nodes[index].first;
+            slots[used++] = nodes[index].first + 1;
+        }
+        while (used < 4) {
+            int widest = -1;
+            float widest_area = -1.0f;
+            for (int i = 0; i < used; ++i) {
+                const BvhNode& child = nodes[slots[i]];
+                const float area = node_box(child).half_area();
+                if (child.count == 0 && area > widest_area) {
+                    widest = i;
+                    widest_area = area;
+                }
+            }
+            if (widest < 0) break;
+            const std::uint32_t first = nodes[slots[widest]].first;
+            for (int i = used; i > widest + 1; --i) slots[i] = slots[i - 1];
+            slots[widest] = first;
+            slots[widest + 1] = first + 1;
+            ++used;
+        }
+
+        const auto wide = static_cast<std::uint32_t>(bvh_.wide_nodes.size());
+        BvhWideNode empty{};
+        for (int a = 0; a < 3; ++a)
+            for (int i = 0; i < 4; ++i) {
+                empty.bounds[a][0][i] = inf;
+                empty.bounds[a][1][i] = -inf;
+            }
+        bvh_.wide_nodes.push_back(empty);
+        for (int i = 0; i < used; ++i) {
+            const BvhNode& child = nodes[slots[i]];
+            for (int a = 0; a < 3; ++a) {
+                bvh_.wide_nodes[wide].bounds[a][0][i] = child.bounds_min[a];
+                bvh_.wide_nodes[wide].bounds[a][1][i] = child.bounds_max[a];
+            }
+            // The recursion is at most as deep as the BVH2 (bvh_max_depth).
+            const std::uint32_t first = child.count > 0 ? child.first : collapse(slots[i]);
+            bvh_.wide_nodes[wide].first[i] = first;
+            bvh_.wide_nodes[wide].count[i] = child.count;
+        }
+        return wide;
+    }
+
     static constexpr int max_bins = 256;
     BvhBuildSettings settings_;
     Bvh bvh_;
@@ -315,69 +383,130 @@ TraversalRay make_traversal_ray(const Bvh& bvh, const Ray& ray) {
     return r;
 }
 
-/// Entry distance of the ray into the padded box within [t_lo, t_hi], or +inf when it misses.
+/// Entry distances of the ray into the padded boxes of a wide node's 4 children within
+/// [t_lo, t_hi]; returns the mask of the children hit (bit i: child i) and their entries.
 /// A zero direction component gives (plane - shifted origin) * inf = +-inf, or NaN when the
-/// shifted origin lies exactly on the plane; std::max(acc, x) and std::min(acc, x) keep the
-/// accumulator when x is NaN, so that axis then decides nothing and the ray counts as inside the
-/// slab (IEEE comparisons, as fmaxf / fminf on GPUs).
-FOVREF_FORCE_INLINE float box_entry(const BvhNode& node, const TraversalRay& r, float t_hi) {
-    const glm::vec3 near_plane{r.negative[0] ? node.bounds_max.x : node.bounds_min.x,
-                               r.negative[1] ? node.bounds_max.y : node.bounds_min.y,
-                               r.negative[2] ? node.bounds_max.z : node.bounds_min.z};
-    const glm::vec3 far_plane{r.negative[0] ? node.bounds_min.x : node.bounds_max.x,
-                              r.negative[1] ? node.bounds_min.y : node.bounds_max.y,
-                              r.negative[2] ? node.bounds_min.z : node.bounds_max.z};
-    const glm::vec3 t_near = (near_plane - r.origin_near) * r.inv_direction;
-    const glm::vec3 t_far = (far_plane - r.origin_far) * r.inv_direction;
-    float entry = r.t_lo, exit = t_hi;
-    entry = std::max(entry, t_near.x);
-    entry = std::max(entry, t_near.y);
-    entry = std::max(entry, t_near.z);
-    exit = std::min(exit, t_far.x);
-    exit = std::min(exit, t_far.y);
-    exit = std::min(exit, t_far.z);
-    return entry <= exit ? entry : inf;
+/// shifted origin lies exactly on the plane; max(x, acc) and min(x, acc) keep the accumulator
+/// when x is NaN (the SSE MAXPS / MINPS rule, written out in the scalar path), so that axis then
+/// decides nothing and the ray counts as inside the slab (as fmaxf / fminf on GPUs). An empty
+/// slot's box (+inf, -inf) is missed by every ray: its entry is +inf.
+#if FOVREF_BVH_SSE
+struct BoxRay {
+    __m128 origin_near[3], origin_far[3], inv_direction[3], t_lo;
+    int near_side[3];  ///< 1 where the direction is negative: the near plane is the box maximum
+};
+
+BoxRay make_box_ray(const TraversalRay& r) {
+    BoxRay b;
+    for (int a = 0; a < 3; ++a) {
+        b.origin_near[a] = _mm_set1_ps(r.origin_near[a]);
+        b.origin_far[a] = _mm_set1_ps(r.origin_far[a]);
+        b.inv_direction[a] = _mm_set1_ps(r.inv_direction[a]);
+        b.near_side[a] = r.negative[a] ? 1 : 0;
+    }
+    b.t_lo = _mm_set1_ps(r.t_lo);
+    return b;
 }
 
+FOVREF_FORCE_INLINE unsigned child_entries(const BvhWideNode& node, const BoxRay& r, float t_hi,
+                                           float entries[4]) {
+    __m128 entry = r.t_lo, exit = _mm_set1_ps(t_hi);
+    for (int a = 0; a < 3; ++a) {
+        const __m128 near_plane = _mm_load_ps(node.bounds[a][r.near_side[a]]);
+        const __m128 far_plane = _mm_load_ps(node.bounds[a][1 - r.near_side[a]]);
+        const __m128 t_near =
+            _mm_mul_ps(_mm_sub_ps(near_plane, r.origin_near[a]), r.inv_direction[a]);
+        const __m128 t_far = _mm_mul_ps(_mm_sub_ps(far_plane, r.origin_far[a]), r.inv_direction[a]);
+        entry = _mm_max_ps(t_near, entry);  // (t_near > entry) ? t_near : entry
+        exit = _mm_min_ps(t_far, exit);     // (t_far < exit) ? t_far : exit
+    }
+    _mm_storeu_ps(entries, entry);
+    return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(entry, exit)));
+}
+#else
+struct BoxRay {
+    glm::vec3 origin_near, origin_far, inv_direction;
+    float t_lo;
+    int near_side[3];  ///< 1 where the direction is negative: the near plane is the box maximum
+};
+
+BoxRay make_box_ray(const TraversalRay& r) {
+    return {r.origin_near,
+            r.origin_far,
+            r.inv_direction,
+            r.t_lo,
+            {r.negative[0] ? 1 : 0, r.negative[1] ? 1 : 0, r.negative[2] ? 1 : 0}};
+}
+
+FOVREF_FORCE_INLINE unsigned child_entries(const BvhWideNode& node, const BoxRay& r, float t_hi,
+                                           float entries[4]) {
+    unsigned mask = 0;
+    for (int i = 0; i < 4; ++i) {
+        float entry = r.t_lo, exit = t_hi;
+        for (int a = 0; a < 3; ++a) {
+            const float near_plane = node.bounds[a][r.near_side[a]][i];
+            const float far_plane = node.bounds[a][1 - r.near_side[a]][i];
+            const float t_near = (near_plane - r.origin_near[a]) * r.inv_direction[a];
+            const float t_far = (far_plane - r.origin_far[a]) * r.inv_direction[a];
+            entry = t_near > entry ? t_near : entry;
+            exit = t_far < exit ? t_far : exit;
+        }
+        entries[i] = entry;
+        if (entry <= exit) mask |= 1u << i;
+    }
+    return mask;
+}
+#endif
+
+/// A child to visit: a wide node (count == 0) or a leaf's triangle range.
+struct ChildRef {
+    std::uint32_t first;
+    std::uint32_t count;
+};
+
 struct StackEntry {
-    std::uint32_t node;
+    ChildRef child;
     float entry;  ///< the box's entry distance when pushed: skipped if beyond the best hit
 };
 
-/// Ordered depth-first traversal. At an inner node both children's boxes are tested; the nearer
-/// is visited next (the left one on equal entry distances) and the farther is pushed with its
-/// entry distance. `visit_leaf(node)` tests the leaf's triangles and returns the new cull
+/// Ordered depth-first traversal of the BVH4. At a wide node the 4 children's boxes are tested
+/// at once; the children hit are sorted by entry distance (the lower slot first on ties), the
+/// nearest is visited next and the others are pushed, farthest first, with their entry
+/// distances. `visit_leaf(first, count)` tests a leaf's triangles and returns the new cull
 /// distance t_hi (or a negative infinity to stop, used by any-hit queries).
 template <class LeafVisitor>
-void traverse(const Bvh& bvh, const TraversalRay& r, float t_hi, TraceStats& stats,
+void traverse(const Bvh& bvh, const TraversalRay& ray, float t_hi, TraceStats& stats,
               LeafVisitor&& visit_leaf) {
-    const BvhNode* nodes = bvh.nodes.data();
-    if (box_entry(nodes[0], r, t_hi) == inf) return;
-    StackEntry stack[bvh_max_depth + 2];
+    const BvhWideNode* nodes = bvh.wide_nodes.data();
+    const BoxRay r = make_box_ray(ray);
+    // Each wide node pushes at most 3 children and is at most bvh_max_depth + 1 levels deep.
+    StackEntry stack[3 * (bvh_max_depth + 1) + 1];
     int stack_size = 0;
-    std::uint32_t current = 0;
+    ChildRef current{0, 0};
+    std::int64_t visited = 0;  // counted locally, added to `stats` once at the end
     while (true) {
-        ++stats.nodes_visited;
-        const BvhNode& node = nodes[current];
-        if (node.count > 0) {
-            t_hi = visit_leaf(node);
-            if (t_hi == -inf) return;
+        ++visited;
+        if (current.count > 0) {
+            t_hi = visit_leaf(current.first, current.count);
+            if (t_hi == -inf) break;
         } else {
-            const float entry_left = box_entry(nodes[node.first], r, t_hi);
-            const float entry_right = box_entry(nodes[node.first + 1], r, t_hi);
-            if (entry_left != inf && entry_right != inf) {
-                const bool left_first = entry_left <= entry_right;
-                current = left_first ? node.first : node.first + 1;
-                stack[stack_size++] = {left_first ? node.first + 1 : node.first,
-                                       left_first ? entry_right : entry_left};
-                continue;
-            }
-            if (entry_left != inf) {
-                current = node.first;
-                continue;
-            }
-            if (entry_right != inf) {
-                current = node.first + 1;
+            const BvhWideNode& node = nodes[current.first];
+            float entries[4];
+            const unsigned mask = child_entries(node, r, t_hi, entries);
+            if (mask != 0) {
+                // Take the children hit in slot order, inserting each into place by entry
+                // (strict '<': equal entries keep slot order).
+                StackEntry hit[4];
+                int hits = 0;
+                for (unsigned m = mask; m != 0; m &= m - 1) {
+                    const int i = std::countr_zero(m);
+                    StackEntry e{{node.first[i], node.count[i]}, entries[i]};
+                    int j = hits++;
+                    for (; j > 0 && e.entry < hit[j - 1].entry; --j) hit[j] = hit[j - 1];
+                    hit[j] = e;
+                }
+                for (int j = hits - 1; j > 0; --j) stack[stack_size++] = hit[j];
+                current = hit[0].child;
                 continue;
             }
         }
@@ -386,13 +515,14 @@ void traverse(const Bvh& bvh, const TraversalRay& r, float t_hi, TraceStats& sta
         while (stack_size > 0) {
             const StackEntry e = stack[--stack_size];
             if (e.entry <= t_hi) {
-                current = e.node;
+                current = e.child;
                 found = true;
                 break;
             }
         }
-        if (!found) return;
+        if (!found) break;
     }
+    stats.nodes_visited += visited;
 }
 
 /// The closest-hit order of SPEC §3: smaller t first, then the lower primitive index.
@@ -427,18 +557,19 @@ Hit trace_closest(const Bvh& bvh, const Ray& ray, TraceStats& stats) {
     const TraversalRay r = make_traversal_ray(bvh, ray);
     const glm::vec3* corners = bvh.triangle_corners.data();
     const std::uint32_t* primitives = bvh.primitives.data();
-    traverse(bvh, r, widen_up(r.triangle.t_max), stats, [&](const BvhNode& leaf) {
-        stats.triangles_tested += leaf.count;
-        for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
-            float t, u, v;
-            if (!intersect_watertight(r.triangle, corners[3 * i], corners[3 * i + 1],
-                                      corners[3 * i + 2], t, u, v))
-                continue;
-            const auto primitive = static_cast<std::int32_t>(primitives[i]);
-            if (closer(t, primitive, best)) best = Hit{t, primitive, u, v};
-        }
-        return best.hit() ? widen_up(best.t) : widen_up(r.triangle.t_max);
-    });
+    traverse(bvh, r, widen_up(r.triangle.t_max), stats,
+             [&](std::uint32_t first, std::uint32_t count) {
+                 stats.triangles_tested += count;
+                 for (std::uint32_t i = first; i < first + count; ++i) {
+                     float t, u, v;
+                     if (!intersect_watertight(r.triangle, corners[3 * i], corners[3 * i + 1],
+                                               corners[3 * i + 2], t, u, v))
+                         continue;
+                     const auto primitive = static_cast<std::int32_t>(primitives[i]);
+                     if (closer(t, primitive, best)) best = Hit{t, primitive, u, v};
+                 }
+                 return best.hit() ? widen_up(best.t) : widen_up(r.triangle.t_max);
+             });
     if (best.hit()) ++stats.hits;
     return best;
 }
@@ -450,8 +581,8 @@ bool trace_any(const Bvh& bvh, const Ray& ray, TraceStats& stats) {
     const glm::vec3* corners = bvh.triangle_corners.data();
     const float t_hi = widen_up(r.triangle.t_max);
     bool found = false;
-    traverse(bvh, r, t_hi, stats, [&](const BvhNode& leaf) {
-        for (std::uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
+    traverse(bvh, r, t_hi, stats, [&](std::uint32_t first, std::uint32_t count) {
+        for (std::uint32_t i = first; i < first + count; ++i) {
             ++stats.triangles_tested;
             float t, u, v;
             if (intersect_watertight(r.triangle, corners[3 * i], corners[3 * i + 1],

@@ -1,6 +1,7 @@
 // Bounding volume hierarchy over triangles (SPEC §3): SAH BVH2 with a deterministic build,
 // watertight ray-triangle intersection (Woop, Benthin, Wald 2013; ref/bvh/watertight.h), closest
-// hit with the SPEC tie-break, any hit for shadow rays. docs/bvh.md documents the build constants,
+// hit with the SPEC tie-break, any hit for shadow rays. Rays traverse a BVH4 collapsed from the
+// BVH2 (four child boxes tested at once). docs/bvh.md documents the build constants, the layouts,
 // the robust box test and the measured performance.
 #pragma once
 
@@ -38,6 +39,18 @@ struct BvhNode {
     bool operator==(const BvhNode&) const = default;
 };
 
+/// A node of the traversal tree (BVH4, 128 bytes, two cache lines), collapsed from the BVH2: its
+/// up to 4 children are BVH2 nodes, their boxes stored per axis and side so that one 4-wide load
+/// gives one plane of all four. A child with count > 0 is a leaf (triangles first .. first +
+/// count in leaf order), one with count == 0 an inner node (wide_nodes[first]). An unused slot has
+/// the empty box (min +inf, max -inf), which every ray misses, and first = count = 0.
+struct alignas(64) BvhWideNode {
+    float bounds[3][2][4];   ///< [axis][0: min, 1: max][child]
+    std::uint32_t first[4];  ///< wide node index (inner child) or first triangle (leaf child)
+    std::uint32_t count[4];  ///< triangles of a leaf child; 0 for an inner child or empty slot
+    bool operator==(const BvhWideNode&) const = default;
+};
+
 struct BvhBuildStats {
     std::int64_t nodes = 0;
     std::int64_t leaves = 0;
@@ -51,11 +64,12 @@ struct BvhBuildStats {
 /// hittable triangle has no nodes.
 struct Bvh {
     std::vector<BvhNode> nodes;               ///< nodes[0] is the root; depth-first order
+    std::vector<BvhWideNode> wide_nodes;      ///< the traversal tree; [0] is the root
     std::vector<std::uint32_t> primitives;    ///< triangle indices in leaf order
     std::vector<glm::vec3> triangle_corners;  ///< 3 per triangle, in `primitives` order
     BvhBuildStats stats;
     bool operator==(const Bvh& o) const {
-        return nodes == o.nodes && primitives == o.primitives &&
+        return nodes == o.nodes && wide_nodes == o.wide_nodes && primitives == o.primitives &&
                triangle_corners == o.triangle_corners;
     }
 };

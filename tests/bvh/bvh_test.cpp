@@ -385,6 +385,65 @@ TEST_CASE("degenerate triangles are never hit; bad rays miss; input errors") {
 
 namespace {
 
+/// The BVH4 collapsed from the BVH2: its leaf slots are exactly the BVH2's leaves, each once,
+/// with the leaf's exact box; an inner slot's box holds its wide child's boxes; an unused slot
+/// (after the used ones) has the empty box +inf / -inf; wide nodes come after their parent
+/// (depth first) and each is reached once.
+void check_wide_structure(const Bvh& bvh) {
+    REQUIRE_FALSE(bvh.wide_nodes.empty());
+    const float inf = std::numeric_limits<float>::infinity();
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::pair<const BvhNode*, int>> leaves;
+    for (const BvhNode& n : bvh.nodes)
+        if (n.count > 0) leaves[{n.first, n.count}] = {&n, 0};
+    std::vector<int> reached(bvh.wide_nodes.size(), 0);
+    // (wide node, the box of the slot that points to it; the root has none)
+    std::vector<std::pair<std::uint32_t, std::pair<glm::vec3, glm::vec3>>> stack{
+        {0u, {glm::vec3(-inf), glm::vec3(inf)}}};
+    bool ok = true;
+    while (!stack.empty()) {
+        const auto [index, parent] = stack.back();
+        stack.pop_back();
+        ++reached[index];
+        const BvhWideNode& w = bvh.wide_nodes[index];
+        bool empty_seen = false;
+        for (int i = 0; i < 4; ++i) {
+            const glm::vec3 lo(w.bounds[0][0][i], w.bounds[1][0][i], w.bounds[2][0][i]);
+            const glm::vec3 hi(w.bounds[0][1][i], w.bounds[1][1][i], w.bounds[2][1][i]);
+            if (lo.x == inf) {
+                empty_seen = true;
+                ok = ok && lo == glm::vec3(inf) && hi == glm::vec3(-inf) && w.first[i] == 0 &&
+                     w.count[i] == 0;
+                continue;
+            }
+            ok = ok && !empty_seen;  // used slots first
+            ok = ok && glm::all(glm::lessThanEqual(parent.first, lo)) &&
+                 glm::all(glm::lessThanEqual(hi, parent.second));
+            if (w.count[i] > 0) {
+                auto it = leaves.find({w.first[i], w.count[i]});
+                if (it == leaves.end()) {
+                    FAIL_CHECK("wide node " << index << " has an unknown leaf " << w.first[i]);
+                    return;
+                }
+                ok = ok && it->second.first->bounds_min == lo && it->second.first->bounds_max == hi;
+                ++it->second.second;
+            } else if (w.first[i] <= index || w.first[i] >= bvh.wide_nodes.size()) {
+                FAIL_CHECK("wide node " << index << " has a child at " << w.first[i]);
+                return;
+            } else {
+                stack.push_back({w.first[i], {lo, hi}});
+            }
+        }
+    }
+    CHECK(ok);
+    for (const auto& [leaf, node_times] : leaves)
+        if (node_times.second != 1) {
+            FAIL_CHECK("leaf at " << leaf.first << " appears " << node_times.second << " times");
+            break;
+        }
+    CHECK(std::count(reached.begin(), reached.end(), 1) ==
+          static_cast<std::ptrdiff_t>(reached.size()));
+}
+
 /// Structural invariants: children inside parents, leaves hold their triangles, every hittable
 /// triangle exactly once, the corners in leaf order, the depth limit.
 void check_structure(const Bvh& bvh, const Mesh& mesh) {
@@ -429,6 +488,7 @@ void check_structure(const Bvh& bvh, const Mesh& mesh) {
     CHECK(max_depth == bvh.stats.max_depth);
     CHECK(max_depth <= bvh_max_depth);
     CHECK(static_cast<std::int64_t>(bvh.nodes.size()) == 2 * leaves - 1);
+    check_wide_structure(bvh);
     for (std::size_t t = 0; t < seen.size(); ++t) {
         const bool hittable = triangle_is_hittable(mesh[3 * t], mesh[3 * t + 1], mesh[3 * t + 2]);
         if (seen[t] != (hittable ? 1 : 0)) {
