@@ -49,6 +49,16 @@ Scene floor_scene(bool with_light) {
     return scene;
 }
 
+// An upward-facing point of the floor (material 0) with a grey albedo.
+SurfacePoint floor_point(glm::vec3 position, float albedo) {
+    SurfacePoint s;
+    s.position = position;
+    s.shading_normal = s.geometric_normal = {0, 1, 0};
+    s.albedo = glm::vec3(albedo);
+    s.material = 0;
+    return s;
+}
+
 }  // namespace
 
 TEST_CASE("direct light: a point light above a Lambertian floor gives albedo/pi * I / d^2") {
@@ -91,11 +101,7 @@ TEST_CASE("direct light: a blocker casts a shadow; the light behind the surface 
     scene.lights.push_back(light);
     finalize_scene(scene);
     Bvh bvh = build_bvh(scene.positions);
-    SurfacePoint s;
-    s.position = {0, 0, 0};
-    s.shading_normal = s.geometric_normal = {0, 1, 0};
-    s.albedo = glm::vec3(0.5f);
-    s.material = 0;
+    SurfacePoint s = floor_point({0, 0, 0}, 0.5f);
     ShadingStats stats;
     CHECK(shade_direct(scene, &bvh, s, {0, 0.5f, 0.5f}, 0, 0, 0, stats) == glm::vec3(0.0f));
     CHECK(stats.shadow_rays_occluded == 1);
@@ -115,11 +121,7 @@ TEST_CASE("direct light: emitters seen directly, and no shadow rays without ligh
     CHECK(scene.lights.size() == 2);
     Scene dark = floor_scene(false);
     CHECK(dark.lights.empty());
-    SurfacePoint s;
-    s.position = {0, 0, 0};
-    s.shading_normal = s.geometric_normal = {0, 1, 0};
-    s.albedo = glm::vec3(0.5f);
-    s.material = 0;
+    SurfacePoint s = floor_point({0, 0, 0}, 0.5f);
     ShadingStats stats;
     CHECK(shade_direct(dark, nullptr, s, {0, 1, 0}, 0, 0, 0, stats) == glm::vec3(0.0f));
     CHECK(stats.shadow_rays == 0);
@@ -224,11 +226,7 @@ TEST_CASE("direct light: a quad light against E = Le cos cos A / d^2, and as two
     scene.lights = {quad};
     finalize_scene(scene);
     Bvh bvh = build_bvh(scene.positions);
-    SurfacePoint s;
-    s.position = {0, 0, 0};
-    s.shading_normal = s.geometric_normal = {0, 1, 0};
-    s.albedo = glm::vec3(1.0f);
-    s.material = 0;
+    SurfacePoint s = floor_point({0, 0, 0}, 1.0f);
     const int n = 4096;
     const double expected = 1.0 / 3.14159265358979 * 3.0 * 0.04 / 4.0;
     double sum = 0.0;
@@ -273,11 +271,7 @@ TEST_CASE("direct light: an emissive panel lights the floor without shadowing it
     REQUIRE(scene.lights.size() == 2);
     REQUIRE(glm::cross(scene.lights[0].edge_u, scene.lights[0].edge_v).y < 0.0f);
     Bvh bvh = build_bvh(scene.positions);
-    SurfacePoint s;
-    s.position = {0.05f, 0, 0.1f};
-    s.shading_normal = s.geometric_normal = {0, 1, 0};
-    s.albedo = glm::vec3(0.5f);
-    s.material = 0;
+    SurfacePoint s = floor_point({0.05f, 0, 0.1f}, 0.5f);
     ShadingStats stats;
     for (std::uint32_t p = 0; p < 64; ++p)
         CHECK(shade_direct(scene, &bvh, s, {0, 0.5f, 0}, 0, p, 0, stats).x > 0.0f);
