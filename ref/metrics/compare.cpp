@@ -1,0 +1,253 @@
+#include "ref/metrics/compare.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include <nlohmann/json.hpp>
+
+#include "ref/core/error.h"
+#include "ref/image/image_io.h"
+#include "ref/metrics/metrics.h"
+#include "ref/metrics/ssim.h"
+#include "ref/scene/json_locator.h"
+
+namespace fovref {
+
+using json = nlohmann::json;
+
+const Tolerance& ToleranceTable::for_buffer(const std::string& name) const {
+    const auto it = buffers.find(name);
+    if (it != buffers.end()) return it->second;
+    const auto any = buffers.find("*");
+    return any != buffers.end() ? any->second : fallback;
+}
+
+namespace {
+
+void check_tolerance(const Tolerance& t, const std::string& where) {
+    if (!(std::isfinite(t.abs) && t.abs >= 0.0) || !(std::isfinite(t.rel) && t.rel >= 0.0) ||
+        t.ulp < 0 || t.max_failing_pixels < 0)
+        throw Error(where + ": abs, rel, ulp and max_failing_pixels must be finite and >= 0");
+}
+
+PixelDifference pixel_difference(const Image& golden, const Image& candidate, std::size_t pixel,
+                                 double abs_error) {
+    PixelDifference d;
+    d.x = static_cast<int>(pixel % static_cast<std::size_t>(golden.width));
+    d.y = static_cast<int>(pixel / static_cast<std::size_t>(golden.width));
+    d.abs_error = abs_error;
+    const auto channels = static_cast<std::size_t>(golden.channels);
+    for (std::size_t c = 0; c < channels; ++c) {
+        d.golden.push_back(golden.data[pixel * channels + c]);
+        d.candidate.push_back(candidate.data[pixel * channels + c]);
+    }
+    return d;
+}
+
+}  // namespace
+
+ToleranceTable read_tolerance_file(const std::string& path) {
+    const std::string text = read_file(path);
+    json document;
+    try {
+        document = json::parse(text);
+    } catch (const json::parse_error& e) {
+        int line = 0, column = 0;
+        json_line_column(text, e.byte > 0 ? e.byte - 1 : 0, line, column);
+        throw file_error(path, line, "not valid JSON (column " + std::to_string(column) + ")");
+    }
+    const JsonLocator locator(text, path);
+    if (!document.is_object())
+        throw file_error(path, 1, "expected an object mapping buffer names to tolerances");
+    ToleranceTable table;
+    for (auto it = document.begin(); it != document.end(); ++it) {
+        const std::string pointer = json_pointer_member("", it.key());
+        auto fail = [&](const std::string& pointer_at, const std::string& message) {
+            return file_error(path, locator.find(pointer_at).key_line,
+                              "tolerance for '" + it.key() + "': " + message);
+        };
+        if (!it.value().is_object()) throw fail(pointer, "expected an object");
+        Tolerance t;
+        for (auto field = it.value().begin(); field != it.value().end(); ++field) {
+            const std::string at = json_pointer_member(pointer, field.key());
+            const json& v = field.value();
+            if (field.key() == "reason") {
+                if (!v.is_string()) throw fail(at, "\"reason\" must be a string");
+                t.reason = v.get<std::string>();
+            } else if (field.key() == "abs" || field.key() == "rel") {
+                if (!v.is_number()) throw fail(at, "\"" + field.key() + "\" must be a number");
+                (field.key() == "abs" ? t.abs : t.rel) = v.get<double>();
+            } else if (field.key() == "ulp" || field.key() == "max_failing_pixels") {
+                if (!v.is_number_integer())
+                    throw fail(at, "\"" + field.key() + "\" must be an integer");
+                (field.key() == "ulp" ? t.ulp : t.max_failing_pixels) = v.get<std::int64_t>();
+            } else {
+                throw fail(at, "unknown key \"" + field.key() +
+                                   "\" (expected abs, rel, ulp, max_failing_pixels, reason)");
+            }
+        }
+        try {
+            check_tolerance(t, "tolerance");
+        } catch (const Error& e) {
+            throw fail(pointer, e.what());
+        }
+        table.buffers[it.key()] = t;
+    }
+    return table;
+}
+
+void parse_tolerance_option(const std::string& option, ToleranceTable& table) {
+    const std::string where = "--tolerance '" + option + "'";
+    const auto colon = option.rfind(':');
+    if (colon == std::string::npos || colon == 0)
+        throw Error(where + ": expected NAME:abs=X,rel=X,ulp=N,pixels=N");
+    const std::string name = option.substr(0, colon);
+    Tolerance t;
+    std::string rest = option.substr(colon + 1);
+    while (!rest.empty()) {
+        const auto comma = rest.find(',');
+        const std::string item = rest.substr(0, comma);
+        rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+        const auto eq = item.find('=');
+        if (eq == std::string::npos) throw Error(where + ": '" + item + "' is not KEY=VALUE");
+        const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
+        const char* first = value.data();
+        const char* last = value.data() + value.size();
+        std::from_chars_result r{};
+        if (key == "abs" || key == "rel") {
+            double v = 0;
+            r = std::from_chars(first, last, v);
+            (key == "abs" ? t.abs : t.rel) = v;
+        } else if (key == "ulp" || key == "pixels") {
+            std::int64_t v = 0;
+            r = std::from_chars(first, last, v);
+            (key == "ulp" ? t.ulp : t.max_failing_pixels) = v;
+        } else {
+            throw Error(where + ": unknown key '" + key + "' (expected abs, rel, ulp, pixels)");
+        }
+        if (r.ec != std::errc() || r.ptr != last || value.empty())
+            throw Error(where + ": '" + value + "' is not a valid value for " + key);
+    }
+    check_tolerance(t, where);
+    t.reason = "command line";
+    table.buffers[name] = t;
+}
+
+std::int64_t ulp_distance(float a, float b) {
+    auto ordered = [](float x) {
+        std::uint32_t bits = 0;
+        std::memcpy(&bits, &x, sizeof bits);
+        return (bits & 0x80000000u) ? -static_cast<std::int64_t>(bits & 0x7fffffffu)
+                                    : static_cast<std::int64_t>(bits);
+    };
+    const std::int64_t d = ordered(a) - ordered(b);
+    return d < 0 ? -d : d;
+}
+
+BufferComparison compare_buffers(const std::string& name, const Image& golden,
+                                 const Image& candidate, const Tolerance& tolerance,
+                                 const CompareOptions& options) {
+    check_same_shape(golden, candidate, ("buffer '" + name + "'").c_str());
+    BufferComparison r;
+    r.name = name;
+    r.width = golden.width;
+    r.height = golden.height;
+    r.channels = golden.channels;
+    r.tolerance = tolerance;
+    r.threshold = options.threshold >= 0.0 ? options.threshold : tolerance.abs;
+    r.abs_error = Image(golden.width, golden.height, 1, 0.0f);
+    const auto channels = static_cast<std::size_t>(golden.channels);
+    const double inf = std::numeric_limits<double>::infinity();
+
+    double sum_abs = 0.0, sum_squared = 0.0;
+    std::int64_t finite_elements = 0;
+    // Worst pixels: (abs error, pixel index), largest error first, then lowest index.
+    std::vector<std::pair<double, std::size_t>> worst;
+    auto worse = [](const std::pair<double, std::size_t>& a,
+                    const std::pair<double, std::size_t>& b) {
+        return a.first != b.first ? a.first > b.first : a.second < b.second;
+    };
+    const std::size_t keep = static_cast<std::size_t>(std::max(options.worst_pixels, 0));
+
+    for (std::size_t p = 0; p < golden.pixel_count(); ++p) {
+        double pixel_abs = 0.0;
+        bool pixel_fails = false;
+        for (std::size_t c = 0; c < channels; ++c) {
+            const float g = golden.data[p * channels + c];
+            const float v = candidate.data[p * channels + c];
+            std::uint32_t gb = 0, vb = 0;
+            std::memcpy(&gb, &g, 4);
+            std::memcpy(&vb, &v, 4);
+            if (gb != vb) ++r.differing_elements;
+            const bool g_nan = std::isnan(g), v_nan = std::isnan(v);
+            if (g_nan || v_nan) {
+                if (g_nan != v_nan) {
+                    ++r.nan_mismatches;
+                    pixel_fails = true;
+                    pixel_abs = inf;
+                }
+                continue;
+            }
+            // Both numbers (possibly infinite).
+            const double e = g == v ? 0.0 : std::fabs(static_cast<double>(v) - g);
+            const double rel = g != 0.0f ? e / std::fabs(static_cast<double>(g)) : 0.0;
+            const std::int64_t u = ulp_distance(g, v);
+            r.max_abs = std::max(r.max_abs, e);
+            r.max_rel = std::max(r.max_rel, rel);
+            r.max_ulp = std::max(r.max_ulp, u);
+            pixel_abs = std::max(pixel_abs, e);
+            if (std::isfinite(e)) {
+                sum_abs += e;
+                sum_squared += e * e;
+                ++finite_elements;
+            }
+            const bool within = g == v || e <= tolerance.abs ||
+                                (tolerance.rel > 0.0 && e <= tolerance.rel * std::fabs(g)) ||
+                                (tolerance.ulp > 0 && u <= tolerance.ulp);
+            if (!within) pixel_fails = true;
+        }
+        r.abs_error.data[p] = static_cast<float>(pixel_abs);
+        const bool over = r.threshold > 0.0 ? pixel_abs > r.threshold : pixel_abs > 0.0;
+        if (over) ++r.pixels_over_threshold;
+        if (pixel_fails) ++r.failing_pixels;
+        if (pixel_fails && !r.first_failing)
+            r.first_failing = pixel_difference(golden, candidate, p, pixel_abs);
+        // Keep the `keep` worst differing pixels (a bounded, ordered list).
+        if (keep > 0 && pixel_abs > 0.0) {
+            const std::pair<double, std::size_t> entry(pixel_abs, p);
+            if (worst.size() < keep || worse(entry, worst.back())) {
+                worst.insert(std::upper_bound(worst.begin(), worst.end(), entry, worse), entry);
+                if (worst.size() > keep) worst.pop_back();
+            }
+        }
+    }
+    for (const auto& [error, pixel] : worst)
+        r.worst.push_back(pixel_difference(golden, candidate, pixel, error));
+    if (finite_elements > 0) {
+        r.mean_abs = sum_abs / static_cast<double>(finite_elements);
+        const double mse_value = sum_squared / static_cast<double>(finite_elements);
+        r.rmse = std::sqrt(mse_value);
+        r.psnr = psnr(mse_value);
+    } else {
+        r.psnr = std::numeric_limits<double>::infinity();
+    }
+    r.pass = r.nan_mismatches == 0 && r.failing_pixels <= tolerance.max_failing_pixels;
+
+    // SSIM and ring errors where they mean something: 1 or 3 channels, no NaN/Inf.
+    const bool image_like =
+        (golden.channels == 1 || golden.channels == 3) && golden.width >= 11 && golden.height >= 11;
+    bool finite = true;
+    for (std::size_t i = 0; i < golden.data.size() && finite; ++i)
+        finite = std::isfinite(golden.data[i]) && std::isfinite(candidate.data[i]);
+    if (image_like && finite) {
+        const SsimMap map = ssim_map(luma(golden), luma(candidate));
+        r.ssim = map.mean;
+        if (options.rings) r.rings = ring_errors(golden, candidate, *options.rings, &map);
+    }
+    return r;
+}
+
+}  // namespace fovref

@@ -1,0 +1,38 @@
+// Error heatmaps (SPEC §10; Lund §4.3.1, Fig. 4.4, 5.6): a per-pixel error map drawn through a
+// fixed perceptually uniform colour table (matplotlib's "inferno", black = no error, pale yellow =
+// the top of the scale), with a legend (a colour bar with its scale values) and optionally the
+// error-range ring boundaries drawn over it.
+#pragma once
+
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "ref/image/image.h"
+#include "ref/metrics/rings.h"
+
+namespace fovref {
+
+struct HeatmapSettings {
+    /// Value mapped to the top of the colour table; <= 0 means the largest finite value of the
+    /// map (so an all-zero map is all black). Larger values are clamped to the top colour.
+    float scale_max = 0.0f;
+    bool legend = true;                 ///< colour bar and scale values to the right of the map
+    const RingLayout* rings = nullptr;  ///< when set, ring boundaries drawn in white
+};
+
+/// The colour table at t in [0, 1] (linear RGB; the table itself is sRGB-encoded bytes).
+glm::vec3 heatmap_colour(float t);
+
+/// A linear RGB image (write_png encodes it) of a 1-channel map: the map is width x height, the
+/// legend adds a panel on the right. Non-finite values are drawn in magenta.
+Image heatmap(const Image& values, const HeatmapSettings& settings = {});
+
+/// The scale heatmap() uses for these settings: scale_max, or the largest finite value.
+float heatmap_scale(const Image& values, const HeatmapSettings& settings);
+
+/// Draws `text` (digits, '.', '-', '+', 'e', 'x', space) with a 3x5 pixel font scaled by `scale`
+/// at (x, y) (top-left), clipped to the image. For legends and plot labels in PNGs.
+void draw_text(Image& image, int x, int y, const std::string& text, glm::vec3 colour, int scale);
+
+}  // namespace fovref

@@ -1,0 +1,137 @@
+#include "ref/metrics/ssim.h"
+
+#include <cmath>
+#include <string>
+
+#include "ref/core/dmath.h"
+#include "ref/core/error.h"
+#include "ref/metrics/metrics.h"
+
+namespace fovref {
+
+namespace {
+
+// The five filtered quantities of one pixel: a, b, a^2, b^2, ab.
+constexpr int quantities = 5;
+
+}  // namespace
+
+std::vector<double> ssim_window(const SsimSettings& settings) {
+    const int r = settings.radius;
+    std::vector<double> w(static_cast<std::size_t>(2 * r + 1));
+    double sum = 0.0;
+    for (int k = -r; k <= r; ++k) {
+        const double x = static_cast<double>(k);
+        w[static_cast<std::size_t>(k + r)] =
+            dm::exp_d(-(x * x) / (2.0 * settings.sigma * settings.sigma));
+        sum += w[static_cast<std::size_t>(k + r)];
+    }
+    for (double& v : w) v /= sum;
+    return w;
+}
+
+SsimMap ssim_map(const Image& a, const Image& b, const SsimSettings& settings) {
+    check_same_shape(a, b, "ssim");
+    if (a.channels != 1)
+        throw Error("ssim: needs 1-channel (luma) images, got " + std::to_string(a.channels) +
+                    " channels");
+    if (!(settings.radius >= 1 && settings.radius <= 64) || !(settings.sigma > 0.0) ||
+        !(settings.data_range > 0.0))
+        throw Error("ssim: window radius must be 1..64, sigma and data range > 0");
+    const int r = settings.radius;
+    const int taps = 2 * r + 1;
+    if (a.width < taps || a.height < taps)
+        throw Error("ssim: the image (" + std::to_string(a.width) + "x" + std::to_string(a.height) +
+                    ") is smaller than the " + std::to_string(taps) + "x" + std::to_string(taps) +
+                    " window");
+    const std::vector<double> w = ssim_window(settings);
+    const double c1 = (settings.k1 * settings.data_range) * (settings.k1 * settings.data_range);
+    const double c2 = (settings.k2 * settings.data_range) * (settings.k2 * settings.data_range);
+    // C1, C2 > 0 keep both denominators positive (a constant image has zero variance).
+    if (!(c1 > 0.0) || !(c2 > 0.0) || !std::isfinite(c1) || !std::isfinite(c2))
+        throw Error("ssim: K1, K2 and the data range must give finite C1, C2 > 0");
+
+    SsimMap map;
+    map.border = r;
+    map.width = a.width - 2 * r;
+    map.height = a.height - 2 * r;
+    map.values.resize(static_cast<std::size_t>(map.width) * static_cast<std::size_t>(map.height));
+    const auto width = static_cast<std::size_t>(a.width);
+    const auto out_width = static_cast<std::size_t>(map.width);
+
+    // Horizontal pass results of the last `taps` image rows, a ring buffer indexed by row % taps:
+    // rows[(row % taps) * quantities + q][x] for output column x.
+    std::vector<std::vector<double>> rows(static_cast<std::size_t>(taps * quantities),
+                                          std::vector<double>(out_width));
+    std::vector<double> products(width * quantities);
+    auto filter_row = [&](int y) {
+        // Products of the row in binary64 (exact: float x float fits in a double).
+        const float* pa = &a.data[static_cast<std::size_t>(y) * width];
+        const float* pb = &b.data[static_cast<std::size_t>(y) * width];
+        double* src[quantities];
+        for (int q = 0; q < quantities; ++q)
+            src[q] = &products[static_cast<std::size_t>(q) * width];
+        for (std::size_t x = 0; x < width; ++x) {
+            const double va = pa[x], vb = pb[x];
+            src[0][x] = va;
+            src[1][x] = vb;
+            src[2][x] = va * va;
+            src[3][x] = vb * vb;
+            src[4][x] = va * vb;
+        }
+        // Horizontal filter, taps in order -r .. r for every output column.
+        const std::size_t slot = static_cast<std::size_t>(y % taps) * quantities;
+        for (int q = 0; q < quantities; ++q) {
+            double* dst = rows[slot + static_cast<std::size_t>(q)].data();
+            const double* s = src[q];
+            const double w0 = w[0];
+            for (std::size_t x = 0; x < out_width; ++x) dst[x] = w0 * s[x];
+            for (std::size_t k = 1; k < w.size(); ++k) {
+                const double wk = w[k];
+                const double* sk = s + k;
+                for (std::size_t x = 0; x < out_width; ++x) dst[x] += wk * sk[x];
+            }
+        }
+    };
+
+    std::vector<double> mu[quantities];
+    for (auto& m : mu) m.resize(out_width);
+    for (int y = 0; y < taps - 1; ++y) filter_row(y);
+    double sum = 0.0;
+    for (int out_y = 0; out_y < map.height; ++out_y) {
+        filter_row(out_y + taps - 1);
+        // Vertical filter: rows out_y .. out_y + 2r in order.
+        for (int q = 0; q < quantities; ++q) {
+            double* m = mu[q].data();
+            for (int k = 0; k < taps; ++k) {
+                const double* h = rows[static_cast<std::size_t>((out_y + k) % taps) * quantities +
+                                       static_cast<std::size_t>(q)]
+                                      .data();
+                const double wk = w[static_cast<std::size_t>(k)];
+                if (k == 0)
+                    for (std::size_t x = 0; x < out_width; ++x) m[x] = wk * h[x];
+                else
+                    for (std::size_t x = 0; x < out_width; ++x) m[x] += wk * h[x];
+            }
+        }
+        // SSIM of the row.
+        double* out = &map.values[static_cast<std::size_t>(out_y) * out_width];
+        for (std::size_t x = 0; x < out_width; ++x) {
+            const double mu_a = mu[0][x], mu_b = mu[1][x];
+            const double s_aa = mu[2][x] - mu_a * mu_a;
+            const double s_bb = mu[3][x] - mu_b * mu_b;
+            const double s_ab = mu[4][x] - mu_a * mu_b;
+            out[x] = ((2.0 * mu_a * mu_b + c1) * (2.0 * s_ab + c2)) /
+                     ((mu_a * mu_a + mu_b * mu_b + c1) * (s_aa + s_bb + c2));
+        }
+        for (std::size_t x = 0; x < out_width; ++x) sum += out[x];
+    }
+    map.mean = sum / static_cast<double>(map.values.size());
+    return map;
+}
+
+double ssim(const Image& a, const Image& b, const SsimSettings& settings) {
+    return ssim_map(luma(a), luma(b), settings).mean;
+}
+
+}  // namespace fovref

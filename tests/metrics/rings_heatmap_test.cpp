@@ -1,0 +1,144 @@
+// Error ranges (SPEC §10, Lund §3.6): rings partition the covered pixels exactly, ring statistics
+// agree with the whole-image ones, and heatmaps show the scale, legend and ring boundaries.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "ref/metrics/heatmap.h"
+#include "ref/metrics/metrics.h"
+#include "ref/metrics/rings.h"
+#include "tests/image/image_test_util.h"
+
+using namespace fovref;
+
+TEST_CASE("rings: half-open bounds, each pixel in exactly one ring") {
+    const float w = 1.5f;
+    CHECK(ring_of(0.0f, w, 4) == 0);
+    CHECK(ring_of(1.5f, w, 4) == 1);  // the lower bound belongs to the ring
+    CHECK(ring_of(std::nextafter(1.5f, 0.0f), w, 4) == 0);
+    CHECK(ring_of(std::nextafter(6.0f, 0.0f), w, 4) == 3);
+    CHECK(ring_of(6.0f, w, 4) == -1);  // e >= E: outside
+    CHECK(ring_of(std::numeric_limits<float>::quiet_NaN(), w, 4) == -1);
+
+    for (const auto& [gx, gy, range] :
+         {std::tuple{80.0f, 45.0f, 1.0f}, {10.0f, 70.0f, 1.0f}, {80.0f, 45.0f, 0.5f}}) {
+        RingSettings settings;
+        settings.max_range = range;
+        const RingLayout layout = ring_layout(160, 90, {gx, gy}, 120.0f, settings);
+        std::int64_t covered = 0;
+        for (int y = 0; y < 90; ++y)
+            for (int x = 0; x < 160; ++x) {
+                const int k = layout.ring[static_cast<std::size_t>(y * 160 + x)];
+                const float e = eccentricity_deg(
+                    {static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f}, {gx, gy}, 120.0f);
+                if (k < 0) {
+                    CHECK(e >= layout.outer(19));
+                    continue;
+                }
+                ++covered;
+                // The ring's bounds, with the same binary32 products ring_of uses.
+                CHECK(layout.inner(k) <= e);
+                CHECK(e < layout.outer(k));
+            }
+        if (range == 1.0f) CHECK(covered == 160 * 90);  // the farthest corner bounds every centre
+        if (range == 0.5f) CHECK(covered < 160 * 90);
+    }
+}
+
+TEST_CASE("rings: statistics agree with the whole image") {
+    test::SplitMix64 rng(4);
+    Image a(64, 48, 3), b(64, 48, 3);
+    for (std::size_t i = 0; i < a.data.size(); ++i) {
+        a.data[i] = rng.unit();
+        b.data[i] = a.data[i] + 0.2f * (rng.unit() - 0.5f);
+    }
+    const RingLayout layout = ring_layout(64, 48, {32.0f, 24.0f}, 50.0f);
+    const SsimMap map = ssim_map(luma(a), luma(b));
+    const auto rings = ring_errors(a, b, layout, &map);
+    REQUIRE(rings.size() == 20);
+    double weighted_mse = 0, weighted_ssim = 0;
+    std::int64_t pixels = 0, ssim_pixels = 0;
+    for (const RingStats& r : rings) {
+        pixels += r.pixels;
+        ssim_pixels += r.ssim_pixels;
+        if (r.pixels) weighted_mse += r.mse * static_cast<double>(r.pixels);
+        if (r.ssim_pixels) weighted_ssim += r.ssim * static_cast<double>(r.ssim_pixels);
+        if (r.pixels) CHECK(r.rmse == std::sqrt(r.mse));
+        if (r.pixels) CHECK(r.psnr == psnr(r.mse));
+    }
+    CHECK(pixels == 64 * 48);
+    CHECK(ssim_pixels == 54 * 38);  // every pixel of the valid region is in some ring
+    CHECK(weighted_mse / static_cast<double>(pixels) == doctest::Approx(mse(a, b)).epsilon(1e-12));
+    CHECK(weighted_ssim / static_cast<double>(ssim_pixels) ==
+          doctest::Approx(map.mean).epsilon(1e-12));
+
+    // A constant error: every ring has MSE = delta^2 and SD 0.
+    const Image c(64, 48, 3, 0.5f), d(64, 48, 3, 0.75f);
+    for (const RingStats& r : ring_errors(c, d, layout, nullptr)) {
+        if (!r.pixels) continue;
+        CHECK(r.mse == 0.0625);
+        CHECK(r.sd == 0.0);
+        CHECK(std::isnan(r.ssim));  // no SSIM map given
+    }
+}
+
+TEST_CASE("rings: bad settings are errors naming the setting") {
+    using test::contains;
+    using test::error_message;
+    RingSettings s;
+    s.count = 0;
+    CHECK(contains(error_message([&] { ring_layout(8, 8, {4, 4}, 10, s); }), "number of rings"));
+    s = {};
+    s.max_range = 1.5f;
+    CHECK(contains(error_message([&] { ring_layout(8, 8, {4, 4}, 10, s); }), "max_range"));
+    CHECK(contains(error_message([] { ring_layout(8, 8, {4, 4}, 0.0f); }), "viewing distance"));
+    CHECK(contains(error_message([] {
+                       ring_layout(8, 8, {std::numeric_limits<float>::infinity(), 4}, 10.0f);
+                   }),
+                   "gaze"));
+}
+
+TEST_CASE("heatmap: colour scale, legend, ring overlay, non-finite values") {
+    Image values(40, 30, 1, 0.0f);
+    values.at(3, 4) = 2.0f;
+    values.at(5, 5) = 1.0f;
+    values.at(6, 6) = std::numeric_limits<float>::quiet_NaN();
+    HeatmapSettings settings;
+    settings.legend = false;
+    const Image map = heatmap(values, settings);
+    REQUIRE(map.width == 40);
+    const glm::vec3 bottom = heatmap_colour(0.0f), top = heatmap_colour(1.0f);
+    CHECK(map.at(0, 0, 0) == bottom.r);
+    CHECK(map.at(3, 4, 0) == top.r);  // the largest value is the top of the scale
+    CHECK(map.at(3, 4, 2) == top.b);
+    const glm::vec3 middle = heatmap_colour(0.5f);
+    CHECK(map.at(5, 5, 1) == middle.g);
+    CHECK(map.at(6, 6, 0) == 1.0f);  // NaN: magenta
+    CHECK(map.at(6, 6, 1) == 0.0f);
+    // The colour table is monotonic in lightness (perceptually uniform maps are).
+    float previous = -1.0f;
+    for (int i = 0; i <= 64; ++i) {
+        const glm::vec3 c = heatmap_colour(static_cast<float>(i) / 64.0f);
+        const float y = 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+        CHECK(y > previous);
+        previous = y;
+    }
+    // A fixed scale clamps larger values to the top colour.
+    settings.scale_max = 0.5f;
+    CHECK(heatmap(values, settings).at(5, 5, 0) == top.r);
+    // The legend adds a panel with the colour bar.
+    settings.legend = true;
+    const Image with_legend = heatmap(values, settings);
+    CHECK(with_legend.width > 40);
+    CHECK(with_legend.at(44, 0, 0) == top.r);  // bar top = the scale's top
+    // Ring boundaries are drawn in white.
+    const RingLayout rings = ring_layout(40, 30, {20, 15}, 30.0f);
+    settings.legend = false;
+    settings.rings = &rings;
+    const Image ringed = heatmap(Image(40, 30, 1, 0.0f), settings);
+    int white = 0;
+    for (int x = 0; x < 40; ++x)
+        white += ringed.at(x, 15, 0) == 1.0f && ringed.at(x, 15, 1) == 1.0f;
+    CHECK(white >= 2 * 5);  // a horizontal line through the gaze crosses each ring twice
+}
