@@ -17,8 +17,8 @@ Image to_display(const Image& linear) {
         const float v = linear.data[i];
         // NaN fails both comparisons and ends at 0.
         const float clamped = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
-        // srgb_encode(1) rounds to 1 + 1 ulp; display values stay in [0, 1].
-        out.data[i] = std::min(srgb_encode(clamped), 1.0f);
+        // srgb_encode(1) rounds to 1 - 1 ulp in binary32: white stays exactly 1.
+        out.data[i] = clamped == 1.0f ? 1.0f : std::min(srgb_encode(clamped), 1.0f);
     }
     return out;
 }
