@@ -1,5 +1,7 @@
 #include "ref/metrics/ssim.h"
 
+#include <emmintrin.h>
+
 #include <cmath>
 #include <string>
 
@@ -13,6 +15,32 @@ namespace {
 
 // The five filtered quantities of one pixel: a, b, a^2, b^2, ab.
 constexpr int quantities = 5;
+
+// One filtered row: dst[x] = w[0] centre[x] + w[1] (left[1][x] + right[1][x]) + ...
+//                          + w[r] (left[r][x] + right[r][x]), summed in that order (the taps at -k
+// and +k share a weight). SSE2 lanes do exactly the scalar operations, two columns at a time, so
+// the result does not depend on the lane count.
+// R > 0: the radius as a compile-time constant (the default window), so the tap loop unrolls;
+// R = 0: the radius r at run time.
+template <int R>
+void filter_row_taps(double* dst, const double* centre, const double* const* left,
+                     const double* const* right, const double* w, int run_time_r, std::size_t n) {
+    const int r = R > 0 ? R : run_time_r;
+    std::size_t x = 0;
+    for (; x + 2 <= n; x += 2) {
+        __m128d sum = _mm_mul_pd(_mm_set1_pd(w[0]), _mm_loadu_pd(centre + x));
+        for (int k = 1; k <= r; ++k) {
+            const __m128d pair = _mm_add_pd(_mm_loadu_pd(left[k] + x), _mm_loadu_pd(right[k] + x));
+            sum = _mm_add_pd(sum, _mm_mul_pd(_mm_set1_pd(w[k]), pair));
+        }
+        _mm_storeu_pd(dst + x, sum);
+    }
+    for (; x < n; ++x) {
+        double sum = w[0] * centre[x];
+        for (int k = 1; k <= r; ++k) sum += w[k] * (left[k][x] + right[k][x]);
+        dst[x] = sum;
+    }
+}
 
 }  // namespace
 
@@ -45,6 +73,8 @@ SsimMap ssim_map(const Image& a, const Image& b, const SsimSettings& settings) {
                     ") is smaller than the " + std::to_string(taps) + "x" + std::to_string(taps) +
                     " window");
     const std::vector<double> w = ssim_window(settings);
+    // w[r .. 2r]: the weights of taps 0 .. r (the window is symmetric).
+    const std::vector<double> half_window(w.begin() + r, w.end());
     const double c1 = (settings.k1 * settings.data_range) * (settings.k1 * settings.data_range);
     const double c2 = (settings.k2 * settings.data_range) * (settings.k2 * settings.data_range);
     // C1, C2 > 0 keep both denominators positive (a constant image has zero variance).
@@ -58,6 +88,13 @@ SsimMap ssim_map(const Image& a, const Image& b, const SsimSettings& settings) {
     map.values.resize(static_cast<std::size_t>(map.width) * static_cast<std::size_t>(map.height));
     const auto width = static_cast<std::size_t>(a.width);
     const auto out_width = static_cast<std::size_t>(map.width);
+    auto filter_taps = [&](double* dst, const double* centre, const double* const* left,
+                           const double* const* right) {
+        if (r == 5)
+            filter_row_taps<5>(dst, centre, left, right, half_window.data(), r, out_width);
+        else
+            filter_row_taps<0>(dst, centre, left, right, half_window.data(), r, out_width);
+    };
 
     // Horizontal pass results of the last `taps` image rows, a ring buffer indexed by row % taps:
     // rows[(row % taps) * quantities + q][x] for output column x.
@@ -79,18 +116,17 @@ SsimMap ssim_map(const Image& a, const Image& b, const SsimSettings& settings) {
             src[3][x] = vb * vb;
             src[4][x] = va * vb;
         }
-        // Horizontal filter, taps in order -r .. r for every output column.
+        // Horizontal filter: the centre tap, then the tap pairs (-k, +k) for k = 1 .. r.
         const std::size_t slot = static_cast<std::size_t>(y % taps) * quantities;
         for (int q = 0; q < quantities; ++q) {
-            double* dst = rows[slot + static_cast<std::size_t>(q)].data();
-            const double* s = src[q];
-            const double w0 = w[0];
-            for (std::size_t x = 0; x < out_width; ++x) dst[x] = w0 * s[x];
-            for (std::size_t k = 1; k < w.size(); ++k) {
-                const double wk = w[k];
-                const double* sk = s + k;
-                for (std::size_t x = 0; x < out_width; ++x) dst[x] += wk * sk[x];
+            const double* centre = src[q] + r;
+            const double* left[65];
+            const double* right[65];
+            for (int k = 1; k <= r; ++k) {
+                left[k] = centre - k;
+                right[k] = centre + k;
             }
+            filter_taps(rows[slot + static_cast<std::size_t>(q)].data(), centre, left, right);
         }
     };
 
@@ -100,19 +136,21 @@ SsimMap ssim_map(const Image& a, const Image& b, const SsimSettings& settings) {
     double sum = 0.0;
     for (int out_y = 0; out_y < map.height; ++out_y) {
         filter_row(out_y + taps - 1);
-        // Vertical filter: rows out_y .. out_y + 2r in order.
+        // Vertical filter: the centre row out_y + r, then the row pairs (-k, +k) for k = 1 .. r.
+        auto row = [&](int image_row, int q) {
+            return rows[static_cast<std::size_t>(image_row % taps) * quantities +
+                        static_cast<std::size_t>(q)]
+                .data();
+        };
         for (int q = 0; q < quantities; ++q) {
-            double* m = mu[q].data();
-            for (int k = 0; k < taps; ++k) {
-                const double* h = rows[static_cast<std::size_t>((out_y + k) % taps) * quantities +
-                                       static_cast<std::size_t>(q)]
-                                      .data();
-                const double wk = w[static_cast<std::size_t>(k)];
-                if (k == 0)
-                    for (std::size_t x = 0; x < out_width; ++x) m[x] = wk * h[x];
-                else
-                    for (std::size_t x = 0; x < out_width; ++x) m[x] += wk * h[x];
+            const int centre = out_y + r;
+            const double* left[65];
+            const double* right[65];
+            for (int k = 1; k <= r; ++k) {
+                left[k] = row(centre - k, q);
+                right[k] = row(centre + k, q);
             }
+            filter_taps(mu[q].data(), row(centre, q), left, right);
         }
         // SSIM of the row.
         double* out = &map.values[static_cast<std::size_t>(out_y) * out_width];

@@ -13,8 +13,8 @@
 //
 // Precision: everything after the input values is binary64 (the variances are differences of
 // nearly equal numbers, which binary32 would lose against C2 = 9e-4). Each filtered value is
-// summed over the taps in order -r .. r (horizontal pass, then vertical), so the result does
-// not depend on how the compiler vectorises the loops.
+// w_0 x_0 + w_1 (x_-1 + x_1) + ... + w_r (x_-r + x_r), summed in that order (rows first, then
+// columns); SSE2 computes two columns at once with exactly these operations.
 // clang-format on
 #pragma once
 
