@@ -261,11 +261,13 @@ void BundleWriter::add_frame(const FrameResult& frame) {
     json jf;
     jf["frame"] = frame.frame;
     jf["time"] = frame.time;
+    if (frame.display_distance_px > 0.0f) jf["display_distance_px"] = frame.display_distance_px;
     json buffers = json::array();
     for (const Buffer& buffer : frame.buffers) {
         json jb;
         jb["name"] = buffer.name;
         jb["kind"] = buffer_kind_name(buffer.kind);
+        jb["stage"] = buffer.stage;
         jb["width"] = buffer.image.width;
         jb["height"] = buffer.image.height;
         jb["channels"] = buffer.image.channels;
@@ -354,11 +356,13 @@ Manifest read_manifest(const std::string& directory) {
         m.flags = j.value("flags", "");
         for (const json& jf : j.at("frames")) {
             const int frame = jf.at("frame").get<int>();
+            m.display_distance_px.push_back(jf.value("display_distance_px", 0.0f));
             for (const json& jb : jf.at("buffers")) {
                 ManifestBuffer b;
                 b.frame = frame;
                 b.name = jb.at("name").get<std::string>();
                 b.kind = jb.value("kind", "scalar");
+                b.stage = jb.value("stage", "");
                 b.width = jb.at("width").get<int>();
                 b.height = jb.at("height").get<int>();
                 b.channels = jb.at("channels").get<int>();

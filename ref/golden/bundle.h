@@ -97,6 +97,7 @@ struct ManifestBuffer {
     int frame = 0;
     std::string name;
     std::string kind;
+    std::string stage;  ///< the stage that produced it ("" in bundles older than this field)
     int width = 0, height = 0, channels = 0;
     std::vector<std::string> channel_names;
     std::string sha256;
@@ -111,6 +112,7 @@ struct Manifest {
     std::string fovref_version, compiler, flags;
     std::vector<ManifestBuffer> buffers;   ///< in frame then pipeline order
     std::vector<Counters> frame_counters;  ///< one per frame
+    std::vector<float> display_distance_px;  ///< one per frame; 0 when the case has no scene
 };
 
 Manifest read_manifest(const std::string& directory);

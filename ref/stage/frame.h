@@ -29,6 +29,7 @@ struct Buffer {
     BufferKind kind = BufferKind::scalar;
     std::vector<std::string> channel_names;  ///< e.g. {"r","g","b"}; size == image.channels
     Image image;
+    std::string stage;  ///< the stage that produced it (set by Pipeline::run_frame)
 };
 
 /// The record of one stage in one frame.
@@ -50,6 +51,9 @@ struct Counters {
 struct FrameResult {
     int frame = 0;
     float time = 0.0f;  ///< camera-path time of this frame
+    /// Viewing distance in pixels of the scene's display model for this frame's camera (SPEC
+    /// §1), what eccentricities (error ranges) are measured with; 0 without a scene.
+    float display_distance_px = 0.0f;
     std::vector<Buffer> buffers;
     std::vector<StageRun> stages;
     Counters counters;

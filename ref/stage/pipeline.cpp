@@ -90,6 +90,8 @@ FrameResult Pipeline::run_frame(FrameContext& context,
             for (const std::string& output : stages[k].outputs)
                 FOVREF_CHECK(result.find(output) != nullptr,
                              "stage '" + stages[k].name + "' did not produce '" + output + "'");
+            for (Buffer& buffer : result.buffers)
+                if (buffer.stage.empty()) buffer.stage = stages[k].name;
         }
         result.stages.push_back(run);
         if (frame_progress) frame_progress(static_cast<double>(k + 1) / stage_count);
@@ -148,6 +150,9 @@ std::vector<std::string> render_each(const Scene* scene, const std::string& mode
                 settings.progress((static_cast<double>(f) + within) / frames);
             };
         FrameResult result = pipeline.run_frame(context, settings.requested);
+        if (scene)
+            result.display_distance_px = display_distance_px(scene->display, settings.width,
+                                                             settings.height, camera.vfov_deg);
         on_frame(result);
     }
     return pipeline.final_outputs;
