@@ -19,6 +19,7 @@
 #include "ref/stage/pipeline.h"
 #include "ref/trace/rays_file.h"
 #include "tools/bench_rays.h"
+#include "tools/diff.h"
 #include "tools/progress.h"
 
 #ifndef FOVREF_SOURCE_DIR
@@ -60,6 +61,8 @@ struct Options {
     std::string primary;
     // bench
     BenchRaysOptions bench;
+    // diff
+    DiffOptions diff;
 };
 
 void say(const Options& o, const std::string& line) {
@@ -518,6 +521,8 @@ int main(int argc, char** argv) {
         "difference\n"
         "  fovref golden update [--case C]        recompute and rewrite, saying what changed\n"
         "  fovref golden export CASE DIR [--width W --height H --frames N]\n"
+        "  fovref diff GOLDEN CANDIDATE [--tolerance N:abs=X] [--json F] [--html DIR]\n"
+        "                                         compare a GPU's buffers with a golden bundle\n"
         "SCENE is a procedural scene name (see `scene list`) or a scene file or directory.\n"
         "Run `fovref COMMAND --help` for each command's options.");
 
@@ -649,6 +654,14 @@ int main(int argc, char** argv) {
     export_cmd->add_option("--frames", o.export_frames, "override the case's frame count")
         ->check(CLI::Range(1, 16384));
 
+    // diff
+    CLI::App* diff_cmd = app.add_subcommand(
+        "diff",
+        "compare a candidate (a GPU implementation's buffers or one image) with a golden bundle "
+        "or image: per-buffer errors, worst pixels, error ranges, pass/fail by tolerance; exit 0 "
+        "pass, 1 out of tolerance, 2 usage or input error");
+    add_diff_options(*diff_cmd, o.diff);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -672,6 +685,11 @@ int main(int argc, char** argv) {
         if (update_cmd->parsed()) return golden_update(o);
         if (list_cmd->parsed()) return golden_list(o);
         if (export_cmd->parsed()) return golden_export(o);
+        if (diff_cmd->parsed()) {
+            DiffOptions options = o.diff;
+            options.quiet = o.quiet;
+            return run_diff(options);
+        }
     } catch (const Error& e) {
         std::fprintf(stderr, "fovref: %s\n", e.what());
         return exit_usage;

@@ -471,6 +471,10 @@ Image read_png(const std::string& path, bool srgb_decode_colour) {
 }
 
 void write_png(const std::string& path, const Image& image) {
+    write_file_atomic(path, encode_png(image, path));
+}
+
+std::string encode_png(const Image& image, const std::string& path) {
     check_writable(path, image);
     if (image.channels > 4)
         throw io_error(
@@ -501,7 +505,7 @@ void write_png(const std::string& path, const Image& image) {
     if (stbi_write_png_to_func(append_to_string, &bytes, image.width, image.height, out_channels,
                                pixels.data(), image.width * out_channels) == 0)
         throw io_error(path, "PNG encoder failed");
-    write_file_atomic(path, bytes);
+    return bytes;
 }
 
 // ---- EXR ---------------------------------------------------------------------------------------
@@ -677,6 +681,51 @@ void write_exr(const std::string& path, const Image& image) {
 }
 
 // ---- Dispatch by extension ---------------------------------------------------------------------
+
+// ---- raw binary32 ------------------------------------------------------------------------------
+
+Image read_raw(const std::string& path, const RawLayout& layout) {
+    if (layout.width < 1 || layout.height < 1 || layout.channels < 1 || layout.width > 65536 ||
+        layout.height > 65536 || layout.channels > 64)
+        throw io_error(path,
+                       "raw layout " +
+                           shape_text(static_cast<std::uint64_t>(std::max(layout.width, 0)),
+                                      static_cast<std::uint64_t>(std::max(layout.height, 0)),
+                                      static_cast<std::uint64_t>(std::max(layout.channels, 0))) +
+                           " is out of range (1..65536 pixels per side, 1..64 channels)");
+    const std::string bytes = read_file(path);
+    Image image(layout.width, layout.height, layout.channels);
+    const std::uint64_t expected = static_cast<std::uint64_t>(image.data.size()) * 4u;
+    if (bytes.size() != expected)
+        throw io_error(path, "raw binary32 " +
+                                 shape_text(static_cast<std::uint64_t>(layout.width),
+                                            static_cast<std::uint64_t>(layout.height),
+                                            static_cast<std::uint64_t>(layout.channels)) +
+                                 " needs " + std::to_string(expected) + " bytes, the file has " +
+                                 std::to_string(bytes.size()));
+    const auto w = static_cast<std::size_t>(layout.width);
+    const auto h = static_cast<std::size_t>(layout.height);
+    const auto c = static_cast<std::size_t>(layout.channels);
+    for (std::size_t file_row = 0; file_row < h; ++file_row) {
+        const std::size_t y = layout.bottom_up ? h - 1 - file_row : file_row;
+        for (std::size_t x = 0; x < w; ++x)
+            for (std::size_t ch = 0; ch < c; ++ch) {
+                // Element index in the file: interleaved (row, x, channel) or planar (channel, row,
+                // x).
+                const std::size_t element =
+                    layout.planar ? (ch * h + file_row) * w + x : (file_row * w + x) * c + ch;
+                std::uint32_t bits = 0;
+                for (int b = 0; b < 4; ++b)
+                    bits |= static_cast<std::uint32_t>(static_cast<unsigned char>(
+                                bytes[element * 4 + static_cast<std::size_t>(b)]))
+                            << (layout.big_endian ? 8 * (3 - b) : 8 * b);
+                float v = 0.0f;
+                std::memcpy(&v, &bits, 4);
+                image.data[(y * w + x) * c + ch] = v;
+            }
+    }
+    return image;
+}
 
 Image read_image(const std::string& path) {
     const std::string ext = lower_extension(path);

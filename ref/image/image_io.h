@@ -22,6 +22,10 @@ void write_pfm(const std::string& path, const Image& image, Endian endian = Endi
 /// (the alpha channel is linear), 8 bits. 2-channel buffers are written as RG with B = 0.
 void write_png(const std::string& path, const Image& image);
 
+/// The PNG file write_png writes, in memory (for self-contained HTML reports). `path` only names
+/// the image in error messages.
+std::string encode_png(const Image& image, const std::string& path = "<png>");
+
 /// PNG read: 8- or 16-bit, grey/grey-alpha/RGB/RGBA. With `srgb_decode` the colour channels are
 /// decoded from sRGB to linear; otherwise the stored value / 255 (or / 65535) is returned.
 Image read_png(const std::string& path, bool srgb_decode = true);
@@ -34,6 +38,16 @@ void write_exr(const std::string& path, const Image& image);
 /// The extension of the last path component, dot included, in lower case ("a/B.PFM" -> ".pfm");
 /// "" when it has none.
 std::string lower_extension(const std::string& path);
+
+/// Raw binary32 dumps as GPU tools write them (no header): the size and layout must be given.
+struct RawLayout {
+    int width = 0, height = 0, channels = 1;
+    bool planar = false;      ///< all of channel 0, then channel 1, ... (else interleaved)
+    bool bottom_up = false;   ///< first row in the file is the bottom row (else the top row)
+    bool big_endian = false;  ///< else little-endian
+};
+/// Throws fovref::Error naming the file when its size is not exactly W*H*C*4 bytes.
+Image read_raw(const std::string& path, const RawLayout& layout);
 
 /// By extension: .pfm, .png, .exr (case-insensitive).
 Image read_image(const std::string& path);

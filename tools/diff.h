@@ -1,0 +1,47 @@
+// `fovref diff GOLDEN CANDIDATE` (issue 4, SPEC §11 "diff contract"): compares the buffers a GPU
+// implementation wrote against a golden bundle (or one image against another), stage by stage in
+// pipeline order, and reports per buffer the error figures, the worst pixels, the error ranges
+// and pass/fail against per-buffer tolerances. Text summary on stdout, --json for machines,
+// --html DIR for people. docs/diff.md describes the inputs and the report.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace fovref {
+
+struct DiffOptions {
+    std::string golden;                   ///< bundle directory (manifest.json) or an image file
+    std::string candidate;                ///< directory of buffers or one image file
+    std::vector<std::string> tolerances;  ///< NAME:abs=..,rel=..,ulp=..,pixels=..
+    std::string tolerance_file;
+    std::string json_path;  ///< "-" = stdout
+    std::string html_dir;
+    std::string buffer;     ///< candidate is one file: the golden buffer it is (default final)
+    int frame = -1;         ///< only this frame (default: all)
+    double threshold = -1;  ///< "pixels over threshold" (default: the tolerance's abs)
+    int worst = 5;
+    // Raw binary32 candidates (.raw, .bin, .f32): the golden buffer's shape unless given.
+    std::string raw_size;  ///< WxH or WxHxC
+    bool raw_planar = false, raw_bottom_up = false, raw_big_endian = false;
+    bool png_linear = false;  ///< PNG values / 255 as they are (default: sRGB-decode colour)
+    // Error ranges.
+    std::string gaze;  ///< "x,y" in pixels (default: the screen centre)
+    int rings = 20;
+    float max_range = 1.0f;
+    float distance_px = 0.0f;  ///< viewing distance; default: the bundle's, else vfov 60 deg
+    bool quiet = false;
+};
+
+/// Registers the command's options on `app`.
+void add_diff_options(CLI::App& command, DiffOptions& options);
+
+/// Runs the comparison. Returns 0 (all within tolerance) or 1 (some buffer out of tolerance);
+/// throws fovref::Error for usage and input errors (the CLI exits 2).
+int run_diff(const DiffOptions& options);
+
+}  // namespace fovref

@@ -1,0 +1,274 @@
+// The HTML report of `fovref diff`: one self-contained file (images as PNG data: URIs, plots as
+// inline SVG, no script needed to read it), which opens in any browser without a server.
+// Layout: a summary (pass/fail, the first failing stage highlighted and linked, the probe
+// command), a table of every buffer in pipeline order, then a section per compared buffer with
+// golden / candidate / error heatmap side by side, the figures, the worst pixels and the
+// ring-error plots. A small script only counts the images that decoded (for the headless test).
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "ref/core/error.h"
+#include "ref/image/image_io.h"
+#include "ref/metrics/heatmap.h"
+#include "ref/stage/frame.h"
+#include "tools/diff_report.h"
+#include "tools/svg_plot.h"
+
+namespace fs = std::filesystem;
+
+namespace fovref {
+
+namespace {
+
+std::string base64(const std::string& bytes) {
+    static const char table[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    out.reserve((bytes.size() + 2) / 3 * 4);
+    for (std::size_t i = 0; i < bytes.size(); i += 3) {
+        const auto b0 = static_cast<unsigned char>(bytes[i]);
+        const auto b1 = i + 1 < bytes.size() ? static_cast<unsigned char>(bytes[i + 1]) : 0u;
+        const auto b2 = i + 2 < bytes.size() ? static_cast<unsigned char>(bytes[i + 2]) : 0u;
+        const unsigned v = (b0 << 16) | (b1 << 8) | b2;
+        out += table[(v >> 18) & 63];
+        out += table[(v >> 12) & 63];
+        out += i + 1 < bytes.size() ? table[(v >> 6) & 63] : '=';
+        out += i + 2 < bytes.size() ? table[v & 63] : '=';
+    }
+    return out;
+}
+
+BufferKind kind_from_name(const std::string& kind) {
+    for (const BufferKind k : {BufferKind::color, BufferKind::depth, BufferKind::id,
+                               BufferKind::vector, BufferKind::scalar})
+        if (kind == buffer_kind_name(k)) return k;
+    return BufferKind::scalar;
+}
+
+// Images larger than this are shown box-downscaled by an integer factor (the report stays small).
+constexpr std::size_t max_preview_pixels = 1u << 20;
+
+Image downscale(const Image& image) {
+    int factor = 1;
+    while (image.pixel_count() / (static_cast<std::size_t>(factor) * factor) > max_preview_pixels)
+        ++factor;
+    if (factor == 1) return image;
+    Image out(image.width / factor, image.height / factor, image.channels);
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x)
+            for (int c = 0; c < image.channels; ++c) {
+                double sum = 0;
+                for (int j = 0; j < factor; ++j)
+                    for (int i = 0; i < factor; ++i)
+                        sum += image.at(x * factor + i, y * factor + j, c);
+                out.at(x, y, c) = static_cast<float>(sum / (factor * factor));
+            }
+    return out;
+}
+
+std::string img_tag(const Image& image, const std::string& alt) {
+    return "<img class=\"shot\" alt=\"" + html_escape(alt) + "\" src=\"data:image/png;base64," +
+           base64(encode_png(downscale(image))) + "\">";
+}
+
+std::string preview_tag(const Image& image, const std::string& kind, const std::string& alt) {
+    Buffer b;
+    b.kind = kind_from_name(kind);
+    b.image = image;
+    return img_tag(preview_image(b), alt);
+}
+
+std::string fmt(double v, const char* format = "%.4g") {
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    if (std::isnan(v)) return "&ndash;";
+    char text[48];
+    std::snprintf(text, sizeof text, format, v);
+    return text;
+}
+
+std::string values_text(const std::vector<float>& values) {
+    std::string out;
+    for (std::size_t i = 0; i < values.size(); ++i)
+        out += (i ? ", " : "") + fmt(static_cast<double>(values[i]), "%.9g");
+    return out;
+}
+
+std::string anchor(std::size_t k) { return "b" + std::to_string(k); }
+
+std::string ring_plots(const BufferComparison& r) {
+    PlotSeries psnr{"PSNR (dB)", {}, {}}, ssim{"SSIM", {}, {}}, rmse{"RMSE", {}, {}},
+        sd{"SD of squared error", {}, {}};
+    for (const RingStats& s : r.rings) {
+        const double mid = 0.5 * (static_cast<double>(s.inner_deg) + s.outer_deg);
+        for (PlotSeries* p : {&psnr, &ssim, &rmse, &sd}) p->x.push_back(mid);
+        psnr.y.push_back(s.psnr);
+        ssim.y.push_back(s.ssim);
+        rmse.y.push_back(s.rmse);
+        sd.y.push_back(s.sd);
+    }
+    std::string out = "<div class=\"plots\">";
+    out += svg_line_plot({"PSNR per ring", "eccentricity (degrees)", "dB", {psnr}});
+    out += svg_line_plot({"SSIM per ring", "eccentricity (degrees)", "SSIM", {ssim}});
+    out += svg_line_plot({"RMSE and SD per ring", "eccentricity (degrees)", "", {rmse, sd}});
+    return out + "</div>";
+}
+
+const char* style = R"(
+body{font-family:sans-serif;margin:1.5em;color:#222}
+table{border-collapse:collapse;margin:.5em 0}
+td,th{border:1px solid #ccc;padding:2px 6px;text-align:right;font-size:13px}
+td.l,th.l{text-align:left}
+tr.fail td{background:#fde2e1} tr.first td{background:#f8b4b0;font-weight:bold}
+tr.missing td{color:#888}
+.status-pass{color:#137333;font-weight:bold} .status-fail{color:#b3261e;font-weight:bold}
+section{border:1px solid #ddd;border-radius:6px;padding:.6em 1em;margin:1em 0}
+section.first-failing{border:3px solid #b3261e}
+summary{font-size:1.25em;font-weight:bold;cursor:pointer;padding:.3em 0}
+.shots{display:flex;gap:12px;flex-wrap:wrap;align-items:flex-start}
+.shots figure{margin:0} .shots figcaption{font-size:12px;color:#555}
+img.shot{image-rendering:pixelated;max-width:640px;min-width:360px;border:1px solid #999}
+.plots{display:flex;gap:8px;flex-wrap:wrap}
+code{background:#f3f3f3;padding:1px 4px}
+)";
+
+}  // namespace
+
+void write_diff_html(const DiffReport& report, const std::string& directory) {
+    std::string h =
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>"
+        "fovref diff: " +
+        html_escape(report.case_name.empty() ? report.golden : report.case_name) +
+        "</title>\n<style>" + style + "</style></head>\n<body>\n";
+    h += "<h1>fovref diff</h1>\n<p>golden <code>" + html_escape(report.golden) + "</code>";
+    if (!report.case_name.empty())
+        h += " (case <b>" + html_escape(report.case_name) + "</b>, mode " +
+             html_escape(report.mode) +
+             (report.scene.empty() ? "" : ", scene " + html_escape(report.scene)) + ")";
+    h += "<br>candidate <code>" + html_escape(report.candidate) + "</code></p>\n";
+    h += std::string("<p id=\"result\" class=\"") + (report.pass ? "status-pass" : "status-fail") +
+         "\">RESULT: " + (report.pass ? "PASS" : "FAIL") + " &mdash; " +
+         std::to_string(report.compared) + " compared, " + std::to_string(report.failed) +
+         " out of tolerance, " + std::to_string(report.missing) + " missing in the candidate</p>\n";
+    if (report.first_failing >= 0) {
+        const auto k = static_cast<std::size_t>(report.first_failing);
+        const DiffItem& f = report.items[k];
+        h += "<p id=\"first-failing\">First failing stage: <a href=\"#" + anchor(k) + "\"><b>" +
+             html_escape(f.stage) + "</b>, buffer <b>" + html_escape(f.name) + "</b>, frame " +
+             std::to_string(f.frame) + "</a> (later stages inherit its error).</p>\n";
+        if (!report.probe_command.empty())
+            h += "<p>Explain its worst pixel: <code>" + html_escape(report.probe_command) +
+                 "</code></p>\n";
+    }
+
+    // Table of all buffers in pipeline order.
+    h += "<table><tr><th>frame</th><th class=\"l\">stage</th><th class=\"l\">buffer</th>"
+         "<th>result</th><th>max abs</th><th>max rel</th><th>max ulp</th><th>failing px</th>"
+         "<th>over threshold</th><th>RMSE</th><th>PSNR</th><th>SSIM</th></tr>\n";
+    for (std::size_t k = 0; k < report.items.size(); ++k) {
+        const DiffItem& item = report.items[k];
+        const bool first = static_cast<int>(k) == report.first_failing;
+        const std::string cls = !item.compared ? "missing"
+                                : first        ? "first"
+                                : !item.pass   ? "fail"
+                                               : "";
+        h += "<tr class=\"" + cls + "\"><td>" + std::to_string(item.frame) +
+             "</td><td class=\"l\">" + html_escape(item.stage) +
+             "</td><td class=\"l\"><a href=\"#" + anchor(k) + "\">" + html_escape(item.name) +
+             "</a></td>";
+        if (!item.compared || item.hash_only) {
+            h += "<td>" +
+                 std::string(!item.compared ? "missing"
+                             : item.pass    ? "pass"
+                                            : "FAIL") +
+                 "</td><td class=\"l\" colspan=\"8\">" + html_escape(item.note) + "</td></tr>\n";
+            continue;
+        }
+        const BufferComparison& r = item.result;
+        h += "<td>" + std::string(item.pass ? "pass" : "FAIL") + "</td><td>" + fmt(r.max_abs) +
+             "</td><td>" + fmt(r.max_rel) + "</td><td>" + std::to_string(r.max_ulp) + "</td><td>" +
+             std::to_string(r.failing_pixels) + "</td><td>" +
+             fmt(100.0 * static_cast<double>(r.pixels_over_threshold) /
+                     static_cast<double>(r.width * r.height),
+                 "%.3g%%") +
+             "</td><td>" + fmt(r.rmse) + "</td><td>" + fmt(r.psnr) + "</td><td>" +
+             (r.ssim ? fmt(*r.ssim, "%.6f") : "&ndash;") + "</td></tr>\n";
+    }
+    h += "</table>\n";
+
+    // One section per compared buffer.
+    for (std::size_t k = 0; k < report.items.size(); ++k) {
+        const DiffItem& item = report.items[k];
+        const bool first = static_cast<int>(k) == report.first_failing;
+        // Failing buffers are open; the others fold away under their title.
+        const bool open = !item.pass || first;
+        h += "<section id=\"" + anchor(k) + "\"" + (first ? " class=\"first-failing\"" : "") +
+             "><details" + (open ? " open" : "") + "><summary>frame " + std::to_string(item.frame) +
+             " &middot; " + html_escape(item.stage) + " &middot; " + html_escape(item.name) +
+             " <span class=\"" + (item.pass ? "status-pass" : "status-fail") + "\">" +
+             (!item.compared ? "missing"
+              : item.pass    ? "pass"
+                             : "FAIL") +
+             "</span>" + (first ? " &larr; first failing stage" : "") + "</summary>\n";
+        if (!item.note.empty()) h += "<p>" + html_escape(item.note) + "</p>\n";
+        if (!item.compared || item.hash_only) {
+            h += "</details></section>\n";
+            continue;
+        }
+        const BufferComparison& r = item.result;
+        h += "<p>files: golden <code>" + html_escape(item.golden_file) +
+             "</code>, candidate <code>" + html_escape(item.candidate_file) + "</code>; " +
+             std::to_string(r.width) + "&times;" + std::to_string(r.height) + "&times;" +
+             std::to_string(r.channels) + "; tolerance abs " + fmt(r.tolerance.abs) + ", rel " +
+             fmt(r.tolerance.rel) + ", ulp " + std::to_string(r.tolerance.ulp) + ", " +
+             std::to_string(r.tolerance.max_failing_pixels) + " failing pixels allowed" +
+             (r.tolerance.reason.empty() ? "" : " (" + html_escape(r.tolerance.reason) + ")") +
+             "</p>\n";
+        // Pictures: every failing buffer and every colour buffer.
+        if (!item.pass || item.kind == "color") {
+            const bool differs = r.max_abs > 0.0 || r.nan_mismatches > 0;
+            HeatmapSettings hs;
+            hs.rings = item.rings ? &*item.rings : nullptr;
+            h += "<div class=\"shots\"><figure>" +
+                 preview_tag(item.golden, item.kind, "golden " + item.name) +
+                 "<figcaption>golden</figcaption></figure><figure>" +
+                 preview_tag(item.candidate, item.kind, "candidate " + item.name) +
+                 "<figcaption>candidate</figcaption></figure>";
+            if (differs)
+                h += "<figure>" + img_tag(heatmap(r.abs_error, hs), "error heatmap " + item.name) +
+                     "<figcaption>|candidate &minus; golden| (largest channel), scale 0 .. " +
+                     fmt(heatmap_scale(r.abs_error, hs)) +
+                     (hs.rings ? ", ring boundaries lighter" : "") + "</figcaption></figure>";
+            h += "</div>\n";
+        }
+        h += "<p>max abs " + fmt(r.max_abs) + ", max rel " + fmt(r.max_rel) + ", max ulp " +
+             std::to_string(r.max_ulp) + ", NaN mismatches " + std::to_string(r.nan_mismatches) +
+             ", mean abs " + fmt(r.mean_abs) + ", RMSE " + fmt(r.rmse) + ", PSNR " + fmt(r.psnr) +
+             " dB, SSIM " + (r.ssim ? fmt(*r.ssim, "%.6f") : "&ndash;") + ", pixels over " +
+             fmt(r.threshold) + ": " + std::to_string(r.pixels_over_threshold) + "</p>\n";
+        if (!r.worst.empty()) {
+            h += "<table><tr><th>worst pixels</th><th>x</th><th>y</th><th>|error|</th>"
+                 "<th class=\"l\">golden</th><th class=\"l\">candidate</th></tr>\n";
+            for (std::size_t i = 0; i < r.worst.size(); ++i)
+                h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" +
+                     std::to_string(r.worst[i].x) + "</td><td>" + std::to_string(r.worst[i].y) +
+                     "</td><td>" + fmt(r.worst[i].abs_error) + "</td><td class=\"l\">" +
+                     values_text(r.worst[i].golden) + "</td><td class=\"l\">" +
+                     values_text(r.worst[i].candidate) + "</td></tr>\n";
+            h += "</table>\n";
+        }
+        if (!r.rings.empty() && r.max_abs > 0.0) h += ring_plots(r);
+        h += "</details></section>\n";
+    }
+    h += "<p id=\"images-status\">images: <span id=\"images-loaded\">not counted (scripts off)"
+         "</span></p>\n<script>addEventListener('load',function(){var i=document.images,n=0;"
+         "for(var k=0;k<i.length;++k)if(i[k].complete&&i[k].naturalWidth>0)++n;"
+         "document.getElementById('images-loaded').textContent=n+' of '+i.length+' decoded';});"
+         "</script>\n</body></html>\n";
+
+    std::error_code ec;
+    fs::create_directories(directory, ec);
+    if (ec) throw Error(directory + ": cannot create the report directory: " + ec.message());
+    write_file_atomic((fs::path(directory) / "index.html").string(), h);
+}
+
+}  // namespace fovref
