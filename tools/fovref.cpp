@@ -17,6 +17,7 @@
 #include "ref/scene/procedural.h"
 #include "ref/scene/scene_file.h"
 #include "ref/stage/pipeline.h"
+#include "ref/stage/probe.h"
 #include "ref/trace/rays_file.h"
 #include "tools/bench_rays.h"
 #include "tools/diff.h"
@@ -63,6 +64,9 @@ struct Options {
     BenchRaysOptions bench;
     // diff
     DiffOptions diff;
+    // probe
+    int probe_frame = 0;
+    std::string pixel;
 };
 
 void say(const Options& o, const std::string& line) {
@@ -204,17 +208,10 @@ int modes_list(const Options&) {
     return exit_ok;
 }
 
-int render_command(const Options& o) {
-    if (o.out_dir.empty() && o.dump_dir.empty())
-        throw Error("render: give --out DIR and/or --dump DIR");
-    const ModeInfo& mode = find_mode(o.mode);
-    std::optional<Scene> scene;
-    if (mode.needs_scene) {
-        if (o.scene.empty()) throw Error("render: mode '" + o.mode + "' needs --scene");
-        scene = load_scene(o.scene);
-    }
+// The case a render-like command (render, probe) describes with its options.
+GoldenCase command_case(const Options& o, const std::string& name) {
     GoldenCase run;
-    run.name = "render";
+    run.name = name;
     run.scene = o.scene;
     run.mode = o.mode;
     run.width = o.width;
@@ -224,6 +221,54 @@ int render_command(const Options& o) {
     run.time_step = o.time_step;
     for (const std::string& p : o.params) run.params.set_from_assignment(p);
     if (!o.primary.empty()) run.params.set("primary", o.primary);
+    return run;
+}
+
+std::optional<Scene> command_scene(const Options& o, const std::string& command) {
+    if (!find_mode(o.mode).needs_scene) return std::nullopt;
+    if (o.scene.empty()) throw Error(command + ": mode '" + o.mode + "' needs --scene");
+    return load_scene(o.scene);
+}
+
+int probe_command(const Options& o) {
+    int x = -1, y = -1;
+    char tail = 0;
+    if (std::sscanf(o.pixel.c_str(), "%d,%d%c", &x, &y, &tail) != 2)
+        throw Error("--pixel '" + o.pixel + "': expected X,Y (e.g. 10,20)");
+    const std::optional<Scene> scene = command_scene(o, "probe");
+    const GoldenCase run = command_case(o, "probe");
+    Progress progress("probe " + o.mode, o.quiet);
+    const ProbeReport report = probe_pixel(
+        scene ? &*scene : nullptr, o.mode,
+        case_settings(run, {}, [&](double f) { progress.update(f); }), o.probe_frame, x, y);
+    progress.finish();
+    if (o.json) {
+        nlohmann::json j;
+        j["mode"] = report.mode;
+        j["frame"] = report.frame;
+        j["pixel"] = {report.x, report.y};
+        j["consistent"] = report.consistent;
+        for (const ProbeSection& section : report.sections) {
+            nlohmann::json js;
+            js["stage"] = section.stage;
+            js["title"] = section.title;
+            js["lines"] = nlohmann::json::array();
+            for (const ProbeLine& line : section.lines)
+                js["lines"].push_back({{"key", line.key}, {"value", line.value}});
+            j["sections"].push_back(js);
+        }
+        std::cout << j.dump(1) << "\n";
+    } else {
+        std::cout << probe_text(report);
+    }
+    return report.consistent ? exit_ok : exit_check_failed;
+}
+
+int render_command(const Options& o) {
+    if (o.out_dir.empty() && o.dump_dir.empty())
+        throw Error("render: give --out DIR and/or --dump DIR");
+    const std::optional<Scene> scene = command_scene(o, "render");
+    const GoldenCase run = command_case(o, "render");
     const bool keep_all = std::find(o.outputs.begin(), o.outputs.end(), "all") != o.outputs.end();
     // With --dump every buffer is computed; --out keeps the requested (or final) ones.
     const std::vector<std::string> requested =
@@ -521,6 +566,8 @@ int main(int argc, char** argv) {
         "difference\n"
         "  fovref golden update [--case C]        recompute and rewrite, saying what changed\n"
         "  fovref golden export CASE DIR [--width W --height H --frames N]\n"
+        "  fovref probe --scene S --mode M --width W --height H --frame F --pixel X,Y\n"
+        "                                         explain one pixel stage by stage\n"
         "  fovref diff GOLDEN CANDIDATE [--tolerance N:abs=X] [--json F] [--html DIR]\n"
         "                                         compare a GPU's buffers with a golden bundle\n"
         "SCENE is a procedural scene name (see `scene list`) or a scene file or directory.\n"
@@ -654,6 +701,27 @@ int main(int argc, char** argv) {
     export_cmd->add_option("--frames", o.export_frames, "override the case's frame count")
         ->check(CLI::Range(1, 16384));
 
+    // probe
+    CLI::App* probe_cmd = app.add_subcommand(
+        "probe",
+        "explain one screen pixel of a mode and frame stage by stage: buffer coordinates, ray, "
+        "hit, texels and weights, shading inputs, light samples, every buffer's value; exit 1 "
+        "if the recomputation differs from the rendered buffer");
+    probe_cmd->add_option("--scene", o.scene, "procedural scene name or scene file");
+    probe_cmd->add_option("--mode", o.mode, "render mode (see `fovref modes`)")->required();
+    probe_cmd->add_option("--width", o.width, "screen width in pixels")->capture_default_str();
+    probe_cmd->add_option("--height", o.height, "screen height in pixels")->capture_default_str();
+    probe_cmd->add_option("--frame", o.probe_frame, "frame number (frames before it run too)")
+        ->check(CLI::Range(0, 100000))
+        ->capture_default_str();
+    probe_cmd->add_option("--pixel", o.pixel, "X,Y of the screen pixel")->required();
+    probe_cmd->add_option("--time-start", o.time_start, "camera-path time of frame 0")
+        ->capture_default_str();
+    probe_cmd->add_option("--time-step", o.time_step, "camera-path time between frames")
+        ->capture_default_str();
+    probe_cmd->add_option("--param", o.params, "mode parameter key=value (repeatable)");
+    probe_cmd->add_flag("--json", o.json, "machine-readable output");
+
     // diff
     CLI::App* diff_cmd = app.add_subcommand(
         "diff",
@@ -685,6 +753,7 @@ int main(int argc, char** argv) {
         if (update_cmd->parsed()) return golden_update(o);
         if (list_cmd->parsed()) return golden_list(o);
         if (export_cmd->parsed()) return golden_export(o);
+        if (probe_cmd->parsed()) return probe_command(o);
         if (diff_cmd->parsed()) {
             DiffOptions options = o.diff;
             options.quiet = o.quiet;

@@ -94,29 +94,40 @@ Camera camera_at(const Scene& scene, float time) {
     return make(position, slerp_deterministic(a.orientation, b.orientation, t));
 }
 
-glm::vec3 sample_texture_bilinear(const Texture& texture, glm::vec2 uv) {
+BilinearTaps bilinear_taps(const Texture& texture, glm::vec2 uv) {
     const Image& image = texture.image;
+    BilinearTaps taps;
     // Texel centres at (i + 0.5) / W; v = 0 is the bottom row (the image's last row).
-    float x = uv.x * static_cast<float>(image.width) - 0.5f;
-    float y = (1.0f - uv.y) * static_cast<float>(image.height) - 0.5f;
-    if (!std::isfinite(x) || !std::isfinite(y)) return glm::vec3(0.0f);
-    float fx = std::floor(x);
-    float fy = std::floor(y);
-    float tx = x - fx;
-    float ty = y - fy;
+    const float x = uv.x * static_cast<float>(image.width) - 0.5f;
+    const float y = (1.0f - uv.y) * static_cast<float>(image.height) - 0.5f;
+    if (!std::isfinite(x) || !std::isfinite(y)) return taps;
+    const float fx = std::floor(x);
+    const float fy = std::floor(y);
+    taps.tx = x - fx;
+    taps.ty = y - fy;
     auto wrap = [](float i, int n) {
         // i is integral; reduce with fmod-free arithmetic to avoid int overflow for huge uvs.
         double r = static_cast<double>(i) - std::floor(static_cast<double>(i) / n) * n;
         int k = static_cast<int>(r);
         return k >= n ? k - n : (k < 0 ? k + n : k);
     };
-    int x0 = wrap(fx, image.width), x1 = wrap(fx + 1.0f, image.width);
-    int y0 = wrap(fy, image.height), y1 = wrap(fy + 1.0f, image.height);
+    taps.x0 = wrap(fx, image.width);
+    taps.x1 = wrap(fx + 1.0f, image.width);
+    taps.y0 = wrap(fy, image.height);
+    taps.y1 = wrap(fy + 1.0f, image.height);
+    taps.valid = true;
+    return taps;
+}
+
+glm::vec3 sample_texture_bilinear(const Texture& texture, glm::vec2 uv) {
+    const BilinearTaps t = bilinear_taps(texture, uv);
+    if (!t.valid) return glm::vec3(0.0f);
+    const Image& image = texture.image;
     glm::vec3 result(0.0f);
     for (int c = 0; c < 3; ++c) {
-        float top = image.at(x0, y0, c) * (1.0f - tx) + image.at(x1, y0, c) * tx;
-        float bottom = image.at(x0, y1, c) * (1.0f - tx) + image.at(x1, y1, c) * tx;
-        result[c] = top * (1.0f - ty) + bottom * ty;
+        float top = image.at(t.x0, t.y0, c) * (1.0f - t.tx) + image.at(t.x1, t.y0, c) * t.tx;
+        float bottom = image.at(t.x0, t.y1, c) * (1.0f - t.tx) + image.at(t.x1, t.y1, c) * t.tx;
+        result[c] = top * (1.0f - t.ty) + bottom * t.ty;
     }
     return result;
 }

@@ -107,4 +107,14 @@ float triangle_double_area(glm::vec3 a, glm::vec3 b, glm::vec3 c);
 /// Bilinear texture lookup with repeat wrap; (u, v) in OBJ convention (v up).
 glm::vec3 sample_texture_bilinear(const Texture& texture, glm::vec2 uv);
 
+/// The four texels sample_texture_bilinear reads and its lerp fractions: the result is
+/// lerp(lerp(t(x0,y0), t(x1,y0), tx), lerp(t(x0,y1), t(x1,y1), tx), ty), i.e. texel weights
+/// (1-tx)(1-ty), tx(1-ty), (1-tx)ty, tx ty. `valid` is false for non-finite uv (result 0).
+struct BilinearTaps {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    float tx = 0.0f, ty = 0.0f;
+    bool valid = false;
+};
+BilinearTaps bilinear_taps(const Texture& texture, glm::vec2 uv);
+
 }  // namespace fovref

@@ -72,6 +72,9 @@ struct Pipeline {
     FrameResult run_frame(FrameContext& context, const std::vector<std::string>& requested) const;
 };
 
+struct ProbeContext;  // ref/stage/probe.h
+struct ProbeReport;
+
 struct ModeInfo {
     std::string name;
     std::string description;
@@ -80,6 +83,9 @@ struct ModeInfo {
     /// Builds the pipeline for a scene (null when !needs_scene) and validated settings; the
     /// closures may hold state carried from frame to frame (TAA history, ...).
     std::function<Pipeline(const Scene*, const RenderSettings&)> build;
+    /// Explains one pixel of a rendered frame for `fovref probe` (ref/stage/probe.h); may be
+    /// empty (the probe then lists the buffers' values only).
+    std::function<void(const ProbeContext&, ProbeReport&)> explain;
 };
 
 /// Every render mode, in the order `fovref render --help` lists them.

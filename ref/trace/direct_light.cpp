@@ -28,7 +28,8 @@ bool visible(const Bvh& bvh, glm::vec3 origin, glm::vec3 target, ShadingStats& s
 
 glm::vec3 shade_direct(const Scene& scene, const Bvh* bvh, const SurfacePoint& surface,
                        glm::vec3 eye, std::uint32_t frame, std::uint32_t pixel,
-                       std::uint32_t dimension_base, ShadingStats& stats) {
+                       std::uint32_t dimension_base, ShadingStats& stats,
+                       std::vector<LightSampleRecord>* record) {
     FOVREF_CHECK(bvh != nullptr || scene.lights.empty(), "shadow rays need a BVH");
     ++stats.shaded;
     const Material& material = scene.materials[static_cast<std::size_t>(surface.material)];
@@ -48,6 +49,9 @@ glm::vec3 shade_direct(const Scene& scene, const Bvh* bvh, const SurfacePoint& s
     for (std::size_t l = 0; l < scene.lights.size(); ++l) {
         const Light& light = scene.lights[l];
         const std::uint32_t dimension = dimension_base + 2u * static_cast<std::uint32_t>(l);
+        LightSampleRecord dummy;
+        LightSampleRecord& rec = record ? record->emplace_back() : dummy;
+        rec.light = static_cast<int>(l);
         // Sample a point y on the light and its emitted quantity.
         glm::vec3 y = light.position;
         glm::vec3 light_normal(0.0f);
@@ -55,10 +59,13 @@ glm::vec3 shade_direct(const Scene& scene, const Bvh* bvh, const SurfacePoint& s
         if (light.type != Light::Type::point) {
             const float r1 = rand_unit(frame, pixel, dimension);
             const float r2 = rand_unit(frame, pixel, dimension + 1);
+            rec.r1 = r1;
+            rec.r2 = r2;
             const glm::vec3 cross = glm::cross(light.edge_u, light.edge_v);
             const float cross_length = std::sqrt(glm::dot(cross, cross));
             if (!(cross_length > 0.0f)) {
                 ++stats.light_samples_degenerate;
+                rec.outcome = "degenerate";
                 continue;
             }
             light_normal = cross / cross_length;
@@ -71,10 +78,12 @@ glm::vec3 shade_direct(const Scene& scene, const Bvh* bvh, const SurfacePoint& s
                 area = 0.5f * cross_length;
             }
         }
+        rec.sample = y;
         const glm::vec3 to_light = y - surface.position;
         const float d2 = glm::dot(to_light, to_light);
         if (!(d2 > min_light_distance2)) {  // on the light (or closer than float can divide by)
             ++stats.light_samples_degenerate;
+            rec.outcome = "degenerate";
             continue;
         }
         const float d = std::sqrt(d2);
@@ -82,12 +91,22 @@ glm::vec3 shade_direct(const Scene& scene, const Bvh* bvh, const SurfacePoint& s
         float geometry = cos_surface / d2;
         if (light.type != Light::Type::point)
             geometry *= area * (-glm::dot(light_normal, to_light) / d);
+        rec.distance = d;
+        rec.cos_surface = cos_surface;
+        rec.geometry = geometry;
         if (!(cos_surface > 0.0f) || !(geometry > 0.0f) || glm::dot(n_g, to_light) <= 0.0f) {
             ++stats.lights_facing_away;
+            rec.outcome = "facing away";
             continue;
         }
-        if (!visible(*bvh, surface.position + n_g * epsilon, y, stats)) continue;
-        radiance += brdf * light.intensity * geometry;
+        rec.shadow_origin = surface.position + n_g * epsilon;
+        if (!visible(*bvh, rec.shadow_origin, y, stats)) {
+            rec.outcome = "occluded";
+            continue;
+        }
+        rec.outcome = "lit";
+        rec.contribution = brdf * light.intensity * geometry;
+        radiance += rec.contribution;
     }
     return radiance;
 }

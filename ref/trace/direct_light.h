@@ -23,6 +23,8 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include "ref/bvh/bvh.h"
 #include "ref/scene/scene.h"
@@ -47,10 +49,25 @@ inline constexpr float shadow_t_max = 1.0f - 1e-4f;
 /// Squared distances to a light sample at or below this are skipped (guards cos / d^2, SPEC §0).
 inline constexpr float min_light_distance2 = 1e-20f;
 
-/// Radiance leaving `surface` towards the viewer at `eye` (linear RGB).
+/// What shade_direct did with one light (for `fovref probe`).
+struct LightSampleRecord {
+    int light = 0;
+    float r1 = 0.0f, r2 = 0.0f;     ///< random numbers (dimensions base + 2l, base + 2l + 1)
+    glm::vec3 sample{0.0f};         ///< the point y on the light
+    float distance = 0.0f;          ///< |y - P|
+    float cos_surface = 0.0f;       ///< n_s . (y - P) / d
+    float geometry = 0.0f;          ///< cos / d^2 (x A cos_l for area lights)
+    const char* outcome = "";       ///< "lit", "occluded", "facing away", "degenerate"
+    glm::vec3 shadow_origin{0.0f};  ///< P + eps n_g (when a shadow ray was traced)
+    glm::vec3 contribution{0.0f};   ///< added radiance
+};
+
+/// Radiance leaving `surface` towards the viewer at `eye` (linear RGB). `record`, when given,
+/// receives one entry per light (the probe's view of the computation; costs nothing otherwise).
 glm::vec3 shade_direct(const Scene& scene, const Bvh* bvh, const SurfacePoint& surface,
                        glm::vec3 eye, std::uint32_t frame, std::uint32_t pixel,
-                       std::uint32_t dimension_base, ShadingStats& stats);
+                       std::uint32_t dimension_base, ShadingStats& stats,
+                       std::vector<LightSampleRecord>* record = nullptr);
 
 /// Random-number dimensions one shading call uses.
 inline std::uint32_t shading_dimensions(const Scene& scene) {

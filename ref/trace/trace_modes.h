@@ -16,4 +16,8 @@ std::vector<ParamSpec> basic_params();
 Pipeline basic_pipeline(const Scene* scene, const RenderSettings& settings);
 Pipeline ground_truth_pipeline(const Scene* scene, const RenderSettings& settings);
 
+/// `fovref probe` explanations (ref/trace/trace_probe.cpp).
+void explain_basic(const ProbeContext& context, ProbeReport& report);
+void explain_ground_truth(const ProbeContext& context, ProbeReport& report);
+
 }  // namespace fovref

@@ -1,0 +1,116 @@
+#include "ref/stage/probe.h"
+
+#include <cstdio>
+#include <cstring>
+
+#include "ref/core/error.h"
+
+namespace fovref {
+
+std::string probe_float(float v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", static_cast<double>(v));
+    return text;
+}
+
+std::string probe_vec3(glm::vec3 v) {
+    return "(" + probe_float(v.x) + ", " + probe_float(v.y) + ", " + probe_float(v.z) + ")";
+}
+
+std::string probe_bits(float v) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &v, 4);
+    char text[16];
+    std::snprintf(text, sizeof text, "0x%08x", bits);
+    return text;
+}
+
+ProbeReport probe_pixel(const Scene* scene, const std::string& mode_name,
+                        const RenderSettings& settings, int frame, int x, int y) {
+    const ModeInfo& mode = find_mode(mode_name);
+    if (frame < 0 || frame > 100000)
+        throw Error("--frame " + std::to_string(frame) + ": must be 0..100000");
+    if (x < 0 || y < 0 || x >= settings.width || y >= settings.height)
+        throw Error("--pixel " + std::to_string(x) + "," + std::to_string(y) + ": outside the " +
+                    std::to_string(settings.width) + "x" + std::to_string(settings.height) +
+                    " screen");
+    // Frames before `frame` run too: later modes carry state (TAA history) from frame to frame.
+    RenderSettings s = settings;
+    s.frame_count = frame + 1;
+    s.requested = {"all"};
+    FrameResult last;
+    render_each(scene, mode_name, s, [&](FrameResult& f) {
+        if (f.frame == frame) last = std::move(f);
+    });
+
+    ProbeReport report;
+    report.mode = mode_name;
+    report.frame = frame;
+    report.x = x;
+    report.y = y;
+    const float time = s.time_start + static_cast<float>(frame) * s.time_step;
+    const Camera camera = scene ? camera_at(*scene, time) : Camera{};
+
+    ProbeSection screen{"screen", "screen pixel", {}};
+    screen.add("pixel", "(" + std::to_string(x) + ", " + std::to_string(y) + ") of " +
+                            std::to_string(s.width) + "x" + std::to_string(s.height) +
+                            ", centre (" + probe_float(static_cast<float>(x) + 0.5f) + ", " +
+                            probe_float(static_cast<float>(y) + 0.5f) + ")");
+    screen.add("frame", std::to_string(frame) + ", camera-path time " + probe_float(time));
+    if (scene) {
+        screen.add("camera", "position " + probe_vec3(camera.position) + ", forward " +
+                                 probe_vec3(camera.forward) + ", vfov " +
+                                 probe_float(camera.vfov_deg) + " deg");
+        screen.add("viewing distance", probe_float(last.display_distance_px) + " px");
+    }
+    report.sections.push_back(screen);
+
+    // What the mode's own explainer says about the pixel, stage by stage.
+    if (mode.explain) {
+        ProbeContext context{scene, &s, &last, camera, x, y};
+        mode.explain(context, report);
+    }
+
+    // Every buffer's value at the pixel, in pipeline order (screen-sized buffers only).
+    ProbeSection buffers{"buffers", "every buffer at this pixel, in pipeline order", {}};
+    for (const StageRun& run : last.stages)
+        if (!run.ran) buffers.add("stage " + run.name, "skipped (" + run.note + ")");
+    for (const Buffer& b : last.buffers) {
+        const std::string key = b.stage + " -> " + b.name;
+        if (b.image.width != s.width || b.image.height != s.height) {
+            buffers.add(key, std::to_string(b.image.width) + "x" + std::to_string(b.image.height) +
+                                 " (not a screen-space buffer)");
+            continue;
+        }
+        std::string value;
+        for (int c = 0; c < b.image.channels; ++c) {
+            const std::string name = c < static_cast<int>(b.channel_names.size())
+                                         ? b.channel_names[static_cast<std::size_t>(c)]
+                                         : std::to_string(c);
+            value += (c ? ", " : "") + name + " " + probe_float(b.image.at(x, y, c));
+        }
+        buffers.add(key, value);
+    }
+    report.sections.push_back(buffers);
+    return report;
+}
+
+std::string probe_text(const ProbeReport& report) {
+    std::string out = "fovref probe: mode " + report.mode + ", frame " +
+                      std::to_string(report.frame) + ", pixel (" + std::to_string(report.x) + ", " +
+                      std::to_string(report.y) + ")\n";
+    for (const ProbeSection& section : report.sections) {
+        out += "\n[" + section.stage + "] " + section.title + "\n";
+        std::size_t width = 0;
+        for (const ProbeLine& line : section.lines) width = std::max(width, line.key.size());
+        for (const ProbeLine& line : section.lines)
+            out += "  " + line.key + std::string(width - line.key.size(), ' ') + "  " + line.value +
+                   "\n";
+    }
+    if (!report.consistent)
+        out +=
+            "\nWARNING: the probe's recomputation differs from the rendered buffer (see above)\n";
+    return out;
+}
+
+}  // namespace fovref

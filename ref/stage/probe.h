@@ -1,0 +1,60 @@
+// `fovref probe` (issue 4): one screen pixel of a mode and frame explained stage by stage - its
+// buffer coordinates, the ray it came from, the hit, the shading inputs, the values of every
+// buffer at the pixel - the path a person would otherwise step through in a debugger. Each mode
+// adds its own explanation (ModeInfo::explain); later stages (foveation, TAA, BMFR) extend it.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "ref/stage/frame.h"
+#include "ref/stage/pipeline.h"
+
+namespace fovref {
+
+struct ProbeLine {
+    std::string key, value;
+};
+
+struct ProbeSection {
+    std::string stage;  ///< the stage (or "screen", "buffers") this section explains
+    std::string title;
+    std::vector<ProbeLine> lines;
+    void add(std::string key, std::string value) {
+        lines.push_back({std::move(key), std::move(value)});
+    }
+};
+
+struct ProbeReport {
+    std::string mode;
+    int frame = 0, x = 0, y = 0;
+    std::vector<ProbeSection> sections;
+    /// False when the probe's recomputation differs from the rendered buffer: a bug in the
+    /// probe or a nondeterminism in the stage.
+    bool consistent = true;
+};
+
+/// What a mode's explainer sees: the rendered frame (every buffer) and the pixel.
+struct ProbeContext {
+    const Scene* scene = nullptr;
+    const RenderSettings* settings = nullptr;
+    const FrameResult* frame = nullptr;
+    Camera camera;
+    int x = 0, y = 0;
+};
+
+/// Renders frames 0 .. frame of `mode` (every buffer of the last), then explains pixel (x, y).
+/// Throws fovref::Error for a pixel outside the screen or a bad frame number.
+ProbeReport probe_pixel(const Scene* scene, const std::string& mode, const RenderSettings& settings,
+                        int frame, int x, int y);
+
+/// Formatting helpers for explainers: "%.9g" floats (round-trip exact), vectors, hex bits.
+std::string probe_float(float v);
+std::string probe_vec3(glm::vec3 v);
+std::string probe_bits(float v);
+
+/// The report as indented text.
+std::string probe_text(const ProbeReport& report);
+
+}  // namespace fovref

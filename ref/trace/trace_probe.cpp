@@ -1,0 +1,242 @@
+// `fovref probe` explanations for the basic and ground-truth ray tracers (ref/stage/probe.h):
+// the per-pixel computation of each stage redone for one pixel with the same functions the
+// stages call, with every intermediate value shown, and checked against the rendered buffers.
+#include <cmath>
+#include <cstring>
+
+#include "ref/bvh/bvh.h"
+#include "ref/core/halton.h"
+#include "ref/core/rng.h"
+#include "ref/stage/probe.h"
+#include "ref/trace/direct_light.h"
+#include "ref/trace/ground_truth.h"
+#include "ref/trace/raycast_gbuffer.h"
+#include "ref/trace/trace_modes.h"
+
+namespace fovref {
+
+namespace {
+
+const char* light_type(Light::Type type) {
+    switch (type) {
+        case Light::Type::point: return "point";
+        case Light::Type::quad: return "quad";
+        case Light::Type::triangle: return "triangle";
+    }
+    return "?";
+}
+
+glm::vec3 pixel_rgb(const FrameResult& frame, const std::string& name, int x, int y) {
+    const Buffer* b = frame.find(name);
+    if (!b || b->image.channels < 3) return glm::vec3(NAN);
+    return {b->image.at(x, y, 0), b->image.at(x, y, 1), b->image.at(x, y, 2)};
+}
+
+bool same_bits(glm::vec3 a, glm::vec3 b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// The ray, the closest hit and the surface there.
+void explain_ray(const Scene& scene, const Bvh& bvh, const Ray& ray, const std::string& label,
+                 ProbeSection& section, Hit& hit, SurfacePoint& surface) {
+    section.add(label + " ray", "origin " + probe_vec3(ray.origin) + ", direction " +
+                                    probe_vec3(ray.direction) + ", t in (" +
+                                    probe_float(ray.t_min) + ", " + probe_float(ray.t_max) + ")");
+    TraceStats stats;
+    hit = trace_closest(bvh, ray, stats);
+    section.add("traversal", std::to_string(stats.nodes_visited) + " nodes visited, " +
+                                 std::to_string(stats.triangles_tested) + " triangles tested");
+    if (!hit.hit()) {
+        section.add("hit", "miss (background: black)");
+        return;
+    }
+    section.add("hit", "t " + probe_float(hit.t) + ", primitive " + std::to_string(hit.primitive) +
+                           ", barycentrics u " + probe_float(hit.u) + " v " + probe_float(hit.v) +
+                           " (closest; ties: lowest primitive id)");
+    surface = surface_at(scene, hit.primitive, hit.u, hit.v);
+}
+
+void explain_surface(const Scene& scene, const SurfacePoint& surface, ProbeSection& section) {
+    section.add("position", probe_vec3(surface.position));
+    section.add("geometric normal", probe_vec3(surface.geometric_normal));
+    section.add("shading normal", probe_vec3(surface.shading_normal));
+    section.add("uv", "(" + probe_float(surface.uv.x) + ", " + probe_float(surface.uv.y) + ")");
+    if (surface.material < 0) return;
+    const Material& m = scene.materials[static_cast<std::size_t>(surface.material)];
+    section.add("material", std::to_string(surface.material) + " '" + m.name + "', albedo " +
+                                probe_vec3(m.albedo) + ", emission " + probe_vec3(m.emission));
+    if (m.texture >= 0) {
+        const Texture& t = scene.textures[static_cast<std::size_t>(m.texture)];
+        const BilinearTaps taps = bilinear_taps(t, surface.uv);
+        if (taps.valid) {
+            auto texel = [&](int tx, int ty, float w) {
+                return "(" + std::to_string(tx) + ", " + std::to_string(ty) + ") weight " +
+                       probe_float(w) + " value " +
+                       probe_vec3(
+                           {t.image.at(tx, ty, 0), t.image.at(tx, ty, 1), t.image.at(tx, ty, 2)});
+            };
+            const float fx = taps.tx, fy = taps.ty;
+            section.add("texture", "'" + t.name + "' " + std::to_string(t.image.width) + "x" +
+                                       std::to_string(t.image.height) +
+                                       ", bilinear, repeat; lerp fractions tx " + probe_float(fx) +
+                                       " ty " + probe_float(fy));
+            section.add("  texel 0", texel(taps.x0, taps.y0, (1 - fx) * (1 - fy)));
+            section.add("  texel 1", texel(taps.x1, taps.y0, fx * (1 - fy)));
+            section.add("  texel 2", texel(taps.x0, taps.y1, (1 - fx) * fy));
+            section.add("  texel 3", texel(taps.x1, taps.y1, fx * fy));
+        } else {
+            section.add("texture", "uv not finite: black");
+        }
+    }
+    section.add("albedo", probe_vec3(surface.albedo));
+}
+
+glm::vec3 explain_shading(const Scene& scene, const Bvh* bvh, const SurfacePoint& surface,
+                          glm::vec3 eye, std::uint32_t frame, std::uint32_t pixel,
+                          std::uint32_t base, ProbeSection& section) {
+    ShadingStats stats;
+    std::vector<LightSampleRecord> lights;
+    const glm::vec3 radiance =
+        shade_direct(scene, bvh, surface, eye, frame, pixel, base, stats, &lights);
+    const Material& m = scene.materials[static_cast<std::size_t>(surface.material)];
+    section.add("rand", "rand(frame " + std::to_string(frame) + ", pixel " + std::to_string(pixel) +
+                            ", dimension " + std::to_string(base) + " + 2 l (+1)) (SPEC §0)");
+    if (m.emission != glm::vec3(0.0f))
+        section.add("emission", probe_vec3(m.emission) + " (front side only)");
+    if (lights.empty()) section.add("lights", "none: no shadow rays");
+    for (const LightSampleRecord& r : lights) {
+        const Light& light = scene.lights[static_cast<std::size_t>(r.light)];
+        std::string text = std::string(light_type(light.type)) + ": ";
+        if (light.type != Light::Type::point)
+            text += "r1 " + probe_float(r.r1) + " r2 " + probe_float(r.r2) + ", ";
+        text += "sample " + probe_vec3(r.sample) + ", d " + probe_float(r.distance) + ", cos " +
+                probe_float(r.cos_surface) + ", G " + probe_float(r.geometry) + " -> " + r.outcome;
+        if (std::string(r.outcome) == "lit" || std::string(r.outcome) == "occluded")
+            text += " (shadow ray from " + probe_vec3(r.shadow_origin) + ")";
+        if (std::string(r.outcome) == "lit") text += ", adds " + probe_vec3(r.contribution);
+        section.add("light " + std::to_string(r.light), text);
+    }
+    section.add("radiance", probe_vec3(radiance));
+    return radiance;
+}
+
+// Reads a G-buffer pixel the way the shade_direct stage does (non-finite values become 0).
+SurfacePoint gbuffer_surface(const FrameResult& f, int x, int y) {
+    SurfacePoint s;
+    auto read = [&](const char* name, int c) {
+        const float v = f.find(name)->image.at(x, y, c);
+        return std::isfinite(v) ? v : 0.0f;
+    };
+    for (int c = 0; c < 3; ++c) {
+        s.position[c] = read("gbuffer_world_position", c);
+        s.shading_normal[c] = read("gbuffer_shading_normal", c);
+        s.geometric_normal[c] = read("gbuffer_geometric_normal", c);
+        s.albedo[c] = read("gbuffer_albedo", c);
+    }
+    s.material = static_cast<std::int32_t>(read("gbuffer_material_id", 0));
+    return s;
+}
+
+void check(ProbeReport& report, ProbeSection& section, const std::string& what, glm::vec3 mine,
+           glm::vec3 rendered) {
+    const bool same = same_bits(mine, rendered);
+    section.add("check", what + ": " +
+                             (same ? "bit-identical to the rendered buffer"
+                                   : "DIFFERS from the rendered buffer " + probe_vec3(rendered)));
+    if (!same) report.consistent = false;
+}
+
+}  // namespace
+
+void explain_basic(const ProbeContext& c, ProbeReport& report) {
+    const Scene& scene = *c.scene;
+    const FrameResult& f = *c.frame;
+    const std::string primary = c.settings->params.get_string(basic_params(), "primary");
+    const Bvh bvh = build_bvh(scene.positions);
+
+    ProbeSection map{"forward map", "screen pixel -> buffer texel", {}};
+    map.add("mapping", "none (no foveation): buffer texel (" + std::to_string(c.x) + ", " +
+                           std::to_string(c.y) + "), weight 1");
+    report.sections.push_back(map);
+
+    ProbeSection vis{"primary_visibility",
+                     primary == "raster" ? "rasterized G-buffer (the ray below is what a ray "
+                                           "caster would trace; edges may differ)"
+                                         : "one ray through the pixel centre (Lund §3.1)",
+                     {}};
+    const Ray ray =
+        primary_ray(c.camera, tan_half_vfov(c.camera), c.settings->width, c.settings->height,
+                    static_cast<float>(c.x) + 0.5f, static_cast<float>(c.y) + 0.5f);
+    Hit hit;
+    SurfacePoint traced;
+    explain_ray(scene, bvh, ray, "primary", vis, hit, traced);
+    const float gbuffer_id = f.find("gbuffer_primitive_id")->image.at(c.x, c.y);
+    vis.add("G-buffer primitive", probe_float(gbuffer_id));
+    if (hit.hit()) explain_surface(scene, traced, vis);
+    if (primary == "ray") {
+        const bool same =
+            static_cast<float>(hit.primitive) == gbuffer_id &&
+            (!hit.hit() || same_bits(traced.position, gbuffer_surface(f, c.x, c.y).position));
+        vis.add("check",
+                std::string("hit: ") + (same ? "same primitive and position as the G-buffer"
+                                             : "DIFFERS from the G-buffer"));
+        if (!same) report.consistent = false;
+    }
+    report.sections.push_back(vis);
+
+    ProbeSection shade{"shade_direct", "Lambert + one shadow ray per light sample (Gupta §2)", {}};
+    if (gbuffer_id < 0.0f) {
+        shade.add("pixel", "background: black, nothing shaded");
+        report.sections.push_back(shade);
+        return;
+    }
+    const SurfacePoint surface = gbuffer_surface(f, c.x, c.y);
+    shade.add("inputs", "from the G-buffer: position " + probe_vec3(surface.position) +
+                            ", shading normal " + probe_vec3(surface.shading_normal) + ", albedo " +
+                            probe_vec3(surface.albedo));
+    const glm::vec3 l =
+        explain_shading(scene, scene.lights.empty() ? nullptr : &bvh, surface, c.camera.position,
+                        static_cast<std::uint32_t>(c.frame->frame),
+                        static_cast<std::uint32_t>(c.y * c.settings->width + c.x), 0, shade);
+    check(report, shade, "radiance", l, pixel_rgb(f, "final", c.x, c.y));
+    report.sections.push_back(shade);
+}
+
+void explain_ground_truth(const ProbeContext& c, ProbeReport& report) {
+    const Scene& scene = *c.scene;
+    const Bvh bvh = build_bvh(scene.positions);
+    ProbeSection ss{"supersample",
+                    "16 rays at Halton(2,3) points 1..16, each shaded like basic, box filter "
+                    "(Lund §3.2)",
+                    {}};
+    const auto points = halton23_points16();
+    const std::uint32_t dimensions = shading_dimensions(scene);
+    const auto pixel = static_cast<std::uint32_t>(c.y * c.settings->width + c.x);
+    glm::vec3 sum(0.0f);
+    for (int s = 0; s < ground_truth_samples; ++s) {
+        const Ray ray = primary_ray(c.camera, tan_half_vfov(c.camera), c.settings->width,
+                                    c.settings->height, static_cast<float>(c.x) + points[s].x,
+                                    static_cast<float>(c.y) + points[s].y);
+        TraceStats stats;
+        const Hit hit = trace_closest(bvh, ray, stats);
+        std::string text = "offset (" + probe_float(points[s].x) + ", " + probe_float(points[s].y) +
+                           "), direction " + probe_vec3(ray.direction);
+        if (!hit.hit()) {
+            ss.add("sample " + std::to_string(s), text + " -> miss");
+            continue;
+        }
+        const SurfacePoint surface = surface_at(scene, hit.primitive, hit.u, hit.v);
+        ShadingStats shading;
+        const glm::vec3 l = shade_direct(scene, &bvh, surface, c.camera.position,
+                                         static_cast<std::uint32_t>(c.frame->frame), pixel,
+                                         dimensions * static_cast<std::uint32_t>(s), shading);
+        sum += l;
+        ss.add("sample " + std::to_string(s),
+               text + " -> primitive " + std::to_string(hit.primitive) + " t " +
+                   probe_float(hit.t) + ", radiance " + probe_vec3(l));
+    }
+    const glm::vec3 mean = sum * (1.0f / static_cast<float>(ground_truth_samples));
+    ss.add("box filter", "sum " + probe_vec3(sum) + " x 1/16 = " + probe_vec3(mean));
+    check(report, ss, "mean", mean, pixel_rgb(*c.frame, "final", c.x, c.y));
+    report.sections.push_back(ss);
+}
+
+}  // namespace fovref
