@@ -21,6 +21,7 @@
 #include "ref/trace/rays_file.h"
 #include "tools/bench_rays.h"
 #include "tools/diff.h"
+#include "tools/evaluate.h"
 #include "tools/progress.h"
 
 #ifndef FOVREF_SOURCE_DIR
@@ -64,6 +65,8 @@ struct Options {
     BenchRaysOptions bench;
     // diff
     DiffOptions diff;
+    // evaluate
+    EvaluateOptions evaluate;
     // probe
     int probe_frame = 0;
     std::string pixel;
@@ -568,6 +571,8 @@ int main(int argc, char** argv) {
         "  fovref golden export CASE DIR [--width W --height H --frames N]\n"
         "  fovref probe --scene S --mode M --width W --height H --frame F --pixel X,Y\n"
         "                                         explain one pixel stage by stage\n"
+        "  fovref evaluate --scene S --mode M[,M2] [--frames N --every K] --out DIR\n"
+        "                                         ring errors against the ground truth\n"
         "  fovref diff GOLDEN CANDIDATE [--tolerance N:abs=X] [--json F] [--html DIR]\n"
         "                                         compare a GPU's buffers with a golden bundle\n"
         "SCENE is a procedural scene name (see `scene list`) or a scene file or directory.\n"
@@ -722,6 +727,13 @@ int main(int argc, char** argv) {
     probe_cmd->add_option("--param", o.params, "mode parameter key=value (repeatable)");
     probe_cmd->add_flag("--json", o.json, "machine-readable output");
 
+    // evaluate
+    CLI::App* evaluate_cmd = app.add_subcommand(
+        "evaluate",
+        "render modes (or read rendered frames) along the camera path and compute error ranges "
+        "against the ground truth every k-th frame: CSV, JSON, SVG plot, heatmaps");
+    add_evaluate_options(*evaluate_cmd, o.evaluate);
+
     // diff
     CLI::App* diff_cmd = app.add_subcommand(
         "diff",
@@ -754,6 +766,11 @@ int main(int argc, char** argv) {
         if (list_cmd->parsed()) return golden_list(o);
         if (export_cmd->parsed()) return golden_export(o);
         if (probe_cmd->parsed()) return probe_command(o);
+        if (evaluate_cmd->parsed()) {
+            EvaluateOptions options = o.evaluate;
+            options.quiet = o.quiet;
+            return run_evaluate(options);
+        }
         if (diff_cmd->parsed()) {
             DiffOptions options = o.diff;
             options.quiet = o.quiet;

@@ -117,8 +117,8 @@ Image heatmap(const Image& values, const HeatmapSettings& settings) {
                 const bool right = x + 1 < values.width && ring[p] != ring[p + 1];
                 const bool below = y + 1 < values.height && ring[p] != ring[p + w];
                 if (!(right || below)) continue;
-                // Blend 40% white over the error colour, so errors on a boundary stay visible.
-                for (int c = 0; c < 3; ++c) out.at(x, y, c) = 0.6f * out.at(x, y, c) + 0.4f;
+                // Blend 25% white over the error colour, so errors on a boundary stay visible.
+                for (int c = 0; c < 3; ++c) out.at(x, y, c) = 0.75f * out.at(x, y, c) + 0.25f;
             }
     }
     if (!settings.legend) return out;

@@ -18,7 +18,7 @@ struct HeatmapSettings {
     /// map (so an all-zero map is all black). Larger values are clamped to the top colour.
     float scale_max = 0.0f;
     bool legend = true;                 ///< colour bar and scale values to the right of the map
-    const RingLayout* rings = nullptr;  ///< when set, ring boundaries blended 40% white
+    const RingLayout* rings = nullptr;  ///< when set, ring boundaries blended 25% white
 };
 
 /// The colour table at t in [0, 1] (linear RGB; the table itself is sRGB-encoded bytes).

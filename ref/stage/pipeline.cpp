@@ -107,6 +107,8 @@ void validate_settings(const RenderSettings& settings) {
         throw Error("--width " + std::to_string(settings.width) + ": must be in [1, 16384]");
     if (settings.height < 1 || settings.height > max_side)
         throw Error("--height " + std::to_string(settings.height) + ": must be in [1, 16384]");
+    if (settings.first_frame < 0 || settings.first_frame > 100000)
+        throw Error("first frame " + std::to_string(settings.first_frame) + ": must be in [0, 100000]");
     if (settings.frame_count < 1 || settings.frame_count > 100000)
         throw Error("--frames " + std::to_string(settings.frame_count) +
                     ": must be in [1, 100000]");
@@ -138,16 +140,17 @@ std::vector<std::string> render_each(const Scene* scene, const std::string& mode
     context.scene = scene;
     context.settings = &settings;
     const auto frames = static_cast<double>(settings.frame_count);
-    for (int f = 0; f < settings.frame_count; ++f) {
+    for (int k = 0; k < settings.frame_count; ++k) {
+        const int f = settings.first_frame + k;
         context.frame = f;
         context.time = settings.time_start + static_cast<float>(f) * settings.time_step;
         const Camera camera = scene ? camera_at(*scene, context.time) : Camera{};
-        context.previous_camera = f == 0 ? camera : context.camera;
-        context.has_previous = f > 0;
+        context.previous_camera = k == 0 ? camera : context.camera;
+        context.has_previous = k > 0;
         context.camera = camera;
         if (settings.progress)
-            context.stage_progress = [&settings, f, frames](double within) {
-                settings.progress((static_cast<double>(f) + within) / frames);
+            context.stage_progress = [&settings, k, frames](double within) {
+                settings.progress((static_cast<double>(k) + within) / frames);
             };
         FrameResult result = pipeline.run_frame(context, settings.requested);
         if (scene)

@@ -19,6 +19,9 @@ struct RenderSettings {
     int width = 320;
     int height = 180;
     int frame_count = 1;
+    /// Index of the first frame rendered (frame numbers seed rand(); the camera-path time of
+    /// frame f is time_start + f time_step). Lets a stateless mode render one frame of a sequence.
+    int first_frame = 0;
     float time_start = 0.0f;      ///< camera-path time of frame 0
     float time_step = 1.0f / 30;  ///< camera-path time between frames
     Params params;                ///< mode parameters (validated against the mode's list)

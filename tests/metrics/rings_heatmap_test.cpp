@@ -132,13 +132,13 @@ TEST_CASE("heatmap: colour scale, legend, ring overlay, non-finite values") {
     const Image with_legend = heatmap(values, settings);
     CHECK(with_legend.width > 40);
     CHECK(with_legend.at(44, 0, 0) == top.r);  // bar top = the scale's top
-    // Ring boundaries are blended 40% white over the colour: 0.6 c + 0.4.
+    // Ring boundaries are blended 25% white over the colour: 0.75 c + 0.25.
     const RingLayout rings = ring_layout(40, 30, {20, 15}, 30.0f);
     settings.legend = false;
     settings.rings = &rings;
     const Image ringed = heatmap(Image(40, 30, 1, 0.0f), settings);
     int white = 0;
-    const float blended = 0.6f * bottom.r + 0.4f;
+    const float blended = 0.75f * bottom.r + 0.25f;
     for (int x = 0; x < 40; ++x) white += ringed.at(x, 15, 0) == blended;
     CHECK(white >= 2 * 5);  // a horizontal line through the gaze crosses each ring twice
 }

@@ -1,0 +1,397 @@
+#include "tools/evaluate.h"
+
+#include <CLI/CLI.hpp>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "ref/core/error.h"
+#include "ref/golden/bundle.h"
+#include "ref/image/image_io.h"
+#include "ref/metrics/heatmap.h"
+#include "ref/metrics/metrics.h"
+#include "ref/metrics/rings.h"
+#include "ref/metrics/ssim.h"
+#include "ref/scene/scene_file.h"
+#include "ref/stage/pipeline.h"
+#include "tools/progress.h"
+#include "tools/svg_plot.h"
+
+namespace fs = std::filesystem;
+
+namespace fovref {
+
+namespace {
+
+using json = nlohmann::json;
+
+// One compared sequence: a render mode (with its parameters) or a directory of frames.
+struct Candidate {
+    std::string label;
+    std::string mode;  ///< "" for a directory of frames
+    std::string directory;
+    Params params;
+    std::vector<std::vector<RingStats>> rings;  ///< per evaluated frame
+    std::vector<json> frame_rows;
+    std::vector<Image> display_frames;  ///< evaluated frames, for the temporal error
+    Image last_error;                   ///< squared-error map of the last evaluated frame
+};
+
+// "basic" or "basic:primary=raster:key=value".
+Candidate parse_mode(const std::string& text, const std::vector<std::string>& shared_params) {
+    Candidate c;
+    c.label = text;
+    std::size_t start = 0;
+    std::vector<std::string> parts;
+    while (true) {
+        const auto colon = text.find(':', start);
+        parts.push_back(text.substr(start, colon - start));
+        if (colon == std::string::npos) break;
+        start = colon + 1;
+    }
+    c.mode = parts[0];
+    const ModeInfo& mode = find_mode(c.mode);
+    for (const std::string& p : shared_params) {
+        Params one;
+        one.set_from_assignment(p);
+        for (const auto& [key, value] : one.values())
+            for (const ParamSpec& spec : mode.params)
+                if (spec.name == key) c.params.set(key, value);
+    }
+    for (std::size_t k = 1; k < parts.size(); ++k) c.params.set_from_assignment(parts[k]);
+    c.params.check_known(mode.params, c.mode);
+    return c;
+}
+
+glm::vec2 parse_gaze(const std::string& text, int width, int height) {
+    if (text.empty()) return {0.5f * static_cast<float>(width), 0.5f * static_cast<float>(height)};
+    float x = 0, y = 0;
+    char tail = 0;
+    if (std::sscanf(text.c_str(), "%f,%f%c", &x, &y, &tail) != 2 || !std::isfinite(x) ||
+        !std::isfinite(y))
+        throw Error("--gaze '" + text + "': expected X,Y in pixels");
+    return {x, y};
+}
+
+Image final_image(const FrameResult& frame) {
+    const Buffer* b = frame.find("final");
+    if (!b) throw Error("the mode has no 'final' buffer to evaluate");
+    if (b->image.channels != 3) throw Error("the mode's 'final' buffer is not RGB");
+    return b->image;
+}
+
+// A frame of a directory of rendered frames: f000_final.pfm / .exr / .png (bundle naming).
+Image read_frame(const std::string& directory, int frame) {
+    char stem[32];
+    std::snprintf(stem, sizeof stem, "f%03d_final", frame);
+    for (const char* ext : {".pfm", ".exr", ".png"}) {
+        const fs::path path = fs::path(directory) / (std::string(stem) + ext);
+        if (fs::exists(path)) return read_image(path.string());
+    }
+    throw Error(directory + ": no " + stem + ".pfm/.exr/.png for frame " + std::to_string(frame));
+}
+
+json ring_json(const RingStats& s) {
+    auto n = [](double v) -> json {
+        if (std::isnan(v)) return nullptr;
+        if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+        return v;
+    };
+    return {{"ring", s.ring},     {"inner_deg", s.inner_deg}, {"outer_deg", s.outer_deg},
+            {"pixels", s.pixels}, {"mse", n(s.mse)},          {"rmse", n(s.rmse)},
+            {"psnr", n(s.psnr)},  {"ssim", n(s.ssim)},        {"sd", n(s.sd)}};
+}
+
+std::string csv_number(double v) {
+    if (std::isnan(v)) return "";
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", v);
+    return text;
+}
+
+// Lund §5.3.4: each ring's statistic averaged over the evaluated frames.
+std::vector<RingStats> average_rings(const std::vector<std::vector<RingStats>>& frames) {
+    std::vector<RingStats> mean = frames.front();
+    for (std::size_t k = 0; k < mean.size(); ++k) {
+        double mse = 0, rmse = 0, psnr_sum = 0, ssim = 0, sd = 0;
+        for (const auto& f : frames) {
+            mse += f[k].mse;
+            rmse += f[k].rmse;
+            psnr_sum += f[k].psnr;
+            ssim += f[k].ssim;
+            sd += f[k].sd;
+        }
+        const auto n = static_cast<double>(frames.size());
+        mean[k].mse = mse / n;
+        mean[k].rmse = rmse / n;
+        mean[k].psnr = psnr_sum / n;
+        mean[k].ssim = ssim / n;
+        mean[k].sd = sd / n;
+    }
+    return mean;
+}
+
+}  // namespace
+
+void add_evaluate_options(CLI::App& c, EvaluateOptions& o) {
+    c.add_option("--scene", o.scene, "procedural scene name or scene file")->required();
+    c.add_option("--mode", o.modes,
+                 "mode to evaluate, optionally with parameters: basic or basic:primary=raster "
+                 "(repeatable, or comma-separated)")
+        ->delimiter(',');
+    c.add_option("--frames-dir", o.frame_dirs,
+                 "evaluate already rendered frames: a directory with f000_final.pfm/.exr/.png, "
+                 "... (e.g. a GPU implementation's output; repeatable)");
+    c.add_option("--reference", o.reference_mode, "the reference mode")->capture_default_str();
+    c.add_option("--param", o.params, "key=value for every mode that has the parameter");
+    c.add_option("--width", o.width, "screen width")
+        ->check(CLI::Range(11, 16384))
+        ->capture_default_str();
+    c.add_option("--height", o.height, "screen height")
+        ->check(CLI::Range(11, 16384))
+        ->capture_default_str();
+    c.add_option("--frames", o.frames, "frames along the camera path")
+        ->check(CLI::Range(1, 100000))
+        ->capture_default_str();
+    c.add_option("--every", o.every, "evaluate every k-th frame (Lund §5.3.4)")
+        ->check(CLI::Range(1, 100000))
+        ->capture_default_str();
+    c.add_option("--time-start", o.time_start, "camera-path time of frame 0")
+        ->capture_default_str();
+    c.add_option("--time-step", o.time_step, "camera-path time between frames")
+        ->capture_default_str();
+    c.add_option("--gaze", o.gaze, "gaze point X,Y in pixels (default: the centre)");
+    c.add_option("--rings", o.rings, "number of error ranges")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    c.add_option("--max-range", o.max_range, "fraction of the largest eccentricity covered")
+        ->check(CLI::Range(1e-6, 1.0))
+        ->capture_default_str();
+    c.add_flag("--linear", o.linear, "compare stored linear values (default: display space)");
+    c.add_option("--out", o.out_dir,
+                 "output directory (rings.csv, frames.csv, summary.json, "
+                 "rings.svg, heatmaps)")
+        ->required();
+}
+
+int run_evaluate(const EvaluateOptions& o) {
+    if (o.modes.empty() && o.frame_dirs.empty())
+        throw Error("evaluate: give --mode and/or --frames-dir");
+    const Scene scene = load_scene(o.scene);
+    std::vector<Candidate> candidates;
+    for (const std::string& m : o.modes) candidates.push_back(parse_mode(m, o.params));
+    for (const std::string& d : o.frame_dirs) {
+        if (!fs::is_directory(d)) throw Error(d + ": not a directory of frames");
+        Candidate c;
+        c.label = fs::path(d).filename().string().empty() ? d : fs::path(d).filename().string();
+        c.directory = d;
+        candidates.push_back(std::move(c));
+    }
+    const ModeInfo& reference_mode = find_mode(o.reference_mode);
+    (void)reference_mode;
+
+    RenderSettings base;
+    base.width = o.width;
+    base.height = o.height;
+    base.time_start = o.time_start;
+    base.time_step = o.time_step;
+    validate_settings(base);
+    RingSettings ring_settings;
+    ring_settings.count = o.rings;
+    ring_settings.max_range = o.max_range;
+    const glm::vec2 gaze = parse_gaze(o.gaze, o.width, o.height);
+    const float distance = display_distance_px(scene.display, o.width, o.height,
+                                               camera_at(scene, o.time_start).vfov_deg);
+    const RingLayout layout = ring_layout(o.width, o.height, gaze, distance, ring_settings);
+    auto space = [&](const Image& image) { return o.linear ? image : to_display(image); };
+
+    std::vector<int> evaluated;
+    for (int f = 0; f < o.frames; f += o.every) evaluated.push_back(f);
+    Progress progress("evaluate", o.quiet);
+    const double total = static_cast<double>(candidates.size() + 1);
+
+    // The reference at the evaluated frames (one frame each: the reference mode keeps no state
+    // between frames, and its frame number seeds rand() exactly as in a full sequence).
+    std::map<int, Image> reference;
+    std::vector<Image> reference_display;
+    for (std::size_t i = 0; i < evaluated.size(); ++i) {
+        RenderSettings s = base;
+        s.first_frame = evaluated[i];
+        s.progress = [&](double f) {
+            progress.update((static_cast<double>(i) + f) / static_cast<double>(evaluated.size()) /
+                            total);
+        };
+        for (const FrameResult& f : render(&scene, o.reference_mode, s))
+            reference[evaluated[i]] = space(final_image(f));
+        reference_display.push_back(reference[evaluated[i]]);
+    }
+
+    // Each candidate: every frame in order (modes may carry state from frame to frame), the
+    // evaluated ones compared.
+    for (std::size_t ci = 0; ci < candidates.size(); ++ci) {
+        Candidate& c = candidates[ci];
+        auto evaluate_frame = [&](int frame, const Image& image, const Counters* counters,
+                                  double seconds) {
+            if (frame % o.every != 0) return;
+            const Image& ref = reference.at(frame);
+            const Image test = space(image);
+            if (!test.same_shape(ref))
+                throw Error(c.label + ": frame " + std::to_string(frame) + " is " +
+                            std::to_string(test.width) + "x" + std::to_string(test.height) +
+                            ", the reference " + std::to_string(ref.width) + "x" +
+                            std::to_string(ref.height));
+            const SsimMap map = ssim_map(luma(ref), luma(test));
+            c.rings.push_back(ring_errors(ref, test, layout, &map));
+            const double m = mse(ref, test);
+            json row = {{"frame", frame},
+                        {"mse", m},
+                        {"psnr", std::isinf(psnr(m)) ? json("inf") : json(psnr(m))},
+                        {"ssim", map.mean}};
+            if (counters) {
+                std::int64_t rays = 0;
+                for (const auto& [name, value] : counters->values)
+                    if (name.rfind("rays_", 0) == 0) rays += value;
+                row["rays_traced"] = rays;
+                row["rays_percent_of_pixels"] =
+                    100.0 * static_cast<double>(rays) / (static_cast<double>(o.width) * o.height);
+                row["pixels_shaded"] = counters->get("pixels_shaded");
+                row["stage_seconds"] = seconds;
+            }
+            c.frame_rows.push_back(row);
+            c.display_frames.push_back(o.linear ? to_display(test) : test);
+            c.last_error = squared_error_map(ref, test);
+        };
+        const auto done = [&](double f) {
+            progress.update((static_cast<double>(ci + 1) + f) / total);
+        };
+        if (!c.mode.empty()) {
+            RenderSettings s = base;
+            s.frame_count = o.frames;
+            s.params = c.params;
+            s.progress = done;
+            render_each(&scene, c.mode, s, [&](FrameResult& f) {
+                double seconds = 0;
+                for (const StageRun& run : f.stages) seconds += run.seconds;
+                evaluate_frame(f.frame, final_image(f), &f.counters, seconds);
+            });
+        } else {
+            for (std::size_t i = 0; i < evaluated.size(); ++i) {
+                evaluate_frame(evaluated[i], read_frame(c.directory, evaluated[i]), nullptr, 0);
+                done(static_cast<double>(i + 1) / static_cast<double>(evaluated.size()));
+            }
+        }
+    }
+    progress.finish();
+
+    // Outputs.
+    fs::create_directories(o.out_dir);
+    std::string rings_csv = "label,ring,inner_deg,outer_deg,pixels,mse,rmse,psnr,ssim,sd\n";
+    std::string frames_csv =
+        "label,frame,mse,psnr,ssim,rays_traced,rays_percent_of_pixels,"
+        "pixels_shaded,stage_seconds\n";
+    json summary;
+    summary["scene"] = o.scene;
+    summary["reference"] = o.reference_mode;
+    summary["width"] = o.width;
+    summary["height"] = o.height;
+    summary["frames"] = o.frames;
+    summary["evaluated_frames"] = evaluated;
+    summary["space"] = o.linear ? "linear" : "display";
+    summary["ring_layout"] = {{"gaze", {gaze.x, gaze.y}},
+                              {"distance_px", distance},
+                              {"max_eccentricity_deg", layout.max_eccentricity_deg},
+                              {"outer_deg", layout.outer_deg},
+                              {"rings", o.rings}};
+    summary["reference_temporal_error"] = temporal_error(reference_display);
+    PlotSeries ssim_series, psnr_series, rmse_series;
+    std::vector<PlotSeries> ssim_plot, psnr_plot, rmse_plot;
+    for (Candidate& c : candidates) {
+        const std::vector<RingStats> mean = average_rings(c.rings);
+        json jc;
+        jc["label"] = c.label;
+        jc["temporal_error"] = temporal_error(c.display_frames);
+        jc["rings"] = json::array();
+        PlotSeries s{c.label, {}, {}}, p{c.label, {}, {}}, r{c.label, {}, {}};
+        for (const RingStats& ring : mean) {
+            jc["rings"].push_back(ring_json(ring));
+            rings_csv += c.label + "," + std::to_string(ring.ring) + "," +
+                         csv_number(ring.inner_deg) + "," + csv_number(ring.outer_deg) + "," +
+                         std::to_string(ring.pixels) + "," + csv_number(ring.mse) + "," +
+                         csv_number(ring.rmse) + "," + csv_number(ring.psnr) + "," +
+                         csv_number(ring.ssim) + "," + csv_number(ring.sd) + "\n";
+            const double mid = 0.5 * (static_cast<double>(ring.inner_deg) + ring.outer_deg);
+            s.x.push_back(mid);
+            p.x.push_back(mid);
+            r.x.push_back(mid);
+            s.y.push_back(ring.ssim);
+            p.y.push_back(ring.psnr);
+            r.y.push_back(ring.rmse);
+        }
+        ssim_plot.push_back(s);
+        psnr_plot.push_back(p);
+        rmse_plot.push_back(r);
+        jc["frames"] = c.frame_rows;
+        for (const json& row : c.frame_rows) {
+            auto field = [&](const char* key) -> std::string {
+                if (!row.contains(key)) return "";
+                const json& v = row[key];
+                if (v.is_string()) return v.get<std::string>();
+                if (v.is_number_integer()) return std::to_string(v.get<std::int64_t>());
+                return csv_number(v.get<double>());
+            };
+            frames_csv += c.label + "," + field("frame") + "," + field("mse") + "," +
+                          field("psnr") + "," + field("ssim") + "," + field("rays_traced") + "," +
+                          field("rays_percent_of_pixels") + "," + field("pixels_shaded") + "," +
+                          field("stage_seconds") + "\n";
+        }
+        summary["candidates"].push_back(jc);
+        HeatmapSettings hs;
+        hs.rings = &layout;
+        std::string file = "heatmap_" + c.label + ".png";
+        for (char& ch : file)
+            if (ch == ':' || ch == '=' || ch == '/' || ch == ' ') ch = '_';
+        write_png((fs::path(o.out_dir) / file).string(), heatmap(c.last_error, hs));
+    }
+    const std::string title_suffix = " (" + std::to_string(evaluated.size()) + " frames averaged)";
+    const std::string x_label = "eccentricity (degrees)";
+    std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"1290\" height=\"320\">\n";
+    const std::string plots[3] = {
+        svg_line_plot({"SSIM" + title_suffix, x_label, "SSIM", ssim_plot}),
+        svg_line_plot({"PSNR" + title_suffix, x_label, "dB", psnr_plot}),
+        svg_line_plot({"RMSE" + title_suffix, x_label, "RMSE", rmse_plot})};
+    for (int k = 0; k < 3; ++k)
+        svg +=
+            "<g transform=\"translate(" + std::to_string(430 * k) + " 0)\">" + plots[k] + "</g>\n";
+    svg += "</svg>\n";
+    write_file_atomic((fs::path(o.out_dir) / "rings.svg").string(), svg);
+    write_file_atomic((fs::path(o.out_dir) / "rings.csv").string(), rings_csv);
+    write_file_atomic((fs::path(o.out_dir) / "frames.csv").string(), frames_csv);
+    write_file_atomic((fs::path(o.out_dir) / "summary.json").string(), summary.dump(1) + "\n");
+    if (!o.quiet) {
+        std::printf(
+            "evaluate: %s, %dx%d, %zu of %d frames vs %s, %d rings to %.3g deg (%s space)\n",
+            o.scene.c_str(), o.width, o.height, evaluated.size(), o.frames,
+            o.reference_mode.c_str(), o.rings, static_cast<double>(layout.outer_deg),
+            o.linear ? "linear" : "display");
+        std::printf("%-24s %6s %10s %12s %12s\n", "candidate", "ring", "outer deg", "PSNR",
+                    "SSIM");
+        for (const Candidate& c : candidates) {
+            const std::vector<RingStats> mean = average_rings(c.rings);
+            for (const RingStats& r : mean)
+                if (r.ring % 5 == 0 || r.ring == o.rings - 1)
+                    std::printf("%-24s %6d %10.3g %12s %12s\n", c.label.c_str(), r.ring,
+                                static_cast<double>(r.outer_deg), csv_number(r.psnr).c_str(),
+                                csv_number(r.ssim).c_str());
+        }
+        std::printf("wrote %s/{rings.csv,frames.csv,summary.json,rings.svg,heatmap_*.png}\n",
+                    o.out_dir.c_str());
+    }
+    return 0;
+}
+
+}  // namespace fovref

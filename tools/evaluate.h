@@ -1,0 +1,37 @@
+// `fovref evaluate` (issue 4; Lund §5.3.4, SPEC §10): renders modes (or reads rendered frames)
+// over a camera path, compares every k-th frame with the ground-truth renderer in error ranges
+// around the gaze point, averages each ring's statistic over the evaluated frames, and writes
+// CSV, JSON, an SVG plot like Lund Fig. 5.7-5.11 and error heatmaps. docs/evaluate.md.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace fovref {
+
+struct EvaluateOptions {
+    std::string scene;
+    std::vector<std::string> modes;       ///< render modes compared with the reference
+    std::vector<std::string> frame_dirs;  ///< or: directories of rendered frames (f000_final.*)
+    std::string reference_mode = "ground-truth";
+    std::vector<std::string> params;  ///< key=value, applied to every mode that knows the key
+    int width = 320, height = 180, frames = 20, every = 1;
+    float time_start = 0.0f, time_step = 1.0f / 30;
+    std::string gaze;  ///< X,Y pixels; default the centre
+    int rings = 20;
+    float max_range = 1.0f;
+    bool linear = false;  ///< compare stored values instead of display space (SPEC §10)
+    std::string out_dir;
+    bool quiet = false;
+};
+
+void add_evaluate_options(CLI::App& command, EvaluateOptions& options);
+
+/// Throws fovref::Error for usage and input errors. Returns 0.
+int run_evaluate(const EvaluateOptions& options);
+
+}  // namespace fovref
