@@ -10,6 +10,8 @@
 // adds its figures, the ratio and the hit/miss agreement.
 #include "tools/bench_rays.h"
 
+#include "tools/bench_util.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -32,23 +34,7 @@ namespace fovref {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-/// The fastest of `repeats` runs of f (the machine is shared; the minimum is the most stable).
-template <class F>
-double best_time(int repeats, F&& f) {
-    double best = 1e300;
-    for (int r = 0; r < repeats; ++r) {
-        const auto start = Clock::now();
-        f();
-        best = std::min(best, seconds_since(start));
-    }
-    return best;
-}
+using Clock = BenchClock;
 
 // The rays are those `fovref rays make` writes, so a GPU run can trace the very same files:
 // primary = `rays make SCENE F --camera --width W --height H`, incoherent = `--random N --seed 1`.

@@ -19,6 +19,7 @@
 #include "ref/stage/pipeline.h"
 #include "ref/stage/probe.h"
 #include "ref/trace/rays_file.h"
+#include "tools/bench_metrics.h"
 #include "tools/bench_rays.h"
 #include "tools/diff.h"
 #include "tools/evaluate.h"
@@ -63,6 +64,7 @@ struct Options {
     std::string primary;
     // bench
     BenchRaysOptions bench;
+    BenchMetricsOptions bench_metrics;
     // diff
     DiffOptions diff;
     // evaluate
@@ -564,6 +566,7 @@ int main(int argc, char** argv) {
         "  fovref rays trace SCENE RAYS HITS [--any-hit]   closest hits / occlusion of a ray file\n"
         "  fovref bench rays [--scene S] [--width W --height H]   BVH and ray throughput (vs "
         "Embree)\n"
+        "  fovref bench metrics [--size WxH]      metric times (vs scikit-image's SSIM)\n"
         "  fovref golden list                     the golden cases (golden/cases.json)\n"
         "  fovref golden verify [--case C]        recompute, compare bit-exactly, exit 1 on a "
         "difference\n"
@@ -679,6 +682,16 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
 
+    CLI::App* bench_metrics_cmd = bench->add_subcommand(
+        "metrics",
+        "time of each metric at 1280x720 and 3840x2160; with python3-skimage installed, "
+        "scikit-image's SSIM on the same images in the same run");
+    bench_metrics_cmd->add_option("--size", o.bench_metrics.sizes, "WxH (repeatable)")
+        ->capture_default_str();
+    bench_metrics_cmd->add_option("--repeats", o.bench_metrics.repeats, "fastest of N runs")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
+
     // golden
     CLI::App* golden =
         app.add_subcommand("golden", "verify, update, list and export golden bundles");
@@ -760,6 +773,7 @@ int main(int argc, char** argv) {
             options.quiet = o.quiet;
             return run_bench_rays(options);
         }
+        if (bench_metrics_cmd->parsed()) return run_bench_metrics(o.bench_metrics);
         if (rays_make_cmd->parsed()) return rays_make(o);
         if (verify_cmd->parsed()) return golden_verify(o);
         if (update_cmd->parsed()) return golden_update(o);

@@ -24,13 +24,13 @@ Image random_image(int w, int h, int c, std::uint64_t seed) {
 
 // Brute-force SSIM at one valid pixel: direct 11x11 sums with 2-D weights w(i) w(j), as in
 // Wang et al.'s ssim_index.m (filter2 'valid'), independent of the separable implementation.
-double brute_force_ssim(const Image& a, const Image& b, int cx, int cy) {
-    double g[11], total = 0;
-    for (int k = -5; k <= 5; ++k) total += g[k + 5] = std::exp(-(k * k) / (2 * 1.5 * 1.5));
+double brute_force_ssim(const Image& a, const Image& b, int cx, int cy, int r = 5) {
+    double g[64], total = 0;
+    for (int k = -r; k <= r; ++k) total += g[k + r] = std::exp(-(k * k) / (2 * 1.5 * 1.5));
     double ma = 0, mb = 0, saa = 0, sbb = 0, sab = 0;
-    for (int j = -5; j <= 5; ++j)
-        for (int i = -5; i <= 5; ++i) {
-            const double w = g[i + 5] / total * (g[j + 5] / total);
+    for (int j = -r; j <= r; ++j)
+        for (int i = -r; i <= r; ++i) {
+            const double w = g[i + r] / total * (g[j + r] / total);
             const double va = a.at(cx + i, cy + j), vb = b.at(cx + i, cy + j);
             ma += w * va;
             mb += w * vb;
@@ -109,6 +109,17 @@ TEST_CASE("ssim: separable filter equals the brute-force 2-D window") {
             worst = std::max(worst, std::fabs(map.at_image(x, y) - brute_force_ssim(a, b, x, y)));
     MESSAGE("largest |separable - brute force| = " << worst);
     CHECK(worst < 1e-12);  // both binary64; only the summation order differs
+    // Another radius takes the general (not unrolled) filter path.
+    SsimSettings small;
+    small.radius = 3;
+    const SsimMap map3 = ssim_map(a, b, small);
+    CHECK(map3.width == 24);
+    worst = 0;
+    for (int y = 3; y < 18; ++y)
+        for (int x = 3; x < 27; ++x)
+            worst =
+                std::max(worst, std::fabs(map3.at_image(x, y) - brute_force_ssim(a, b, x, y, 3)));
+    CHECK(worst < 1e-12);
 }
 
 TEST_CASE("ssim: equals scikit-image's structural_similarity on a fixed image") {
