@@ -12,6 +12,7 @@
 #include "ref/core/rng.h"
 #include "ref/image/image_io.h"
 #include "ref/metrics/compare.h"
+#include "ref/metrics/flip.h"
 #include "ref/metrics/heatmap.h"
 #include "ref/metrics/metrics.h"
 #include "ref/metrics/rings.h"
@@ -110,6 +111,14 @@ int run_bench_metrics(const BenchMetricsOptions& o) {
             sink += heatmap(se, hs).data[0];
         });
         row("temporal error (2 frames)", [&] { sink += temporal_error({a, b}); });
+        {
+            const Image da = to_display(a), db = to_display(b);
+            FlipParams fp;
+            fp.pixels_per_degree = flip_pixels_per_degree(distance);
+            const double t = best_time(1, [&] { sink += ldr_flip(da, db, fp).mean; });
+            std::printf("%-11s %-34s %12.2f %12.1f  (one run)\n", size.c_str(),
+                        "LDR-FLIP (display-space input)", t * 1e3, pixels / t * 1e-6);
+        }
         row("diff: compare_buffers (all figures)", [&] {
             CompareOptions co;
             co.rings = &layout;

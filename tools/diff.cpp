@@ -14,6 +14,7 @@
 #include "ref/core/error.h"
 #include "ref/golden/bundle.h"
 #include "ref/image/image_io.h"
+#include "ref/metrics/metrics.h"
 #include "tools/diff_report.h"
 
 namespace fs = std::filesystem;
@@ -203,6 +204,13 @@ void compare_item(const DiffOptions& o, const ToleranceTable& tolerances, float 
     options.worst_pixels = o.worst;
     options.rings = item.rings ? &*item.rings : nullptr;
     item.result = compare_buffers(item.name, item.golden, item.candidate, tolerance, options);
+    if (o.flip && item.kind == "color" && item.golden.channels == 3) {
+        // LDR-FLIP on what a viewer sees (SPEC §10), pixels per degree from the display model.
+        FlipParams fp;
+        fp.pixels_per_degree = flip_pixels_per_degree(
+            distance_px > 0.0f ? distance_px : default_distance_px(item.golden.height));
+        item.flip = ldr_flip(to_display(item.golden), to_display(item.candidate), fp);
+    }
     item.compared = true;
     item.pass = item.result.pass;
     item.note = note;
@@ -252,6 +260,12 @@ json item_json(const DiffItem& item) {
     if (r.first_failing) j["first_failing_pixel"] = pixel_json(*r.first_failing);
     j["worst_pixels"] = json::array();
     for (const PixelDifference& d : r.worst) j["worst_pixels"].push_back(pixel_json(d));
+    if (item.flip)
+        j["flip"] = {{"mean", item.flip->mean},
+                     {"weighted_median", item.flip->weighted_median},
+                     {"first_quartile", item.flip->first_quartile},
+                     {"third_quartile", item.flip->third_quartile},
+                     {"max", item.flip->max}};
     if (!r.rings.empty()) {
         json rings = json::array();
         for (const RingStats& s : r.rings)
@@ -365,6 +379,9 @@ void add_diff_options(CLI::App& c, DiffOptions& o) {
     c.add_option("--max-range", o.max_range, "fraction of the largest eccentricity covered")
         ->check(CLI::Range(1e-6, 1.0))
         ->capture_default_str();
+    c.add_flag("--flip", o.flip,
+               "also LDR-FLIP (NVlabs v1.x) of colour buffers, in display space (slow: seconds "
+               "per megapixel)");
     c.add_option("--distance-px", o.distance_px,
                  "viewing distance in pixels (default: the bundle's display model, else a 60 "
                  "degree vertical field of view)")

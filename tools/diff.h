@@ -34,6 +34,7 @@ struct DiffOptions {
     int rings = 20;
     float max_range = 1.0f;
     float distance_px = 0.0f;  ///< viewing distance; default: the bundle's, else vfov 60 deg
+    bool flip = false;         ///< LDR-FLIP of colour buffers (display space; slow at 4K)
     bool quiet = false;
 };
 

@@ -245,6 +245,15 @@ void write_diff_html(const DiffReport& report, const std::string& directory) {
              ", mean abs " + fmt(r.mean_abs) + ", RMSE " + fmt(r.rmse) + ", PSNR " + fmt(r.psnr) +
              " dB, SSIM " + (r.ssim ? fmt(*r.ssim, "%.6f") : "&ndash;") + ", pixels over " +
              fmt(r.threshold) + ": " + std::to_string(r.pixels_over_threshold) + "</p>\n";
+        if (item.flip)
+            h += "<p>LDR-FLIP (display space): mean " + fmt(item.flip->mean, "%.6f") +
+                 ", weighted median " + fmt(item.flip->weighted_median, "%.6f") + ", quartiles " +
+                 fmt(item.flip->first_quartile, "%.6f") + " / " +
+                 fmt(item.flip->third_quartile, "%.6f") + ", max " + fmt(item.flip->max, "%.6f") +
+                 "</p>\n<div class=\"shots\"><figure>" +
+                 img_tag(heatmap(item.flip->error_map, HeatmapSettings{1.0f, true, nullptr}),
+                         "FLIP map " + item.name) +
+                 "<figcaption>FLIP error map (scale 0 .. 1)</figcaption></figure></div>\n";
         if (!r.worst.empty()) {
             h += "<table><tr><th>worst pixels</th><th>x</th><th>y</th><th>|error|</th>"
                  "<th class=\"l\">golden</th><th class=\"l\">candidate</th></tr>\n";

@@ -8,6 +8,7 @@
 
 #include "ref/image/image.h"
 #include "ref/metrics/compare.h"
+#include "ref/metrics/flip.h"
 #include "ref/metrics/rings.h"
 
 namespace fovref {
@@ -23,6 +24,7 @@ struct DiffItem {
     BufferComparison result;
     Image golden, candidate;          ///< kept for the HTML report
     std::optional<RingLayout> rings;  ///< for image-like buffers
+    std::optional<FlipResult> flip;   ///< --flip, colour buffers: LDR-FLIP in display space
 };
 
 struct DiffReport {

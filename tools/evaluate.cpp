@@ -12,6 +12,7 @@
 #include "ref/core/error.h"
 #include "ref/golden/bundle.h"
 #include "ref/image/image_io.h"
+#include "ref/metrics/flip.h"
 #include "ref/metrics/heatmap.h"
 #include "ref/metrics/metrics.h"
 #include "ref/metrics/rings.h"
@@ -173,6 +174,7 @@ void add_evaluate_options(CLI::App& c, EvaluateOptions& o) {
         ->check(CLI::Range(1e-6, 1.0))
         ->capture_default_str();
     c.add_flag("--linear", o.linear, "compare stored linear values (default: display space)");
+    c.add_flag("--flip", o.flip, "also LDR-FLIP of every evaluated frame (display space)");
     c.add_option("--out", o.out_dir,
                  "output directory (rings.csv, frames.csv, summary.json, "
                  "rings.svg, heatmaps)")
@@ -252,6 +254,13 @@ int run_evaluate(const EvaluateOptions& o) {
                         {"mse", m},
                         {"psnr", std::isinf(psnr(m)) ? json("inf") : json(psnr(m))},
                         {"ssim", map.mean}};
+            if (o.flip) {
+                FlipParams fp;
+                fp.pixels_per_degree = flip_pixels_per_degree(distance);
+                const FlipResult flip = o.linear ? ldr_flip(to_display(ref), to_display(test), fp)
+                                                 : ldr_flip(ref, test, fp);
+                row["flip_mean"] = flip.mean;
+            }
             if (counters) {
                 std::int64_t rays = 0;
                 for (const auto& [name, value] : counters->values)
@@ -345,9 +354,9 @@ int run_evaluate(const EvaluateOptions& o) {
                 return csv_number(v.get<double>());
             };
             frames_csv += c.label + "," + field("frame") + "," + field("mse") + "," +
-                          field("psnr") + "," + field("ssim") + "," + field("rays_traced") + "," +
-                          field("rays_percent_of_pixels") + "," + field("pixels_shaded") + "," +
-                          field("stage_seconds") + "\n";
+                          field("psnr") + "," + field("ssim") + "," + field("flip_mean") + "," +
+                          field("rays_traced") + "," + field("rays_percent_of_pixels") + "," +
+                          field("pixels_shaded") + "," + field("stage_seconds") + "\n";
         }
         summary["candidates"].push_back(jc);
         HeatmapSettings hs;
@@ -378,8 +387,7 @@ int run_evaluate(const EvaluateOptions& o) {
             o.scene.c_str(), o.width, o.height, evaluated.size(), o.frames,
             o.reference_mode.c_str(), o.rings, static_cast<double>(layout.outer_deg),
             o.linear ? "linear" : "display");
-        std::printf("%-24s %6s %10s %12s %12s\n", "candidate", "ring", "outer deg", "PSNR",
-                    "SSIM");
+        std::printf("%-24s %6s %10s %12s %12s\n", "candidate", "ring", "outer deg", "PSNR", "SSIM");
         for (const Candidate& c : candidates) {
             const std::vector<RingStats> mean = average_rings(c.rings);
             for (const RingStats& r : mean)

@@ -25,6 +25,7 @@ struct EvaluateOptions {
     int rings = 20;
     float max_range = 1.0f;
     bool linear = false;  ///< compare stored values instead of display space (SPEC §10)
+    bool flip = false;    ///< also LDR-FLIP per evaluated frame (slow: seconds per megapixel)
     std::string out_dir;
     bool quiet = false;
 };
