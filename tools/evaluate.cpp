@@ -301,7 +301,7 @@ int run_evaluate(const EvaluateOptions& o) {
     fs::create_directories(o.out_dir);
     std::string rings_csv = "label,ring,inner_deg,outer_deg,pixels,mse,rmse,psnr,ssim,sd\n";
     std::string frames_csv =
-        "label,frame,mse,psnr,ssim,rays_traced,rays_percent_of_pixels,"
+        "label,frame,mse,psnr,ssim,flip_mean,rays_traced,rays_percent_of_pixels,"
         "pixels_shaded,stage_seconds\n";
     json summary;
     summary["scene"] = o.scene;
