@@ -1,0 +1,165 @@
+// Buffer comparison for `fovref diff` (SPEC §11): ulp distances, tolerances, NaN rules, worst
+// and first failing pixels, tolerance files and options.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "ref/metrics/compare.h"
+#include "tests/image/image_test_util.h"
+
+using namespace fovref;
+
+namespace {
+
+float next_up(float v) { return std::nextafter(v, std::numeric_limits<float>::infinity()); }
+
+}  // namespace
+
+TEST_CASE("ulp distance in the binary32 ordering") {
+    CHECK(ulp_distance(1.0f, 1.0f) == 0);
+    CHECK(ulp_distance(1.0f, next_up(1.0f)) == 1);
+    CHECK(ulp_distance(0.0f, -0.0f) == 0);
+    CHECK(ulp_distance(-0.0f, std::numeric_limits<float>::denorm_min()) == 1);
+    CHECK(ulp_distance(-std::numeric_limits<float>::denorm_min(),
+                       std::numeric_limits<float>::denorm_min()) == 2);
+    CHECK(ulp_distance(1.0f, 2.0f) == (1 << 23));
+    CHECK(ulp_distance(std::numeric_limits<float>::max(), std::numeric_limits<float>::infinity()) ==
+          1);
+}
+
+TEST_CASE("compare_buffers: identical, one ulp, tolerances") {
+    Image g(16, 12, 3, 0.5f);
+    for (std::size_t i = 0; i < g.data.size(); ++i) g.data[i] = 0.01f * static_cast<float>(i % 97);
+    BufferComparison same = compare_buffers("b", g, g, {});
+    CHECK(same.pass);
+    CHECK(same.max_abs == 0.0);
+    CHECK(same.max_ulp == 0);
+    CHECK(same.failing_pixels == 0);
+    CHECK(std::isinf(same.psnr));
+    REQUIRE(same.ssim);
+    CHECK(*same.ssim == 1.0);
+    CHECK(same.worst.empty());
+
+    Image c = g;
+    c.at(7, 5, 1) = next_up(c.at(7, 5, 1));
+    BufferComparison one = compare_buffers("b", g, c, {});
+    CHECK_FALSE(one.pass);  // default tolerance: bit-exact
+    CHECK(one.max_ulp == 1);
+    CHECK(one.failing_pixels == 1);
+    CHECK(one.differing_elements == 1);
+    REQUIRE(one.first_failing);
+    CHECK(one.first_failing->x == 7);
+    CHECK(one.first_failing->y == 5);
+    CHECK(one.first_failing->golden[1] == g.at(7, 5, 1));
+    CHECK(one.first_failing->candidate[1] == c.at(7, 5, 1));
+    Tolerance ulp1;
+    ulp1.ulp = 1;
+    CHECK(compare_buffers("b", g, c, ulp1).pass);
+    Tolerance abs;
+    abs.abs = 1e-6;
+    CHECK(compare_buffers("b", g, c, abs).pass);
+    Tolerance pixels;
+    pixels.max_failing_pixels = 1;
+    CHECK(compare_buffers("b", g, c, pixels).pass);
+
+    // A relative tolerance scales with |golden|.
+    Image big = g;
+    big.at(2, 2, 0) = 1000.0f;
+    Image big_c = big;
+    big_c.at(2, 2, 0) = 1000.01f;
+    Tolerance rel;
+    rel.rel = 1e-4;
+    CHECK(compare_buffers("b", big, big_c, rel).pass);
+    rel.rel = 1e-6;
+    const BufferComparison tight = compare_buffers("b", big, big_c, rel);
+    CHECK_FALSE(tight.pass);
+    CHECK(tight.max_rel == doctest::Approx(1e-5).epsilon(0.01));
+}
+
+TEST_CASE("compare_buffers: NaN rules, worst pixels ordered, threshold share") {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    Image g(8, 8, 1, 0.0f), c(8, 8, 1, 0.0f);
+    g.at(1, 1) = nan;
+    c.at(1, 1) = nan;  // NaN vs NaN: equal
+    BufferComparison r = compare_buffers("b", g, c, {});
+    CHECK(r.pass);
+    CHECK(r.nan_mismatches == 0);
+    c.at(2, 2) = nan;  // NaN vs number: a failure no tolerance admits
+    Tolerance loose;
+    loose.abs = 1e30;
+    loose.max_failing_pixels = 1000;
+    r = compare_buffers("b", g, c, loose);
+    CHECK_FALSE(r.pass);
+    CHECK(r.nan_mismatches == 1);
+
+    Image a(10, 1, 1, 0.0f), b(10, 1, 1, 0.0f);
+    b.at(3, 0) = 0.5f;
+    b.at(6, 0) = 0.5f;  // tie with (3, 0): row-major order decides
+    b.at(8, 0) = 0.9f;
+    b.at(9, 0) = 0.1f;
+    CompareOptions options;
+    options.worst_pixels = 3;
+    options.threshold = 0.2;
+    r = compare_buffers("b", a, b, {}, options);
+    REQUIRE(r.worst.size() == 3);
+    CHECK(r.worst[0].x == 8);
+    CHECK(r.worst[1].x == 3);
+    CHECK(r.worst[2].x == 6);
+    CHECK(r.pixels_over_threshold == 3);
+    CHECK(r.failing_pixels == 4);
+    CHECK(r.first_failing->x == 3);
+    CHECK(r.mean_abs == doctest::Approx((0.5 + 0.5 + 0.9 + 0.1) / 10).epsilon(1e-7));
+    CHECK(!r.ssim);  // smaller than the SSIM window
+}
+
+TEST_CASE("compare_buffers: ring errors for image-like buffers") {
+    Image g(40, 30, 3, 0.25f), c(40, 30, 3, 0.5f);
+    const RingLayout layout = ring_layout(40, 30, {20, 15}, 35.0f);
+    CompareOptions options;
+    options.rings = &layout;
+    const BufferComparison r = compare_buffers("final", g, c, {}, options);
+    REQUIRE(r.rings.size() == 20);
+    for (const RingStats& s : r.rings)
+        if (s.pixels) CHECK(s.mse == 0.0625);
+    CHECK(r.rmse == 0.25);
+}
+
+TEST_CASE("tolerance options and files: values and errors") {
+    using test::contains;
+    using test::error_message;
+    ToleranceTable table;
+    parse_tolerance_option("final:abs=1e-6,rel=0.5,ulp=3,pixels=10", table);
+    parse_tolerance_option("*:ulp=1", table);
+    CHECK(table.for_buffer("final").abs == 1e-6);
+    CHECK(table.for_buffer("final").rel == 0.5);
+    CHECK(table.for_buffer("final").ulp == 3);
+    CHECK(table.for_buffer("final").max_failing_pixels == 10);
+    CHECK(table.for_buffer("other").ulp == 1);
+    CHECK(contains(error_message([&] { parse_tolerance_option("final", table); }), "NAME:abs"));
+    CHECK(contains(error_message([&] { parse_tolerance_option("final:abs=x", table); }),
+                   "not a valid value for abs"));
+    CHECK(contains(error_message([&] { parse_tolerance_option("final:abs=-1", table); }), ">= 0"));
+    CHECK(contains(error_message([&] { parse_tolerance_option("final:speed=1", table); }),
+                   "unknown key 'speed'"));
+
+    test::TempDir dir("tolerances");
+    const std::string path = dir.file("t.json");
+    test::write_bytes(path,
+                      "{\n  \"final\": {\"abs\": 0.001, \"reason\": \"GPU pow\"},\n"
+                      "  \"*\": {\"ulp\": 2}\n}\n");
+    const ToleranceTable file = read_tolerance_file(path);
+    CHECK(file.for_buffer("final").abs == 0.001);
+    CHECK(file.for_buffer("final").reason == "GPU pow");
+    CHECK(file.for_buffer("gbuffer_albedo").ulp == 2);
+    test::write_bytes(path, "{\n  \"final\": {\"abs\": 0.001,\n    \"speed\": 1}\n}\n");
+    CHECK(contains(error_message([&] { read_tolerance_file(path); }), "t.json:3"));
+    CHECK(contains(error_message([&] { read_tolerance_file(path); }), "unknown key \"speed\""));
+    test::write_bytes(path, "{\n  \"final\": {\"ulp\": 1.5}\n}\n");
+    CHECK(contains(error_message([&] { read_tolerance_file(path); }), "must be an integer"));
+    test::write_bytes(path, "{\n  \"final\": {\"abs\": 1e-3,,}\n}\n");
+    CHECK(contains(error_message([&] { read_tolerance_file(path); }), "t.json:2"));
+    CHECK(contains(error_message([&] { read_tolerance_file(dir.file("missing.json")); }),
+                   "missing.json"));
+}
