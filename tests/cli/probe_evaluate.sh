@@ -1,0 +1,63 @@
+# fovref probe explains one pixel and agrees with the rendered frame; fovref evaluate writes ring
+# errors, and evaluating a mode equals evaluating that mode's rendered frames from a directory.
+source "$(dirname "$0")/lib.bash"
+PY=$(command -v /usr/bin/python3 || command -v python3)
+
+expect 0 "probe basic" -- "$FOVREF" probe --scene cornell --mode basic --width 64 --height 36 --pixel 32,20 --frame 1 --time-step 0.5
+contains "[primary_visibility]" "ray section"
+contains "[shade_direct]" "shading section"
+contains "radiance: bit-identical to the rendered buffer" "probe agrees with the frame"
+contains "hit: same primitive and position as the G-buffer" "hit agrees with the G-buffer"
+contains "shade_direct -> final" "buffer values"
+expect 0 "probe raster primary on a textured scene" -- "$FOVREF" probe --scene checker-room --mode basic --param primary=raster --width 64 --height 36 --pixel 30,30
+contains "texel 3" "texels and weights"
+contains "bit-identical" "raster probe agrees"
+expect 0 "probe ground truth" -- "$FOVREF" probe --scene cornell --mode ground-truth --width 32 --height 18 --pixel 16,9
+contains "sample 15" "16 samples"
+contains "mean: bit-identical" "ground truth agrees"
+expect 0 "probe a mode without an explainer" -- "$FOVREF" probe --mode rng --width 8 --height 4 --pixel 3,2
+contains "rng -> rng" "generic buffer listing"
+expect 0 "probe --json" -- "$FOVREF" probe --scene cornell --mode basic --width 16 --height 9 --pixel 8,4 --json
+contains '"consistent": true' "json"
+expect 2 "pixel outside" -- "$FOVREF" probe --scene cornell --mode basic --width 16 --height 9 --pixel 16,4
+contains "outside the 16x9 screen" "pixel outside"
+expect 2 "malformed pixel" -- "$FOVREF" probe --scene cornell --mode basic --pixel 3
+expect 2 "unknown mode" -- "$FOVREF" probe --scene cornell --mode nope --pixel 1,1
+
+expect 0 "evaluate two modes" -- "$FOVREF" evaluate --scene cornell --mode basic,splat --width 96 --height 54 --frames 4 --every 2 --time-step 0.5 --out "$TMP/ev"
+for f in rings.csv frames.csv summary.json rings.svg heatmap_basic.png heatmap_splat.png; do
+  check_file "$TMP/ev/$f" "evaluate output $f"
+done
+expect 0 "render the same frames" -- "$FOVREF" render --scene cornell --mode basic --width 96 --height 54 --frames 4 --time-step 0.5 --out "$TMP/frames" -q
+expect 0 "evaluate rendered frames" -- "$FOVREF" evaluate --scene cornell --frames-dir "$TMP/frames" --width 96 --height 54 --frames 4 --every 2 --time-step 0.5 --out "$TMP/ev2" -q
+"$PY" - "$TMP/ev/rings.csv" "$TMP/ev2/rings.csv" <<'PYTHON' || { echo "FAIL: rings.csv content"; failures=$((failures + 1)); }
+import csv, sys
+a = [r for r in csv.DictReader(open(sys.argv[1]))]
+b = [r for r in csv.DictReader(open(sys.argv[2]))]
+basic = [r for r in a if r["label"] == "basic"]
+assert len(basic) == 20 and len([r for r in a if r["label"] == "splat"]) == 20
+assert sum(int(r["pixels"]) for r in basic) == 96 * 54  # the rings cover the screen
+# The same frames, rendered by the mode or read from files, give the same ring errors.
+for x, y in zip(basic, b):
+    assert {k: v for k, v in x.items() if k != "label"} == {k: v for k, v in y.items() if k != "label"}, (x, y)
+# basic is closer to the ground truth than the centroid splat in every ring with pixels.
+splat = [r for r in a if r["label"] == "splat"]
+for x, y in zip(basic, splat):
+    if x["mse"] and y["mse"]:
+        assert float(x["mse"]) <= float(y["mse"]), (x, y)
+PYTHON
+checks=$((checks + 1))
+expect 2 "evaluate without a mode" -- "$FOVREF" evaluate --scene cornell --out "$TMP/ev3"
+expect 2 "evaluate a missing frames dir" -- "$FOVREF" evaluate --scene cornell --frames-dir "$TMP/none" --out "$TMP/ev3"
+expect 2 "evaluate frames of another size" -- "$FOVREF" evaluate --scene cornell --frames-dir "$TMP/frames" --width 64 --height 36 --frames 1 --out "$TMP/ev3" -q
+contains "reference" "size mismatch message"
+
+# The metrics benchmark runs; with scikit-image installed its SSIM equals ours to 1e-6.
+expect 0 "bench metrics" -- "$FOVREF" bench metrics --size 64x48 --repeats 1
+contains "SSIM (luma given)" "bench rows"
+if "$PY" -c "import skimage" 2>/dev/null; then
+  contains "(target <= 1e-6: met)" "SSIM equals scikit-image's"
+else
+  echo "SKIPPED: scikit-image comparison (python3-skimage is not installed)"
+fi
+finish
