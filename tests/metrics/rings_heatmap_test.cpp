@@ -112,7 +112,8 @@ TEST_CASE("heatmap: colour scale, legend, ring overlay, non-finite values") {
     CHECK(map.at(0, 0, 0) == bottom.r);
     CHECK(map.at(3, 4, 0) == top.r);  // the largest value is the top of the scale
     CHECK(map.at(3, 4, 2) == top.b);
-    const glm::vec3 middle = heatmap_colour(0.5f);
+    // The map uses the nearest of 4096 table entries: 0.5 -> entry round(0.5 * 4095) = 2048.
+    const glm::vec3 middle = heatmap_colour(2048.0f / 4095.0f);
     CHECK(map.at(5, 5, 1) == middle.g);
     CHECK(map.at(6, 6, 0) == 1.0f);  // NaN: magenta
     CHECK(map.at(6, 6, 1) == 0.0f);
