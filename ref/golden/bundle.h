@@ -110,8 +110,8 @@ struct ManifestBuffer {
 struct Manifest {
     GoldenCase golden_case;
     std::string fovref_version, compiler, flags;
-    std::vector<ManifestBuffer> buffers;   ///< in frame then pipeline order
-    std::vector<Counters> frame_counters;  ///< one per frame
+    std::vector<ManifestBuffer> buffers;     ///< in frame then pipeline order
+    std::vector<Counters> frame_counters;    ///< one per frame
     std::vector<float> display_distance_px;  ///< one per frame; 0 when the case has no scene
 };
 

@@ -47,7 +47,8 @@ Buffer& FrameResult::add(std::string name, BufferKind kind, std::vector<std::str
     FOVREF_CHECK(static_cast<int>(channel_names.size()) == image.channels,
                  "buffer '" + name + "' has " + std::to_string(image.channels) + " channels but " +
                      std::to_string(channel_names.size()) + " channel names");
-    buffers.push_back(Buffer{std::move(name), kind, std::move(channel_names), std::move(image), ""});
+    buffers.push_back(
+        Buffer{std::move(name), kind, std::move(channel_names), std::move(image), ""});
     return buffers.back();
 }
 

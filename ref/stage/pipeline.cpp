@@ -108,7 +108,8 @@ void validate_settings(const RenderSettings& settings) {
     if (settings.height < 1 || settings.height > max_side)
         throw Error("--height " + std::to_string(settings.height) + ": must be in [1, 16384]");
     if (settings.first_frame < 0 || settings.first_frame > 100000)
-        throw Error("first frame " + std::to_string(settings.first_frame) + ": must be in [0, 100000]");
+        throw Error("first frame " + std::to_string(settings.first_frame) +
+                    ": must be in [0, 100000]");
     if (settings.frame_count < 1 || settings.frame_count > 100000)
         throw Error("--frames " + std::to_string(settings.frame_count) +
                     ": must be in [1, 100000]");
