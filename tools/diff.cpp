@@ -16,6 +16,7 @@
 #include "ref/image/image_io.h"
 #include "ref/metrics/metrics.h"
 #include "tools/diff_report.h"
+#include "tools/report_json.h"
 
 namespace fs = std::filesystem;
 
@@ -97,31 +98,10 @@ std::string shape(int w, int h, int c) {
     return std::to_string(w) + "x" + std::to_string(h) + "x" + std::to_string(c);
 }
 
-glm::vec2 parse_gaze(const std::string& text, int width, int height) {
-    if (text.empty()) return {0.5f * static_cast<float>(width), 0.5f * static_cast<float>(height)};
-    float xy[2] = {0, 0};
-    const char* p = text.data();
-    const char* end = p + text.size();
-    auto r = std::from_chars(p, end, xy[0]);
-    if (r.ec == std::errc() && r.ptr < end && *r.ptr == ',')
-        r = std::from_chars(r.ptr + 1, end, xy[1]);
-    else
-        r.ec = std::errc::invalid_argument;
-    if (r.ec != std::errc() || r.ptr != end || !std::isfinite(xy[0]) || !std::isfinite(xy[1]))
-        throw Error("--gaze '" + text + "': expected X,Y in pixels (e.g. 640,360)");
-    return {xy[0], xy[1]};
-}
-
 // Default viewing distance without a scene: the display subtends a 60 degree vertical field of
 // view (docs/diff.md).
 float default_distance_px(int height) {
     return 0.5f * static_cast<float>(height) / dm::tan(dm::radians(30.0f));
-}
-
-json number_json(double v) {
-    if (std::isnan(v)) return nullptr;
-    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-    return v;
 }
 
 std::string format(double v) {
@@ -268,16 +248,7 @@ json item_json(const DiffItem& item) {
                      {"max", item.flip->max}};
     if (!r.rings.empty()) {
         json rings = json::array();
-        for (const RingStats& s : r.rings)
-            rings.push_back({{"ring", s.ring},
-                             {"inner_deg", s.inner_deg},
-                             {"outer_deg", s.outer_deg},
-                             {"pixels", s.pixels},
-                             {"mse", number_json(s.mse)},
-                             {"rmse", number_json(s.rmse)},
-                             {"psnr", number_json(s.psnr)},
-                             {"ssim", number_json(s.ssim)},
-                             {"sd", number_json(s.sd)}});
+        for (const RingStats& s : r.rings) rings.push_back(ring_json(s));
         j["rings"] = rings;
         j["ring_layout"] = {{"gaze", {item.rings->gaze.x, item.rings->gaze.y}},
                             {"distance_px", item.rings->distance_px},
@@ -531,6 +502,21 @@ int run_diff(const DiffOptions& o) {
     if (!o.html_dir.empty()) write_diff_html(report, o.html_dir);
     if (!o.quiet && o.json_path != "-") print_summary(report);
     return report.pass ? 0 : 1;
+}
+
+glm::vec2 parse_gaze(const std::string& text, int width, int height) {
+    if (text.empty()) return {0.5f * static_cast<float>(width), 0.5f * static_cast<float>(height)};
+    float xy[2] = {0, 0};
+    const char* p = text.data();
+    const char* end = p + text.size();
+    auto r = std::from_chars(p, end, xy[0]);
+    if (r.ec == std::errc() && r.ptr < end && *r.ptr == ',')
+        r = std::from_chars(r.ptr + 1, end, xy[1]);
+    else
+        r.ec = std::errc::invalid_argument;
+    if (r.ec != std::errc() || r.ptr != end || !std::isfinite(xy[0]) || !std::isfinite(xy[1]))
+        throw Error("--gaze '" + text + "': expected X,Y in pixels (e.g. 640,360)");
+    return {xy[0], xy[1]};
 }
 
 }  // namespace fovref

@@ -20,6 +20,7 @@
 #include "ref/scene/scene_file.h"
 #include "ref/stage/pipeline.h"
 #include "tools/progress.h"
+#include "tools/report_json.h"
 #include "tools/svg_plot.h"
 
 namespace fs = std::filesystem;
@@ -68,16 +69,6 @@ Candidate parse_mode(const std::string& text, const std::vector<std::string>& sh
     return c;
 }
 
-glm::vec2 parse_gaze(const std::string& text, int width, int height) {
-    if (text.empty()) return {0.5f * static_cast<float>(width), 0.5f * static_cast<float>(height)};
-    float x = 0, y = 0;
-    char tail = 0;
-    if (std::sscanf(text.c_str(), "%f,%f%c", &x, &y, &tail) != 2 || !std::isfinite(x) ||
-        !std::isfinite(y))
-        throw Error("--gaze '" + text + "': expected X,Y in pixels");
-    return {x, y};
-}
-
 Image final_image(const FrameResult& frame) {
     const Buffer* b = frame.find("final");
     if (!b) throw Error("the mode has no 'final' buffer to evaluate");
@@ -94,17 +85,6 @@ Image read_frame(const std::string& directory, int frame) {
         if (fs::exists(path)) return read_image(path.string());
     }
     throw Error(directory + ": no " + stem + ".pfm/.exr/.png for frame " + std::to_string(frame));
-}
-
-json ring_json(const RingStats& s) {
-    auto n = [](double v) -> json {
-        if (std::isnan(v)) return nullptr;
-        if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-        return v;
-    };
-    return {{"ring", s.ring},     {"inner_deg", s.inner_deg}, {"outer_deg", s.outer_deg},
-            {"pixels", s.pixels}, {"mse", n(s.mse)},          {"rmse", n(s.rmse)},
-            {"psnr", n(s.psnr)},  {"ssim", n(s.ssim)},        {"sd", n(s.sd)}};
 }
 
 std::string csv_number(double v) {
@@ -250,10 +230,8 @@ int run_evaluate(const EvaluateOptions& o) {
             const SsimMap map = ssim_map(luma(ref), luma(test));
             c.rings.push_back(ring_errors(ref, test, layout, &map));
             const double m = mse(ref, test);
-            json row = {{"frame", frame},
-                        {"mse", m},
-                        {"psnr", std::isinf(psnr(m)) ? json("inf") : json(psnr(m))},
-                        {"ssim", map.mean}};
+            json row = {
+                {"frame", frame}, {"mse", m}, {"psnr", number_json(psnr(m))}, {"ssim", map.mean}};
             if (o.flip) {
                 FlipParams fp;
                 fp.pixels_per_degree = flip_pixels_per_degree(distance);

@@ -85,15 +85,6 @@ std::string vec3_text(glm::vec3 v) {
     return text;
 }
 
-const char* light_type_name(Light::Type type) {
-    switch (type) {
-        case Light::Type::point: return "point";
-        case Light::Type::quad: return "quad";
-        case Light::Type::triangle: return "triangle";
-    }
-    return "?";
-}
-
 // ---- scene ------------------------------------------------------------------------------------
 
 int scene_info(const Options& o) {

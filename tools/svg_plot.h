@@ -16,11 +16,10 @@ struct PlotSpec {
     std::string title, x_label, y_label;
     std::vector<PlotSeries> series;
     int width = 420, height = 260;
-    /// Values mapped to the y axis; infinite values (PSNR of identical rings) are drawn at the top
-    /// edge and marked "inf".
 };
 
-/// The plot as an <svg> element (to inline in HTML or write as a .svg file).
+/// The plot as an <svg> element (to inline in HTML or write as a .svg file). Infinite y values
+/// (the PSNR of equal rings) are drawn at the top edge, marked "inf"; NaN leaves a gap.
 std::string svg_line_plot(const PlotSpec& spec);
 
 /// Escapes &, <, >, " and ' for HTML/SVG text and attributes.

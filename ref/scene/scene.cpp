@@ -94,6 +94,15 @@ Camera camera_at(const Scene& scene, float time) {
     return make(position, slerp_deterministic(a.orientation, b.orientation, t));
 }
 
+const char* light_type_name(Light::Type type) {
+    switch (type) {
+        case Light::Type::point: return "point";
+        case Light::Type::quad: return "quad";
+        case Light::Type::triangle: return "triangle";
+    }
+    return "?";
+}
+
 BilinearTaps bilinear_taps(const Texture& texture, glm::vec2 uv) {
     const Image& image = texture.image;
     BilinearTaps taps;

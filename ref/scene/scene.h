@@ -46,6 +46,9 @@ struct Light {
     bool operator==(const Light&) const = default;
 };
 
+/// "point", "quad" or "triangle".
+const char* light_type_name(Light::Type type);
+
 /// What the loader dropped or repaired, so `fovref scene info` can say it.
 struct SceneLoadStats {
     std::int64_t zero_area_triangles_dropped = 0;

@@ -17,15 +17,6 @@ namespace fovref {
 
 namespace {
 
-const char* light_type(Light::Type type) {
-    switch (type) {
-        case Light::Type::point: return "point";
-        case Light::Type::quad: return "quad";
-        case Light::Type::triangle: return "triangle";
-    }
-    return "?";
-}
-
 glm::vec3 pixel_rgb(const FrameResult& frame, const std::string& name, int x, int y) {
     const Buffer* b = frame.find(name);
     if (!b || b->image.channels < 3) return glm::vec3(NAN);
@@ -104,7 +95,7 @@ glm::vec3 explain_shading(const Scene& scene, const Bvh* bvh, const SurfacePoint
     if (lights.empty()) section.add("lights", "none: no shadow rays");
     for (const LightSampleRecord& r : lights) {
         const Light& light = scene.lights[static_cast<std::size_t>(r.light)];
-        std::string text = std::string(light_type(light.type)) + ": ";
+        std::string text = std::string(light_type_name(light.type)) + ": ";
         if (light.type != Light::Type::point)
             text += "r1 " + probe_float(r.r1) + " r2 " + probe_float(r.r2) + ", ";
         text += "sample " + probe_vec3(r.sample) + ", d " + probe_float(r.distance) + ", cos " +
