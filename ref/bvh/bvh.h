@@ -1,7 +1,8 @@
 // Bounding volume hierarchy over triangles (SPEC §3): SAH BVH2 with a deterministic build,
 // watertight ray-triangle intersection (Woop, Benthin, Wald 2013; ref/bvh/watertight.h), closest
 // hit with the SPEC tie-break, any hit for shadow rays. Rays traverse a BVH4 collapsed from the
-// BVH2 (four child boxes tested at once). docs/bvh.md documents the build constants, the layouts,
+// BVH2 (four child boxes tested at once) and test a leaf's triangles four at a time from blocks
+// of 4 in struct-of-arrays layout. docs/bvh.md documents the build constants, the layouts,
 // the robust box test and the measured performance.
 #pragma once
 
@@ -51,6 +52,17 @@ struct alignas(64) BvhWideNode {
     bool operator==(const BvhWideNode&) const = default;
 };
 
+/// Four consecutive triangles of leaf order (block b holds triangles 4b .. 4b + 3, i.e. the
+/// corners triangle_corners[12b .. 12b + 12)), stored per corner and axis with one triangle per
+/// lane, so that one 16-byte load gives one coordinate of all four (144 bytes). A leaf's
+/// triangles first .. first + count lie in blocks first / 4 .. (first + count - 1) / 4; lanes of
+/// other leaves are masked out. The lanes after the last triangle hold zeros and are never
+/// tested.
+struct alignas(16) BvhTriangleBlock {
+    float corners[3][3][4];  ///< [corner 0, 1, 2][axis x, y, z][lane]
+    bool operator==(const BvhTriangleBlock&) const = default;
+};
+
 struct BvhBuildStats {
     std::int64_t nodes = 0;
     std::int64_t leaves = 0;
@@ -63,14 +75,15 @@ struct BvhBuildStats {
 /// Plain data: two trees built from the same input compare equal with ==. A scene without a
 /// hittable triangle has no nodes.
 struct Bvh {
-    std::vector<BvhNode> nodes;               ///< nodes[0] is the root; depth-first order
-    std::vector<BvhWideNode> wide_nodes;      ///< the traversal tree; [0] is the root
-    std::vector<std::uint32_t> primitives;    ///< triangle indices in leaf order
-    std::vector<glm::vec3> triangle_corners;  ///< 3 per triangle, in `primitives` order
+    std::vector<BvhNode> nodes;                     ///< nodes[0] is the root; depth-first order
+    std::vector<BvhWideNode> wide_nodes;            ///< the traversal tree; [0] is the root
+    std::vector<std::uint32_t> primitives;          ///< triangle indices in leaf order
+    std::vector<glm::vec3> triangle_corners;        ///< 3 per triangle, in `primitives` order
+    std::vector<BvhTriangleBlock> triangle_blocks;  ///< the same corners, 4 triangles per block
     BvhBuildStats stats;
     bool operator==(const Bvh& o) const {
         return nodes == o.nodes && wide_nodes == o.wide_nodes && primitives == o.primitives &&
-               triangle_corners == o.triangle_corners;
+               triangle_corners == o.triangle_corners && triangle_blocks == o.triangle_blocks;
     }
 };
 
