@@ -348,9 +348,10 @@ WatertightRay make_triangle_ray(const Ray& ray) {
 float widen_up(float t) { return std::min(t + std::fabs(t) * cull_margin, float_max); }
 float widen_down(float t) { return std::max(t - std::fabs(t) * cull_margin, -float_max); }
 
-/// Per-ray constants of the slab test, before they are broadcast for SSE. Every box is padded by
-/// `pad` in every direction (see make_slab_ray); a padded plane is reached from a shifted
-/// origin, so the test costs no more than an unpadded one.
+/// Per-ray constants of the slab test (the scalar path's BoxRay; the SSE path computes the same
+/// values in make_box_ray). Every box is padded by `pad` in every direction (see
+/// make_slab_ray); a padded plane is reached from a shifted origin, so the test costs no more
+/// than an unpadded one.
 struct SlabRay {
     glm::vec3 inv_direction{0.0f};
     glm::vec3 origin_near{0.0f};   ///< origin + pad * sign(direction): reaches the near planes
@@ -367,7 +368,7 @@ struct SlabRay {
 /// |corner - origin|, covers both with room to spare, so a box is never culled when the triangle
 /// test would report a hit inside it (the argument of Woop et al. 2013 for a conservative box
 /// test).
-SlabRay make_slab_ray(const Bvh& bvh, const Ray& ray) {
+[[maybe_unused]] SlabRay make_slab_ray(const Bvh& bvh, const Ray& ray) {
     SlabRay r;
     const BvhNode& root = bvh.nodes[0];
     const glm::vec3 scene_abs = glm::max(glm::abs(root.bounds_min), glm::abs(root.bounds_max));
@@ -400,16 +401,48 @@ struct BoxRay {
     int near_plane[3], far_plane[3];  ///< offsets (floats) of an axis' near / far planes in bounds
 };
 
-BoxRay make_box_ray(const SlabRay& r) {
+/// make_slab_ray with the three axes in the lanes of one SSE register (the same operations per
+/// axis), then broadcast per axis for the 4-wide test.
+BoxRay make_box_ray(const Bvh& bvh, const Ray& ray) {
+    const glm::vec3 lo = bvh.nodes[0].bounds_min, hi = bvh.nodes[0].bounds_max;
+    const glm::vec3 o = ray.origin, d = ray.direction;
+    const __m128 sign_bit = _mm_set1_ps(-0.0f);
+    const __m128 origin = _mm_setr_ps(o.x, o.y, o.z, 0.0f);
+    // max |scene coordinate| and max |origin coordinate| (lane 3 is 0, which changes no max).
+    const __m128 scene_abs =
+        _mm_max_ps(_mm_andnot_ps(sign_bit, _mm_setr_ps(lo.x, lo.y, lo.z, 0.0f)),
+                   _mm_andnot_ps(sign_bit, _mm_setr_ps(hi.x, hi.y, hi.z, 0.0f)));
+    const __m128 origin_abs = _mm_andnot_ps(sign_bit, origin);
+    // Horizontal max of both at once: lanes (scene, origin) after the two steps.
+    __m128 m =
+        _mm_max_ps(_mm_movelh_ps(scene_abs, origin_abs), _mm_movehl_ps(origin_abs, scene_abs));
+    m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
+    const float scene_max = _mm_cvtss_f32(m);
+    const float origin_max = _mm_cvtss_f32(_mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 2, 2, 2)));
+    const float pad = (scene_max + origin_max) * (1.0f / 524288.0f);
+    const __m128 inv_direction = _mm_div_ps(_mm_set1_ps(1.0f), _mm_setr_ps(d.x, d.y, d.z, 1.0f));
+    // shift = negative ? -pad : pad, with negative = the sign bit of 1 / d.
+    const __m128 shift = _mm_xor_ps(_mm_set1_ps(pad), _mm_and_ps(inv_direction, sign_bit));
+    const __m128 origin_near = _mm_add_ps(origin, shift);
+    const __m128 origin_far = _mm_sub_ps(origin, shift);
+    const int negative = _mm_movemask_ps(inv_direction);
+
     BoxRay b;
+    b.origin_near[0] = _mm_shuffle_ps(origin_near, origin_near, _MM_SHUFFLE(0, 0, 0, 0));
+    b.origin_near[1] = _mm_shuffle_ps(origin_near, origin_near, _MM_SHUFFLE(1, 1, 1, 1));
+    b.origin_near[2] = _mm_shuffle_ps(origin_near, origin_near, _MM_SHUFFLE(2, 2, 2, 2));
+    b.origin_far[0] = _mm_shuffle_ps(origin_far, origin_far, _MM_SHUFFLE(0, 0, 0, 0));
+    b.origin_far[1] = _mm_shuffle_ps(origin_far, origin_far, _MM_SHUFFLE(1, 1, 1, 1));
+    b.origin_far[2] = _mm_shuffle_ps(origin_far, origin_far, _MM_SHUFFLE(2, 2, 2, 2));
+    b.inv_direction[0] = _mm_shuffle_ps(inv_direction, inv_direction, _MM_SHUFFLE(0, 0, 0, 0));
+    b.inv_direction[1] = _mm_shuffle_ps(inv_direction, inv_direction, _MM_SHUFFLE(1, 1, 1, 1));
+    b.inv_direction[2] = _mm_shuffle_ps(inv_direction, inv_direction, _MM_SHUFFLE(2, 2, 2, 2));
     for (int a = 0; a < 3; ++a) {
-        b.origin_near[a] = _mm_set1_ps(r.origin_near[a]);
-        b.origin_far[a] = _mm_set1_ps(r.origin_far[a]);
-        b.inv_direction[a] = _mm_set1_ps(r.inv_direction[a]);
-        b.near_plane[a] = 8 * a + 4 * r.near_side[a];  // &bounds[a][near_side][0]
-        b.far_plane[a] = 8 * a + 4 * (1 - r.near_side[a]);
+        const int near_side = (negative >> a) & 1;
+        b.near_plane[a] = 8 * a + 4 * near_side;  // &bounds[a][near_side][0]
+        b.far_plane[a] = 8 * a + 4 * (1 - near_side);
     }
-    b.t_lo = _mm_set1_ps(r.t_lo);
+    b.t_lo = _mm_set1_ps(widen_down(ray.t_min));
     return b;
 }
 
@@ -444,7 +477,7 @@ struct TraversalRay {
 
 TraversalRay make_traversal_ray(const Bvh& bvh, const Ray& ray) {
     const WatertightRay triangle = make_triangle_ray(ray);
-    return {make_box_ray(make_slab_ray(bvh, ray)), make_watertight_ray4(triangle), triangle.t_max};
+    return {make_box_ray(bvh, ray), make_watertight_ray4(triangle), triangle.t_max};
 }
 
 /// The triangles of one block in `lanes`: intersect_watertight4 (watertight4.h).
@@ -453,19 +486,9 @@ FOVREF_FORCE_INLINE unsigned intersect_block(const TraversalRay& ray, const BvhT
     return intersect_watertight4(ray.triangle, &block.corners[0][0][0], lanes, hits);
 }
 #else
-struct BoxRay {
-    glm::vec3 origin_near, origin_far, inv_direction;
-    float t_lo;
-    int near_side[3];  ///< 1 where the direction is negative: the near plane is the box maximum
-};
+using BoxRay = SlabRay;
 
-BoxRay make_box_ray(const SlabRay& r) {
-    return {r.origin_near,
-            r.origin_far,
-            r.inv_direction,
-            r.t_lo,
-            {r.near_side[0], r.near_side[1], r.near_side[2]}};
-}
+BoxRay make_box_ray(const Bvh& bvh, const Ray& ray) { return make_slab_ray(bvh, ray); }
 
 FOVREF_FORCE_INLINE unsigned child_entries(const BvhWideNode& node, const BoxRay& r, float t_hi,
                                            float entries[4]) {
@@ -494,7 +517,7 @@ struct TraversalRay {
 
 TraversalRay make_traversal_ray(const Bvh& bvh, const Ray& ray) {
     const WatertightRay triangle = make_triangle_ray(ray);
-    return {make_box_ray(make_slab_ray(bvh, ray)), triangle, triangle.t_max};
+    return {make_box_ray(bvh, ray), triangle, triangle.t_max};
 }
 
 /// The plain path: intersect_watertight on each lane in `lanes`, corners read from the block.
@@ -535,6 +558,22 @@ struct StackEntry {
     float entry;  ///< the box's entry distance when pushed: skipped if beyond the best hit
 };
 
+FOVREF_FORCE_INLINE ChildRef child(const BvhWideNode& node, int i) {
+    return {node.first[i], node.count[i]};
+}
+
+/// Two children hit (slots i0 < i1): the nearer is returned, the other pushed; on equal entries
+/// the lower slot is nearer (as in the general insertion sort).
+FOVREF_FORCE_INLINE ChildRef nearer_of_two(const BvhWideNode& node, const float entries[4], int i0,
+                                           int i1, StackEntry* stack, int& stack_size) {
+    if (entries[i1] < entries[i0]) {
+        stack[stack_size++] = {child(node, i0), entries[i0]};
+        return child(node, i1);
+    }
+    stack[stack_size++] = {child(node, i1), entries[i1]};
+    return child(node, i0);
+}
+
 /// Ordered depth-first traversal of the BVH4. At a wide node the 4 children's boxes are tested
 /// at once; the children hit are sorted by entry distance (the lower slot first on ties), the
 /// nearest is visited next and the others are pushed, farthest first, with their entry
@@ -559,39 +598,37 @@ FOVREF_FORCE_INLINE void traverse(const Bvh& bvh, const BoxRay& r, float t_hi, T
             const BvhWideNode& node = nodes[current.first];
             alignas(16) float entries[4];
             unsigned mask = child_entries(node, r, t_hi, entries);
-            if (mask != 0) {
-                // One child hit: visit it.
-                const int i0 = std::countr_zero(mask);
-                mask &= mask - 1;
-                if (mask == 0) {
-                    current = {node.first[i0], node.count[i0]};
+            // The children hit, by mask. One or two children (the common cases) branch to
+            // code with constant slots, so the next node's address waits for a predicted
+            // branch, not for the box test (a coherent ray stream predicts well).
+            switch (mask) {
+                case 0x0: break;  // none: pop
+                case 0x1: current = child(node, 0); continue;
+                case 0x2: current = child(node, 1); continue;
+                case 0x4: current = child(node, 2); continue;
+                case 0x8: current = child(node, 3); continue;
+                case 0x3: current = nearer_of_two(node, entries, 0, 1, stack, stack_size); continue;
+                case 0x5: current = nearer_of_two(node, entries, 0, 2, stack, stack_size); continue;
+                case 0x9: current = nearer_of_two(node, entries, 0, 3, stack, stack_size); continue;
+                case 0x6: current = nearer_of_two(node, entries, 1, 2, stack, stack_size); continue;
+                case 0xa: current = nearer_of_two(node, entries, 1, 3, stack, stack_size); continue;
+                case 0xc: current = nearer_of_two(node, entries, 2, 3, stack, stack_size); continue;
+                default: {
+                    // Three or four: take them in slot order, inserting each into place by entry
+                    // (strict '<': equal entries keep slot order).
+                    StackEntry hit[4];
+                    int hits = 0;
+                    for (unsigned m = mask; m != 0; m &= m - 1) {
+                        const int i = std::countr_zero(m);
+                        StackEntry e{child(node, i), entries[i]};
+                        int j = hits++;
+                        for (; j > 0 && e.entry < hit[j - 1].entry; --j) hit[j] = hit[j - 1];
+                        hit[j] = e;
+                    }
+                    for (int j = hits - 1; j > 0; --j) stack[stack_size++] = hit[j];
+                    current = hit[0].child;
                     continue;
                 }
-                // Two: the nearer next (the lower slot on equal entries), push the other.
-                const int i1 = std::countr_zero(mask);
-                mask &= mask - 1;
-                if (mask == 0) {
-                    const bool swap = entries[i1] < entries[i0];
-                    const int near = swap ? i1 : i0, far = swap ? i0 : i1;
-                    stack[stack_size++] = {{node.first[far], node.count[far]}, entries[far]};
-                    current = {node.first[near], node.count[near]};
-                    continue;
-                }
-                // Three or four: take them in slot order, inserting each into place by entry
-                // (strict '<': equal entries keep slot order).
-                StackEntry hit[4];
-                hit[0] = {{node.first[i0], node.count[i0]}, entries[i0]};
-                int hits = 1;
-                for (unsigned m = mask | (1u << i1); m != 0; m &= m - 1) {
-                    const int i = std::countr_zero(m);
-                    StackEntry e{{node.first[i], node.count[i]}, entries[i]};
-                    int j = hits++;
-                    for (; j > 0 && e.entry < hit[j - 1].entry; --j) hit[j] = hit[j - 1];
-                    hit[j] = e;
-                }
-                for (int j = hits - 1; j > 0; --j) stack[stack_size++] = hit[j];
-                current = hit[0].child;
-                continue;
             }
         }
         // Pop the next box that may still hold a hit.

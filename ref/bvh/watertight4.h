@@ -38,10 +38,11 @@ struct WatertightRay4 {
 };
 
 inline WatertightRay4 make_watertight_ray4(const WatertightRay& r) {
+    const float origin[3] = {r.origin.x, r.origin.y, r.origin.z};
     WatertightRay4 r4;
-    r4.origin_x = _mm_set1_ps(r.origin[r.kx]);
-    r4.origin_y = _mm_set1_ps(r.origin[r.ky]);
-    r4.origin_z = _mm_set1_ps(r.origin[r.kz]);
+    r4.origin_x = _mm_set1_ps(origin[r.kx]);
+    r4.origin_y = _mm_set1_ps(origin[r.ky]);
+    r4.origin_z = _mm_set1_ps(origin[r.kz]);
     r4.shear_x = _mm_set1_ps(r.shear_x);
     r4.shear_y = _mm_set1_ps(r.shear_y);
     r4.shear_z = _mm_set1_ps(r.shear_z);
