@@ -476,8 +476,9 @@ struct TraversalRay {
 };
 
 TraversalRay make_traversal_ray(const Bvh& bvh, const Ray& ray) {
-    const WatertightRay triangle = make_triangle_ray(ray);
-    return {make_box_ray(bvh, ray), make_watertight_ray4(triangle), triangle.t_max};
+    const float t_max = std::min(ray.t_max, float_max);  // as make_triangle_ray
+    return {make_box_ray(bvh, ray),
+            make_watertight_ray4(ray.origin, ray.direction, ray.t_min, t_max), t_max};
 }
 
 /// The triangles of one block in `lanes`: intersect_watertight4 (watertight4.h).

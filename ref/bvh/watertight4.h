@@ -54,6 +54,54 @@ inline WatertightRay4 make_watertight_ray4(const WatertightRay& r) {
     return r4;
 }
 
+/// The setup for one permutation (kx, ky, kz), known at compile time: the shear
+/// (d[kx] / d[kz], d[ky] / d[kz], 1 / d[kz]) is one 4-wide division with the scalar setup's
+/// operands in its lanes, and every per-ray constant is a shuffle.
+template <int kx, int ky, int kz>
+WatertightRay4 make_watertight_ray4_axes(__m128 origin, __m128 direction, float t_min,
+                                         float t_max) {
+    const __m128 numerator =
+        _mm_shuffle_ps(direction, _mm_set1_ps(1.0f), _MM_SHUFFLE(0, 0, ky, kx));
+    const __m128 denominator = _mm_shuffle_ps(direction, direction, _MM_SHUFFLE(kz, kz, kz, kz));
+    const __m128 shear = _mm_div_ps(numerator, denominator);  // (Sx, Sy, Sz, Sz)
+    WatertightRay4 r4;
+    r4.origin_x = _mm_shuffle_ps(origin, origin, _MM_SHUFFLE(kx, kx, kx, kx));
+    r4.origin_y = _mm_shuffle_ps(origin, origin, _MM_SHUFFLE(ky, ky, ky, ky));
+    r4.origin_z = _mm_shuffle_ps(origin, origin, _MM_SHUFFLE(kz, kz, kz, kz));
+    r4.shear_x = _mm_shuffle_ps(shear, shear, _MM_SHUFFLE(0, 0, 0, 0));
+    r4.shear_y = _mm_shuffle_ps(shear, shear, _MM_SHUFFLE(1, 1, 1, 1));
+    r4.shear_z = _mm_shuffle_ps(shear, shear, _MM_SHUFFLE(2, 2, 2, 2));
+    r4.t_min = _mm_set1_ps(t_min);
+    r4.t_max = _mm_set1_ps(t_max);
+    r4.offset_x = 4 * kx;
+    r4.offset_y = 4 * ky;
+    r4.offset_z = 4 * kz;
+    return r4;
+}
+
+/// make_watertight_ray4(make_watertight_ray(origin, direction, t_min, t_max)) without the scalar
+/// detour: kz and the winding swap are chosen exactly as make_watertight_ray chooses them, then
+/// one of the six permutations is set up (the tests compare both paths bit for bit).
+inline WatertightRay4 make_watertight_ray4(glm::vec3 origin, glm::vec3 direction, float t_min,
+                                           float t_max) {
+    const float ax = std::fabs(direction.x), ay = std::fabs(direction.y),
+                az = std::fabs(direction.z);
+    int kz = ay > ax ? 1 : 0;
+    kz = az > (kz == 1 ? ay : ax) ? 2 : kz;
+    const float d_kz = kz == 0 ? direction.x : (kz == 1 ? direction.y : direction.z);
+    const __m128 o = _mm_setr_ps(origin.x, origin.y, origin.z, 0.0f);
+    const __m128 d = _mm_setr_ps(direction.x, direction.y, direction.z, 1.0f);
+    // kx = kz + 1, ky = kx + 1 (mod 3), swapped when d[kz] < 0.
+    switch (2 * kz + (d_kz < 0.0f ? 1 : 0)) {
+        case 0: return make_watertight_ray4_axes<1, 2, 0>(o, d, t_min, t_max);
+        case 1: return make_watertight_ray4_axes<2, 1, 0>(o, d, t_min, t_max);
+        case 2: return make_watertight_ray4_axes<2, 0, 1>(o, d, t_min, t_max);
+        case 3: return make_watertight_ray4_axes<0, 2, 1>(o, d, t_min, t_max);
+        case 4: return make_watertight_ray4_axes<0, 1, 2>(o, d, t_min, t_max);
+        default: return make_watertight_ray4_axes<1, 0, 2>(o, d, t_min, t_max);
+    }
+}
+
 /// intersect_watertight on the four triangles of `corners` ([corner][axis][lane], 16-byte
 /// aligned). Returns the mask of the lanes hit (bit i: lane i), their t, u, v in `hits`; lanes
 /// outside `lanes` are never reported. The comments name the steps of the scalar test.
