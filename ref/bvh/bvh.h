@@ -6,6 +6,7 @@
 // the robust box test and the measured performance.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -72,14 +73,36 @@ struct BvhBuildStats {
     double sah_cost = 0.0;  ///< of the whole tree, relative to the root's surface area
 };
 
+/// Raw memory for the traversal arrays (bvh.cpp): an allocation of 2 MiB or more is aligned to
+/// 2 MiB and, on Linux, marked for transparent huge pages (madvise MADV_HUGEPAGE, as Embree does
+/// for its BVH), so that rays scattered over a large tree take far fewer TLB misses. Memory
+/// placement only: no result depends on it.
+void* bvh_allocate(std::size_t bytes, std::size_t alignment);
+void bvh_deallocate(void* p, std::size_t bytes, std::size_t alignment);
+
+template <class T>
+struct BvhAllocator {
+    using value_type = T;
+    BvhAllocator() = default;
+    template <class U>
+    BvhAllocator(const BvhAllocator<U>&) {}
+    T* allocate(std::size_t n) { return static_cast<T*>(bvh_allocate(n * sizeof(T), alignof(T))); }
+    void deallocate(T* p, std::size_t n) { bvh_deallocate(p, n * sizeof(T), alignof(T)); }
+    template <class U>
+    bool operator==(const BvhAllocator<U>&) const {
+        return true;
+    }
+};
+
 /// Plain data: two trees built from the same input compare equal with ==. A scene without a
 /// hittable triangle has no nodes.
 struct Bvh {
-    std::vector<BvhNode> nodes;                     ///< nodes[0] is the root; depth-first order
-    std::vector<BvhWideNode> wide_nodes;            ///< the traversal tree; [0] is the root
-    std::vector<std::uint32_t> primitives;          ///< triangle indices in leaf order
-    std::vector<glm::vec3> triangle_corners;        ///< 3 per triangle, in `primitives` order
-    std::vector<BvhTriangleBlock> triangle_blocks;  ///< the same corners, 4 triangles per block
+    std::vector<BvhNode> nodes;  ///< nodes[0] is the root; depth-first order
+    std::vector<BvhWideNode, BvhAllocator<BvhWideNode>> wide_nodes;  ///< traversal tree; [0]: root
+    std::vector<std::uint32_t> primitives;    ///< triangle indices in leaf order
+    std::vector<glm::vec3> triangle_corners;  ///< 3 per triangle, in `primitives` order
+    /// the same corners, 4 triangles per block
+    std::vector<BvhTriangleBlock, BvhAllocator<BvhTriangleBlock>> triangle_blocks;
     BvhBuildStats stats;
     bool operator==(const Bvh& o) const {
         return nodes == o.nodes && wide_nodes == o.wide_nodes && primitives == o.primitives &&
