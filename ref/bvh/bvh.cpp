@@ -7,17 +7,20 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <new>
 #include <string>
 
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
+
 #include "ref/bvh/watertight.h"
+#include "ref/bvh/watertight4.h"
 #include "ref/core/error.h"
 
-// The box test uses SSE (baseline x86-64) when available; FOVREF_BVH_SCALAR forces the plain
-// path, which computes the same values lane by lane (the tests can be run with either).
-#if (defined(__SSE2__) || defined(_M_X64)) && !defined(FOVREF_BVH_SCALAR)
-#define FOVREF_BVH_SSE 1
-#include <xmmintrin.h>
-#endif
+// The box and triangle tests use SSE (baseline x86-64) when available (FOVREF_BVH_SSE, set in
+// watertight4.h); FOVREF_BVH_SCALAR forces the plain path, which computes the same values lane by
+// lane (the tests can be run with either).
 
 namespace fovref {
 
@@ -108,6 +111,13 @@ public:
         bvh_.triangle_corners.reserve(3 * refs_.size());
         for (std::uint32_t t : refs_)
             for (int k = 0; k < 3; ++k) bvh_.triangle_corners.push_back(positions[3 * t + k]);
+        // The same corners in blocks of 4 triangles, one per lane (zeros after the last one).
+        bvh_.triangle_blocks.assign((refs_.size() + 3) / 4, BvhTriangleBlock{});
+        for (std::size_t i = 0; i < refs_.size(); ++i)
+            for (int k = 0; k < 3; ++k)
+                for (int a = 0; a < 3; ++a)
+                    bvh_.triangle_blocks[i / 4].corners[k][a][i % 4] =
+                        bvh_.triangle_corners[3 * i + k][a];
 
         // Statistics; the SAH cost is summed in binary64 in node order.
         const double root_area = node_box(bvh_.nodes[0]).half_area();
@@ -326,18 +336,6 @@ private:
 /// of the traversal order (docs/bvh.md).
 constexpr float cull_margin = 1.0f / 4096.0f;
 
-/// Per-ray constants of the slab test. The box is padded by `pad` in every direction (see
-/// make_traversal_ray); a padded plane is reached from the shifted origins, so the test costs
-/// no more than an unpadded one.
-struct TraversalRay {
-    WatertightRay triangle;
-    glm::vec3 inv_direction{0.0f};
-    glm::vec3 origin_near{0.0f};  ///< origin + pad * sign(direction): reaches the near planes
-    glm::vec3 origin_far{0.0f};   ///< origin - pad * sign(direction): reaches the far planes
-    bool negative[3] = {false, false, false};
-    float t_lo = 0.0f;  ///< t_min, widened by the margin (boxes only)
-};
-
 bool ray_is_valid(const Ray& ray) {
     const glm::vec3 o = ray.origin, d = ray.direction;
     const bool finite = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) &&
@@ -355,6 +353,18 @@ WatertightRay make_triangle_ray(const Ray& ray) {
 float widen_up(float t) { return std::min(t + std::fabs(t) * cull_margin, float_max); }
 float widen_down(float t) { return std::max(t - std::fabs(t) * cull_margin, -float_max); }
 
+/// Per-ray constants of the slab test (the scalar path's BoxRay; the SSE path computes the same
+/// values in make_box_ray). Every box is padded by `pad` in every direction (see
+/// make_slab_ray); a padded plane is reached from a shifted origin, so the test costs no more
+/// than an unpadded one.
+struct SlabRay {
+    glm::vec3 inv_direction{0.0f};
+    glm::vec3 origin_near{0.0f};   ///< origin + pad * sign(direction): reaches the near planes
+    glm::vec3 origin_far{0.0f};    ///< origin - pad * sign(direction): reaches the far planes
+    int near_side[3] = {0, 0, 0};  ///< 1 where the direction is negative: near plane = box max
+    float t_lo = 0.0f;             ///< t_min, widened by the margin (boxes only)
+};
+
 /// Robust slab test setup. The watertight test decides a hit exactly for its rounded, sheared
 /// corners, which lie within 6 eps |corner - origin| (eps = 2^-24) of the true corners along the
 /// two sheared axes; the slab distances themselves carry up to 3 eps relative rounding (the
@@ -363,9 +373,8 @@ float widen_down(float t) { return std::max(t - std::fabs(t) * cull_margin, -flo
 /// |corner - origin|, covers both with room to spare, so a box is never culled when the triangle
 /// test would report a hit inside it (the argument of Woop et al. 2013 for a conservative box
 /// test).
-TraversalRay make_traversal_ray(const Bvh& bvh, const Ray& ray) {
-    TraversalRay r;
-    r.triangle = make_triangle_ray(ray);
+[[maybe_unused]] SlabRay make_slab_ray(const Bvh& bvh, const Ray& ray) {
+    SlabRay r;
     const BvhNode& root = bvh.nodes[0];
     const glm::vec3 scene_abs = glm::max(glm::abs(root.bounds_min), glm::abs(root.bounds_max));
     const glm::vec3 origin_abs = glm::abs(ray.origin);
@@ -374,8 +383,9 @@ TraversalRay make_traversal_ray(const Bvh& bvh, const Ray& ray) {
     const float pad = (scene_max + origin_max) * (1.0f / 524288.0f);
     for (int a = 0; a < 3; ++a) {
         r.inv_direction[a] = 1.0f / ray.direction[a];  // +-inf for a zero component
-        r.negative[a] = std::signbit(r.inv_direction[a]);
-        const float shift = r.negative[a] ? -pad : pad;
+        const bool negative = std::signbit(r.inv_direction[a]);
+        r.near_side[a] = negative ? 1 : 0;
+        const float shift = negative ? -pad : pad;
         r.origin_near[a] = ray.origin[a] + shift;
         r.origin_far[a] = ray.origin[a] - shift;
     }
@@ -393,50 +403,98 @@ TraversalRay make_traversal_ray(const Bvh& bvh, const Ray& ray) {
 #if FOVREF_BVH_SSE
 struct BoxRay {
     __m128 origin_near[3], origin_far[3], inv_direction[3], t_lo;
-    int near_side[3];  ///< 1 where the direction is negative: the near plane is the box maximum
+    int near_plane[3], far_plane[3];  ///< offsets (floats) of an axis' near / far planes in bounds
 };
 
-BoxRay make_box_ray(const TraversalRay& r) {
+/// make_slab_ray with the three axes in the lanes of one SSE register (the same operations per
+/// axis), then broadcast per axis for the 4-wide test.
+BoxRay make_box_ray(const Bvh& bvh, const Ray& ray) {
+    const glm::vec3 lo = bvh.nodes[0].bounds_min, hi = bvh.nodes[0].bounds_max;
+    const glm::vec3 o = ray.origin, d = ray.direction;
+    const __m128 sign_bit = _mm_set1_ps(-0.0f);
+    const __m128 origin = _mm_setr_ps(o.x, o.y, o.z, 0.0f);
+    // max |scene coordinate| and max |origin coordinate| (lane 3 is 0, which changes no max).
+    const __m128 scene_abs =
+        _mm_max_ps(_mm_andnot_ps(sign_bit, _mm_setr_ps(lo.x, lo.y, lo.z, 0.0f)),
+                   _mm_andnot_ps(sign_bit, _mm_setr_ps(hi.x, hi.y, hi.z, 0.0f)));
+    const __m128 origin_abs = _mm_andnot_ps(sign_bit, origin);
+    // Horizontal max of both at once: lanes (scene, origin) after the two steps.
+    __m128 m =
+        _mm_max_ps(_mm_movelh_ps(scene_abs, origin_abs), _mm_movehl_ps(origin_abs, scene_abs));
+    m = _mm_max_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
+    const float scene_max = _mm_cvtss_f32(m);
+    const float origin_max = _mm_cvtss_f32(_mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 2, 2, 2)));
+    const float pad = (scene_max + origin_max) * (1.0f / 524288.0f);
+    const __m128 inv_direction = _mm_div_ps(_mm_set1_ps(1.0f), _mm_setr_ps(d.x, d.y, d.z, 1.0f));
+    // shift = negative ? -pad : pad, with negative = the sign bit of 1 / d.
+    const __m128 shift = _mm_xor_ps(_mm_set1_ps(pad), _mm_and_ps(inv_direction, sign_bit));
+    const __m128 origin_near = _mm_add_ps(origin, shift);
+    const __m128 origin_far = _mm_sub_ps(origin, shift);
+    const int negative = _mm_movemask_ps(inv_direction);
+
     BoxRay b;
+    b.origin_near[0] = _mm_shuffle_ps(origin_near, origin_near, _MM_SHUFFLE(0, 0, 0, 0));
+    b.origin_near[1] = _mm_shuffle_ps(origin_near, origin_near, _MM_SHUFFLE(1, 1, 1, 1));
+    b.origin_near[2] = _mm_shuffle_ps(origin_near, origin_near, _MM_SHUFFLE(2, 2, 2, 2));
+    b.origin_far[0] = _mm_shuffle_ps(origin_far, origin_far, _MM_SHUFFLE(0, 0, 0, 0));
+    b.origin_far[1] = _mm_shuffle_ps(origin_far, origin_far, _MM_SHUFFLE(1, 1, 1, 1));
+    b.origin_far[2] = _mm_shuffle_ps(origin_far, origin_far, _MM_SHUFFLE(2, 2, 2, 2));
+    b.inv_direction[0] = _mm_shuffle_ps(inv_direction, inv_direction, _MM_SHUFFLE(0, 0, 0, 0));
+    b.inv_direction[1] = _mm_shuffle_ps(inv_direction, inv_direction, _MM_SHUFFLE(1, 1, 1, 1));
+    b.inv_direction[2] = _mm_shuffle_ps(inv_direction, inv_direction, _MM_SHUFFLE(2, 2, 2, 2));
     for (int a = 0; a < 3; ++a) {
-        b.origin_near[a] = _mm_set1_ps(r.origin_near[a]);
-        b.origin_far[a] = _mm_set1_ps(r.origin_far[a]);
-        b.inv_direction[a] = _mm_set1_ps(r.inv_direction[a]);
-        b.near_side[a] = r.negative[a] ? 1 : 0;
+        const int near_side = (negative >> a) & 1;
+        b.near_plane[a] = 8 * a + 4 * near_side;  // &bounds[a][near_side][0]
+        b.far_plane[a] = 8 * a + 4 * (1 - near_side);
     }
-    b.t_lo = _mm_set1_ps(r.t_lo);
+    b.t_lo = _mm_set1_ps(widen_down(ray.t_min));
     return b;
+}
+
+/// One axis of the slab test on four boxes: entry = max(t_near, entry), exit = min(t_far, exit).
+FOVREF_FORCE_INLINE void slab_axis(const float* bounds, const BoxRay& r, int a, __m128& entry,
+                                   __m128& exit) {
+    const __m128 near_plane = _mm_load_ps(bounds + r.near_plane[a]);
+    const __m128 far_plane = _mm_load_ps(bounds + r.far_plane[a]);
+    const __m128 t_near = _mm_mul_ps(_mm_sub_ps(near_plane, r.origin_near[a]), r.inv_direction[a]);
+    const __m128 t_far = _mm_mul_ps(_mm_sub_ps(far_plane, r.origin_far[a]), r.inv_direction[a]);
+    entry = _mm_max_ps(t_near, entry);  // (t_near > entry) ? t_near : entry
+    exit = _mm_min_ps(t_far, exit);     // (t_far < exit) ? t_far : exit
 }
 
 FOVREF_FORCE_INLINE unsigned child_entries(const BvhWideNode& node, const BoxRay& r, float t_hi,
                                            float entries[4]) {
+    const float* bounds = &node.bounds[0][0][0];
     __m128 entry = r.t_lo, exit = _mm_set1_ps(t_hi);
-    for (int a = 0; a < 3; ++a) {
-        const __m128 near_plane = _mm_load_ps(node.bounds[a][r.near_side[a]]);
-        const __m128 far_plane = _mm_load_ps(node.bounds[a][1 - r.near_side[a]]);
-        const __m128 t_near =
-            _mm_mul_ps(_mm_sub_ps(near_plane, r.origin_near[a]), r.inv_direction[a]);
-        const __m128 t_far = _mm_mul_ps(_mm_sub_ps(far_plane, r.origin_far[a]), r.inv_direction[a]);
-        entry = _mm_max_ps(t_near, entry);  // (t_near > entry) ? t_near : entry
-        exit = _mm_min_ps(t_far, exit);     // (t_far < exit) ? t_far : exit
-    }
-    _mm_storeu_ps(entries, entry);
+    slab_axis(bounds, r, 0, entry, exit);
+    slab_axis(bounds, r, 1, entry, exit);
+    slab_axis(bounds, r, 2, entry, exit);
+    _mm_store_ps(entries, entry);
     return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(entry, exit)));
 }
-#else
-struct BoxRay {
-    glm::vec3 origin_near, origin_far, inv_direction;
-    float t_lo;
-    int near_side[3];  ///< 1 where the direction is negative: the near plane is the box maximum
+
+/// The per-ray state of a query: box test and triangle test constants.
+struct TraversalRay {
+    BoxRay box;
+    WatertightRay4 triangle;
+    float t_max = 0.0f;  ///< the triangle test's t_max (clamped to the largest float)
 };
 
-BoxRay make_box_ray(const TraversalRay& r) {
-    return {r.origin_near,
-            r.origin_far,
-            r.inv_direction,
-            r.t_lo,
-            {r.negative[0] ? 1 : 0, r.negative[1] ? 1 : 0, r.negative[2] ? 1 : 0}};
+TraversalRay make_traversal_ray(const Bvh& bvh, const Ray& ray) {
+    const float t_max = std::min(ray.t_max, float_max);  // as make_triangle_ray
+    return {make_box_ray(bvh, ray),
+            make_watertight_ray4(ray.origin, ray.direction, ray.t_min, t_max), t_max};
 }
+
+/// The triangles of one block in `lanes`: intersect_watertight4 (watertight4.h).
+FOVREF_FORCE_INLINE unsigned intersect_block(const TraversalRay& ray, const BvhTriangleBlock& block,
+                                             unsigned lanes, Hits4& hits) {
+    return intersect_watertight4(ray.triangle, &block.corners[0][0][0], lanes, hits);
+}
+#else
+using BoxRay = SlabRay;
+
+BoxRay make_box_ray(const Bvh& bvh, const Ray& ray) { return make_slab_ray(bvh, ray); }
 
 FOVREF_FORCE_INLINE unsigned child_entries(const BvhWideNode& node, const BoxRay& r, float t_hi,
                                            float entries[4]) {
@@ -456,7 +514,44 @@ FOVREF_FORCE_INLINE unsigned child_entries(const BvhWideNode& node, const BoxRay
     }
     return mask;
 }
+
+struct TraversalRay {
+    BoxRay box;
+    WatertightRay triangle;
+    float t_max = 0.0f;
+};
+
+TraversalRay make_traversal_ray(const Bvh& bvh, const Ray& ray) {
+    const WatertightRay triangle = make_triangle_ray(ray);
+    return {make_box_ray(bvh, ray), triangle, triangle.t_max};
+}
+
+/// The plain path: intersect_watertight on each lane in `lanes`, corners read from the block.
+FOVREF_FORCE_INLINE unsigned intersect_block(const TraversalRay& ray, const BvhTriangleBlock& block,
+                                             unsigned lanes, Hits4& hits) {
+    unsigned mask = 0;
+    for (int i = 0; i < 4; ++i) {
+        if (((lanes >> i) & 1u) == 0) continue;
+        const auto& c = block.corners;
+        const glm::vec3 a(c[0][0][i], c[0][1][i], c[0][2][i]);
+        const glm::vec3 b(c[1][0][i], c[1][1][i], c[1][2][i]);
+        const glm::vec3 p(c[2][0][i], c[2][1][i], c[2][2][i]);
+        if (intersect_watertight(ray.triangle, a, b, p, hits.t[i], hits.u[i], hits.v[i]))
+            mask |= 1u << i;
+    }
+    return mask;
+}
 #endif
+
+/// The lanes of block `block` that belong to the leaf's triangles [first, end).
+FOVREF_FORCE_INLINE unsigned leaf_lanes(std::uint32_t block, std::uint32_t first,
+                                        std::uint32_t end) {
+    const std::uint32_t base = 4 * block;
+    unsigned lanes = 0xfu;
+    if (first > base) lanes &= 0xfu << (first - base);
+    if (end - base < 4) lanes &= (1u << (end - base)) - 1u;
+    return lanes;
+}
 
 /// A child to visit: a wide node (count == 0) or a leaf's triangle range.
 struct ChildRef {
@@ -469,16 +564,50 @@ struct StackEntry {
     float entry;  ///< the box's entry distance when pushed: skipped if beyond the best hit
 };
 
+FOVREF_FORCE_INLINE ChildRef child(const BvhWideNode& node, int i) {
+    return {node.first[i], node.count[i]};
+}
+
+/// Asks for the first two cache lines of a child (a wide node is two; a leaf's first triangle
+/// block starts there) ahead of its use. A hint only: results never depend on it.
+FOVREF_FORCE_INLINE void prefetch_child(const BvhWideNode* nodes, const BvhTriangleBlock* blocks,
+                                        ChildRef c) {
+#if FOVREF_BVH_SSE
+    const char* p = c.count > 0 ? reinterpret_cast<const char*>(blocks + c.first / 4)
+                                : reinterpret_cast<const char*>(nodes + c.first);
+    _mm_prefetch(p, _MM_HINT_T0);
+    _mm_prefetch(p + 64, _MM_HINT_T0);
+#else
+    (void)nodes;
+    (void)blocks;
+    (void)c;
+#endif
+}
+
+/// Two children hit (slots i0 < i1): the nearer is returned, the other pushed; on equal entries
+/// the lower slot is nearer (as in the general insertion sort).
+FOVREF_FORCE_INLINE ChildRef nearer_of_two(const BvhWideNode& node, const float entries[4], int i0,
+                                           int i1, StackEntry* stack, int& stack_size) {
+    if (entries[i1] < entries[i0]) {
+        stack[stack_size++] = {child(node, i0), entries[i0]};
+        return child(node, i1);
+    }
+    stack[stack_size++] = {child(node, i1), entries[i1]};
+    return child(node, i0);
+}
+
 /// Ordered depth-first traversal of the BVH4. At a wide node the 4 children's boxes are tested
 /// at once; the children hit are sorted by entry distance (the lower slot first on ties), the
 /// nearest is visited next and the others are pushed, farthest first, with their entry
-/// distances. `visit_leaf(first, count)` tests a leaf's triangles and returns the new cull
-/// distance t_hi (or a negative infinity to stop, used by any-hit queries).
+/// distances. One and two children hit (the common cases) take short paths that give the same
+/// order as the general insertion sort, so the counters (nodes visited, triangles tested) do
+/// not depend on which path ran. `visit_leaf(first, count)` tests a leaf's triangles and
+/// returns the new cull distance t_hi (or a negative infinity to stop, used by any-hit queries).
 template <class LeafVisitor>
-void traverse(const Bvh& bvh, const TraversalRay& ray, float t_hi, TraceStats& stats,
-              LeafVisitor&& visit_leaf) {
+FOVREF_FORCE_INLINE void traverse(const Bvh& bvh, const BoxRay& r, float t_hi, TraceStats& stats,
+                                  LeafVisitor&& visit_leaf) {
     const BvhWideNode* nodes = bvh.wide_nodes.data();
-    const BoxRay r = make_box_ray(ray);
+    const BvhTriangleBlock* blocks = bvh.triangle_blocks.data();
     // Each wide node pushes at most 3 children and is at most bvh_max_depth + 1 levels deep.
     StackEntry stack[3 * (bvh_max_depth + 1) + 1];
     int stack_size = 0;
@@ -491,23 +620,45 @@ void traverse(const Bvh& bvh, const TraversalRay& ray, float t_hi, TraceStats& s
             if (t_hi == -inf) break;
         } else {
             const BvhWideNode& node = nodes[current.first];
-            float entries[4];
+            alignas(16) float entries[4];
             const unsigned mask = child_entries(node, r, t_hi, entries);
-            if (mask != 0) {
-                // Take the children hit in slot order, inserting each into place by entry
-                // (strict '<': equal entries keep slot order).
-                StackEntry hit[4];
-                int hits = 0;
-                for (unsigned m = mask; m != 0; m &= m - 1) {
-                    const int i = std::countr_zero(m);
-                    StackEntry e{{node.first[i], node.count[i]}, entries[i]};
-                    int j = hits++;
-                    for (; j > 0 && e.entry < hit[j - 1].entry; --j) hit[j] = hit[j - 1];
-                    hit[j] = e;
+            // Prefetch the children hit: on incoherent rays, where the predictor misses the
+            // branch below, a child's load then starts as soon as the mask is known, and a
+            // pushed child is in cache when it is popped (measured: +10-20 % on incoherent
+            // rays, -4 % on coherent ones, where the loads were already under way).
+            for (unsigned m = mask; m != 0; m &= m - 1)
+                prefetch_child(nodes, blocks, child(node, std::countr_zero(m)));
+            // The children hit, by mask. One or two children (the common cases) branch to
+            // code with constant slots, so the next node's address waits for a predicted
+            // branch, not for the box test (a coherent ray stream predicts well).
+            switch (mask) {
+                case 0x0: break;  // none: pop
+                case 0x1: current = child(node, 0); continue;
+                case 0x2: current = child(node, 1); continue;
+                case 0x4: current = child(node, 2); continue;
+                case 0x8: current = child(node, 3); continue;
+                case 0x3: current = nearer_of_two(node, entries, 0, 1, stack, stack_size); continue;
+                case 0x5: current = nearer_of_two(node, entries, 0, 2, stack, stack_size); continue;
+                case 0x9: current = nearer_of_two(node, entries, 0, 3, stack, stack_size); continue;
+                case 0x6: current = nearer_of_two(node, entries, 1, 2, stack, stack_size); continue;
+                case 0xa: current = nearer_of_two(node, entries, 1, 3, stack, stack_size); continue;
+                case 0xc: current = nearer_of_two(node, entries, 2, 3, stack, stack_size); continue;
+                default: {
+                    // Three or four: take them in slot order, inserting each into place by entry
+                    // (strict '<': equal entries keep slot order).
+                    StackEntry hit[4];
+                    int hits = 0;
+                    for (unsigned m = mask; m != 0; m &= m - 1) {
+                        const int i = std::countr_zero(m);
+                        StackEntry e{child(node, i), entries[i]};
+                        int j = hits++;
+                        for (; j > 0 && e.entry < hit[j - 1].entry; --j) hit[j] = hit[j - 1];
+                        hit[j] = e;
+                    }
+                    for (int j = hits - 1; j > 0; --j) stack[stack_size++] = hit[j];
+                    current = hit[0].child;
+                    continue;
                 }
-                for (int j = hits - 1; j > 0; --j) stack[stack_size++] = hit[j];
-                current = hit[0].child;
-                continue;
             }
         }
         // Pop the next box that may still hold a hit.
@@ -532,6 +683,30 @@ inline bool closer(float t, std::int32_t primitive, const Hit& best) {
 
 }  // namespace
 
+// ---- memory for the traversal arrays ----------------------------------------------------------
+
+namespace {
+constexpr std::size_t huge_page = std::size_t{2} << 20;
+}
+
+void* bvh_allocate(std::size_t bytes, std::size_t alignment) {
+    if (bytes < huge_page)
+        return ::operator new (bytes, std::align_val_t{std::max(alignment, alignof(void*))});
+    const std::size_t rounded = (bytes + huge_page - 1) / huge_page * huge_page;
+    void* p = ::operator new (rounded, std::align_val_t{huge_page});
+#if defined(__linux__)
+    madvise(p, rounded, MADV_HUGEPAGE);  // a hint: failure (no THP support) changes nothing
+#endif
+    return p;
+}
+
+void bvh_deallocate(void* p, std::size_t bytes, std::size_t alignment) {
+    if (bytes < huge_page)
+        ::operator delete (p, std::align_val_t{std::max(alignment, alignof(void*))});
+    else
+        ::operator delete (p, std::align_val_t{huge_page});
+}
+
 Bvh build_bvh(const std::vector<glm::vec3>& positions, const BvhBuildSettings& settings) {
     if (positions.size() % 3 != 0)
         throw Error("build_bvh: " + std::to_string(positions.size()) +
@@ -555,21 +730,27 @@ Hit trace_closest(const Bvh& bvh, const Ray& ray, TraceStats& stats) {
     Hit best;
     if (bvh.nodes.empty() || !ray_is_valid(ray)) return best;
     const TraversalRay r = make_traversal_ray(bvh, ray);
-    const glm::vec3* corners = bvh.triangle_corners.data();
+    const BvhTriangleBlock* blocks = bvh.triangle_blocks.data();
     const std::uint32_t* primitives = bvh.primitives.data();
-    traverse(bvh, r, widen_up(r.triangle.t_max), stats,
-             [&](std::uint32_t first, std::uint32_t count) {
-                 stats.triangles_tested += count;
-                 for (std::uint32_t i = first; i < first + count; ++i) {
-                     float t, u, v;
-                     if (!intersect_watertight(r.triangle, corners[3 * i], corners[3 * i + 1],
-                                               corners[3 * i + 2], t, u, v))
-                         continue;
-                     const auto primitive = static_cast<std::int32_t>(primitives[i]);
-                     if (closer(t, primitive, best)) best = Hit{t, primitive, u, v};
-                 }
-                 return best.hit() ? widen_up(best.t) : widen_up(r.triangle.t_max);
-             });
+    const float t_hi_none = widen_up(r.t_max);
+    std::int64_t tested = 0;
+    traverse(bvh, r.box, t_hi_none, stats, [&](std::uint32_t first, std::uint32_t count) {
+        // The leaf's triangles, a block of 4 at a time; the hits reduced in the SPEC §3 order.
+        tested += count;
+        const std::uint32_t end = first + count;
+        for (std::uint32_t block = first / 4; 4 * block < end; ++block) {
+            Hits4 hits;
+            unsigned mask = intersect_block(r, blocks[block], leaf_lanes(block, first, end), hits);
+            for (; mask != 0; mask &= mask - 1) {
+                const int lane = std::countr_zero(mask);
+                const auto primitive = static_cast<std::int32_t>(primitives[4 * block + lane]);
+                if (closer(hits.t[lane], primitive, best))
+                    best = Hit{hits.t[lane], primitive, hits.u[lane], hits.v[lane]};
+            }
+        }
+        return best.hit() ? widen_up(best.t) : t_hi_none;
+    });
+    stats.triangles_tested += tested;
     if (best.hit()) ++stats.hits;
     return best;
 }
@@ -578,21 +759,28 @@ bool trace_any(const Bvh& bvh, const Ray& ray, TraceStats& stats) {
     ++stats.rays;
     if (bvh.nodes.empty() || !ray_is_valid(ray)) return false;
     const TraversalRay r = make_traversal_ray(bvh, ray);
-    const glm::vec3* corners = bvh.triangle_corners.data();
-    const float t_hi = widen_up(r.triangle.t_max);
+    const BvhTriangleBlock* blocks = bvh.triangle_blocks.data();
+    const float t_hi = widen_up(r.t_max);
     bool found = false;
-    traverse(bvh, r, t_hi, stats, [&](std::uint32_t first, std::uint32_t count) {
-        for (std::uint32_t i = first; i < first + count; ++i) {
-            ++stats.triangles_tested;
-            float t, u, v;
-            if (intersect_watertight(r.triangle, corners[3 * i], corners[3 * i + 1],
-                                     corners[3 * i + 2], t, u, v)) {
+    std::int64_t tested = 0;
+    traverse(bvh, r.box, t_hi, stats, [&](std::uint32_t first, std::uint32_t count) {
+        // Triangles are counted as if tested one by one in leaf order up to the first hit.
+        const std::uint32_t end = first + count;
+        for (std::uint32_t block = first / 4; 4 * block < end; ++block) {
+            Hits4 hits;
+            const unsigned mask =
+                intersect_block(r, blocks[block], leaf_lanes(block, first, end), hits);
+            if (mask != 0) {
+                tested +=
+                    4 * block + static_cast<std::uint32_t>(std::countr_zero(mask)) + 1 - first;
                 found = true;
                 return -inf;
             }
         }
+        tested += count;
         return t_hi;
     });
+    stats.triangles_tested += tested;
     if (found) ++stats.hits;
     return found;
 }

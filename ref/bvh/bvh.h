@@ -1,10 +1,12 @@
 // Bounding volume hierarchy over triangles (SPEC §3): SAH BVH2 with a deterministic build,
 // watertight ray-triangle intersection (Woop, Benthin, Wald 2013; ref/bvh/watertight.h), closest
 // hit with the SPEC tie-break, any hit for shadow rays. Rays traverse a BVH4 collapsed from the
-// BVH2 (four child boxes tested at once). docs/bvh.md documents the build constants, the layouts,
+// BVH2 (four child boxes tested at once) and test a leaf's triangles four at a time from blocks
+// of 4 in struct-of-arrays layout. docs/bvh.md documents the build constants, the layouts,
 // the robust box test and the measured performance.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -51,6 +53,17 @@ struct alignas(64) BvhWideNode {
     bool operator==(const BvhWideNode&) const = default;
 };
 
+/// Four consecutive triangles of leaf order (block b holds triangles 4b .. 4b + 3, i.e. the
+/// corners triangle_corners[12b .. 12b + 12)), stored per corner and axis with one triangle per
+/// lane, so that one 16-byte load gives one coordinate of all four (144 bytes). A leaf's
+/// triangles first .. first + count lie in blocks first / 4 .. (first + count - 1) / 4; lanes of
+/// other leaves are masked out. The lanes after the last triangle hold zeros and are never
+/// tested.
+struct alignas(16) BvhTriangleBlock {
+    float corners[3][3][4];  ///< [corner 0, 1, 2][axis x, y, z][lane]
+    bool operator==(const BvhTriangleBlock&) const = default;
+};
+
 struct BvhBuildStats {
     std::int64_t nodes = 0;
     std::int64_t leaves = 0;
@@ -60,17 +73,40 @@ struct BvhBuildStats {
     double sah_cost = 0.0;  ///< of the whole tree, relative to the root's surface area
 };
 
+/// Raw memory for the traversal arrays (bvh.cpp): an allocation of 2 MiB or more is aligned to
+/// 2 MiB and, on Linux, marked for transparent huge pages (madvise MADV_HUGEPAGE, as Embree does
+/// for its BVH), so that rays scattered over a large tree take far fewer TLB misses. Memory
+/// placement only: no result depends on it.
+void* bvh_allocate(std::size_t bytes, std::size_t alignment);
+void bvh_deallocate(void* p, std::size_t bytes, std::size_t alignment);
+
+template <class T>
+struct BvhAllocator {
+    using value_type = T;
+    BvhAllocator() = default;
+    template <class U>
+    BvhAllocator(const BvhAllocator<U>&) {}
+    T* allocate(std::size_t n) { return static_cast<T*>(bvh_allocate(n * sizeof(T), alignof(T))); }
+    void deallocate(T* p, std::size_t n) { bvh_deallocate(p, n * sizeof(T), alignof(T)); }
+    template <class U>
+    bool operator==(const BvhAllocator<U>&) const {
+        return true;
+    }
+};
+
 /// Plain data: two trees built from the same input compare equal with ==. A scene without a
 /// hittable triangle has no nodes.
 struct Bvh {
-    std::vector<BvhNode> nodes;               ///< nodes[0] is the root; depth-first order
-    std::vector<BvhWideNode> wide_nodes;      ///< the traversal tree; [0] is the root
+    std::vector<BvhNode> nodes;  ///< nodes[0] is the root; depth-first order
+    std::vector<BvhWideNode, BvhAllocator<BvhWideNode>> wide_nodes;  ///< traversal tree; [0]: root
     std::vector<std::uint32_t> primitives;    ///< triangle indices in leaf order
     std::vector<glm::vec3> triangle_corners;  ///< 3 per triangle, in `primitives` order
+    /// the same corners, 4 triangles per block
+    std::vector<BvhTriangleBlock, BvhAllocator<BvhTriangleBlock>> triangle_blocks;
     BvhBuildStats stats;
     bool operator==(const Bvh& o) const {
         return nodes == o.nodes && wide_nodes == o.wide_nodes && primitives == o.primitives &&
-               triangle_corners == o.triangle_corners;
+               triangle_corners == o.triangle_corners && triangle_blocks == o.triangle_blocks;
     }
 };
 

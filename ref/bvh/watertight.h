@@ -44,17 +44,18 @@ struct WatertightRay {
 /// to the lower axis). The direction must be finite and non-zero (trace_* check that first).
 inline WatertightRay make_watertight_ray(glm::vec3 origin, glm::vec3 direction, float t_min,
                                          float t_max) {
+    const float d[3] = {direction.x, direction.y, direction.z};
     WatertightRay r;
     r.origin = origin;
     r.t_min = t_min;
     r.t_max = t_max;
-    int kz = 0;
-    if (std::fabs(direction.y) > std::fabs(direction[kz])) kz = 1;
-    if (std::fabs(direction.z) > std::fabs(direction[kz])) kz = 2;
-    int kx = kz + 1 == 3 ? 0 : kz + 1;
-    int ky = kx + 1 == 3 ? 0 : kx + 1;
+    int kz = std::fabs(d[1]) > std::fabs(d[0]) ? 1 : 0;
+    kz = std::fabs(d[2]) > std::fabs(d[kz]) ? 2 : kz;
+    const int next[3] = {1, 2, 0};
+    int kx = next[kz];
+    int ky = next[kx];
     // Swap kx and ky to preserve the winding direction of triangles.
-    if (direction[kz] < 0.0f) {
+    if (d[kz] < 0.0f) {
         const int swap = kx;
         kx = ky;
         ky = swap;
@@ -62,9 +63,9 @@ inline WatertightRay make_watertight_ray(glm::vec3 origin, glm::vec3 direction, 
     r.kx = kx;
     r.ky = ky;
     r.kz = kz;
-    r.shear_x = direction[kx] / direction[kz];
-    r.shear_y = direction[ky] / direction[kz];
-    r.shear_z = 1.0f / direction[kz];
+    r.shear_x = d[kx] / d[kz];
+    r.shear_y = d[ky] / d[kz];
+    r.shear_z = 1.0f / d[kz];
     return r;
 }
 

@@ -17,6 +17,7 @@
 
 #include "ref/bvh/bvh.h"
 #include "ref/bvh/watertight.h"
+#include "ref/bvh/watertight4.h"
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
 #include "ref/scene/camera.h"
@@ -612,4 +613,176 @@ TEST_CASE("statistics count rays, nodes, triangles and hits") {
     total += stats;
     total += stats;
     CHECK(total.rays == 6);
+}
+
+TEST_CASE("triangle blocks hold the leaf-order corners, four triangles per block") {
+    for (const char* name : {"cornell", "checker-room", "glossy-floor"}) {
+        CAPTURE(name);
+        const Bvh& bvh = scene_bvh(name).bvh;
+        const std::size_t triangles = bvh.primitives.size();
+        REQUIRE(bvh.triangle_blocks.size() == (triangles + 3) / 4);
+        bool ok = true;
+        for (std::size_t i = 0; i < 4 * bvh.triangle_blocks.size(); ++i)
+            for (int k = 0; k < 3; ++k)
+                for (int a = 0; a < 3; ++a) {
+                    const float stored = bvh.triangle_blocks[i / 4].corners[k][a][i % 4];
+                    // Lanes after the last triangle are zero (they are never tested).
+                    const float expected =
+                        i < triangles ? bvh.triangle_corners[3 * i + k][a] : 0.0f;
+                    ok = ok && std::bit_cast<std::uint32_t>(stored) ==
+                                   std::bit_cast<std::uint32_t>(expected);
+                }
+        CHECK(ok);
+    }
+}
+
+#if FOVREF_BVH_SSE
+TEST_CASE("the 4-wide watertight test gives the scalar test's bits in every lane") {
+    // Triangles on an integer grid and rays along and across the axes through grid points and
+    // edge midpoints: many edge functions are exactly 0 (the binary64 recomputation), some
+    // triangles are degenerate (collinear corners), and t_min / t_max sit exactly at some hits.
+    // Every lane must accept exactly when intersect_watertight does, with the same t, u, v bits.
+    const auto corner = [](std::uint32_t i, std::uint32_t dim) {
+        return std::floor(4.0f * rand_unit(21, i, dim)) - 2.0f;  // -2 .. 1, exact
+    };
+    int hits = 0, fallbacks = 0, mismatches = 0;
+    for (std::uint32_t trial = 0; trial < 4000; ++trial) {
+        BvhTriangleBlock block{};
+        glm::vec3 tri[4][3];
+        for (int lane = 0; lane < 4; ++lane)
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t id = 12 * trial + 3 * static_cast<std::uint32_t>(lane) + k;
+                tri[lane][k] = {corner(id, 0), corner(id, 1), corner(id, 2)};
+                for (int a = 0; a < 3; ++a) block.corners[k][a][lane] = tri[lane][k][a];
+            }
+        auto r = [&](std::uint32_t dim) { return rand_unit(22, trial, dim); };
+        // Origin on a half-integer grid; direction along an axis, towards a corner or an edge
+        // midpoint of one of the triangles (exact in float), or towards a point inside it.
+        const glm::vec3 origin =
+            glm::floor(glm::vec3(r(0), r(1), r(2)) * 12.0f) * 0.5f - glm::vec3(3.0f);
+        const glm::vec3* target = tri[trial / 4 % 4];
+        glm::vec3 direction{0.0f};
+        switch (trial % 4) {
+            case 0: direction[trial / 4 % 3] = r(3) < 0.5f ? -1.0f : 1.0f; break;
+            case 1: direction = target[trial / 4 % 3] - origin; break;
+            case 2: direction = 0.5f * (target[0] + target[1]) - origin; break;
+            default:
+                direction = lerp(lerp(target[0], target[1], r(3)), target[2], 0.5f * r(4)) - origin;
+                break;
+        }
+        if (direction == glm::vec3(0.0f)) direction = {0.0f, 0.0f, 1.0f};
+        const float t_min = trial % 5 == 0 ? 1.0f : 0.0f;
+        const float t_max = trial % 7 == 0 ? 2.0f : std::numeric_limits<float>::max();
+        const WatertightRay ray = make_watertight_ray(origin, direction, t_min, t_max);
+        const unsigned lanes = trial % 6 == 0 ? 0x5u : 0xfu;  // some lanes masked out
+        Hits4 wide;
+        const unsigned mask =
+            intersect_watertight4(make_watertight_ray4(ray), &block.corners[0][0][0], lanes, wide);
+        for (int lane = 0; lane < 4; ++lane) {
+            float t = 0.0f, u = 0.0f, v = 0.0f;
+            const bool scalar =
+                ((lanes >> lane) & 1u) != 0 &&
+                intersect_watertight(ray, tri[lane][0], tri[lane][1], tri[lane][2], t, u, v);
+            const bool vector = ((mask >> lane) & 1u) != 0;
+            bool same = scalar == vector;
+            if (same && scalar)
+                same = same_bits(Hit{t, 0, u, v}, Hit{wide.t[lane], 0, wide.u[lane], wide.v[lane]});
+            if (!same && ++mismatches <= 5)
+                FAIL_CHECK("trial " << trial << " lane " << lane << ": scalar " << scalar << " t "
+                                    << t << ", 4-wide " << vector << " t " << wide.t[lane]);
+            hits += scalar ? 1 : 0;
+            // Count the lanes that took the binary64 path (an edge function exactly 0).
+            const WatertightRay& q = ray;
+            const float o[3] = {q.origin.x, q.origin.y, q.origin.z};
+            float e[3][2];
+            for (int k = 0; k < 3; ++k) {
+                const float c[3] = {tri[lane][k].x - o[0], tri[lane][k].y - o[1],
+                                    tri[lane][k].z - o[2]};
+                e[k][0] = c[q.kx] - q.shear_x * c[q.kz];
+                e[k][1] = c[q.ky] - q.shear_y * c[q.kz];
+            }
+            const float U = e[2][0] * e[1][1] - e[2][1] * e[1][0];
+            const float V = e[0][0] * e[2][1] - e[0][1] * e[2][0];
+            const float W = e[1][0] * e[0][1] - e[1][1] * e[0][0];
+            fallbacks += (U == 0.0f || V == 0.0f || W == 0.0f) ? 1 : 0;
+        }
+    }
+    CHECK(mismatches == 0);
+    // The cases are not vacuous: lanes hit, and lanes took the binary64 path.
+    CHECK(hits > 1000);
+    CHECK(fallbacks > 1000);
+    MESSAGE(hits << " lane hits, " << fallbacks << " lanes with an edge function exactly 0");
+}
+#endif
+
+#if FOVREF_BVH_SSE
+TEST_CASE("the 4-wide ray setup equals the scalar setup, broadcast") {
+    // Directions with every sign, zero components (+0 and -0) and ties between |components|
+    // (kz is the first largest axis), plus random ones: the permutation, shear and broadcast
+    // constants must match make_watertight_ray's bit for bit.
+    const float values[] = {0.0f, -0.0f, 1.0f, -1.0f, 0.5f, -2.0f, 3.0f};
+    std::vector<glm::vec3> directions;
+    for (float x : values)
+        for (float y : values)
+            for (float z : values)
+                if (x != 0.0f || y != 0.0f || z != 0.0f) directions.push_back({x, y, z});
+    for (std::uint32_t i = 0; i < 1000; ++i)
+        directions.push_back(
+            glm::vec3(rand_unit(23, i, 0), rand_unit(23, i, 1), rand_unit(23, i, 2)) * 2.0f - 1.0f);
+    const auto bits = [](__m128 v) {
+        alignas(16) float f[4];
+        _mm_store_ps(f, v);
+        return std::vector<std::uint32_t>{
+            std::bit_cast<std::uint32_t>(f[0]), std::bit_cast<std::uint32_t>(f[1]),
+            std::bit_cast<std::uint32_t>(f[2]), std::bit_cast<std::uint32_t>(f[3])};
+    };
+    int mismatches = 0;
+    for (std::size_t i = 0; i < directions.size(); ++i) {
+        const glm::vec3 origin(0.25f * static_cast<float>(i % 7), -1.5f, 3.0f);
+        const WatertightRay4 a =
+            make_watertight_ray4(make_watertight_ray(origin, directions[i], 0.125f, 9.0f));
+        const WatertightRay4 b = make_watertight_ray4(origin, directions[i], 0.125f, 9.0f);
+        const bool same =
+            bits(a.origin_x) == bits(b.origin_x) && bits(a.origin_y) == bits(b.origin_y) &&
+            bits(a.origin_z) == bits(b.origin_z) && bits(a.shear_x) == bits(b.shear_x) &&
+            bits(a.shear_y) == bits(b.shear_y) && bits(a.shear_z) == bits(b.shear_z) &&
+            bits(a.t_min) == bits(b.t_min) && bits(a.t_max) == bits(b.t_max) &&
+            a.offset_x == b.offset_x && a.offset_y == b.offset_y && a.offset_z == b.offset_z;
+        if (!same && ++mismatches <= 5) FAIL_CHECK("direction " << show(directions[i]));
+    }
+    CHECK(mismatches == 0);
+}
+#endif
+
+TEST_CASE("triangles tested: a whole leaf for closest hit, up to the first hit for any hit") {
+    // Six unit squares' lower triangles, stacked in z; triangles 0 and 1 lie off to the side.
+    // A traversal cost of 100 keeps all six in one leaf (a split never beats 6 tests), so the
+    // leaf order is the input order and the leaf spans two blocks of 4.
+    Mesh mesh;
+    for (int i = 0; i < 6; ++i) {
+        const float x = i < 2 ? 5.0f : 0.0f, z = static_cast<float>(i);
+        add_triangle(mesh, {x, 0, z}, {x + 1, 0, z}, {x, 1, z});
+    }
+    const Bvh bvh = build_bvh(mesh, BvhBuildSettings{100.0f, 1.0f, 32, 8});
+    REQUIRE(bvh.nodes.size() == 1);
+    REQUIRE(bvh.triangle_blocks.size() == 2);
+    {
+        // Down through triangles 5, 4, 3, 2: any hit stops at triangle 2, the third in the leaf.
+        TraceStats stats;
+        CHECK(trace_any(bvh, make_ray({0.25f, 0.25f, 10.0f}, {0, 0, -1}), stats));
+        CHECK(stats.triangles_tested == 3);
+        CHECK(stats.nodes_visited == 2);  // the wide root and the leaf
+        const Hit hit = trace_closest(bvh, make_ray({0.25f, 0.25f, 10.0f}, {0, 0, -1}), stats);
+        CHECK(hit.primitive == 5);
+        CHECK(stats.triangles_tested == 3 + 6);
+    }
+    {
+        // Only triangle 5 lies in t in (0, 5.5]: any hit tests all six.
+        TraceStats stats;
+        CHECK(trace_any(bvh, make_ray({0.25f, 0.25f, 10.0f}, {0, 0, -1}, 0.0f, 5.5f), stats));
+        CHECK(stats.triangles_tested == 6);
+        // Missing every triangle: all six tested, no hit.
+        CHECK_FALSE(trace_any(bvh, make_ray({0.75f, 0.75f, 10.0f}, {0, 0, -1}), stats));
+        CHECK(stats.triangles_tested == 12);
+    }
 }
