@@ -30,6 +30,9 @@ struct SsimSettings {
     double k1 = 0.01;         ///< C1 = (k1 L)^2
     double k2 = 0.03;         ///< C2 = (k2 L)^2
     double data_range = 1.0;  ///< L
+    /// Use the 4-lane AVX filter kernel where the CPU has AVX (x86). Its results are
+    /// bit-identical to the 2-lane SSE2 kernel; false forces SSE2 (the test that checks it).
+    bool allow_avx = true;
 };
 
 /// The SSIM map on the 'valid' region: map pixel (x, y) is image pixel (x + border, y + border).
