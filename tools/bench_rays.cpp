@@ -79,6 +79,52 @@ std::vector<Ray> shadow_rays(const Scene& scene, const std::vector<Ray>& primary
     return rays;
 }
 
+// One line per answer: "miss", or t, primitive, barycentrics and the smallest of (u, v, 1-u-v)
+// (how far inside its triangle the hit lies; near 0 = on an edge).
+std::string describe_hit(const Hit& h) {
+    if (!h.hit()) return "miss";
+    char text[200];
+    const float w = 1.0f - h.u - h.v;
+    std::snprintf(text, sizeof text,
+                  "t %.9g, primitive %d, u %.9g v %.9g (smallest barycentric %.3g)",
+                  static_cast<double>(h.t), h.primitive, static_cast<double>(h.u),
+                  static_cast<double>(h.v), static_cast<double>(std::min({h.u, h.v, w})));
+    return text;
+}
+
+// A hit/miss disagreement with Embree, explained: the ray, fovref's answer, the brute force's
+// (every triangle tested, SPEC §3 order) and Embree's.
+std::string explain_disagreement(const Scene& scene, const std::string& name, const char* kind,
+                                 std::size_t index, int width, const Ray& ray, const Hit& ours,
+                                 const Hit& theirs, bool shadow) {
+    char text[600];
+    std::string where = "ray " + std::to_string(index);
+    if (std::string(kind) == "primary")
+        where += " (pixel " + std::to_string(index % static_cast<std::size_t>(width)) + ", " +
+                 std::to_string(index / static_cast<std::size_t>(width)) + ")";
+    std::snprintf(text, sizeof text,
+                  "- %s %s %s: origin (%.9g, %.9g, %.9g), direction (%.9g, %.9g, %.9g), t in "
+                  "(%.9g, %.9g]\n",
+                  name.c_str(), kind, where.c_str(), static_cast<double>(ray.origin.x),
+                  static_cast<double>(ray.origin.y), static_cast<double>(ray.origin.z),
+                  static_cast<double>(ray.direction.x), static_cast<double>(ray.direction.y),
+                  static_cast<double>(ray.direction.z), static_cast<double>(ray.t_min),
+                  static_cast<double>(ray.t_max));
+    const Hit brute = trace_brute_force(scene.positions, ray);
+    std::string out = text;
+    if (shadow) {
+        out += std::string("    fovref ") + (ours.hit() ? "blocked" : "unblocked") + ", Embree " +
+               (theirs.hit() ? "blocked" : "unblocked") +
+               "; brute force closest hit: " + describe_hit(brute) + "\n";
+    } else {
+        out += "    fovref:      " + describe_hit(ours) + "\n";
+        out += "    brute force: " + describe_hit(brute) +
+               (brute == ours ? " (= fovref)" : " (differs from fovref)") + "\n";
+        out += "    Embree:      " + describe_hit(theirs) + "\n";
+    }
+    return out;
+}
+
 struct Row {
     std::string scene, kind;
     std::size_t rays = 0;
@@ -151,6 +197,7 @@ int run_bench_rays(const BenchRaysOptions& options) {
     std::printf(" nodes / tris per ray |\n");
     std::printf("|---|---|---:|---:|%s---:|\n", have_embree ? "---:|---:|---:|---:|" : "");
 
+    std::string explanations;  // --explain: printed after the table
     for (const std::string& name : scenes) {
         const Scene scene = make_procedural_scene(name);
 
@@ -213,11 +260,25 @@ int run_bench_rays(const BenchRaysOptions& options) {
                 else
                     embree.intersect(rays, embree_hits);
             });
+            std::size_t explained = 0;
+            auto explain = [&](std::size_t i, const Hit& ours, const Hit& theirs) {
+                if (explained >= static_cast<std::size_t>(options.explain)) return;
+                ++explained;
+                explanations += explain_disagreement(scene, name, kind, i, options.width, rays[i],
+                                                     ours, theirs, shadow);
+            };
             for (std::size_t i = 0; i < rays.size(); ++i) {
                 if (shadow) {
                     row.disagree += blocked[i] != embree_blocked[i] ? 1 : 0;
+                    if (blocked[i] != embree_blocked[i]) {
+                        Hit ours, theirs;  // blocked: a hit with no triangle data
+                        ours.primitive = blocked[i] ? 0 : -1;
+                        theirs.primitive = embree_blocked[i] ? 0 : -1;
+                        explain(i, ours, theirs);
+                    }
                 } else {
                     row.disagree += hits[i].hit() != embree_hits[i].hit() ? 1 : 0;
+                    if (hits[i].hit() != embree_hits[i].hit()) explain(i, hits[i], embree_hits[i]);
                     if (hits[i].hit() && embree_hits[i].hit()) {
                         ++row.both_hit;
                         row.primitive_differs +=
@@ -238,6 +299,16 @@ int run_bench_rays(const BenchRaysOptions& options) {
             have_embree ? "; the ratio is Embree's build time over fovref's (> 1: fovref "
                           "builds faster)"
                         : "");
+    if (options.explain > 0) {
+        if (!have_embree)
+            std::printf(
+                "--explain: no disagreements to list (Embree not found at configure time)\n");
+        else if (explanations.empty())
+            std::printf("hit/miss disagreements with Embree: none\n");
+        else
+            std::printf("hit/miss disagreements with Embree (at most %d per row):\n%s",
+                        options.explain, explanations.c_str());
+    }
     return 0;
 }
 

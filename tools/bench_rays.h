@@ -14,6 +14,9 @@ struct BenchRaysOptions {
     int height = 720;
     int repeats = 3;     ///< each timing is the fastest of this many runs
     bool quiet = false;  ///< only the table
+    /// With Embree: list up to this many hit/miss disagreements per row after the table, each
+    /// with the ray, both answers, the brute force's and how close the hit is to an edge.
+    int explain = 0;
 };
 
 /// Runs the benchmark and prints its table on stdout. Returns 0; throws fovref::Error for an

@@ -672,6 +672,12 @@ int main(int argc, char** argv) {
     bench_rays_cmd->add_option("--repeats", o.bench.repeats, "each timing is the fastest of N runs")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
+    bench_rays_cmd
+        ->add_option("--explain", o.bench.explain,
+                     "list up to N hit/miss disagreements with Embree per row: the ray, both "
+                     "answers, the brute force's, the distance to an edge")
+        ->check(CLI::Range(0, 1000))
+        ->capture_default_str();
 
     CLI::App* bench_metrics_cmd = bench->add_subcommand(
         "metrics",

@@ -28,6 +28,13 @@ expect 0 "bench smoke run" -- "$FOVREF" bench rays --scene cornell --width 32 --
 contains "| cornell      | primary" "bench table"
 contains "raster gbuf" "bench table"
 expect 2 "bench unknown scene" -- "$FOVREF" bench rays --scene nope
+expect 0 "bench --explain" -- "$FOVREF" bench rays --scene cornell --width 32 --height 18 --repeats 1 --explain 2
+if grep -q "comparison: Embree" <<<"$OUT"; then
+  contains "hit/miss disagreements with Embree: none" "cornell agrees with Embree on every ray"
+else
+  contains "--explain: no disagreements to list (Embree not found" "explain without Embree"
+fi
+expect 2 "bench --explain out of range" -- "$FOVREF" bench rays --scene cornell --explain -1
 expect 0 "basic via raster" -- "$FOVREF" render --scene cornell --mode basic --primary raster --width 16 --height 9 --out "$TMP/br" -q
 expect 2 "bad --primary" -- "$FOVREF" render --scene cornell --mode basic --primary gpu --out "$TMP/bp"
 finish
