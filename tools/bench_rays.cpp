@@ -174,6 +174,7 @@ int run_bench_rays(const BenchRaysOptions& options) {
     if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
         throw Error("bench rays: --width and --height must be in 1..16384");
     if (options.repeats < 1) throw Error("bench rays: --repeats must be at least 1");
+    if (options.explain < 0) throw Error("bench rays: --explain must be 0 or more");
     std::vector<std::string> scenes = options.scenes;
     if (scenes.empty())
         for (const ProceduralSceneInfo& info : procedural_scenes()) scenes.push_back(info.name);
