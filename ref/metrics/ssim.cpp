@@ -1,9 +1,6 @@
 #include "ref/metrics/ssim.h"
 
-#include <emmintrin.h>
-#if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
-#endif
 
 #include <algorithm>
 #include <cmath>
@@ -86,7 +83,6 @@ void filter_row_taps5(double* __restrict dst, const double* centre, const double
     }
 }
 
-#if defined(__x86_64__) || defined(__i386__)
 // The same kernel four columns at a time with 256-bit AVX (compiled for AVX only here and used
 // only when the CPU has it): each lane still does w0*c, then + w_k*(l_k + r_k) for k = 1 .. 5,
 // separately rounded (no FMA), so the result is bit-identical to filter_row_taps5.
@@ -126,7 +122,6 @@ bool cpu_has_avx() {
     static const bool has = __builtin_cpu_supports("avx") != 0;
     return has;
 }
-#endif
 
 }  // namespace
 
@@ -178,17 +173,13 @@ SsimMap ssim_map(const Image& a, const Image& b, const SsimSettings& settings) {
     // rows a strip keeps (taps x 5 quantities) stay in the L2 cache at any image width. Every
     // map value is the same whatever the strip width: strips only change the loop order.
     constexpr std::size_t strip = 512;
-#if defined(__x86_64__) || defined(__i386__)
     const bool use_avx = settings.allow_avx && cpu_has_avx();
-#endif
     const std::size_t strip_width = std::min(strip, map_width);
     auto filter_taps = [&](double* dst, const double* centre, const double* const* left,
                            const double* const* right, std::size_t n) {
         if (r == 5) {
-#if defined(__x86_64__) || defined(__i386__)
             if (use_avx)
                 return filter_row_taps5_avx(dst, centre, left, right, half_window.data(), n);
-#endif
             filter_row_taps5(dst, centre, left, right, half_window.data(), n);
         } else
             filter_row_taps(dst, centre, left, right, half_window.data(), r, n);
