@@ -77,12 +77,17 @@ FOVREF_FORCE_INLINE float watertight_edge_fallback(float px, float py, float qx,
     return static_cast<float>(e);
 }
 
-/// Intersects the ray with triangle (a, b, c). On a hit with t in (t_min, t_max] it sets t and
-/// the barycentrics (u, v) of corners b and c (P = (1 - u - v) a + u b + v c) and returns true.
-/// NaN anywhere (non-finite corners) never produces a hit: every acceptance test is written so
-/// that NaN fails it.
-FOVREF_FORCE_INLINE bool intersect_watertight(const WatertightRay& ray, glm::vec3 a, glm::vec3 b,
-                                              glm::vec3 c, float& t, float& u, float& v) {
+/// The sheared triangle as the test sees it: the scaled barycentrics U, V, W (weights of a, b and
+/// c; recomputed in binary64 when one is exactly 0) and the corners' kz coordinates relative to
+/// the ray origin (unscaled). Shared by the hit test and by the plane intersection below, so the
+/// two compute the same bits.
+struct WatertightEdges {
+    float U = 0.0f, V = 0.0f, W = 0.0f;
+    float Az = 0.0f, Bz = 0.0f, Cz = 0.0f;
+};
+
+FOVREF_FORCE_INLINE WatertightEdges watertight_edges(const WatertightRay& ray, glm::vec3 a,
+                                                     glm::vec3 b, glm::vec3 c) {
     // Corners relative to the ray origin (as arrays: the axes kx, ky, kz are chosen per ray).
     const float A[3] = {a.x - ray.origin.x, a.y - ray.origin.y, a.z - ray.origin.z};
     const float B[3] = {b.x - ray.origin.x, b.y - ray.origin.y, b.z - ray.origin.z};
@@ -97,28 +102,49 @@ FOVREF_FORCE_INLINE bool intersect_watertight(const WatertightRay& ray, glm::vec
     const float Cy = C[ray.ky] - ray.shear_y * C[ray.kz];
 
     // Scaled barycentrics: U weights a, V weights b, W weights c.
-    float U = Cx * By - Cy * Bx;
-    float V = Ax * Cy - Ay * Cx;
-    float W = Bx * Ay - By * Ax;
-    if (U == 0.0f || V == 0.0f || W == 0.0f) {
-        U = watertight_edge_fallback(Bx, By, Cx, Cy);
-        V = watertight_edge_fallback(Cx, Cy, Ax, Ay);
-        W = watertight_edge_fallback(Ax, Ay, Bx, By);
+    WatertightEdges e;
+    e.U = Cx * By - Cy * Bx;
+    e.V = Ax * Cy - Ay * Cx;
+    e.W = Bx * Ay - By * Ax;
+    if (e.U == 0.0f || e.V == 0.0f || e.W == 0.0f) {
+        e.U = watertight_edge_fallback(Bx, By, Cx, Cy);
+        e.V = watertight_edge_fallback(Cx, Cy, Ax, Ay);
+        e.W = watertight_edge_fallback(Ax, Ay, Bx, By);
     }
+    e.Az = A[ray.kz];
+    e.Bz = B[ray.kz];
+    e.Cz = C[ray.kz];
+    return e;
+}
+
+/// Scaled hit distance T = t * det from the sheared z coordinates.
+FOVREF_FORCE_INLINE float watertight_scaled_distance(const WatertightRay& ray,
+                                                     const WatertightEdges& e) {
+    const float Az = ray.shear_z * e.Az;
+    const float Bz = ray.shear_z * e.Bz;
+    const float Cz = ray.shear_z * e.Cz;
+    return e.U * Az + e.V * Bz + e.W * Cz;
+}
+
+/// Intersects the ray with triangle (a, b, c). On a hit with t in (t_min, t_max] it sets t and
+/// the barycentrics (u, v) of corners b and c (P = (1 - u - v) a + u b + v c) and returns true.
+/// NaN anywhere (non-finite corners) never produces a hit: every acceptance test is written so
+/// that NaN fails it.
+FOVREF_FORCE_INLINE bool intersect_watertight(const WatertightRay& ray, glm::vec3 a, glm::vec3 b,
+                                              glm::vec3 c, float& t, float& u, float& v) {
+    const WatertightEdges e = watertight_edges(ray, a, b, c);
 
     // Edge tests; both signs are accepted (no back-face culling).
-    if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
+    if ((e.U < 0.0f || e.V < 0.0f || e.W < 0.0f) && (e.U > 0.0f || e.V > 0.0f || e.W > 0.0f))
+        return false;
 
     // Determinant: 0 when the ray lies in the triangle's plane (or misses it along an edge line).
-    const float det = U + V + W;
+    const float det = e.U + e.V + e.W;
     if (det == 0.0f) return false;
 
     // Scaled hit distance T = t * det, compared against t_min * |det| and t_max * |det| (the
     // sign of det flipped into T, as the paper's xorf(T, sign(det))).
-    const float Az = ray.shear_z * A[ray.kz];
-    const float Bz = ray.shear_z * B[ray.kz];
-    const float Cz = ray.shear_z * C[ray.kz];
-    const float T = U * Az + V * Bz + W * Cz;
+    const float T = watertight_scaled_distance(ray, e);
     const float T_signed = det < 0.0f ? -T : T;
     const float det_abs = std::fabs(det);
     if (!(T_signed > ray.t_min * det_abs && T_signed <= ray.t_max * det_abs)) return false;
@@ -129,8 +155,28 @@ FOVREF_FORCE_INLINE bool intersect_watertight(const WatertightRay& ray, glm::vec
     const float t_hit = T * rcp_det;
     if (!(t_hit > ray.t_min && t_hit <= ray.t_max)) return false;
     t = t_hit;
-    u = V * rcp_det;
-    v = W * rcp_det;
+    u = e.V * rcp_det;
+    v = e.W * rcp_det;
+    return true;
+}
+
+/// Where the ray's line meets the plane of triangle (a, b, c), with the hit test's arithmetic but
+/// none of its tests: no edge test (u, v may lie outside the triangle: the point is extrapolated
+/// on its plane) and no range test (t may be <= 0). Wherever intersect_watertight reports a hit,
+/// this gives the same t, u, v bits. Returns false only when det == 0 (the ray is parallel to the
+/// plane, or the sheared triangle is degenerate). The rasterizer evaluates its attributes here
+/// (SPEC §4: at the exact pixel centre, on the pixel's primary ray).
+FOVREF_FORCE_INLINE bool intersect_watertight_plane(const WatertightRay& ray, glm::vec3 a,
+                                                    glm::vec3 b, glm::vec3 c, float& t, float& u,
+                                                    float& v) {
+    const WatertightEdges e = watertight_edges(ray, a, b, c);
+    const float det = e.U + e.V + e.W;
+    if (det == 0.0f) return false;
+    const float T = watertight_scaled_distance(ray, e);
+    const float rcp_det = 1.0f / det;
+    t = T * rcp_det;
+    u = e.V * rcp_det;
+    v = e.W * rcp_det;
     return true;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "ref/bvh/watertight.h"
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
 #include "ref/trace/surface.h"
@@ -45,45 +46,23 @@ enum class TriangleOutcome { degenerate, offscreen, rasterized };
 // ---- One screen-space triangle: coverage by integer edge functions ----
 //
 // Edge function of a -> b at p: E_ab(p) = cross(b - a, p - a), exact in int64 (|coordinates|
-// <= 2^23 after the guard band, so |E| < 2^49). The signed double area is E_ab(c). A
-// counter-clockwise triangle (area < 0) has b and c swapped first, so one orientation and one
-// top-left classification serve both windings (two-sided, SPEC §4). A pixel centre p is covered
-// when each of E_bc(p), E_ca(p), E_ab(p) is > 0, or == 0 on a top-left edge. `visit(i, j, wa,
-// wb, wc, area)` receives the three edge values as weights of a, b, c in the caller's order
-// (wa + wb + wc == area > 0, every weight >= 0).
+// <= 2^23 after the guard band, so |E| < 2^49). setup_edges orients the triangle clockwise on
+// screen and turns the fill rule into per-edge biases; edge_values decides one pixel centre.
+// `visit(i, j)` receives every covered pixel inside the screen, row by row.
 template <class Visit>
-TriangleOutcome rasterize_fixed_triangle(FixedPoint a, FixedPoint b, FixedPoint c, int width,
-                                         int height, std::int64_t& coverage_tests, Visit&& visit) {
-    std::int64_t area = edge_function(a, b, c);
-    if (area == 0) return TriangleOutcome::degenerate;
-    const bool swapped = area < 0;
-    if (swapped) {
-        std::swap(b, c);
-        area = -area;
-    }
+TriangleOutcome rasterize_fixed_triangle(const EdgeSetup& e, int width, int height,
+                                         std::int64_t& coverage_tests, Visit&& visit) {
+    if (e.area == 0) return TriangleOutcome::degenerate;
     // Bounding box of the vertices -> range of pixel centres, clipped to the screen.
-    const PixelRange cols = centres_in(std::min({a.x, b.x, c.x}), std::max({a.x, b.x, c.x}), width);
+    const PixelRange cols =
+        centres_in(std::min({e.a.x, e.b.x, e.c.x}), std::max({e.a.x, e.b.x, e.c.x}), width);
     const PixelRange rows =
-        centres_in(std::min({a.y, b.y, c.y}), std::max({a.y, b.y, c.y}), height);
+        centres_in(std::min({e.a.y, e.b.y, e.c.y}), std::max({e.a.y, e.b.y, e.c.y}), height);
     if (cols.first > cols.last || rows.first > rows.last) return TriangleOutcome::offscreen;
-
-    // Top-left rule as an integer bias: covered <=> E - bias >= 0, bias 0 on top-left edges.
-    const std::int64_t bias_a = is_top_left_edge(b, c) ? 0 : 1;  // edge opposite a
-    const std::int64_t bias_b = is_top_left_edge(c, a) ? 0 : 1;
-    const std::int64_t bias_c = is_top_left_edge(a, b) ? 0 : 1;
-    const std::int64_t half = raster_subpixel_scale / 2;
     for (std::int64_t j = rows.first; j <= rows.last; ++j) {
         for (std::int64_t i = cols.first; i <= cols.last; ++i) {
-            const FixedPoint p{i * raster_subpixel_scale + half, j * raster_subpixel_scale + half};
             ++coverage_tests;
-            const std::int64_t wa = edge_function(b, c, p);
-            const std::int64_t wb = edge_function(c, a, p);
-            const std::int64_t wc = edge_function(a, b, p);
-            if (wa - bias_a < 0 || wb - bias_b < 0 || wc - bias_c < 0) continue;
-            if (swapped)
-                visit(static_cast<int>(i), static_cast<int>(j), wa, wc, wb, area);
-            else
-                visit(static_cast<int>(i), static_cast<int>(j), wa, wb, wc, area);
+            if (edge_values(e, i, j).covered) visit(static_cast<int>(i), static_cast<int>(j));
         }
     }
     return TriangleOutcome::rasterized;
@@ -94,10 +73,9 @@ TriangleOutcome rasterize_fixed_triangle(FixedPoint a, FixedPoint b, FixedPoint 
 // Clip space here is view space (x along R, y along U, z along F): the projection of SPEC §1 is
 // x_clip = x / (tan_half * W/H), y_clip = -y / tan_half, w = z, an invertible linear map of
 // view space, so a plane test and a linear interpolation give the same point in either space.
-// Each vertex also carries the barycentrics (u, v) it has in the original triangle.
+// Clipping only decides coverage: attributes come from the original triangle's plane.
 struct ClipVertex {
     glm::vec3 view{0.0f};
-    glm::vec2 bary{0.0f};
 };
 
 /// Plane normal . view + offset >= 0 is inside.
@@ -112,10 +90,7 @@ float plane_distance(const ClipPlane& plane, glm::vec3 view) {
            plane.offset;
 }
 
-// A triangle gains at most one vertex per plane (3 + 5 = 8) while the clipped polygon is
-// convex; float rounding can dent it very slightly, and a plane through a dent crosses it twice
-// more, so the buffer has room for 16 and clip_polygon checks the bound.
-constexpr int max_polygon_vertices = 16;
+constexpr int max_polygon_vertices = raster_max_polygon_vertices;
 using Polygon = std::array<ClipVertex, max_polygon_vertices>;
 
 /// Intersection of edge inside -> outside with the plane. Always parameterised from the
@@ -126,7 +101,6 @@ ClipVertex intersect(const ClipVertex& inside, float d_inside, const ClipVertex&
     const float t = d_inside / (d_inside - d_outside);  // d_inside >= 0 > d_outside: t in [0, 1]
     ClipVertex r;
     r.view = inside.view + t * (outside.view - inside.view);
-    r.bary = inside.bary + t * (outside.bary - inside.bary);
     if (plane.is_near) r.view.z = near;
     return r;
 }
@@ -225,6 +199,16 @@ void check_scene(const Scene& scene) {
 
 // ---- Building blocks ----
 
+const char* fill_rule_name(FillRule rule) { return rule == FillRule::d3d ? "d3d" : "gl"; }
+
+FillRule parse_fill_rule(const std::string& text, const std::string& what) {
+    if (text == "d3d") return FillRule::d3d;
+    if (text == "gl") return FillRule::gl;
+    throw Error(what + ": '" + text +
+                "' is neither 'd3d' (Direct3D/Vulkan top-left) nor 'gl' (OpenGL, bottom-left in "
+                "fovref's y-down frame)");
+}
+
 FixedPoint snap_to_fixed(glm::vec2 screen) {
     const float g = raster_guard_band_px;
     const float scale = static_cast<float>(raster_subpixel_scale);
@@ -233,6 +217,24 @@ FixedPoint snap_to_fixed(glm::vec2 screen) {
     // x * 256 is exact (power of two); std::round: halves away from zero.
     return {static_cast<std::int64_t>(std::round(x * scale)),
             static_cast<std::int64_t>(std::round(y * scale))};
+}
+
+EdgeSetup setup_edges(FixedPoint a, FixedPoint b, FixedPoint c, FillRule rule) {
+    EdgeSetup e;
+    std::int64_t area = edge_function(a, b, c);
+    if (area < 0) {
+        std::swap(b, c);
+        area = -area;
+        e.swapped = true;
+    }
+    e.a = a;
+    e.b = b;
+    e.c = c;
+    e.area = area;
+    e.bias_a = edge_owns_centres(rule, b, c) ? 0 : 1;  // edge opposite a
+    e.bias_b = edge_owns_centres(rule, c, a) ? 0 : 1;
+    e.bias_c = edge_owns_centres(rule, a, b) ? 0 : 1;
+    return e;
 }
 
 glm::vec3 world_to_view(const Camera& camera, glm::vec3 p) {
@@ -248,24 +250,120 @@ glm::vec2 view_to_screen(glm::vec3 view, float tan_half, int width, int height) 
     return {(sx / (tan_half * (w / h)) + 1.0f) * 0.5f * w, (sy / tan_half + 1.0f) * 0.5f * h};
 }
 
-std::int64_t rasterize_triangle_coverage(glm::vec2 a, glm::vec2 b, glm::vec2 c, Image& coverage) {
+std::int64_t rasterize_triangle_coverage(glm::vec2 a, glm::vec2 b, glm::vec2 c, Image& coverage,
+                                         FillRule rule) {
     FOVREF_CHECK(coverage.channels == 1, "coverage image must have 1 channel");
     std::int64_t tests = 0, covered = 0;
-    rasterize_fixed_triangle(
-        snap_to_fixed(a), snap_to_fixed(b), snap_to_fixed(c), coverage.width, coverage.height,
-        tests, [&](int i, int j, std::int64_t, std::int64_t, std::int64_t, std::int64_t) {
-            coverage.at(i, j) += 1.0f;
-            ++covered;
-        });
+    const EdgeSetup e = setup_edges(snap_to_fixed(a), snap_to_fixed(b), snap_to_fixed(c), rule);
+    rasterize_fixed_triangle(e, coverage.width, coverage.height, tests, [&](int i, int j) {
+        coverage.at(i, j) += 1.0f;
+        ++covered;
+    });
     return covered;
 }
 
-// ---- Visibility: clip, snap, cover, interpolate, depth test ----
-
-VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, int width,
-                                      int height, RasterStats& stats) {
+RasterFrame make_raster_frame(const Scene& scene, const Camera& camera, int width, int height,
+                              const RasterSettings& settings) {
     check_size(width, height);
     check_camera(camera, "camera");
+    RasterFrame f;
+    f.camera = camera;
+    f.width = width;
+    f.height = height;
+    f.tan_half = tan_half_vfov(camera);
+    f.near = std::max(raster_near_factor * scene.scene_scale, raster_min_near);
+    f.settings = settings;
+    return f;
+}
+
+// ---- Per triangle: view transform, clipping, projection, snapping ----
+
+TriangleSetup setup_triangle(const Scene& scene, const RasterFrame& frame, std::int32_t primitive) {
+    const auto t = static_cast<std::size_t>(primitive);
+    TriangleSetup setup;
+    Polygon poly, scratch;
+    poly[0] = {world_to_view(frame.camera, scene.positions[3 * t])};
+    poly[1] = {world_to_view(frame.camera, scene.positions[3 * t + 1])};
+    poly[2] = {world_to_view(frame.camera, scene.positions[3 * t + 2])};
+    int count = 3;
+    if (!in_view_range(poly[0].view) || !in_view_range(poly[1].view) ||
+        !in_view_range(poly[2].view)) {
+        setup.status = TriangleSetup::Status::out_of_range;
+        return setup;
+    }
+
+    // Clip: near plane first (so z > 0 afterwards), then the guard band; each plane only when
+    // some vertex is outside it.
+    const std::array<ClipPlane, 5> planes =
+        clip_planes(frame.near, frame.tan_half, frame.width, frame.height);
+    for (std::size_t k = 0; k < planes.size(); ++k) {
+        if (all_inside(poly, count, planes[k])) continue;
+        count = clip_polygon(poly, count, planes[k], frame.near, scratch);
+        poly = scratch;
+        (k == 0 ? setup.near_clipped : setup.guard_clipped) = true;
+        if (count == 0) {
+            setup.status =
+                k == 0 ? TriangleSetup::Status::clipped_away : TriangleSetup::Status::offscreen;
+            return setup;
+        }
+    }
+
+    // Project and snap.
+    setup.count = count;
+    for (int k = 0; k < count; ++k)
+        setup.polygon[static_cast<std::size_t>(k)] = snap_to_fixed(view_to_screen(
+            poly[static_cast<std::size_t>(k)].view, frame.tan_half, frame.width, frame.height));
+    return setup;
+}
+
+// ---- Per pixel: the attribute point and the depth test ----
+
+bool raster_fragment(const Scene& scene, const RasterFrame& frame, int x, int y,
+                     std::int32_t primitive, RasterFragment& fragment) {
+    // The pixel's primary ray, exactly as the ray caster builds it (raycast_gbuffer.h,
+    // bvh.cpp: t in (0, inf), the watertight per-ray setup).
+    const glm::vec3 direction =
+        primary_ray_direction(frame.camera, frame.tan_half, frame.width, frame.height,
+                              static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
+    const WatertightRay ray = make_watertight_ray(frame.camera.position, direction, 0.0f,
+                                                  std::numeric_limits<float>::max());
+    const auto t = static_cast<std::size_t>(primitive);
+    const glm::vec3 p0 = scene.positions[3 * t], p1 = scene.positions[3 * t + 1],
+                    p2 = scene.positions[3 * t + 2];
+    float hit_t = 0.0f, u = 0.0f, v = 0.0f;
+    if (!intersect_watertight_plane(ray, p0, p1, p2, hit_t, u, v)) return false;
+    if (!(hit_t > 0.0f) || !std::isfinite(hit_t) || !std::isfinite(u) || !std::isfinite(v))
+        return false;
+    // World position exactly as surface_at computes it, then its view depth.
+    const float w0 = 1.0f - u - v;
+    const glm::vec3 position = p0 * w0 + p1 * u + p2 * v;
+    fragment.primitive = primitive;
+    fragment.t = hit_t;
+    fragment.u = u;
+    fragment.v = v;
+    fragment.depth = view_depth(frame.camera, position);
+    return true;
+}
+
+bool depth_test(VisibilityBuffer& vis, int x, int y, const RasterFragment& f) {
+    const std::size_t index = static_cast<std::size_t>(y) * static_cast<std::size_t>(vis.width) +
+                              static_cast<std::size_t>(x);
+    const float stored = vis.depth[index];
+    if (!(f.depth < stored || (f.depth == stored && f.primitive < vis.primitive[index])))
+        return false;
+    vis.depth[index] = f.depth;
+    vis.primitive[index] = f.primitive;
+    vis.u[index] = f.u;
+    vis.v[index] = f.v;
+    return true;
+}
+
+// ---- Visibility: every triangle, every covered pixel ----
+
+VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, int width,
+                                      int height, RasterStats& stats,
+                                      const RasterSettings& settings) {
+    const RasterFrame frame = make_raster_frame(scene, camera, width, height, settings);
     check_scene(scene);
     VisibilityBuffer vis;
     vis.width = width;
@@ -276,100 +374,35 @@ VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, 
     vis.v.assign(pixels, 0.0f);
     vis.depth.assign(pixels, std::numeric_limits<float>::infinity());
 
-    const float tan_half = tan_half_vfov(camera);
-    const float near = std::max(raster_near_factor * scene.scene_scale, raster_min_near);
-    const std::array<ClipPlane, 5> planes = clip_planes(near, tan_half, width, height);
-
-    Polygon scratch;
     const std::size_t n = scene.triangle_count();
     stats.triangles_in += static_cast<std::int64_t>(n);
     for (std::size_t t = 0; t < n; ++t) {
-        const std::int32_t primitive = static_cast<std::int32_t>(t);
-        const glm::vec3 p0 = scene.positions[3 * t], p1 = scene.positions[3 * t + 1],
-                        p2 = scene.positions[3 * t + 2];
-
-        // World -> view space; the corners' barycentrics are (0,0), (1,0), (0,1).
-        Polygon poly;
-        poly[0] = {world_to_view(camera, p0), {0.0f, 0.0f}};
-        poly[1] = {world_to_view(camera, p1), {1.0f, 0.0f}};
-        poly[2] = {world_to_view(camera, p2), {0.0f, 1.0f}};
-        int count = 3;
-        if (!in_view_range(poly[0].view) || !in_view_range(poly[1].view) ||
-            !in_view_range(poly[2].view)) {
-            ++stats.triangles_out_of_range;
-            continue;
+        const auto primitive = static_cast<std::int32_t>(t);
+        const TriangleSetup setup = setup_triangle(scene, frame, primitive);
+        switch (setup.status) {
+            case TriangleSetup::Status::out_of_range: ++stats.triangles_out_of_range; continue;
+            case TriangleSetup::Status::clipped_away: ++stats.triangles_clipped_away; continue;
+            case TriangleSetup::Status::offscreen: ++stats.triangles_culled_offscreen; continue;
+            case TriangleSetup::Status::ready: break;
         }
+        if (setup.near_clipped) ++stats.triangles_near_clipped;
+        if (setup.guard_clipped) ++stats.triangles_guard_clipped;
 
-        // Clip: near plane first (so z > 0 afterwards), then the guard band; each plane only
-        // when some vertex is outside it.
-        bool near_clipped = false, guard_clipped = false, offscreen = false;
-        for (std::size_t k = 0; k < planes.size(); ++k) {
-            if (all_inside(poly, count, planes[k])) continue;
-            count = clip_polygon(poly, count, planes[k], near, scratch);
-            poly = scratch;
-            (k == 0 ? near_clipped : guard_clipped) = true;
-            if (count == 0) {
-                offscreen = k != 0;
-                break;
-            }
-        }
-        if (count == 0) {
-            if (offscreen)
-                ++stats.triangles_culled_offscreen;
-            else
-                ++stats.triangles_clipped_away;
-            continue;
-        }
-        if (near_clipped) ++stats.triangles_near_clipped;
-        if (guard_clipped) ++stats.triangles_guard_clipped;
-
-        // Project and snap; 1/w = 1/z for perspective-correct interpolation.
-        std::array<FixedPoint, max_polygon_vertices> fixed{};
-        std::array<float, max_polygon_vertices> inv_w{};
-        for (int k = 0; k < count; ++k) {
-            const ClipVertex& cv = poly[static_cast<std::size_t>(k)];
-            fixed[static_cast<std::size_t>(k)] =
-                snap_to_fixed(view_to_screen(cv.view, tan_half, width, height));
-            inv_w[static_cast<std::size_t>(k)] = 1.0f / cv.view.z;
-        }
-
-        // Fan-triangulate the convex clipped polygon around vertex 0 (a triangle is one fan).
+        // The fan of the convex clipped polygon around vertex 0 (a triangle is one fan).
         bool any_nonzero_area = false, any_rasterized = false;
-        for (int k = 1; k + 1 < count; ++k) {
-            const std::size_t ia = 0, ib = static_cast<std::size_t>(k),
-                              ic = static_cast<std::size_t>(k + 1);
+        for (int k = 1; k + 1 < setup.count; ++k) {
+            const EdgeSetup edges =
+                setup_edges(setup.polygon[0], setup.polygon[static_cast<std::size_t>(k)],
+                            setup.polygon[static_cast<std::size_t>(k + 1)], settings.fill_rule);
             const TriangleOutcome outcome = rasterize_fixed_triangle(
-                fixed[ia], fixed[ib], fixed[ic], width, height, stats.coverage_tests,
-                [&](int i, int j, std::int64_t wa, std::int64_t wb, std::int64_t wc,
-                    std::int64_t area) {
+                edges, width, height, stats.coverage_tests, [&](int i, int j) {
                     ++stats.fragments_tested;
-                    // Screen-space barycentrics from the exact edge values, then the
-                    // perspective-correct weights q_k = lambda_k / w_k, normalised.
-                    const float area_f = static_cast<float>(area);
-                    const float qa = (static_cast<float>(wa) / area_f) * inv_w[ia];
-                    const float qb = (static_cast<float>(wb) / area_f) * inv_w[ib];
-                    const float qc = (static_cast<float>(wc) / area_f) * inv_w[ic];
-                    // sum > 0: the weights are >= 0 and sum to 1, 1/w > 0; guard anyway.
-                    const float sum = std::max(qa + qb + qc, std::numeric_limits<float>::min());
-                    const glm::vec2 ba = poly[ia].bary, bb = poly[ib].bary, bc = poly[ic].bary;
-                    const float u = (qa * ba.x + qb * bb.x + qc * bc.x) / sum;
-                    const float v = (qa * ba.y + qb * bb.y + qc * bc.y) / sum;
-                    // World position exactly as surface_at computes it, then view depth.
-                    const float w0 = 1.0f - u - v;
-                    const glm::vec3 position = p0 * w0 + p1 * u + p2 * v;
-                    const float depth = view_depth(camera, position);
-                    // Depth test "less"; equal depth -> lower primitive id (SPEC §3, §4).
-                    const std::size_t index =
-                        static_cast<std::size_t>(j) * static_cast<std::size_t>(width) +
-                        static_cast<std::size_t>(i);
-                    const float stored = vis.depth[index];
-                    if (depth < stored || (depth == stored && primitive < vis.primitive[index])) {
-                        vis.depth[index] = depth;
-                        vis.primitive[index] = primitive;
-                        vis.u[index] = u;
-                        vis.v[index] = v;
-                        ++stats.fragments_written;
+                    RasterFragment fragment;
+                    if (!raster_fragment(scene, frame, i, j, primitive, fragment)) {
+                        ++stats.fragments_without_plane_hit;
+                        return;
                     }
+                    if (depth_test(vis, i, j, fragment)) ++stats.fragments_written;
                 });
             if (outcome != TriangleOutcome::degenerate) any_nonzero_area = true;
             if (outcome == TriangleOutcome::rasterized) any_rasterized = true;
@@ -382,6 +415,56 @@ VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, 
             ++stats.triangles_degenerate;
     }
     return vis;
+}
+
+RasterPixelExplanation explain_raster_pixel(const Scene& scene, const Camera& camera, int width,
+                                            int height, const RasterSettings& settings, int x,
+                                            int y) {
+    const RasterFrame frame = make_raster_frame(scene, camera, width, height, settings);
+    check_scene(scene);
+    FOVREF_CHECK(x >= 0 && y >= 0 && x < width && y < height, "pixel outside the screen");
+    RasterPixelExplanation out;
+    out.fill_rule = settings.fill_rule;
+    out.centre = pixel_centre_fixed(x, y);
+    // A one-pixel visibility buffer replays the depth tests in the pass's order.
+    VisibilityBuffer one;
+    one.width = 1;
+    one.height = 1;
+    one.primitive = {-1};
+    one.u = {0.0f};
+    one.v = {0.0f};
+    one.depth = {std::numeric_limits<float>::infinity()};
+    for (std::size_t t = 0; t < scene.triangle_count(); ++t) {
+        const auto primitive = static_cast<std::int32_t>(t);
+        const TriangleSetup setup = setup_triangle(scene, frame, primitive);
+        if (setup.status != TriangleSetup::Status::ready) continue;
+        for (int k = 1; k + 1 < setup.count; ++k) {
+            const EdgeSetup e =
+                setup_edges(setup.polygon[0], setup.polygon[static_cast<std::size_t>(k)],
+                            setup.polygon[static_cast<std::size_t>(k + 1)], settings.fill_rule);
+            if (e.area == 0) continue;
+            const EdgeValues values = edge_values(e, x, y);
+            if (!values.covered) continue;
+            RasterCandidate c;
+            c.primitive = primitive;
+            c.fan_triangle = k - 1;
+            c.near_clipped = setup.near_clipped;
+            c.guard_clipped = setup.guard_clipped;
+            c.a = e.a;
+            c.b = e.b;
+            c.c = e.c;
+            c.edges = values;
+            c.area = e.area;
+            c.owns[0] = e.bias_a == 0;
+            c.owns[1] = e.bias_b == 0;
+            c.owns[2] = e.bias_c == 0;
+            c.fragment = raster_fragment(scene, frame, x, y, primitive, c.value);
+            if (c.fragment) c.won_depth_test = depth_test(one, 0, 0, c.value);
+            out.candidates.push_back(c);
+        }
+    }
+    out.winner = one.primitive[0];
+    return out;
 }
 
 // ---- Resolve: attributes from the shared surface code ----
@@ -419,9 +502,11 @@ GBuffer resolve_gbuffer(const Scene& scene, const VisibilityBuffer& vis, const C
 }
 
 GBuffer rasterize_gbuffer(const Scene& scene, const Camera& camera, const Camera& previous_camera,
-                          int width, int height, RasterStats& stats) {
+                          int width, int height, RasterStats& stats,
+                          const RasterSettings& settings) {
     check_camera(previous_camera, "previous_camera");  // fail before the long pass
-    const VisibilityBuffer vis = rasterize_visibility(scene, camera, width, height, stats);
+    const VisibilityBuffer vis =
+        rasterize_visibility(scene, camera, width, height, stats, settings);
     return resolve_gbuffer(scene, vis, camera, previous_camera, stats);
 }
 

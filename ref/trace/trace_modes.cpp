@@ -51,17 +51,23 @@ std::string shadow_note(const Scene& scene) {
 }
 
 StageDef primary_visibility_stage(const Scene* scene, std::shared_ptr<LazyBvh> bvh,
-                                  const std::string& primary) {
+                                  const std::string& primary, const RasterSettings& raster) {
     return StageDef{
-        "primary_visibility", {}, gbuffer_names(), [scene, bvh, primary](FrameContext& ctx) {
+        "primary_visibility",
+        {},
+        gbuffer_names(),
+        [scene, bvh, primary, raster](FrameContext& ctx) {
             const RenderSettings& s = *ctx.settings;
             if (primary == "raster") {
                 RasterStats stats;
                 GBuffer g = rasterize_gbuffer(*scene, ctx.camera, ctx.previous_camera, s.width,
-                                              s.height, stats);
+                                              s.height, stats, raster);
                 ctx.result->counters.add("raster_triangles_rasterized", stats.triangles_rasterized);
                 ctx.result->counters.add("raster_fragments_written", stats.fragments_written);
-                ctx.note = "rasterized";
+                if (stats.fragments_without_plane_hit > 0)
+                    ctx.result->counters.add("raster_fragments_without_plane_hit",
+                                             stats.fragments_without_plane_hit);
+                ctx.note = std::string("rasterized, fill rule ") + fill_rule_name(raster.fill_rule);
                 add_gbuffer(*ctx.result, std::move(g));
             } else {
                 TraceStats stats;
@@ -79,16 +85,29 @@ StageDef primary_visibility_stage(const Scene* scene, std::shared_ptr<LazyBvh> b
 
 std::vector<ParamSpec> basic_params() {
     return {
-        {"primary", "ray", "primary visibility: 'ray' (ray casting) or 'raster' (the rasterizer)"}};
+        {"primary", "ray", "primary visibility: 'ray' (ray casting) or 'raster' (the rasterizer)"},
+        {"fill_rule", "d3d",
+         "rasterizer fill rule for pixel centres exactly on an edge (primary=raster): 'd3d' "
+         "(Direct3D/Vulkan top-left) or 'gl' (OpenGL; bottom-left in fovref's y-down frame)"}};
+}
+
+RasterSettings basic_raster_settings(const Params& params) {
+    RasterSettings raster;
+    raster.fill_rule =
+        parse_fill_rule(params.get_string(basic_params(), "fill_rule"), "parameter 'fill_rule'");
+    return raster;
 }
 
 Pipeline basic_pipeline(const Scene* scene, const RenderSettings& settings) {
     const std::string primary = settings.params.get_string(basic_params(), "primary");
     if (primary != "ray" && primary != "raster")
         throw Error("parameter 'primary': '" + primary + "' is neither 'ray' nor 'raster'");
+    const RasterSettings raster = basic_raster_settings(settings.params);
+    if (primary == "ray" && settings.params.values().count("fill_rule") != 0)
+        throw Error("parameter 'fill_rule' applies to the rasterizer only: add primary=raster");
     auto bvh = std::make_shared<LazyBvh>();
     Pipeline p;
-    p.stages.push_back(primary_visibility_stage(scene, bvh, primary));
+    p.stages.push_back(primary_visibility_stage(scene, bvh, primary, raster));
     p.stages.push_back(
         {"shade_direct",
          {"gbuffer_world_position", "gbuffer_shading_normal", "gbuffer_geometric_normal",
@@ -150,7 +169,7 @@ Pipeline ground_truth_pipeline(const Scene* scene, const RenderSettings&) {
     auto bvh = std::make_shared<LazyBvh>();
     Pipeline p;
     // The pixel-centre G-buffer: consumed by nothing here, produced for --dump and golden bundles.
-    p.stages.push_back(primary_visibility_stage(scene, bvh, "ray"));
+    p.stages.push_back(primary_visibility_stage(scene, bvh, "ray", RasterSettings{}));
     p.stages.push_back(
         {"supersample", {}, {"final"}, [scene, bvh](FrameContext& ctx) {
              TraceStats primary;

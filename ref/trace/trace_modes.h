@@ -8,11 +8,14 @@
 
 #include <vector>
 
+#include "ref/raster/rasterizer.h"
 #include "ref/stage/pipeline.h"
 
 namespace fovref {
 
 std::vector<ParamSpec> basic_params();
+/// The rasterizer settings of basic's parameters (fill_rule), validated.
+RasterSettings basic_raster_settings(const Params& params);
 Pipeline basic_pipeline(const Scene* scene, const RenderSettings& settings);
 Pipeline ground_truth_pipeline(const Scene* scene, const RenderSettings& settings);
 
