@@ -122,7 +122,7 @@ std::string values_text(const std::vector<float>& values) {
     return out + ")";
 }
 
-std::string probe_command(const Manifest& m, const DiffItem& item, const PixelDifference& pixel) {
+std::string probe_command(const Manifest& m, const DiffItem& item, int x, int y) {
     const GoldenCase& c = m.golden_case;
     if (c.scene.empty() && c.mode.empty()) return "";
     std::string command = "fovref probe";
@@ -131,10 +131,27 @@ std::string probe_command(const Manifest& m, const DiffItem& item, const PixelDi
                std::to_string(c.height);
     if (c.time_start != 0.0f) command += " --time-start " + format(c.time_start);
     if (c.frames > 1 || item.frame > 0) command += " --time-step " + format(c.time_step);
-    command += " --frame " + std::to_string(item.frame) + " --pixel " + std::to_string(pixel.x) +
-               "," + std::to_string(pixel.y);
+    command += " --frame " + std::to_string(item.frame) + " --pixel " + std::to_string(x) + "," +
+               std::to_string(y);
     for (const auto& [key, value] : c.params.values()) command += " --param " + key + "=" + value;
     return command;
+}
+
+// Edit distance (insert, delete, substitute), to suggest the buffer a misnamed file was meant to
+// be.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        std::size_t diagonal = row[0];
+        row[0] = i;
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            const std::size_t above = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1])});
+            diagonal = above;
+        }
+    }
+    return row[b.size()];
 }
 
 // Candidate files of a directory, sorted by name (a fixed order).
@@ -147,7 +164,8 @@ std::vector<std::string> list_files(const std::string& directory) {
 }
 
 void compare_item(const DiffOptions& o, const ToleranceTable& tolerances, float distance_px,
-                  DiffItem& item, const std::string& expected_sha) {
+                  DiffItem& item, const std::string& expected_sha,
+                  const std::vector<std::uint8_t>* mask) {
     const Tolerance& tolerance = tolerances.for_buffer(item.name);
     std::string note;
     if (item.hash_only) {
@@ -168,6 +186,13 @@ void compare_item(const DiffOptions& o, const ToleranceTable& tolerances, float 
                     shape(item.golden.width, item.golden.height, item.golden.channels) +
                     ", the candidate is " +
                     shape(item.candidate.width, item.candidate.height, item.candidate.channels));
+    if (item.is_id) {
+        item.ids = compare_id_buffers(item.name, item.golden, item.candidate, tolerance, o.worst);
+        item.compared = true;
+        item.pass = item.ids.pass;
+        item.note = note;
+        return;
+    }
     const bool image_like = (item.golden.channels == 1 || item.golden.channels == 3) &&
                             item.golden.width >= 11 && item.golden.height >= 11;
     if (image_like) {
@@ -183,7 +208,13 @@ void compare_item(const DiffOptions& o, const ToleranceTable& tolerances, float 
     options.threshold = o.threshold;
     options.worst_pixels = o.worst;
     options.rings = item.rings ? &*item.rings : nullptr;
+    options.mask = mask;
     item.result = compare_buffers(item.name, item.golden, item.candidate, tolerance, options);
+    if (item.result.nonfinite_mismatches > 0)
+        note += std::string(note.empty() ? "" : "; ") +
+                std::to_string(item.result.nonfinite_mismatches) +
+                " value(s) non-finite on one side only: a convention mismatch? fovref writes 0 "
+                "depth, 0 attributes and id -1 on background, never inf or NaN (docs/diff.md)";
     if (o.flip && item.kind == "color" && item.golden.channels == 3) {
         // LDR-FLIP on what a viewer sees (SPEC §10), pixels per degree from the display model.
         FlipParams fp;
@@ -196,6 +227,18 @@ void compare_item(const DiffOptions& o, const ToleranceTable& tolerances, float 
     item.note = note;
 }
 
+json tolerance_json(const Tolerance& t, bool is_id) {
+    if (is_id)
+        return {{"edge_mismatch_share", t.max_edge_mismatch_share},
+                {"interior_mismatches", t.max_interior_mismatches},
+                {"reason", t.reason}};
+    return {{"abs", t.abs},
+            {"rel", t.rel},
+            {"ulp", t.ulp},
+            {"max_failing_pixels", t.max_failing_pixels},
+            {"reason", t.reason}};
+}
+
 json item_json(const DiffItem& item) {
     json j;
     j["frame"] = item.frame;
@@ -204,32 +247,12 @@ json item_json(const DiffItem& item) {
     j["kind"] = item.kind;
     j["golden_file"] = item.golden_file;
     j["candidate_file"] = item.candidate_file.empty() ? json(nullptr) : json(item.candidate_file);
-    j["status"] = !item.compared ? "missing" : item.pass ? "pass" : "fail";
+    j["status"] = !item.compared ? (item.required ? "missing-required" : "missing")
+                  : item.pass    ? "pass"
+                                 : "fail";
+    j["compared_as"] = item.is_id ? "ids" : "values";
     if (!item.note.empty()) j["note"] = item.note;
     if (!item.compared || item.hash_only) return j;
-    const BufferComparison& r = item.result;
-    j["width"] = r.width;
-    j["height"] = r.height;
-    j["channels"] = r.channels;
-    j["tolerance"] = {{"abs", r.tolerance.abs},
-                      {"rel", r.tolerance.rel},
-                      {"ulp", r.tolerance.ulp},
-                      {"max_failing_pixels", r.tolerance.max_failing_pixels},
-                      {"reason", r.tolerance.reason}};
-    j["max_abs_error"] = number_json(r.max_abs);
-    j["max_rel_error"] = number_json(r.max_rel);
-    j["max_ulp"] = r.max_ulp;
-    j["nan_mismatches"] = r.nan_mismatches;
-    j["differing_elements"] = r.differing_elements;
-    j["mean_abs_error"] = number_json(r.mean_abs);
-    j["rmse"] = number_json(r.rmse);
-    j["psnr"] = number_json(r.psnr);
-    j["ssim"] = r.ssim ? number_json(*r.ssim) : json(nullptr);
-    j["threshold"] = r.threshold;
-    j["pixels_over_threshold"] = r.pixels_over_threshold;
-    j["share_over_threshold"] =
-        static_cast<double>(r.pixels_over_threshold) / static_cast<double>(r.width * r.height);
-    j["failing_pixels"] = r.failing_pixels;
     auto pixel_json = [](const PixelDifference& d) {
         return json{{"x", d.x},
                     {"y", d.y},
@@ -237,6 +260,47 @@ json item_json(const DiffItem& item) {
                     {"golden", d.golden},
                     {"candidate", d.candidate}};
     };
+    if (item.is_id) {
+        const IdComparison& r = item.ids;
+        j["width"] = r.width;
+        j["height"] = r.height;
+        j["channels"] = r.channels;
+        j["tolerance"] = tolerance_json(r.tolerance, true);
+        j["edge_pixels"] = r.edge_pixels;
+        j["edge_mismatches"] = r.edge_mismatches;
+        j["allowed_edge_mismatches"] = r.allowed_edge_mismatches;
+        j["interior_mismatches"] = r.interior_mismatches;
+        j["mismatches"] = json::array();
+        for (const IdMismatch& m : r.mismatches)
+            j["mismatches"].push_back({{"x", m.x},
+                                       {"y", m.y},
+                                       {"edge", m.edge},
+                                       {"golden", m.golden},
+                                       {"candidate", m.candidate}});
+        return j;
+    }
+    const BufferComparison& r = item.result;
+    j["width"] = r.width;
+    j["height"] = r.height;
+    j["channels"] = r.channels;
+    j["tolerance"] = tolerance_json(r.tolerance, false);
+    if (!item.masked_by.empty()) {
+        j["masked_by"] = item.masked_by;
+        j["masked_pixels"] = r.masked_pixels;
+    }
+    j["max_abs_error"] = number_json(r.max_abs);
+    j["max_rel_error"] = number_json(r.max_rel);
+    j["max_ulp"] = r.max_ulp;
+    j["nan_mismatches"] = r.nan_mismatches;
+    j["nonfinite_mismatches"] = r.nonfinite_mismatches;
+    j["differing_elements"] = r.differing_elements;
+    j["mean_abs_error"] = number_json(r.mean_abs);
+    j["rmse"] = number_json(r.rmse);
+    j["psnr"] = number_json(r.psnr);
+    j["ssim"] = r.ssim ? number_json(*r.ssim) : json(nullptr);
+    if (r.threshold >= 0.0) j["threshold"] = r.threshold;
+    j["pixels_over_threshold"] = r.pixels_over_threshold;
+    j["failing_pixels"] = r.failing_pixels;
     if (r.first_failing) j["first_failing_pixel"] = pixel_json(*r.first_failing);
     j["worst_pixels"] = json::array();
     for (const PixelDifference& d : r.worst) j["worst_pixels"].push_back(pixel_json(d));
@@ -258,33 +322,79 @@ json item_json(const DiffItem& item) {
     return j;
 }
 
+std::string percent(std::int64_t part, std::int64_t whole) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g%%",
+                  whole > 0 ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : 0.0);
+    return text;
+}
+
 void print_summary(const DiffReport& report) {
-    std::printf("fovref diff: golden %s%s, candidate %s\n", report.golden.c_str(),
+    std::printf("fovref diff: golden %s%s, candidate %s, profile %s\n", report.golden.c_str(),
                 report.case_name.empty() ? "" : (" (case " + report.case_name + ")").c_str(),
-                report.candidate.c_str());
+                report.candidate.c_str(), report.profile.c_str());
     std::printf("%-5s %-20s %-26s %-7s %10s %9s %10s %8s %8s\n", "frame", "stage", "buffer",
                 "result", "max abs", "max ulp", "fail px", "PSNR", "SSIM");
     for (const DiffItem& item : report.items) {
-        const char* status = !item.compared ? "missing" : item.pass ? "pass" : "FAIL";
+        const std::string status = item.status();
         if (!item.compared || item.hash_only) {
             std::printf("%-5d %-20s %-26s %-7s %s\n", item.frame, item.stage.c_str(),
-                        item.name.c_str(), status, item.note.c_str());
+                        item.name.c_str(), status.c_str(), item.note.c_str());
+            continue;
+        }
+        if (item.is_id) {
+            const IdComparison& r = item.ids;
+            std::printf(
+                "%-5d %-20s %-26s %-7s ids: %lld interior, %lld edge (%s of %lld edge "
+                "px, %lld allowed)\n",
+                item.frame, item.stage.c_str(), item.name.c_str(), status.c_str(),
+                static_cast<long long>(r.interior_mismatches),
+                static_cast<long long>(r.edge_mismatches),
+                percent(r.edge_mismatches, r.edge_pixels).c_str(),
+                static_cast<long long>(r.edge_pixels),
+                static_cast<long long>(r.allowed_edge_mismatches));
             continue;
         }
         const BufferComparison& r = item.result;
-        std::printf("%-5d %-20s %-26s %-7s %10s %9lld %10lld %8s %8s\n", item.frame,
-                    item.stage.c_str(), item.name.c_str(), status, format(r.max_abs).c_str(),
-                    static_cast<long long>(r.max_ulp), static_cast<long long>(r.failing_pixels),
-                    format(r.psnr).c_str(), r.ssim ? format(*r.ssim).c_str() : "-");
+        std::string masked;
+        if (r.masked_pixels > 0)
+            masked = "  (" + std::to_string(r.masked_pixels) + " px where ids differ left out)";
+        if (r.nonfinite_mismatches > 0) masked += "  convention mismatch: see note";
+        std::printf("%-5d %-20s %-26s %-7s %10s %9lld %10lld %8s %8s%s\n", item.frame,
+                    item.stage.c_str(), item.name.c_str(), status.c_str(),
+                    format(r.max_abs).c_str(), static_cast<long long>(r.max_ulp),
+                    static_cast<long long>(r.failing_pixels),
+                    r.nonfinite_mismatches > 0 ? "-" : format(r.psnr).c_str(),
+                    r.ssim ? format(*r.ssim).c_str() : "-", masked.c_str());
     }
-    for (const std::string& f : report.ignored)
-        std::printf("ignored: %s (matches no golden buffer)\n", f.c_str());
+    for (std::size_t k = 0; k < report.ignored.size(); ++k)
+        std::printf("ignored: %s (matches no golden buffer%s)\n", report.ignored[k].c_str(),
+                    report.ignored_hint[k].empty()
+                        ? ""
+                        : ("; did you mean " + report.ignored_hint[k] + "?").c_str());
     if (report.first_failing >= 0) {
         const DiffItem& item = report.items[static_cast<std::size_t>(report.first_failing)];
         std::printf("first failing stage: %s, buffer '%s', frame %d", item.stage.c_str(),
                     item.name.c_str(), item.frame);
-        if (item.hash_only) {
+        if (!item.compared) {
+            std::printf(": required, missing in the candidate\n");
+        } else if (item.hash_only) {
             std::printf(": %s\n", item.note.c_str());
+        } else if (item.is_id) {
+            const IdComparison& r = item.ids;
+            std::printf(
+                ": %lld interior and %lld edge id mismatches (%lld and %lld allowed); "
+                "later buffers are compared only where the ids agree\n",
+                static_cast<long long>(r.interior_mismatches),
+                static_cast<long long>(r.edge_mismatches),
+                static_cast<long long>(r.tolerance.max_interior_mismatches),
+                static_cast<long long>(r.allowed_edge_mismatches));
+            for (const IdMismatch& m : r.mismatches) {
+                std::printf("  %s mismatch (%d, %d): golden %s, candidate %s\n",
+                            m.edge ? "edge" : "interior", m.x, m.y, values_text(m.golden).c_str(),
+                            values_text(m.candidate).c_str());
+                if (!m.edge) break;  // the first interior one is what explains the failure
+            }
         } else {
             const BufferComparison& r = item.result;
             std::printf(
@@ -302,12 +412,20 @@ void print_summary(const DiffReport& report) {
                             r.worst[0].x, r.worst[0].y, format(r.worst[0].abs_error).c_str(),
                             values_text(r.worst[0].golden).c_str(),
                             values_text(r.worst[0].candidate).c_str());
+            if (r.nonfinite_mismatches > 0) std::printf("  note: %s\n", item.note.c_str());
         }
         if (!report.probe_command.empty())
             std::printf("  explain it: %s\n", report.probe_command.c_str());
     }
-    std::printf("RESULT: %s (%d compared, %d out of tolerance, %d missing in the candidate)\n",
-                report.pass ? "PASS" : "FAIL", report.compared, report.failed, report.missing);
+    std::printf("RESULT: %s (%d compared, %d out of tolerance, %d missing in the candidate%s%s)\n",
+                report.pass ? "PASS" : "FAIL", report.compared,
+                report.failed - report.missing_required, report.missing,
+                report.missing_required > 0
+                    ? (", " + std::to_string(report.missing_required) + " of them required").c_str()
+                    : "",
+                report.ignored.empty()
+                    ? ""
+                    : (", " + std::to_string(report.ignored.size()) + " file(s) ignored").c_str());
 }
 
 }  // namespace
@@ -319,11 +437,24 @@ void add_diff_options(CLI::App& c, DiffOptions& o) {
                  "directory of buffers named as in the manifest (f000_final.pfm or final.pfm, "
                  "...) or one image file")
         ->required();
+    c.add_option("--profile", o.profile,
+                 "tolerance profile: bit-exact (0 everywhere), gpu-raster (a correct GPU "
+                 "rasterizer's G-buffer), gpu-rt (a correct GPU ray tracer); the tolerance file "
+                 "and --tolerance override it per buffer (docs/diff.md)")
+        ->capture_default_str();
     c.add_option("--tolerance", o.tolerances,
-                 "NAME:abs=X,rel=X,ulp=N,pixels=N (NAME may be '*'; repeatable)");
+                 "NAME:abs=X,rel=X,ulp=N,pixels=N; for id buffers edge=SHARE,interior=N (NAME "
+                 "may be '*'; repeatable)");
     c.add_option("--tolerance-file", o.tolerance_file,
                  "JSON: {\"buffer\": {\"abs\": x, \"rel\": x, \"ulp\": n, "
-                 "\"max_failing_pixels\": n, \"reason\": \"...\"}}");
+                 "\"max_failing_pixels\": n, \"edge_mismatch_share\": x, "
+                 "\"interior_mismatches\": n, \"reason\": \"...\"}}");
+    c.add_option("--require", o.require,
+                 "'all' or a comma-separated list of buffer names that must be in the candidate "
+                 "(a missing one fails)");
+    c.add_flag("--no-id-mask", o.no_id_mask,
+               "compare depth, position, ... everywhere, not only where the frame's id buffers "
+               "agree");
     c.add_option("--json", o.json_path, "write the JSON report to FILE ('-' = stdout)");
     c.add_option("--html", o.html_dir, "write a self-contained HTML report to DIR/index.html");
     c.add_option("--buffer", o.buffer,
@@ -359,9 +490,105 @@ void add_diff_options(CLI::App& c, DiffOptions& o) {
         ->check(CLI::Range(1e-3, 1e9));
 }
 
+std::string DiffItem::status() const {
+    if (!compared) return required ? "MISSING" : "missing";
+    return pass ? "pass" : "FAIL";
+}
+
+bool DiffItem::focus_pixel(int& x, int& y) const {
+    if (!compared || hash_only) return false;
+    if (is_id) {
+        if (ids.mismatches.empty()) return false;
+        x = ids.mismatches[0].x;  // interior mismatches are listed first
+        y = ids.mismatches[0].y;
+        return true;
+    }
+    if (result.worst.empty()) return false;
+    x = result.worst[0].x;
+    y = result.worst[0].y;
+    return true;
+}
+
+namespace {
+
+// Manifest buffers in comparison order: frame by frame, stage by stage in pipeline order, and
+// within a stage the id buffers first (SPEC §11: ids before the channels they select).
+std::vector<const ManifestBuffer*> comparison_order(const Manifest& manifest) {
+    // Group = position of the first buffer of the same frame and stage; ids first in a group.
+    std::vector<std::pair<std::size_t, const ManifestBuffer*>> keyed;
+    for (std::size_t i = 0; i < manifest.buffers.size(); ++i) {
+        const ManifestBuffer& b = manifest.buffers[i];
+        std::size_t group = i;
+        for (std::size_t k = 0; k < i; ++k)
+            if (manifest.buffers[k].frame == b.frame && manifest.buffers[k].stage == b.stage) {
+                group = k;
+                break;
+            }
+        keyed.emplace_back(group, &b);
+    }
+    std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) {
+        if (a.first != b.first) return a.first < b.first;
+        return a.second->kind == "id" && b.second->kind != "id";
+    });
+    std::vector<const ManifestBuffer*> order;
+    for (const auto& entry : keyed) order.push_back(entry.second);
+    return order;
+}
+
+// The names --require asks for; an unknown name is an input error.
+std::vector<std::string> required_names(const std::string& text, const Manifest& manifest) {
+    std::vector<std::string> names;
+    if (text.empty()) return names;
+    if (text == "all") {
+        for (const ManifestBuffer& b : manifest.buffers)
+            if (std::find(names.begin(), names.end(), b.name) == names.end())
+                names.push_back(b.name);
+        return names;
+    }
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = text.find(',', start);
+        const std::string name =
+            text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        bool known = false;
+        for (const ManifestBuffer& b : manifest.buffers) known = known || b.name == name;
+        if (!known) {
+            std::string list;
+            for (const ManifestBuffer& b : manifest.buffers)
+                if (b.frame == manifest.buffers.front().frame) list += " " + b.name;
+            throw Error("--require: the golden has no buffer '" + name + "' (it has:" + list + ")");
+        }
+        names.push_back(name);
+        if (comma == std::string::npos) break;
+        start = comma + 1;
+    }
+    return names;
+}
+
+// The closest candidate file name of a golden buffer (for "did you mean"), or "".
+std::string closest_buffer_file(const std::string& file, const Manifest& manifest) {
+    const std::string stem = fs::path(file).stem().string();
+    std::string best;
+    std::size_t best_distance = std::max<std::size_t>(4, stem.size() / 3) + 1;
+    for (const ManifestBuffer& b : manifest.buffers) {
+        char prefix[16];
+        std::snprintf(prefix, sizeof prefix, "f%03d_", b.frame);
+        for (const std::string& name : {prefix + b.name, b.name}) {
+            const std::size_t d = edit_distance(stem, name);
+            if (d < best_distance) {
+                best_distance = d;
+                best = name + fs::path(file).extension().string();
+            }
+        }
+    }
+    return best;
+}
+
+}  // namespace
+
 int run_diff(const DiffOptions& o) {
-    ToleranceTable tolerances;
-    if (!o.tolerance_file.empty()) tolerances = read_tolerance_file(o.tolerance_file);
+    ToleranceTable tolerances = tolerance_profile(o.profile);
+    if (!o.tolerance_file.empty()) read_tolerance_file(o.tolerance_file, tolerances);
     for (const std::string& t : o.tolerances) parse_tolerance_option(t, tolerances);
     if (!fs::exists(o.golden)) throw Error(o.golden + ": no such file or directory");
     if (!fs::exists(o.candidate)) throw Error(o.candidate + ": no such file or directory");
@@ -369,6 +596,7 @@ int run_diff(const DiffOptions& o) {
     DiffReport report;
     report.golden = o.golden;
     report.candidate = o.candidate;
+    report.profile = o.profile;
     const bool golden_bundle = fs::is_directory(o.golden);
     const bool candidate_dir = fs::is_directory(o.candidate);
     Manifest manifest;
@@ -380,21 +608,25 @@ int run_diff(const DiffOptions& o) {
         report.case_name = manifest.golden_case.name;
         report.mode = manifest.golden_case.mode;
         report.scene = manifest.golden_case.scene;
+        const std::vector<std::string> required = required_names(o.require, manifest);
         std::vector<std::string> files;
         if (candidate_dir) files = list_files(o.candidate);
         std::vector<bool> used(files.size(), false);
         const int frames = static_cast<int>(manifest.frame_counters.size());
         const int single_frame = o.frame >= 0 ? o.frame : 0;
         bool found_buffer = false;
-        for (const ManifestBuffer& b : manifest.buffers) {
+        for (const ManifestBuffer* buffer : comparison_order(manifest)) {
+            const ManifestBuffer& b = *buffer;
             if (o.frame >= 0 && b.frame != o.frame) continue;
             DiffItem item;
             item.frame = b.frame;
             item.name = b.name;
             item.stage = b.stage;
             item.kind = b.kind;
+            item.is_id = b.kind == "id";
             item.golden_file = b.file.empty() ? "" : (fs::path(o.golden) / b.file).string();
             item.hash_only = b.file.empty();
+            item.required = std::find(required.begin(), required.end(), b.name) != required.end();
             if (candidate_dir) {
                 // f000_name.ext, or name.ext for a bundle of one frame / the --frame asked for.
                 char prefix[16];
@@ -431,11 +663,15 @@ int run_diff(const DiffOptions& o) {
             throw Error(o.golden + ": has no buffer '" + (o.buffer.empty() ? "final" : o.buffer) +
                         "' in frame " + std::to_string(single_frame) + " (see --buffer, --frame)");
         for (std::size_t k = 0; k < files.size(); ++k)
-            if (!used[k]) report.ignored.push_back(files[k]);
+            if (!used[k]) {
+                report.ignored.push_back(files[k]);
+                report.ignored_hint.push_back(closest_buffer_file(files[k], manifest));
+            }
     } else {
         if (candidate_dir)
             throw Error("a golden image (" + o.golden +
                         ") is compared with one candidate image, not a directory");
+        if (!o.require.empty()) throw Error("--require needs a golden bundle directory");
         DiffItem item;
         item.name = fs::path(o.golden).stem().string();
         item.stage = "-";
@@ -449,21 +685,55 @@ int run_diff(const DiffOptions& o) {
         report.items.push_back(std::move(item));
     }
 
-    for (std::size_t k = 0; k < report.items.size(); ++k) {
+    // Compare frame by frame: the id buffers of a frame first, then its other buffers where the
+    // ids agree (unless --no-id-mask), each group in comparison order.
+    auto compare_at = [&](std::size_t k, const std::vector<std::uint8_t>* mask) {
         DiffItem& item = report.items[k];
         if (item.candidate_file.empty()) {
             ++report.missing;
-            item.note = "missing in the candidate: not compared";
-            continue;
+            item.note = item.required ? "missing in the candidate, and required (--require)"
+                                      : "missing in the candidate: not compared";
+            if (item.required) {
+                item.pass = false;
+                ++report.missing_required;
+            }
+            return;
         }
         compare_item(o, tolerances, o.distance_px > 0.0f ? o.distance_px : distances[k], item,
-                     expected_sha[k]);
+                     expected_sha[k], mask);
         ++report.compared;
-        if (!item.pass) {
+    };
+    for (std::size_t first = 0; first < report.items.size();) {
+        std::size_t end = first;
+        while (end < report.items.size() && report.items[end].frame == report.items[first].frame)
+            ++end;
+        for (std::size_t k = first; k < end; ++k)
+            if (report.items[k].is_id) compare_at(k, nullptr);
+        for (std::size_t k = first; k < end; ++k) {
+            DiffItem& item = report.items[k];
+            if (item.is_id) continue;
+            // The mask: pixels where every compared id buffer of this frame and size agrees.
+            std::vector<std::uint8_t> mask;
+            if (!o.no_id_mask && !item.hash_only && !item.candidate_file.empty())
+                for (std::size_t i = first; i < end; ++i) {
+                    const DiffItem& ids = report.items[i];
+                    if (!ids.is_id || !ids.compared || ids.hash_only ||
+                        ids.golden.width != item.golden.width ||
+                        ids.golden.height != item.golden.height)
+                        continue;
+                    if (mask.empty()) mask.assign(ids.ids.agree.size(), 1);
+                    for (std::size_t p = 0; p < mask.size(); ++p) mask[p] &= ids.ids.agree[p];
+                    item.masked_by.push_back(ids.name);
+                }
+            compare_at(k, mask.empty() ? nullptr : &mask);
+        }
+        first = end;
+    }
+    for (std::size_t k = 0; k < report.items.size(); ++k)
+        if (!report.items[k].pass) {
             ++report.failed;
             if (report.first_failing < 0) report.first_failing = static_cast<int>(k);
         }
-    }
     if (report.compared == 0)
         throw Error("nothing to compare: no file in " + o.candidate +
                     " is named like a buffer of " + o.golden +
@@ -471,8 +741,8 @@ int run_diff(const DiffOptions& o) {
     report.pass = report.failed == 0;
     if (report.first_failing >= 0 && golden_bundle) {
         const DiffItem& item = report.items[static_cast<std::size_t>(report.first_failing)];
-        if (!item.hash_only && !item.result.worst.empty())
-            report.probe_command = probe_command(manifest, item, item.result.worst[0]);
+        int x = 0, y = 0;
+        if (item.focus_pixel(x, y)) report.probe_command = probe_command(manifest, item, x, y);
     }
 
     // Reports.
@@ -481,10 +751,12 @@ int run_diff(const DiffOptions& o) {
         j["golden"] = o.golden;
         j["candidate"] = o.candidate;
         if (!report.case_name.empty()) j["case"] = report.case_name;
+        j["profile"] = report.profile;
         j["pass"] = report.pass;
         j["compared"] = report.compared;
         j["failed"] = report.failed;
         j["missing"] = report.missing;
+        j["missing_required"] = report.missing_required;
         j["ignored_files"] = report.ignored;
         if (report.first_failing >= 0) {
             const DiffItem& f = report.items[static_cast<std::size_t>(report.first_failing)];

@@ -17,9 +17,12 @@ namespace fovref {
 struct DiffOptions {
     std::string golden;                   ///< bundle directory (manifest.json) or an image file
     std::string candidate;                ///< directory of buffers or one image file
-    std::vector<std::string> tolerances;  ///< NAME:abs=..,rel=..,ulp=..,pixels=..
+    std::string profile = "bit-exact";    ///< tolerance profile: bit-exact, gpu-raster, gpu-rt
+    std::vector<std::string> tolerances;  ///< NAME:abs=..,rel=..,ulp=..,pixels=..,edge=..
     std::string tolerance_file;
-    std::string json_path;  ///< "-" = stdout
+    std::string require;      ///< "all" or a comma-separated list: these must be present
+    bool no_id_mask = false;  ///< compare value buffers everywhere, not only where ids agree
+    std::string json_path;    ///< "-" = stdout
     std::string html_dir;
     std::string buffer;     ///< candidate is one file: the golden buffer it is (default final)
     int frame = -1;         ///< only this frame (default: all)

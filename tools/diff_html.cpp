@@ -95,6 +95,24 @@ std::string values_text(const std::vector<float>& values) {
 
 std::string anchor(std::size_t k) { return "b" + std::to_string(k); }
 
+std::string status_class(const DiffItem& item) {
+    return !item.compared ? (item.required ? "status-fail" : "status-missing")
+           : item.pass    ? "status-pass"
+                          : "status-fail";
+}
+
+std::string colour_css(glm::vec3 c) {
+    char text[32];
+    std::snprintf(text, sizeof text, "rgb(%d,%d,%d)", static_cast<int>(c.x * 255.0f + 0.5f),
+                  static_cast<int>(c.y * 255.0f + 0.5f), static_cast<int>(c.z * 255.0f + 0.5f));
+    return text;
+}
+
+std::string percent(std::int64_t part, std::int64_t whole) {
+    return fmt(whole > 0 ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : 0.0,
+               "%.3g%%");
+}
+
 std::string ring_plots(const BufferComparison& r) {
     PlotSeries psnr{"PSNR (dB)", {}, {}}, ssim{"SSIM", {}, {}}, rmse{"RMSE", {}, {}},
         sd{"SD of squared error", {}, {}};
@@ -113,14 +131,64 @@ std::string ring_plots(const BufferComparison& r) {
     return out + "</div>";
 }
 
+// An id buffer: both previews, the mismatch map with markers, the counts and the mismatches.
+std::string id_section(const DiffItem& item) {
+    const IdComparison& r = item.ids;
+    std::string h =
+        "<p>files: golden <code>" + html_escape(item.golden_file) + "</code>, candidate <code>" +
+        html_escape(item.candidate_file) + "</code>; " + std::to_string(r.width) + "&times;" +
+        std::to_string(r.height) + "; compared as integers; tolerance: " +
+        std::to_string(r.tolerance.max_interior_mismatches) + " interior mismatches, " +
+        fmt(100.0 * r.tolerance.max_edge_mismatch_share) + "% of the edge pixels" +
+        (r.tolerance.reason.empty() ? "" : " (" + html_escape(r.tolerance.reason) + ")") + "</p>\n";
+    h += "<p>" + std::to_string(r.interior_mismatches) + " interior mismatches, " +
+         std::to_string(r.edge_mismatches) + " edge mismatches (" +
+         percent(r.edge_mismatches, r.edge_pixels) + " of " + std::to_string(r.edge_pixels) +
+         " edge pixels, " + std::to_string(r.allowed_edge_mismatches) +
+         " allowed). An edge pixel has another id in the golden's 3&times;3 neighbourhood.</p>\n";
+    h += "<div class=\"shots\"><figure>" +
+         preview_tag(item.golden, item.kind, "golden " + item.name) +
+         "<figcaption>golden</figcaption></figure><figure>" +
+         preview_tag(item.candidate, item.kind, "candidate " + item.name) +
+         "<figcaption>candidate</figcaption></figure>";
+    if (r.edge_mismatches + r.interior_mismatches > 0) {
+        Buffer b;
+        b.kind = BufferKind::id;
+        b.image = item.golden;
+        h += "<figure>" +
+             img_tag(id_mismatch_image(preview_image(b), r.mismatch_map),
+                     "id mismatches " + item.name) +
+             "<figcaption>mismatches marked: <span class=\"key\" style=\"background:" +
+             colour_css(interior_marker_colour) +
+             "\"></span>interior <span class=\"key\" style=\"background:" +
+             colour_css(edge_marker_colour) + "\"></span>edge</figcaption></figure>";
+    }
+    h += "</div>\n";
+    if (!r.mismatches.empty()) {
+        h += "<table><tr><th>mismatch</th><th>x</th><th>y</th><th class=\"l\">kind</th>"
+             "<th class=\"l\">golden</th><th class=\"l\">candidate</th></tr>\n";
+        for (std::size_t i = 0; i < r.mismatches.size(); ++i) {
+            const IdMismatch& m = r.mismatches[i];
+            h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + std::to_string(m.x) +
+                 "</td><td>" + std::to_string(m.y) + "</td><td class=\"l\">" +
+                 (m.edge ? "edge" : "interior") + "</td><td class=\"l\">" + values_text(m.golden) +
+                 "</td><td class=\"l\">" + values_text(m.candidate) + "</td></tr>\n";
+        }
+        h += "</table>\n";
+    }
+    return h;
+}
+
 const char* style = R"(
 body{font-family:sans-serif;margin:1.5em;color:#222}
 table{border-collapse:collapse;margin:.5em 0}
 td,th{border:1px solid #ccc;padding:2px 6px;text-align:right;font-size:13px}
 td.l,th.l{text-align:left}
 tr.fail td{background:#fde2e1} tr.first td{background:#f8b4b0;font-weight:bold}
-tr.missing td{color:#888}
+tr.missing td{color:#777;font-style:italic}
 .status-pass{color:#137333;font-weight:bold} .status-fail{color:#b3261e;font-weight:bold}
+.status-missing{color:#8a6d00;font-weight:bold;font-style:italic}
+.key{display:inline-block;width:10px;height:10px;border:1px solid #555;margin:0 3px}
 section{border:1px solid #ddd;border-radius:6px;padding:.6em 1em;margin:1em 0}
 section.first-failing{border:3px solid #b3261e}
 summary{font-size:1.25em;font-weight:bold;cursor:pointer;padding:.3em 0}
@@ -156,46 +224,67 @@ void write_diff_html(const DiffReport& report, const std::string& directory) {
              html_escape(f.stage) + "</b>, buffer <b>" + html_escape(f.name) + "</b>, frame " +
              std::to_string(f.frame) + "</a> (later stages inherit its error).</p>\n";
         if (!report.probe_command.empty())
-            h += "<p>Explain its worst pixel: <code>" + html_escape(report.probe_command) +
-                 "</code></p>\n";
+            h += "<p>Explain the pixel it points at (its first interior id mismatch, else its "
+                 "worst pixel): <code>" +
+                 html_escape(report.probe_command) + "</code></p>\n";
     }
 
-    // Table of all buffers in pipeline order.
+    // Table of all buffers in comparison order.
     h += "<table><tr><th>frame</th><th class=\"l\">stage</th><th class=\"l\">buffer</th>"
          "<th>result</th><th>max abs</th><th>max rel</th><th>max ulp</th><th>failing px</th>"
-         "<th>over threshold</th><th>RMSE</th><th>PSNR</th><th>SSIM</th></tr>\n";
+         "<th>out of tolerance</th><th>RMSE</th><th>PSNR</th><th>SSIM</th></tr>\n";
     for (std::size_t k = 0; k < report.items.size(); ++k) {
         const DiffItem& item = report.items[k];
         const bool first = static_cast<int>(k) == report.first_failing;
-        const std::string cls = !item.compared ? "missing"
-                                : first        ? "first"
-                                : !item.pass   ? "fail"
-                                               : "";
+        const std::string cls = !item.compared && !item.required ? "missing"
+                                : first                          ? "first"
+                                : !item.pass                     ? "fail"
+                                                                 : "";
         h += "<tr class=\"" + cls + "\"><td>" + std::to_string(item.frame) +
              "</td><td class=\"l\">" + html_escape(item.stage) +
              "</td><td class=\"l\"><a href=\"#" + anchor(k) + "\">" + html_escape(item.name) +
-             "</a></td>";
+             "</a></td><td class=\"" + status_class(item) + "\">" + item.status() + "</td>";
         if (!item.compared || item.hash_only) {
-            h += "<td>" +
-                 std::string(!item.compared ? "missing"
-                             : item.pass    ? "pass"
-                                            : "FAIL") +
-                 "</td><td class=\"l\" colspan=\"8\">" + html_escape(item.note) + "</td></tr>\n";
+            h += "<td class=\"l\" colspan=\"8\">" + html_escape(item.note) + "</td></tr>\n";
+            continue;
+        }
+        if (item.is_id) {
+            const IdComparison& r = item.ids;
+            h += "<td class=\"l\" colspan=\"8\">compared as ids: " +
+                 std::to_string(r.interior_mismatches) + " interior mismatches (" +
+                 std::to_string(r.tolerance.max_interior_mismatches) + " allowed), " +
+                 std::to_string(r.edge_mismatches) +
+                 " edge mismatches = " + percent(r.edge_mismatches, r.edge_pixels) + " of " +
+                 std::to_string(r.edge_pixels) + " edge pixels (" +
+                 std::to_string(r.allowed_edge_mismatches) + " allowed)</td></tr>\n";
             continue;
         }
         const BufferComparison& r = item.result;
-        h += "<td>" + std::string(item.pass ? "pass" : "FAIL") + "</td><td>" + fmt(r.max_abs) +
-             "</td><td>" + fmt(r.max_rel) + "</td><td>" + std::to_string(r.max_ulp) + "</td><td>" +
+        const std::int64_t compared_pixels =
+            static_cast<std::int64_t>(r.width) * r.height - r.masked_pixels;
+        const bool nonfinite = r.nonfinite_mismatches > 0;
+        h += "<td>" + (nonfinite ? std::string("convention?") : fmt(r.max_abs)) + "</td><td>" +
+             fmt(r.max_rel) + "</td><td>" + std::to_string(r.max_ulp) + "</td><td>" +
              std::to_string(r.failing_pixels) + "</td><td>" +
-             fmt(100.0 * static_cast<double>(r.pixels_over_threshold) /
-                     static_cast<double>(r.width * r.height),
-                 "%.3g%%") +
-             "</td><td>" + fmt(r.rmse) + "</td><td>" + fmt(r.psnr) + "</td><td>" +
+             percent(r.pixels_over_threshold, compared_pixels) + "</td><td>" +
+             (nonfinite ? "&ndash;" : fmt(r.rmse)) + "</td><td>" +
+             (nonfinite ? "&ndash;" : fmt(r.psnr)) + "</td><td>" +
              (r.ssim ? fmt(*r.ssim, "%.6f") : "&ndash;") + "</td></tr>\n";
     }
     h += "</table>\n";
+    h += "<p>&ldquo;out of tolerance&rdquo;: share of the compared pixels outside the buffer's "
+         "own tolerance (of the pixels over <code>--threshold</code> when one is given). Id "
+         "buffers are compared as integers; the other buffers of a frame only where its ids "
+         "agree.</p>\n";
+    for (std::size_t k = 0; k < report.ignored.size(); ++k)
+        h += "<p class=\"status-missing\">ignored: <code>" + html_escape(report.ignored[k]) +
+             "</code> matches no golden buffer" +
+             (report.ignored_hint[k].empty()
+                  ? std::string()
+                  : "; did you mean <code>" + html_escape(report.ignored_hint[k]) + "</code>?") +
+             "</p>\n";
 
-    // One section per compared buffer.
+    // One section per buffer.
     for (std::size_t k = 0; k < report.items.size(); ++k) {
         const DiffItem& item = report.items[k];
         const bool first = static_cast<int>(k) == report.first_failing;
@@ -204,13 +293,15 @@ void write_diff_html(const DiffReport& report, const std::string& directory) {
         h += "<section id=\"" + anchor(k) + "\"" + (first ? " class=\"first-failing\"" : "") +
              "><details" + (open ? " open" : "") + "><summary>frame " + std::to_string(item.frame) +
              " &middot; " + html_escape(item.stage) + " &middot; " + html_escape(item.name) +
-             " <span class=\"" + (item.pass ? "status-pass" : "status-fail") + "\">" +
-             (!item.compared ? "missing"
-              : item.pass    ? "pass"
-                             : "FAIL") +
-             "</span>" + (first ? " &larr; first failing stage" : "") + "</summary>\n";
+             " <span class=\"" + status_class(item) + "\">" + item.status() + "</span>" +
+             (first ? " &larr; first failing stage" : "") + "</summary>\n";
         if (!item.note.empty()) h += "<p>" + html_escape(item.note) + "</p>\n";
         if (!item.compared || item.hash_only) {
+            h += "</details></section>\n";
+            continue;
+        }
+        if (item.is_id) {
+            h += id_section(item);
             h += "</details></section>\n";
             continue;
         }
@@ -223,9 +314,15 @@ void write_diff_html(const DiffReport& report, const std::string& directory) {
              std::to_string(r.tolerance.max_failing_pixels) + " failing pixels allowed" +
              (r.tolerance.reason.empty() ? "" : " (" + html_escape(r.tolerance.reason) + ")") +
              "</p>\n";
+        if (!item.masked_by.empty()) {
+            std::string names;
+            for (const std::string& n : item.masked_by) names += (names.empty() ? "" : ", ") + n;
+            h += "<p>compared where <code>" + html_escape(names) +
+                 "</code> agree: " + std::to_string(r.masked_pixels) + " pixels left out.</p>\n";
+        }
         // Pictures: every failing buffer and every colour buffer.
         if (!item.pass || item.kind == "color") {
-            const bool differs = r.max_abs > 0.0 || r.nan_mismatches > 0;
+            const bool differs = r.max_abs > 0.0 || r.nonfinite_mismatches > 0;
             HeatmapSettings hs;
             hs.rings = item.rings ? &*item.rings : nullptr;
             h += "<div class=\"shots\"><figure>" +
@@ -240,11 +337,20 @@ void write_diff_html(const DiffReport& report, const std::string& directory) {
                      (hs.rings ? ", ring boundaries lighter" : "") + "</figcaption></figure>";
             h += "</div>\n";
         }
+        if (r.nonfinite_mismatches > 0)
+            h += "<p class=\"status-fail\">convention mismatch: " +
+                 std::to_string(r.nonfinite_mismatches) +
+                 " value(s) are non-finite on one side only (e.g. a depth cleared to +inf where "
+                 "fovref writes 0); no error figure is defined for them and the figures below "
+                 "cover the values finite on both sides.</p>\n";
         h += "<p>max abs " + fmt(r.max_abs) + ", max rel " + fmt(r.max_rel) + ", max ulp " +
-             std::to_string(r.max_ulp) + ", NaN mismatches " + std::to_string(r.nan_mismatches) +
-             ", mean abs " + fmt(r.mean_abs) + ", RMSE " + fmt(r.rmse) + ", PSNR " + fmt(r.psnr) +
-             " dB, SSIM " + (r.ssim ? fmt(*r.ssim, "%.6f") : "&ndash;") + ", pixels over " +
-             fmt(r.threshold) + ": " + std::to_string(r.pixels_over_threshold) + "</p>\n";
+             std::to_string(r.max_ulp) + ", non-finite mismatches " +
+             std::to_string(r.nonfinite_mismatches) + ", mean abs " + fmt(r.mean_abs) + ", RMSE " +
+             fmt(r.rmse) + ", PSNR " + fmt(r.psnr) + " dB, SSIM " +
+             (r.ssim ? fmt(*r.ssim, "%.6f") : "&ndash;") + ", " +
+             (r.threshold >= 0.0 ? "pixels over " + fmt(r.threshold)
+                                 : std::string("pixels out of tolerance")) +
+             ": " + std::to_string(r.pixels_over_threshold) + "</p>\n";
         if (item.flip)
             h += "<p>LDR-FLIP (display space): mean " + fmt(item.flip->mean, "%.6f") +
                  ", weighted median " + fmt(item.flip->weighted_median, "%.6f") + ", quartiles " +
@@ -268,10 +374,24 @@ void write_diff_html(const DiffReport& report, const std::string& directory) {
         if (!r.rings.empty() && r.max_abs > 0.0) h += ring_plots(r);
         h += "</details></section>\n";
     }
+    // A small script (not needed to read the report) counts the images that decoded and checks
+    // the layout of the plots shown (open sections): labels inside their plot, tick labels
+    // distinct. The headless-browser test reads both lines.
     h += "<p id=\"images-status\">images: <span id=\"images-loaded\">not counted (scripts off)"
-         "</span></p>\n<script>addEventListener('load',function(){var i=document.images,n=0;"
+         "</span>; plots: <span id=\"plot-check\">not checked (scripts off)</span></p>\n"
+         "<script>addEventListener('load',function(){var i=document.images,n=0;"
          "for(var k=0;k<i.length;++k)if(i[k].complete&&i[k].naturalWidth>0)++n;"
-         "document.getElementById('images-loaded').textContent=n+' of '+i.length+' decoded';});"
+         "document.getElementById('images-loaded').textContent=n+' of '+i.length+' decoded';"
+         "var s=document.querySelectorAll('svg.plot'),labels=0,clipped=0,repeated=0;"
+         "var shown=0;for(var k=0;k<s.length;++k){var r=s[k].getBoundingClientRect();"
+         "if(r.width==0)continue;++shown;var t=s[k].querySelectorAll('text');for(var "
+         "j=0;j<t.length;++j){var b=t[j].getBoundingClientRect();++labels;"
+         "if(b.left<r.left-0.5||b.right>r.right+0.5||b.top<r.top-0.5||b.bottom>r.bottom+0.5)"
+         "++clipped;}['tick-x','tick-y'].forEach(function(c){var seen={},u=s[k]."
+         "querySelectorAll('text.'+c);for(var j=0;j<u.length;++j){if(seen[u[j].textContent])"
+         "++repeated;seen[u[j].textContent]=1;}});}"
+         "document.getElementById('plot-check').textContent=shown+' plots shown, '+labels+"
+         "' labels, '+clipped+' clipped, '+repeated+' repeated ticks';});"
          "</script>\n</body></html>\n";
 
     std::error_code ec;

@@ -19,9 +19,20 @@ struct DiffItem {
     std::string golden_file, candidate_file;  ///< candidate_file "" = missing in the candidate
     bool compared = false;                    ///< both present and compared
     bool hash_only = false;                   ///< the golden keeps only a hash: compared by SHA-256
+    bool required = false;                    ///< --require: missing fails
+    bool is_id = false;  ///< an id or mask buffer: compared as integers (ids below)
     bool pass = true;
-    std::string note;  ///< e.g. "alpha channel dropped", "golden stores only a hash"
-    BufferComparison result;
+    std::string note;         ///< e.g. "alpha channel dropped", "golden stores only a hash"
+    BufferComparison result;  ///< value buffers
+    IdComparison ids;         ///< id buffers
+    /// Value buffers compared only where these id buffers of the frame agree (empty: everywhere).
+    std::vector<std::string> masked_by;
+
+    /// "pass", "FAIL", "missing" or "MISSING" (required).
+    std::string status() const;
+    /// The pixel the report points at: the first interior (else edge) id mismatch, or the worst
+    /// value pixel; false when there is none.
+    bool focus_pixel(int& x, int& y) const;
     Image golden, candidate;          ///< kept for the HTML report
     std::optional<RingLayout> rings;  ///< for image-like buffers
     std::optional<FlipResult> flip;   ///< --flip, colour buffers: LDR-FLIP in display space
@@ -30,12 +41,15 @@ struct DiffItem {
 struct DiffReport {
     std::string golden, candidate;  ///< the paths as given
     std::string case_name, mode, scene;
-    std::vector<DiffItem> items;       ///< frame then pipeline order
-    std::vector<std::string> ignored;  ///< candidate files that match no golden buffer
-    int first_failing = -1;            ///< index into items
-    std::string probe_command;         ///< for the worst pixel of the first failing buffer
+    std::vector<DiffItem> items;            ///< frame then pipeline order
+    std::vector<std::string> ignored;       ///< candidate files that match no golden buffer
+    std::vector<std::string> ignored_hint;  ///< per ignored file: the closest buffer file name
+    std::string profile;                    ///< the tolerance profile used
+    int first_failing = -1;                 ///< index into items
+    std::string probe_command;              ///< for the worst pixel of the first failing buffer
     bool pass = true;
     int compared = 0, failed = 0, missing = 0;
+    int missing_required = 0;  ///< included in failed
 };
 
 /// Writes DIR/index.html (self-contained: images as data: URIs, plots as inline SVG).

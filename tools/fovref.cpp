@@ -55,6 +55,7 @@ struct Options {
     std::vector<std::string> case_names;
     std::string case_name;
     std::optional<int> export_width, export_height, export_frames;
+    bool export_scene_files = false;
     // rays
     std::string rays_path, hits_path;
     bool any_hit = false;
@@ -276,6 +277,11 @@ int render_command(const Options& o) {
     std::optional<BundleWriter> dump, out;
     if (!o.dump_dir.empty()) dump.emplace(o.dump_dir, run, options);
     if (!o.out_dir.empty()) out.emplace(o.out_dir, run, options);
+    if (o.export_scene_files) {
+        if (!scene) throw Error("render --with-scene: mode '" + o.mode + "' has no scene");
+        if (dump) dump->add_scene(*scene, "scene");
+        if (out) out->add_scene(*scene, "scene");
+    }
     const std::vector<std::string> wanted =
         o.outputs.empty() ? find_mode(o.mode)
                                 .build(scene ? &*scene : nullptr, case_settings(run, {}))
@@ -514,11 +520,15 @@ int golden_export(const Options& o) {
     if (o.export_width) c.width = *o.export_width;
     if (o.export_height) c.height = *o.export_height;
     if (o.export_frames) c.frames = *o.export_frames;
+    for (const std::string& assignment : o.params) c.params.set_from_assignment(assignment);
     SceneCache scenes(repository_root(dir));
     const Scene* scene = scenes.get(c.scene);
+    if (o.export_scene_files && !scene)
+        throw Error("--with-scene: case '" + c.name + "' has no scene");
     BundleOptions options;
     options.previews_for_all = true;
     BundleWriter writer(o.directory, c, options);
+    if (o.export_scene_files) writer.add_scene(*scene, "scene");
     Progress progress("golden export " + c.name, o.quiet);
     render_each(scene, c.mode, case_settings(c, {"all"}, [&](double f) { progress.update(f); }),
                 [&](FrameResult& frame) { writer.add_frame(frame); });
@@ -562,7 +572,8 @@ int main(int argc, char** argv) {
         "  fovref golden verify [--case C]        recompute, compare bit-exactly, exit 1 on a "
         "difference\n"
         "  fovref golden update [--case C]        recompute and rewrite, saying what changed\n"
-        "  fovref golden export CASE DIR [--width W --height H --frames N]\n"
+        "  fovref golden export CASE DIR [--width W --height H --frames N] [--param k=v]\n"
+        "                [--with-scene]             a full bundle (and the scene) for a GPU\n"
         "  fovref probe --scene S --mode M --width W --height H --frame F --pixel X,Y\n"
         "                                         explain one pixel stage by stage\n"
         "  fovref evaluate --scene S --mode M[,M2] [--frames N --every K] --out DIR\n"
@@ -616,6 +627,9 @@ int main(int argc, char** argv) {
     render_cmd->add_option(
         "--dump", o.dump_dir,
         "write every intermediate buffer (PFM/EXR + PNG preview + manifest.json) here");
+    render_cmd->add_flag("--with-scene", o.export_scene_files,
+                         "also write the scene into DIR/scene of --out and --dump (OBJ + MTL + "
+                         "textures + scene.json; OBJ triangle k is primitive id k)");
     CLI::App* modes_cmd = app.add_subcommand("modes", "list render modes and their parameters");
 
     // rays
@@ -715,6 +729,12 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 16384));
     export_cmd->add_option("--frames", o.export_frames, "override the case's frame count")
         ->check(CLI::Range(1, 16384));
+    export_cmd->add_option("--param", o.params,
+                           "override or add a mode parameter of the case, key=value (repeatable; "
+                           "e.g. fill_rule=gl)");
+    export_cmd->add_flag("--with-scene", o.export_scene_files,
+                         "also write the scene into DIR/scene (OBJ + MTL + textures + scene.json; "
+                         "OBJ triangle k is primitive id k), for a GPU implementation to render");
 
     // probe
     CLI::App* probe_cmd = app.add_subcommand(

@@ -8,6 +8,7 @@ packages=(
   build-essential g++ clang cmake ninja-build pkg-config clang-format
   libglm-dev libstb-dev libtinyobjloader-dev doctest-dev nlohmann-json3-dev libcli11-dev
   libopenexr-dev libssl-dev libembree-dev
+  libosmesa6-dev gdb
   python3 python3-skimage chromium
 )
 sudo=""

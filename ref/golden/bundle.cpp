@@ -220,6 +220,7 @@ struct BundleWriter::State {
     GoldenCase golden_case;
     BundleOptions options;
     json frames = json::array();
+    std::string scene_export;  ///< "" or the bundle-relative directory of the exported scene
     bool committed = false;
 };
 
@@ -262,6 +263,18 @@ void BundleWriter::add_frame(const FrameResult& frame) {
     jf["frame"] = frame.frame;
     jf["time"] = frame.time;
     if (frame.display_distance_px > 0.0f) jf["display_distance_px"] = frame.display_distance_px;
+    if (frame.camera) {
+        // Binary32 values as doubles: nlohmann writes the shortest decimal that reads back as
+        // the same double, hence the same float.
+        auto vec = [](glm::vec3 v) { return json::array({v.x, v.y, v.z}); };
+        const Camera& c = *frame.camera;
+        jf["camera"] = {{"position", vec(c.position)},
+                        {"right", vec(c.right)},
+                        {"up", vec(c.up)},
+                        {"forward", vec(c.forward)},
+                        {"vfov_deg", c.vfov_deg},
+                        {"tan_half_vfov", tan_half_vfov(c)}};
+    }
     json buffers = json::array();
     for (const Buffer& buffer : frame.buffers) {
         json jb;
@@ -304,6 +317,12 @@ void BundleWriter::add_frame(const FrameResult& frame) {
     s.frames.push_back(jf);
 }
 
+void BundleWriter::add_scene(const Scene& scene, const std::string& relative_directory) {
+    State& s = *state_;
+    export_scene(scene, (s.staging / relative_directory).string());
+    s.scene_export = relative_directory;
+}
+
 void BundleWriter::commit() {
     State& s = *state_;
     json manifest;
@@ -314,6 +333,7 @@ void BundleWriter::commit() {
     manifest["flags"] = fovref_build_flags();
     manifest["canonical_data"] =
         "SHA-256 of row-major, top-row-first, little-endian binary32, channels interleaved";
+    if (!s.scene_export.empty()) manifest["scene_export"] = s.scene_export + "/scene.json";
     manifest["frames"] = s.frames;
     write_file_atomic((s.staging / "manifest.json").string(), manifest.dump(1) + "\n");
 

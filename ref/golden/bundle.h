@@ -79,6 +79,11 @@ public:
     BundleWriter& operator=(const BundleWriter&) = delete;
 
     void add_frame(const FrameResult& frame);
+    /// Exports `scene` (OBJ + MTL + textures + scene.json, export_scene) into the bundle's
+    /// `relative_directory`, recorded in the manifest as "scene_export": the geometry a GPU
+    /// implementation loads to render the case (triangle k of the OBJ is primitive id k, MTL
+    /// material k is material id k).
+    void add_scene(const Scene& scene, const std::string& relative_directory);
     void commit();
 
 private:

@@ -10,8 +10,19 @@
 //
 // An element is within tolerance when it is equal, or |c - g| <= abs, or |c - g| <= rel |g|, or
 // its ulp distance <= ulp (each bound applies only when declared > 0; the default tolerance is 0,
-// i.e. bit-exact up to the sign of zero). A pixel fails when any of its channels does; a buffer
-// fails when more than max_failing_pixels pixels fail.
+// i.e. bit-exact up to the sign of zero). A non-finite value against a different one (NaN
+// against a number, +-inf against a finite value: usually a different background convention)
+// is a mismatch no tolerance admits; the error figures (max, mean, RMSE, PSNR) are taken over
+// the elements finite on both sides. A pixel fails when any of its channels does; a buffer fails
+// when more than max_failing_pixels pixels fail.
+//
+// Buffers of ids and masks (primitive id, material id, validity masks) are compared as integers
+// (compare_id_buffers): a pixel matches when its values are equal; a mismatch is an *edge*
+// mismatch when the golden has another id in the pixel's 3x3 neighbourhood (inside the image),
+// else an *interior* one. The buffer passes when the edge mismatches are at most
+// max_edge_mismatch_share of the golden's edge pixels and the interior ones at most
+// max_interior_mismatches. The other buffers of the same frame can then be compared only where
+// the ids agree (CompareOptions::mask).
 // clang-format on
 #pragma once
 
@@ -31,6 +42,9 @@ struct Tolerance {
     double rel = 0.0;
     std::int64_t ulp = 0;
     std::int64_t max_failing_pixels = 0;
+    // Id buffers only:
+    double max_edge_mismatch_share = 0.0;  ///< of the golden's edge pixels, in [0, 1]
+    std::int64_t max_interior_mismatches = 0;
     std::string reason;  ///< SPEC §11: every tolerance states why
     bool operator==(const Tolerance&) const = default;
 };
@@ -43,11 +57,21 @@ struct ToleranceTable {
 };
 
 /// Tolerance file (JSON): { "buffer name" or "*": {"abs": x, "rel": x, "ulp": n,
-/// "max_failing_pixels": n, "reason": "..."} }. Throws fovref::Error naming the file, line and key.
+/// "max_failing_pixels": n, "edge_mismatch_share": x, "interior_mismatches": n, "reason": "..."}
+/// }. Entries are added to `table`, replacing one of the same name. Throws fovref::Error naming
+/// the file, line and key.
 ToleranceTable read_tolerance_file(const std::string& path);
-/// Command-line form "NAME:abs=1e-6,rel=1e-4,ulp=2,pixels=10" (NAME may be "*"); added to
-/// `table`, overriding a file's entry for the same name. Throws fovref::Error naming the option.
+void read_tolerance_file(const std::string& path, ToleranceTable& table);
+/// Command-line form "NAME:abs=1e-6,rel=1e-4,ulp=2,pixels=10,edge=0.01,interior=0" (NAME may be
+/// "*"); added to `table`, overriding an entry for the same name. Throws fovref::Error naming the
+/// option.
 void parse_tolerance_option(const std::string& option, ToleranceTable& table);
+
+/// The shipped tolerance profiles (docs/diff.md), each entry with its reason: "bit-exact" (the
+/// default: 0 everywhere), "gpu-raster" (a correct GPU rasterizer's G-buffer) and "gpu-rt" (a
+/// correct GPU ray tracer's primary hits). Throws fovref::Error for another name.
+ToleranceTable tolerance_profile(const std::string& name);
+const std::vector<std::string>& tolerance_profile_names();
 
 /// Distance of two floats in the binary32 ordering (see above); both must not be NaN.
 std::int64_t ulp_distance(float a, float b);
@@ -59,13 +83,17 @@ struct PixelDifference {
 };
 
 struct CompareOptions {
-    /// Absolute threshold for the "share of pixels over the threshold" figure; < 0 means the
-    /// tolerance's abs (so with the default tolerance: pixels that differ at all).
+    /// Absolute threshold for the "pixels over the threshold" figure; < 0: no threshold, the
+    /// figure counts the pixels out of tolerance (failing pixels).
     double threshold = -1.0;
     int worst_pixels = 5;  ///< how many worst pixels to list
     /// Ring errors and SSIM are computed for 1- and 3-channel buffers of at least 11x11; the
     /// ring layout (may be null: no ring errors).
     const RingLayout* rings = nullptr;
+    /// Pixels to compare (1) or leave out (0), width x height entries; null: every pixel. The
+    /// diff passes the pixels where the frame's ids agree. Left-out pixels count in no figure;
+    /// SSIM and the ring errors see the golden's value there (zero error).
+    const std::vector<std::uint8_t>* mask = nullptr;
 };
 
 struct BufferComparison {
@@ -74,11 +102,15 @@ struct BufferComparison {
     Tolerance tolerance;
     double max_abs = 0.0, max_rel = 0.0;
     std::int64_t max_ulp = 0;
-    std::int64_t nan_mismatches = 0;      ///< elements where exactly one side is NaN
+    std::int64_t nan_mismatches = 0;  ///< elements where exactly one side is NaN
+    /// Elements non-finite on one side and different on the other (NaN against a number, inf
+    /// against a finite value or the other inf): NaN mismatches included.
+    std::int64_t nonfinite_mismatches = 0;
     std::int64_t differing_elements = 0;  ///< elements whose bits differ
+    std::int64_t masked_pixels = 0;       ///< left out by CompareOptions::mask
     double mean_abs = 0.0, rmse = 0.0, psnr = 0.0;
     std::optional<double> ssim;  ///< luma SSIM for 3 channels, the channel itself for 1
-    double threshold = 0.0;
+    double threshold = -1.0;     ///< < 0: none given (pixels_over_threshold = failing_pixels)
     std::int64_t pixels_over_threshold = 0;
     std::int64_t failing_pixels = 0;
     bool pass = true;
@@ -93,5 +125,33 @@ struct BufferComparison {
 BufferComparison compare_buffers(const std::string& name, const Image& golden,
                                  const Image& candidate, const Tolerance& tolerance,
                                  const CompareOptions& options = {});
+
+struct IdMismatch {
+    int x = 0, y = 0;
+    bool edge = false;  ///< another id in the golden's 3x3 neighbourhood
+    std::vector<float> golden, candidate;
+};
+
+struct IdComparison {
+    std::string name;
+    int width = 0, height = 0, channels = 0;
+    Tolerance tolerance;
+    std::int64_t pixels = 0;
+    std::int64_t edge_pixels = 0;  ///< golden pixels with another id in their 3x3 neighbourhood
+    std::int64_t edge_mismatches = 0, interior_mismatches = 0;
+    std::int64_t allowed_edge_mismatches = 0;  ///< floor(share x edge_pixels)
+    bool pass = true;
+    /// The first `listed` interior mismatches, then the first edge ones (row-major each).
+    std::vector<IdMismatch> mismatches;
+    /// 1 where the ids agree, 0 where they differ (width x height): the diff's mask.
+    std::vector<std::uint8_t> agree;
+    /// Per pixel: 0 agree, 1 edge mismatch, 2 interior mismatch.
+    Image mismatch_map;
+};
+
+/// Compares an id or mask buffer as integers (see above). Values are equal when bit-equal, both
+/// zero, or both NaN.
+IdComparison compare_id_buffers(const std::string& name, const Image& golden,
+                                const Image& candidate, const Tolerance& tolerance, int listed = 5);
 
 }  // namespace fovref

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <vector>
 
 #include "ref/core/error.h"
@@ -154,6 +155,46 @@ Image heatmap(const Image& values, const HeatmapSettings& settings) {
     if (values.height >= 4 * glyph_height)
         draw_text(out, text_x, (values.height - glyph_height) / 2, scale_label(scale * 0.5f), white,
                   text_scale);
+    return out;
+}
+
+Image id_mismatch_image(const Image& background, const Image& mismatch_map) {
+    FOVREF_CHECK(
+        background.channels == 3 && mismatch_map.channels == 1 &&
+            background.width == mismatch_map.width && background.height == mismatch_map.height,
+        "id_mismatch_image: an RGB background and a 1-channel map of the same size "
+        "expected, got " +
+            std::to_string(background.width) + "x" + std::to_string(background.height) + "x" +
+            std::to_string(background.channels) + " and " + std::to_string(mismatch_map.width) +
+            "x" + std::to_string(mismatch_map.height) + "x" +
+            std::to_string(mismatch_map.channels));
+    Image out(background.width, background.height, 3, 0.0f);
+    for (std::size_t p = 0; p < background.pixel_count(); ++p) {
+        const float grey = 0.2126f * background.data[3 * p] + 0.7152f * background.data[3 * p + 1] +
+                           0.0722f * background.data[3 * p + 2];
+        for (std::size_t c = 0; c < 3; ++c) out.data[3 * p + c] = 0.15f + 0.35f * grey;
+    }
+    // Rings big and thick enough to survive the report's downscaling (a 1280-wide map is shown at
+    // 640 px): radius 1/64 of the larger side, thickness a quarter of it.
+    const int radius = std::max(3, std::max(out.width, out.height) / 64);
+    const int thickness = std::max(1, radius / 4);
+    auto put = [&](int x, int y, glm::vec3 colour) {
+        if (x < 0 || y < 0 || x >= out.width || y >= out.height) return;
+        for (int c = 0; c < 3; ++c) out.at(x, y, c) = colour[c];
+    };
+    for (const float kind : {1.0f, 2.0f}) {  // edge markers first, interior ones on top
+        const glm::vec3 colour = kind == 1.0f ? edge_marker_colour : interior_marker_colour;
+        for (int y = 0; y < out.height; ++y)
+            for (int x = 0; x < out.width; ++x) {
+                if (mismatch_map.at(x, y) != kind) continue;
+                put(x, y, colour);
+                for (int dy = -radius; dy <= radius; ++dy)
+                    for (int dx = -radius; dx <= radius; ++dx) {
+                        const int d = std::max(std::abs(dx), std::abs(dy));  // square ring
+                        if (d > radius - thickness) put(x + dx, y + dy, colour);
+                    }
+            }
+    }
     return out;
 }
 

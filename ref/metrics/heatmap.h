@@ -31,6 +31,15 @@ Image heatmap(const Image& values, const HeatmapSettings& settings = {});
 /// The scale heatmap() uses for these settings: scale_max, or the largest finite value.
 float heatmap_scale(const Image& values, const HeatmapSettings& settings);
 
+/// Where two id buffers differ, drawn so that single pixels stay visible when the image is shown
+/// scaled down: `background` (an RGB preview of the golden ids) dimmed to grey, and around every
+/// mismatched pixel a square ring of radius r = max(3, max(W, H) / 64) pixels and thickness
+/// max(1, r / 4), with the pixel itself filled: orange (edge_marker_colour) for edge mismatches
+/// (mismatch_map value 1), red (interior_marker_colour) for interior ones (value 2, drawn on top).
+inline constexpr glm::vec3 edge_marker_colour{1.0f, 0.55f, 0.0f};
+inline constexpr glm::vec3 interior_marker_colour{1.0f, 0.0f, 0.0f};
+Image id_mismatch_image(const Image& background, const Image& mismatch_map);
+
 /// Draws `text` (digits, '.', '-', '+', 'e', 'x', space) with a 3x5 pixel font scaled by `scale`
 /// at (x, y) (top-left), clipped to the image. For legends and plot labels in PNGs.
 void draw_text(Image& image, int x, int y, const std::string& text, glm::vec3 colour, int scale);

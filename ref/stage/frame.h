@@ -8,7 +8,10 @@
 #include <utility>
 #include <vector>
 
+#include <optional>
+
 #include "ref/image/image.h"
+#include "ref/scene/camera.h"
 
 namespace fovref {
 
@@ -54,6 +57,9 @@ struct FrameResult {
     /// Viewing distance in pixels of the scene's display model for this frame's camera (SPEC
     /// §1), what eccentricities (error ranges) are measured with; 0 without a scene.
     float display_distance_px = 0.0f;
+    /// This frame's camera (absent without a scene): the bundle's manifest records it, so a GPU
+    /// implementation renders exactly the same view.
+    std::optional<Camera> camera;
     std::vector<Buffer> buffers;
     std::vector<StageRun> stages;
     Counters counters;

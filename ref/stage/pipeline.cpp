@@ -154,9 +154,11 @@ std::vector<std::string> render_each(const Scene* scene, const std::string& mode
                 settings.progress((static_cast<double>(k) + within) / frames);
             };
         FrameResult result = pipeline.run_frame(context, settings.requested);
-        if (scene)
+        if (scene) {
             result.display_distance_px = display_distance_px(scene->display, settings.width,
                                                              settings.height, camera.vfov_deg);
+            result.camera = camera;
+        }
         on_frame(result);
     }
     return pipeline.final_outputs;

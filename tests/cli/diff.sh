@@ -130,7 +130,7 @@ if [ -n "$CHROMIUM" ]; then
   else
     echo "FAIL: images in the HTML report did not all decode: '$decoded'"; failures=$((failures + 1))
   fi
-  contains 'First failing stage: <a href="#b5"><b>primary_visibility</b>, buffer <b>gbuffer_albedo</b>' "failing stage in the DOM"
+  contains '"><b>primary_visibility</b>, buffer <b>gbuffer_albedo</b>, frame 0</a>' "failing stage in the DOM"
   expect 0 "screenshot" -- timeout 120 "$CHROMIUM" --headless --no-sandbox --disable-gpu --user-data-dir="$TMP/chrome" --window-size=1200,900 --screenshot="$TMP/shot.png" "file://$TMP/html/index.html"
   check_file "$TMP/shot.png" "screenshot of the report"
 else

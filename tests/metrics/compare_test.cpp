@@ -3,8 +3,10 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
+#include <vector>
 
 #include "ref/metrics/compare.h"
 #include "tests/image/image_test_util.h"
@@ -162,4 +164,116 @@ TEST_CASE("tolerance options and files: values and errors") {
     CHECK(contains(error_message([&] { read_tolerance_file(path); }), "t.json:2"));
     CHECK(contains(error_message([&] { read_tolerance_file(dir.file("missing.json")); }),
                    "missing.json"));
+}
+
+TEST_CASE("compare_id_buffers: edge and interior mismatches, tolerances, the agree mask") {
+    // Golden: id 1 on the left half, 2 on the right half of an 8x6 image (columns 3 | 4).
+    Image g(8, 6, 1, 1.0f);
+    for (int y = 0; y < 6; ++y)
+        for (int x = 4; x < 8; ++x) g.at(x, y) = 2.0f;
+    Image c = g;
+    c.at(3, 2) = 2.0f;   // next to the boundary: an edge mismatch
+    c.at(0, 0) = -1.0f;  // a corner whose in-image neighbours all show 1: interior
+    c.at(6, 4) = 7.0f;   // interior
+    IdComparison r = compare_id_buffers("gbuffer_primitive_id", g, c, {});
+    CHECK(r.edge_pixels == 12);  // columns 3 and 4
+    CHECK(r.edge_mismatches == 1);
+    CHECK(r.interior_mismatches == 2);
+    CHECK_FALSE(r.pass);
+    REQUIRE(r.mismatches.size() == 3);
+    CHECK(r.mismatches[0].x == 0);  // interior ones first, row-major
+    CHECK(r.mismatches[1].x == 6);
+    CHECK(r.mismatches[2].edge);
+    CHECK(r.mismatches[2].x == 3);
+    CHECK(r.agree[2 * 8 + 3] == 0);
+    CHECK(r.agree[2 * 8 + 2] == 1);
+    CHECK(r.mismatch_map.at(3, 2) == 1.0f);
+    CHECK(r.mismatch_map.at(6, 4) == 2.0f);
+    Tolerance t;
+    t.max_interior_mismatches = 2;
+    t.max_edge_mismatch_share = 0.1;  // floor(0.1 x 12) = 1 edge mismatch allowed
+    r = compare_id_buffers("gbuffer_primitive_id", g, c, t);
+    CHECK(r.allowed_edge_mismatches == 1);
+    CHECK(r.pass);
+    t.max_edge_mismatch_share = 0.08;  // floor(0.96) = 0
+    CHECK_FALSE(compare_id_buffers("gbuffer_primitive_id", g, c, t).pass);
+    // -0 equals +0, NaN equals NaN: the same id.
+    Image a(2, 1, 1, 0.0f), b(2, 1, 1, -0.0f);
+    a.at(1, 0) = b.at(1, 0) = std::numeric_limits<float>::quiet_NaN();
+    CHECK(compare_id_buffers("m", a, b, {}).pass);
+}
+
+TEST_CASE(
+    "compare_buffers: a mask leaves pixels out; non-finite values are a convention mismatch") {
+    Image g(12, 12, 1, 2.0f), c = g;
+    c.at(5, 5) = 3.0f;
+    std::vector<std::uint8_t> mask(144, 1);
+    mask[5 * 12 + 5] = 0;
+    CompareOptions options;
+    options.mask = &mask;
+    BufferComparison r = compare_buffers("d", g, c, {}, options);
+    CHECK(r.pass);
+    CHECK(r.masked_pixels == 1);
+    CHECK(r.max_abs == 0.0);
+    CHECK(r.ssim == 1.0);  // the masked pixel takes the golden's value
+    CHECK_FALSE(compare_buffers("d", g, c, {}).pass);
+
+    // A depth cleared to +inf on the background: never within tolerance, no finite error figure
+    // polluted by it.
+    Image depth(4, 1, 1, 0.0f), inf_cleared = depth;
+    depth.at(0, 0) = 1.5f;
+    inf_cleared.at(0, 0) = 1.5f;
+    for (int x = 1; x < 4; ++x) inf_cleared.at(x, 0) = std::numeric_limits<float>::infinity();
+    Tolerance loose;
+    loose.abs = 1e30;
+    r = compare_buffers("d", depth, inf_cleared, loose);
+    CHECK_FALSE(r.pass);
+    CHECK(r.nonfinite_mismatches == 3);
+    CHECK(r.nan_mismatches == 0);
+    CHECK(r.max_abs == 0.0);
+    CHECK(r.psnr == std::numeric_limits<double>::infinity());  // over the finite pairs only
+    // Without a --threshold, "over threshold" counts the pixels out of tolerance.
+    CHECK(r.pixels_over_threshold == r.failing_pixels);
+    Image rel_g(3, 1, 1, 100.0f), rel_c(3, 1, 1, 100.001f);
+    Tolerance rel;
+    rel.rel = 1e-4;
+    r = compare_buffers("d", rel_g, rel_c, rel);
+    CHECK(r.pass);
+    CHECK(r.pixels_over_threshold == 0);  // within the relative tolerance: not "over"
+}
+
+TEST_CASE("tolerance profiles: every entry has a reason; id limits from files and options") {
+    for (const std::string& name : tolerance_profile_names()) {
+        const ToleranceTable table = tolerance_profile(name);
+        CAPTURE(name);
+        CHECK_FALSE(table.fallback.reason.empty());
+        for (const auto& [buffer, tolerance] : table.buffers) {
+            CAPTURE(buffer);
+            CHECK_FALSE(tolerance.reason.empty());
+        }
+    }
+    CHECK(tolerance_profile("bit-exact").buffers.empty());
+    const ToleranceTable raster = tolerance_profile("gpu-raster");
+    CHECK(raster.for_buffer("gbuffer_primitive_id").max_edge_mismatch_share > 0.0);
+    CHECK(raster.for_buffer("gbuffer_primitive_id").max_interior_mismatches == 0);
+    CHECK(raster.for_buffer("gbuffer_view_depth").rel > 0.0);
+    CHECK(raster.for_buffer("something_else").abs == 0.0);  // undeclared buffers stay bit-exact
+    CHECK(test::contains(test::error_message([] { tolerance_profile("gpu-fast"); }),
+                         "unknown profile"));
+
+    ToleranceTable table = raster;
+    parse_tolerance_option("gbuffer_primitive_id:edge=0.5,interior=3", table);
+    CHECK(table.for_buffer("gbuffer_primitive_id").max_edge_mismatch_share == 0.5);
+    CHECK(table.for_buffer("gbuffer_primitive_id").max_interior_mismatches == 3);
+    CHECK(test::contains(
+        test::error_message([&] { parse_tolerance_option("ids:edge=1.5", table); }), "[0, 1]"));
+    test::TempDir dir("profiles");
+    const std::string path = dir.file("t.json");
+    test::write_bytes(path,
+                      "{\"gbuffer_material_id\": {\"edge_mismatch_share\": 0.01, "
+                      "\"interior_mismatches\": 2}}");
+    read_tolerance_file(path, table);  // merged over the profile
+    CHECK(table.for_buffer("gbuffer_material_id").max_interior_mismatches == 2);
+    CHECK(table.for_buffer("gbuffer_view_depth").rel > 0.0);  // the profile's entry is kept
+    CHECK(test::contains(table.for_buffer("gbuffer_material_id").reason, "t.json"));
 }

@@ -143,3 +143,28 @@ TEST_CASE("heatmap: colour scale, legend, ring overlay, non-finite values") {
     for (int x = 0; x < 40; ++x) white += ringed.at(x, 15, 0) == blended;
     CHECK(white >= 2 * 5);  // a horizontal line through the gaze crosses each ring twice
 }
+
+TEST_CASE("id_mismatch_image: rings that survive downscaling, interior on top of edge") {
+    Image background(256, 128, 3, 1.0f), map(256, 128, 1, 0.0f);
+    map.at(40, 40) = 1.0f;   // edge mismatch
+    map.at(200, 64) = 2.0f;  // interior mismatch
+    map.at(203, 64) = 1.0f;  // an edge one close by: the interior ring is drawn over it
+    const Image out = id_mismatch_image(background, map);
+    auto rgb = [&](int x, int y) {
+        return glm::vec3(out.at(x, y, 0), out.at(x, y, 1), out.at(x, y, 2));
+    };
+    const int radius = 256 / 64;  // 4, ring thickness 1
+    CHECK(rgb(40, 40) == edge_marker_colour);
+    CHECK(rgb(40 + radius, 40) == edge_marker_colour);
+    CHECK(rgb(40 - radius, 40 - radius) == edge_marker_colour);
+    CHECK(rgb(41, 40) != edge_marker_colour);  // inside the ring: background
+    CHECK(rgb(200 + radius, 64) == interior_marker_colour);
+    CHECK(rgb(203, 64) == edge_marker_colour);  // not covered by the interior ring
+    CHECK(rgb(196, 64) == interior_marker_colour);
+    // The background is dimmed to grey: clearly darker than the markers' channels.
+    CHECK(rgb(10, 100).x < 0.6f);
+    CHECK(rgb(10, 100).x == rgb(10, 100).y);
+    CHECK(fovref::test::contains(
+        fovref::test::error_message([&] { id_mismatch_image(background, Image(8, 8, 1)); }),
+        "same size"));
+}
