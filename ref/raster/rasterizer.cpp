@@ -459,6 +459,8 @@ RasterPixelExplanation explain_raster_pixel(const Scene& scene, const Camera& ca
             c.owns[1] = e.bias_b == 0;
             c.owns[2] = e.bias_c == 0;
             c.fragment = raster_fragment(scene, frame, x, y, primitive, c.value);
+            c.stored_depth = one.depth[0];
+            c.stored_primitive = one.primitive[0];
             if (c.fragment) c.won_depth_test = depth_test(one, 0, 0, c.value);
             out.candidates.push_back(c);
         }

@@ -272,6 +272,8 @@ struct RasterCandidate {
     bool fragment = false;                 ///< raster_fragment found the plane point
     RasterFragment value;
     bool won_depth_test = false;  ///< replaying the depth tests in index order
+    float stored_depth = 0.0f;    ///< what the depth test compared against (+inf: nothing yet)
+    std::int32_t stored_primitive = -1;
 };
 
 struct RasterPixelExplanation {

@@ -7,6 +7,7 @@
 #include "ref/bvh/bvh.h"
 #include "ref/core/halton.h"
 #include "ref/core/rng.h"
+#include "ref/raster/rasterizer.h"
 #include "ref/stage/probe.h"
 #include "ref/trace/direct_light.h"
 #include "ref/trace/ground_truth.h"
@@ -126,6 +127,97 @@ SurfacePoint gbuffer_surface(const FrameResult& f, int x, int y) {
     return s;
 }
 
+std::string fixed_text(FixedPoint p) {
+    auto one = [](std::int64_t v) {
+        return std::to_string(v) + "/256 (" +
+               probe_float(static_cast<float>(v) / static_cast<float>(raster_subpixel_scale)) + ")";
+    };
+    return "(" + one(p.x) + ", " + one(p.y) + ")";
+}
+
+// Which side of the (clockwise-on-screen, y-down) triangle an edge a -> b is.
+const char* edge_side(FixedPoint a, FixedPoint b) {
+    const std::int64_t dx = b.x - a.x, dy = b.y - a.y;
+    if (dy == 0) return dx > 0 ? "top" : "bottom";
+    return dy < 0 ? "left" : "right";
+}
+
+// The rasterizer's decision at one pixel, from the pass's own functions (explain_raster_pixel).
+void explain_raster(const ProbeContext& c, const RasterSettings& raster, ProbeReport& report,
+                    ProbeSection& vis, std::int32_t& winner, RasterFragment& winning) {
+    const RasterPixelExplanation e = explain_raster_pixel(*c.scene, c.camera, c.settings->width,
+                                                          c.settings->height, raster, c.x, c.y);
+    vis.add("fill rule", std::string(fill_rule_name(e.fill_rule)) +
+                             (e.fill_rule == FillRule::d3d
+                                  ? ": a centre on an edge is covered by top and left edges"
+                                  : ": a centre on an edge is covered by bottom and left edges "
+                                    "(OpenGL's top-left in its y-up window)"));
+    vis.add("sample", "pixel centre " + fixed_text(e.centre) + " in 1/256 px");
+    if (e.candidates.empty())
+        vis.add("coverage", "no triangle's snapped coverage contains the centre: background");
+    for (const RasterCandidate& k : e.candidates) {
+        const std::string name = "triangle " + std::to_string(k.primitive);
+        std::string setup = "snapped corners a " + fixed_text(k.a) + ", b " + fixed_text(k.b) +
+                            ", c " + fixed_text(k.c) + " (clockwise on screen";
+        if (k.near_clipped || k.guard_clipped)
+            setup += std::string(", fan triangle ") + std::to_string(k.fan_triangle) +
+                     " of the polygon clipped by the " +
+                     (k.near_clipped && k.guard_clipped ? "near plane and the guard band"
+                      : k.near_clipped                  ? "near plane"
+                                                        : "guard band");
+        vis.add(name, setup + ")");
+        const FixedPoint corners[3] = {k.a, k.b, k.c};
+        const char* edge_names[3] = {"E_bc", "E_ca", "E_ab"};
+        const std::int64_t values[3] = {k.edges.wa, k.edges.wb, k.edges.wc};
+        std::string edges = "doubled area " + std::to_string(k.area) + ";";
+        for (int i = 0; i < 3; ++i) {
+            edges += std::string(" ") + edge_names[i] + " " + std::to_string(values[i]);
+            if (values[i] == 0)
+                edges += std::string(" (on the ") +
+                         edge_side(corners[(i + 1) % 3], corners[(i + 2) % 3]) + " edge, " +
+                         (k.owns[i] ? "which owns it" : "which does not own it") + ")";
+        }
+        vis.add("  edges", edges + " -> covered");
+        if (!k.fragment) {
+            vis.add("  fragment",
+                    "the pixel's ray does not meet the plane in front of the "
+                    "camera: dropped");
+            continue;
+        }
+        vis.add("  fragment", "plane hit t " + probe_float(k.value.t) + ", barycentrics u " +
+                                  probe_float(k.value.u) + " v " + probe_float(k.value.v) +
+                                  ", view depth " + probe_float(k.value.depth));
+        std::string test;
+        if (k.stored_primitive < 0)
+            test = "passes: the first fragment here";
+        else if (k.value.depth != k.stored_depth)
+            test = std::string(k.won_depth_test ? "passes: " : "fails: ") +
+                   probe_float(k.value.depth) + (k.won_depth_test ? " < " : " > ") +
+                   probe_float(k.stored_depth) + " of triangle " +
+                   std::to_string(k.stored_primitive) + " (\"less\")";
+        else
+            test = std::string(k.won_depth_test ? "passes" : "fails") +
+                   ": equal depth to triangle " + std::to_string(k.stored_primitive) +
+                   ", the lower primitive id wins (SPEC §3, §4)";
+        vis.add("  depth test", test);
+    }
+    winner = e.winner;
+    for (const RasterCandidate& k : e.candidates)
+        if (k.fragment && k.primitive == e.winner && k.won_depth_test) winning = k.value;
+    if (e.candidates.size() > 1 && winner >= 0)
+        vis.add("winner", "triangle " + std::to_string(winner) +
+                              ": smallest view depth; an equal depth goes to the lower id "
+                              "(SPEC §3, §4)");
+    else if (winner >= 0)
+        vis.add("winner", "triangle " + std::to_string(winner) + " (the only one covering it)");
+    const float gbuffer_id = c.frame->find("gbuffer_primitive_id")->image.at(c.x, c.y);
+    const bool same = static_cast<float>(winner) == gbuffer_id;
+    vis.add("check", std::string("winner: ") + (same ? "the G-buffer's primitive id"
+                                                     : "DIFFERS from the G-buffer's primitive id " +
+                                                           probe_float(gbuffer_id)));
+    if (!same) report.consistent = false;
+}
+
 void check(ProbeReport& report, ProbeSection& section, const std::string& what, glm::vec3 mine,
            glm::vec3 rendered) {
     const bool same = same_bits(mine, rendered);
@@ -148,21 +240,45 @@ void explain_basic(const ProbeContext& c, ProbeReport& report) {
                            std::to_string(c.y) + "), weight 1");
     report.sections.push_back(map);
 
-    ProbeSection vis{"primary_visibility",
-                     primary == "raster" ? "rasterized G-buffer (the ray below is what a ray "
-                                           "caster would trace; edges may differ)"
-                                         : "one ray through the pixel centre (Lund §3.1)",
-                     {}};
     const Ray ray =
         primary_ray(c.camera, tan_half_vfov(c.camera), c.settings->width, c.settings->height,
                     static_cast<float>(c.x) + 0.5f, static_cast<float>(c.y) + 0.5f);
-    Hit hit;
-    SurfacePoint traced;
-    explain_ray(scene, bvh, ray, "primary", vis, hit, traced);
     const float gbuffer_id = f.find("gbuffer_primitive_id")->image.at(c.x, c.y);
-    vis.add("G-buffer primitive", probe_float(gbuffer_id));
-    if (hit.hit()) explain_surface(scene, traced, vis);
-    if (primary == "ray") {
+    if (primary == "raster") {
+        ProbeSection vis{"primary_visibility",
+                         "rasterized G-buffer: coverage in 1/256-px fixed point, attributes where "
+                         "the pixel's ray meets the winning triangle's plane (docs/raster.md)",
+                         {}};
+        std::int32_t winner = -1;
+        RasterFragment winning;
+        explain_raster(c, basic_raster_settings(c.settings->params), report, vis, winner, winning);
+        if (winner >= 0) {
+            const SurfacePoint surface = surface_at(scene, winner, winning.u, winning.v);
+            explain_surface(scene, surface, vis);
+            check(report, vis, "position", surface.position, gbuffer_surface(f, c.x, c.y).position);
+        }
+        report.sections.push_back(vis);
+        // The ray caster's answer, for comparison only: it is not what this G-buffer used.
+        ProbeSection caster{"ray caster (comparison)",
+                            "what ray-cast primary visibility (--param primary=ray) would give "
+                            "here; not used by this G-buffer",
+                            {}};
+        Hit hit;
+        SurfacePoint traced;
+        explain_ray(scene, bvh, ray, "primary", caster, hit, traced);
+        caster.add("compared", hit.primitive == winner
+                                   ? "the same primitive: the same t, u, v bits (docs/raster.md)"
+                                   : "another primitive than the rasterizer's: the ray passes "
+                                     "within the snapping distance (~1/256 px) of an edge, where "
+                                     "the two decide coverage differently");
+        report.sections.push_back(caster);
+    } else {
+        ProbeSection vis{"primary_visibility", "one ray through the pixel centre (Lund §3.1)", {}};
+        Hit hit;
+        SurfacePoint traced;
+        explain_ray(scene, bvh, ray, "primary", vis, hit, traced);
+        vis.add("G-buffer primitive", probe_float(gbuffer_id));
+        if (hit.hit()) explain_surface(scene, traced, vis);
         const bool same =
             static_cast<float>(hit.primitive) == gbuffer_id &&
             (!hit.hit() || same_bits(traced.position, gbuffer_surface(f, c.x, c.y).position));
@@ -170,8 +286,8 @@ void explain_basic(const ProbeContext& c, ProbeReport& report) {
                 std::string("hit: ") + (same ? "same primitive and position as the G-buffer"
                                              : "DIFFERS from the G-buffer"));
         if (!same) report.consistent = false;
+        report.sections.push_back(vis);
     }
-    report.sections.push_back(vis);
 
     ProbeSection shade{"shade_direct", "Lambert + one shadow ray per light sample (Gupta §2)", {}};
     if (gbuffer_id < 0.0f) {

@@ -12,6 +12,20 @@ contains "shade_direct -> final" "buffer values"
 expect 0 "probe raster primary on a textured scene" -- "$FOVREF" probe --scene checker-room --mode basic --param primary=raster --width 64 --height 36 --pixel 30,30
 contains "texel 3" "texels and weights"
 contains "bit-identical" "raster probe agrees"
+# The rasterizer explained: the grazing pixel, where it and the ray caster disagree.
+expect 0 "probe a rasterized edge pixel" -- "$FOVREF" probe --scene checker-room --mode basic --param primary=raster --width 320 --height 180 --pixel 106,119
+contains "fill rule         d3d" "fill rule"
+contains "sample            pixel centre (27264/256 (106.5), 30592/256 (119.5))" "fixed-point sample"
+contains "triangle 666      snapped corners" "candidate with snapped corners"
+contains "E_bc 19 E_ca 12 E_ab 2975 -> covered" "edge values"
+contains "passes: 3.57242799 < 3.87680817 of triangle 1" "depth test with both depths"
+contains "fails: 3.59121752 > 3.57242799 of triangle 666" "losing candidate"
+contains "winner            triangle 666" "winner"
+contains "winner: the G-buffer's primitive id" "winner checked against the G-buffer"
+contains "[ray caster (comparison)]" "ray caster labelled as a comparison"
+contains "primitive 695" "the ray caster's other answer"
+expect 0 "probe with the gl fill rule" -- "$FOVREF" probe --scene cornell --mode basic --param primary=raster --param fill_rule=gl --width 64 --height 36 --pixel 30,20
+contains "fill rule         gl: a centre on an edge is covered by bottom and left edges" "gl fill rule"
 expect 0 "probe ground truth" -- "$FOVREF" probe --scene cornell --mode ground-truth --width 32 --height 18 --pixel 16,9
 contains "sample 15" "16 samples"
 contains "mean: bit-identical" "ground truth agrees"
