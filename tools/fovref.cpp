@@ -73,6 +73,8 @@ struct Options {
     // probe
     int probe_frame = 0;
     std::string pixel;
+    std::string debugger;  ///< gdb or lldb: print a command that stops at the pixel
+    int first_frame = 0;   ///< render: number of the first frame rendered
 };
 
 void say(const Options& o, const std::string& line) {
@@ -227,6 +229,44 @@ std::optional<Scene> command_scene(const Options& o, const std::string& command)
     return load_scene(o.scene);
 }
 
+// The debugger command of `probe --debugger`: `fovref render` of the same case under gdb/lldb,
+// with a conditional breakpoint on the pixel in each per-pixel function of the mode's passes. A
+// stateless mode renders only the probed frame (--first-frame), so each breakpoint stops once
+// per call at that pixel in that frame.
+std::string debugger_line(const Options& o, int x, int y) {
+    const ModeInfo& mode = find_mode(o.mode);
+    if (!mode.pixel_functions)
+        throw Error("--debugger: mode '" + o.mode +
+                    "' names no per-pixel functions to stop in (basic and ground-truth do)");
+    const GoldenCase run = command_case(o, "probe");
+#if FOVREF_DEBUGGABLE
+    std::error_code ec;
+    std::string program = fs::canonical("/proc/self/exe", ec).string();
+    if (ec) program = "fovref";
+#else
+    const std::string program = std::string(FOVREF_SOURCE_DIR) + "/build/clang-O0/fovref";
+#endif
+    std::vector<std::string> args = {"render"};
+    if (!o.scene.empty()) args.insert(args.end(), {"--scene", o.scene});
+    args.insert(args.end(), {"--mode", o.mode, "--width", std::to_string(o.width), "--height",
+                             std::to_string(o.height)});
+    char text[32];
+    if (o.time_start != 0.0f) {
+        std::snprintf(text, sizeof text, "%.9g", static_cast<double>(o.time_start));
+        args.insert(args.end(), {"--time-start", text});
+    }
+    std::snprintf(text, sizeof text, "%.9g", static_cast<double>(o.time_step));
+    args.insert(args.end(), {"--time-step", text});
+    if (mode.stateless)
+        args.insert(args.end(), {"--first-frame", std::to_string(o.probe_frame), "--frames", "1"});
+    else
+        args.insert(args.end(), {"--frames", std::to_string(o.probe_frame + 1)});
+    for (const auto& [key, value] : run.params.values())
+        args.insert(args.end(), {"--param", key + "=" + value});
+    args.insert(args.end(), {"--out", "/tmp/fovref-debug", "-q"});
+    return debugger_command(o.debugger, program, args, mode.pixel_functions(run.params), x, y);
+}
+
 int probe_command(const Options& o) {
     int x = -1, y = -1;
     char tail = 0;
@@ -239,8 +279,11 @@ int probe_command(const Options& o) {
         scene ? &*scene : nullptr, o.mode,
         case_settings(run, {}, [&](double f) { progress.update(f); }), o.probe_frame, x, y);
     progress.finish();
+    std::string debug_command;
+    if (!o.debugger.empty()) debug_command = debugger_line(o, x, y);
     if (o.json) {
         nlohmann::json j;
+        if (!debug_command.empty()) j["debugger_command"] = debug_command;
         j["mode"] = report.mode;
         j["frame"] = report.frame;
         j["pixel"] = {report.x, report.y};
@@ -257,6 +300,17 @@ int probe_command(const Options& o) {
         std::cout << j.dump(1) << "\n";
     } else {
         std::cout << probe_text(report);
+        if (!debug_command.empty()) {
+            std::cout << "\n[debugger] stop at this pixel in each pass's per-pixel function\n";
+            for (const PixelFunction& f : find_mode(o.mode).pixel_functions(run.params))
+                std::cout << "  " << f.stage << ": " << f.function
+                          << (f.note.empty() ? "" : " (" + f.note + ")") << "\n";
+#if !FOVREF_DEBUGGABLE
+            std::cout << "  this fovref has no debug info: build the debug preset first\n"
+                         "  (cmake --preset debug && cmake --build --preset debug)\n";
+#endif
+            std::cout << "debug it: " << debug_command << "\n";
+        }
     }
     return report.consistent ? exit_ok : exit_check_failed;
 }
@@ -289,23 +343,26 @@ int render_command(const Options& o) {
                           : o.outputs;
     Progress progress("render " + o.mode, o.quiet);
     std::vector<std::string> lines;
-    render_each(
-        scene ? &*scene : nullptr, o.mode,
-        case_settings(run, requested, [&](double f) { progress.update(f); }), [&](FrameResult& f) {
-            std::string line = "frame " + std::to_string(f.frame) + ":";
-            for (const StageRun& stage : f.stages)
-                line += " " + stage.name + (stage.ran ? "" : " (skipped)");
-            for (const auto& [k, v] : f.counters.values) line += ", " + k + " " + std::to_string(v);
-            lines.push_back(line);
-            if (dump) dump->add_frame(f);
-            if (out) {
-                if (!keep_all)
-                    std::erase_if(f.buffers, [&](const Buffer& b) {
-                        return std::find(wanted.begin(), wanted.end(), b.name) == wanted.end();
-                    });
-                out->add_frame(f);
-            }
-        });
+    RenderSettings settings = case_settings(run, requested, [&](double f) { progress.update(f); });
+    if (o.first_frame > 0 && !find_mode(o.mode).stateless)
+        throw Error("--first-frame: mode '" + o.mode +
+                    "' carries state from frame to frame; render from frame 0");
+    settings.first_frame = o.first_frame;
+    render_each(scene ? &*scene : nullptr, o.mode, settings, [&](FrameResult& f) {
+        std::string line = "frame " + std::to_string(f.frame) + ":";
+        for (const StageRun& stage : f.stages)
+            line += " " + stage.name + (stage.ran ? "" : " (skipped)");
+        for (const auto& [k, v] : f.counters.values) line += ", " + k + " " + std::to_string(v);
+        lines.push_back(line);
+        if (dump) dump->add_frame(f);
+        if (out) {
+            if (!keep_all)
+                std::erase_if(f.buffers, [&](const Buffer& b) {
+                    return std::find(wanted.begin(), wanted.end(), b.name) == wanted.end();
+                });
+            out->add_frame(f);
+        }
+    });
     progress.finish();
     if (dump) dump->commit();
     if (out) out->commit();
@@ -609,6 +666,12 @@ int main(int argc, char** argv) {
     render_cmd->add_option("--width", o.width, "screen width in pixels")->capture_default_str();
     render_cmd->add_option("--height", o.height, "screen height in pixels")->capture_default_str();
     render_cmd->add_option("--frames", o.frames, "number of frames")->capture_default_str();
+    render_cmd
+        ->add_option("--first-frame", o.first_frame,
+                     "number of the first frame (seeds rand() and sets the camera-path time): "
+                     "render frame F of a sequence alone, bit-identical to the sequence's")
+        ->check(CLI::Range(0, 100000))
+        ->capture_default_str();
     render_cmd->add_option("--time-start", o.time_start, "camera-path time of frame 0")
         ->capture_default_str();
     render_cmd->add_option("--time-step", o.time_step, "camera-path time between frames")
@@ -756,6 +819,11 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     probe_cmd->add_option("--param", o.params, "mode parameter key=value (repeatable)");
     probe_cmd->add_flag("--json", o.json, "machine-readable output");
+    probe_cmd
+        ->add_option("--debugger", o.debugger,
+                     "also print a gdb or lldb command line that renders this case and stops in "
+                     "each pass's per-pixel function at this pixel (README: Debugging one pixel)")
+        ->check(CLI::IsMember({"gdb", "lldb"}));
 
     // evaluate
     CLI::App* evaluate_cmd = app.add_subcommand(

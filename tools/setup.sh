@@ -23,6 +23,6 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"
 fi
 
-cmake -S . -B build/gcc-O2 -G Ninja -DCMAKE_CXX_COMPILER=g++ -DCMAKE_BUILD_TYPE=Release
-cmake --build build/gcc-O2
+cmake --preset release
+cmake --build --preset release
 echo "setup: built build/gcc-O2/fovref"

@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
-# fovref test command: builds three configurations and runs every test in each.
-#   build/gcc-O2     g++ -O2            (the default build)
-#   build/clang-O0   clang++ -O0        (the goldens must verify bit-exactly in both)
-#   build/asan       g++ -O1 with AddressSanitizer + UndefinedBehaviorSanitizer
+# fovref test command: builds three configurations (the presets of CMakePresets.json) and runs
+# every test in each.
+#   release  build/gcc-O2     g++ -O2            (the default build)
+#   debug    build/clang-O0   clang++ -O0 -g     (the goldens must verify bit-exactly in both;
+#                                                 the debugger test runs here)
+#   asan     build/asan       g++ -O1 -g with AddressSanitizer + UndefinedBehaviorSanitizer
 # It also checks formatting with the checked-in .clang-format.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 jobs=${FOVREF_JOBS:-$(nproc)}
 
-configure() {  # dir compiler build-type extra...
-  local dir=$1 cxx=$2 type=$3; shift 3
-  cmake -S . -B "$dir" -G Ninja -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE="$type" "$@" >/dev/null
+configure() {  # preset
+  cmake --preset "$1" >/dev/null
 }
 
 echo "== format check"
@@ -24,11 +25,11 @@ run_suite() {  # dir label
   if ! ctest --test-dir "$1" --output-on-failure -j "$jobs"; then status=1; fi
 }
 
-configure build/gcc-O2 g++ Release
+configure release
 run_suite build/gcc-O2 "g++ -O2"
-configure build/clang-O0 clang++ Debug -DCMAKE_CXX_FLAGS_DEBUG=-O0
-run_suite build/clang-O0 "clang++ -O0"
-configure build/asan g++ Debug -DFOVREF_SANITIZE=ON -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g"
+configure debug
+run_suite build/clang-O0 "clang++ -O0 -g"
+configure asan
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
   run_suite build/asan "g++ ASan+UBSan"
 

@@ -102,43 +102,47 @@ Pipeline geometry_pipeline(const Scene* scene, const RenderSettings&) {
 }  // namespace
 
 const std::vector<ModeInfo>& render_modes() {
-    static const std::vector<ModeInfo> modes = {
-        {"basic",
-         "one ray per pixel centre, Lambertian shading with one shadow ray per light (Lund §3.1)",
-         true, basic_params(), basic_pipeline, explain_basic},
-        {"ground-truth",
-         "16 Halton(2,3) rays per pixel, shaded as basic, box-filtered (Lund §3.2)",
-         true,
-         {},
-         ground_truth_pipeline,
-         explain_ground_truth},
-        {"splat",
-         "centroid splat of every triangle with headlight shading (a trivial pass that "
-         "pins scene, materials, textures and camera path)",
-         true,
-         {},
-         splat_pipeline,
-         {}},
-        {"camera-rays",
-         "primary ray direction through every pixel centre (SPEC §1)",
-         true,
-         {},
-         camera_rays_pipeline,
-         {}},
-        {"geometry",
-         "the scene's triangles, normals, uvs and material ids as buffers",
-         true,
-         {},
-         geometry_pipeline,
-         {}},
-        {"rng", "rand(frame, pixel, d) for d = 0..2 (SPEC §0)", false, {}, rng_pipeline, {}},
-        {"halton",
-         "the 16 Halton(2,3) points, raw and scaled (Lund eq. 3.11)",
-         false,
-         {},
-         halton_pipeline,
-         {}},
-    };
+    static const std::vector<ModeInfo> modes = [] {
+        auto mode = [](std::string name, std::string description, auto build) {
+            ModeInfo m;
+            m.name = std::move(name);
+            m.description = std::move(description);
+            m.build = build;
+            return m;
+        };
+        ModeInfo basic = mode("basic",
+                              "one ray per pixel centre, Lambertian shading with one shadow ray "
+                              "per light (Lund §3.1)",
+                              basic_pipeline);
+        basic.params = basic_params();
+        basic.explain = explain_basic;
+        basic.pixel_functions = basic_pixel_functions;
+        ModeInfo ground_truth =
+            mode("ground-truth",
+                 "16 Halton(2,3) rays per pixel, shaded as basic, box-filtered (Lund §3.2)",
+                 ground_truth_pipeline);
+        ground_truth.explain = explain_ground_truth;
+        ground_truth.pixel_functions = ground_truth_pixel_functions;
+        ModeInfo rng = mode("rng", "rand(frame, pixel, d) for d = 0..2 (SPEC §0)", rng_pipeline);
+        rng.needs_scene = false;
+        ModeInfo halton = mode(
+            "halton", "the 16 Halton(2,3) points, raw and scaled (Lund eq. 3.11)", halton_pipeline);
+        halton.needs_scene = false;
+        return std::vector<ModeInfo>{
+            basic,
+            ground_truth,
+            mode("splat",
+                 "centroid splat of every triangle with headlight shading (a trivial pass that "
+                 "pins scene, materials, textures and camera path)",
+                 splat_pipeline),
+            mode("camera-rays", "primary ray direction through every pixel centre (SPEC §1)",
+                 camera_rays_pipeline),
+            mode("geometry", "the scene's triangles, normals, uvs and material ids as buffers",
+                 geometry_pipeline),
+            rng,
+            halton,
+        };
+    }();
     return modes;
 }
 

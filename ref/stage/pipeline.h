@@ -78,6 +78,14 @@ struct Pipeline {
 struct ProbeContext;  // ref/stage/probe.h
 struct ProbeReport;
 
+/// A pass's per-pixel function, for `fovref probe --debugger`: a debugger can stop in it at one
+/// pixel because it takes the pixel as parameters named `x` and `y`.
+struct PixelFunction {
+    std::string stage;     ///< the stage whose pass calls it
+    std::string function;  ///< qualified name, e.g. "fovref::shade_basic_pixel"
+    std::string note;      ///< e.g. "once per triangle covering the pixel"
+};
+
 struct ModeInfo {
     std::string name;
     std::string description;
@@ -89,6 +97,12 @@ struct ModeInfo {
     /// Explains one pixel of a rendered frame for `fovref probe` (ref/stage/probe.h); may be
     /// empty (the probe then lists the buffers' values only).
     std::function<void(const ProbeContext&, ProbeReport&)> explain;
+    /// The per-pixel functions of the passes the parameters select, in pipeline order; may be
+    /// empty (no breakpoints to offer).
+    std::function<std::vector<PixelFunction>(const Params&)> pixel_functions;
+    /// True when a frame depends on no earlier frame, so frame f can be rendered alone
+    /// (RenderSettings::first_frame) with the same bits.
+    bool stateless = true;
 };
 
 /// Every render mode, in the order `fovref render --help` lists them.

@@ -18,6 +18,14 @@ inline Ray primary_ray(const Camera& camera, float tan_half, int width, int heig
     return ray;
 }
 
+/// Per-pixel work of raycast_gbuffer: the primary ray through the centre of pixel (x, y), its
+/// closest hit, and the G-buffer pixel written from it (write_gbuffer_pixel; a miss keeps the
+/// background). Returns the hit. `motion_behind_previous` as below.
+Hit raycast_gbuffer_pixel(GBuffer& gbuffer, const Scene& scene, const Bvh& bvh,
+                          const Camera& camera, float tan_half, const Camera& previous_camera,
+                          float previous_tan_half, int x, int y, TraceStats& stats,
+                          std::int64_t* motion_behind_previous = nullptr);
+
 /// Primary rays through every pixel centre (t in (0, inf)). `motion_behind_previous`, when given,
 /// counts pixels whose point is not in front of the previous camera (motion 0).
 GBuffer raycast_gbuffer(const Scene& scene, const Bvh& bvh, const Camera& camera,

@@ -10,6 +10,7 @@
 #include "ref/trace/direct_light.h"
 #include "ref/trace/ground_truth.h"
 #include "ref/trace/raycast_gbuffer.h"
+#include "ref/trace/shade_basic.h"
 
 namespace fovref {
 
@@ -98,6 +99,22 @@ RasterSettings basic_raster_settings(const Params& params) {
     return raster;
 }
 
+std::vector<PixelFunction> basic_pixel_functions(const Params& params) {
+    if (params.get_string(basic_params(), "primary") == "raster")
+        return {{"primary_visibility", "fovref::raster_fragment",
+                 "once per triangle whose snapped coverage contains the centre"},
+                {"primary_visibility", "fovref::depth_test", "once per fragment found"},
+                {"primary_visibility", "fovref::write_gbuffer_pixel", "the winner's attributes"},
+                {"shade_direct", "fovref::shade_basic_pixel", ""}};
+    return {{"primary_visibility", "fovref::raycast_gbuffer_pixel", ""},
+            {"shade_direct", "fovref::shade_basic_pixel", ""}};
+}
+
+std::vector<PixelFunction> ground_truth_pixel_functions(const Params&) {
+    return {{"primary_visibility", "fovref::raycast_gbuffer_pixel", ""},
+            {"supersample", "fovref::ground_truth_pixel", ""}};
+}
+
 Pipeline basic_pipeline(const Scene* scene, const RenderSettings& settings) {
     const std::string primary = settings.params.get_string(basic_params(), "primary");
     if (primary != "ray" && primary != "raster")
@@ -114,49 +131,14 @@ Pipeline basic_pipeline(const Scene* scene, const RenderSettings& settings) {
           "gbuffer_albedo", "gbuffer_material_id", "gbuffer_primitive_id"},
          {"final"},
          [scene, bvh](FrameContext& ctx) {
-             const Image& position = ctx.input("gbuffer_world_position");
-             const Image& shading_normal = ctx.input("gbuffer_shading_normal");
-             const Image& geometric_normal = ctx.input("gbuffer_geometric_normal");
-             const Image& albedo = ctx.input("gbuffer_albedo");
-             const Image& material = ctx.input("gbuffer_material_id");
-             const Image& primitive = ctx.input("gbuffer_primitive_id");
+             const ShadeInputs inputs{
+                 ctx.input("gbuffer_world_position"),   ctx.input("gbuffer_shading_normal"),
+                 ctx.input("gbuffer_geometric_normal"), ctx.input("gbuffer_albedo"),
+                 ctx.input("gbuffer_material_id"),      ctx.input("gbuffer_primitive_id")};
              const Bvh* tree =
                  scene->lights.empty() ? nullptr : &bvh->get(*scene, ctx.result->counters);
-             Image out(position.width, position.height, 3, 0.0f);
              ShadingStats stats;
-             // SPEC §0: NaN/Inf in an input buffer is replaced by 0 and counted.
-             auto read = [&stats](const Image& image, int x, int y, int c) {
-                 const float v = image.at(x, y, c);
-                 if (std::isfinite(v)) return v;
-                 ++stats.nonfinite_inputs;
-                 return 0.0f;
-             };
-             const auto material_count = static_cast<float>(scene->materials.size());
-             for (int y = 0; y < out.height; ++y)
-                 for (int x = 0; x < out.width; ++x) {
-                     const float id = read(primitive, x, y, 0);
-                     const float material_id = read(material, x, y, 0);
-                     if (id < 0.0f) continue;  // background
-                     // An id that is not a valid material index is treated as background.
-                     if (!(material_id >= 0.0f && material_id < material_count) ||
-                         material_id != std::floor(material_id)) {
-                         ++stats.invalid_material_ids;
-                         continue;
-                     }
-                     SurfacePoint surface;
-                     for (int c = 0; c < 3; ++c) {
-                         surface.position[c] = read(position, x, y, c);
-                         surface.shading_normal[c] = read(shading_normal, x, y, c);
-                         surface.geometric_normal[c] = read(geometric_normal, x, y, c);
-                         surface.albedo[c] = read(albedo, x, y, c);
-                     }
-                     surface.material = static_cast<std::int32_t>(material_id);
-                     const glm::vec3 l =
-                         shade_direct(*scene, tree, surface, ctx.camera.position,
-                                      static_cast<std::uint32_t>(ctx.frame),
-                                      static_cast<std::uint32_t>(y * out.width + x), 0, stats);
-                     for (int c = 0; c < 3; ++c) out.at(x, y, c) = l[c];
-                 }
+             Image out = shade_basic(*scene, tree, inputs, ctx.camera, ctx.frame, stats);
              add_shading_counters(ctx.result->counters, stats);
              ctx.note = shadow_note(*scene);
              ctx.result->add("final", BufferKind::color, {"r", "g", "b"}, std::move(out));

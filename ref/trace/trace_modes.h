@@ -19,6 +19,10 @@ RasterSettings basic_raster_settings(const Params& params);
 Pipeline basic_pipeline(const Scene* scene, const RenderSettings& settings);
 Pipeline ground_truth_pipeline(const Scene* scene, const RenderSettings& settings);
 
+/// The per-pixel functions of basic's and ground-truth's passes (for `fovref probe --debugger`).
+std::vector<PixelFunction> basic_pixel_functions(const Params& params);
+std::vector<PixelFunction> ground_truth_pixel_functions(const Params& params);
+
 /// `fovref probe` explanations (ref/trace/trace_probe.cpp).
 void explain_basic(const ProbeContext& context, ProbeReport& report);
 void explain_ground_truth(const ProbeContext& context, ProbeReport& report);

@@ -5,13 +5,13 @@
 #include <cstring>
 
 #include "ref/bvh/bvh.h"
-#include "ref/core/halton.h"
 #include "ref/core/rng.h"
 #include "ref/raster/rasterizer.h"
 #include "ref/stage/probe.h"
 #include "ref/trace/direct_light.h"
 #include "ref/trace/ground_truth.h"
 #include "ref/trace/raycast_gbuffer.h"
+#include "ref/trace/shade_basic.h"
 #include "ref/trace/trace_modes.h"
 
 namespace fovref {
@@ -81,13 +81,10 @@ void explain_surface(const Scene& scene, const SurfacePoint& surface, ProbeSecti
     section.add("albedo", probe_vec3(surface.albedo));
 }
 
-glm::vec3 explain_shading(const Scene& scene, const Bvh* bvh, const SurfacePoint& surface,
-                          glm::vec3 eye, std::uint32_t frame, std::uint32_t pixel,
-                          std::uint32_t base, ProbeSection& section) {
-    ShadingStats stats;
-    std::vector<LightSampleRecord> lights;
-    const glm::vec3 radiance =
-        shade_direct(scene, bvh, surface, eye, frame, pixel, base, stats, &lights);
+// The light samples shade_direct recorded, and the radiance.
+void explain_shading(const Scene& scene, const SurfacePoint& surface, glm::vec3 radiance,
+                     const std::vector<LightSampleRecord>& lights, std::uint32_t frame,
+                     std::uint32_t pixel, std::uint32_t base, ProbeSection& section) {
     const Material& m = scene.materials[static_cast<std::size_t>(surface.material)];
     section.add("rand", "rand(frame " + std::to_string(frame) + ", pixel " + std::to_string(pixel) +
                             ", dimension " + std::to_string(base) + " + 2 l (+1)) (SPEC §0)");
@@ -107,24 +104,6 @@ glm::vec3 explain_shading(const Scene& scene, const Bvh* bvh, const SurfacePoint
         section.add("light " + std::to_string(r.light), text);
     }
     section.add("radiance", probe_vec3(radiance));
-    return radiance;
-}
-
-// Reads a G-buffer pixel the way the shade_direct stage does (non-finite values become 0).
-SurfacePoint gbuffer_surface(const FrameResult& f, int x, int y) {
-    SurfacePoint s;
-    auto read = [&](const char* name, int c) {
-        const float v = f.find(name)->image.at(x, y, c);
-        return std::isfinite(v) ? v : 0.0f;
-    };
-    for (int c = 0; c < 3; ++c) {
-        s.position[c] = read("gbuffer_world_position", c);
-        s.shading_normal[c] = read("gbuffer_shading_normal", c);
-        s.geometric_normal[c] = read("gbuffer_geometric_normal", c);
-        s.albedo[c] = read("gbuffer_albedo", c);
-    }
-    s.material = static_cast<std::int32_t>(read("gbuffer_material_id", 0));
-    return s;
 }
 
 std::string fixed_text(FixedPoint p) {
@@ -234,16 +213,20 @@ void explain_basic(const ProbeContext& c, ProbeReport& report) {
     const FrameResult& f = *c.frame;
     const std::string primary = c.settings->params.get_string(basic_params(), "primary");
     const Bvh bvh = build_bvh(scene.positions);
+    const int width = c.settings->width, height = c.settings->height;
+    const ShadeInputs inputs{
+        f.find("gbuffer_world_position")->image,   f.find("gbuffer_shading_normal")->image,
+        f.find("gbuffer_geometric_normal")->image, f.find("gbuffer_albedo")->image,
+        f.find("gbuffer_material_id")->image,      f.find("gbuffer_primitive_id")->image};
 
     ProbeSection map{"forward map", "screen pixel -> buffer texel", {}};
     map.add("mapping", "none (no foveation): buffer texel (" + std::to_string(c.x) + ", " +
                            std::to_string(c.y) + "), weight 1");
     report.sections.push_back(map);
 
-    const Ray ray =
-        primary_ray(c.camera, tan_half_vfov(c.camera), c.settings->width, c.settings->height,
-                    static_cast<float>(c.x) + 0.5f, static_cast<float>(c.y) + 0.5f);
-    const float gbuffer_id = f.find("gbuffer_primitive_id")->image.at(c.x, c.y);
+    const float tan_half = tan_half_vfov(c.camera);
+    const Ray ray = primary_ray(c.camera, tan_half, width, height, static_cast<float>(c.x) + 0.5f,
+                                static_cast<float>(c.y) + 0.5f);
     if (primary == "raster") {
         ProbeSection vis{"primary_visibility",
                          "rasterized G-buffer: coverage in 1/256-px fixed point, attributes where "
@@ -255,7 +238,8 @@ void explain_basic(const ProbeContext& c, ProbeReport& report) {
         if (winner >= 0) {
             const SurfacePoint surface = surface_at(scene, winner, winning.u, winning.v);
             explain_surface(scene, surface, vis);
-            check(report, vis, "position", surface.position, gbuffer_surface(f, c.x, c.y).position);
+            check(report, vis, "position", surface.position,
+                  pixel_rgb(f, "gbuffer_world_position", c.x, c.y));
         }
         report.sections.push_back(vis);
         // The ray caster's answer, for comparison only: it is not what this G-buffer used.
@@ -274,35 +258,67 @@ void explain_basic(const ProbeContext& c, ProbeReport& report) {
         report.sections.push_back(caster);
     } else {
         ProbeSection vis{"primary_visibility", "one ray through the pixel centre (Lund §3.1)", {}};
-        Hit hit;
-        SurfacePoint traced;
-        explain_ray(scene, bvh, ray, "primary", vis, hit, traced);
-        vis.add("G-buffer primitive", probe_float(gbuffer_id));
-        if (hit.hit()) explain_surface(scene, traced, vis);
-        const bool same =
-            static_cast<float>(hit.primitive) == gbuffer_id &&
-            (!hit.hit() || same_bits(traced.position, gbuffer_surface(f, c.x, c.y).position));
+        vis.add("primary ray", "origin " + probe_vec3(ray.origin) + ", direction " +
+                                   probe_vec3(ray.direction) + ", t in (" + probe_float(ray.t_min) +
+                                   ", " + probe_float(ray.t_max) + ")");
+        // The pass's own per-pixel function, into a scratch G-buffer.
+        GBuffer scratch(width, height);
+        TraceStats stats;
+        const Hit hit = raycast_gbuffer_pixel(scratch, scene, bvh, c.camera, tan_half, c.camera,
+                                              tan_half, c.x, c.y, stats);
+        vis.add("traversal", std::to_string(stats.nodes_visited) + " nodes visited, " +
+                                 std::to_string(stats.triangles_tested) + " triangles tested");
+        if (!hit.hit()) {
+            vis.add("hit", "miss (background: ids -1, every other channel 0)");
+        } else {
+            vis.add("hit", "t " + probe_float(hit.t) + ", primitive " +
+                               std::to_string(hit.primitive) + ", barycentrics u " +
+                               probe_float(hit.u) + " v " + probe_float(hit.v) +
+                               " (closest; ties: lowest primitive id)");
+            explain_surface(scene, surface_at(scene, hit.primitive, hit.u, hit.v), vis);
+        }
+        // Every channel but motion (the scratch pass used this camera as the previous one).
+        bool same = true;
+        for (const auto& [name, image] :
+             {std::pair<const char*, const Image*>{"gbuffer_view_depth", &scratch.view_depth},
+              {"gbuffer_hit_distance", &scratch.hit_distance},
+              {"gbuffer_world_position", &scratch.world_position},
+              {"gbuffer_shading_normal", &scratch.shading_normal},
+              {"gbuffer_geometric_normal", &scratch.geometric_normal},
+              {"gbuffer_albedo", &scratch.albedo},
+              {"gbuffer_material_id", &scratch.material_id},
+              {"gbuffer_primitive_id", &scratch.primitive_id}}) {
+            const Image& rendered = f.find(name)->image;
+            for (int k = 0; k < image->channels; ++k) {
+                const float a = image->at(c.x, c.y, k), b = rendered.at(c.x, c.y, k);
+                same = same && std::memcmp(&a, &b, sizeof a) == 0;
+            }
+        }
         vis.add("check",
-                std::string("hit: ") + (same ? "same primitive and position as the G-buffer"
-                                             : "DIFFERS from the G-buffer"));
+                std::string("G-buffer pixel: ") + (same ? "bit-identical to the rendered buffers"
+                                                        : "DIFFERS from the rendered buffers"));
         if (!same) report.consistent = false;
         report.sections.push_back(vis);
     }
 
+    // Shading: the pass's own per-pixel function on the rendered G-buffer.
     ProbeSection shade{"shade_direct", "Lambert + one shadow ray per light sample (Gupta §2)", {}};
-    if (gbuffer_id < 0.0f) {
-        shade.add("pixel", "background: black, nothing shaded");
+    SurfacePoint surface;
+    ShadingStats unused;
+    if (!gbuffer_surface(scene, inputs, c.x, c.y, surface, unused)) {
+        shade.add("pixel", "background (or no valid material): black, nothing shaded");
         report.sections.push_back(shade);
         return;
     }
-    const SurfacePoint surface = gbuffer_surface(f, c.x, c.y);
     shade.add("inputs", "from the G-buffer: position " + probe_vec3(surface.position) +
                             ", shading normal " + probe_vec3(surface.shading_normal) + ", albedo " +
                             probe_vec3(surface.albedo));
-    const glm::vec3 l =
-        explain_shading(scene, scene.lights.empty() ? nullptr : &bvh, surface, c.camera.position,
-                        static_cast<std::uint32_t>(c.frame->frame),
-                        static_cast<std::uint32_t>(c.y * c.settings->width + c.x), 0, shade);
+    ShadingStats stats;
+    std::vector<LightSampleRecord> lights;
+    const glm::vec3 l = shade_basic_pixel(scene, scene.lights.empty() ? nullptr : &bvh, inputs,
+                                          c.camera, c.frame->frame, c.x, c.y, stats, &lights);
+    explain_shading(scene, surface, l, lights, static_cast<std::uint32_t>(c.frame->frame),
+                    static_cast<std::uint32_t>(c.y * width + c.x), 0, shade);
     check(report, shade, "radiance", l, pixel_rgb(f, "final", c.x, c.y));
     report.sections.push_back(shade);
 }
@@ -314,33 +330,26 @@ void explain_ground_truth(const ProbeContext& c, ProbeReport& report) {
                     "16 rays at Halton(2,3) points 1..16, each shaded like basic, box filter "
                     "(Lund §3.2)",
                     {}};
-    const auto points = halton23_points16();
-    const std::uint32_t dimensions = shading_dimensions(scene);
-    const auto pixel = static_cast<std::uint32_t>(c.y * c.settings->width + c.x);
+    TraceStats primary;
+    ShadingStats shading;
+    std::vector<GroundTruthSample> samples;
+    const glm::vec3 mean = ground_truth_pixel(
+        scene, bvh, c.camera, tan_half_vfov(c.camera), static_cast<std::uint32_t>(c.frame->frame),
+        c.settings->width, c.settings->height, c.x, c.y, primary, shading, &samples);
     glm::vec3 sum(0.0f);
-    for (int s = 0; s < ground_truth_samples; ++s) {
-        const Ray ray = primary_ray(c.camera, tan_half_vfov(c.camera), c.settings->width,
-                                    c.settings->height, static_cast<float>(c.x) + points[s].x,
-                                    static_cast<float>(c.y) + points[s].y);
-        TraceStats stats;
-        const Hit hit = trace_closest(bvh, ray, stats);
-        std::string text = "offset (" + probe_float(points[s].x) + ", " + probe_float(points[s].y) +
-                           "), direction " + probe_vec3(ray.direction);
-        if (!hit.hit()) {
+    for (std::size_t s = 0; s < samples.size(); ++s) {
+        const GroundTruthSample& g = samples[s];
+        std::string text = "offset (" + probe_float(g.offset.x) + ", " + probe_float(g.offset.y) +
+                           "), direction " + probe_vec3(g.direction);
+        if (!g.hit.hit()) {
             ss.add("sample " + std::to_string(s), text + " -> miss");
             continue;
         }
-        const SurfacePoint surface = surface_at(scene, hit.primitive, hit.u, hit.v);
-        ShadingStats shading;
-        const glm::vec3 l = shade_direct(scene, &bvh, surface, c.camera.position,
-                                         static_cast<std::uint32_t>(c.frame->frame), pixel,
-                                         dimensions * static_cast<std::uint32_t>(s), shading);
-        sum += l;
+        sum += g.radiance;
         ss.add("sample " + std::to_string(s),
-               text + " -> primitive " + std::to_string(hit.primitive) + " t " +
-                   probe_float(hit.t) + ", radiance " + probe_vec3(l));
+               text + " -> primitive " + std::to_string(g.hit.primitive) + " t " +
+                   probe_float(g.hit.t) + ", radiance " + probe_vec3(g.radiance));
     }
-    const glm::vec3 mean = sum * (1.0f / static_cast<float>(ground_truth_samples));
     ss.add("box filter", "sum " + probe_vec3(sum) + " x 1/16 = " + probe_vec3(mean));
     check(report, ss, "mean", mean, pixel_rgb(*c.frame, "final", c.x, c.y));
     report.sections.push_back(ss);

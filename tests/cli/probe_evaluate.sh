@@ -7,7 +7,7 @@ expect 0 "probe basic" -- "$FOVREF" probe --scene cornell --mode basic --width 6
 contains "[primary_visibility]" "ray section"
 contains "[shade_direct]" "shading section"
 contains "radiance: bit-identical to the rendered buffer" "probe agrees with the frame"
-contains "hit: same primitive and position as the G-buffer" "hit agrees with the G-buffer"
+contains "G-buffer pixel: bit-identical to the rendered buffers" "the pass's per-pixel function agrees with the G-buffer"
 contains "shade_direct -> final" "buffer values"
 expect 0 "probe raster primary on a textured scene" -- "$FOVREF" probe --scene checker-room --mode basic --param primary=raster --width 64 --height 36 --pixel 30,30
 contains "texel 3" "texels and weights"

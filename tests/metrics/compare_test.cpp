@@ -247,9 +247,10 @@ TEST_CASE("tolerance profiles: every entry has a reason; id limits from files an
         const ToleranceTable table = tolerance_profile(name);
         CAPTURE(name);
         CHECK_FALSE(table.fallback.reason.empty());
-        for (const auto& [buffer, tolerance] : table.buffers) {
+        for (const auto& entry : table.buffers) {
+            const std::string& buffer = entry.first;
             CAPTURE(buffer);
-            CHECK_FALSE(tolerance.reason.empty());
+            CHECK_FALSE(entry.second.reason.empty());
         }
     }
     CHECK(tolerance_profile("bit-exact").buffers.empty());

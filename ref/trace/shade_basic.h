@@ -1,0 +1,45 @@
+// The basic ray tracer's shading pass (Lund §3.1, `shade_direct` stage of mode `basic`): every
+// G-buffer pixel shaded with shade_direct (direct_light.h). One pass, one per-pixel function:
+//
+//   for each pixel (x, y), row by row:   shade_basic_pixel(x, y)
+//     gbuffer_surface: read the G-buffer channels (NaN/Inf -> 0, counted: SPEC §0);
+//                      background (primitive id < 0) stays black, an id that is not a valid
+//                      material index is treated as background (counted)
+//     shade_direct(frame, pixel index y W + x, dimension base 0)
+#pragma once
+
+#include "ref/bvh/bvh.h"
+#include "ref/image/image.h"
+#include "ref/scene/camera.h"
+#include "ref/scene/scene.h"
+#include "ref/trace/direct_light.h"
+#include "ref/trace/surface.h"
+
+namespace fovref {
+
+/// The G-buffer channels the shading pass reads (its named input buffers).
+struct ShadeInputs {
+    const Image& position;
+    const Image& shading_normal;
+    const Image& geometric_normal;
+    const Image& albedo;
+    const Image& material_id;
+    const Image& primitive_id;
+};
+
+/// Pixel (x, y) of the G-buffer as the pass reads it. False for background and for an invalid
+/// material id (then `surface` is unspecified); counts non-finite values and invalid ids.
+bool gbuffer_surface(const Scene& scene, const ShadeInputs& in, int x, int y, SurfacePoint& surface,
+                     ShadingStats& stats);
+
+/// Per-pixel work of the pass: the radiance of pixel (x, y) (black for background). `record`
+/// receives shade_direct's light samples (for `fovref probe`).
+glm::vec3 shade_basic_pixel(const Scene& scene, const Bvh* bvh, const ShadeInputs& in,
+                            const Camera& camera, int frame, int x, int y, ShadingStats& stats,
+                            std::vector<LightSampleRecord>* record = nullptr);
+
+/// The pass: an RGB image of the G-buffer's size. `bvh` may be null only without lights.
+Image shade_basic(const Scene& scene, const Bvh* bvh, const ShadeInputs& in, const Camera& camera,
+                  int frame, ShadingStats& stats);
+
+}  // namespace fovref
