@@ -30,7 +30,12 @@ Tolerance values(double abs, double rel, std::int64_t ulp, const std::string& re
 // Shared by both GPU profiles: what differs once the same primitive is seen. The values are
 // about 3x the largest differences measured between fovref and Mesa's llvmpipe (OpenGL 4.5,
 // tools/clients/osmesa_gbuffer.cpp) on the five procedural scenes at 1280x720 (docs/diff.md).
-void add_attributes(ToleranceTable& table, const std::string& how) {
+// `how` says where the GPU's attribute arithmetic differs, `id_reason` why its ids may differ
+// on edges; `id_buffers` are the id buffers the profile covers.
+ToleranceTable make_gpu_profile(const std::string& how, const std::string& id_reason,
+                                const std::vector<std::string>& id_buffers) {
+    ToleranceTable table;
+    for (const std::string& name : id_buffers) table.buffers[name] = ids(0.0025, id_reason);
     const std::string depth_reason =
         how +
         "; ill-conditioned where the surface is seen at a grazing angle (a relative change e of "
@@ -66,39 +71,30 @@ void add_attributes(ToleranceTable& table, const std::string& how) {
         values(1e-3, 1e-3, 0,
                "shading on the G-buffer above with the GPU's own sqrt, division and pow (not "
                "correctly rounded; not measured here: the OpenGL client shades nothing)");
+    table.fallback.reason = "bit-exact (no GPU tolerance declared for this buffer)";
+    return table;
 }
 
 ToleranceTable make_gpu_raster() {
-    ToleranceTable table;
-    const std::string id_reason =
+    return make_gpu_profile(
+        "perspective-correct interpolation of float attributes over the unsnapped triangle, in "
+        "the GPU's operation order",
         "a GPU rasterizer snaps its own float projection to the sub-pixel grid and clips "
         "differently (docs/raster.md): centres within ~1/256 px of an edge may change owner; "
         "measured up to 0.031% of the golden's edge pixels (llvmpipe, 1280x720), 0.25% allowed; "
-        "an interior mismatch is a bug";
-    table.buffers["gbuffer_primitive_id"] = ids(0.0025, id_reason);
-    table.buffers["gbuffer_material_id"] = ids(0.0025, id_reason);
-    table.buffers["splat_primitive"] = ids(0.0025, id_reason);
-    add_attributes(table,
-                   "perspective-correct interpolation of float attributes over the unsnapped "
-                   "triangle, in the GPU's operation order");
-    table.fallback.reason = "bit-exact (no GPU tolerance declared for this buffer)";
-    return table;
+        "an interior mismatch is a bug",
+        {"gbuffer_primitive_id", "gbuffer_material_id", "splat_primitive"});
 }
 
 ToleranceTable make_gpu_rt() {
-    ToleranceTable table;
-    const std::string id_reason =
+    return make_gpu_profile(
+        "the hit's t and barycentrics from the GPU's own ray-triangle arithmetic (another shear "
+        "or Moller-Trumbore, FMA)",
         "a GPU ray-triangle test (hardware or software) decides rays within ~1 ulp of a shared "
         "edge differently and need not be watertight; the same share as gpu-raster (0.25% of "
         "the golden's edge pixels; not measured against a GPU ray tracer here); an interior "
-        "mismatch is a bug";
-    table.buffers["gbuffer_primitive_id"] = ids(0.0025, id_reason);
-    table.buffers["gbuffer_material_id"] = ids(0.0025, id_reason);
-    add_attributes(table,
-                   "the hit's t and barycentrics from the GPU's own ray-triangle arithmetic "
-                   "(another shear or Moller-Trumbore, FMA)");
-    table.fallback.reason = "bit-exact (no GPU tolerance declared for this buffer)";
-    return table;
+        "mismatch is a bug",
+        {"gbuffer_primitive_id", "gbuffer_material_id"});
 }
 
 }  // namespace
