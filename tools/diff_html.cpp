@@ -3,7 +3,8 @@
 // Layout: a summary (pass/fail, the first failing stage highlighted and linked, the probe
 // command), a table of every buffer in pipeline order, then a section per compared buffer with
 // golden / candidate / error heatmap side by side, the figures, the worst pixels and the
-// ring-error plots. A small script only counts the images that decoded (for the headless test).
+// ring-error plots. A small script only counts the images that decoded and checks the plots'
+// layout (for the headless-browser tests).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -375,22 +376,25 @@ void write_diff_html(const DiffReport& report, const std::string& directory) {
         h += "</details></section>\n";
     }
     // A small script (not needed to read the report) counts the images that decoded and checks
-    // the layout of the plots shown (open sections): labels inside their plot, tick labels
-    // distinct. The headless-browser test reads both lines.
+    // the layout of every plot (sections opened for the measurement, then folded back): labels
+    // inside their plot, tick labels distinct. The headless-browser tests read both lines.
     h += "<p id=\"images-status\">images: <span id=\"images-loaded\">not counted (scripts off)"
          "</span>; plots: <span id=\"plot-check\">not checked (scripts off)</span></p>\n"
          "<script>addEventListener('load',function(){var i=document.images,n=0;"
          "for(var k=0;k<i.length;++k)if(i[k].complete&&i[k].naturalWidth>0)++n;"
          "document.getElementById('images-loaded').textContent=n+' of '+i.length+' decoded';"
+         "var d=document.querySelectorAll('details'),was=[];for(var k=0;k<d.length;++k)"
+         "{was.push(d[k].open);d[k].open=true;}"
          "var s=document.querySelectorAll('svg.plot'),labels=0,clipped=0,repeated=0;"
-         "var shown=0;for(var k=0;k<s.length;++k){var r=s[k].getBoundingClientRect();"
-         "if(r.width==0)continue;++shown;var t=s[k].querySelectorAll('text');for(var "
-         "j=0;j<t.length;++j){var b=t[j].getBoundingClientRect();++labels;"
+         "for(var k=0;k<s.length;++k){var r=s[k].getBoundingClientRect();"
+         "var t=s[k].querySelectorAll('text');"
+         "for(var j=0;j<t.length;++j){var b=t[j].getBoundingClientRect();++labels;"
          "if(b.left<r.left-0.5||b.right>r.right+0.5||b.top<r.top-0.5||b.bottom>r.bottom+0.5)"
          "++clipped;}['tick-x','tick-y'].forEach(function(c){var seen={},u=s[k]."
          "querySelectorAll('text.'+c);for(var j=0;j<u.length;++j){if(seen[u[j].textContent])"
          "++repeated;seen[u[j].textContent]=1;}});}"
-         "document.getElementById('plot-check').textContent=shown+' plots shown, '+labels+"
+         "for(var k=0;k<d.length;++k)d[k].open=was[k];"
+         "document.getElementById('plot-check').textContent=s.length+' plots, '+labels+"
          "' labels, '+clipped+' clipped, '+repeated+' repeated ticks';});"
          "</script>\n</body></html>\n";
 
