@@ -461,7 +461,8 @@ void add_diff_options(CLI::App& c, DiffOptions& o) {
                  "candidate is one file: the golden buffer it is compared with (default final)");
     c.add_option("--frame", o.frame, "compare only this frame")->check(CLI::Range(0, 1000000));
     c.add_option("--threshold", o.threshold,
-                 "absolute error counted as 'over threshold' (default: the tolerance's abs)");
+                 "count the pixels whose error exceeds this absolute value (default: count the "
+                 "pixels out of the buffer's tolerance)");
     c.add_option("--worst", o.worst, "worst pixels to list per buffer")
         ->check(CLI::Range(0, 1000))
         ->capture_default_str();

@@ -26,7 +26,7 @@ struct DiffOptions {
     std::string html_dir;
     std::string buffer;     ///< candidate is one file: the golden buffer it is (default final)
     int frame = -1;         ///< only this frame (default: all)
-    double threshold = -1;  ///< "pixels over threshold" (default: the tolerance's abs)
+    double threshold = -1;  ///< "pixels over threshold" (< 0: count the pixels out of tolerance)
     int worst = 5;
     // Raw binary32 candidates (.raw, .bin, .f32): the golden buffer's shape unless given.
     std::string raw_size;  ///< WxH or WxHxC
