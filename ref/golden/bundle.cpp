@@ -6,11 +6,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <system_error>
 
 #include "ref/core/error.h"
 #include "ref/image/image_io.h"
+#include "ref/scene/json_locator.h"
 #include "ref/scene/procedural.h"
 #include "ref/scene/scene_file.h"
 
@@ -52,36 +55,80 @@ json case_to_json(const GoldenCase& c) {
     return j;
 }
 
-GoldenCase case_from_json(const json& j, const std::string& where) {
-    auto fail = [&](const std::string& message) { return Error(where + ": " + message); };
-    if (!j.is_object()) throw fail("a case must be a JSON object");
+// A case object at `pointer` of `path` (golden/cases.json or a manifest); errors name the file,
+// the line (from `locator`) and the key.
+GoldenCase case_from_json(const json& j, const std::string& path, const std::string& pointer,
+                          const JsonLocator& locator) {
+    auto fail = [&](const std::string& at, const std::string& message) {
+        return file_error(path, locator.find(at).key_line,
+                          (pointer.empty() ? std::string("case") : pointer) + ": " + message);
+    };
+    if (!j.is_object()) throw fail(pointer, "a case must be a JSON object");
     static const char* known[] = {"name",   "description", "scene",      "mode",      "width",
                                   "height", "frames",      "time_start", "time_step", "params"};
     for (const auto& item : j.items()) {
         bool ok = false;
         for (const char* k : known) ok = ok || item.key() == k;
-        if (!ok) throw fail("unknown key '" + item.key() + "'");
+        if (!ok)
+            throw fail(json_pointer_member(pointer, item.key()),
+                       "unknown key '" + item.key() + "'");
     }
+    auto value = [&](const char* key, bool required) -> const json* {
+        const auto it = j.find(key);
+        if (it == j.end()) {
+            if (required) throw fail(pointer, std::string("missing key '") + key + "'");
+            return nullptr;
+        }
+        return &*it;
+    };
+    auto text = [&](const char* key, bool required) {
+        const json* v = value(key, required);
+        if (!v) return std::string();
+        if (!v->is_string())
+            throw fail(json_pointer_member(pointer, key),
+                       std::string("'") + key + "' must be a string, got " + v->type_name());
+        return v->get<std::string>();
+    };
+    auto integer = [&](const char* key, bool required, int fallback) {
+        const json* v = value(key, required);
+        if (!v) return fallback;
+        if (!v->is_number_integer() ||
+            (v->is_number_unsigned() && v->get<std::uint64_t>() > 1u << 30) ||
+            v->get<std::int64_t>() < -(1 << 30) || v->get<std::int64_t>() > (1 << 30))
+            throw fail(
+                json_pointer_member(pointer, key),
+                std::string("'") + key + "' must be an integer in [-2^30, 2^30], got " + v->dump());
+        return static_cast<int>(v->get<std::int64_t>());
+    };
+    auto number = [&](const char* key, float fallback) {
+        const json* v = value(key, false);
+        if (!v) return fallback;
+        if (!v->is_number())
+            throw fail(json_pointer_member(pointer, key),
+                       std::string("'") + key + "' must be a number, got " + v->type_name());
+        return static_cast<float>(v->get<double>());
+    };
     GoldenCase c;
-    try {
-        c.name = j.at("name").get<std::string>();
-        c.description = j.value("description", std::string());
-        c.scene = j.value("scene", std::string());
-        c.mode = j.at("mode").get<std::string>();
-        c.width = j.at("width").get<int>();
-        c.height = j.at("height").get<int>();
-        c.frames = j.value("frames", 1);
-        c.time_start = j.value("time_start", 0.0f);
-        c.time_step = j.value("time_step", 1.0f / 30);
-        if (j.contains("params"))
-            for (const auto& item : j.at("params").items())
-                c.params.set(item.key(), item.value().is_string() ? item.value().get<std::string>()
-                                                                  : item.value().dump());
-    } catch (const json::exception& e) {
-        throw fail(std::string("bad case: ") + e.what());
+    c.name = text("name", true);
+    c.description = text("description", false);
+    c.scene = text("scene", false);
+    c.mode = text("mode", true);
+    c.width = integer("width", true, 0);
+    c.height = integer("height", true, 0);
+    c.frames = integer("frames", false, 1);
+    c.time_start = number("time_start", 0.0f);
+    c.time_step = number("time_step", 1.0f / 30);
+    if (const json* params = value("params", false)) {
+        if (!params->is_object())
+            throw fail(json_pointer_member(pointer, "params"), "'params' must be an object");
+        for (const auto& item : params->items())
+            c.params.set(item.key(), item.value().is_string() ? item.value().get<std::string>()
+                                                              : item.value().dump());
     }
+    auto where_fail = [&](const std::string& message) { return fail(pointer, message); };
     if (c.name.empty() || c.name.find_first_of("/\\. ") != std::string::npos)
-        throw fail("case name '" + c.name + "' must be non-empty without '/', '\\', '.' or spaces");
+        throw where_fail("case name '" + c.name +
+                         "' must be non-empty without '/', '\\', '.' or spaces");
     return c;
 }
 
@@ -89,18 +136,14 @@ GoldenCase case_from_json(const json& j, const std::string& where) {
 
 std::vector<GoldenCase> load_golden_cases(const std::string& path) {
     const std::string text = read_file(path);
-    json document;
-    try {
-        document = json::parse(text);
-    } catch (const json::parse_error& e) {
-        throw Error(path + ": " + e.what());
-    }
+    json document = parse_json_document<json>(text, path);
+    const JsonLocator locator(text, path);
     if (!document.is_object() || !document.contains("cases") || !document["cases"].is_array())
         throw Error(path + ": expected an object with a \"cases\" array");
     std::vector<GoldenCase> cases;
     for (std::size_t k = 0; k < document["cases"].size(); ++k) {
         GoldenCase c =
-            case_from_json(document["cases"][k], path + ": cases[" + std::to_string(k) + "]");
+            case_from_json(document["cases"][k], path, json_pointer_element("/cases", k), locator);
         for (const GoldenCase& other : cases)
             if (other.name == c.name)
                 throw Error(path + ": case '" + c.name + "' is defined twice");
@@ -204,7 +247,7 @@ bool is_bundle_directory(const fs::path& directory) {
     const fs::path manifest = directory / "manifest.json";
     if (!fs::is_regular_file(manifest, ec)) return false;
     try {
-        const json j = json::parse(read_file(manifest.string()));
+        const json j = parse_json_document<json>(read_file(manifest.string()), manifest.string());
         return j.is_object() && j.value("format", "") == bundle_format;
     } catch (const std::exception&) {
         return false;
@@ -364,43 +407,149 @@ void write_bundle(const std::string& directory, const GoldenCase& golden_case,
 
 // ---- Reading and comparing ---------------------------------------------------------------------
 
+namespace {
+
+// Typed access to a manifest's members: a missing or mistyped member is an error naming the
+// file, the line of the key and the key's JSON pointer (never nlohmann's bare type_error).
+class ManifestFields {
+public:
+    ManifestFields(const std::string& text, std::string path)
+        : path_(std::move(path)),
+          root_(parse_json_document<json>(text, path_)),
+          locator_(text, path_) {}
+
+    const json& root() const { return root_; }
+    const JsonLocator& locator() const { return locator_; }
+
+    [[noreturn]] void fail(const std::string& pointer, const std::string& message) const {
+        throw file_error(
+            path_, locator_.find(pointer).key_line,
+            "malformed manifest: " + (pointer.empty() ? "the document" : pointer) + ": " + message);
+    }
+
+    const json& member(const json& object, const std::string& pointer,
+                       const std::string& key) const {
+        if (!object.is_object())
+            fail(pointer, std::string("expected an object, got ") + object.type_name());
+        const auto it = object.find(key);
+        if (it == object.end()) fail(pointer, "missing key \"" + key + "\"");
+        return *it;
+    }
+    bool has(const json& object, const std::string& key) const {
+        return object.is_object() && object.contains(key);
+    }
+    const json& array(const json& object, const std::string& pointer,
+                      const std::string& key) const {
+        const json& v = member(object, pointer, key);
+        if (!v.is_array())
+            fail(at(pointer, key), std::string("expected an array, got ") + v.type_name());
+        return v;
+    }
+    std::string string(const json& object, const std::string& pointer, const std::string& key,
+                       const char* fallback = nullptr) const {
+        if (fallback && !has(object, key)) return fallback;
+        const json& v = member(object, pointer, key);
+        if (!v.is_string())
+            fail(at(pointer, key), std::string("expected a string, got ") + v.type_name());
+        return v.get<std::string>();
+    }
+    std::int64_t integer(const json& object, const std::string& pointer, const std::string& key,
+                         std::int64_t min, std::int64_t max,
+                         std::optional<std::int64_t> fallback = std::nullopt) const {
+        if (fallback && !has(object, key)) return *fallback;
+        const json& v = member(object, pointer, key);
+        if (!v.is_number_integer())
+            fail(at(pointer, key), std::string("expected an integer, got ") + v.type_name());
+        // Compare as the stored type: a value beyond int64 is an unsigned JSON number.
+        if (v.is_number_unsigned() ? v.get<std::uint64_t>() > static_cast<std::uint64_t>(max)
+                                   : (v.get<std::int64_t>() < min || v.get<std::int64_t>() > max))
+            fail(at(pointer, key), "integer " + v.dump() + " outside [" + std::to_string(min) +
+                                       ", " + std::to_string(max) + "]");
+        return v.get<std::int64_t>();
+    }
+    float number(const json& object, const std::string& pointer, const std::string& key,
+                 float fallback) const {
+        if (!has(object, key)) return fallback;
+        const json& v = member(object, pointer, key);
+        if (!v.is_number())
+            fail(at(pointer, key), std::string("expected a number, got ") + v.type_name());
+        return static_cast<float>(v.get<double>());
+    }
+    std::vector<std::string> strings(const json& object, const std::string& pointer,
+                                     const std::string& key) const {
+        std::vector<std::string> out;
+        if (!has(object, key)) return out;
+        const json& v = array(object, pointer, key);
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            if (!v[i].is_string())
+                fail(json_pointer_element(at(pointer, key), i),
+                     std::string("expected a string, got ") + v[i].type_name());
+            out.push_back(v[i].get<std::string>());
+        }
+        return out;
+    }
+    static std::string at(const std::string& pointer, const std::string& key) {
+        return json_pointer_member(pointer, key);
+    }
+
+private:
+    std::string path_;
+    json root_;
+    JsonLocator locator_;
+};
+
+}  // namespace
+
 Manifest read_manifest(const std::string& directory) {
     const std::string path = (fs::path(directory) / "manifest.json").string();
-    const std::string text = read_file(path);
+    const ManifestFields f(read_file(path), path);
+    const json& j = f.root();
+    constexpr std::int64_t max_int = std::numeric_limits<int>::max();
     Manifest m;
-    try {
-        json j = json::parse(text);
-        m.golden_case = case_from_json(j.at("case"), path + ": case");
-        m.fovref_version = j.value("fovref_version", "");
-        m.compiler = j.value("compiler", "");
-        m.flags = j.value("flags", "");
-        for (const json& jf : j.at("frames")) {
-            const int frame = jf.at("frame").get<int>();
-            m.display_distance_px.push_back(jf.value("display_distance_px", 0.0f));
-            for (const json& jb : jf.at("buffers")) {
-                ManifestBuffer b;
-                b.frame = frame;
-                b.name = jb.at("name").get<std::string>();
-                b.kind = jb.value("kind", "scalar");
-                b.stage = jb.value("stage", "");
-                b.width = jb.at("width").get<int>();
-                b.height = jb.at("height").get<int>();
-                b.channels = jb.at("channels").get<int>();
-                b.channel_names = jb.value("channel_names", std::vector<std::string>());
-                b.sha256 = jb.at("sha256").get<std::string>();
-                b.file = jb.at("file").is_null() ? "" : jb.at("file").get<std::string>();
-                b.block_rows = jb.value("block_rows", 0);
-                b.block_sha256 = jb.value("block_sha256", std::vector<std::string>());
-                m.buffers.push_back(std::move(b));
-            }
-            Counters counters;
-            if (jf.contains("counters"))
-                for (const auto& item : jf.at("counters").items())
-                    counters.add(item.key(), item.value().get<std::int64_t>());
-            m.frame_counters.push_back(counters);
+    if (!j.is_object()) f.fail("", "expected a JSON object");
+    m.golden_case = case_from_json(f.member(j, "", "case"), path, "/case", f.locator());
+    m.fovref_version = f.string(j, "", "fovref_version", "");
+    m.compiler = f.string(j, "", "compiler", "");
+    m.flags = f.string(j, "", "flags", "");
+    const json& frames = f.array(j, "", "frames");
+    for (std::size_t i = 0; i < frames.size(); ++i) {
+        const json& jf = frames[i];
+        const std::string fp = json_pointer_element("/frames", i);
+        const int frame = static_cast<int>(f.integer(jf, fp, "frame", 0, max_int));
+        m.display_distance_px.push_back(f.number(jf, fp, "display_distance_px", 0.0f));
+        const json& buffers = f.array(jf, fp, "buffers");
+        for (std::size_t k = 0; k < buffers.size(); ++k) {
+            const json& jb = buffers[k];
+            const std::string bp = json_pointer_element(ManifestFields::at(fp, "buffers"), k);
+            ManifestBuffer b;
+            b.frame = frame;
+            b.name = f.string(jb, bp, "name");
+            b.kind = f.string(jb, bp, "kind", "scalar");
+            b.stage = f.string(jb, bp, "stage", "");
+            b.width = static_cast<int>(f.integer(jb, bp, "width", 1, max_int));
+            b.height = static_cast<int>(f.integer(jb, bp, "height", 1, max_int));
+            b.channels = static_cast<int>(f.integer(jb, bp, "channels", 1, 1024));
+            b.channel_names = f.strings(jb, bp, "channel_names");
+            b.sha256 = f.string(jb, bp, "sha256");
+            const json& file = f.member(jb, bp, "file");
+            b.file = file.is_null() ? "" : f.string(jb, bp, "file");
+            b.block_rows = static_cast<int>(f.integer(jb, bp, "block_rows", 0, max_int, 0));
+            b.block_sha256 = f.strings(jb, bp, "block_sha256");
+            m.buffers.push_back(std::move(b));
         }
-    } catch (const json::exception& e) {
-        throw Error(path + ": malformed manifest: " + e.what());
+        Counters counters;
+        if (f.has(jf, "counters")) {
+            const json& jc = f.member(jf, fp, "counters");
+            if (!jc.is_object())
+                f.fail(ManifestFields::at(fp, "counters"),
+                       std::string("expected an object, got ") + jc.type_name());
+            for (const auto& item : jc.items())
+                counters.add(item.key(),
+                             f.integer(jc, ManifestFields::at(fp, "counters"), item.key(),
+                                       std::numeric_limits<std::int64_t>::min(),
+                                       std::numeric_limits<std::int64_t>::max()));
+        }
+        m.frame_counters.push_back(counters);
     }
     return m;
 }

@@ -61,14 +61,7 @@ ToleranceTable read_tolerance_file(const std::string& path) {
 
 void read_tolerance_file(const std::string& path, ToleranceTable& table) {
     const std::string text = read_file(path);
-    json document;
-    try {
-        document = json::parse(text);
-    } catch (const json::parse_error& e) {
-        int line = 0, column = 0;
-        json_line_column(text, e.byte > 0 ? e.byte - 1 : 0, line, column);
-        throw file_error(path, line, "not valid JSON (column " + std::to_string(column) + ")");
-    }
+    const json document = parse_json_document<json>(text, path);
     const JsonLocator locator(text, path);
     if (!document.is_object())
         throw file_error(path, 1, "expected an object mapping buffer names to tolerances");

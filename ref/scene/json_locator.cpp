@@ -40,6 +40,35 @@ void json_line_column(const std::string& text, std::size_t offset, int& line, in
     column = static_cast<int>(offset - line_start) + 1;
 }
 
+Error json_syntax_error(const std::string& file, int line, int column,
+                                     const std::string& message) {
+    if (line <= 0) return Error(file + ": JSON syntax error: " + message);
+    return Error(file + ":" + std::to_string(line) + ":" + std::to_string(column) +
+                 ": JSON syntax error: " + message);
+}
+
+void check_json_nesting(const std::string& text, const std::string& file, int max_depth) {
+    int depth = 0, line = 1;
+    bool in_string = false;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (c == '\n') ++line;
+        if (in_string) {
+            if (c == '\\')
+                ++i;  // the escaped character cannot end the string
+            else if (c == '"')
+                in_string = false;
+        } else if (c == '"') {
+            in_string = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > max_depth)
+                throw file_error(file, line, "JSON nested deeper than " + std::to_string(max_depth));
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
+}
+
 namespace {
 
 // Walk the JSON text (RFC 8259 grammar) recording each value's pointer and lines.

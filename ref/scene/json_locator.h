@@ -16,6 +16,8 @@
 #include <map>
 #include <string>
 
+#include "ref/core/error.h"
+
 namespace fovref {
 
 struct JsonLocation {
@@ -23,6 +25,9 @@ struct JsonLocation {
     int value_line = 0;            ///< line of the value's first character
     std::size_t value_offset = 0;  ///< byte offset of the value's first character
 };
+
+/// "file:line:column: JSON syntax error: message" (line 0: no position).
+Error json_syntax_error(const std::string& file, int line, int column, const std::string& message);
 
 class JsonLocator {
 public:
@@ -56,5 +61,32 @@ std::string json_pointer_element(const std::string& pointer, std::size_t index);
 /// 1-based line and column of byte `offset` (0-based) in `text`; offsets past the end point at
 /// the last character.
 void json_line_column(const std::string& text, std::size_t offset, int& line, int& column);
+
+/// Throws fovref::Error naming `file` and the line when arrays and objects in `text` nest deeper
+/// than `max_depth` (strings skipped, escapes honoured). Every JSON reader calls it before
+/// parsing, so hostile nesting is refused in linear time and constant stack.
+void check_json_nesting(const std::string& text, const std::string& file,
+                        int max_depth = JsonLocator::max_depth);
+
+/// check_json_nesting, then Json::parse (nlohmann::json or ordered_json), with a syntax error
+/// turned into fovref::Error "file:line:column: JSON syntax error: ..." and a number beyond
+/// binary64 into "file:line: number ... is out of range".
+template <class Json>
+Json parse_json_document(const std::string& text, const std::string& file) {
+    check_json_nesting(text, file);
+    try {
+        return Json::parse(text);
+    } catch (const typename Json::parse_error& e) {
+        int line = 0, column = 0;
+        json_line_column(text, e.byte > 0 ? e.byte - 1 : 0, line, column);
+        std::string message = e.what();
+        const std::size_t detail = message.find(": ", message.find("column"));
+        if (detail != std::string::npos) message = message.substr(detail + 2);
+        throw json_syntax_error(file, line, column, message);
+    } catch (const typename Json::exception& e) {
+        JsonLocator locate(text, file);  // throws the located error (a number out of range)
+        throw json_syntax_error(file, 0, 0, e.what());
+    }
+}
 
 }  // namespace fovref

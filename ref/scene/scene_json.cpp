@@ -116,9 +116,15 @@ public:
         const float via_double = static_cast<float>(value.get<double>());
         float result = via_double;
         if (locator_.number_as_float(pointer, result) && std::isfinite(via_double)) {
-            const auto a = std::bit_cast<std::int32_t>(result),
-                       b = std::bit_cast<std::int32_t>(via_double);
-            FOVREF_CHECK(a - b <= 1 && b - a <= 1,
+            // Distance in the binary32 ordering, in 64 bits: -0 and +0 are 0 apart (the
+            // integer -0 reads as +0 through nlohmann, as -0 from the text).
+            auto ordered = [](float x) {
+                const auto bits = std::bit_cast<std::uint32_t>(x);
+                return (bits & 0x80000000u) ? -static_cast<std::int64_t>(bits & 0x7fffffffu)
+                                            : static_cast<std::int64_t>(bits);
+            };
+            const std::int64_t distance = ordered(result) - ordered(via_double);
+            FOVREF_CHECK(distance <= 1 && distance >= -1,
                          "JSON number at " + pointer + " read inconsistently");
         }
         if (!std::isfinite(result)) fail(pointer, "number is not a finite binary32 value");
@@ -475,22 +481,8 @@ Scene load_scene_file(const std::string& path) {
     if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": scene file not found");
     const std::string text = read_file(path);
 
-    // Syntax: nlohmann reports the byte offset; we turn it into line:column.
-    json document;
-    try {
-        document = json::parse(text);
-    } catch (const json::parse_error& e) {
-        int line = 0, column = 0;
-        json_line_column(text, e.byte > 0 ? e.byte - 1 : 0, line, column);
-        std::string message = e.what();
-        const std::size_t detail = message.find(": ", message.find("column"));
-        if (detail != std::string::npos) message = message.substr(detail + 2);
-        throw Error(path + ":" + std::to_string(line) + ":" + std::to_string(column) +
-                    ": JSON syntax error: " + message);
-    } catch (const json::exception& e) {
-        JsonLocator locate(text, path);  // throws the located error (number overflow)
-        throw Error(path + ": " + e.what());
-    }
+    // Nesting, syntax (nlohmann's byte offset turned into line:column), numbers out of range.
+    const json document = parse_json_document<json>(text, path);
     const SceneJson doc(path, text);  // duplicate keys are reported here
     doc.expect_keys(document, "",
                     {"version", "name", "description", "meshes", "materials", "lights", "camera",

@@ -5,10 +5,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include "ref/core/error.h"
 #include "ref/golden/bundle.h"
 #include "ref/image/image_io.h"
+#include "ref/scene/json_locator.h"
 
 using namespace fovref;
 namespace fs = std::filesystem;
@@ -228,4 +231,55 @@ TEST_CASE("golden cases file: good and bad definitions") {
     CHECK_THROWS_WITH_AS(load_golden_cases(file.string()), doctest::Contains("cases.json"), Error);
     CHECK_THROWS_WITH_AS(load_golden_cases((tmp.path / "missing.json").string()),
                          doctest::Contains("missing.json"), Error);
+}
+
+TEST_CASE(
+    "hostile JSON: deep nesting is refused before parsing; mistyped keys name file, line, key") {
+    // A 100000-deep document used to reach nlohmann's parser (and its recursion) in the bundle
+    // code; every JSON reader now refuses nesting beyond 256 first, with the file and line.
+    TempDir tmp;
+    const std::string deep =
+        "{\"a\":\n" + std::string(100000, '[') + std::string(100000, ']') + "}";
+    const fs::path bundle = tmp.path / "bundle";
+    fs::create_directories(bundle);
+    write_text(bundle / "manifest.json", deep);
+    CHECK_THROWS_WITH_AS(read_manifest(bundle.string()),
+                         doctest::Contains("manifest.json:2: JSON nested deeper than 256"), Error);
+    write_text(tmp.path / "cases.json", deep);
+    CHECK_THROWS_WITH_AS(load_golden_cases((tmp.path / "cases.json").string()),
+                         doctest::Contains("cases.json:2: JSON nested deeper than 256"), Error);
+    // A bundle directory with such a manifest is not a bundle: never overwritten.
+    const std::vector<FrameResult> frames = render(nullptr, "rng", case_settings(rng_case(), {}));
+    CHECK_THROWS_WITH_AS(write_bundle(bundle.string(), rng_case(), frames, {}),
+                         doctest::Contains("not a fovref bundle"), Error);
+    // Brackets inside strings do not count; 256 levels are fine.
+    write_text(tmp.path / "cases.json",
+               "{\"cases\": [{\"name\": \"x\", \"description\": \"" + std::string(300, '[') +
+                   "\\\"]]\", \"mode\": \"rng\", \"width\": 8, \"height\": 4}]}");
+    CHECK(load_golden_cases((tmp.path / "cases.json").string()).size() == 1);
+    CHECK_NOTHROW(check_json_nesting(std::string(256, '[') + std::string(256, ']'), "f"));
+    CHECK_THROWS_AS(check_json_nesting(std::string(257, '[') + std::string(257, ']'), "f"), Error);
+
+    // Mistyped members: the file, the key's line and its JSON pointer, in words.
+    write_bundle(bundle.string() + "2", rng_case(), frames, {});
+    const fs::path manifest = fs::path(bundle.string() + "2") / "manifest.json";
+    std::ifstream in(manifest);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t at = text.find("\"name\": \"rng\"");
+    REQUIRE(at != std::string::npos);
+    text.replace(at, 13, "\"name\": 17");
+    write_text(manifest, text);
+    int line = 1;
+    for (std::size_t i = 0; i < at; ++i) line += text[i] == '\n';
+    const std::string expected = "manifest.json:" + std::to_string(line) +
+                                 ": malformed manifest: /frames/0/buffers/0/name: "
+                                 "expected a string, got number";
+    CHECK_THROWS_WITH_AS(read_manifest(bundle.string() + "2"), doctest::Contains(expected.c_str()),
+                         Error);
+    write_text(
+        tmp.path / "cases.json",
+        "{\"cases\": [\n{\"name\": \"a\", \"mode\": \"rng\",\n \"width\": \"8\", \"height\": 4}]}");
+    CHECK_THROWS_WITH_AS(load_golden_cases((tmp.path / "cases.json").string()),
+                         doctest::Contains("cases.json:3: /cases/0: 'width' must be an integer"),
+                         Error);
 }

@@ -854,3 +854,17 @@ TEST_CASE("scene JSON numbers are rounded to binary32 once, from the text") {
     CHECK(scene.camera.position.z == std::nextafter(1.0f, 2.0f));
     std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("scene JSON: the integer -0 is read as -0.0f (no overflow in the rounding check)") {
+    // nlohmann reads the integer -0 as +0, the text's own rounding gives -0.0f: their distance
+    // in the binary32 ordering is 0. (The check used to subtract the bit patterns as int32,
+    // which overflows for -0.0f: undefined behaviour, an UBSan abort.)
+    TempDir dir("minus_zero");
+    dir.write("tri.obj", triangle_obj);
+    std::string scene = minimal_scene();
+    scene.replace(scene.find("[0, 0, 5]"), 9, "[0, -0, 5]");
+    const Scene loaded = load_scene_file(dir.write("scene.json", scene));
+    CHECK(loaded.camera.position.y == 0.0f);
+    CHECK(std::signbit(loaded.camera.position.y));
+    CHECK(loaded.camera.position.z == 5.0f);
+}
