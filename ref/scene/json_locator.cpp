@@ -40,8 +40,7 @@ void json_line_column(const std::string& text, std::size_t offset, int& line, in
     column = static_cast<int>(offset - line_start) + 1;
 }
 
-Error json_syntax_error(const std::string& file, int line, int column,
-                                     const std::string& message) {
+Error json_syntax_error(const std::string& file, int line, int column, const std::string& message) {
     if (line <= 0) return Error(file + ": JSON syntax error: " + message);
     return Error(file + ":" + std::to_string(line) + ":" + std::to_string(column) +
                  ": JSON syntax error: " + message);
@@ -62,7 +61,8 @@ void check_json_nesting(const std::string& text, const std::string& file, int ma
             in_string = true;
         } else if (c == '[' || c == '{') {
             if (++depth > max_depth)
-                throw file_error(file, line, "JSON nested deeper than " + std::to_string(max_depth));
+                throw file_error(file, line,
+                                 "JSON nested deeper than " + std::to_string(max_depth));
         } else if (c == ']' || c == '}') {
             --depth;
         }
