@@ -588,6 +588,11 @@ std::string closest_buffer_file(const std::string& file, const Manifest& manifes
 }  // namespace
 
 int run_diff(const DiffOptions& o) {
+    if (o.flip && o.distance_px > 0.0f) {
+        char text[48];
+        std::snprintf(text, sizeof text, "--distance-px %g", static_cast<double>(o.distance_px));
+        check_flip_viewing_distance(o.distance_px, text);
+    }
     ToleranceTable tolerances = tolerance_profile(o.profile);
     if (!o.tolerance_file.empty()) read_tolerance_file(o.tolerance_file, tolerances);
     for (const std::string& t : o.tolerances) parse_tolerance_option(t, tolerances);

@@ -5,6 +5,7 @@
 // golden / candidate / error heatmap side by side, the figures, the worst pixels and the
 // ring-error plots. A small script only counts the images that decoded and checks the plots'
 // layout (for the headless-browser tests).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -50,19 +51,24 @@ BufferKind kind_from_name(const std::string& kind) {
 constexpr std::size_t max_preview_pixels = 1u << 20;
 
 Image downscale(const Image& image) {
-    int factor = 1;
-    while (image.pixel_count() / (static_cast<std::size_t>(factor) * factor) > max_preview_pixels)
-        ++factor;
+    std::size_t factor = 1;
+    while (image.pixel_count() / (factor * factor) > max_preview_pixels) ++factor;
     if (factor == 1) return image;
-    Image out(image.width / factor, image.height / factor, image.channels);
+    // ceil(W / f) x ceil(H / f): a side shorter than f keeps one pixel (a 1048577 x 1 image
+    // used to round to 0 rows); edge boxes average the pixels they have.
+    const auto f = static_cast<int>(factor);
+    Image out((image.width + f - 1) / f, (image.height + f - 1) / f, image.channels);
     for (int y = 0; y < out.height; ++y)
         for (int x = 0; x < out.width; ++x)
             for (int c = 0; c < image.channels; ++c) {
                 double sum = 0;
-                for (int j = 0; j < factor; ++j)
-                    for (int i = 0; i < factor; ++i)
-                        sum += image.at(x * factor + i, y * factor + j, c);
-                out.at(x, y, c) = static_cast<float>(sum / (factor * factor));
+                int count = 0;
+                for (int j = y * f; j < std::min(image.height, (y + 1) * f); ++j)
+                    for (int i = x * f; i < std::min(image.width, (x + 1) * f); ++i) {
+                        sum += image.at(i, j, c);
+                        ++count;
+                    }
+                out.at(x, y, c) = static_cast<float>(sum / count);
             }
     return out;
 }

@@ -189,6 +189,9 @@ int run_evaluate(const EvaluateOptions& o) {
     const glm::vec2 gaze = parse_gaze(o.gaze, o.width, o.height);
     const float distance = display_distance_px(scene.display, o.width, o.height,
                                                camera_at(scene, o.time_start).vfov_deg);
+    if (o.flip)
+        check_flip_viewing_distance(distance, "the scene's display model (viewing distance " +
+                                                  std::to_string(distance) + " px)");
     const RingLayout layout = ring_layout(o.width, o.height, gaze, distance, ring_settings);
     auto space = [&](const Image& image) { return o.linear ? image : to_display(image); };
 

@@ -603,7 +603,9 @@ int main(int argc, char** argv) {
     Options o;
     CLI::App app{
         "fovref: deterministic reference renderer for foveated ray and path tracing.\n"
-        "Exit codes: 0 ok, 1 a check failed, 2 usage or input error."};
+        "Exit codes: 0 ok, 1 a check failed, 2 usage or input error.\n"
+        "Input limits (file size, image pixels, rays; raise them with FOVREF_MAX_* environment "
+        "variables): docs/limits.md."};
     app.set_version_flag("--version", "fovref " + fovref_version());
     app.add_flag("-q,--quiet", o.quiet, "print only errors and failures, no progress bar");
     app.require_subcommand(1);

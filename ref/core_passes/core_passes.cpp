@@ -1,7 +1,9 @@
 #include "ref/core_passes/core_passes.h"
 
 #include <cmath>
+#include <limits>
 
+#include "ref/core/error.h"
 #include "ref/core/halton.h"
 #include "ref/core/rng.h"
 
@@ -104,6 +106,14 @@ Image headlight_shade(const Image& albedo, const Image& normal, const Image& pri
 }
 
 GeometryBuffers scene_geometry(const Scene& scene) {
+    // One row per triangle: a scene without triangles has no rows, and a 0-row buffer can be
+    // written in no image format: said here, not by a writer deep inside the bundle code.
+    if (scene.triangle_count() == 0)
+        throw Error("mode geometry: scene '" + scene.name +
+                    "' has no triangles, so there are no rows to write (every triangle is one "
+                    "row of the geometry buffers)");
+    if (scene.triangle_count() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+        throw Error("mode geometry: scene '" + scene.name + "' has too many triangles");
     const int triangles = static_cast<int>(scene.triangle_count());
     GeometryBuffers out;
     out.positions = Image(3, triangles, 3);

@@ -20,6 +20,8 @@
 #include <ImfOutputFile.h>
 #include <ImfThreading.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <algorithm>
 #include <array>
@@ -38,6 +40,7 @@
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
+#include "ref/core/limits.h"
 
 namespace fovref {
 
@@ -108,27 +111,89 @@ std::string lower_extension(const std::string& path) {
 // ---- Whole files -------------------------------------------------------------------------------
 
 std::string read_file(const std::string& path) {
-    std::FILE* file = std::fopen(path.c_str(), "rb");
-    if (!file) throw io_error(path, "cannot open: " + errno_text(errno));
+    // POSIX open + fstat: the kind and size of what is opened decide how it is read, before any
+    // allocation. A regular file is read whole after its size is checked against the limit; a
+    // pipe (e.g. `<(...)`) is read up to the limit; a device (/dev/zero: unbounded) or a
+    // directory is refused.
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw io_error(path, "cannot open: " + errno_text(errno));
+    struct FdCloser {
+        int fd;
+        ~FdCloser() { ::close(fd); }
+    } closer{fd};
+    struct stat info {};
+    if (::fstat(fd, &info) != 0) throw io_error(path, "cannot stat: " + errno_text(errno));
+    const std::uint64_t limit = input_limits().max_file_bytes;
+    if (S_ISDIR(info.st_mode)) throw io_error(path, "is a directory, not a file");
+    if (S_ISCHR(info.st_mode) || S_ISBLK(info.st_mode))
+        throw io_error(path, "is a device, not a file (refused: a device can be unbounded)");
+    const bool regular = S_ISREG(info.st_mode);
+    if (regular)
+        check_limit(path, static_cast<std::uint64_t>(info.st_size), limit, "bytes",
+                    "FOVREF_MAX_FILE_BYTES");
     std::string bytes;
+    if (regular) bytes.reserve(static_cast<std::size_t>(info.st_size));
     std::array<char, 1 << 16> buffer;
     while (true) {
-        const std::size_t got = std::fread(buffer.data(), 1, buffer.size(), file);
-        bytes.append(buffer.data(), got);
-        if (got < buffer.size()) break;
+        const ssize_t got = ::read(fd, buffer.data(), buffer.size());
+        if (got < 0) {
+            if (errno == EINTR) continue;
+            throw io_error(path, "read error: " + errno_text(errno));
+        }
+        if (got == 0) break;
+        bytes.append(buffer.data(), static_cast<std::size_t>(got));
+        // A pipe (or a file growing while it is read) stops at the limit.
+        if (bytes.size() > limit)
+            check_limit(path, bytes.size(), limit, "bytes (and more)", "FOVREF_MAX_FILE_BYTES");
     }
-    // fread of a directory opens fine on Linux and then fails with EISDIR: caught here.
-    const bool failed = std::ferror(file) != 0;
-    const int error = errno;
-    std::fclose(file);
-    if (failed) throw io_error(path, "read error: " + errno_text(error));
     return bytes;
 }
 
+namespace {
+
+// The file a write to `path` lands in: symlinks are followed (the link stays, its target is
+// replaced), relative targets resolved against the link's directory; at most 40 hops.
+std::string resolve_write_target(const std::string& path) {
+    std::string target = path;
+    for (int hop = 0; hop < 40; ++hop) {
+        struct stat info {};
+        if (::lstat(target.c_str(), &info) != 0 || !S_ISLNK(info.st_mode)) return target;
+        std::array<char, 4096> link{};
+        const ssize_t length = ::readlink(target.c_str(), link.data(), link.size() - 1);
+        if (length <= 0)
+            throw io_error(path, "cannot read the symbolic link: " + errno_text(errno));
+        const std::string destination(link.data(), static_cast<std::size_t>(length));
+        const std::size_t slash = target.find_last_of('/');
+        target = destination.front() == '/' || slash == std::string::npos
+                     ? destination
+                     : target.substr(0, slash + 1) + destination;
+    }
+    throw io_error(path, "too many levels of symbolic links");
+}
+
+}  // namespace
+
 void write_file_atomic(const std::string& path, const std::string& bytes) {
-    // The temporary file lives in the target's directory, so the final std::rename never crosses
-    // a file system and replaces the target in one step (POSIX rename semantics).
-    const std::string temporary = path + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
+    const std::string target = resolve_write_target(path);
+    struct stat info {};
+    if (::stat(target.c_str(), &info) == 0 && !S_ISREG(info.st_mode)) {
+        if (S_ISDIR(info.st_mode)) throw io_error(path, "is a directory, not a file");
+        // A device or a pipe (/dev/stdout, /dev/null, a FIFO): written directly, never replaced
+        // by a regular file. A write error (/dev/full) is reported, not ignored.
+        std::FILE* file = std::fopen(target.c_str(), "wb");
+        if (!file) throw io_error(path, "cannot open for writing: " + errno_text(errno));
+        const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
+        const bool flushed = std::fflush(file) == 0;
+        const int error = errno;
+        const bool closed = std::fclose(file) == 0;
+        if (!written || !flushed || !closed)
+            throw io_error(path, "write error: " + errno_text(error));
+        return;
+    }
+    // A regular file (or none yet): a temporary file in the target's directory, so the final
+    // std::rename never crosses a file system and replaces the target in one step (POSIX rename
+    // semantics); a failure leaves the old file as it was.
+    const std::string temporary = target + ".tmp-" + std::to_string(static_cast<long>(::getpid()));
     std::FILE* file = std::fopen(temporary.c_str(), "wb");
     if (!file) throw io_error(path, "cannot create " + temporary + ": " + errno_text(errno));
     const bool written = std::fwrite(bytes.data(), 1, bytes.size(), file) == bytes.size();
@@ -139,7 +204,7 @@ void write_file_atomic(const std::string& path, const std::string& bytes) {
         std::remove(temporary.c_str());
         throw io_error(path, "write error: " + errno_text(error));
     }
-    if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    if (std::rename(temporary.c_str(), target.c_str()) != 0) {
         const int rename_error = errno;
         std::remove(temporary.c_str());
         throw io_error(path, "cannot rename " + temporary + " to it: " + errno_text(rename_error));
@@ -322,6 +387,8 @@ Image read_pfm(const std::string& path) {
                                     " bytes after the header";
     if (floats > remaining / 4) throw io_error(path, "truncated: " + floats_text);
     if (floats * 4 < remaining) throw io_error(path, "trailing bytes: " + floats_text);
+    check_limit(path, static_cast<std::uint64_t>(header.width) * header.height,
+                input_limits().max_image_pixels, "pixels", "FOVREF_MAX_IMAGE_PIXELS");
 
     Image image(header.width, header.height, header.channels);
     const std::size_t row_floats =
@@ -396,6 +463,9 @@ void check_png_header(const std::string& path, const std::string& bytes) {
     // exceed 2^64 in a forged header, and a bound needs no exactness.
     const double raster_bytes = static_cast<double>(width) * static_cast<double>(height) *
                                 static_cast<double>(samples * depth) / 8.0;
+    check_limit(path + ": PNG header says " + std::to_string(width) + "x" + std::to_string(height),
+                width * height, input_limits().max_image_pixels, "pixels",
+                "FOVREF_MAX_IMAGE_PIXELS");  // width, height < 2^32: the product fits
     const double max_bytes = 1032.0 * static_cast<double>(bytes.size()) + 65536.0;
     if (raster_bytes > max_bytes)
         throw io_error(path, "PNG header says " + std::to_string(width) + "x" +
@@ -404,13 +474,168 @@ void check_png_header(const std::string& path, const std::string& bytes) {
                                  std::to_string(bytes.size()) + "-byte file can hold");
 }
 
+/// A palette PNG whose pixels index beyond its PLTE chunk is refused: stb_image would read its
+/// uninitialised palette entries (different values on each run; an oracle never reads undefined
+/// data). Only palette images whose PLTE has fewer than 2^depth entries need the check: their
+/// IDAT data is inflated (into exactly the raster's size), unfiltered and every index compared
+/// with the palette's length. Anything malformed is left to stb_image to report.
+void check_png_palette_indices(const std::string& path, const std::string& bytes) {
+    const auto u8 = [&](std::size_t i) { return static_cast<unsigned char>(bytes[i]); };
+    const auto u32 = [&](std::size_t i) {
+        return static_cast<std::uint64_t>(u8(i)) << 24 |
+               static_cast<std::uint64_t>(u8(i + 1)) << 16 |
+               static_cast<std::uint64_t>(u8(i + 2)) << 8 | static_cast<std::uint64_t>(u8(i + 3));
+    };
+    std::uint64_t width = 0, height = 0, depth = 0, colour_type = 0, interlace = 0;
+    std::uint64_t palette_entries = 0;
+    std::string idat;
+    for (std::size_t pos = 8; pos + 12 <= bytes.size();) {
+        const std::uint64_t length = u32(pos);
+        if (length > bytes.size() - pos - 12) return;  // truncated chunk: stb_image reports it
+        const std::string type = bytes.substr(pos + 4, 4);
+        const std::size_t data = pos + 8;
+        if (type == "IHDR" && length >= 13) {
+            width = u32(data);
+            height = u32(data + 4);
+            depth = u8(data + 8);
+            colour_type = u8(data + 9);
+            interlace = u8(data + 12);
+        } else if (type == "PLTE") {
+            palette_entries = length / 3;
+        } else if (type == "IDAT") {
+            idat.append(bytes, data, static_cast<std::size_t>(length));
+        }
+        pos = data + static_cast<std::size_t>(length) + 4;
+    }
+    if (colour_type != 3 || palette_entries == 0 || width == 0 || height == 0) return;
+    if (depth != 1 && depth != 2 && depth != 4 && depth != 8) return;
+    if (palette_entries >= (std::uint64_t{1} << depth)) return;  // every index is in range
+
+    // The passes (one, or Adam7's seven) and the raster's size.
+    struct Pass {
+        std::uint64_t x0, y0, dx, dy;
+    };
+    const std::vector<Pass> passes =
+        interlace == 1 ? std::vector<Pass>{{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4},
+                                           {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}}
+                       : std::vector<Pass>{{0, 0, 1, 1}};
+    std::uint64_t raster = 0;
+    for (const Pass& p : passes) {
+        const std::uint64_t pw = width > p.x0 ? (width - p.x0 + p.dx - 1) / p.dx : 0;
+        const std::uint64_t ph = height > p.y0 ? (height - p.y0 + p.dy - 1) / p.dy : 0;
+        if (pw && ph) raster += ph * (1 + (pw * depth + 7) / 8);
+    }
+    if (raster > std::numeric_limits<int>::max() ||
+        idat.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+        return;  // far beyond the pixel limit, which check_png_header enforced
+    std::vector<char> inflated(static_cast<std::size_t>(raster));
+    const int got = stbi_zlib_decode_buffer(inflated.data(), static_cast<int>(raster), idat.data(),
+                                            static_cast<int>(idat.size()));
+    if (got < 0)
+        throw io_error(path, "palette PNG: its image data does not inflate to the " +
+                                 std::to_string(raster) + " bytes its header describes");
+    if (static_cast<std::uint64_t>(got) < raster) return;  // stb_image: "not enough pixels"
+
+    // Unfilter each pass (one byte per filter unit: palette pixels have at most 8 bits) and
+    // check the indices.
+    const auto* in = reinterpret_cast<const unsigned char*>(inflated.data());
+    std::size_t offset = 0;
+    std::uint64_t largest = 0;
+    for (const Pass& p : passes) {
+        const std::uint64_t pw = width > p.x0 ? (width - p.x0 + p.dx - 1) / p.dx : 0;
+        const std::uint64_t ph = height > p.y0 ? (height - p.y0 + p.dy - 1) / p.dy : 0;
+        if (!pw || !ph) continue;
+        const std::size_t row_bytes = static_cast<std::size_t>((pw * depth + 7) / 8);
+        std::vector<unsigned char> previous(row_bytes, 0), row(row_bytes, 0);
+        for (std::uint64_t y = 0; y < ph; ++y) {
+            const unsigned filter = in[offset++];
+            if (filter > 4) return;  // stb_image: "invalid filter"
+            for (std::size_t i = 0; i < row_bytes; ++i) {
+                const int a = i > 0 ? row[i - 1] : 0, b = previous[i],
+                          c = i > 0 ? previous[i - 1] : 0;
+                int predictor = 0;
+                switch (filter) {
+                    case 1: predictor = a; break;
+                    case 2: predictor = b; break;
+                    case 3: predictor = (a + b) / 2; break;
+                    case 4: {
+                        const int pa = std::abs(b - c), pb = std::abs(a - c),
+                                  pc = std::abs(a + b - 2 * c);
+                        predictor = pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+                        break;
+                    }
+                    default: break;
+                }
+                row[i] = static_cast<unsigned char>(in[offset + i] + predictor);
+            }
+            offset += row_bytes;
+            for (std::uint64_t x = 0; x < pw; ++x) {
+                const std::uint64_t bit = x * depth;
+                const unsigned byte = row[static_cast<std::size_t>(bit / 8)];
+                const unsigned index =
+                    (byte >> (8 - depth - bit % 8)) & ((1u << depth) - 1u);  // MSB first
+                largest = std::max<std::uint64_t>(largest, index);
+            }
+            previous.swap(row);
+        }
+    }
+    if (largest >= palette_entries)
+        throw io_error(path, "palette PNG: a pixel uses palette index " + std::to_string(largest) +
+                                 " but the PLTE chunk has only " + std::to_string(palette_entries) +
+                                 " entries (the colour is undefined; refused)");
+}
+
 struct StbFree {
     void operator()(void* pixels) const { stbi_image_free(pixels); }
 };
 
+// stb_image's failure reason in words. Its reasons are terse ("bad ctype"), sometimes empty, and
+// one embeds the raw bytes of an unknown chunk type: those are shown escaped.
 std::string stb_reason() {
-    const char* reason = stbi_failure_reason();
-    return reason ? reason : "unknown error";
+    const char* raw = stbi_failure_reason();
+    const std::string reason = raw ? raw : "";
+    static const std::pair<const char*, const char*> words[] = {
+        {"bad png sig", "not a PNG file (bad signature)"},
+        {"first not IHDR", "the first chunk is not IHDR"},
+        {"multiple IHDR", "more than one IHDR chunk"},
+        {"bad IHDR len", "the IHDR chunk has the wrong length"},
+        {"too large", "the image is too large (corrupt header?)"},
+        {"1/2/4/8/16-bit only", "unsupported bit depth (PNG allows 1, 2, 4, 8 or 16 bits)"},
+        {"bad ctype", "invalid colour type for this bit depth"},
+        {"bad comp method", "unknown compression method"},
+        {"bad filter method", "unknown filter method"},
+        {"bad interlace method", "unknown interlace method"},
+        {"0-pixel image", "the header says 0 pixels"},
+        {"invalid PLTE", "invalid PLTE (palette) chunk"},
+        {"no PLTE", "a palette image without a PLTE chunk"},
+        {"tRNS after IDAT", "tRNS chunk after the image data"},
+        {"tRNS before PLTE", "tRNS chunk before the palette"},
+        {"bad tRNS len", "tRNS chunk of the wrong length"},
+        {"tRNS with alpha", "tRNS chunk in an image that has alpha"},
+        {"no IDAT", "no image data (IDAT) chunk"},
+        {"outofdata", "the file ends inside the image data"},
+        {"not enough pixels", "the image data is shorter than the header's size"},
+        {"invalid filter", "a row has an invalid filter type"},
+        {"outofmem", "out of memory"},
+        {"bad zlib header", "the image data is not a zlib stream (bad header)"},
+        {"no preset dict", "the zlib stream needs a preset dictionary"},
+        {"bad compression", "the image data uses an invalid deflate block type"},
+        {"bad codelengths", "corrupt deflate data (bad code lengths)"},
+        {"bad sizes", "corrupt deflate data (bad sizes)"},
+        {"bad huffman code", "corrupt deflate data (bad Huffman code)"},
+        {"bad dist", "corrupt deflate data (bad distance)"},
+        {"read past buffer", "corrupt deflate data (reads past its data)"},
+        {"zlib corrupt", "corrupt deflate data"},
+        {"output buffer limit", "the image data inflates to more than expected"},
+        {"unknown image type", "not a PNG the decoder can read"},
+    };
+    for (const auto& [code, text] : words)
+        if (reason == code) return text;
+    if (reason.size() >= 4 && reason.find(" PNG chunk not known") == 4)
+        return "unknown critical chunk type " + quoted(reason.substr(0, 4)) +
+               " (a decoder must not skip it)";
+    if (reason.empty()) return "corrupt data (the decoder gave no reason)";
+    return "corrupt data (" + quoted(reason, 64) + ")";
 }
 
 void append_to_string(void* context, void* data, int size) {
@@ -424,6 +649,7 @@ void append_to_string(void* context, void* data, int size) {
 Image read_png(const std::string& path, bool srgb_decode_colour) {
     const std::string bytes = read_file(path);
     check_png_header(path, bytes);
+    check_png_palette_indices(path, bytes);
     if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
         throw io_error(
             path, "PNG file too large for the reader (" + std::to_string(bytes.size()) + " bytes)");
@@ -606,13 +832,16 @@ Image read_exr(const std::string& path) {
         if (width <= 0 || height <= 0)
             throw io_error(path, "EXR data window has no pixels (" + std::to_string(width) + "x" +
                                      std::to_string(height) + ")");
-        // Limits checked before allocating: at most 2^28 pixels, and no more decoded bytes than
-        // 65536 x the file size (far above what OpenEXR's codecs reach) plus 64 MiB, so a forged
-        // header on a small file cannot make us allocate gigabytes.
-        constexpr std::int64_t max_pixels = std::int64_t{1} << 28;
-        if (width > max_pixels / height)
+        // Limits checked before allocating: the image pixel limit (docs/limits.md), and no more
+        // decoded bytes than 65536 x the file size (far above what OpenEXR's codecs reach) plus
+        // 64 MiB, so a forged header on a small file cannot make us allocate gigabytes.
+        if (width > std::int64_t{1} << 31 || height > std::int64_t{1} << 31)
             throw io_error(path, "EXR data window " + std::to_string(width) + "x" +
-                                     std::to_string(height) + " exceeds 2^28 pixels");
+                                     std::to_string(height) + " is too large");
+        check_limit(
+            path + ": EXR data window " + std::to_string(width) + "x" + std::to_string(height),
+            static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height),
+            input_limits().max_image_pixels, "pixels", "FOVREF_MAX_IMAGE_PIXELS");
         const std::vector<std::string> names = exr_layout(path, file.header().channels());
         const int channels = static_cast<int>(names.size());
         const double decoded_bytes =
@@ -693,9 +922,14 @@ Image read_raw(const std::string& path, const RawLayout& layout) {
                                       static_cast<std::uint64_t>(std::max(layout.height, 0)),
                                       static_cast<std::uint64_t>(std::max(layout.channels, 0))) +
                            " is out of range (1..65536 pixels per side, 1..64 channels)");
+    const std::uint64_t pixels =
+        static_cast<std::uint64_t>(layout.width) * static_cast<std::uint64_t>(layout.height);
+    check_limit(
+        path + ": raw " + std::to_string(layout.width) + "x" + std::to_string(layout.height),
+        pixels, input_limits().max_image_pixels, "pixels", "FOVREF_MAX_IMAGE_PIXELS");
+    const std::uint64_t expected = pixels * static_cast<std::uint64_t>(layout.channels) * 4u;
     const std::string bytes = read_file(path);
-    Image image(layout.width, layout.height, layout.channels);
-    const std::uint64_t expected = static_cast<std::uint64_t>(image.data.size()) * 4u;
+    // The size is checked before the image is allocated (a short file never costs W*H*C*4).
     if (bytes.size() != expected)
         throw io_error(path, "raw binary32 " +
                                  shape_text(static_cast<std::uint64_t>(layout.width),
@@ -703,6 +937,7 @@ Image read_raw(const std::string& path, const RawLayout& layout) {
                                             static_cast<std::uint64_t>(layout.channels)) +
                                  " needs " + std::to_string(expected) + " bytes, the file has " +
                                  std::to_string(bytes.size()));
+    Image image(layout.width, layout.height, layout.channels);
     const auto w = static_cast<std::size_t>(layout.width);
     const auto h = static_cast<std::size_t>(layout.height);
     const auto c = static_cast<std::size_t>(layout.channels);

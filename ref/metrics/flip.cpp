@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "ref/core/error.h"
@@ -240,6 +241,19 @@ void check_input(const Image& image, const char* name) {
 }
 
 }  // namespace
+
+void check_flip_viewing_distance(float viewing_distance_px, const std::string& what) {
+    const float ppd = flip_pixels_per_degree(viewing_distance_px);
+    if (!(std::isfinite(ppd) && ppd >= flip_min_ppd && ppd <= flip_max_ppd)) {
+        char text[160];
+        std::snprintf(text, sizeof text,
+                      ": with --flip the viewing distance must give %g to %g pixels per degree; "
+                      "it gives %g",
+                      static_cast<double>(flip_min_ppd), static_cast<double>(flip_max_ppd),
+                      static_cast<double>(ppd));
+        throw Error(what + text);
+    }
+}
 
 float flip_pixels_per_degree(float viewing_distance_px) {
     if (!std::isfinite(viewing_distance_px) || viewing_distance_px <= 0.0f)

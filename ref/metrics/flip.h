@@ -37,6 +37,11 @@ struct FlipParams {
 /// (the pixels covered by the first degree). Throws fovref::Error unless d_px is finite and > 0.
 float flip_pixels_per_degree(float viewing_distance_px);
 
+/// Throws fovref::Error naming `what` (e.g. "--distance-px 1e9") when that viewing distance gives
+/// a pixels-per-degree value LDR-FLIP does not accept ([flip_min_ppd, flip_max_ppd]), so a bad
+/// option fails when it is given, not in the middle of a comparison.
+void check_flip_viewing_distance(float viewing_distance_px, const std::string& what);
+
 struct FlipResult {
     Image error_map;      ///< 1 channel, FLIP error in [0, 1] (see docs/flip.md on the range).
     Image color_error;    ///< 1 channel, the redistributed colour error (before the feature step).

@@ -64,6 +64,19 @@ std::string join_path(const std::string& directory, const std::string& name) {
     return (std::filesystem::path(directory) / name).string();
 }
 
+// tinyobjloader's error text reworded as "line N: message" when it names a line ("Failed parse
+// `l' line(e.g. zero value for vertex index. line 4.)"), trailing newlines dropped.
+std::string tinyobj_message(std::string text) {
+    while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+    const std::size_t at = text.rfind("line ");
+    if (at != std::string::npos) {
+        std::size_t end = at + 5;
+        while (end < text.size() && text[end] >= '0' && text[end] <= '9') ++end;
+        if (end > at + 5) return text.substr(at + 5, end - at - 5) + ": tinyobjloader: " + text;
+    }
+    return "tinyobjloader: " + text;
+}
+
 // --- Statements: non-empty, non-comment lines split on blanks -----------------------------------
 
 // Calls fn(line, tokens) for each statement. Lines end at "\n", "\r\n" or a lone "\r" (as
@@ -329,9 +342,19 @@ ObjScan scan_obj(const std::string& obj_path, const std::string& text) {
                 throw file_error(obj_path, line,
                                  "material '" + std::string(tokens[1]) +
                                      "' is not defined by an mtllib before this line");
+        } else if (keyword == "l" || keyword == "p") {
+            // Lines and points carry no triangles, but tinyobjloader stops on a bad index in
+            // them with a message of its own: check them here, with file and line.
+            if (tokens.size() < (keyword == "l" ? 3u : 2u))
+                throw file_error(
+                    obj_path, line,
+                    std::string(keyword == "l" ? "a line needs 2" : "a point needs 1") +
+                        " or more vertex indices");
+            for (std::size_t k = 1; k < tokens.size(); ++k)
+                check_corner(tokens[k], scan, obj_path, line);
         }
-        // Other statements (o, g, s, l, p, vp, ...) are left to tinyobjloader, which ignores them
-        // for triangle meshes.
+        // Other statements (o, g, s, vp, ...) are left to tinyobjloader, which ignores them for
+        // triangle meshes.
     });
     return scan;
 }
@@ -434,7 +457,7 @@ void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& t
     if (!tinyobj::LoadObj(&attrib, &shapes, &source_materials, &warn, &err, &stream,
                           &material_reader, /*triangulate=*/false,
                           /*default_vcols_fallback=*/false))
-        throw Error(obj_path + ": " + err);
+        throw Error(obj_path + ": " + tinyobj_message(err));
     // tinyobjloader's indices refer to its own v/vt/vn arrays; the pre-scan's arrays must hold
     // the same statements for the indices to carry over (and faces must match face_lines).
     std::size_t face_count = 0;

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "ref/core/error.h"
+#include "ref/core/limits.h"
 #include "ref/image/image_io.h"
 #include "ref/scene/obj_loader.h"
 
@@ -75,6 +76,12 @@ int load_texture_file(Scene& scene, const std::string& path, const std::string& 
             break;
         }
     if (index < 0) {
+        // Every texture of the scene together: bounded memory for a scene that names many
+        // (or huge) textures.
+        std::uint64_t total = texture.image.pixel_count();
+        for (const Texture& t : scene.textures) total += t.image.pixel_count();
+        check_limit(where + ": textures of the scene", total,
+                    input_limits().max_scene_texture_pixels, "pixels", "FOVREF_MAX_SCENE_PIXELS");
         index = static_cast<int>(scene.textures.size());
         scene.textures.push_back(std::move(texture));
     }

@@ -28,8 +28,11 @@ std::string probe_bits(float v) {
 ProbeReport probe_pixel(const Scene* scene, const std::string& mode_name,
                         const RenderSettings& settings, int frame, int x, int y) {
     const ModeInfo& mode = find_mode(mode_name);
-    if (frame < 0 || frame > 100000)
-        throw Error("--frame " + std::to_string(frame) + ": must be 0..100000");
+    validate_settings(settings);      // --width 0 is a bad width, not a pixel outside the screen
+    constexpr int max_frame = 99999;  // frames 0 .. F run: at most 100000 (validate_settings)
+    if (frame < 0 || frame > max_frame)
+        throw Error("--frame " + std::to_string(frame) + ": must be in [0, " +
+                    std::to_string(max_frame) + "] (frames 0 .. F are rendered)");
     if (x < 0 || y < 0 || x >= settings.width || y >= settings.height)
         throw Error("--pixel " + std::to_string(x) + "," + std::to_string(y) + ": outside the " +
                     std::to_string(settings.width) + "x" + std::to_string(settings.height) +

@@ -7,6 +7,7 @@
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
+#include "ref/core/limits.h"
 #include "ref/core/rng.h"
 #include "ref/image/image_io.h"
 #include "ref/trace/raycast_gbuffer.h"
@@ -25,6 +26,8 @@ std::vector<Record> read_records(const std::string& path, std::size_t record_byt
         throw Error(path + ": truncated " + what + " file: " + std::to_string(bytes.size()) +
                     " bytes is not a multiple of the " + std::to_string(record_bytes) +
                     "-byte record");
+    check_limit(path, bytes.size() / record_bytes, input_limits().max_rays, "records",
+                "FOVREF_MAX_RAYS");
     std::vector<Record> records(bytes.size() / record_bytes);
     if (!records.empty()) std::memcpy(records.data(), bytes.data(), bytes.size());
     return records;

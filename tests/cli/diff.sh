@@ -115,6 +115,16 @@ expect 0 "image vs image" -- "$FOVREF" diff "$TMP/bundle/f001_final.pfm" "$TMP/c
 expect 1 "image vs image, perturbed" -- "$FOVREF" diff "$TMP/bundle/f000_final.pfm" "$TMP/cand/f000_final.pfm" --json -
 contains '"pass": false' "JSON on stdout"
 
+# A 1048577x1 image: the report's downscale kept 0 rows and the report failed (issue 11).
+"$PY" - "$TMP" <<'PYTHON'
+import struct, sys
+w = 1048577
+for name, last in (("wide_a", 0.5), ("wide_b", 0.7)):
+    open(f"{sys.argv[1]}/{name}.pfm", "wb").write(b"Pf\n%d 1\n-1\n" % w + struct.pack("<%df" % w, *([0.5] * (w - 1) + [last])))
+PYTHON
+expect 1 "a 1048577x1 image with an HTML report" -- "$FOVREF" diff "$TMP/wide_a.pfm" "$TMP/wide_b.pfm" --html "$TMP/wide_html"
+check_file "$TMP/wide_html/index.html" "report of a one-row image"
+
 # The HTML report in a real browser: the images decode and the failing stage is marked.
 checks=$((checks + 1))
 if ! grep -q 'id="first-failing"' "$TMP/html/index.html" || ! grep -q 'gbuffer_albedo' "$TMP/html/index.html"; then
