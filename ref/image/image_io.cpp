@@ -19,6 +19,7 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfThreading.h>
+#include <openexr.h>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -491,9 +492,12 @@ void check_png_palette_indices(const std::string& path, const std::string& bytes
     std::string idat;
     for (std::size_t pos = 8; pos + 12 <= bytes.size();) {
         const std::uint64_t length = u32(pos);
-        if (length > bytes.size() - pos - 12) return;  // truncated chunk: stb_image reports it
+        // A chunk running past the end: stb_image may still decode (it stops at IEND without
+        // reading it), so validate what came before it (a fuzzer finding).
+        if (length > bytes.size() - pos - 12) break;
         const std::string type = bytes.substr(pos + 4, 4);
         const std::size_t data = pos + 8;
+        if (type == "IEND") break;
         if (type == "IHDR" && length >= 13) {
             width = u32(data);
             height = u32(data + 4);
@@ -791,14 +795,8 @@ std::vector<std::string> exr_channel_names(int channels) {
 
 /// The file's channels in our order, if they form one of the accepted layouts: Y, R G B,
 /// R G B A, C0..Cn, or any single channel.
-std::vector<std::string> exr_layout(const std::string& path, const Imf::ChannelList& list) {
-    std::vector<std::string> present;  // ChannelList iterates in name order: deterministic.
-    for (auto it = list.begin(); it != list.end(); ++it) {
-        if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
-            throw io_error(
-                path, std::string("EXR channel ") + it.name() + " is subsampled (not supported)");
-        present.emplace_back(it.name());
-    }
+std::vector<std::string> exr_layout(const std::string& path,
+                                    const std::vector<std::string>& present) {
     if (present.empty()) throw io_error(path, "EXR file has no channels");
     if (present.size() == 1) return present;
     std::vector<std::string> wanted = exr_channel_names(static_cast<int>(present.size()));
@@ -819,57 +817,172 @@ std::vector<std::string> exr_layout(const std::string& path, const Imf::ChannelL
 
 }  // namespace
 
+namespace {
+
+// Reading EXR with OpenEXRCore (the C API of OpenEXR 3), whose decoder checks that every chunk
+// decompresses to exactly the size it must have. (The C++ InputFile of OpenEXR 3.1 does not:
+// on a corrupt ZIP chunk it filled pixels from its uninitialised decompression buffer, a
+// different image on each read; a fuzzer finding.)
+struct ExrMemory {
+    const std::string* bytes = nullptr;
+    std::string message;  // the core library's last error message
+};
+
+int64_t exr_memory_read(exr_const_context_t, void* user, void* buffer, uint64_t size,
+                        uint64_t offset, exr_stream_error_func_ptr_t) {
+    const std::string& bytes = *static_cast<ExrMemory*>(user)->bytes;
+    if (offset >= bytes.size()) return 0;
+    const uint64_t n = std::min<uint64_t>(size, bytes.size() - offset);
+    std::memcpy(buffer, bytes.data() + offset, static_cast<std::size_t>(n));
+    return static_cast<int64_t>(n);
+}
+
+int64_t exr_memory_size(exr_const_context_t, void* user) {
+    return static_cast<int64_t>(static_cast<ExrMemory*>(user)->bytes->size());
+}
+
+void exr_memory_error(exr_const_context_t ctxt, exr_result_t, const char* message) {
+    void* user = nullptr;
+    if (exr_get_user_data(ctxt, &user) == EXR_ERR_SUCCESS && user && message)
+        static_cast<ExrMemory*>(user)->message = message;
+}
+
+}  // namespace
+
 Image read_exr(const std::string& path) {
-    Imf::setGlobalThreadCount(0);
     const std::string bytes = read_file(path);
     if (bytes.empty()) throw io_error(path, "empty file (expected an EXR)");
-    try {
-        MemoryIStream stream(path, bytes);
-        Imf::InputFile file(stream, 0);
-        const Imath::Box2i window = file.header().dataWindow();
-        const std::int64_t width = std::int64_t{window.max.x} - window.min.x + 1;
-        const std::int64_t height = std::int64_t{window.max.y} - window.min.y + 1;
-        if (width <= 0 || height <= 0)
-            throw io_error(path, "EXR data window has no pixels (" + std::to_string(width) + "x" +
-                                     std::to_string(height) + ")");
-        // Limits checked before allocating: the image pixel limit (docs/limits.md), and no more
-        // decoded bytes than 65536 x the file size (far above what OpenEXR's codecs reach) plus
-        // 64 MiB, so a forged header on a small file cannot make us allocate gigabytes.
-        if (width > std::int64_t{1} << 31 || height > std::int64_t{1} << 31)
-            throw io_error(path, "EXR data window " + std::to_string(width) + "x" +
-                                     std::to_string(height) + " is too large");
-        check_limit(
-            path + ": EXR data window " + std::to_string(width) + "x" + std::to_string(height),
-            static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height),
-            input_limits().max_image_pixels, "pixels", "FOVREF_MAX_IMAGE_PIXELS");
-        const std::vector<std::string> names = exr_layout(path, file.header().channels());
-        const int channels = static_cast<int>(names.size());
-        const double decoded_bytes =
-            static_cast<double>(width) * static_cast<double>(height) * channels * 4.0;
-        if (decoded_bytes > 65536.0 * static_cast<double>(bytes.size()) + 64.0 * 1024 * 1024)
-            throw io_error(path, "EXR data window " + std::to_string(width) + "x" +
-                                     std::to_string(height) + "x" + std::to_string(channels) +
-                                     " is implausibly large for a " + std::to_string(bytes.size()) +
-                                     "-byte file");
+    ExrMemory memory;
+    memory.bytes = &bytes;
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.user_data = &memory;
+    init.read_fn = exr_memory_read;
+    init.size_fn = exr_memory_size;
+    init.error_handler_fn = exr_memory_error;
+    exr_context_t context = nullptr;
+    struct Finish {
+        exr_context_t* context;
+        ~Finish() {
+            if (*context) exr_finish(context);
+        }
+    } finish{&context};
+    auto check = [&](exr_result_t result, const char* what) {
+        if (result == EXR_ERR_SUCCESS) return;
+        const std::string reason =
+            memory.message.empty() ? exr_get_default_error_message(result) : memory.message;
+        throw io_error(path, std::string("cannot read EXR (") + what + "): " + reason);
+    };
+    check(exr_start_read(&context, path.c_str(), &init), "header");
 
-        Image image(static_cast<int>(width), static_cast<int>(height), channels);
-        const std::size_t x_stride = static_cast<std::size_t>(channels) * sizeof(float);
-        const std::size_t y_stride = x_stride * static_cast<std::size_t>(width);
-        Imf::FrameBuffer frame_buffer;
-        for (int c = 0; c < channels; ++c)
-            frame_buffer.insert(
-                names[static_cast<std::size_t>(c)],
-                Imf::Slice::Make(Imf::FLOAT, image.data.data() + c, window, x_stride, y_stride));
-        file.setFrameBuffer(frame_buffer);
-        file.readPixels(window.min.y, window.max.y);
-        return image;
-    } catch (const Error&) {
-        throw;
-    } catch (const std::exception& e) {
-        throw io_error(path, std::string("cannot read EXR: ") + e.what());
-    } catch (...) {
-        throw io_error(path, "cannot read EXR: unknown exception");
+    // Part 0: scan lines or tiles of flat (not deep) data.
+    exr_storage_t storage = EXR_STORAGE_SCANLINE;
+    check(exr_get_storage(context, 0, &storage), "storage");
+    if (storage != EXR_STORAGE_SCANLINE && storage != EXR_STORAGE_TILED)
+        throw io_error(path, "EXR with deep data (not supported)");
+    exr_attr_box2i_t window{};
+    check(exr_get_data_window(context, 0, &window), "data window");
+    const std::int64_t width = std::int64_t{window.max.x} - window.min.x + 1;
+    const std::int64_t height = std::int64_t{window.max.y} - window.min.y + 1;
+    if (width <= 0 || height <= 0)
+        throw io_error(path, "EXR data window has no pixels (" + std::to_string(width) + "x" +
+                                 std::to_string(height) + ")");
+    // Limits checked before allocating: the image pixel limit (docs/limits.md), and no more
+    // decoded bytes than 16384 x the file size (far above what OpenEXR's codecs reach on real
+    // images; ZIP peaks near 1032:1) plus 4 MiB, so a forged header on a small file cannot make
+    // us allocate gigabytes.
+    check_limit(path + ": EXR data window " + std::to_string(width) + "x" + std::to_string(height),
+                static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height),
+                input_limits().max_image_pixels, "pixels", "FOVREF_MAX_IMAGE_PIXELS");
+    const exr_attr_chlist_t* list = nullptr;
+    check(exr_get_channels(context, 0, &list), "channels");
+    std::vector<std::string> present;  // the file lists channels sorted by name
+    for (int c = 0; list && c < list->num_channels; ++c) {
+        const exr_attr_chlist_entry_t& entry = list->entries[c];
+        const std::string name(entry.name.str, static_cast<std::size_t>(entry.name.length));
+        if (entry.x_sampling != 1 || entry.y_sampling != 1)
+            throw io_error(path, "EXR channel " + name + " is subsampled (not supported)");
+        present.push_back(name);
     }
+    const std::vector<std::string> names = exr_layout(path, present);
+    const int channels = static_cast<int>(names.size());
+    const double decoded_bytes =
+        static_cast<double>(width) * static_cast<double>(height) * channels * 4.0;
+    if (decoded_bytes > 16384.0 * static_cast<double>(bytes.size()) + 4.0 * 1024 * 1024)
+        throw io_error(path, "EXR data window " + std::to_string(width) + "x" +
+                                 std::to_string(height) + "x" + std::to_string(channels) +
+                                 " is implausibly large for a " + std::to_string(bytes.size()) +
+                                 "-byte file");
+
+    // Decoded into one plane per channel (each channel pointer on its own plane, so no
+    // interleaving fast path of the core library is chosen: OpenEXRCore 3.1's RGBA one wrote the
+    // channels in the file's order), then interleaved.
+    const std::size_t plane = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    std::vector<float> planes(plane * static_cast<std::size_t>(channels), 0.0f);
+    const std::size_t line_stride = static_cast<std::size_t>(width) * sizeof(float);
+    exr_decode_pipeline_t decoder{};  // EXR_DECODE_PIPELINE_INITIALIZER: all zero
+    struct Destroy {
+        exr_context_t* context;
+        exr_decode_pipeline_t* decoder;
+        bool active = false;
+        ~Destroy() {
+            if (active) exr_decoding_destroy(*context, decoder);
+        }
+    } destroy{&context, &decoder};
+    // Decodes one chunk (a band of scan lines or a tile) into the planes, as float; (x0, y0) is
+    // its first pixel relative to the data window.
+    auto decode = [&](const exr_chunk_info_t& chunk, std::int64_t x0, std::int64_t y0) {
+        if (!destroy.active) {
+            check(exr_decoding_initialize(context, 0, &chunk, &decoder), "decoder");
+            destroy.active = true;
+        } else {
+            check(exr_decoding_update(context, 0, &chunk, &decoder), "decoder");
+        }
+        if (x0 < 0 || y0 < 0 || x0 + chunk.width > width || y0 + chunk.height > height)
+            throw io_error(path, "EXR chunk outside the data window");
+        for (int c = 0; c < decoder.channel_count; ++c) {
+            exr_coding_channel_info_t& channel = decoder.channels[c];
+            const auto k = static_cast<std::size_t>(
+                std::find(names.begin(), names.end(), channel.channel_name) - names.begin());
+            channel.decode_to_ptr = reinterpret_cast<uint8_t*>(
+                planes.data() + k * plane + static_cast<std::size_t>(y0) * width + x0);
+            channel.user_pixel_stride = static_cast<int32_t>(sizeof(float));
+            channel.user_line_stride = static_cast<int32_t>(line_stride);
+            channel.user_data_type = EXR_PIXEL_FLOAT;
+            channel.user_bytes_per_element = 4;
+        }
+        check(exr_decoding_choose_default_routines(context, 0, &decoder), "decoder");
+        check(exr_decoding_run(context, 0, &decoder), "pixel data");
+    };
+    if (storage == EXR_STORAGE_SCANLINE) {
+        int32_t lines = 0;
+        check(exr_get_scanlines_per_chunk(context, 0, &lines), "scan lines per chunk");
+        if (lines < 1) throw io_error(path, "EXR with no scan lines per chunk");
+        for (std::int64_t y = window.min.y; y <= window.max.y; y += lines) {
+            exr_chunk_info_t chunk{};
+            check(exr_read_scanline_chunk_info(context, 0, static_cast<int>(y), &chunk),
+                  "scan lines");
+            // A scan-line chunk gives its first line (in data window coordinates).
+            decode(chunk, 0, std::int64_t{chunk.start_y} - window.min.y);
+        }
+    } else {
+        int32_t tile_w = 0, tile_h = 0;
+        check(exr_get_tile_sizes(context, 0, 0, 0, &tile_w, &tile_h), "tile size");
+        if (tile_w < 1 || tile_h < 1) throw io_error(path, "EXR with empty tiles");
+        for (std::int64_t ty = 0; ty * tile_h < height; ++ty)
+            for (std::int64_t tx = 0; tx * tile_w < width; ++tx) {
+                exr_chunk_info_t chunk{};
+                check(exr_read_tile_chunk_info(context, 0, static_cast<int>(tx),
+                                               static_cast<int>(ty), 0, 0, &chunk),
+                      "tiles");
+                // A tile chunk gives its tile indices, not pixels.
+                decode(chunk, tx * tile_w, ty * tile_h);
+            }
+    }
+    Image image(static_cast<int>(width), static_cast<int>(height), channels);
+    for (std::size_t p = 0; p < plane; ++p)
+        for (std::size_t c = 0; c < static_cast<std::size_t>(channels); ++c)
+            image.data[p * channels + c] = planes[c * plane + p];
+    return image;
 }
 
 void write_exr(const std::string& path, const Image& image) {

@@ -7,7 +7,10 @@
 #include <string>
 #include <vector>
 
+#include <ImfRgbaFile.h>
+#include <ImfTiledRgbaFile.h>
 #include "image_test_util.h"
+
 #include "ref/image/image_io.h"
 
 using namespace fovref;
@@ -166,4 +169,43 @@ TEST_CASE("exr: a forged data window fails before allocating") {
     CHECK(test::contains(message, "forged.exr"));
     CAPTURE(message);
     CHECK_FALSE(test::contains(message, "<"));
+}
+
+TEST_CASE("exr: tiled files (OpenEXR's tiled writer, ZIP, HALF) read like scan-line files") {
+    test::TempDir dir("exr-tiled");
+    const int w = 37, h = 21;  // not multiples of the 16x8 tiles: partial tiles at the edges
+    std::vector<Imf::Rgba> pixels(static_cast<std::size_t>(w * h));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            pixels[static_cast<std::size_t>(y * w + x)] =
+                Imf::Rgba(static_cast<float>(x) * 0.25f, static_cast<float>(y), -1.0f, 0.5f);
+    const std::string path = dir.file("tiled.exr");
+    {
+        Imf::TiledRgbaOutputFile out(path.c_str(), w, h, 16, 8, Imf::ONE_LEVEL, Imf::ROUND_DOWN,
+                                     Imf::WRITE_RGBA, 1.0f, Imath::V2f(0, 0), 1.0f,
+                                     Imf::INCREASING_Y, Imf::ZIP_COMPRESSION);
+        out.setFrameBuffer(pixels.data(), 1, static_cast<std::size_t>(w));
+        out.writeTiles(0, out.numXTiles() - 1, 0, out.numYTiles() - 1);
+    }
+    const Image image = read_exr(path);
+    REQUIRE(image.same_shape(Image(w, h, 4)));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            CAPTURE(x);
+            CAPTURE(y);
+            CHECK(image.at(x, y, 0) == static_cast<float>(x) * 0.25f);
+            CHECK(image.at(x, y, 1) == static_cast<float>(y));
+            CHECK(image.at(x, y, 2) == -1.0f);
+            CHECK(image.at(x, y, 3) == 0.5f);
+        }
+}
+
+TEST_CASE("exr: a ZIP chunk that inflates short is refused, never read from undefined memory") {
+    // Found by fuzzing (tools/fuzz.sh): a 528x1 ZIP file whose chunk decompresses to fewer bytes
+    // than its lines need. OpenEXR 3.1's C++ reader filled the rest from an uninitialised buffer
+    // (another image on each read); the core decoder fovref uses checks the size.
+    const std::string path =
+        std::string(FOVREF_SOURCE_DIR) + "/tests/fuzz/regressions/fuzz_exr/zip_chunk_short.exr";
+    const std::string message = test::error_message([&] { read_exr(path); });
+    CHECK(test::contains(message, "zip_chunk_short.exr: cannot read EXR"));
 }

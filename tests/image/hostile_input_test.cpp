@@ -221,3 +221,12 @@ TEST_CASE("hostile outputs: symlinks are written through, devices and pipes writ
     CHECK(test::contains(test::error_message([&] { write_file_atomic(dir.path.string(), "x"); }),
                          "is a directory"));
 }
+
+TEST_CASE("hostile PNG: a palette image with a truncated chunk after its data is still checked") {
+    // Found by fuzzing: the IEND chunk's length runs past the end of the file. The palette check
+    // stopped there without a verdict while stb_image decoded the image from undefined palette
+    // entries; now it checks what came before.
+    const std::string path = std::string(FOVREF_SOURCE_DIR) +
+                             "/tests/fuzz/regressions/fuzz_png/palette_with_truncated_iend.png";
+    CHECK(test::contains(test::error_message([&] { read_png(path); }), "palette index"));
+}
