@@ -232,6 +232,15 @@ std::vector<std::string> block_hashes(const Image& image, int block_rows) {
 fs::path bundle_target(const std::string& directory) {
     fs::path target = fs::path(directory).lexically_normal();
     if (!target.empty() && target.filename().empty()) target = target.parent_path();
+    // A symbolic link is written through: the bundle replaces the directory it points to (the
+    // staging directory is made beside that one), and the link stays (docs/limits.md, Outputs).
+    for (int hop = 0; hop < 40; ++hop) {
+        std::error_code ec;
+        if (!fs::is_symlink(fs::symlink_status(target, ec))) break;
+        const fs::path link = fs::read_symlink(target, ec);
+        if (ec) throw Error(directory + ": cannot read the symbolic link: " + ec.message());
+        target = (link.is_absolute() ? link : target.parent_path() / link).lexically_normal();
+    }
     const std::string name = target.filename().string();
     if (target.empty() || name.empty() || name == "." || name == ".." ||
         target == target.root_path())

@@ -283,3 +283,19 @@ TEST_CASE(
                          doctest::Contains("cases.json:3: /cases/0: 'width' must be an integer"),
                          Error);
 }
+
+TEST_CASE("bundle: a symbolic link to a bundle directory is written through, not replaced") {
+    TempDir tmp;
+    const fs::path real = tmp.path / "real";
+    const fs::path link = tmp.path / "link";
+    const std::vector<FrameResult> frames = render(nullptr, "rng", case_settings(rng_case(), {}));
+    write_bundle(real.string(), rng_case(), frames, {});
+    fs::create_directory_symlink("real", link);
+    GoldenCase changed = rng_case();
+    changed.description = "through the link";
+    write_bundle(link.string(), changed, frames, {});
+    CHECK(fs::is_symlink(fs::symlink_status(link)));
+    CHECK(read_manifest(real.string()).golden_case.description == "through the link");
+    CHECK_FALSE(fs::exists(tmp.path / "link.writing"));
+    CHECK_FALSE(fs::exists(tmp.path / "real.writing"));
+}
