@@ -20,6 +20,7 @@
 #include <ImfOutputFile.h>
 #include <ImfThreading.h>
 #include <openexr.h>
+#include <zlib.h>
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -475,12 +476,19 @@ void check_png_header(const std::string& path, const std::string& bytes) {
                                  std::to_string(bytes.size()) + "-byte file can hold");
 }
 
-/// A palette PNG whose pixels index beyond its PLTE chunk is refused: stb_image would read its
-/// uninitialised palette entries (different values on each run; an oracle never reads undefined
-/// data). Only palette images whose PLTE has fewer than 2^depth entries need the check: their
-/// IDAT data is inflated (into exactly the raster's size), unfiltered and every index compared
-/// with the palette's length. Anything malformed is left to stb_image to report.
-void check_png_palette_indices(const std::string& path, const std::string& bytes) {
+/// The image data of a PNG is checked before stb_image decodes it, because stb_image reads
+/// memory it never wrote on two kinds of bad input (different values on each read; an oracle
+/// never reads undefined data; both found by fuzzing):
+///  - a deflate stream with an invalid distance code (30 or 31): stb_image copies from distance
+///    0, i.e. from its uninitialised output buffer. So every PNG's IDAT data is inflated with
+///    zlib into exactly the raster's size: a stream zlib rejects before the raster is complete
+///    is refused (bytes beyond the raster are never used);
+///  - a palette image whose pixels index beyond its PLTE chunk: stb_image reads uninitialised
+///    palette entries. So where the PLTE has fewer than 2^depth entries the inflated rows are
+///    unfiltered and every index compared with the palette's length.
+/// Anything else malformed (a short stream, a bad filter type, a bad header) is left to
+/// stb_image to report.
+void check_png_data(const std::string& path, const std::string& bytes) {
     const auto u8 = [&](std::size_t i) { return static_cast<unsigned char>(bytes[i]); };
     const auto u32 = [&](std::size_t i) {
         return static_cast<std::uint64_t>(u8(i)) << 24 |
@@ -511,9 +519,15 @@ void check_png_palette_indices(const std::string& path, const std::string& bytes
         }
         pos = data + static_cast<std::size_t>(length) + 4;
     }
-    if (colour_type != 3 || palette_entries == 0 || width == 0 || height == 0) return;
-    if (depth != 1 && depth != 2 && depth != 4 && depth != 8) return;
-    if (palette_entries >= (std::uint64_t{1} << depth)) return;  // every index is in range
+    const std::uint64_t samples = colour_type == 0   ? 1
+                                  : colour_type == 2 ? 3
+                                  : colour_type == 3 ? 1
+                                  : colour_type == 4 ? 2
+                                  : colour_type == 6 ? 4
+                                                     : 0;
+    if (samples == 0 || width == 0 || height == 0 || idat.empty()) return;
+    if (depth != 1 && depth != 2 && depth != 4 && depth != 8 && depth != 16) return;
+    const std::uint64_t pixel_bits = samples * depth;
 
     // The passes (one, or Adam7's seven) and the raster's size.
     struct Pass {
@@ -527,22 +541,45 @@ void check_png_palette_indices(const std::string& path, const std::string& bytes
     for (const Pass& p : passes) {
         const std::uint64_t pw = width > p.x0 ? (width - p.x0 + p.dx - 1) / p.dx : 0;
         const std::uint64_t ph = height > p.y0 ? (height - p.y0 + p.dy - 1) / p.dy : 0;
-        if (pw && ph) raster += ph * (1 + (pw * depth + 7) / 8);
+        if (pw && ph) raster += ph * (1 + (pw * pixel_bits + 7) / 8);
     }
-    if (raster > std::numeric_limits<int>::max() ||
-        idat.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-        return;  // far beyond the pixel limit, which check_png_header enforced
-    std::vector<char> inflated(static_cast<std::size_t>(raster));
-    const int got = stbi_zlib_decode_buffer(inflated.data(), static_cast<int>(raster), idat.data(),
-                                            static_cast<int>(idat.size()));
-    if (got < 0)
-        throw io_error(path, "palette PNG: its image data does not inflate to the " +
-                                 std::to_string(raster) + " bytes its header describes");
-    if (static_cast<std::uint64_t>(got) < raster) return;  // stb_image: "not enough pixels"
+    // check_png_header bounded the pixels; the raster fits in memory and in zlib's uInt steps.
+    std::vector<unsigned char> inflated(static_cast<std::size_t>(raster));
+    z_stream stream{};
+    if (inflateInit(&stream) != Z_OK) throw io_error(path, "cannot start zlib");
+    stream.next_in = reinterpret_cast<Bytef*>(idat.data());
+    std::size_t in_left = idat.size(), out_done = 0;
+    int result = Z_OK;
+    while (out_done < inflated.size()) {
+        const std::size_t in_step = std::min<std::size_t>(in_left, 1u << 30);
+        const std::size_t out_step = std::min<std::size_t>(inflated.size() - out_done, 1u << 30);
+        stream.avail_in = static_cast<uInt>(in_step);
+        stream.next_out = inflated.data() + out_done;
+        stream.avail_out = static_cast<uInt>(out_step);
+        result = inflate(&stream, Z_NO_FLUSH);
+        in_left -= in_step - stream.avail_in;
+        out_done += out_step - stream.avail_out;
+        if (result != Z_OK) break;                        // Z_STREAM_END, or an error
+        if (stream.avail_in == 0 && in_left == 0) break;  // input used up
+    }
+    const std::string zlib_message = stream.msg ? stream.msg : "";
+    inflateEnd(&stream);
+    if (out_done < inflated.size()) {
+        if (result == Z_DATA_ERROR || result == Z_NEED_DICT || result == Z_STREAM_ERROR ||
+            result == Z_MEM_ERROR)
+            throw io_error(path, "corrupt PNG image data: " +
+                                     (zlib_message.empty() ? std::string("invalid deflate stream")
+                                                           : zlib_message) +
+                                     " (after " + std::to_string(out_done) + " of " +
+                                     std::to_string(inflated.size()) + " bytes)");
+        return;  // the stream ends early: stb_image reports "not enough pixels"
+    }
 
+    if (colour_type != 3 || palette_entries == 0 || depth > 8) return;
+    if (palette_entries >= (std::uint64_t{1} << depth)) return;  // every index is in range
+    const unsigned char* in = inflated.data();
     // Unfilter each pass (one byte per filter unit: palette pixels have at most 8 bits) and
     // check the indices.
-    const auto* in = reinterpret_cast<const unsigned char*>(inflated.data());
     std::size_t offset = 0;
     std::uint64_t largest = 0;
     for (const Pass& p : passes) {
@@ -653,7 +690,7 @@ void append_to_string(void* context, void* data, int size) {
 Image read_png(const std::string& path, bool srgb_decode_colour) {
     const std::string bytes = read_file(path);
     check_png_header(path, bytes);
-    check_png_palette_indices(path, bytes);
+    check_png_data(path, bytes);
     if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
         throw io_error(
             path, "PNG file too large for the reader (" + std::to_string(bytes.size()) + " bytes)");

@@ -230,3 +230,15 @@ TEST_CASE("hostile PNG: a palette image with a truncated chunk after its data is
                              "/tests/fuzz/regressions/fuzz_png/palette_with_truncated_iend.png";
     CHECK(test::contains(test::error_message([&] { read_png(path); }), "palette index"));
 }
+
+TEST_CASE("hostile PNG: image data with an invalid deflate distance code is refused") {
+    // Found by fuzzing: an RGB PNG whose deflate stream uses distance code 30. stb_image decodes
+    // it as distance 0 and copies from its uninitialised output buffer (different pixels on
+    // each read); zlib, which now checks every PNG's data first, rejects the code.
+    const std::string path = std::string(FOVREF_SOURCE_DIR) +
+                             "/tests/fuzz/regressions/fuzz_png/invalid_distance_code.png";
+    const std::string message = test::error_message([&] { read_png(path); });
+    CHECK(test::contains(message,
+                         "invalid_distance_code.png: corrupt PNG image data: invalid "
+                         "distance code"));
+}
