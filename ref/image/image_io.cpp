@@ -547,33 +547,60 @@ void check_png_data(const std::string& path, const std::string& bytes) {
     std::vector<unsigned char> inflated(static_cast<std::size_t>(raster));
     z_stream stream{};
     if (inflateInit(&stream) != Z_OK) throw io_error(path, "cannot start zlib");
-    stream.next_in = reinterpret_cast<Bytef*>(idat.data());
-    std::size_t in_left = idat.size(), out_done = 0;
+    // zlib counts in uInt: feed at most 1 GiB of input and output per call.
+    auto* input = reinterpret_cast<Bytef*>(idat.data());
+    stream.next_in = input;
+    auto feed = [&] {
+        const std::size_t consumed = static_cast<std::size_t>(stream.next_in - input);
+        stream.avail_in =
+            static_cast<uInt>(std::min<std::size_t>(idat.size() - consumed, 1u << 30));
+    };
+    auto input_left = [&] {
+        return static_cast<std::size_t>(stream.next_in - input) < idat.size();
+    };
+    std::size_t out_done = 0;
     int result = Z_OK;
     while (out_done < inflated.size()) {
-        const std::size_t in_step = std::min<std::size_t>(in_left, 1u << 30);
+        feed();
         const std::size_t out_step = std::min<std::size_t>(inflated.size() - out_done, 1u << 30);
-        stream.avail_in = static_cast<uInt>(in_step);
         stream.next_out = inflated.data() + out_done;
         stream.avail_out = static_cast<uInt>(out_step);
         result = inflate(&stream, Z_NO_FLUSH);
-        in_left -= in_step - stream.avail_in;
         out_done += out_step - stream.avail_out;
-        if (result != Z_OK) break;                        // Z_STREAM_END, or an error
-        if (stream.avail_in == 0 && in_left == 0) break;  // input used up
+        if (result != Z_OK) break;  // Z_STREAM_END, or an error
+        if (!input_left()) break;   // input used up
+    }
+    // The raster is complete: the rest of the stream (data beyond the raster, which the PNG
+    // format does not allow but decoders tolerate) must still be valid deflate and short, since
+    // stb_image inflates all of it (a garbage tail made it reallocate 2 GiB: a fuzzer finding).
+    constexpr std::size_t max_extra = std::size_t{1} << 20;
+    std::size_t extra = 0;
+    std::array<unsigned char, 1 << 14> scratch;
+    while (out_done == inflated.size() && result == Z_OK && extra <= max_extra && input_left()) {
+        feed();
+        stream.next_out = scratch.data();
+        stream.avail_out = static_cast<uInt>(scratch.size());
+        const uInt before = stream.avail_in;
+        result = inflate(&stream, Z_NO_FLUSH);
+        extra += scratch.size() - stream.avail_out;
+        if (result == Z_BUF_ERROR) result = Z_OK;  // no progress possible
+        if (stream.avail_out == scratch.size() && stream.avail_in == before) break;  // stuck
     }
     const std::string zlib_message = stream.msg ? stream.msg : "";
     inflateEnd(&stream);
-    if (out_done < inflated.size()) {
-        if (result == Z_DATA_ERROR || result == Z_NEED_DICT || result == Z_STREAM_ERROR ||
-            result == Z_MEM_ERROR)
-            throw io_error(path, "corrupt PNG image data: " +
-                                     (zlib_message.empty() ? std::string("invalid deflate stream")
-                                                           : zlib_message) +
-                                     " (after " + std::to_string(out_done) + " of " +
-                                     std::to_string(inflated.size()) + " bytes)");
-        return;  // the stream ends early: stb_image reports "not enough pixels"
-    }
+    const bool data_error = result == Z_DATA_ERROR || result == Z_NEED_DICT ||
+                            result == Z_STREAM_ERROR || result == Z_MEM_ERROR;
+    if (data_error)
+        throw io_error(path, "corrupt PNG image data: " +
+                                 (zlib_message.empty() ? std::string("invalid deflate stream")
+                                                       : zlib_message) +
+                                 " (after " + std::to_string(out_done + extra) + " bytes; the " +
+                                 "raster needs " + std::to_string(inflated.size()) + ")");
+    if (out_done < inflated.size()) return;  // ends early: stb_image reports "not enough pixels"
+    if (extra > max_extra)
+        throw io_error(path, "PNG image data inflates to more than 1 MiB beyond the " +
+                                 std::to_string(inflated.size()) +
+                                 " bytes its header describes; refused");
 
     if (colour_type != 3 || palette_entries == 0 || depth > 8) return;
     if (palette_entries >= (std::uint64_t{1} << depth)) return;  // every index is in range

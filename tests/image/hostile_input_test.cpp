@@ -242,3 +242,26 @@ TEST_CASE("hostile PNG: image data with an invalid deflate distance code is refu
                          "invalid_distance_code.png: corrupt PNG image data: invalid "
                          "distance code"));
 }
+
+TEST_CASE("hostile PNG: image data far beyond the raster is refused; a little is tolerated") {
+    // stb_image inflates the whole stream whatever the header says (a garbage tail made it
+    // reallocate 2 GiB under the fuzzer); valid data up to 1 MiB beyond the raster is accepted
+    // as decoders accept it, more is refused.
+    test::TempDir dir("hostile-png-tail");
+    auto grey = [&](std::size_t extra) {
+        std::string png = "\x89PNG\r\n\x1a\n";
+        std::string ihdr;
+        put_u32(ihdr, 1);
+        put_u32(ihdr, 1);
+        ihdr += std::string("\x08\x00\x00\x00\x00", 5);  // 1x1 grey, 8 bits
+        chunk(png, "IHDR", ihdr);
+        chunk(png, "IDAT", zlib_stored(std::string("\0\x80", 2) + std::string(extra, '\0')));
+        chunk(png, "IEND", "");
+        return png;
+    };
+    test::write_bytes(dir.file("small_tail.png"), grey(1000));
+    CHECK(read_png(dir.file("small_tail.png"), false).at(0, 0) == 128.0f / 255.0f);
+    test::write_bytes(dir.file("big_tail.png"), grey(std::size_t{3} << 20));
+    CHECK(test::contains(test::error_message([&] { read_png(dir.file("big_tail.png")); }),
+                         "more than 1 MiB beyond"));
+}
