@@ -506,7 +506,10 @@ void check_png_data(const std::string& path, const std::string& bytes) {
         const std::string type = bytes.substr(pos + 4, 4);
         const std::size_t data = pos + 8;
         if (type == "IEND") break;
-        if (type == "IHDR" && length >= 13) {
+        if (type == "IHDR") {
+            // Only the first chunk may be IHDR; stb_image reports "multiple IHDR" (a second one
+            // once sent this check's buffer to terabytes: a fuzzer finding).
+            if (pos != 8 || length < 13) return;
             width = u32(data);
             height = u32(data + 4);
             depth = u8(data + 8);
@@ -526,6 +529,8 @@ void check_png_data(const std::string& path, const std::string& bytes) {
                                   : colour_type == 6 ? 4
                                                      : 0;
     if (samples == 0 || width == 0 || height == 0 || idat.empty()) return;
+    // check_png_header enforced the pixel limit on the first IHDR (the one read here).
+    if (width * height > input_limits().max_image_pixels) return;
     if (depth != 1 && depth != 2 && depth != 4 && depth != 8 && depth != 16) return;
     const std::uint64_t pixel_bits = samples * depth;
 
