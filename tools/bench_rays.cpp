@@ -222,8 +222,9 @@ int run_bench_rays(const BenchRaysOptions& options) {
         print_row(raster, have_embree);
         Row raycast{name, "ray gbuf", raster.rays};
         raycast.ref = best_time(options.repeats, [&] {
-            TraceStats trace_stats;
-            raycast_gbuffer(scene, bvh, camera, camera, options.width, options.height, trace_stats);
+            RaycastStats raycast_stats;
+            raycast_gbuffer(scene, bvh, camera, camera, options.width, options.height,
+                            raycast_stats);
         });
         print_row(raycast, have_embree);
 

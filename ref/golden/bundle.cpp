@@ -12,8 +12,9 @@
 #include <system_error>
 
 #include "ref/core/error.h"
+#include "ref/core/json_locator.h"
 #include "ref/image/image_io.h"
-#include "ref/scene/json_locator.h"
+#include "ref/modes/modes.h"
 #include "ref/scene/procedural.h"
 #include "ref/scene/scene_file.h"
 

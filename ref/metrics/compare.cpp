@@ -9,10 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include "ref/core/error.h"
+#include "ref/core/json_locator.h"
 #include "ref/image/image_io.h"
 #include "ref/metrics/metrics.h"
 #include "ref/metrics/ssim.h"
-#include "ref/scene/json_locator.h"
 
 namespace fovref {
 

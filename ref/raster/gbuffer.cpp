@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "ref/trace/surface.h"
+#include "ref/scene/surface.h"
 
 namespace fovref {
 

@@ -11,7 +11,7 @@
 #include "ref/bvh/watertight.h"
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
-#include "ref/trace/surface.h"
+#include "ref/scene/surface.h"
 
 namespace fovref {
 

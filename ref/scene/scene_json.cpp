@@ -12,8 +12,8 @@
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
+#include "ref/core/json_locator.h"
 #include "ref/image/image_io.h"
-#include "ref/scene/json_locator.h"
 #include "ref/scene/obj_loader.h"
 #include "ref/scene/scene_file.h"
 

@@ -69,6 +69,7 @@ FrameResult Pipeline::run_frame(FrameContext& context,
     result.frame = context.frame;
     result.time = context.time;
     context.result = &result;
+    context.state = state.get();
     const std::vector<bool> needed = plan(requested);
     const auto stage_count = static_cast<double>(stages.size());
     const std::function<void(double)> frame_progress = context.stage_progress;
@@ -118,19 +119,10 @@ void validate_settings(const RenderSettings& settings) {
         throw Error("--time-start/--time-step must be finite and the step non-negative");
 }
 
-const ModeInfo& find_mode(const std::string& name) {
-    for (const ModeInfo& mode : render_modes())
-        if (mode.name == name) return mode;
-    std::vector<std::string> names;
-    for (const ModeInfo& mode : render_modes()) names.push_back(mode.name);
-    throw Error("unknown mode '" + name + "' (modes: " + join_names(names) + ")");
-}
-
-std::vector<std::string> render_each(const Scene* scene, const std::string& mode_name,
+std::vector<std::string> render_each(const Scene* scene, const ModeInfo& mode,
                                      const RenderSettings& settings,
                                      const std::function<void(FrameResult&)>& on_frame) {
     validate_settings(settings);
-    const ModeInfo& mode = find_mode(mode_name);
     settings.params.check_known(mode.params, mode.name);
     if (mode.needs_scene && scene == nullptr) throw Error("mode '" + mode.name + "' needs a scene");
     const Pipeline pipeline = mode.build(scene, settings);
@@ -164,10 +156,10 @@ std::vector<std::string> render_each(const Scene* scene, const std::string& mode
     return pipeline.final_outputs;
 }
 
-std::vector<FrameResult> render(const Scene* scene, const std::string& mode_name,
+std::vector<FrameResult> render(const Scene* scene, const ModeInfo& mode,
                                 const RenderSettings& settings) {
     std::vector<FrameResult> frames;
-    render_each(scene, mode_name, settings,
+    render_each(scene, mode, settings,
                 [&frames](FrameResult& f) { frames.push_back(std::move(f)); });
     return frames;
 }

@@ -6,9 +6,11 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "ref/core/error.h"
 #include "ref/scene/scene.h"
 #include "ref/stage/frame.h"
 #include "ref/stage/params.h"
@@ -32,6 +34,13 @@ struct RenderSettings {
     std::function<void(double)> progress;
 };
 
+/// A mode's state for one render, shared by its stages: typed parameters parsed once, caches
+/// built on first use (the BVH), state carried from frame to frame (TAA history). Each mode
+/// derives its own; a stage reads it through FrameContext::mode_state<T>().
+struct ModeState {
+    virtual ~ModeState() = default;
+};
+
 /// What a stage sees: the scene, the settings, this frame's cameras and the frame's buffers.
 struct FrameContext {
     const Scene* scene = nullptr;  ///< null for modes that need no scene
@@ -45,24 +54,38 @@ struct FrameContext {
     std::string note;  ///< set by a stage to explain what it did or skipped
     /// Set by the pipeline: reports the fraction of the current stage done (0..1).
     std::function<void(double)> stage_progress;
+    ModeState* state = nullptr;  ///< the pipeline's state (null for a mode without state)
 
     const Image& input(const std::string& name) const;
     /// For long stages: report progress through the current stage (e.g. after each row).
     void report(double fraction_of_stage) const {
         if (stage_progress) stage_progress(fraction_of_stage);
     }
+    /// The mode's state as its own type; throws when the pipeline carries none of that type.
+    template <class T>
+    T& mode_state() const {
+        T* typed = dynamic_cast<T*>(state);
+        FOVREF_CHECK(typed != nullptr, "stage run without its mode's state");
+        return *typed;
+    }
 };
+
+/// A stage's body: a plain named function (so `break fovref::<stage>` works in a debugger and
+/// stepping in from Pipeline::run_frame lands in it directly). It reads its inputs through the
+/// context, calls the pass, and adds the pass's outputs and counters to the frame.
+using StageFunction = void (*)(FrameContext& context);
 
 struct StageDef {
     std::string name;
     std::vector<std::string> inputs;
     std::vector<std::string> outputs;
-    std::function<void(FrameContext&)> run;
+    StageFunction run = nullptr;
 };
 
 struct Pipeline {
     std::vector<StageDef> stages;            ///< in execution order
     std::vector<std::string> final_outputs;  ///< what a plain render writes
+    std::shared_ptr<ModeState> state;        ///< handed to every stage; may be null
 
     /// Every buffer name the stages produce, in pipeline order.
     std::vector<std::string> all_outputs() const;
@@ -91,34 +114,29 @@ struct ModeInfo {
     std::string description;
     bool needs_scene = true;
     std::vector<ParamSpec> params;
-    /// Builds the pipeline for a scene (null when !needs_scene) and validated settings; the
-    /// closures may hold state carried from frame to frame (TAA history, ...).
-    std::function<Pipeline(const Scene*, const RenderSettings&)> build;
+    /// Builds the pipeline for a scene (null when !needs_scene) and validated settings; its
+    /// state (Pipeline::state) may carry data from frame to frame (TAA history, ...).
+    Pipeline (*build)(const Scene* scene, const RenderSettings& settings) = nullptr;
     /// Explains one pixel of a rendered frame for `fovref probe` (ref/stage/probe.h); may be
-    /// empty (the probe then lists the buffers' values only).
-    std::function<void(const ProbeContext&, ProbeReport&)> explain;
+    /// null (the probe then lists the buffers' values only).
+    void (*explain)(const ProbeContext& context, ProbeReport& report) = nullptr;
     /// The per-pixel functions of the passes the parameters select, in pipeline order; may be
-    /// empty (no breakpoints to offer).
-    std::function<std::vector<PixelFunction>(const Params&)> pixel_functions;
+    /// null (no breakpoints to offer).
+    std::vector<PixelFunction> (*pixel_functions)(const Params& params) = nullptr;
     /// True when a frame depends on no earlier frame, so frame f can be rendered alone
     /// (RenderSettings::first_frame) with the same bits.
     bool stateless = true;
 };
 
-/// Every render mode, in the order `fovref render --help` lists them.
-const std::vector<ModeInfo>& render_modes();
-/// Throws fovref::Error listing the valid names.
-const ModeInfo& find_mode(const std::string& name);
-
 /// Renders frames 0..frame_count-1 of `mode`, handing each frame to `on_frame` as soon as it is
 /// done (so long runs need not keep every frame in memory). Validates the settings, parameters
 /// and requested buffers before any work. Returns the mode's final outputs.
-std::vector<std::string> render_each(const Scene* scene, const std::string& mode,
+std::vector<std::string> render_each(const Scene* scene, const ModeInfo& mode,
                                      const RenderSettings& settings,
                                      const std::function<void(FrameResult&)>& on_frame);
 
 /// render_each, keeping every frame.
-std::vector<FrameResult> render(const Scene* scene, const std::string& mode,
+std::vector<FrameResult> render(const Scene* scene, const ModeInfo& mode,
                                 const RenderSettings& settings);
 
 /// Checks width/height/frame counts and times; throws fovref::Error naming the setting.

@@ -25,9 +25,8 @@ std::string probe_bits(float v) {
     return text;
 }
 
-ProbeReport probe_pixel(const Scene* scene, const std::string& mode_name,
-                        const RenderSettings& settings, int frame, int x, int y) {
-    const ModeInfo& mode = find_mode(mode_name);
+ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSettings& settings,
+                        int frame, int x, int y) {
     validate_settings(settings);      // --width 0 is a bad width, not a pixel outside the screen
     constexpr int max_frame = 99999;  // frames 0 .. F run: at most 100000 (validate_settings)
     if (frame < 0 || frame > max_frame)
@@ -42,12 +41,12 @@ ProbeReport probe_pixel(const Scene* scene, const std::string& mode_name,
     s.frame_count = frame + 1;
     s.requested = {"all"};
     FrameResult last;
-    render_each(scene, mode_name, s, [&](FrameResult& f) {
+    render_each(scene, mode, s, [&](FrameResult& f) {
         if (f.frame == frame) last = std::move(f);
     });
 
     ProbeReport report;
-    report.mode = mode_name;
+    report.mode = mode.name;
     report.frame = frame;
     report.x = x;
     report.y = y;

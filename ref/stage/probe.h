@@ -46,7 +46,7 @@ struct ProbeContext {
 
 /// Renders frames 0 .. frame of `mode` (every buffer of the last), then explains pixel (x, y).
 /// Throws fovref::Error for a pixel outside the screen or a bad frame number.
-ProbeReport probe_pixel(const Scene* scene, const std::string& mode, const RenderSettings& settings,
+ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSettings& settings,
                         int frame, int x, int y);
 
 /// Formatting helpers for explainers: "%.9g" floats (round-trip exact), vectors, hex bits.

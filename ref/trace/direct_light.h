@@ -28,7 +28,7 @@
 
 #include "ref/bvh/bvh.h"
 #include "ref/scene/scene.h"
-#include "ref/trace/surface.h"
+#include "ref/scene/surface.h"
 
 namespace fovref {
 

@@ -4,39 +4,28 @@ namespace fovref {
 
 Hit raycast_gbuffer_pixel(GBuffer& g, const Scene& scene, const Bvh& bvh, const Camera& camera,
                           float tan_half, const Camera& previous_camera, float previous_tan_half,
-                          int x, int y, TraceStats& stats, std::int64_t* motion_behind_previous) {
+                          int x, int y, RaycastStats& stats) {
     const int width = g.view_depth.width, height = g.view_depth.height;
     const Ray ray = primary_ray(camera, tan_half, width, height, static_cast<float>(x) + 0.5f,
                                 static_cast<float>(y) + 0.5f);
-    const Hit hit = trace_closest(bvh, ray, stats);
+    const Hit hit = trace_closest(bvh, ray, stats.primary);
     if (!hit.hit()) return hit;  // misses keep the background values
     if (!write_gbuffer_pixel(g, x, y, scene, camera, previous_camera, previous_tan_half,
-                             hit.primitive, hit.u, hit.v) &&
-        motion_behind_previous)
-        ++*motion_behind_previous;
+                             hit.primitive, hit.u, hit.v))
+        ++stats.motion_behind_previous;
     return hit;
 }
 
 GBuffer raycast_gbuffer(const Scene& scene, const Bvh& bvh, const Camera& camera,
-                        const Camera& previous_camera, int width, int height, TraceStats& stats,
-                        std::int64_t* motion_behind_previous) {
+                        const Camera& previous_camera, int width, int height, RaycastStats& stats) {
     GBuffer g(width, height);
     const float tan_half = tan_half_vfov(camera);
     const float previous_tan_half = tan_half_vfov(previous_camera);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x)
             raycast_gbuffer_pixel(g, scene, bvh, camera, tan_half, previous_camera,
-                                  previous_tan_half, x, y, stats, motion_behind_previous);
+                                  previous_tan_half, x, y, stats);
     return g;
-}
-
-std::int64_t gbuffer_texture_fetches(const Scene& scene, const GBuffer& gbuffer) {
-    std::int64_t fetches = 0;
-    for (std::size_t i = 0; i < gbuffer.material_id.data.size(); ++i) {
-        const float id = gbuffer.material_id.data[i];
-        if (id >= 0.0f && scene.materials[static_cast<std::size_t>(id)].texture >= 0) ++fetches;
-    }
-    return fetches;
 }
 
 }  // namespace fovref

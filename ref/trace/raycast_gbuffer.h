@@ -18,22 +18,23 @@ inline Ray primary_ray(const Camera& camera, float tan_half, int width, int heig
     return ray;
 }
 
+/// What the ray-cast G-buffer pass did (the counterpart of the rasterizer's RasterStats; the
+/// pass adds to it).
+struct RaycastStats {
+    TraceStats primary;                       ///< traversal work of the primary rays
+    std::int64_t motion_behind_previous = 0;  ///< hit pixels behind the previous camera (motion 0)
+    bool operator==(const RaycastStats&) const = default;
+};
+
 /// Per-pixel work of raycast_gbuffer: the primary ray through the centre of pixel (x, y), its
 /// closest hit, and the G-buffer pixel written from it (write_gbuffer_pixel; a miss keeps the
-/// background). Returns the hit. `motion_behind_previous` as below.
+/// background). Returns the hit.
 Hit raycast_gbuffer_pixel(GBuffer& gbuffer, const Scene& scene, const Bvh& bvh,
                           const Camera& camera, float tan_half, const Camera& previous_camera,
-                          float previous_tan_half, int x, int y, TraceStats& stats,
-                          std::int64_t* motion_behind_previous = nullptr);
+                          float previous_tan_half, int x, int y, RaycastStats& stats);
 
-/// Primary rays through every pixel centre (t in (0, inf)). `motion_behind_previous`, when given,
-/// counts pixels whose point is not in front of the previous camera (motion 0).
+/// Primary rays through every pixel centre (t in (0, inf)); motion against `previous_camera`.
 GBuffer raycast_gbuffer(const Scene& scene, const Bvh& bvh, const Camera& camera,
-                        const Camera& previous_camera, int width, int height, TraceStats& stats,
-                        std::int64_t* motion_behind_previous = nullptr);
-
-/// Texels fetched while filling a G-buffer: surface_at samples the texture exactly once for
-/// every covered pixel whose material has one.
-std::int64_t gbuffer_texture_fetches(const Scene& scene, const GBuffer& gbuffer);
+                        const Camera& previous_camera, int width, int height, RaycastStats& stats);
 
 }  // namespace fovref

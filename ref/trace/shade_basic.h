@@ -12,8 +12,8 @@
 #include "ref/image/image.h"
 #include "ref/scene/camera.h"
 #include "ref/scene/scene.h"
+#include "ref/scene/surface.h"
 #include "ref/trace/direct_light.h"
-#include "ref/trace/surface.h"
 
 namespace fovref {
 

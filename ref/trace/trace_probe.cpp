@@ -1,6 +1,5 @@
-// `fovref probe` explanations for the basic and ground-truth ray tracers (ref/stage/probe.h):
-// the per-pixel computation of each stage redone for one pixel with the same functions the
-// stages call, with every intermediate value shown, and checked against the rendered buffers.
+#include "ref/trace/trace_probe.h"
+
 #include <cmath>
 #include <cstring>
 
@@ -8,11 +7,12 @@
 #include "ref/core/rng.h"
 #include "ref/raster/rasterizer.h"
 #include "ref/stage/probe.h"
+#include "ref/trace/basic_params.h"
 #include "ref/trace/direct_light.h"
 #include "ref/trace/ground_truth.h"
 #include "ref/trace/raycast_gbuffer.h"
 #include "ref/trace/shade_basic.h"
-#include "ref/trace/trace_modes.h"
+#include "ref/trace/trace_probe.h"
 
 namespace fovref {
 
@@ -211,7 +211,7 @@ void check(ProbeReport& report, ProbeSection& section, const std::string& what, 
 void explain_basic(const ProbeContext& c, ProbeReport& report) {
     const Scene& scene = *c.scene;
     const FrameResult& f = *c.frame;
-    const std::string primary = c.settings->params.get_string(basic_params(), "primary");
+    const BasicParams params = parse_basic_params(c.settings->params);
     const Bvh bvh = build_bvh(scene.positions);
     const int width = c.settings->width, height = c.settings->height;
     const ShadeInputs inputs{
@@ -227,14 +227,14 @@ void explain_basic(const ProbeContext& c, ProbeReport& report) {
     const float tan_half = tan_half_vfov(c.camera);
     const Ray ray = primary_ray(c.camera, tan_half, width, height, static_cast<float>(c.x) + 0.5f,
                                 static_cast<float>(c.y) + 0.5f);
-    if (primary == "raster") {
+    if (params.primary == PrimaryVisibility::raster) {
         ProbeSection vis{"primary_visibility",
                          "rasterized G-buffer: coverage in 1/256-px fixed point, attributes where "
                          "the pixel's ray meets the winning triangle's plane (docs/raster.md)",
                          {}};
         std::int32_t winner = -1;
         RasterFragment winning;
-        explain_raster(c, basic_raster_settings(c.settings->params), report, vis, winner, winning);
+        explain_raster(c, params.raster, report, vis, winner, winning);
         if (winner >= 0) {
             const SurfacePoint surface = surface_at(scene, winner, winning.u, winning.v);
             explain_surface(scene, surface, vis);
@@ -263,11 +263,12 @@ void explain_basic(const ProbeContext& c, ProbeReport& report) {
                                    ", " + probe_float(ray.t_max) + ")");
         // The pass's own per-pixel function, into a scratch G-buffer.
         GBuffer scratch(width, height);
-        TraceStats stats;
+        RaycastStats stats;
         const Hit hit = raycast_gbuffer_pixel(scratch, scene, bvh, c.camera, tan_half, c.camera,
                                               tan_half, c.x, c.y, stats);
-        vis.add("traversal", std::to_string(stats.nodes_visited) + " nodes visited, " +
-                                 std::to_string(stats.triangles_tested) + " triangles tested");
+        vis.add("traversal", std::to_string(stats.primary.nodes_visited) + " nodes visited, " +
+                                 std::to_string(stats.primary.triangles_tested) +
+                                 " triangles tested");
         if (!hit.hit()) {
             vis.add("hit", "miss (background: ids -1, every other channel 0)");
         } else {

@@ -9,9 +9,10 @@
 #include <string>
 
 #include "ref/core/error.h"
+#include "ref/core/json_locator.h"
 #include "ref/golden/bundle.h"
 #include "ref/image/image_io.h"
-#include "ref/scene/json_locator.h"
+#include "ref/modes/modes.h"
 
 using namespace fovref;
 namespace fs = std::filesystem;

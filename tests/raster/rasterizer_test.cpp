@@ -19,7 +19,7 @@
 #include "ref/core/rng.h"
 #include "ref/raster/rasterizer.h"
 #include "ref/scene/procedural.h"
-#include "ref/trace/surface.h"
+#include "ref/scene/surface.h"
 
 using namespace fovref;
 

@@ -17,8 +17,8 @@
 #include <string>
 
 #include "ref/core/error.h"
+#include "ref/core/json_locator.h"
 #include "ref/image/image_io.h"
-#include "ref/scene/json_locator.h"
 #include "ref/scene/procedural.h"
 #include "ref/scene/scene_file.h"
 

@@ -5,30 +5,43 @@
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
 #include "ref/core_passes/core_passes.h"
-#include "ref/stage/pipeline.h"
+#include "ref/modes/modes.h"
 
 using namespace fovref;
 
 namespace {
 
-// A three-stage toy pipeline: a -> b, and an independent c.
+// A three-stage toy pipeline: a -> b, and an independent c. Its state counts the stage runs.
+struct ToyState : ModeState {
+    int* runs = nullptr;
+};
+
+void make_a(FrameContext& ctx) {
+    ++ctx.mode_state<ToyState>().runs[0];
+    ctx.result->add("a", BufferKind::scalar, {"v"}, Image(2, 2, 1, 1.0f));
+}
+
+void a_to_b(FrameContext& ctx) {
+    ++ctx.mode_state<ToyState>().runs[1];
+    Image b = ctx.input("a");
+    for (float& v : b.data) v *= 2.0f;
+    ctx.result->add("b", BufferKind::scalar, {"v"}, b);
+}
+
+void make_c(FrameContext& ctx) {
+    ++ctx.mode_state<ToyState>().runs[2];
+    ctx.note = "made c";
+    ctx.result->add("c", BufferKind::scalar, {"v"}, Image(1, 1, 1, 3.0f));
+}
+
 Pipeline toy_pipeline(int* runs) {
+    auto state = std::make_shared<ToyState>();
+    state->runs = runs;
     Pipeline p;
-    p.stages.push_back({"make_a", {}, {"a"}, [runs](FrameContext& ctx) {
-                            ++runs[0];
-                            ctx.result->add("a", BufferKind::scalar, {"v"}, Image(2, 2, 1, 1.0f));
-                        }});
-    p.stages.push_back({"a_to_b", {"a"}, {"b"}, [runs](FrameContext& ctx) {
-                            ++runs[1];
-                            Image b = ctx.input("a");
-                            for (float& v : b.data) v *= 2.0f;
-                            ctx.result->add("b", BufferKind::scalar, {"v"}, b);
-                        }});
-    p.stages.push_back({"make_c", {}, {"c"}, [runs](FrameContext& ctx) {
-                            ++runs[2];
-                            ctx.note = "made c";
-                            ctx.result->add("c", BufferKind::scalar, {"v"}, Image(1, 1, 1, 3.0f));
-                        }});
+    p.state = state;
+    p.stages.push_back({"make_a", {}, {"a"}, make_a});
+    p.stages.push_back({"a_to_b", {"a"}, {"b"}, a_to_b});
+    p.stages.push_back({"make_c", {}, {"c"}, make_c});
     p.final_outputs = {"b"};
     return p;
 }

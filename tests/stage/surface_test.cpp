@@ -3,7 +3,7 @@
 #include "ref/core/error.h"
 #include "ref/raster/gbuffer.h"
 #include "ref/scene/procedural.h"
-#include "ref/trace/surface.h"
+#include "ref/scene/surface.h"
 
 using namespace fovref;
 

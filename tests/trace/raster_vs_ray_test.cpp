@@ -9,9 +9,9 @@
 #include <cmath>
 #include <cstring>
 
+#include "ref/modes/modes.h"
 #include "ref/raster/rasterizer.h"
 #include "ref/scene/procedural.h"
-#include "ref/stage/pipeline.h"
 #include "ref/trace/raycast_gbuffer.h"
 
 using namespace fovref;
@@ -51,7 +51,7 @@ TEST_CASE(
         for (float time : {0.0f, 1.5f}) {
             const Camera camera = camera_at(scene, time);
             RasterStats raster_stats;
-            TraceStats trace_stats;
+            RaycastStats trace_stats;
             const GBuffer r = rasterize_gbuffer(scene, camera, camera, width, height, raster_stats);
             const GBuffer t =
                 raycast_gbuffer(scene, bvh, camera, camera, width, height, trace_stats);

@@ -65,7 +65,7 @@ TEST_CASE("direct light: a point light above a Lambertian floor gives albedo/pi 
     Scene scene = floor_scene(true);
     Bvh bvh = build_bvh(scene.positions);
     // 3x3 screen: the centre pixel looks straight down at (0, 0, 0), right below the light.
-    TraceStats primary;
+    RaycastStats primary;
     GBuffer g = raycast_gbuffer(scene, bvh, scene.camera, scene.camera, 3, 3, primary);
     REQUIRE(g.primitive_id.at(1, 1) >= 0.0f);
     SurfacePoint s;
@@ -195,11 +195,11 @@ TEST_CASE("camera ray list: row-major pixel-centre rays that hit what the G-buff
     std::vector<Ray> rays = camera_rays_list(scene.camera, 5, 4);
     REQUIRE(rays.size() == 20);
     Bvh bvh = build_bvh(scene.positions);
-    TraceStats stats;
+    RaycastStats stats;
     GBuffer g = raycast_gbuffer(scene, bvh, scene.camera, scene.camera, 5, 4, stats);
     for (int k = 0; k < 20; ++k) {
         const Ray& ray = rays[static_cast<std::size_t>(k)];
-        const Hit hit = trace_closest(bvh, ray, stats);
+        const Hit hit = trace_closest(bvh, ray, stats.primary);
         CHECK(static_cast<float>(hit.primitive) == g.primitive_id.at(k % 5, k / 5));
         // Ray k goes through the centre of pixel (k % 5, k / 5): it projects back there.
         glm::vec2 screen;

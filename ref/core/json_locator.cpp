@@ -1,4 +1,4 @@
-#include "ref/scene/json_locator.h"
+#include "ref/core/json_locator.h"
 
 #include <cmath>
 #include <cstdlib>

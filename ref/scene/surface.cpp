@@ -1,4 +1,4 @@
-#include "ref/trace/surface.h"
+#include "ref/scene/surface.h"
 
 #include <cmath>
 

@@ -1,0 +1,87 @@
+#include "ref/modes/modes.h"
+
+#include "ref/core/error.h"
+#include "ref/modes/core_modes.h"
+#include "ref/modes/trace_modes.h"
+#include "ref/trace/basic_params.h"
+#include "ref/trace/trace_probe.h"
+
+namespace fovref {
+
+namespace {
+
+ModeInfo mode(std::string name, std::string description,
+              Pipeline (*build)(const Scene*, const RenderSettings&)) {
+    ModeInfo m;
+    m.name = std::move(name);
+    m.description = std::move(description);
+    m.build = build;
+    return m;
+}
+
+std::vector<ModeInfo> make_modes() {
+    ModeInfo basic = mode("basic",
+                          "one ray per pixel centre, Lambertian shading with one shadow ray "
+                          "per light (Lund §3.1)",
+                          basic_pipeline);
+    basic.params = basic_param_specs();
+    basic.explain = explain_basic;
+    basic.pixel_functions = basic_pixel_functions;
+    ModeInfo ground_truth = mode(
+        "ground-truth", "16 Halton(2,3) rays per pixel, shaded as basic, box-filtered (Lund §3.2)",
+        ground_truth_pipeline);
+    ground_truth.explain = explain_ground_truth;
+    ground_truth.pixel_functions = ground_truth_pixel_functions;
+    ModeInfo rng = mode("rng", "rand(frame, pixel, d) for d = 0..2 (SPEC §0)", rng_pipeline);
+    rng.needs_scene = false;
+    ModeInfo halton = mode("halton", "the 16 Halton(2,3) points, raw and scaled (Lund eq. 3.11)",
+                           halton_pipeline);
+    halton.needs_scene = false;
+    return {
+        basic,
+        ground_truth,
+        mode("splat",
+             "centroid splat of every triangle with headlight shading (a trivial pass that "
+             "pins scene, materials, textures and camera path)",
+             splat_pipeline),
+        mode("camera-rays", "primary ray direction through every pixel centre (SPEC §1)",
+             camera_rays_pipeline),
+        mode("geometry", "the scene's triangles, normals, uvs and material ids as buffers",
+             geometry_pipeline),
+        rng,
+        halton,
+    };
+}
+
+}  // namespace
+
+const std::vector<ModeInfo>& render_modes() {
+    static const std::vector<ModeInfo> modes = make_modes();
+    return modes;
+}
+
+const ModeInfo& find_mode(const std::string& name) {
+    for (const ModeInfo& mode : render_modes())
+        if (mode.name == name) return mode;
+    std::vector<std::string> names;
+    for (const ModeInfo& mode : render_modes()) names.push_back(mode.name);
+    throw Error("unknown mode '" + name + "' (modes: " + join_names(names) + ")");
+}
+
+std::vector<std::string> render_each(const Scene* scene, const std::string& mode,
+                                     const RenderSettings& settings,
+                                     const std::function<void(FrameResult&)>& on_frame) {
+    return render_each(scene, find_mode(mode), settings, on_frame);
+}
+
+std::vector<FrameResult> render(const Scene* scene, const std::string& mode,
+                                const RenderSettings& settings) {
+    return render(scene, find_mode(mode), settings);
+}
+
+ProbeReport probe_pixel(const Scene* scene, const std::string& mode, const RenderSettings& settings,
+                        int frame, int x, int y) {
+    return probe_pixel(scene, find_mode(mode), settings, frame, x, y);
+}
+
+}  // namespace fovref

@@ -1,0 +1,29 @@
+// The registry of render modes: the one place that knows every mode. Each mode is a pipeline of
+// stages wired from the passes below it (ref/core_passes, ref/raster, ref/trace; later
+// foveation, temporal, bmfr); the stage framework (ref/stage) knows none of them.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "ref/stage/pipeline.h"
+#include "ref/stage/probe.h"
+
+namespace fovref {
+
+/// Every render mode, in the order `fovref render --help` lists them.
+const std::vector<ModeInfo>& render_modes();
+/// Throws fovref::Error listing the valid names.
+const ModeInfo& find_mode(const std::string& name);
+
+/// render_each / render / probe_pixel of ref/stage for the mode named `mode`.
+std::vector<std::string> render_each(const Scene* scene, const std::string& mode,
+                                     const RenderSettings& settings,
+                                     const std::function<void(FrameResult&)>& on_frame);
+std::vector<FrameResult> render(const Scene* scene, const std::string& mode,
+                                const RenderSettings& settings);
+ProbeReport probe_pixel(const Scene* scene, const std::string& mode, const RenderSettings& settings,
+                        int frame, int x, int y);
+
+}  // namespace fovref

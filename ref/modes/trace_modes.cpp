@@ -1,0 +1,160 @@
+#include "ref/modes/trace_modes.h"
+
+#include <memory>
+#include <optional>
+
+#include "ref/bvh/bvh.h"
+#include "ref/raster/gbuffer.h"
+#include "ref/raster/rasterizer.h"
+#include "ref/trace/basic_params.h"
+#include "ref/trace/direct_light.h"
+#include "ref/trace/ground_truth.h"
+#include "ref/trace/raycast_gbuffer.h"
+#include "ref/trace/shade_basic.h"
+
+namespace fovref {
+
+namespace {
+
+// The state of a basic or ground-truth render: the parameters, parsed once, and the scene's
+// BVH, built on first use and kept for later frames.
+struct TraceModeState : ModeState {
+    BasicParams params;
+    std::optional<Bvh> bvh;
+
+    const Bvh& get_bvh(const Scene& scene, Counters& counters) {
+        if (!bvh) {
+            bvh = build_bvh(scene.positions);
+            counters.add("bvh_built_nodes", bvh->stats.nodes);
+            counters.add("bvh_built_leaves", bvh->stats.leaves);
+        }
+        return *bvh;
+    }
+};
+
+void add_trace_counters(Counters& counters, const std::string& kind, const TraceStats& stats) {
+    counters.add("rays_" + kind, stats.rays);
+    counters.add(kind + "_nodes_visited", stats.nodes_visited);
+    counters.add(kind + "_triangles_tested", stats.triangles_tested);
+    counters.add(kind + "_hits", stats.hits);
+}
+
+void add_raster_counters(Counters& counters, const RasterStats& stats) {
+    counters.add("raster_triangles_rasterized", stats.triangles_rasterized);
+    counters.add("raster_fragments_written", stats.fragments_written);
+    if (stats.fragments_without_plane_hit > 0)
+        counters.add("raster_fragments_without_plane_hit", stats.fragments_without_plane_hit);
+}
+
+void add_shading_counters(Counters& counters, const ShadingStats& stats) {
+    counters.add("pixels_shaded", stats.shaded);
+    counters.add("texture_fetches", stats.texture_fetches);
+    counters.add("light_samples_facing_away", stats.lights_facing_away);
+    counters.add("light_samples_degenerate", stats.light_samples_degenerate);
+    counters.add("nonfinite_inputs_replaced", stats.nonfinite_inputs);
+    counters.add("invalid_material_ids", stats.invalid_material_ids);
+    counters.add("shadow_rays_occluded", stats.shadow_rays_occluded);
+    add_trace_counters(counters, "shadow", stats.shadow_trace);
+}
+
+std::string shadow_note(const Scene& scene) {
+    return scene.lights.empty() ? "no lights: no shadow rays traced" : "";
+}
+
+const std::vector<std::string> shade_direct_inputs = {
+    "gbuffer_world_position", "gbuffer_shading_normal", "gbuffer_geometric_normal",
+    "gbuffer_albedo",         "gbuffer_material_id",    "gbuffer_primitive_id"};
+
+}  // namespace
+
+void primary_visibility_stage(FrameContext& ctx) {
+    TraceModeState& state = ctx.mode_state<TraceModeState>();
+    const Scene& scene = *ctx.scene;
+    const RenderSettings& s = *ctx.settings;
+    if (state.params.primary == PrimaryVisibility::raster) {
+        RasterStats stats;
+        GBuffer g = rasterize_gbuffer(scene, ctx.camera, ctx.previous_camera, s.width, s.height,
+                                      stats, state.params.raster);
+        add_raster_counters(ctx.result->counters, stats);
+        ctx.note =
+            std::string("rasterized, fill rule ") + fill_rule_name(state.params.raster.fill_rule);
+        add_gbuffer(*ctx.result, std::move(g));
+    } else {
+        RaycastStats stats;
+        GBuffer g = raycast_gbuffer(scene, state.get_bvh(scene, ctx.result->counters), ctx.camera,
+                                    ctx.previous_camera, s.width, s.height, stats);
+        add_trace_counters(ctx.result->counters, "primary", stats.primary);
+        ctx.note = "ray cast";
+        add_gbuffer(*ctx.result, std::move(g));
+    }
+}
+
+void shade_direct_stage(FrameContext& ctx) {
+    TraceModeState& state = ctx.mode_state<TraceModeState>();
+    const Scene& scene = *ctx.scene;
+    const ShadeInputs inputs{
+        ctx.input("gbuffer_world_position"),   ctx.input("gbuffer_shading_normal"),
+        ctx.input("gbuffer_geometric_normal"), ctx.input("gbuffer_albedo"),
+        ctx.input("gbuffer_material_id"),      ctx.input("gbuffer_primitive_id")};
+    // No lights: no shadow rays, so no BVH is needed for shading.
+    const Bvh* tree = scene.lights.empty() ? nullptr : &state.get_bvh(scene, ctx.result->counters);
+    ShadingStats stats;
+    Image out = shade_basic(scene, tree, inputs, ctx.camera, ctx.frame, stats);
+    add_shading_counters(ctx.result->counters, stats);
+    ctx.note = shadow_note(scene);
+    ctx.result->add("final", BufferKind::color, {"r", "g", "b"}, std::move(out));
+}
+
+void supersample_stage(FrameContext& ctx) {
+    TraceModeState& state = ctx.mode_state<TraceModeState>();
+    const Scene& scene = *ctx.scene;
+    TraceStats primary;
+    ShadingStats shading;
+    Image image = render_ground_truth(scene, state.get_bvh(scene, ctx.result->counters), ctx.camera,
+                                      static_cast<std::uint32_t>(ctx.frame), ctx.settings->width,
+                                      ctx.settings->height, primary, shading);
+    add_trace_counters(ctx.result->counters, "primary", primary);
+    add_shading_counters(ctx.result->counters, shading);
+    ctx.note = shadow_note(scene);
+    ctx.result->add("final", BufferKind::color, {"r", "g", "b"}, std::move(image));
+}
+
+std::vector<PixelFunction> basic_pixel_functions(const Params& params) {
+    if (parse_basic_params(params).primary == PrimaryVisibility::raster)
+        return {{"primary_visibility", "fovref::raster_fragment",
+                 "once per triangle whose snapped coverage contains the centre"},
+                {"primary_visibility", "fovref::depth_test", "once per fragment found"},
+                {"primary_visibility", "fovref::write_gbuffer_pixel", "the winner's attributes"},
+                {"shade_direct", "fovref::shade_basic_pixel", ""}};
+    return {{"primary_visibility", "fovref::raycast_gbuffer_pixel", ""},
+            {"shade_direct", "fovref::shade_basic_pixel", ""}};
+}
+
+std::vector<PixelFunction> ground_truth_pixel_functions(const Params&) {
+    return {{"primary_visibility", "fovref::raycast_gbuffer_pixel", ""},
+            {"supersample", "fovref::ground_truth_pixel", ""}};
+}
+
+Pipeline basic_pipeline(const Scene*, const RenderSettings& settings) {
+    auto state = std::make_shared<TraceModeState>();
+    state->params = parse_basic_params(settings.params);
+    Pipeline p;
+    p.state = state;
+    p.stages.push_back({"primary_visibility", {}, gbuffer_names(), primary_visibility_stage});
+    p.stages.push_back({"shade_direct", shade_direct_inputs, {"final"}, shade_direct_stage});
+    p.final_outputs = {"final"};
+    return p;
+}
+
+Pipeline ground_truth_pipeline(const Scene*, const RenderSettings&) {
+    auto state = std::make_shared<TraceModeState>();  // primary = ray: the BVH is shared
+    Pipeline p;
+    p.state = state;
+    // The pixel-centre G-buffer: consumed by nothing here, produced for --dump and golden bundles.
+    p.stages.push_back({"primary_visibility", {}, gbuffer_names(), primary_visibility_stage});
+    p.stages.push_back({"supersample", {}, {"final"}, supersample_stage});
+    p.final_outputs = {"final"};
+    return p;
+}
+
+}  // namespace fovref
