@@ -18,6 +18,7 @@ configure() {  # preset
 
 echo "== format check"
 bash tools/check_format.sh
+bash tools/check_layers.sh
 
 status=0
 run_suite() {  # dir label
