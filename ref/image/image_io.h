@@ -8,6 +8,7 @@
 #include <string>
 
 #include "ref/image/image.h"
+#include "ref/image/srgb.h"
 
 namespace fovref {
 
@@ -52,10 +53,6 @@ Image read_raw(const std::string& path, const RawLayout& layout);
 /// By extension: .pfm, .png, .exr (case-insensitive).
 Image read_image(const std::string& path);
 void write_image(const std::string& path, const Image& image);
-
-/// sRGB transfer functions (IEC 61966-2-1), deterministic (dm::pow).
-float srgb_encode(float linear);
-float srgb_decode(float encoded);
 
 /// Write `bytes` to `path` atomically (temporary file + rename). Throws fovref::Error.
 void write_file_atomic(const std::string& path, const std::string& bytes);

@@ -73,7 +73,7 @@ Planes3 to_ycxcz(const Image& image, std::size_t& nonfinite) {
                 ++nonfinite;
             }
             // NVlabs v1.4+: decode, then clamp the linear value to [0, 1] (FLIP::evaluate).
-            rgb[ch] = flip::clamp01(flip::srgb_to_linear(v));
+            rgb[ch] = flip::clamp01(srgb_decode(v));
         }
         const Color3 ycxcz = flip::xyz_to_ycxcz(flip::linear_rgb_to_xyz({rgb[0], rgb[1], rgb[2]}));
         out.a[i] = ycxcz.x;

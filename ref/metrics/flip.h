@@ -20,6 +20,7 @@
 
 #include "ref/core/dmath.h"
 #include "ref/image/image.h"
+#include "ref/image/srgb.h"
 
 namespace fovref {
 
@@ -105,12 +106,6 @@ inline constexpr float qf = 0.5f;   ///< feature error exponent
 /// D65 reference white (row sums of the RGB->XYZ matrix) and its reciprocal.
 inline constexpr Color3 illuminant{0.950428545f, 1.000000000f, 1.088900371f};
 inline constexpr Color3 inv_illuminant{1.052156925f, 1.000000000f, 0.918357670f};
-
-/// IEC 61966-2-1 decoding of one channel.
-inline float srgb_to_linear(float c) {
-    if (c <= 0.04045f) return c / 12.92f;
-    return dm::pow((c + 0.055f) / 1.055f, 2.4f);
-}
 
 /// Linear sRGB (D65) to CIE XYZ, exact rational matrix coefficients.
 inline Color3 linear_rgb_to_xyz(Color3 c) {

@@ -252,7 +252,7 @@ glm::vec2 view_to_screen(glm::vec3 view, float tan_half, int width, int height) 
 
 std::int64_t rasterize_triangle_coverage(glm::vec2 a, glm::vec2 b, glm::vec2 c, Image& coverage,
                                          FillRule rule) {
-    FOVREF_CHECK(coverage.channels == 1, "coverage image must have 1 channel");
+    FOVREF_CHECK_EQ(coverage.channels, 1, "channels of the coverage image");
     std::int64_t tests = 0, covered = 0;
     const EdgeSetup e = setup_edges(snap_to_fixed(a), snap_to_fixed(b), snap_to_fixed(c), rule);
     rasterize_fixed_triangle(e, coverage.width, coverage.height, tests, [&](int i, int j) {
@@ -479,9 +479,11 @@ GBuffer resolve_gbuffer(const Scene& scene, const VisibilityBuffer& vis, const C
     check_scene(scene);
     const std::size_t pixels =
         static_cast<std::size_t>(vis.width) * static_cast<std::size_t>(vis.height);
-    FOVREF_CHECK(vis.primitive.size() == pixels && vis.u.size() == pixels &&
-                     vis.v.size() == pixels && vis.depth.size() == pixels,
-                 "visibility buffer arrays must have width x height entries");
+    const char* const entries = "visibility buffer arrays have width x height entries";
+    FOVREF_CHECK_EQ(vis.primitive.size(), pixels, entries);
+    FOVREF_CHECK_EQ(vis.u.size(), pixels, entries);
+    FOVREF_CHECK_EQ(vis.v.size(), pixels, entries);
+    FOVREF_CHECK_EQ(vis.depth.size(), pixels, entries);
     GBuffer g(vis.width, vis.height);
     const float previous_tan_half = tan_half_vfov(previous_camera);
     for (int j = 0; j < vis.height; ++j) {

@@ -44,9 +44,8 @@ const Buffer* FrameResult::find(const std::string& name) const {
 Buffer& FrameResult::add(std::string name, BufferKind kind, std::vector<std::string> channel_names,
                          Image image) {
     FOVREF_CHECK(find(name) == nullptr, "buffer '" + name + "' produced twice");
-    FOVREF_CHECK(static_cast<int>(channel_names.size()) == image.channels,
-                 "buffer '" + name + "' has " + std::to_string(image.channels) + " channels but " +
-                     std::to_string(channel_names.size()) + " channel names");
+    FOVREF_CHECK_EQ(channel_names.size(), static_cast<std::size_t>(image.channels),
+                    "channel names and channels of buffer '" + name + "'");
     buffers.push_back(
         Buffer{std::move(name), kind, std::move(channel_names), std::move(image), ""});
     return buffers.back();
