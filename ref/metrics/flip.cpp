@@ -83,62 +83,67 @@ Planes3 to_ycxcz(const Image& image, std::size_t& nonfinite) {
     return out;
 }
 
-/// Step 2: CSF filtering and the colour error per pixel.
-std::vector<float> color_error_map(const Planes3& ref, const Planes3& test, const FlipFilters& f,
-                                   int width, int height) {
+// Step 2's x pass of one image: Y*fy, Cx*fcx, Cz*fcz1, Cz*fcz2 (the two separable parts of Cz),
+// each a sum over ix = -r .. r in that order, the edge pixel repeated beyond the border.
+struct ColorXPass {
+    std::vector<float> y, cx, cz1, cz2;
+};
+
+ColorXPass color_x_pass(const Planes3& in, const FlipFilters& f, int width, int height) {
     const std::size_t n = static_cast<std::size_t>(width) * height;
     const int r = f.spatial_radius;
-    const float cmax = flip::color_cmax();
-
-    // x pass: per image, Y*fy, Cx*fcx, Cz*fcz1, Cz*fcz2 (the two separable parts of Cz).
-    struct Pass {
-        std::vector<float> y, cx, cz1, cz2;
-    };
-    auto x_pass = [&](const Planes3& in) {
-        Pass out{std::vector<float>(n), std::vector<float>(n), std::vector<float>(n),
-                 std::vector<float>(n)};
-        for (int y = 0; y < height; ++y) {
-            const std::size_t row = static_cast<std::size_t>(y) * width;
-            for (int x = 0; x < width; ++x) {
-                float sy = 0.0f, scx = 0.0f, scz1 = 0.0f, scz2 = 0.0f;
-                for (int ix = -r; ix <= r; ++ix) {
-                    const std::size_t src = row + clamp_index(x + ix, width);
-                    const std::size_t k = ix + r;
-                    sy += f.y[k] * in.a[src];
-                    scx += f.cx[k] * in.b[src];
-                    scz1 += f.cz1[k] * in.c[src];
-                    scz2 += f.cz2[k] * in.c[src];
-                }
-                out.y[row + x] = sy;
-                out.cx[row + x] = scx;
-                out.cz1[row + x] = scz1;
-                out.cz2[row + x] = scz2;
+    ColorXPass out{std::vector<float>(n), std::vector<float>(n), std::vector<float>(n),
+                   std::vector<float>(n)};
+    for (int y = 0; y < height; ++y) {
+        const std::size_t row = static_cast<std::size_t>(y) * width;
+        for (int x = 0; x < width; ++x) {
+            float sy = 0.0f, scx = 0.0f, scz1 = 0.0f, scz2 = 0.0f;
+            for (int ix = -r; ix <= r; ++ix) {
+                const std::size_t src = row + clamp_index(x + ix, width);
+                const std::size_t k = ix + r;
+                sy += f.y[k] * in.a[src];
+                scx += f.cx[k] * in.b[src];
+                scz1 += f.cz1[k] * in.c[src];
+                scz2 += f.cz2[k] * in.c[src];
             }
+            out.y[row + x] = sy;
+            out.cx[row + x] = scx;
+            out.cz1[row + x] = scz1;
+            out.cz2[row + x] = scz2;
         }
-        return out;
-    };
-    const Pass ref_x = x_pass(ref);
-    const Pass test_x = x_pass(test);
+    }
+    return out;
+}
 
-    // y pass, then to Hunt-adjusted L*a*b* and the colour error.
-    auto y_pass = [&](const Pass& in, int x, int y) {
-        float sy = 0.0f, scx = 0.0f, scz1 = 0.0f, scz2 = 0.0f;
-        for (int iy = -r; iy <= r; ++iy) {
-            const std::size_t src =
-                static_cast<std::size_t>(clamp_index(y + iy, height)) * width + x;
-            const std::size_t k = iy + r;
-            sy += f.y[k] * in.y[src];
-            scx += f.cx[k] * in.cx[src];
-            scz1 += f.cz1[k] * in.cz1[src];
-            scz2 += f.cz2[k] * in.cz2[src];
-        }
-        return Color3{sy, scx, scz1 + scz2};
-    };
-    std::vector<float> error(n);
+// Step 2's y pass at pixel (x, y): the filtered Y, Cx, Cz (Cz = its two separable parts added).
+Color3 color_y_pixel(const ColorXPass& in, const FlipFilters& f, int width, int height, int x,
+                     int y) {
+    const int r = f.spatial_radius;
+    float sy = 0.0f, scx = 0.0f, scz1 = 0.0f, scz2 = 0.0f;
+    for (int iy = -r; iy <= r; ++iy) {
+        const std::size_t src = static_cast<std::size_t>(clamp_index(y + iy, height)) * width + x;
+        const std::size_t k = iy + r;
+        sy += f.y[k] * in.y[src];
+        scx += f.cx[k] * in.cx[src];
+        scz1 += f.cz1[k] * in.cz1[src];
+        scz2 += f.cz2[k] * in.cz2[src];
+    }
+    return Color3{sy, scx, scz1 + scz2};
+}
+
+/// Step 2: CSF filtering and the colour error per pixel (y pass, then Hunt-adjusted L*a*b*).
+std::vector<float> color_error_map(const Planes3& ref, const Planes3& test, const FlipFilters& f,
+                                   int width, int height) {
+    const float cmax = flip::color_cmax();
+    const ColorXPass ref_x = color_x_pass(ref, f, width, height);
+    const ColorXPass test_x = color_x_pass(test, f, width, height);
+    std::vector<float> error(static_cast<std::size_t>(width) * height);
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
-            const Color3 ref_lab = flip::filtered_ycxcz_to_hunt_lab(y_pass(ref_x, x, y));
-            const Color3 test_lab = flip::filtered_ycxcz_to_hunt_lab(y_pass(test_x, x, y));
+            const Color3 ref_lab =
+                flip::filtered_ycxcz_to_hunt_lab(color_y_pixel(ref_x, f, width, height, x, y));
+            const Color3 test_lab =
+                flip::filtered_ycxcz_to_hunt_lab(color_y_pixel(test_x, f, width, height, x, y));
             error[static_cast<std::size_t>(y) * width + x] =
                 flip::color_error(ref_lab, test_lab, cmax);
         }
@@ -146,66 +151,70 @@ std::vector<float> color_error_map(const Planes3& ref, const Planes3& test, cons
     return error;
 }
 
+// Step 3's x pass on the achromatic channel normalised to [0, 1]: Y/116 + 16/116 (NVlabs's
+// order): first and second x-derivative and the x-Gaussian.
+struct FeatureXPass {
+    std::vector<float> dx, ddx, gx;
+};
+
+FeatureXPass feature_x_pass(const std::vector<float>& luma, const FlipFilters& f, int width,
+                            int height) {
+    const std::size_t n = static_cast<std::size_t>(width) * height;
+    const int r = f.feature_radius;
+    const float one_over_116 = 1.0f / 116.0f;
+    const float sixteen_over_116 = 16.0f / 116.0f;
+    FeatureXPass out{std::vector<float>(n), std::vector<float>(n), std::vector<float>(n)};
+    for (int y = 0; y < height; ++y) {
+        const std::size_t row = static_cast<std::size_t>(y) * width;
+        for (int x = 0; x < width; ++x) {
+            float dx = 0.0f, ddx = 0.0f, gx = 0.0f;
+            for (int ix = -r; ix <= r; ++ix) {
+                const std::size_t k = ix + r;
+                const float v =
+                    luma[row + clamp_index(x + ix, width)] * one_over_116 + sixteen_over_116;
+                dx += f.dg[k] * v;
+                ddx += f.ddg[k] * v;
+                gx += f.g[k] * v;
+            }
+            out.dx[row + x] = dx;
+            out.ddx[row + x] = ddx;
+            out.gx[row + x] = gx;
+        }
+    }
+    return out;
+}
+
+// Step 3's y pass at pixel (x, y): the x-derivatives are smoothed by the y-Gaussian; the
+// y-derivatives are taken of the x-Gaussian-smoothed image.
+struct FeatureResponses {
+    float dx = 0, dy = 0, ddx = 0, ddy = 0;
+};
+
+FeatureResponses feature_y_pixel(const FeatureXPass& in, const FlipFilters& f, int width,
+                                 int height, int x, int y) {
+    const int r = f.feature_radius;
+    FeatureResponses s;
+    for (int iy = -r; iy <= r; ++iy) {
+        const std::size_t src = static_cast<std::size_t>(clamp_index(y + iy, height)) * width + x;
+        const std::size_t k = iy + r;
+        s.dx += f.g[k] * in.dx[src];
+        s.ddx += f.g[k] * in.ddx[src];
+        s.dy += f.dg[k] * in.gx[src];
+        s.ddy += f.ddg[k] * in.gx[src];
+    }
+    return s;
+}
+
 /// Step 3: edge and point responses of both images and the feature error per pixel.
 std::vector<float> feature_error_map(const Planes3& ref, const Planes3& test, const FlipFilters& f,
                                      int width, int height) {
-    const std::size_t n = static_cast<std::size_t>(width) * height;
-    const int r = f.feature_radius;
-
-    // x pass on the achromatic channel normalised to [0, 1]: Y/116 + 16/116 (NVlabs's order):
-    // first and second x-derivative and the x-Gaussian.
-    struct Pass {
-        std::vector<float> dx, ddx, gx;
-    };
-    auto x_pass = [&](const std::vector<float>& luma) {
-        const float one_over_116 = 1.0f / 116.0f;
-        const float sixteen_over_116 = 16.0f / 116.0f;
-        Pass out{std::vector<float>(n), std::vector<float>(n), std::vector<float>(n)};
-        for (int y = 0; y < height; ++y) {
-            const std::size_t row = static_cast<std::size_t>(y) * width;
-            for (int x = 0; x < width; ++x) {
-                float dx = 0.0f, ddx = 0.0f, gx = 0.0f;
-                for (int ix = -r; ix <= r; ++ix) {
-                    const std::size_t k = ix + r;
-                    const float v =
-                        luma[row + clamp_index(x + ix, width)] * one_over_116 + sixteen_over_116;
-                    dx += f.dg[k] * v;
-                    ddx += f.ddg[k] * v;
-                    gx += f.g[k] * v;
-                }
-                out.dx[row + x] = dx;
-                out.ddx[row + x] = ddx;
-                out.gx[row + x] = gx;
-            }
-        }
-        return out;
-    };
-    const Pass ref_x = x_pass(ref.a);
-    const Pass test_x = x_pass(test.a);
-
-    // y pass: the x-derivatives are smoothed by the y-Gaussian; the y-derivatives are taken of
-    // the x-Gaussian-smoothed image.
-    struct Responses {
-        float dx = 0, dy = 0, ddx = 0, ddy = 0;
-    };
-    auto y_pass = [&](const Pass& in, int x, int y) {
-        Responses s;
-        for (int iy = -r; iy <= r; ++iy) {
-            const std::size_t src =
-                static_cast<std::size_t>(clamp_index(y + iy, height)) * width + x;
-            const std::size_t k = iy + r;
-            s.dx += f.g[k] * in.dx[src];
-            s.ddx += f.g[k] * in.ddx[src];
-            s.dy += f.dg[k] * in.gx[src];
-            s.ddy += f.ddg[k] * in.gx[src];
-        }
-        return s;
-    };
-    std::vector<float> error(n);
+    const FeatureXPass ref_x = feature_x_pass(ref.a, f, width, height);
+    const FeatureXPass test_x = feature_x_pass(test.a, f, width, height);
+    std::vector<float> error(static_cast<std::size_t>(width) * height);
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) {
-            const Responses a = y_pass(ref_x, x, y);
-            const Responses b = y_pass(test_x, x, y);
+            const FeatureResponses a = feature_y_pixel(ref_x, f, width, height, x, y);
+            const FeatureResponses b = feature_y_pixel(test_x, f, width, height, x, y);
             error[static_cast<std::size_t>(y) * width + x] =
                 flip::feature_error(a.dx, a.dy, a.ddx, a.ddy, b.dx, b.dy, b.ddx, b.ddy);
         }

@@ -139,6 +139,120 @@ std::vector<double> ssim_window(const SsimSettings& settings) {
     return w;
 }
 
+namespace {
+
+// The separable Gaussian window of SSIM: its half weights (taps 0 .. r), its radius, and which
+// kernel filters a row (the 11-tap AVX or SSE2 one, or the general one).
+struct SsimKernel {
+    const double* half_window = nullptr;
+    int r = 0;
+    bool use_avx = false;
+};
+
+// One filter pass over n outputs (dst[x] = w0 centre[x] + sum_k wk (left[k][x] + right[k][x])).
+void filter_taps(const SsimKernel& kernel, double* dst, const double* centre,
+                 const double* const* left, const double* const* right, std::size_t n) {
+    if (kernel.r == 5) {
+        if (kernel.use_avx)
+            return filter_row_taps5_avx(dst, centre, left, right, kernel.half_window, n);
+        filter_row_taps5(dst, centre, left, right, kernel.half_window, n);
+    } else {
+        filter_row_taps(dst, centre, left, right, kernel.half_window, kernel.r, n);
+    }
+}
+
+// The working rows of one vertical strip: the horizontal pass results of the last `taps` image
+// rows (a ring buffer indexed by row % taps: rows[(row % taps) * quantities + q][x] for strip
+// output column x), the products of one input row, and the vertical pass results (mu).
+struct SsimStrip {
+    SsimKernel kernel;
+    int taps = 0;
+    std::size_t strip_width = 0;
+    std::size_t input_width = 0;
+    std::vector<std::vector<double>> rows;
+    std::vector<double> products;
+    std::vector<double> mu[quantities];
+
+    SsimStrip(const SsimKernel& k, std::size_t width)
+        : kernel(k),
+          taps(2 * k.r + 1),
+          strip_width(width),
+          input_width(width + 2 * static_cast<std::size_t>(k.r)),
+          rows(static_cast<std::size_t>(taps * quantities), std::vector<double>(width)),
+          products(input_width * quantities) {
+        for (auto& m : mu) m.resize(width);
+    }
+    double* row(int image_row, int q) {
+        return rows[static_cast<std::size_t>(image_row % taps) * quantities +
+                    static_cast<std::size_t>(q)]
+            .data();
+    }
+};
+
+// Horizontal pass of image row y over the strip's n output columns from x0: the five products
+// in binary64 (exact: float x float fits in a double), then the centre tap and the tap pairs
+// (-k, +k) for k = 1 .. r, into the ring buffer's slot of row y.
+void ssim_filter_row(const Image& a, const Image& b, int y, std::size_t x0, std::size_t n,
+                     SsimStrip& work) {
+    const int r = work.kernel.r;
+    const std::size_t n_in = n + 2 * static_cast<std::size_t>(r);
+    const auto width = static_cast<std::size_t>(a.width);
+    const float* pa = &a.data[static_cast<std::size_t>(y) * width + x0];
+    const float* pb = &b.data[static_cast<std::size_t>(y) * width + x0];
+    double* src[quantities];
+    for (int q = 0; q < quantities; ++q)
+        src[q] = &work.products[static_cast<std::size_t>(q) * work.input_width];
+    for (std::size_t x = 0; x < n_in; ++x) {
+        const double va = pa[x], vb = pb[x];
+        src[0][x] = va;
+        src[1][x] = vb;
+        src[2][x] = va * va;
+        src[3][x] = vb * vb;
+        src[4][x] = va * vb;
+    }
+    for (int q = 0; q < quantities; ++q) {
+        const double* centre = src[q] + r;
+        const double* left[65];
+        const double* right[65];
+        for (int k = 1; k <= r; ++k) {
+            left[k] = centre - k;
+            right[k] = centre + k;
+        }
+        filter_taps(work.kernel, work.row(y, q), centre, left, right, n);
+    }
+}
+
+// SSIM at one map pixel from the five filtered quantities (Wang et al. 2004, eq. 13).
+double ssim_pixel(double mu_a, double mu_b, double mean_aa, double mean_bb, double mean_ab,
+                  double c1, double c2) {
+    const double s_aa = mean_aa - mu_a * mu_a;
+    const double s_bb = mean_bb - mu_b * mu_b;
+    const double s_ab = mean_ab - mu_a * mu_b;
+    return ((2.0 * mu_a * mu_b + c1) * (2.0 * s_ab + c2)) /
+           ((mu_a * mu_a + mu_b * mu_b + c1) * (s_aa + s_bb + c2));
+}
+
+// Vertical pass for map row out_y (the centre row out_y + r, then the row pairs (-k, +k)), then
+// SSIM of the strip's n columns of that row into out.
+void ssim_output_row(int out_y, std::size_t n, double c1, double c2, SsimStrip& work, double* out) {
+    const int r = work.kernel.r;
+    for (int q = 0; q < quantities; ++q) {
+        const int centre = out_y + r;
+        const double* left[65];
+        const double* right[65];
+        for (int k = 1; k <= r; ++k) {
+            left[k] = work.row(centre - k, q);
+            right[k] = work.row(centre + k, q);
+        }
+        filter_taps(work.kernel, work.mu[q].data(), work.row(centre, q), left, right, n);
+    }
+    for (std::size_t x = 0; x < n; ++x)
+        out[x] = ssim_pixel(work.mu[0][x], work.mu[1][x], work.mu[2][x], work.mu[3][x],
+                            work.mu[4][x], c1, c2);
+}
+
+}  // namespace
+
 SsimMap ssim_map(const Image& a, const Image& b, const SsimSettings& settings) {
     check_same_shape(a, b, "ssim");
     if (a.channels != 1)
@@ -167,94 +281,20 @@ SsimMap ssim_map(const Image& a, const Image& b, const SsimSettings& settings) {
     map.width = a.width - 2 * r;
     map.height = a.height - 2 * r;
     map.values.resize(static_cast<std::size_t>(map.width) * static_cast<std::size_t>(map.height));
-    const auto width = static_cast<std::size_t>(a.width);
-    const auto map_width = static_cast<std::size_t>(map.width);
     // The map is computed in vertical strips of at most `strip` output columns, so that the
     // rows a strip keeps (taps x 5 quantities) stay in the L2 cache at any image width. Every
     // map value is the same whatever the strip width: strips only change the loop order.
     constexpr std::size_t strip = 512;
-    const bool use_avx = settings.allow_avx && cpu_has_avx();
-    const std::size_t strip_width = std::min(strip, map_width);
-    auto filter_taps = [&](double* dst, const double* centre, const double* const* left,
-                           const double* const* right, std::size_t n) {
-        if (r == 5) {
-            if (use_avx)
-                return filter_row_taps5_avx(dst, centre, left, right, half_window.data(), n);
-            filter_row_taps5(dst, centre, left, right, half_window.data(), n);
-        } else
-            filter_row_taps(dst, centre, left, right, half_window.data(), r, n);
-    };
-
-    // Horizontal pass results of the last `taps` image rows of the strip, a ring buffer indexed
-    // by row % taps: rows[(row % taps) * quantities + q][x] for strip output column x.
-    std::vector<std::vector<double>> rows(static_cast<std::size_t>(taps * quantities),
-                                          std::vector<double>(strip_width));
-    const std::size_t input_width = strip_width + 2 * static_cast<std::size_t>(r);
-    std::vector<double> products(input_width * quantities);
-    std::vector<double> mu[quantities];
-    for (auto& m : mu) m.resize(strip_width);
-
-    for (std::size_t x0 = 0; x0 < map_width; x0 += strip_width) {
-        const std::size_t n = std::min(strip_width, map_width - x0);
-        const std::size_t n_in = n + 2 * static_cast<std::size_t>(r);
-        auto filter_row = [&](int y) {
-            // Products of the row in binary64 (exact: float x float fits in a double).
-            const float* pa = &a.data[static_cast<std::size_t>(y) * width + x0];
-            const float* pb = &b.data[static_cast<std::size_t>(y) * width + x0];
-            double* src[quantities];
-            for (int q = 0; q < quantities; ++q)
-                src[q] = &products[static_cast<std::size_t>(q) * input_width];
-            for (std::size_t x = 0; x < n_in; ++x) {
-                const double va = pa[x], vb = pb[x];
-                src[0][x] = va;
-                src[1][x] = vb;
-                src[2][x] = va * va;
-                src[3][x] = vb * vb;
-                src[4][x] = va * vb;
-            }
-            // Horizontal filter: the centre tap, then the tap pairs (-k, +k) for k = 1 .. r.
-            const std::size_t slot = static_cast<std::size_t>(y % taps) * quantities;
-            for (int q = 0; q < quantities; ++q) {
-                const double* centre = src[q] + r;
-                const double* left[65];
-                const double* right[65];
-                for (int k = 1; k <= r; ++k) {
-                    left[k] = centre - k;
-                    right[k] = centre + k;
-                }
-                filter_taps(rows[slot + static_cast<std::size_t>(q)].data(), centre, left, right,
-                            n);
-            }
-        };
-        auto row = [&](int image_row, int q) {
-            return rows[static_cast<std::size_t>(image_row % taps) * quantities +
-                        static_cast<std::size_t>(q)]
-                .data();
-        };
-        for (int y = 0; y < taps - 1; ++y) filter_row(y);
+    const auto map_width = static_cast<std::size_t>(map.width);
+    const SsimKernel kernel{half_window.data(), r, settings.allow_avx && cpu_has_avx()};
+    SsimStrip work(kernel, std::min(strip, map_width));
+    for (std::size_t x0 = 0; x0 < map_width; x0 += work.strip_width) {
+        const std::size_t n = std::min(work.strip_width, map_width - x0);
+        for (int y = 0; y < taps - 1; ++y) ssim_filter_row(a, b, y, x0, n, work);
         for (int out_y = 0; out_y < map.height; ++out_y) {
-            filter_row(out_y + taps - 1);
-            // Vertical filter: the centre row out_y + r, then the row pairs (-k, +k).
-            for (int q = 0; q < quantities; ++q) {
-                const int centre = out_y + r;
-                const double* left[65];
-                const double* right[65];
-                for (int k = 1; k <= r; ++k) {
-                    left[k] = row(centre - k, q);
-                    right[k] = row(centre + k, q);
-                }
-                filter_taps(mu[q].data(), row(centre, q), left, right, n);
-            }
-            // SSIM of the strip's part of the row.
-            double* out = &map.values[static_cast<std::size_t>(out_y) * map_width + x0];
-            for (std::size_t x = 0; x < n; ++x) {
-                const double mu_a = mu[0][x], mu_b = mu[1][x];
-                const double s_aa = mu[2][x] - mu_a * mu_a;
-                const double s_bb = mu[3][x] - mu_b * mu_b;
-                const double s_ab = mu[4][x] - mu_a * mu_b;
-                out[x] = ((2.0 * mu_a * mu_b + c1) * (2.0 * s_ab + c2)) /
-                         ((mu_a * mu_a + mu_b * mu_b + c1) * (s_aa + s_bb + c2));
-            }
+            ssim_filter_row(a, b, out_y + taps - 1, x0, n, work);
+            ssim_output_row(out_y, n, c1, c2, work,
+                            &map.values[static_cast<std::size_t>(out_y) * map_width + x0]);
         }
     }
     // Mean SSIM: row-major sum in binary64.

@@ -360,6 +360,17 @@ bool depth_test(VisibilityBuffer& vis, int x, int y, const RasterFragment& f) {
 
 // ---- Visibility: every triangle, every covered pixel ----
 
+void rasterize_fragment(const Scene& scene, const RasterFrame& frame, std::int32_t primitive, int x,
+                        int y, VisibilityBuffer& visibility, RasterStats& stats) {
+    ++stats.fragments_tested;
+    RasterFragment fragment;
+    if (!raster_fragment(scene, frame, x, y, primitive, fragment)) {
+        ++stats.fragments_without_plane_hit;
+        return;
+    }
+    if (depth_test(visibility, x, y, fragment)) ++stats.fragments_written;
+}
+
 VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, int width,
                                       int height, RasterStats& stats,
                                       const RasterSettings& settings) {
@@ -395,14 +406,8 @@ VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, 
                 setup_edges(setup.polygon[0], setup.polygon[static_cast<std::size_t>(k)],
                             setup.polygon[static_cast<std::size_t>(k + 1)], settings.fill_rule);
             const TriangleOutcome outcome = rasterize_fixed_triangle(
-                edges, width, height, stats.coverage_tests, [&](int i, int j) {
-                    ++stats.fragments_tested;
-                    RasterFragment fragment;
-                    if (!raster_fragment(scene, frame, i, j, primitive, fragment)) {
-                        ++stats.fragments_without_plane_hit;
-                        return;
-                    }
-                    if (depth_test(vis, i, j, fragment)) ++stats.fragments_written;
+                edges, width, height, stats.coverage_tests, [&](int x, int y) {
+                    rasterize_fragment(scene, frame, primitive, x, y, vis, stats);
                 });
             if (outcome != TriangleOutcome::degenerate) any_nonzero_area = true;
             if (outcome == TriangleOutcome::rasterized) any_rasterized = true;

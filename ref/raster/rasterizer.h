@@ -259,6 +259,11 @@ bool raster_fragment(const Scene& scene, const RasterFrame& frame, int x, int y,
 /// when it wins.
 bool depth_test(VisibilityBuffer& visibility, int x, int y, const RasterFragment& fragment);
 
+/// The visibility pass's work at one covered pixel centre (x, y) of `primitive`: raster_fragment,
+/// then depth_test, counted in `stats` (fragments tested, without a plane hit, written).
+void rasterize_fragment(const Scene& scene, const RasterFrame& frame, std::int32_t primitive, int x,
+                        int y, VisibilityBuffer& visibility, RasterStats& stats);
+
 /// `fovref probe` for a rasterized pixel: every triangle whose snapped coverage contains the
 /// centre of pixel (x, y), in index order, with what decided it.
 struct RasterCandidate {
