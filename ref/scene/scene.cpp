@@ -128,8 +128,9 @@ BilinearTaps bilinear_taps(const Texture& texture, glm::vec2 uv) {
     return taps;
 }
 
-glm::vec3 sample_texture_bilinear(const Texture& texture, glm::vec2 uv) {
+glm::vec3 sample_texture_bilinear(const Texture& texture, glm::vec2 uv, BilinearTrace* trace) {
     const BilinearTaps t = bilinear_taps(texture, uv);
+    if (trace) trace->taps = t;
     if (!t.valid) return glm::vec3(0.0f);
     const Image& image = texture.image;
     glm::vec3 result(0.0f);
@@ -137,6 +138,14 @@ glm::vec3 sample_texture_bilinear(const Texture& texture, glm::vec2 uv) {
         float top = image.at(t.x0, t.y0, c) * (1.0f - t.tx) + image.at(t.x1, t.y0, c) * t.tx;
         float bottom = image.at(t.x0, t.y1, c) * (1.0f - t.tx) + image.at(t.x1, t.y1, c) * t.tx;
         result[c] = top * (1.0f - t.ty) + bottom * t.ty;
+        if (trace) {
+            trace->texels[0][c] = image.at(t.x0, t.y0, c);
+            trace->texels[1][c] = image.at(t.x1, t.y0, c);
+            trace->texels[2][c] = image.at(t.x0, t.y1, c);
+            trace->texels[3][c] = image.at(t.x1, t.y1, c);
+            trace->top[c] = top;
+            trace->bottom[c] = bottom;
+        }
     }
     return result;
 }

@@ -107,9 +107,6 @@ Camera camera_at(const Scene& scene, float time);
 /// where this is 0 or not finite.
 float triangle_double_area(glm::vec3 a, glm::vec3 b, glm::vec3 c);
 
-/// Bilinear texture lookup with repeat wrap; (u, v) in OBJ convention (v up).
-glm::vec3 sample_texture_bilinear(const Texture& texture, glm::vec2 uv);
-
 /// The four texels sample_texture_bilinear reads and its lerp fractions: the result is
 /// lerp(lerp(t(x0,y0), t(x1,y0), tx), lerp(t(x0,y1), t(x1,y1), tx), ty), i.e. texel weights
 /// (1-tx)(1-ty), tx(1-ty), (1-tx)ty, tx ty. `valid` is false for non-finite uv (result 0).
@@ -119,5 +116,18 @@ struct BilinearTaps {
     bool valid = false;
 };
 BilinearTaps bilinear_taps(const Texture& texture, glm::vec2 uv);
+
+/// What sample_texture_bilinear computed (for `fovref probe`): its taps, the four texels, and the
+/// two lerps in x (top = texel0 (1 - tx) + texel1 tx, bottom likewise) before the lerp in y.
+struct BilinearTrace {
+    BilinearTaps taps;
+    glm::vec3 texels[4]{};  ///< (x0, y0), (x1, y0), (x0, y1), (x1, y1)
+    glm::vec3 top{0.0f}, bottom{0.0f};
+};
+
+/// Bilinear texture lookup with repeat wrap; (u, v) in OBJ convention (v up). `trace`, when
+/// given, receives what it computed.
+glm::vec3 sample_texture_bilinear(const Texture& texture, glm::vec2 uv,
+                                  BilinearTrace* trace = nullptr);
 
 }  // namespace fovref

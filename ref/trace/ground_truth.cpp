@@ -28,7 +28,8 @@ glm::vec3 ground_truth_pixel(const Scene& scene, const Bvh& bvh, const Camera& c
             sum += radiance;
         }
         if (trace)
-            trace->push_back({glm::vec2(points[s].x, points[s].y), ray.direction, hit, radiance});
+            trace->push_back(
+                {glm::vec2(points[s].x, points[s].y), ray.direction, hit, radiance, sum});
     }
     return sum * (1.0f / static_cast<float>(ground_truth_samples));
 }

@@ -18,6 +18,7 @@ struct GroundTruthSample {
     glm::vec3 direction{0.0f};  ///< the primary ray's direction
     Hit hit;                    ///< closest hit (primitive -1: miss, black)
     glm::vec3 radiance{0.0f};
+    glm::vec3 sum{0.0f};  ///< the pass's running sum after this sample (float, sample order)
 };
 
 /// Per-pixel work: the box-filtered radiance of pixel (x, y). `trace`, when given, receives the
@@ -28,7 +29,6 @@ glm::vec3 ground_truth_pixel(const Scene& scene, const Bvh& bvh, const Camera& c
                              std::vector<GroundTruthSample>* trace = nullptr);
 
 /// The pass: ground_truth_pixel over the screen, row by row.
-
 Image render_ground_truth(const Scene& scene, const Bvh& bvh, const Camera& camera,
                           std::uint32_t frame, int width, int height, TraceStats& primary_stats,
                           ShadingStats& shading_stats);

@@ -6,8 +6,7 @@ Hit raycast_gbuffer_pixel(GBuffer& g, const Scene& scene, const Bvh& bvh, const 
                           float tan_half, const Camera& previous_camera, float previous_tan_half,
                           int x, int y, RaycastStats& stats) {
     const int width = g.view_depth.width, height = g.view_depth.height;
-    const Ray ray = primary_ray(camera, tan_half, width, height, static_cast<float>(x) + 0.5f,
-                                static_cast<float>(y) + 0.5f);
+    const Ray ray = pixel_centre_ray(camera, tan_half, width, height, x, y);
     const Hit hit = trace_closest(bvh, ray, stats.primary);
     if (!hit.hit()) return hit;  // misses keep the background values
     if (!write_gbuffer_pixel(g, x, y, scene, camera, previous_camera, previous_tan_half,

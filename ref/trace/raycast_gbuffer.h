@@ -18,6 +18,13 @@ inline Ray primary_ray(const Camera& camera, float tan_half, int width, int heig
     return ray;
 }
 
+/// The primary ray through the centre (x + 0.5, y + 0.5) of pixel (x, y).
+inline Ray pixel_centre_ray(const Camera& camera, float tan_half, int width, int height, int x,
+                            int y) {
+    return primary_ray(camera, tan_half, width, height, static_cast<float>(x) + 0.5f,
+                       static_cast<float>(y) + 0.5f);
+}
+
 /// What the ray-cast G-buffer pass did (the counterpart of the rasterizer's RasterStats; the
 /// pass adds to it).
 struct RaycastStats {

@@ -57,23 +57,26 @@ void explain_surface(const Scene& scene, const SurfacePoint& surface, ProbeSecti
                                 probe_vec3(m.albedo) + ", emission " + probe_vec3(m.emission));
     if (m.texture >= 0) {
         const Texture& t = scene.textures[static_cast<std::size_t>(m.texture)];
-        const BilinearTaps taps = bilinear_taps(t, surface.uv);
+        // The sampler's own computation, recorded (surface_at calls the same function).
+        BilinearTrace trace;
+        const glm::vec3 value = sample_texture_bilinear(t, surface.uv, &trace);
+        const BilinearTaps& taps = trace.taps;
         if (taps.valid) {
-            auto texel = [&](int tx, int ty, float w) {
-                return "(" + std::to_string(tx) + ", " + std::to_string(ty) + ") weight " +
-                       probe_float(w) + " value " +
-                       probe_vec3(
-                           {t.image.at(tx, ty, 0), t.image.at(tx, ty, 1), t.image.at(tx, ty, 2)});
-            };
-            const float fx = taps.tx, fy = taps.ty;
+            const int xs[4] = {taps.x0, taps.x1, taps.x0, taps.x1};
+            const int ys[4] = {taps.y0, taps.y0, taps.y1, taps.y1};
             section.add("texture", "'" + t.name + "' " + std::to_string(t.image.width) + "x" +
                                        std::to_string(t.image.height) +
-                                       ", bilinear, repeat; lerp fractions tx " + probe_float(fx) +
-                                       " ty " + probe_float(fy));
-            section.add("  texel 0", texel(taps.x0, taps.y0, (1 - fx) * (1 - fy)));
-            section.add("  texel 1", texel(taps.x1, taps.y0, fx * (1 - fy)));
-            section.add("  texel 2", texel(taps.x0, taps.y1, (1 - fx) * fy));
-            section.add("  texel 3", texel(taps.x1, taps.y1, fx * fy));
+                                       ", bilinear, repeat; lerp fractions tx " +
+                                       probe_float(taps.tx) + " ty " + probe_float(taps.ty));
+            for (int k = 0; k < 4; ++k)
+                section.add("  texel " + std::to_string(k), "(" + std::to_string(xs[k]) + ", " +
+                                                                std::to_string(ys[k]) + ") value " +
+                                                                probe_vec3(trace.texels[k]));
+            section.add(
+                "  lerp in x",
+                "top = texel 0 (1 - tx) + texel 1 tx = " + probe_vec3(trace.top) +
+                    ", bottom = texel 2 (1 - tx) + texel 3 tx = " + probe_vec3(trace.bottom));
+            section.add("  lerp in y", "top (1 - ty) + bottom ty = " + probe_vec3(value));
         } else {
             section.add("texture", "uv not finite: black");
         }
@@ -225,8 +228,7 @@ void explain_basic(const ProbeContext& c, ProbeReport& report) {
     report.sections.push_back(map);
 
     const float tan_half = tan_half_vfov(c.camera);
-    const Ray ray = primary_ray(c.camera, tan_half, width, height, static_cast<float>(c.x) + 0.5f,
-                                static_cast<float>(c.y) + 0.5f);
+    const Ray ray = pixel_centre_ray(c.camera, tan_half, width, height, c.x, c.y);
     if (params.primary == PrimaryVisibility::raster) {
         ProbeSection vis{"primary_visibility",
                          "rasterized G-buffer: coverage in 1/256-px fixed point, attributes where "
@@ -337,7 +339,6 @@ void explain_ground_truth(const ProbeContext& c, ProbeReport& report) {
     const glm::vec3 mean = ground_truth_pixel(
         scene, bvh, c.camera, tan_half_vfov(c.camera), static_cast<std::uint32_t>(c.frame->frame),
         c.settings->width, c.settings->height, c.x, c.y, primary, shading, &samples);
-    glm::vec3 sum(0.0f);
     for (std::size_t s = 0; s < samples.size(); ++s) {
         const GroundTruthSample& g = samples[s];
         std::string text = "offset (" + probe_float(g.offset.x) + ", " + probe_float(g.offset.y) +
@@ -346,11 +347,11 @@ void explain_ground_truth(const ProbeContext& c, ProbeReport& report) {
             ss.add("sample " + std::to_string(s), text + " -> miss");
             continue;
         }
-        sum += g.radiance;
         ss.add("sample " + std::to_string(s),
                text + " -> primitive " + std::to_string(g.hit.primitive) + " t " +
                    probe_float(g.hit.t) + ", radiance " + probe_vec3(g.radiance));
     }
+    const glm::vec3 sum = samples.empty() ? glm::vec3(0.0f) : samples.back().sum;
     ss.add("box filter", "sum " + probe_vec3(sum) + " x 1/16 = " + probe_vec3(mean));
     check(report, ss, "mean", mean, pixel_rgb(*c.frame, "final", c.x, c.y));
     report.sections.push_back(ss);
