@@ -12,6 +12,7 @@
 
 #include "tools/bench_util.h"
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -169,6 +170,24 @@ void print_row(const Row& r, bool have_embree) {
 }
 
 }  // namespace
+
+void add_bench_rays_options(CLI::App& c, BenchRaysOptions& o) {
+    c.add_option("--scene", o.scenes, "procedural scene (repeatable; default: all)");
+    c.add_option("--width", o.width, "primary rays: screen width")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    c.add_option("--height", o.height, "primary rays: screen height")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    c.add_option("--repeats", o.repeats, "each timing is the fastest of N runs")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
+    c.add_option("--explain", o.explain,
+                 "list up to N hit/miss disagreements with Embree per row: the ray, both "
+                 "answers, the brute force's, the distance to an edge")
+        ->check(CLI::Range(0, 1000))
+        ->capture_default_str();
+}
 
 int run_bench_rays(const BenchRaysOptions& options) {
     if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
