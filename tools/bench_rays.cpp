@@ -80,6 +80,7 @@ std::vector<Ray> shadow_rays(const Scene& scene, const std::vector<Ray>& primary
     return rays;
 }
 
+#ifdef FOVREF_HAVE_EMBREE
 // One line per answer: "miss", or t, primitive, barycentrics and the smallest of (u, v, 1-u-v)
 // (how far inside its triangle the hit lies; near 0 = on an edge).
 std::string describe_hit(const Hit& h) {
@@ -125,6 +126,7 @@ std::string explain_disagreement(const Scene& scene, const std::string& name, co
     }
     return out;
 }
+#endif
 
 struct Row {
     std::string scene, kind;
