@@ -1,5 +1,6 @@
 #include "tools/bench_metrics.h"
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -66,6 +67,13 @@ bool skimage_ssim(const std::string& a_path, const std::string& b_path, int repe
 }
 
 }  // namespace
+
+void add_bench_metrics_options(CLI::App& c, BenchMetricsOptions& o) {
+    c.add_option("--size", o.sizes, "WxH (repeatable)")->capture_default_str();
+    c.add_option("--repeats", o.repeats, "fastest of N runs")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
+}
 
 int run_bench_metrics(const BenchMetricsOptions& o) {
     std::printf("fovref bench metrics: single thread, fastest of %d runs, synthetic RGB images\n",

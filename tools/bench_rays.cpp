@@ -12,6 +12,7 @@
 
 #include "tools/bench_util.h"
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -79,6 +80,7 @@ std::vector<Ray> shadow_rays(const Scene& scene, const std::vector<Ray>& primary
     return rays;
 }
 
+#ifdef FOVREF_HAVE_EMBREE
 // One line per answer: "miss", or t, primitive, barycentrics and the smallest of (u, v, 1-u-v)
 // (how far inside its triangle the hit lies; near 0 = on an edge).
 std::string describe_hit(const Hit& h) {
@@ -124,6 +126,7 @@ std::string explain_disagreement(const Scene& scene, const std::string& name, co
     }
     return out;
 }
+#endif
 
 struct Row {
     std::string scene, kind;
@@ -168,24 +171,143 @@ void print_row(const Row& r, bool have_embree) {
     std::printf(" %5.1f / %4.1f |\n", r.nodes_per_ray, r.triangles_per_ray);
 }
 
-}  // namespace
+#ifdef FOVREF_HAVE_EMBREE
+constexpr bool have_embree = true;
+#else
+constexpr bool have_embree = false;
+#endif
 
-int run_bench_rays(const BenchRaysOptions& options) {
-    if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
-        throw Error("bench rays: --width and --height must be in 1..16384");
-    if (options.repeats < 1) throw Error("bench rays: --repeats must be at least 1");
-    if (options.explain < 0) throw Error("bench rays: --explain must be 0 or more");
-    std::vector<std::string> scenes = options.scenes;
-    if (scenes.empty())
-        for (const ProceduralSceneInfo& info : procedural_scenes()) scenes.push_back(info.name);
-    for (const std::string& name : scenes)
-        if (!is_procedural_scene(name)) make_procedural_scene(name);  // throws, listing the names
+// The rays of a row and fovref's answers: closest hits, or for shadow rays occlusion.
+struct TracedRays {
+    const char* kind;  ///< "primary", "incoherent" or "shadow"
+    bool shadow = false;
+    std::vector<Ray> rays;
+    std::vector<Hit> hits;
+    std::vector<std::uint8_t> blocked;
+};
+
+// Traces the rays with fovref's BVH: the fastest of the repeats into row.ref, the traversal work
+// per ray into the row, the answers into the result.
+TracedRays trace_with_fovref(const Bvh& bvh, const char* kind, std::vector<Ray> rays, int repeats,
+                             Row& row) {
+    TracedRays t{kind, std::string(kind) == "shadow", std::move(rays), {}, {}};
+    t.hits.resize(t.rays.size());
+    t.blocked.resize(t.rays.size());
+    TraceStats stats;
+    row.ref = best_time(repeats, [&] {
+        stats = TraceStats{};
+        if (t.shadow)
+            for (std::size_t i = 0; i < t.rays.size(); ++i)
+                t.blocked[i] = trace_any(bvh, t.rays[i], stats) ? 1 : 0;
+        else
+            for (std::size_t i = 0; i < t.rays.size(); ++i)
+                t.hits[i] = trace_closest(bvh, t.rays[i], stats);
+    });
+    const double n = std::max<double>(1.0, static_cast<double>(t.rays.size()));
+    row.nodes_per_ray = static_cast<double>(stats.nodes_visited) / n;
+    row.triangles_per_ray = static_cast<double>(stats.triangles_tested) / n;
+    return t;
+}
 
 #ifdef FOVREF_HAVE_EMBREE
-    const bool have_embree = true;
-#else
-    const bool have_embree = false;
+// The same rays through Embree: its fastest time into row.embree, the hit/miss disagreements and
+// primitive differences with fovref into the row, and the first --explain disagreements of the
+// row explained into `explanations`.
+void compare_with_embree(const EmbreeScene& embree, const Scene& scene, const std::string& name,
+                         const TracedRays& t, const BenchRaysOptions& options, Row& row,
+                         std::string& explanations) {
+    std::vector<Hit> embree_hits;
+    std::vector<std::uint8_t> embree_blocked;
+    row.embree = best_time(options.repeats, [&] {
+        if (t.shadow)
+            embree.occluded(t.rays, embree_blocked);
+        else
+            embree.intersect(t.rays, embree_hits);
+    });
+    std::size_t explained = 0;
+    auto explain = [&](std::size_t i, const Hit& ours, const Hit& theirs) {
+        if (explained >= static_cast<std::size_t>(options.explain)) return;
+        ++explained;
+        explanations += explain_disagreement(scene, name, t.kind, i, options.width, t.rays[i], ours,
+                                             theirs, t.shadow);
+    };
+    for (std::size_t i = 0; i < t.rays.size(); ++i) {
+        if (t.shadow) {
+            row.disagree += t.blocked[i] != embree_blocked[i] ? 1 : 0;
+            if (t.blocked[i] != embree_blocked[i]) {
+                Hit ours, theirs;  // blocked: a hit with no triangle data
+                ours.primitive = t.blocked[i] ? 0 : -1;
+                theirs.primitive = embree_blocked[i] ? 0 : -1;
+                explain(i, ours, theirs);
+            }
+        } else {
+            row.disagree += t.hits[i].hit() != embree_hits[i].hit() ? 1 : 0;
+            if (t.hits[i].hit() != embree_hits[i].hit()) explain(i, t.hits[i], embree_hits[i]);
+            if (t.hits[i].hit() && embree_hits[i].hit()) {
+                ++row.both_hit;
+                row.primitive_differs += t.hits[i].primitive != embree_hits[i].primitive ? 1 : 0;
+            }
+        }
+    }
+}
 #endif
+
+// The G-buffer (SPEC §4) by the rasterizer, and by ray casting as its peer in this run: a row
+// each.
+void bench_gbuffer_passes(const Scene& scene, const Bvh& bvh, const std::string& name,
+                          const BenchRaysOptions& options) {
+    const Camera camera = camera_at(scene, 0.0f);
+    Row raster{name, "raster gbuf", static_cast<std::size_t>(options.width) * options.height};
+    raster.ref = best_time(options.repeats, [&] {
+        RasterStats raster_stats;
+        rasterize_gbuffer(scene, camera, camera, options.width, options.height, raster_stats);
+    });
+    print_row(raster, have_embree);
+    Row raycast{name, "ray gbuf", raster.rays};
+    raycast.ref = best_time(options.repeats, [&] {
+        RaycastStats raycast_stats;
+        raycast_gbuffer(scene, bvh, camera, camera, options.width, options.height, raycast_stats);
+    });
+    print_row(raycast, have_embree);
+}
+
+// The rows of one procedural scene: BVH build, the G-buffer passes, then primary, incoherent
+// and shadow rays (from the primary hits).
+void bench_scene(const std::string& name, const BenchRaysOptions& options,
+                 [[maybe_unused]] std::string& explanations) {
+    const Scene scene = make_procedural_scene(name);
+
+    // Build: the fastest of the repeats (a build is deterministic, so any copy is the tree).
+    Bvh bvh;
+    Row build{name, "build", scene.triangle_count()};
+    build.ref = best_time(options.repeats, [&] { bvh = build_bvh(scene.positions); });
+#ifdef FOVREF_HAVE_EMBREE
+    const EmbreeScene embree(scene.positions);
+    build.embree = embree.build_seconds();
+#endif
+    print_row(build, have_embree);
+    bench_gbuffer_passes(scene, bvh, name, options);
+
+    const std::vector<Ray> primary = primary_rays(scene, options.width, options.height);
+    const std::vector<Ray> incoherent = incoherent_rays(scene, primary.size());
+    std::vector<Hit> primary_hits;
+    for (const char* kind : {"primary", "incoherent", "shadow"}) {
+        std::vector<Ray> rays = std::string(kind) == "shadow"
+                                    ? shadow_rays(scene, primary, primary_hits)
+                                    : (std::string(kind) == "primary" ? primary : incoherent);
+        Row row{name, kind, rays.size()};
+        const TracedRays traced =
+            trace_with_fovref(bvh, kind, std::move(rays), options.repeats, row);
+#ifdef FOVREF_HAVE_EMBREE
+        compare_with_embree(embree, scene, name, traced, options, row, explanations);
+#endif
+        if (std::string(kind) == "primary") primary_hits = traced.hits;
+        print_row(row, have_embree);
+    }
+    std::fflush(stdout);
+}
+
+void print_header(const BenchRaysOptions& options) {
     if (!options.quiet) {
         std::printf("fovref bench rays: %dx%d, one thread, fastest of %d runs; Mrays/s\n",
                     options.width, options.height, options.repeats);
@@ -197,103 +319,10 @@ int run_bench_rays(const BenchRaysOptions& options) {
     if (have_embree) std::printf("    Embree   | fovref/Embree | hit/miss agree | prim differs |");
     std::printf(" nodes / tris per ray |\n");
     std::printf("|---|---|---:|---:|%s---:|\n", have_embree ? "---:|---:|---:|---:|" : "");
+}
 
-    std::string explanations;  // --explain: printed after the table
-    for (const std::string& name : scenes) {
-        const Scene scene = make_procedural_scene(name);
-
-        // Build: the fastest of the repeats (a build is deterministic, so any copy is the tree).
-        Bvh bvh;
-        Row build{name, "build", scene.triangle_count()};
-        build.ref = best_time(options.repeats, [&] { bvh = build_bvh(scene.positions); });
-#ifdef FOVREF_HAVE_EMBREE
-        const EmbreeScene embree(scene.positions);
-        build.embree = embree.build_seconds();
-#endif
-        print_row(build, have_embree);
-
-        // The G-buffer (SPEC §4) by the rasterizer, and by ray casting as its peer in this run.
-        const Camera camera = camera_at(scene, 0.0f);
-        Row raster{name, "raster gbuf", static_cast<std::size_t>(options.width) * options.height};
-        raster.ref = best_time(options.repeats, [&] {
-            RasterStats raster_stats;
-            rasterize_gbuffer(scene, camera, camera, options.width, options.height, raster_stats);
-        });
-        print_row(raster, have_embree);
-        Row raycast{name, "ray gbuf", raster.rays};
-        raycast.ref = best_time(options.repeats, [&] {
-            RaycastStats raycast_stats;
-            raycast_gbuffer(scene, bvh, camera, camera, options.width, options.height,
-                            raycast_stats);
-        });
-        print_row(raycast, have_embree);
-
-        const std::vector<Ray> primary = primary_rays(scene, options.width, options.height);
-        const std::vector<Ray> incoherent = incoherent_rays(scene, primary.size());
-        std::vector<Hit> primary_hits;
-
-        for (const char* kind : {"primary", "incoherent", "shadow"}) {
-            const bool shadow = std::string(kind) == "shadow";
-            const std::vector<Ray> rays =
-                shadow ? shadow_rays(scene, primary, primary_hits)
-                       : (std::string(kind) == "primary" ? primary : incoherent);
-            Row row{name, kind, rays.size()};
-            std::vector<Hit> hits(rays.size());
-            std::vector<std::uint8_t> blocked(rays.size());
-            TraceStats stats;
-            row.ref = best_time(options.repeats, [&] {
-                stats = TraceStats{};
-                if (shadow)
-                    for (std::size_t i = 0; i < rays.size(); ++i)
-                        blocked[i] = trace_any(bvh, rays[i], stats) ? 1 : 0;
-                else
-                    for (std::size_t i = 0; i < rays.size(); ++i)
-                        hits[i] = trace_closest(bvh, rays[i], stats);
-            });
-            const double n = std::max<double>(1.0, static_cast<double>(rays.size()));
-            row.nodes_per_ray = static_cast<double>(stats.nodes_visited) / n;
-            row.triangles_per_ray = static_cast<double>(stats.triangles_tested) / n;
-#ifdef FOVREF_HAVE_EMBREE
-            std::vector<Hit> embree_hits;
-            std::vector<std::uint8_t> embree_blocked;
-            row.embree = best_time(options.repeats, [&] {
-                if (shadow)
-                    embree.occluded(rays, embree_blocked);
-                else
-                    embree.intersect(rays, embree_hits);
-            });
-            std::size_t explained = 0;
-            auto explain = [&](std::size_t i, const Hit& ours, const Hit& theirs) {
-                if (explained >= static_cast<std::size_t>(options.explain)) return;
-                ++explained;
-                explanations += explain_disagreement(scene, name, kind, i, options.width, rays[i],
-                                                     ours, theirs, shadow);
-            };
-            for (std::size_t i = 0; i < rays.size(); ++i) {
-                if (shadow) {
-                    row.disagree += blocked[i] != embree_blocked[i] ? 1 : 0;
-                    if (blocked[i] != embree_blocked[i]) {
-                        Hit ours, theirs;  // blocked: a hit with no triangle data
-                        ours.primitive = blocked[i] ? 0 : -1;
-                        theirs.primitive = embree_blocked[i] ? 0 : -1;
-                        explain(i, ours, theirs);
-                    }
-                } else {
-                    row.disagree += hits[i].hit() != embree_hits[i].hit() ? 1 : 0;
-                    if (hits[i].hit() != embree_hits[i].hit()) explain(i, hits[i], embree_hits[i]);
-                    if (hits[i].hit() && embree_hits[i].hit()) {
-                        ++row.both_hit;
-                        row.primitive_differs +=
-                            hits[i].primitive != embree_hits[i].primitive ? 1 : 0;
-                    }
-                }
-            }
-#endif
-            if (std::string(kind) == "primary") primary_hits = hits;
-            print_row(row, have_embree);
-        }
-        std::fflush(stdout);
-    }
+// What the rows mean, and with --explain the disagreements with Embree.
+void print_footer(const BenchRaysOptions& options, const std::string& explanations) {
     if (!options.quiet)
         std::printf(
             "build rows: rays = triangles; gbuf rows: rays = pixels, the whole G-buffer pass "
@@ -311,6 +340,43 @@ int run_bench_rays(const BenchRaysOptions& options) {
             std::printf("hit/miss disagreements with Embree (at most %d per row):\n%s",
                         options.explain, explanations.c_str());
     }
+}
+
+}  // namespace
+
+void add_bench_rays_options(CLI::App& c, BenchRaysOptions& o) {
+    c.add_option("--scene", o.scenes, "procedural scene (repeatable; default: all)");
+    c.add_option("--width", o.width, "primary rays: screen width")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    c.add_option("--height", o.height, "primary rays: screen height")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    c.add_option("--repeats", o.repeats, "each timing is the fastest of N runs")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
+    c.add_option("--explain", o.explain,
+                 "list up to N hit/miss disagreements with Embree per row: the ray, both "
+                 "answers, the brute force's, the distance to an edge")
+        ->check(CLI::Range(0, 1000))
+        ->capture_default_str();
+}
+
+int run_bench_rays(const BenchRaysOptions& options) {
+    if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
+        throw Error("bench rays: --width and --height must be in 1..16384");
+    if (options.repeats < 1) throw Error("bench rays: --repeats must be at least 1");
+    if (options.explain < 0) throw Error("bench rays: --explain must be 0 or more");
+    std::vector<std::string> scenes = options.scenes;
+    if (scenes.empty())
+        for (const ProceduralSceneInfo& info : procedural_scenes()) scenes.push_back(info.name);
+    for (const std::string& name : scenes)
+        if (!is_procedural_scene(name)) make_procedural_scene(name);  // throws, listing the names
+
+    print_header(options);
+    std::string explanations;  // --explain: printed after the table
+    for (const std::string& name : scenes) bench_scene(name, options, explanations);
+    print_footer(options, explanations);
     return 0;
 }
 

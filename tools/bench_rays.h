@@ -6,6 +6,10 @@
 #include <string>
 #include <vector>
 
+namespace CLI {
+class App;
+}
+
 namespace fovref {
 
 struct BenchRaysOptions {
@@ -18,6 +22,9 @@ struct BenchRaysOptions {
     /// with the ray, both answers, the brute force's and how close the hit is to an edge.
     int explain = 0;
 };
+
+/// Registers the command's options on `command`.
+void add_bench_rays_options(CLI::App& command, BenchRaysOptions& options);
 
 /// Runs the benchmark and prints its table on stdout. Returns 0; throws fovref::Error for an
 /// unknown scene or a bad size.

@@ -585,6 +585,186 @@ std::string closest_buffer_file(const std::string& file, const Manifest& manifes
     return best;
 }
 
+// What the comparison needs beside the report's items, per item: the SHA-256 of a golden buffer
+// kept only as a hash, and the golden's viewing distance (0: none).
+struct ItemInputs {
+    std::vector<std::string> expected_sha;
+    std::vector<float> distances;
+};
+
+// The candidate file of golden buffer `b` in the candidate directory's `files` (f000_name.ext,
+// or name.ext for a bundle of one frame or the --frame asked for; extensions in
+// candidate_extensions order), marked used; "" when there is none.
+std::string find_candidate_file(const DiffOptions& o, const ManifestBuffer& b, int frames,
+                                const std::vector<std::string>& files, std::vector<bool>& used) {
+    std::string found;
+    char prefix[16];
+    std::snprintf(prefix, sizeof prefix, "f%03d_", b.frame);
+    std::vector<std::string> stems = {prefix + b.name};
+    if (frames <= 1 || o.frame >= 0) stems.push_back(b.name);
+    for (const std::string& stem : stems) {
+        for (const std::string& ext : candidate_extensions)
+            for (std::size_t k = 0; k < files.size(); ++k)
+                if (!used[k] && files[k].size() == stem.size() + ext.size() &&
+                    files[k].compare(0, stem.size(), stem) == 0 &&
+                    lower_extension(files[k]) == ext && found.empty()) {
+                    found = (fs::path(o.candidate) / files[k]).string();
+                    used[k] = true;
+                }
+    }
+    return found;
+}
+
+// The items of a golden bundle in comparison order, each with its candidate file (a directory's
+// files, or the one candidate file as --buffer of --frame); candidate files that match no buffer
+// go to report.ignored.
+void collect_bundle_items(const DiffOptions& o, const Manifest& manifest, bool candidate_dir,
+                          DiffReport& report, ItemInputs& inputs) {
+    report.case_name = manifest.golden_case.name;
+    report.mode = manifest.golden_case.mode;
+    report.scene = manifest.golden_case.scene;
+    const std::vector<std::string> required = required_names(o.require, manifest);
+    std::vector<std::string> files;
+    if (candidate_dir) files = list_files(o.candidate);
+    std::vector<bool> used(files.size(), false);
+    const int frames = static_cast<int>(manifest.frame_counters.size());
+    const int single_frame = o.frame >= 0 ? o.frame : 0;
+    bool found_buffer = false;
+    for (const ManifestBuffer* buffer : comparison_order(manifest)) {
+        const ManifestBuffer& b = *buffer;
+        if (o.frame >= 0 && b.frame != o.frame) continue;
+        DiffItem item;
+        item.frame = b.frame;
+        item.name = b.name;
+        item.stage = b.stage;
+        item.kind = b.kind;
+        item.is_id = b.kind == "id";
+        item.golden_file = b.file.empty() ? "" : (fs::path(o.golden) / b.file).string();
+        item.hash_only = b.file.empty();
+        item.required = std::find(required.begin(), required.end(), b.name) != required.end();
+        if (candidate_dir) {
+            item.candidate_file = find_candidate_file(o, b, frames, files, used);
+        } else if (b.frame == single_frame && b.name == (o.buffer.empty() ? "final" : o.buffer)) {
+            item.candidate_file = o.candidate;
+            found_buffer = true;
+        } else {
+            continue;  // one candidate file: only its buffer is listed
+        }
+        const auto f = static_cast<std::size_t>(b.frame);
+        inputs.distances.push_back(
+            f < manifest.display_distance_px.size() ? manifest.display_distance_px[f] : 0.0f);
+        inputs.expected_sha.push_back(b.sha256);
+        if (!item.hash_only && !item.candidate_file.empty())
+            item.golden =
+                load_image(o, item.golden_file, b.kind, b.width, b.height, b.channels, nullptr);
+        report.items.push_back(std::move(item));
+    }
+    if (!candidate_dir && !found_buffer)
+        throw Error(o.golden + ": has no buffer '" + (o.buffer.empty() ? "final" : o.buffer) +
+                    "' in frame " + std::to_string(single_frame) + " (see --buffer, --frame)");
+    for (std::size_t k = 0; k < files.size(); ++k)
+        if (!used[k]) {
+            report.ignored.push_back(files[k]);
+            report.ignored_hint.push_back(closest_buffer_file(files[k], manifest));
+        }
+}
+
+// A golden image: one item, the candidate image.
+void collect_image_item(const DiffOptions& o, bool candidate_dir, DiffReport& report,
+                        ItemInputs& inputs) {
+    if (candidate_dir)
+        throw Error("a golden image (" + o.golden +
+                    ") is compared with one candidate image, not a directory");
+    if (!o.require.empty()) throw Error("--require needs a golden bundle directory");
+    DiffItem item;
+    item.name = fs::path(o.golden).stem().string();
+    item.stage = "-";
+    item.golden_file = o.golden;
+    item.candidate_file = o.candidate;
+    // Both sides are read alike: PNGs sRGB-decoded unless --png-linear.
+    item.kind = o.png_linear ? "scalar" : "color";
+    item.golden = load_image(o, o.golden, item.kind, 0, 0, 0, nullptr);
+    inputs.distances.push_back(o.distance_px);
+    inputs.expected_sha.push_back("");
+    report.items.push_back(std::move(item));
+}
+
+// The mask of value buffer `item` among items [first, end) of one frame: the pixels where every
+// compared id buffer of its size agrees (empty: none, or --no-id-mask); names them in
+// item.masked_by.
+std::vector<std::uint8_t> id_mask(const DiffOptions& o, DiffReport& report, std::size_t first,
+                                  std::size_t end, DiffItem& item) {
+    std::vector<std::uint8_t> mask;
+    if (o.no_id_mask || item.hash_only || item.candidate_file.empty()) return mask;
+    for (std::size_t i = first; i < end; ++i) {
+        const DiffItem& ids = report.items[i];
+        if (!ids.is_id || !ids.compared || ids.hash_only || ids.golden.width != item.golden.width ||
+            ids.golden.height != item.golden.height)
+            continue;
+        if (mask.empty()) mask.assign(ids.ids.agree.size(), 1);
+        for (std::size_t p = 0; p < mask.size(); ++p) mask[p] &= ids.ids.agree[p];
+        item.masked_by.push_back(ids.name);
+    }
+    return mask;
+}
+
+// Compares frame by frame: the id buffers of a frame first, then its other buffers where the
+// ids agree (unless --no-id-mask), each group in comparison order.
+void compare_items(const DiffOptions& o, const ToleranceTable& tolerances, const ItemInputs& inputs,
+                   DiffReport& report) {
+    auto compare_at = [&](std::size_t k, const std::vector<std::uint8_t>* mask) {
+        DiffItem& item = report.items[k];
+        if (item.candidate_file.empty()) {
+            ++report.missing;
+            item.note = item.required ? "missing in the candidate, and required (--require)"
+                                      : "missing in the candidate: not compared";
+            if (item.required) {
+                item.pass = false;
+                ++report.missing_required;
+            }
+            return;
+        }
+        compare_item(o, tolerances, o.distance_px > 0.0f ? o.distance_px : inputs.distances[k],
+                     item, inputs.expected_sha[k], mask);
+        ++report.compared;
+    };
+    for (std::size_t first = 0; first < report.items.size();) {
+        std::size_t end = first;
+        while (end < report.items.size() && report.items[end].frame == report.items[first].frame)
+            ++end;
+        for (std::size_t k = first; k < end; ++k)
+            if (report.items[k].is_id) compare_at(k, nullptr);
+        for (std::size_t k = first; k < end; ++k) {
+            if (report.items[k].is_id) continue;
+            const std::vector<std::uint8_t> mask = id_mask(o, report, first, end, report.items[k]);
+            compare_at(k, mask.empty() ? nullptr : &mask);
+        }
+        first = end;
+    }
+}
+
+json report_json(const DiffOptions& o, const DiffReport& report) {
+    json j;
+    j["golden"] = o.golden;
+    j["candidate"] = o.candidate;
+    if (!report.case_name.empty()) j["case"] = report.case_name;
+    j["profile"] = report.profile;
+    j["pass"] = report.pass;
+    j["compared"] = report.compared;
+    j["failed"] = report.failed;
+    j["missing"] = report.missing;
+    j["missing_required"] = report.missing_required;
+    j["ignored_files"] = report.ignored;
+    if (report.first_failing >= 0) {
+        const DiffItem& f = report.items[static_cast<std::size_t>(report.first_failing)];
+        j["first_failing"] = {{"frame", f.frame}, {"buffer", f.name}, {"stage", f.stage}};
+        if (!report.probe_command.empty()) j["probe_command"] = report.probe_command;
+    }
+    j["buffers"] = json::array();
+    for (const DiffItem& item : report.items) j["buffers"].push_back(item_json(item));
+    return j;
+}
+
 }  // namespace
 
 int run_diff(const DiffOptions& o) {
@@ -606,135 +786,15 @@ int run_diff(const DiffOptions& o) {
     const bool golden_bundle = fs::is_directory(o.golden);
     const bool candidate_dir = fs::is_directory(o.candidate);
     Manifest manifest;
-    std::vector<std::string> expected_sha;  // per item, for hash-only golden buffers
-    std::vector<float> distances;           // per item
-
+    ItemInputs inputs;
     if (golden_bundle) {
         manifest = read_manifest(o.golden);
-        report.case_name = manifest.golden_case.name;
-        report.mode = manifest.golden_case.mode;
-        report.scene = manifest.golden_case.scene;
-        const std::vector<std::string> required = required_names(o.require, manifest);
-        std::vector<std::string> files;
-        if (candidate_dir) files = list_files(o.candidate);
-        std::vector<bool> used(files.size(), false);
-        const int frames = static_cast<int>(manifest.frame_counters.size());
-        const int single_frame = o.frame >= 0 ? o.frame : 0;
-        bool found_buffer = false;
-        for (const ManifestBuffer* buffer : comparison_order(manifest)) {
-            const ManifestBuffer& b = *buffer;
-            if (o.frame >= 0 && b.frame != o.frame) continue;
-            DiffItem item;
-            item.frame = b.frame;
-            item.name = b.name;
-            item.stage = b.stage;
-            item.kind = b.kind;
-            item.is_id = b.kind == "id";
-            item.golden_file = b.file.empty() ? "" : (fs::path(o.golden) / b.file).string();
-            item.hash_only = b.file.empty();
-            item.required = std::find(required.begin(), required.end(), b.name) != required.end();
-            if (candidate_dir) {
-                // f000_name.ext, or name.ext for a bundle of one frame / the --frame asked for.
-                char prefix[16];
-                std::snprintf(prefix, sizeof prefix, "f%03d_", b.frame);
-                std::vector<std::string> stems = {prefix + b.name};
-                if (frames <= 1 || o.frame >= 0) stems.push_back(b.name);
-                for (const std::string& stem : stems) {
-                    for (const std::string& ext : candidate_extensions)
-                        for (std::size_t k = 0; k < files.size(); ++k)
-                            if (!used[k] && files[k].size() == stem.size() + ext.size() &&
-                                files[k].compare(0, stem.size(), stem) == 0 &&
-                                lower_extension(files[k]) == ext && item.candidate_file.empty()) {
-                                item.candidate_file = (fs::path(o.candidate) / files[k]).string();
-                                used[k] = true;
-                            }
-                }
-            } else if (b.frame == single_frame &&
-                       b.name == (o.buffer.empty() ? "final" : o.buffer)) {
-                item.candidate_file = o.candidate;
-                found_buffer = true;
-            } else {
-                continue;  // one candidate file: only its buffer is listed
-            }
-            const auto f = static_cast<std::size_t>(b.frame);
-            distances.push_back(
-                f < manifest.display_distance_px.size() ? manifest.display_distance_px[f] : 0.0f);
-            expected_sha.push_back(b.sha256);
-            if (!item.hash_only && !item.candidate_file.empty())
-                item.golden =
-                    load_image(o, item.golden_file, b.kind, b.width, b.height, b.channels, nullptr);
-            report.items.push_back(std::move(item));
-        }
-        if (!candidate_dir && !found_buffer)
-            throw Error(o.golden + ": has no buffer '" + (o.buffer.empty() ? "final" : o.buffer) +
-                        "' in frame " + std::to_string(single_frame) + " (see --buffer, --frame)");
-        for (std::size_t k = 0; k < files.size(); ++k)
-            if (!used[k]) {
-                report.ignored.push_back(files[k]);
-                report.ignored_hint.push_back(closest_buffer_file(files[k], manifest));
-            }
+        collect_bundle_items(o, manifest, candidate_dir, report, inputs);
     } else {
-        if (candidate_dir)
-            throw Error("a golden image (" + o.golden +
-                        ") is compared with one candidate image, not a directory");
-        if (!o.require.empty()) throw Error("--require needs a golden bundle directory");
-        DiffItem item;
-        item.name = fs::path(o.golden).stem().string();
-        item.stage = "-";
-        item.golden_file = o.golden;
-        item.candidate_file = o.candidate;
-        // Both sides are read alike: PNGs sRGB-decoded unless --png-linear.
-        item.kind = o.png_linear ? "scalar" : "color";
-        item.golden = load_image(o, o.golden, item.kind, 0, 0, 0, nullptr);
-        distances.push_back(o.distance_px);
-        expected_sha.push_back("");
-        report.items.push_back(std::move(item));
+        collect_image_item(o, candidate_dir, report, inputs);
     }
 
-    // Compare frame by frame: the id buffers of a frame first, then its other buffers where the
-    // ids agree (unless --no-id-mask), each group in comparison order.
-    auto compare_at = [&](std::size_t k, const std::vector<std::uint8_t>* mask) {
-        DiffItem& item = report.items[k];
-        if (item.candidate_file.empty()) {
-            ++report.missing;
-            item.note = item.required ? "missing in the candidate, and required (--require)"
-                                      : "missing in the candidate: not compared";
-            if (item.required) {
-                item.pass = false;
-                ++report.missing_required;
-            }
-            return;
-        }
-        compare_item(o, tolerances, o.distance_px > 0.0f ? o.distance_px : distances[k], item,
-                     expected_sha[k], mask);
-        ++report.compared;
-    };
-    for (std::size_t first = 0; first < report.items.size();) {
-        std::size_t end = first;
-        while (end < report.items.size() && report.items[end].frame == report.items[first].frame)
-            ++end;
-        for (std::size_t k = first; k < end; ++k)
-            if (report.items[k].is_id) compare_at(k, nullptr);
-        for (std::size_t k = first; k < end; ++k) {
-            DiffItem& item = report.items[k];
-            if (item.is_id) continue;
-            // The mask: pixels where every compared id buffer of this frame and size agrees.
-            std::vector<std::uint8_t> mask;
-            if (!o.no_id_mask && !item.hash_only && !item.candidate_file.empty())
-                for (std::size_t i = first; i < end; ++i) {
-                    const DiffItem& ids = report.items[i];
-                    if (!ids.is_id || !ids.compared || ids.hash_only ||
-                        ids.golden.width != item.golden.width ||
-                        ids.golden.height != item.golden.height)
-                        continue;
-                    if (mask.empty()) mask.assign(ids.ids.agree.size(), 1);
-                    for (std::size_t p = 0; p < mask.size(); ++p) mask[p] &= ids.ids.agree[p];
-                    item.masked_by.push_back(ids.name);
-                }
-            compare_at(k, mask.empty() ? nullptr : &mask);
-        }
-        first = end;
-    }
+    compare_items(o, tolerances, inputs, report);
     for (std::size_t k = 0; k < report.items.size(); ++k)
         if (!report.items[k].pass) {
             ++report.failed;
@@ -753,25 +813,7 @@ int run_diff(const DiffOptions& o) {
 
     // Reports.
     if (!o.json_path.empty()) {
-        json j;
-        j["golden"] = o.golden;
-        j["candidate"] = o.candidate;
-        if (!report.case_name.empty()) j["case"] = report.case_name;
-        j["profile"] = report.profile;
-        j["pass"] = report.pass;
-        j["compared"] = report.compared;
-        j["failed"] = report.failed;
-        j["missing"] = report.missing;
-        j["missing_required"] = report.missing_required;
-        j["ignored_files"] = report.ignored;
-        if (report.first_failing >= 0) {
-            const DiffItem& f = report.items[static_cast<std::size_t>(report.first_failing)];
-            j["first_failing"] = {{"frame", f.frame}, {"buffer", f.name}, {"stage", f.stage}};
-            if (!report.probe_command.empty()) j["probe_command"] = report.probe_command;
-        }
-        j["buffers"] = json::array();
-        for (const DiffItem& item : report.items) j["buffers"].push_back(item_json(item));
-        const std::string text = j.dump(1) + "\n";
+        const std::string text = report_json(o, report).dump(1) + "\n";
         if (o.json_path == "-")
             std::cout << text;
         else

@@ -206,9 +206,8 @@ img.shot{image-rendering:pixelated;max-width:640px;min-width:360px;border:1px so
 code{background:#f3f3f3;padding:1px 4px}
 )";
 
-}  // namespace
-
-void write_diff_html(const DiffReport& report, const std::string& directory) {
+// Summary: the paths, the case, the result and the first failing stage with its probe command.
+std::string summary_html(const DiffReport& report) {
     std::string h =
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>"
         "fovref diff: " +
@@ -235,49 +234,55 @@ void write_diff_html(const DiffReport& report, const std::string& directory) {
                  "worst pixel): <code>" +
                  html_escape(report.probe_command) + "</code></p>\n";
     }
+    return h;
+}
 
-    // Table of all buffers in comparison order.
-    h += "<table><tr><th>frame</th><th class=\"l\">stage</th><th class=\"l\">buffer</th>"
-         "<th>result</th><th>max abs</th><th>max rel</th><th>max ulp</th><th>failing px</th>"
-         "<th>out of tolerance</th><th>RMSE</th><th>PSNR</th><th>SSIM</th></tr>\n";
-    for (std::size_t k = 0; k < report.items.size(); ++k) {
-        const DiffItem& item = report.items[k];
-        const bool first = static_cast<int>(k) == report.first_failing;
-        const std::string cls = !item.compared && !item.required ? "missing"
-                                : first                          ? "first"
-                                : !item.pass                     ? "fail"
-                                                                 : "";
-        h += "<tr class=\"" + cls + "\"><td>" + std::to_string(item.frame) +
-             "</td><td class=\"l\">" + html_escape(item.stage) +
-             "</td><td class=\"l\"><a href=\"#" + anchor(k) + "\">" + html_escape(item.name) +
-             "</a></td><td class=\"" + status_class(item) + "\">" + item.status() + "</td>";
-        if (!item.compared || item.hash_only) {
-            h += "<td class=\"l\" colspan=\"8\">" + html_escape(item.note) + "</td></tr>\n";
-            continue;
-        }
-        if (item.is_id) {
-            const IdComparison& r = item.ids;
-            h += "<td class=\"l\" colspan=\"8\">compared as ids: " +
-                 std::to_string(r.interior_mismatches) + " interior mismatches (" +
-                 std::to_string(r.tolerance.max_interior_mismatches) + " allowed), " +
-                 std::to_string(r.edge_mismatches) +
-                 " edge mismatches = " + percent(r.edge_mismatches, r.edge_pixels) + " of " +
-                 std::to_string(r.edge_pixels) + " edge pixels (" +
-                 std::to_string(r.allowed_edge_mismatches) + " allowed)</td></tr>\n";
-            continue;
-        }
-        const BufferComparison& r = item.result;
-        const std::int64_t compared_pixels =
-            static_cast<std::int64_t>(r.width) * r.height - r.masked_pixels;
-        const bool nonfinite = r.nonfinite_mismatches > 0;
-        h += "<td>" + (nonfinite ? std::string("convention?") : fmt(r.max_abs)) + "</td><td>" +
-             fmt(r.max_rel) + "</td><td>" + std::to_string(r.max_ulp) + "</td><td>" +
-             std::to_string(r.failing_pixels) + "</td><td>" +
-             percent(r.pixels_over_threshold, compared_pixels) + "</td><td>" +
-             (nonfinite ? "&ndash;" : fmt(r.rmse)) + "</td><td>" +
-             (nonfinite ? "&ndash;" : fmt(r.psnr)) + "</td><td>" +
-             (r.ssim ? fmt(*r.ssim, "%.6f") : "&ndash;") + "</td></tr>\n";
+// Item k's row of the table of all buffers.
+std::string table_row(const DiffReport& report, std::size_t k) {
+    const DiffItem& item = report.items[k];
+    const bool first = static_cast<int>(k) == report.first_failing;
+    const std::string cls = !item.compared && !item.required ? "missing"
+                            : first                          ? "first"
+                            : !item.pass                     ? "fail"
+                                                             : "";
+    std::string h = "<tr class=\"" + cls + "\"><td>" + std::to_string(item.frame) +
+                    "</td><td class=\"l\">" + html_escape(item.stage) +
+                    "</td><td class=\"l\"><a href=\"#" + anchor(k) + "\">" +
+                    html_escape(item.name) + "</a></td><td class=\"" + status_class(item) + "\">" +
+                    item.status() + "</td>";
+    if (!item.compared || item.hash_only)
+        return h + "<td class=\"l\" colspan=\"8\">" + html_escape(item.note) + "</td></tr>\n";
+    if (item.is_id) {
+        const IdComparison& r = item.ids;
+        return h + "<td class=\"l\" colspan=\"8\">compared as ids: " +
+               std::to_string(r.interior_mismatches) + " interior mismatches (" +
+               std::to_string(r.tolerance.max_interior_mismatches) + " allowed), " +
+               std::to_string(r.edge_mismatches) +
+               " edge mismatches = " + percent(r.edge_mismatches, r.edge_pixels) + " of " +
+               std::to_string(r.edge_pixels) + " edge pixels (" +
+               std::to_string(r.allowed_edge_mismatches) + " allowed)</td></tr>\n";
     }
+    const BufferComparison& r = item.result;
+    const std::int64_t compared_pixels =
+        static_cast<std::int64_t>(r.width) * r.height - r.masked_pixels;
+    const bool nonfinite = r.nonfinite_mismatches > 0;
+    return h + "<td>" + (nonfinite ? std::string("convention?") : fmt(r.max_abs)) + "</td><td>" +
+           fmt(r.max_rel) + "</td><td>" + std::to_string(r.max_ulp) + "</td><td>" +
+           std::to_string(r.failing_pixels) + "</td><td>" +
+           percent(r.pixels_over_threshold, compared_pixels) + "</td><td>" +
+           (nonfinite ? "&ndash;" : fmt(r.rmse)) + "</td><td>" +
+           (nonfinite ? "&ndash;" : fmt(r.psnr)) + "</td><td>" +
+           (r.ssim ? fmt(*r.ssim, "%.6f") : "&ndash;") + "</td></tr>\n";
+}
+
+// The table of all buffers in comparison order, what "out of tolerance" means, and the
+// candidate files that were ignored.
+std::string table_html(const DiffReport& report) {
+    std::string h =
+        "<table><tr><th>frame</th><th class=\"l\">stage</th><th class=\"l\">buffer</th>"
+        "<th>result</th><th>max abs</th><th>max rel</th><th>max ulp</th><th>failing px</th>"
+        "<th>out of tolerance</th><th>RMSE</th><th>PSNR</th><th>SSIM</th></tr>\n";
+    for (std::size_t k = 0; k < report.items.size(); ++k) h += table_row(report, k);
     h += "</table>\n";
     h += "<p>&ldquo;out of tolerance&rdquo;: share of the compared pixels outside the buffer's "
          "own tolerance (of the pixels over <code>--threshold</code> when one is given). Id "
@@ -290,119 +295,138 @@ void write_diff_html(const DiffReport& report, const std::string& directory) {
                   ? std::string()
                   : "; did you mean <code>" + html_escape(report.ignored_hint[k]) + "</code>?") +
              "</p>\n";
+    return h;
+}
 
-    // One section per buffer.
-    for (std::size_t k = 0; k < report.items.size(); ++k) {
-        const DiffItem& item = report.items[k];
-        const bool first = static_cast<int>(k) == report.first_failing;
-        // Failing buffers are open; the others fold away under their title.
-        const bool open = !item.pass || first;
-        h += "<section id=\"" + anchor(k) + "\"" + (first ? " class=\"first-failing\"" : "") +
-             "><details" + (open ? " open" : "") + "><summary>frame " + std::to_string(item.frame) +
-             " &middot; " + html_escape(item.stage) + " &middot; " + html_escape(item.name) +
-             " <span class=\"" + status_class(item) + "\">" + item.status() + "</span>" +
-             (first ? " &larr; first failing stage" : "") + "</summary>\n";
-        if (!item.note.empty()) h += "<p>" + html_escape(item.note) + "</p>\n";
-        if (!item.compared || item.hash_only) {
-            h += "</details></section>\n";
-            continue;
-        }
-        if (item.is_id) {
-            h += id_section(item);
-            h += "</details></section>\n";
-            continue;
-        }
-        const BufferComparison& r = item.result;
-        h += "<p>files: golden <code>" + html_escape(item.golden_file) +
-             "</code>, candidate <code>" + html_escape(item.candidate_file) + "</code>; " +
-             std::to_string(r.width) + "&times;" + std::to_string(r.height) + "&times;" +
-             std::to_string(r.channels) + "; tolerance abs " + fmt(r.tolerance.abs) + ", rel " +
-             fmt(r.tolerance.rel) + ", ulp " + std::to_string(r.tolerance.ulp) + ", " +
-             std::to_string(r.tolerance.max_failing_pixels) + " failing pixels allowed" +
-             (r.tolerance.reason.empty() ? "" : " (" + html_escape(r.tolerance.reason) + ")") +
-             "</p>\n";
-        if (!item.masked_by.empty()) {
-            std::string names;
-            for (const std::string& n : item.masked_by) names += (names.empty() ? "" : ", ") + n;
-            h += "<p>compared where <code>" + html_escape(names) +
-                 "</code> agree: " + std::to_string(r.masked_pixels) + " pixels left out.</p>\n";
-        }
-        // Pictures: every failing buffer and every colour buffer.
-        if (!item.pass || item.kind == "color") {
-            const bool differs = r.max_abs > 0.0 || r.nonfinite_mismatches > 0;
-            HeatmapSettings hs;
-            hs.rings = item.rings ? &*item.rings : nullptr;
-            h += "<div class=\"shots\"><figure>" +
-                 preview_tag(item.golden, item.kind, "golden " + item.name) +
-                 "<figcaption>golden</figcaption></figure><figure>" +
-                 preview_tag(item.candidate, item.kind, "candidate " + item.name) +
-                 "<figcaption>candidate</figcaption></figure>";
-            if (differs)
-                h += "<figure>" + img_tag(heatmap(r.abs_error, hs), "error heatmap " + item.name) +
-                     "<figcaption>|candidate &minus; golden| (largest channel), scale 0 .. " +
-                     fmt(heatmap_scale(r.abs_error, hs)) +
-                     (hs.rings ? ", ring boundaries lighter" : "") + "</figcaption></figure>";
-            h += "</div>\n";
-        }
-        if (r.nonfinite_mismatches > 0)
-            h += "<p class=\"status-fail\">convention mismatch: " +
-                 std::to_string(r.nonfinite_mismatches) +
-                 " value(s) are non-finite on one side only (e.g. a depth cleared to +inf where "
-                 "fovref writes 0); no error figure is defined for them and the figures below "
-                 "cover the values finite on both sides.</p>\n";
-        h += "<p>max abs " + fmt(r.max_abs) + ", max rel " + fmt(r.max_rel) + ", max ulp " +
-             std::to_string(r.max_ulp) + ", non-finite mismatches " +
-             std::to_string(r.nonfinite_mismatches) + ", mean abs " + fmt(r.mean_abs) + ", RMSE " +
-             fmt(r.rmse) + ", PSNR " + fmt(r.psnr) + " dB, SSIM " +
-             (r.ssim ? fmt(*r.ssim, "%.6f") : "&ndash;") + ", " +
-             (r.threshold >= 0.0 ? "pixels over " + fmt(r.threshold)
-                                 : std::string("pixels out of tolerance")) +
-             ": " + std::to_string(r.pixels_over_threshold) + "</p>\n";
-        if (item.flip)
-            h += "<p>LDR-FLIP (display space): mean " + fmt(item.flip->mean, "%.6f") +
-                 ", weighted median " + fmt(item.flip->weighted_median, "%.6f") + ", quartiles " +
-                 fmt(item.flip->first_quartile, "%.6f") + " / " +
-                 fmt(item.flip->third_quartile, "%.6f") + ", max " + fmt(item.flip->max, "%.6f") +
-                 "</p>\n<div class=\"shots\"><figure>" +
-                 img_tag(heatmap(item.flip->error_map, HeatmapSettings{1.0f, true, nullptr}),
-                         "FLIP map " + item.name) +
-                 "<figcaption>FLIP error map (scale 0 .. 1)</figcaption></figure></div>\n";
-        if (!r.worst.empty()) {
-            h += "<table><tr><th>worst pixels</th><th>x</th><th>y</th><th>|error|</th>"
-                 "<th class=\"l\">golden</th><th class=\"l\">candidate</th></tr>\n";
-            for (std::size_t i = 0; i < r.worst.size(); ++i)
-                h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" +
-                     std::to_string(r.worst[i].x) + "</td><td>" + std::to_string(r.worst[i].y) +
-                     "</td><td>" + fmt(r.worst[i].abs_error) + "</td><td class=\"l\">" +
-                     values_text(r.worst[i].golden) + "</td><td class=\"l\">" +
-                     values_text(r.worst[i].candidate) + "</td></tr>\n";
-            h += "</table>\n";
-        }
-        if (!r.rings.empty() && r.max_abs > 0.0) h += ring_plots(r);
-        h += "</details></section>\n";
+// Golden, candidate and (where they differ) the error heatmap side by side.
+std::string pictures_html(const DiffItem& item) {
+    const BufferComparison& r = item.result;
+    const bool differs = r.max_abs > 0.0 || r.nonfinite_mismatches > 0;
+    HeatmapSettings hs;
+    hs.rings = item.rings ? &*item.rings : nullptr;
+    std::string h = "<div class=\"shots\"><figure>" +
+                    preview_tag(item.golden, item.kind, "golden " + item.name) +
+                    "<figcaption>golden</figcaption></figure><figure>" +
+                    preview_tag(item.candidate, item.kind, "candidate " + item.name) +
+                    "<figcaption>candidate</figcaption></figure>";
+    if (differs)
+        h += "<figure>" + img_tag(heatmap(r.abs_error, hs), "error heatmap " + item.name) +
+             "<figcaption>|candidate &minus; golden| (largest channel), scale 0 .. " +
+             fmt(heatmap_scale(r.abs_error, hs)) + (hs.rings ? ", ring boundaries lighter" : "") +
+             "</figcaption></figure>";
+    h += "</div>\n";
+    return h;
+}
+
+// The error figures of a value buffer, its LDR-FLIP (--flip) and its worst pixels.
+std::string figures_html(const DiffItem& item) {
+    const BufferComparison& r = item.result;
+    std::string h;
+    if (r.nonfinite_mismatches > 0)
+        h += "<p class=\"status-fail\">convention mismatch: " +
+             std::to_string(r.nonfinite_mismatches) +
+             " value(s) are non-finite on one side only (e.g. a depth cleared to +inf where "
+             "fovref writes 0); no error figure is defined for them and the figures below "
+             "cover the values finite on both sides.</p>\n";
+    h += "<p>max abs " + fmt(r.max_abs) + ", max rel " + fmt(r.max_rel) + ", max ulp " +
+         std::to_string(r.max_ulp) + ", non-finite mismatches " +
+         std::to_string(r.nonfinite_mismatches) + ", mean abs " + fmt(r.mean_abs) + ", RMSE " +
+         fmt(r.rmse) + ", PSNR " + fmt(r.psnr) + " dB, SSIM " +
+         (r.ssim ? fmt(*r.ssim, "%.6f") : "&ndash;") + ", " +
+         (r.threshold >= 0.0 ? "pixels over " + fmt(r.threshold)
+                             : std::string("pixels out of tolerance")) +
+         ": " + std::to_string(r.pixels_over_threshold) + "</p>\n";
+    if (item.flip)
+        h += "<p>LDR-FLIP (display space): mean " + fmt(item.flip->mean, "%.6f") +
+             ", weighted median " + fmt(item.flip->weighted_median, "%.6f") + ", quartiles " +
+             fmt(item.flip->first_quartile, "%.6f") + " / " +
+             fmt(item.flip->third_quartile, "%.6f") + ", max " + fmt(item.flip->max, "%.6f") +
+             "</p>\n<div class=\"shots\"><figure>" +
+             img_tag(heatmap(item.flip->error_map, HeatmapSettings{1.0f, true, nullptr}),
+                     "FLIP map " + item.name) +
+             "<figcaption>FLIP error map (scale 0 .. 1)</figcaption></figure></div>\n";
+    if (!r.worst.empty()) {
+        h += "<table><tr><th>worst pixels</th><th>x</th><th>y</th><th>|error|</th>"
+             "<th class=\"l\">golden</th><th class=\"l\">candidate</th></tr>\n";
+        for (std::size_t i = 0; i < r.worst.size(); ++i)
+            h += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + std::to_string(r.worst[i].x) +
+                 "</td><td>" + std::to_string(r.worst[i].y) + "</td><td>" +
+                 fmt(r.worst[i].abs_error) + "</td><td class=\"l\">" +
+                 values_text(r.worst[i].golden) + "</td><td class=\"l\">" +
+                 values_text(r.worst[i].candidate) + "</td></tr>\n";
+        h += "</table>\n";
     }
-    // A small script (not needed to read the report) counts the images that decoded and checks
-    // the layout of every plot (sections opened for the measurement, then folded back): labels
-    // inside their plot, tick labels distinct. The headless-browser tests read both lines.
-    h += "<p id=\"images-status\">images: <span id=\"images-loaded\">not counted (scripts off)"
-         "</span>; plots: <span id=\"plot-check\">not checked (scripts off)</span></p>\n"
-         "<script>addEventListener('load',function(){var i=document.images,n=0;"
-         "for(var k=0;k<i.length;++k)if(i[k].complete&&i[k].naturalWidth>0)++n;"
-         "document.getElementById('images-loaded').textContent=n+' of '+i.length+' decoded';"
-         "var d=document.querySelectorAll('details'),was=[];for(var k=0;k<d.length;++k)"
-         "{was.push(d[k].open);d[k].open=true;}"
-         "var s=document.querySelectorAll('svg.plot'),labels=0,clipped=0,repeated=0;"
-         "for(var k=0;k<s.length;++k){var r=s[k].getBoundingClientRect();"
-         "var t=s[k].querySelectorAll('text');"
-         "for(var j=0;j<t.length;++j){var b=t[j].getBoundingClientRect();++labels;"
-         "if(b.left<r.left-0.5||b.right>r.right+0.5||b.top<r.top-0.5||b.bottom>r.bottom+0.5)"
-         "++clipped;}['tick-x','tick-y'].forEach(function(c){var seen={},u=s[k]."
-         "querySelectorAll('text.'+c);for(var j=0;j<u.length;++j){if(seen[u[j].textContent])"
-         "++repeated;seen[u[j].textContent]=1;}});}"
-         "for(var k=0;k<d.length;++k)d[k].open=was[k];"
-         "document.getElementById('plot-check').textContent=s.length+' plots, '+labels+"
-         "' labels, '+clipped+' clipped, '+repeated+' repeated ticks';});"
-         "</script>\n</body></html>\n";
+    return h;
+}
+
+// Item k's section: failing buffers open, the others folded away under their title.
+std::string section_html(const DiffReport& report, std::size_t k) {
+    const DiffItem& item = report.items[k];
+    const bool first = static_cast<int>(k) == report.first_failing;
+    const bool open = !item.pass || first;
+    std::string h = "<section id=\"" + anchor(k) + "\"" +
+                    (first ? " class=\"first-failing\"" : "") + "><details" +
+                    (open ? " open" : "") + "><summary>frame " + std::to_string(item.frame) +
+                    " &middot; " + html_escape(item.stage) + " &middot; " + html_escape(item.name) +
+                    " <span class=\"" + status_class(item) + "\">" + item.status() + "</span>" +
+                    (first ? " &larr; first failing stage" : "") + "</summary>\n";
+    if (!item.note.empty()) h += "<p>" + html_escape(item.note) + "</p>\n";
+    if (!item.compared || item.hash_only) return h + "</details></section>\n";
+    if (item.is_id) return h + id_section(item) + "</details></section>\n";
+    const BufferComparison& r = item.result;
+    h += "<p>files: golden <code>" + html_escape(item.golden_file) + "</code>, candidate <code>" +
+         html_escape(item.candidate_file) + "</code>; " + std::to_string(r.width) + "&times;" +
+         std::to_string(r.height) + "&times;" + std::to_string(r.channels) + "; tolerance abs " +
+         fmt(r.tolerance.abs) + ", rel " + fmt(r.tolerance.rel) + ", ulp " +
+         std::to_string(r.tolerance.ulp) + ", " + std::to_string(r.tolerance.max_failing_pixels) +
+         " failing pixels allowed" +
+         (r.tolerance.reason.empty() ? "" : " (" + html_escape(r.tolerance.reason) + ")") +
+         "</p>\n";
+    if (!item.masked_by.empty()) {
+        std::string names;
+        for (const std::string& n : item.masked_by) names += (names.empty() ? "" : ", ") + n;
+        h += "<p>compared where <code>" + html_escape(names) +
+             "</code> agree: " + std::to_string(r.masked_pixels) + " pixels left out.</p>\n";
+    }
+    // Pictures: every failing buffer and every colour buffer.
+    if (!item.pass || item.kind == "color") h += pictures_html(item);
+    h += figures_html(item);
+    if (!r.rings.empty() && r.max_abs > 0.0) h += ring_plots(r);
+    h += "</details></section>\n";
+    return h;
+}
+
+// A small script (not needed to read the report) counts the images that decoded and checks the
+// layout of every plot (sections opened for the measurement, then folded back): labels inside
+// their plot, tick labels distinct. The headless-browser tests read both lines.
+const char* const check_script =
+    "<p id=\"images-status\">images: <span id=\"images-loaded\">not counted (scripts off)"
+    "</span>; plots: <span id=\"plot-check\">not checked (scripts off)</span></p>\n"
+    "<script>addEventListener('load',function(){var i=document.images,n=0;"
+    "for(var k=0;k<i.length;++k)if(i[k].complete&&i[k].naturalWidth>0)++n;"
+    "document.getElementById('images-loaded').textContent=n+' of '+i.length+' decoded';"
+    "var d=document.querySelectorAll('details'),was=[];for(var k=0;k<d.length;++k)"
+    "{was.push(d[k].open);d[k].open=true;}"
+    "var s=document.querySelectorAll('svg.plot'),labels=0,clipped=0,repeated=0;"
+    "for(var k=0;k<s.length;++k){var r=s[k].getBoundingClientRect();"
+    "var t=s[k].querySelectorAll('text');"
+    "for(var j=0;j<t.length;++j){var b=t[j].getBoundingClientRect();++labels;"
+    "if(b.left<r.left-0.5||b.right>r.right+0.5||b.top<r.top-0.5||b.bottom>r.bottom+0.5)"
+    "++clipped;}['tick-x','tick-y'].forEach(function(c){var seen={},u=s[k]."
+    "querySelectorAll('text.'+c);for(var j=0;j<u.length;++j){if(seen[u[j].textContent])"
+    "++repeated;seen[u[j].textContent]=1;}});}"
+    "for(var k=0;k<d.length;++k)d[k].open=was[k];"
+    "document.getElementById('plot-check').textContent=s.length+' plots, '+labels+"
+    "' labels, '+clipped+' clipped, '+repeated+' repeated ticks';});"
+    "</script>\n</body></html>\n";
+
+}  // namespace
+
+void write_diff_html(const DiffReport& report, const std::string& directory) {
+    std::string h = summary_html(report);
+    h += table_html(report);
+    for (std::size_t k = 0; k < report.items.size(); ++k) h += section_html(report, k);
+    h += check_script;
 
     std::error_code ec;
     fs::create_directories(directory, ec);

@@ -161,10 +161,29 @@ void add_evaluate_options(CLI::App& c, EvaluateOptions& o) {
         ->required();
 }
 
-int run_evaluate(const EvaluateOptions& o) {
-    if (o.modes.empty() && o.frame_dirs.empty())
-        throw Error("evaluate: give --mode and/or --frames-dir");
-    const Scene scene = load_scene(o.scene);
+namespace {
+
+// What every comparison of a run shares: the screen, the ring layout around the gaze, the
+// evaluated frames and the reference images at them.
+struct Evaluation {
+    Evaluation(const EvaluateOptions& o, const Scene& s) : options(o), scene(s) {}
+
+    const EvaluateOptions& options;
+    const Scene& scene;
+    RenderSettings base;  ///< size and camera-path times of every render
+    glm::vec2 gaze;
+    float distance = 0.0f;  ///< viewing distance in pixels (the scene's display model)
+    RingLayout layout;
+    std::vector<int> evaluated;            ///< frame numbers: 0, every, 2 every, ... below frames
+    std::map<int, Image> reference;        ///< per evaluated frame, in the compared space
+    std::vector<Image> reference_display;  ///< in evaluated order, for the temporal error
+
+    /// Display space (SPEC §10), or the stored values with --linear.
+    Image space(const Image& image) const { return options.linear ? image : to_display(image); }
+};
+
+// The --mode and --frames-dir candidates, in that order.
+std::vector<Candidate> make_candidates(const EvaluateOptions& o) {
     std::vector<Candidate> candidates;
     for (const std::string& m : o.modes) candidates.push_back(parse_mode(m, o.params));
     for (const std::string& d : o.frame_dirs) {
@@ -174,133 +193,198 @@ int run_evaluate(const EvaluateOptions& o) {
         c.directory = d;
         candidates.push_back(std::move(c));
     }
-    const ModeInfo& reference_mode = find_mode(o.reference_mode);
-    (void)reference_mode;
+    return candidates;
+}
 
-    RenderSettings base;
-    base.width = o.width;
-    base.height = o.height;
-    base.time_start = o.time_start;
-    base.time_step = o.time_step;
-    validate_settings(base);
+// The screen, the gaze, the viewing distance (checked for FLIP) and the ring layout.
+void set_up_rings(Evaluation& e) {
+    const EvaluateOptions& o = e.options;
+    e.base.width = o.width;
+    e.base.height = o.height;
+    e.base.time_start = o.time_start;
+    e.base.time_step = o.time_step;
+    validate_settings(e.base);
     RingSettings ring_settings;
     ring_settings.count = o.rings;
     ring_settings.max_range = o.max_range;
-    const glm::vec2 gaze = parse_gaze(o.gaze, o.width, o.height);
-    const float distance = display_distance_px(scene.display, o.width, o.height,
-                                               camera_at(scene, o.time_start).vfov_deg);
+    e.gaze = parse_gaze(o.gaze, o.width, o.height);
+    e.distance = display_distance_px(e.scene.display, o.width, o.height,
+                                     camera_at(e.scene, o.time_start).vfov_deg);
     if (o.flip)
-        check_flip_viewing_distance(distance, "the scene's display model (viewing distance " +
-                                                  std::to_string(distance) + " px)");
-    const RingLayout layout = ring_layout(o.width, o.height, gaze, distance, ring_settings);
-    auto space = [&](const Image& image) { return o.linear ? image : to_display(image); };
+        check_flip_viewing_distance(e.distance, "the scene's display model (viewing distance " +
+                                                    std::to_string(e.distance) + " px)");
+    e.layout = ring_layout(o.width, o.height, e.gaze, e.distance, ring_settings);
+}
 
-    std::vector<int> evaluated;
-    for (int f = 0; f < o.frames; f += o.every) evaluated.push_back(f);
-    Progress progress("evaluate", o.quiet);
-    const double total = static_cast<double>(candidates.size() + 1);
-
-    // The reference at the evaluated frames (one frame each: the reference mode keeps no state
-    // between frames, and its frame number seeds rand() exactly as in a full sequence).
-    std::map<int, Image> reference;
-    std::vector<Image> reference_display;
-    for (std::size_t i = 0; i < evaluated.size(); ++i) {
-        RenderSettings s = base;
-        s.first_frame = evaluated[i];
+// The reference at the evaluated frames (one frame each: the reference mode keeps no state
+// between frames, and its frame number seeds rand() exactly as in a full sequence).
+void render_reference(Evaluation& e, Progress& progress, double total) {
+    for (std::size_t i = 0; i < e.evaluated.size(); ++i) {
+        RenderSettings s = e.base;
+        s.first_frame = e.evaluated[i];
         s.progress = [&](double f) {
-            progress.update((static_cast<double>(i) + f) / static_cast<double>(evaluated.size()) /
+            progress.update((static_cast<double>(i) + f) / static_cast<double>(e.evaluated.size()) /
                             total);
         };
-        for (const FrameResult& f : render(&scene, o.reference_mode, s))
-            reference[evaluated[i]] = space(final_image(f));
-        reference_display.push_back(reference[evaluated[i]]);
+        for (const FrameResult& f : render(&e.scene, e.options.reference_mode, s))
+            e.reference[e.evaluated[i]] = e.space(final_image(f));
+        e.reference_display.push_back(e.reference[e.evaluated[i]]);
     }
+}
 
-    // Each candidate: every frame in order (modes may carry state from frame to frame), the
-    // evaluated ones compared.
-    for (std::size_t ci = 0; ci < candidates.size(); ++ci) {
-        Candidate& c = candidates[ci];
-        auto evaluate_frame = [&](int frame, const Image& image, const Counters* counters,
-                                  double seconds) {
-            if (frame % o.every != 0) return;
-            const Image& ref = reference.at(frame);
-            const Image test = space(image);
-            if (!test.same_shape(ref))
-                throw Error(c.label + ": frame " + std::to_string(frame) + " is " +
-                            std::to_string(test.width) + "x" + std::to_string(test.height) +
-                            ", the reference " + std::to_string(ref.width) + "x" +
-                            std::to_string(ref.height));
-            const SsimMap map = ssim_map(luma(ref), luma(test));
-            c.rings.push_back(ring_errors(ref, test, layout, &map));
-            const double m = mse(ref, test);
-            json row = {
-                {"frame", frame}, {"mse", m}, {"psnr", number_json(psnr(m))}, {"ssim", map.mean}};
-            if (o.flip) {
-                FlipParams fp;
-                fp.pixels_per_degree = flip_pixels_per_degree(distance);
-                const FlipResult flip = o.linear ? ldr_flip(to_display(ref), to_display(test), fp)
-                                                 : ldr_flip(ref, test, fp);
-                row["flip_mean"] = flip.mean;
-            }
-            if (counters) {
-                std::int64_t rays = 0;
-                for (const auto& [name, value] : counters->values)
-                    if (name.rfind("rays_", 0) == 0) rays += value;
-                row["rays_traced"] = rays;
-                row["rays_percent_of_pixels"] =
-                    100.0 * static_cast<double>(rays) / (static_cast<double>(o.width) * o.height);
-                row["pixels_shaded"] = counters->get("pixels_shaded");
-                row["stage_seconds"] = seconds;
-            }
-            c.frame_rows.push_back(row);
-            c.display_frames.push_back(o.linear ? to_display(test) : test);
-            c.last_error = squared_error_map(ref, test);
-        };
-        const auto done = [&](double f) {
-            progress.update((static_cast<double>(ci + 1) + f) / total);
-        };
-        if (!c.mode.empty()) {
-            RenderSettings s = base;
-            s.frame_count = o.frames;
-            s.params = c.params;
-            s.progress = done;
-            render_each(&scene, c.mode, s, [&](FrameResult& f) {
-                double seconds = 0;
-                for (const StageRun& run : f.stages) seconds += run.seconds;
-                evaluate_frame(f.frame, final_image(f), &f.counters, seconds);
-            });
-        } else {
-            for (std::size_t i = 0; i < evaluated.size(); ++i) {
-                evaluate_frame(evaluated[i], read_frame(c.directory, evaluated[i]), nullptr, 0);
-                done(static_cast<double>(i + 1) / static_cast<double>(evaluated.size()));
-            }
+// Compares one frame of a candidate with the reference when it is an evaluated one: its ring
+// errors, a row of frames.csv (with the render's counters and stage time when it has them), the
+// frame for the temporal error and its squared-error map.
+void evaluate_frame(const Evaluation& e, Candidate& c, int frame, const Image& image,
+                    const Counters* counters, double seconds) {
+    const EvaluateOptions& o = e.options;
+    if (frame % o.every != 0) return;
+    const Image& ref = e.reference.at(frame);
+    const Image test = e.space(image);
+    if (!test.same_shape(ref))
+        throw Error(c.label + ": frame " + std::to_string(frame) + " is " +
+                    std::to_string(test.width) + "x" + std::to_string(test.height) +
+                    ", the reference " + std::to_string(ref.width) + "x" +
+                    std::to_string(ref.height));
+    const SsimMap map = ssim_map(luma(ref), luma(test));
+    c.rings.push_back(ring_errors(ref, test, e.layout, &map));
+    const double m = mse(ref, test);
+    json row = {{"frame", frame}, {"mse", m}, {"psnr", number_json(psnr(m))}, {"ssim", map.mean}};
+    if (o.flip) {
+        FlipParams fp;
+        fp.pixels_per_degree = flip_pixels_per_degree(e.distance);
+        const FlipResult flip =
+            o.linear ? ldr_flip(to_display(ref), to_display(test), fp) : ldr_flip(ref, test, fp);
+        row["flip_mean"] = flip.mean;
+    }
+    if (counters) {
+        std::int64_t rays = 0;
+        for (const auto& [name, value] : counters->values)
+            if (name.rfind("rays_", 0) == 0) rays += value;
+        row["rays_traced"] = rays;
+        row["rays_percent_of_pixels"] =
+            100.0 * static_cast<double>(rays) / (static_cast<double>(o.width) * o.height);
+        row["pixels_shaded"] = counters->get("pixels_shaded");
+        row["stage_seconds"] = seconds;
+    }
+    c.frame_rows.push_back(row);
+    c.display_frames.push_back(o.linear ? to_display(test) : test);
+    c.last_error = squared_error_map(ref, test);
+}
+
+// Each candidate: every frame in order (modes may carry state from frame to frame), the
+// evaluated ones compared. `index` places it in the progress bar after the reference.
+void evaluate_candidate(const Evaluation& e, Candidate& c, std::size_t index, Progress& progress,
+                        double total) {
+    const auto done = [&](double f) {
+        progress.update((static_cast<double>(index + 1) + f) / total);
+    };
+    if (!c.mode.empty()) {
+        RenderSettings s = e.base;
+        s.frame_count = e.options.frames;
+        s.params = c.params;
+        s.progress = done;
+        render_each(&e.scene, c.mode, s, [&](FrameResult& f) {
+            double seconds = 0;
+            for (const StageRun& run : f.stages) seconds += run.seconds;
+            evaluate_frame(e, c, f.frame, final_image(f), &f.counters, seconds);
+        });
+    } else {
+        for (std::size_t i = 0; i < e.evaluated.size(); ++i) {
+            evaluate_frame(e, c, e.evaluated[i], read_frame(c.directory, e.evaluated[i]), nullptr,
+                           0);
+            done(static_cast<double>(i + 1) / static_cast<double>(e.evaluated.size()));
         }
     }
-    progress.finish();
+}
 
-    // Outputs.
-    fs::create_directories(o.out_dir);
-    std::string rings_csv = "label,ring,inner_deg,outer_deg,pixels,mse,rmse,psnr,ssim,sd\n";
-    std::string frames_csv =
-        "label,frame,mse,psnr,ssim,flip_mean,rays_traced,rays_percent_of_pixels,"
-        "pixels_shaded,stage_seconds\n";
+// summary.json without the candidates: the run's settings, the ring layout and the reference's
+// temporal error.
+json summary_json(const Evaluation& e) {
+    const EvaluateOptions& o = e.options;
     json summary;
     summary["scene"] = o.scene;
     summary["reference"] = o.reference_mode;
     summary["width"] = o.width;
     summary["height"] = o.height;
     summary["frames"] = o.frames;
-    summary["evaluated_frames"] = evaluated;
+    summary["evaluated_frames"] = e.evaluated;
     summary["space"] = o.linear ? "linear" : "display";
-    summary["ring_layout"] = {{"gaze", {gaze.x, gaze.y}},
-                              {"distance_px", distance},
-                              {"max_eccentricity_deg", layout.max_eccentricity_deg},
-                              {"outer_deg", layout.outer_deg},
+    summary["ring_layout"] = {{"gaze", {e.gaze.x, e.gaze.y}},
+                              {"distance_px", e.distance},
+                              {"max_eccentricity_deg", e.layout.max_eccentricity_deg},
+                              {"outer_deg", e.layout.outer_deg},
                               {"rings", o.rings}};
-    summary["reference_temporal_error"] = temporal_error(reference_display);
-    PlotSeries ssim_series, psnr_series, rmse_series;
+    summary["reference_temporal_error"] = temporal_error(e.reference_display);
+    return summary;
+}
+
+std::string rings_csv_row(const std::string& label, const RingStats& ring) {
+    return label + "," + std::to_string(ring.ring) + "," + csv_number(ring.inner_deg) + "," +
+           csv_number(ring.outer_deg) + "," + std::to_string(ring.pixels) + "," +
+           csv_number(ring.mse) + "," + csv_number(ring.rmse) + "," + csv_number(ring.psnr) + "," +
+           csv_number(ring.ssim) + "," + csv_number(ring.sd) + "\n";
+}
+
+// The candidate's rows of frames.csv (a field the row lacks is left empty).
+std::string frames_csv_rows(const Candidate& c) {
+    std::string rows;
+    for (const json& row : c.frame_rows) {
+        auto field = [&](const char* key) -> std::string {
+            if (!row.contains(key)) return "";
+            const json& v = row[key];
+            if (v.is_string()) return v.get<std::string>();
+            if (v.is_number_integer()) return std::to_string(v.get<std::int64_t>());
+            return csv_number(v.get<double>());
+        };
+        rows += c.label + "," + field("frame") + "," + field("mse") + "," + field("psnr") + "," +
+                field("ssim") + "," + field("flip_mean") + "," + field("rays_traced") + "," +
+                field("rays_percent_of_pixels") + "," + field("pixels_shaded") + "," +
+                field("stage_seconds") + "\n";
+    }
+    return rows;
+}
+
+// heatmap_LABEL.png: the squared error of the candidate's last evaluated frame with the rings.
+void write_heatmap(const Evaluation& e, const Candidate& c) {
+    HeatmapSettings hs;
+    hs.rings = &e.layout;
+    std::string file = "heatmap_" + c.label + ".png";
+    for (char& ch : file)
+        if (ch == ':' || ch == '=' || ch == '/' || ch == ' ') ch = '_';
+    write_png((fs::path(e.options.out_dir) / file).string(), heatmap(c.last_error, hs));
+}
+
+// SSIM, PSNR and RMSE against eccentricity side by side, one line per candidate.
+std::string rings_svg(const Evaluation& e, const std::vector<PlotSeries>& ssim_plot,
+                      const std::vector<PlotSeries>& psnr_plot,
+                      const std::vector<PlotSeries>& rmse_plot) {
+    const std::string title_suffix =
+        " (" + std::to_string(e.evaluated.size()) + " frames averaged)";
+    const std::string x_label = "eccentricity (degrees)";
+    std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"1290\" height=\"320\">\n";
+    const std::string plots[3] = {
+        svg_line_plot({"SSIM" + title_suffix, x_label, "SSIM", ssim_plot}),
+        svg_line_plot({"PSNR" + title_suffix, x_label, "dB", psnr_plot}),
+        svg_line_plot({"RMSE" + title_suffix, x_label, "RMSE", rmse_plot})};
+    for (int k = 0; k < 3; ++k)
+        svg +=
+            "<g transform=\"translate(" + std::to_string(430 * k) + " 0)\">" + plots[k] + "</g>\n";
+    svg += "</svg>\n";
+    return svg;
+}
+
+// rings.csv, frames.csv, summary.json, rings.svg and a heatmap per candidate in --out.
+void write_outputs(const Evaluation& e, const std::vector<Candidate>& candidates) {
+    const EvaluateOptions& o = e.options;
+    fs::create_directories(o.out_dir);
+    std::string rings_csv = "label,ring,inner_deg,outer_deg,pixels,mse,rmse,psnr,ssim,sd\n";
+    std::string frames_csv =
+        "label,frame,mse,psnr,ssim,flip_mean,rays_traced,rays_percent_of_pixels,"
+        "pixels_shaded,stage_seconds\n";
+    json summary = summary_json(e);
     std::vector<PlotSeries> ssim_plot, psnr_plot, rmse_plot;
-    for (Candidate& c : candidates) {
+    for (const Candidate& c : candidates) {
         const std::vector<RingStats> mean = average_rings(c.rings);
         json jc;
         jc["label"] = c.label;
@@ -309,11 +393,7 @@ int run_evaluate(const EvaluateOptions& o) {
         PlotSeries s{c.label, {}, {}}, p{c.label, {}, {}}, r{c.label, {}, {}};
         for (const RingStats& ring : mean) {
             jc["rings"].push_back(ring_json(ring));
-            rings_csv += c.label + "," + std::to_string(ring.ring) + "," +
-                         csv_number(ring.inner_deg) + "," + csv_number(ring.outer_deg) + "," +
-                         std::to_string(ring.pixels) + "," + csv_number(ring.mse) + "," +
-                         csv_number(ring.rmse) + "," + csv_number(ring.psnr) + "," +
-                         csv_number(ring.ssim) + "," + csv_number(ring.sd) + "\n";
+            rings_csv += rings_csv_row(c.label, ring);
             const double mid = 0.5 * (static_cast<double>(ring.inner_deg) + ring.outer_deg);
             s.x.push_back(mid);
             p.x.push_back(mid);
@@ -326,60 +406,59 @@ int run_evaluate(const EvaluateOptions& o) {
         psnr_plot.push_back(p);
         rmse_plot.push_back(r);
         jc["frames"] = c.frame_rows;
-        for (const json& row : c.frame_rows) {
-            auto field = [&](const char* key) -> std::string {
-                if (!row.contains(key)) return "";
-                const json& v = row[key];
-                if (v.is_string()) return v.get<std::string>();
-                if (v.is_number_integer()) return std::to_string(v.get<std::int64_t>());
-                return csv_number(v.get<double>());
-            };
-            frames_csv += c.label + "," + field("frame") + "," + field("mse") + "," +
-                          field("psnr") + "," + field("ssim") + "," + field("flip_mean") + "," +
-                          field("rays_traced") + "," + field("rays_percent_of_pixels") + "," +
-                          field("pixels_shaded") + "," + field("stage_seconds") + "\n";
-        }
+        frames_csv += frames_csv_rows(c);
         summary["candidates"].push_back(jc);
-        HeatmapSettings hs;
-        hs.rings = &layout;
-        std::string file = "heatmap_" + c.label + ".png";
-        for (char& ch : file)
-            if (ch == ':' || ch == '=' || ch == '/' || ch == ' ') ch = '_';
-        write_png((fs::path(o.out_dir) / file).string(), heatmap(c.last_error, hs));
+        write_heatmap(e, c);
     }
-    const std::string title_suffix = " (" + std::to_string(evaluated.size()) + " frames averaged)";
-    const std::string x_label = "eccentricity (degrees)";
-    std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"1290\" height=\"320\">\n";
-    const std::string plots[3] = {
-        svg_line_plot({"SSIM" + title_suffix, x_label, "SSIM", ssim_plot}),
-        svg_line_plot({"PSNR" + title_suffix, x_label, "dB", psnr_plot}),
-        svg_line_plot({"RMSE" + title_suffix, x_label, "RMSE", rmse_plot})};
-    for (int k = 0; k < 3; ++k)
-        svg +=
-            "<g transform=\"translate(" + std::to_string(430 * k) + " 0)\">" + plots[k] + "</g>\n";
-    svg += "</svg>\n";
+    const std::string svg = rings_svg(e, ssim_plot, psnr_plot, rmse_plot);
     write_file_atomic((fs::path(o.out_dir) / "rings.svg").string(), svg);
     write_file_atomic((fs::path(o.out_dir) / "rings.csv").string(), rings_csv);
     write_file_atomic((fs::path(o.out_dir) / "frames.csv").string(), frames_csv);
     write_file_atomic((fs::path(o.out_dir) / "summary.json").string(), summary.dump(1) + "\n");
-    if (!o.quiet) {
-        std::printf(
-            "evaluate: %s, %dx%d, %zu of %d frames vs %s, %d rings to %.3g deg (%s space)\n",
-            o.scene.c_str(), o.width, o.height, evaluated.size(), o.frames,
-            o.reference_mode.c_str(), o.rings, static_cast<double>(layout.outer_deg),
-            o.linear ? "linear" : "display");
-        std::printf("%-24s %6s %10s %12s %12s\n", "candidate", "ring", "outer deg", "PSNR", "SSIM");
-        for (const Candidate& c : candidates) {
-            const std::vector<RingStats> mean = average_rings(c.rings);
-            for (const RingStats& r : mean)
-                if (r.ring % 5 == 0 || r.ring == o.rings - 1)
-                    std::printf("%-24s %6d %10.3g %12s %12s\n", c.label.c_str(), r.ring,
-                                static_cast<double>(r.outer_deg), csv_number(r.psnr).c_str(),
-                                csv_number(r.ssim).c_str());
-        }
-        std::printf("wrote %s/{rings.csv,frames.csv,summary.json,rings.svg,heatmap_*.png}\n",
-                    o.out_dir.c_str());
+}
+
+// The text summary on stdout: every fifth ring and the last of each candidate.
+void print_rings(const Evaluation& e, const std::vector<Candidate>& candidates) {
+    const EvaluateOptions& o = e.options;
+    std::printf("evaluate: %s, %dx%d, %zu of %d frames vs %s, %d rings to %.3g deg (%s space)\n",
+                o.scene.c_str(), o.width, o.height, e.evaluated.size(), o.frames,
+                o.reference_mode.c_str(), o.rings, static_cast<double>(e.layout.outer_deg),
+                o.linear ? "linear" : "display");
+    std::printf("%-24s %6s %10s %12s %12s\n", "candidate", "ring", "outer deg", "PSNR", "SSIM");
+    for (const Candidate& c : candidates) {
+        const std::vector<RingStats> mean = average_rings(c.rings);
+        for (const RingStats& r : mean)
+            if (r.ring % 5 == 0 || r.ring == o.rings - 1)
+                std::printf("%-24s %6d %10.3g %12s %12s\n", c.label.c_str(), r.ring,
+                            static_cast<double>(r.outer_deg), csv_number(r.psnr).c_str(),
+                            csv_number(r.ssim).c_str());
     }
+    std::printf("wrote %s/{rings.csv,frames.csv,summary.json,rings.svg,heatmap_*.png}\n",
+                o.out_dir.c_str());
+}
+
+}  // namespace
+
+int run_evaluate(const EvaluateOptions& o) {
+    if (o.modes.empty() && o.frame_dirs.empty())
+        throw Error("evaluate: give --mode and/or --frames-dir");
+    const Scene scene = load_scene(o.scene);
+    std::vector<Candidate> candidates = make_candidates(o);
+    const ModeInfo& reference_mode = find_mode(o.reference_mode);
+    (void)reference_mode;
+
+    Evaluation e(o, scene);
+    set_up_rings(e);
+    for (int f = 0; f < o.frames; f += o.every) e.evaluated.push_back(f);
+    Progress progress("evaluate", o.quiet);
+    const double total = static_cast<double>(candidates.size() + 1);
+    render_reference(e, progress, total);
+    for (std::size_t ci = 0; ci < candidates.size(); ++ci)
+        evaluate_candidate(e, candidates[ci], ci, progress, total);
+    progress.finish();
+
+    write_outputs(e, candidates);
+    if (!o.quiet) print_rings(e, candidates);
     return 0;
 }
 

@@ -1,7 +1,8 @@
 // `fovref evaluate` (issue 4; Lund §5.3.4, SPEC §10): renders modes (or reads rendered frames)
 // over a camera path, compares every k-th frame with the ground-truth renderer in error ranges
 // around the gaze point, averages each ring's statistic over the evaluated frames, and writes
-// CSV, JSON, an SVG plot like Lund Fig. 5.7-5.11 and error heatmaps. docs/evaluate.md.
+// CSV, JSON, an SVG plot like Lund Fig. 5.7-5.11 and error heatmaps. docs/probe-evaluate.md
+// ("evaluate") describes the options and the outputs.
 #pragma once
 
 #include <string>

@@ -80,6 +80,140 @@ Axis nice_axis(double lo, double hi, int target_ticks) {
     return axis;
 }
 
+// The plotted ranges over finite values, widened where they are empty or a point, and whether
+// some y is infinite.
+struct Ranges {
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    bool has_inf = false;
+};
+
+Ranges data_ranges(const PlotSpec& spec) {
+    Ranges r;
+    for (const PlotSeries& s : spec.series)
+        for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
+            if (!std::isfinite(s.x[i])) continue;
+            r.x0 = std::min(r.x0, s.x[i]);
+            r.x1 = std::max(r.x1, s.x[i]);
+            if (std::isinf(s.y[i])) r.has_inf = true;
+            if (!std::isfinite(s.y[i])) continue;
+            r.y0 = std::min(r.y0, s.y[i]);
+            r.y1 = std::max(r.y1, s.y[i]);
+        }
+    if (!(r.x0 <= r.x1)) r.x0 = 0, r.x1 = 1;
+    if (!(r.y0 <= r.y1)) r.y0 = 0, r.y1 = 1;
+    if (r.x0 == r.x1) r.x0 -= 0.5, r.x1 += 0.5;
+    return r;
+}
+
+// The axes and where the plot area lies in the picture: values map to pixels with px and py.
+struct Frame {
+    Axis xa, ya;
+    double left = 0, top = 0, w = 0, h = 0, plot_w = 0, plot_h = 0;
+
+    double px(double x) const { return left + (x - xa.lo) / (xa.hi - xa.lo) * plot_w; }
+    double py(double y) const {
+        if (std::isinf(y)) return y > 0 ? top : top + plot_h;
+        return top + (ya.hi - y) / (ya.hi - ya.lo) * plot_h;
+    }
+};
+
+Frame plot_frame(const PlotSpec& spec, const Ranges& r) {
+    double y0 = r.y0, y1 = r.y1;
+    // A range below 1e-9 of the values is constant for the eye (e.g. SSIM 1 - 1e-13): plot it as
+    // constant, on an axis of +-0.1% around the value, with readable ticks.
+    const bool nonnegative = y0 >= 0.0;
+    if (y1 - y0 <= 1e-9 * std::max(std::fabs(y0), std::fabs(y1))) {
+        const double mid = 0.5 * (y0 + y1);
+        const double half = std::max(1e-3 * std::fabs(mid), 1e-12);
+        y0 = mid - half;
+        y1 = mid + half;
+    }
+    Frame f;
+    f.xa = nice_axis(r.x0, r.x1, 4);
+    f.ya = nice_axis(y0, y1, 4);
+    if (nonnegative && f.ya.lo < 0.0) f.ya.lo = 0.0;
+
+    // The left margin fits the longest y label (11 px sans-serif: ~6.5 px per character).
+    std::size_t longest = 0;
+    for (const std::string& label : f.ya.labels) longest = std::max(longest, label.size());
+    const double left = 30 + 6.5 * static_cast<double>(longest), right = 16, top = 26,
+                 bottom = 40 + 14.0 * static_cast<double>((spec.series.size() + 2) / 3);
+    const double w = spec.width + std::max(0.0, left - 58), h = spec.height + bottom - 40;
+    f.left = left;
+    f.top = top;
+    f.w = w;
+    f.h = h;
+    f.plot_w = w - left - right;
+    f.plot_h = h - top - bottom;
+    return f;
+}
+
+// The title, the plot area's box, the ticks with their labels and grid lines, the "inf" mark
+// and the axis labels.
+std::string axes_svg(const PlotSpec& spec, const Frame& f, bool has_inf) {
+    const double left = f.left, top = f.top, plot_w = f.plot_w, plot_h = f.plot_h;
+    std::string svg = "<text x=\"" + coordinate(f.w / 2) +
+                      "\" y=\"16\" text-anchor=\"middle\" font-size=\"13\">" +
+                      html_escape(spec.title) + "</text>\n";
+    svg += "<rect x=\"" + coordinate(left) + "\" y=\"" + coordinate(top) + "\" width=\"" +
+           coordinate(plot_w) + "\" height=\"" + coordinate(plot_h) +
+           "\" fill=\"none\" stroke=\"#444\"/>\n";
+    for (std::size_t i = 0; i < f.xa.ticks.size(); ++i) {
+        const double x = f.px(f.xa.ticks[i]);
+        svg += "<line x1=\"" + coordinate(x) + "\" y1=\"" + coordinate(top) + "\" x2=\"" +
+               coordinate(x) + "\" y2=\"" + coordinate(top + plot_h) + "\" stroke=\"#ddd\"/>\n";
+        svg += "<text class=\"tick-x\" x=\"" + coordinate(x) + "\" y=\"" +
+               coordinate(top + plot_h + 13) + "\" text-anchor=\"middle\">" + f.xa.labels[i] +
+               "</text>\n";
+    }
+    for (std::size_t i = 0; i < f.ya.ticks.size(); ++i) {
+        const double y = f.py(f.ya.ticks[i]);
+        svg += "<line x1=\"" + coordinate(left) + "\" y1=\"" + coordinate(y) + "\" x2=\"" +
+               coordinate(left + plot_w) + "\" y2=\"" + coordinate(y) + "\" stroke=\"#ddd\"/>\n";
+        svg += "<text class=\"tick-y\" x=\"" + coordinate(left - 4) + "\" y=\"" +
+               coordinate(y + 4) + "\" text-anchor=\"end\">" + f.ya.labels[i] + "</text>\n";
+    }
+    if (has_inf)
+        svg += "<text x=\"" + coordinate(left + 3) + "\" y=\"" + coordinate(top + 11) +
+               "\">inf</text>\n";
+    svg += "<text x=\"" + coordinate(left + plot_w / 2) + "\" y=\"" +
+           coordinate(top + plot_h + 27) + "\" text-anchor=\"middle\">" +
+           html_escape(spec.x_label) + "</text>\n";
+    svg += "<text transform=\"translate(12 " + coordinate(top + plot_h / 2) +
+           ") rotate(-90)\" text-anchor=\"middle\">" + html_escape(spec.y_label) + "</text>\n";
+    return svg;
+}
+
+// Series k: a polyline broken at NaN, a dot per point, and its legend entry.
+std::string series_svg(const PlotSeries& s, std::size_t k, const Frame& f) {
+    const std::string colour = colours[k % (sizeof colours / sizeof colours[0])];
+    std::string svg, points;
+    auto flush = [&] {
+        if (!points.empty())
+            svg += "<polyline fill=\"none\" stroke=\"" + colour +
+                   "\" stroke-width=\"1.6\" points=\"" + points + "\"/>\n";
+        points.clear();
+    };
+    for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
+        if (std::isnan(s.y[i]) || !std::isfinite(s.x[i])) {
+            flush();
+            continue;
+        }
+        const std::string p = coordinate(f.px(s.x[i])) + "," + coordinate(f.py(s.y[i]));
+        points += (points.empty() ? "" : " ") + p;
+        svg += "<circle cx=\"" + coordinate(f.px(s.x[i])) + "\" cy=\"" + coordinate(f.py(s.y[i])) +
+               "\" r=\"2\" fill=\"" + colour + "\"/>\n";
+    }
+    flush();
+    const double lx = f.left + static_cast<double>(k % 3) * (f.plot_w / 3);
+    const double ly = f.top + f.plot_h + 40 + 14.0 * static_cast<double>(k / 3);
+    svg += "<line x1=\"" + coordinate(lx) + "\" y1=\"" + coordinate(ly - 4) + "\" x2=\"" +
+           coordinate(lx + 16) + "\" y2=\"" + coordinate(ly - 4) + "\" stroke=\"" + colour +
+           "\" stroke-width=\"2\"/>\n<text x=\"" + coordinate(lx + 20) + "\" y=\"" +
+           coordinate(ly) + "\">" + html_escape(s.name) + "</text>\n";
+    return svg;
+}
+
 }  // namespace
 
 std::string html_escape(const std::string& text) {
@@ -98,111 +232,15 @@ std::string html_escape(const std::string& text) {
 }
 
 std::string svg_line_plot(const PlotSpec& spec) {
-    // Ranges over finite values.
-    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-    bool has_inf = false;
-    for (const PlotSeries& s : spec.series)
-        for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
-            if (!std::isfinite(s.x[i])) continue;
-            x0 = std::min(x0, s.x[i]);
-            x1 = std::max(x1, s.x[i]);
-            if (std::isinf(s.y[i])) has_inf = true;
-            if (!std::isfinite(s.y[i])) continue;
-            y0 = std::min(y0, s.y[i]);
-            y1 = std::max(y1, s.y[i]);
-        }
-    if (!(x0 <= x1)) x0 = 0, x1 = 1;
-    if (!(y0 <= y1)) y0 = 0, y1 = 1;
-    if (x0 == x1) x0 -= 0.5, x1 += 0.5;
-    // A range below 1e-9 of the values is constant for the eye (e.g. SSIM 1 - 1e-13): plot it as
-    // constant, on an axis of +-0.1% around the value, with readable ticks.
-    const bool nonnegative = y0 >= 0.0;
-    if (y1 - y0 <= 1e-9 * std::max(std::fabs(y0), std::fabs(y1))) {
-        const double mid = 0.5 * (y0 + y1);
-        const double half = std::max(1e-3 * std::fabs(mid), 1e-12);
-        y0 = mid - half;
-        y1 = mid + half;
-    }
-    const Axis xa = nice_axis(x0, x1, 4);
-    Axis ya = nice_axis(y0, y1, 4);
-    if (nonnegative && ya.lo < 0.0) ya.lo = 0.0;
-
-    // The left margin fits the longest y label (11 px sans-serif: ~6.5 px per character).
-    std::size_t longest = 0;
-    for (const std::string& label : ya.labels) longest = std::max(longest, label.size());
-    const double left = 30 + 6.5 * static_cast<double>(longest), right = 16, top = 26,
-                 bottom = 40 + 14.0 * static_cast<double>((spec.series.size() + 2) / 3);
-    const double w = spec.width + std::max(0.0, left - 58), h = spec.height + bottom - 40;
-    const double plot_w = w - left - right, plot_h = h - top - bottom;
-    auto px = [&](double x) { return left + (x - xa.lo) / (xa.hi - xa.lo) * plot_w; };
-    auto py = [&](double y) {
-        if (std::isinf(y)) return y > 0 ? top : top + plot_h;
-        return top + (ya.hi - y) / (ya.hi - ya.lo) * plot_h;
-    };
-
+    const Ranges ranges = data_ranges(spec);
+    const Frame f = plot_frame(spec, ranges);
     std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"plot\" width=\"" +
-                      number(w) + "\" height=\"" + number(h) + "\" viewBox=\"0 0 " + number(w) +
-                      " " + number(h) + "\" font-family=\"sans-serif\" font-size=\"11\">\n";
+                      number(f.w) + "\" height=\"" + number(f.h) + "\" viewBox=\"0 0 " +
+                      number(f.w) + " " + number(f.h) +
+                      "\" font-family=\"sans-serif\" font-size=\"11\">\n";
     svg += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-    svg += "<text x=\"" + coordinate(w / 2) +
-           "\" y=\"16\" text-anchor=\"middle\" font-size=\"13\">" + html_escape(spec.title) +
-           "</text>\n";
-    // Axes, ticks and grid.
-    svg += "<rect x=\"" + coordinate(left) + "\" y=\"" + coordinate(top) + "\" width=\"" +
-           coordinate(plot_w) + "\" height=\"" + coordinate(plot_h) +
-           "\" fill=\"none\" stroke=\"#444\"/>\n";
-    for (std::size_t i = 0; i < xa.ticks.size(); ++i) {
-        const double x = px(xa.ticks[i]);
-        svg += "<line x1=\"" + coordinate(x) + "\" y1=\"" + coordinate(top) + "\" x2=\"" +
-               coordinate(x) + "\" y2=\"" + coordinate(top + plot_h) + "\" stroke=\"#ddd\"/>\n";
-        svg += "<text class=\"tick-x\" x=\"" + coordinate(x) + "\" y=\"" +
-               coordinate(top + plot_h + 13) + "\" text-anchor=\"middle\">" + xa.labels[i] +
-               "</text>\n";
-    }
-    for (std::size_t i = 0; i < ya.ticks.size(); ++i) {
-        const double y = py(ya.ticks[i]);
-        svg += "<line x1=\"" + coordinate(left) + "\" y1=\"" + coordinate(y) + "\" x2=\"" +
-               coordinate(left + plot_w) + "\" y2=\"" + coordinate(y) + "\" stroke=\"#ddd\"/>\n";
-        svg += "<text class=\"tick-y\" x=\"" + coordinate(left - 4) + "\" y=\"" +
-               coordinate(y + 4) + "\" text-anchor=\"end\">" + ya.labels[i] + "</text>\n";
-    }
-    if (has_inf)
-        svg += "<text x=\"" + coordinate(left + 3) + "\" y=\"" + coordinate(top + 11) +
-               "\">inf</text>\n";
-    svg += "<text x=\"" + coordinate(left + plot_w / 2) + "\" y=\"" +
-           coordinate(top + plot_h + 27) + "\" text-anchor=\"middle\">" +
-           html_escape(spec.x_label) + "</text>\n";
-    svg += "<text transform=\"translate(12 " + coordinate(top + plot_h / 2) +
-           ") rotate(-90)\" text-anchor=\"middle\">" + html_escape(spec.y_label) + "</text>\n";
-    // Series: polylines broken at NaN, a dot per point, and a legend entry.
-    for (std::size_t k = 0; k < spec.series.size(); ++k) {
-        const PlotSeries& s = spec.series[k];
-        const std::string colour = colours[k % (sizeof colours / sizeof colours[0])];
-        std::string points;
-        auto flush = [&] {
-            if (!points.empty())
-                svg += "<polyline fill=\"none\" stroke=\"" + colour +
-                       "\" stroke-width=\"1.6\" points=\"" + points + "\"/>\n";
-            points.clear();
-        };
-        for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
-            if (std::isnan(s.y[i]) || !std::isfinite(s.x[i])) {
-                flush();
-                continue;
-            }
-            const std::string p = coordinate(px(s.x[i])) + "," + coordinate(py(s.y[i]));
-            points += (points.empty() ? "" : " ") + p;
-            svg += "<circle cx=\"" + coordinate(px(s.x[i])) + "\" cy=\"" + coordinate(py(s.y[i])) +
-                   "\" r=\"2\" fill=\"" + colour + "\"/>\n";
-        }
-        flush();
-        const double lx = left + static_cast<double>(k % 3) * (plot_w / 3);
-        const double ly = top + plot_h + 40 + 14.0 * static_cast<double>(k / 3);
-        svg += "<line x1=\"" + coordinate(lx) + "\" y1=\"" + coordinate(ly - 4) + "\" x2=\"" +
-               coordinate(lx + 16) + "\" y2=\"" + coordinate(ly - 4) + "\" stroke=\"" + colour +
-               "\" stroke-width=\"2\"/>\n<text x=\"" + coordinate(lx + 20) + "\" y=\"" +
-               coordinate(ly) + "\">" + html_escape(s.name) + "</text>\n";
-    }
+    svg += axes_svg(spec, f, ranges.has_inf);
+    for (std::size_t k = 0; k < spec.series.size(); ++k) svg += series_svg(spec.series[k], k, f);
     svg += "</svg>\n";
     return svg;
 }

@@ -261,9 +261,8 @@ void check_gl(const char* where) {
         throw Failure(std::string("OpenGL error ") + std::to_string(e) + " in " + where);
 }
 
-void render_frame(const Scene& scene, const json& camera, int width, int height,
-                  const std::string& out_prefix) {
-    // Framebuffer: one texture per channel, a 32-bit float depth buffer.
+// Framebuffer: one texture per channel, a 32-bit float depth buffer.
+void make_framebuffer(int width, int height) {
     GLuint fbo = 0, textures[attachment_count], depth = 0;
     glGenFramebuffers(1, &fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
@@ -283,8 +282,11 @@ void render_frame(const Scene& scene, const json& camera, int width, int height,
     glDrawBuffers(attachment_count, draw_buffers);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         throw Failure("framebuffer incomplete");
+}
 
-    // Background: ids -1, everything else 0; reversed-Z depth clears to 0.
+// Background: ids -1, everything else 0; reversed-Z depth clears to 0. Then the depth test,
+// two-sided triangles and the viewport.
+void clear_and_set_state(int width, int height) {
     const GLfloat zero[4] = {0, 0, 0, 0};
     const GLint minus_one[4] = {-1, -1, -1, -1};
     for (int k = 0; k < attachment_count; ++k) {
@@ -304,8 +306,10 @@ void render_frame(const Scene& scene, const json& camera, int width, int height,
     glDepthFunc(GL_GREATER);  // reversed-Z; the first drawn (lower id) wins ties
     glDisable(GL_CULL_FACE);  // two-sided, as fovref
     glViewport(0, 0, width, height);
+}
 
-    // Program and uniforms.
+// The shader program, in use, with the camera's uniforms.
+GLuint make_program(const Scene& scene, const json& camera, int width, int height) {
     const GLuint program = glCreateProgram();
     glAttachShader(program, compile(GL_VERTEX_SHADER, vertex_shader));
     glAttachShader(program, compile(GL_GEOMETRY_SHADER, geometry_shader));
@@ -327,8 +331,11 @@ void render_frame(const Scene& scene, const json& camera, int width, int height,
     glUniform1f(glGetUniformLocation(program, "aspect"),
                 static_cast<float>(width) / static_cast<float>(height));
     glUniform1f(glGetUniformLocation(program, "near"), 1e-4f * scene.radius);
+    return program;
+}
 
-    // Vertex data: one buffer per attribute, one vertex per triangle corner.
+// Vertex data: one buffer per attribute, one vertex per triangle corner.
+void upload_vertices(const Scene& scene) {
     GLuint vao = 0, buffers[4];
     glGenVertexArrays(1, &vao);
     glBindVertexArray(vao);
@@ -347,8 +354,11 @@ void render_frame(const Scene& scene, const json& camera, int width, int height,
     attribute(1, scene.normal.data(), scene.normal.size() * sizeof(float), 3, false);
     attribute(2, scene.uv.data(), scene.uv.size() * sizeof(float), 2, false);
     attribute(3, scene.material.data(), scene.material.size() * sizeof(int), 1, true);
+}
 
-    // Textures (RGB32F, bilinear, repeat; the PFM's bottom row is OpenGL's row 0 = v 0).
+// Textures (RGB32F, bilinear, repeat; the PFM's bottom row is OpenGL's row 0 = v 0), sampled
+// from texture unit 0.
+std::vector<GLuint> upload_textures(const Scene& scene, GLuint program) {
     std::vector<GLuint> gl_textures(scene.textures.size());
     if (!gl_textures.empty())
         glGenTextures(static_cast<GLsizei>(gl_textures.size()), gl_textures.data());
@@ -362,9 +372,12 @@ void render_frame(const Scene& scene, const json& camera, int width, int height,
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
     }
     glUniform1i(glGetUniformLocation(program, "albedo_texture"), 0);
+    return gl_textures;
+}
 
-    // Draw in file order, one draw per run of triangles with the same material (its albedo and
-    // texture are uniforms); the run's first triangle index offsets gl_PrimitiveID.
+// Draw in file order, one draw per run of triangles with the same material (its albedo and
+// texture are uniforms); the run's first triangle index offsets gl_PrimitiveID.
+void draw(const Scene& scene, GLuint program, const std::vector<GLuint>& gl_textures) {
     const std::size_t triangles = scene.position.size() / 9;
     std::size_t first = 0;
     while (first < triangles) {
@@ -386,8 +399,10 @@ void render_frame(const Scene& scene, const json& camera, int width, int height,
     }
     glFinish();
     check_gl("draw");
+}
 
-    // Read back: bottom row first, which is PFM's order.
+// Read back: bottom row first, which is PFM's order; one PFM per attachment.
+void read_back(int width, int height, const std::string& out_prefix) {
     for (int k = 0; k < attachment_count; ++k) {
         const Attachment& a = attachments[k];
         const int read_channels = a.format == GL_RGBA ? 4 : 1;
@@ -407,6 +422,17 @@ void render_frame(const Scene& scene, const json& camera, int width, int height,
         check_gl("read back");
         write_pfm(out_prefix + a.name + ".pfm", width, height, a.channels, pixels);
     }
+}
+
+void render_frame(const Scene& scene, const json& camera, int width, int height,
+                  const std::string& out_prefix) {
+    make_framebuffer(width, height);
+    clear_and_set_state(width, height);
+    const GLuint program = make_program(scene, camera, width, height);
+    upload_vertices(scene);
+    const std::vector<GLuint> gl_textures = upload_textures(scene, program);
+    draw(scene, program, gl_textures);
+    read_back(width, height, out_prefix);
 }
 
 }  // namespace

@@ -1,0 +1,35 @@
+#include "tools/cli_common.h"
+
+#include <iostream>
+
+#include "ref/core/error.h"
+#include "ref/modes/modes.h"
+#include "ref/scene/scene_file.h"
+
+namespace fovref {
+
+void say(bool quiet, const std::string& line) {
+    if (!quiet) std::cout << line << "\n";
+}
+
+GoldenCase command_case(const CaseOptions& o, const std::string& name) {
+    GoldenCase run;
+    run.name = name;
+    run.scene = o.scene;
+    run.mode = o.mode;
+    run.width = o.width;
+    run.height = o.height;
+    run.frames = 1;
+    run.time_start = o.time_start;
+    run.time_step = o.time_step;
+    for (const std::string& p : o.params) run.params.set_from_assignment(p);
+    return run;
+}
+
+std::optional<Scene> command_scene(const CaseOptions& o, const std::string& command) {
+    if (!find_mode(o.mode).needs_scene) return std::nullopt;
+    if (o.scene.empty()) throw Error(command + ": mode '" + o.mode + "' needs --scene");
+    return load_scene(o.scene);
+}
+
+}  // namespace fovref

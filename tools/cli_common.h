@@ -1,0 +1,38 @@
+// What the command modules of `fovref` (tools/cmd_*.h) share: the exit codes, the line printer
+// that -q silences, and the render case that `render` and `probe` describe with their options.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ref/golden/bundle.h"
+#include "ref/scene/scene.h"
+
+namespace fovref {
+
+/// Exit codes of fovref: 0 ok, 1 a check failed (golden verify, diff, probe), 2 usage or input
+/// error.
+constexpr int exit_ok = 0, exit_check_failed = 1, exit_usage = 2;
+
+/// Prints `line` and a newline on stdout unless `quiet` (-q).
+void say(bool quiet, const std::string& line);
+
+/// The options `fovref render` and `fovref probe` share: the case they render.
+struct CaseOptions {
+    std::string scene;                ///< procedural scene name or scene file ("": none)
+    std::string mode = "splat";       ///< render mode (`fovref modes`)
+    int width = 320, height = 180;    ///< screen size in pixels
+    float time_start = 0.0f;          ///< camera-path time of frame 0
+    float time_step = 1.0f / 30;      ///< camera-path time between frames
+    std::vector<std::string> params;  ///< mode parameters, key=value
+};
+
+/// The case the options describe, named `name`, with one frame.
+GoldenCase command_case(const CaseOptions& options, const std::string& name);
+
+/// The scene of the options' mode, or none for a mode that needs none. Throws fovref::Error
+/// ("COMMAND: mode 'M' needs --scene") when the mode needs one and --scene is missing.
+std::optional<Scene> command_scene(const CaseOptions& options, const std::string& command);
+
+}  // namespace fovref
