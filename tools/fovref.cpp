@@ -182,7 +182,7 @@ void add_check_commands(CLI::App& app, Options& o, Commands& commands) {
     CLI::App* probe = app.add_subcommand(
         "probe",
         "explain one screen pixel of a mode and frame stage by stage: buffer coordinates, ray, "
-        "hit, texels and weights, shading inputs, light samples, every buffer's value; exit 1 "
+        "hit, texels and their lerps, shading inputs, light samples, every buffer's value; exit 1 "
         "if the recomputation differs from the rendered buffer");
     add_probe_options(*probe, o.probe);
     CLI::App* evaluate = app.add_subcommand(

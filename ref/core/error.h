@@ -54,7 +54,7 @@ std::string check_value_text(const T& value) {
     }
 }
 
-/// Checks stay on in every build and print both sides (STYLE.md).
+/// Checks stay on in every build (a failed one is a bug in fovref, reported with its place).
 #define FOVREF_CHECK(cond, message)                                                       \
     do {                                                                                  \
         if (!(cond))                                                                      \

@@ -10,7 +10,7 @@ contains "radiance: bit-identical to the rendered buffer" "probe agrees with the
 contains "G-buffer pixel: bit-identical to the rendered buffers" "the pass's per-pixel function agrees with the G-buffer"
 contains "shade_direct -> final" "buffer values"
 expect 0 "probe raster primary on a textured scene" -- "$FOVREF" probe --scene checker-room --mode basic --param primary=raster --width 64 --height 36 --pixel 30,30
-contains "texel 3" "texels and weights"
+contains "texel 3" "texels and their lerps"
 contains "bit-identical" "raster probe agrees"
 # The rasterizer explained: the issue's grazing pixel, where it and the ray caster disagree.
 expect 0 "probe a rasterized edge pixel" -- "$FOVREF" probe --scene checker-room --mode basic --param primary=raster --width 320 --height 180 --pixel 106,119
