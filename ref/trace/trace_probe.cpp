@@ -209,102 +209,101 @@ void check(ProbeReport& report, ProbeSection& section, const std::string& what, 
     if (!same) report.consistent = false;
 }
 
-}  // namespace
-
-void explain_basic(const ProbeContext& c, ProbeReport& report) {
+// [primary_visibility] of a rasterized G-buffer: the rasterizer's decision, the surface at the
+// winner's plane point, and the ray caster's answer for comparison.
+void explain_raster_visibility(const ProbeContext& c, const RasterSettings& raster, const Bvh& bvh,
+                               const Ray& ray, ProbeReport& report) {
     const Scene& scene = *c.scene;
     const FrameResult& f = *c.frame;
-    const BasicParams params = parse_basic_params(c.settings->params);
-    const Bvh bvh = build_bvh(scene.positions);
+    ProbeSection vis{"primary_visibility",
+                     "rasterized G-buffer: coverage in 1/256-px fixed point, attributes where "
+                     "the pixel's ray meets the winning triangle's plane (docs/raster.md)",
+                     {}};
+    std::int32_t winner = -1;
+    RasterFragment winning;
+    explain_raster(c, raster, report, vis, winner, winning);
+    if (winner >= 0) {
+        const SurfacePoint surface = surface_at(scene, winner, winning.u, winning.v);
+        explain_surface(scene, surface, vis);
+        check(report, vis, "position", surface.position,
+              pixel_rgb(f, "gbuffer_world_position", c.x, c.y));
+    }
+    report.sections.push_back(vis);
+    // The ray caster's answer, for comparison only: it is not what this G-buffer used.
+    ProbeSection caster{"ray caster (comparison)",
+                        "what ray-cast primary visibility (--param primary=ray) would give "
+                        "here; not used by this G-buffer",
+                        {}};
+    Hit hit;
+    SurfacePoint traced;
+    explain_ray(scene, bvh, ray, "primary", caster, hit, traced);
+    caster.add("compared", hit.primitive == winner
+                               ? "the same primitive: the same t, u, v bits (docs/raster.md)"
+                               : "another primitive than the rasterizer's: the ray passes "
+                                 "within the snapping distance (~1/256 px) of an edge, where "
+                                 "the two decide coverage differently");
+    report.sections.push_back(caster);
+}
+
+// [primary_visibility] of a ray-cast G-buffer: the pass's own per-pixel function into a scratch
+// G-buffer, checked against the rendered one.
+void explain_ray_visibility(const ProbeContext& c, const Bvh& bvh, const Ray& ray,
+                            ProbeReport& report) {
+    const Scene& scene = *c.scene;
+    const FrameResult& f = *c.frame;
     const int width = c.settings->width, height = c.settings->height;
+    const float tan_half = tan_half_vfov(c.camera);
+    ProbeSection vis{"primary_visibility", "one ray through the pixel centre (Lund §3.1)", {}};
+    vis.add("primary ray", "origin " + probe_vec3(ray.origin) + ", direction " +
+                               probe_vec3(ray.direction) + ", t in (" + probe_float(ray.t_min) +
+                               ", " + probe_float(ray.t_max) + ")");
+    // The pass's own per-pixel function, into a scratch G-buffer.
+    GBuffer scratch(width, height);
+    RaycastStats stats;
+    const Hit hit = raycast_gbuffer_pixel(scratch, scene, bvh, c.camera, tan_half, c.camera,
+                                          tan_half, c.x, c.y, stats);
+    vis.add("traversal", std::to_string(stats.primary.nodes_visited) + " nodes visited, " +
+                             std::to_string(stats.primary.triangles_tested) + " triangles tested");
+    if (!hit.hit()) {
+        vis.add("hit", "miss (background: ids -1, every other channel 0)");
+    } else {
+        vis.add("hit", "t " + probe_float(hit.t) + ", primitive " + std::to_string(hit.primitive) +
+                           ", barycentrics u " + probe_float(hit.u) + " v " + probe_float(hit.v) +
+                           " (closest; ties: lowest primitive id)");
+        explain_surface(scene, surface_at(scene, hit.primitive, hit.u, hit.v), vis);
+    }
+    // Every channel but motion (the scratch pass used this camera as the previous one).
+    bool same = true;
+    for (const auto& [name, image] :
+         {std::pair<const char*, const Image*>{"gbuffer_view_depth", &scratch.view_depth},
+          {"gbuffer_hit_distance", &scratch.hit_distance},
+          {"gbuffer_world_position", &scratch.world_position},
+          {"gbuffer_shading_normal", &scratch.shading_normal},
+          {"gbuffer_geometric_normal", &scratch.geometric_normal},
+          {"gbuffer_albedo", &scratch.albedo},
+          {"gbuffer_material_id", &scratch.material_id},
+          {"gbuffer_primitive_id", &scratch.primitive_id}}) {
+        const Image& rendered = f.find(name)->image;
+        for (int k = 0; k < image->channels; ++k) {
+            const float a = image->at(c.x, c.y, k), b = rendered.at(c.x, c.y, k);
+            same = same && std::memcmp(&a, &b, sizeof a) == 0;
+        }
+    }
+    vis.add("check",
+            std::string("G-buffer pixel: ") + (same ? "bit-identical to the rendered buffers"
+                                                    : "DIFFERS from the rendered buffers"));
+    if (!same) report.consistent = false;
+    report.sections.push_back(vis);
+}
+
+// [shade_direct]: the shading pass's own per-pixel function on the rendered G-buffer.
+void explain_shade_direct(const ProbeContext& c, const Bvh& bvh, ProbeReport& report) {
+    const Scene& scene = *c.scene;
+    const FrameResult& f = *c.frame;
     const ShadeInputs inputs{
         f.find("gbuffer_world_position")->image,   f.find("gbuffer_shading_normal")->image,
         f.find("gbuffer_geometric_normal")->image, f.find("gbuffer_albedo")->image,
         f.find("gbuffer_material_id")->image,      f.find("gbuffer_primitive_id")->image};
-
-    ProbeSection map{"forward map", "screen pixel -> buffer texel", {}};
-    map.add("mapping", "none (no foveation): buffer texel (" + std::to_string(c.x) + ", " +
-                           std::to_string(c.y) + "), weight 1");
-    report.sections.push_back(map);
-
-    const float tan_half = tan_half_vfov(c.camera);
-    const Ray ray = pixel_centre_ray(c.camera, tan_half, width, height, c.x, c.y);
-    if (params.primary == PrimaryVisibility::raster) {
-        ProbeSection vis{"primary_visibility",
-                         "rasterized G-buffer: coverage in 1/256-px fixed point, attributes where "
-                         "the pixel's ray meets the winning triangle's plane (docs/raster.md)",
-                         {}};
-        std::int32_t winner = -1;
-        RasterFragment winning;
-        explain_raster(c, params.raster, report, vis, winner, winning);
-        if (winner >= 0) {
-            const SurfacePoint surface = surface_at(scene, winner, winning.u, winning.v);
-            explain_surface(scene, surface, vis);
-            check(report, vis, "position", surface.position,
-                  pixel_rgb(f, "gbuffer_world_position", c.x, c.y));
-        }
-        report.sections.push_back(vis);
-        // The ray caster's answer, for comparison only: it is not what this G-buffer used.
-        ProbeSection caster{"ray caster (comparison)",
-                            "what ray-cast primary visibility (--param primary=ray) would give "
-                            "here; not used by this G-buffer",
-                            {}};
-        Hit hit;
-        SurfacePoint traced;
-        explain_ray(scene, bvh, ray, "primary", caster, hit, traced);
-        caster.add("compared", hit.primitive == winner
-                                   ? "the same primitive: the same t, u, v bits (docs/raster.md)"
-                                   : "another primitive than the rasterizer's: the ray passes "
-                                     "within the snapping distance (~1/256 px) of an edge, where "
-                                     "the two decide coverage differently");
-        report.sections.push_back(caster);
-    } else {
-        ProbeSection vis{"primary_visibility", "one ray through the pixel centre (Lund §3.1)", {}};
-        vis.add("primary ray", "origin " + probe_vec3(ray.origin) + ", direction " +
-                                   probe_vec3(ray.direction) + ", t in (" + probe_float(ray.t_min) +
-                                   ", " + probe_float(ray.t_max) + ")");
-        // The pass's own per-pixel function, into a scratch G-buffer.
-        GBuffer scratch(width, height);
-        RaycastStats stats;
-        const Hit hit = raycast_gbuffer_pixel(scratch, scene, bvh, c.camera, tan_half, c.camera,
-                                              tan_half, c.x, c.y, stats);
-        vis.add("traversal", std::to_string(stats.primary.nodes_visited) + " nodes visited, " +
-                                 std::to_string(stats.primary.triangles_tested) +
-                                 " triangles tested");
-        if (!hit.hit()) {
-            vis.add("hit", "miss (background: ids -1, every other channel 0)");
-        } else {
-            vis.add("hit", "t " + probe_float(hit.t) + ", primitive " +
-                               std::to_string(hit.primitive) + ", barycentrics u " +
-                               probe_float(hit.u) + " v " + probe_float(hit.v) +
-                               " (closest; ties: lowest primitive id)");
-            explain_surface(scene, surface_at(scene, hit.primitive, hit.u, hit.v), vis);
-        }
-        // Every channel but motion (the scratch pass used this camera as the previous one).
-        bool same = true;
-        for (const auto& [name, image] :
-             {std::pair<const char*, const Image*>{"gbuffer_view_depth", &scratch.view_depth},
-              {"gbuffer_hit_distance", &scratch.hit_distance},
-              {"gbuffer_world_position", &scratch.world_position},
-              {"gbuffer_shading_normal", &scratch.shading_normal},
-              {"gbuffer_geometric_normal", &scratch.geometric_normal},
-              {"gbuffer_albedo", &scratch.albedo},
-              {"gbuffer_material_id", &scratch.material_id},
-              {"gbuffer_primitive_id", &scratch.primitive_id}}) {
-            const Image& rendered = f.find(name)->image;
-            for (int k = 0; k < image->channels; ++k) {
-                const float a = image->at(c.x, c.y, k), b = rendered.at(c.x, c.y, k);
-                same = same && std::memcmp(&a, &b, sizeof a) == 0;
-            }
-        }
-        vis.add("check",
-                std::string("G-buffer pixel: ") + (same ? "bit-identical to the rendered buffers"
-                                                        : "DIFFERS from the rendered buffers"));
-        if (!same) report.consistent = false;
-        report.sections.push_back(vis);
-    }
-
-    // Shading: the pass's own per-pixel function on the rendered G-buffer.
     ProbeSection shade{"shade_direct", "Lambert + one shadow ray per light sample (Gupta §2)", {}};
     SurfacePoint surface;
     ShadingStats unused;
@@ -321,9 +320,29 @@ void explain_basic(const ProbeContext& c, ProbeReport& report) {
     const glm::vec3 l = shade_basic_pixel(scene, scene.lights.empty() ? nullptr : &bvh, inputs,
                                           c.camera, c.frame->frame, c.x, c.y, stats, &lights);
     explain_shading(scene, surface, l, lights, static_cast<std::uint32_t>(c.frame->frame),
-                    static_cast<std::uint32_t>(c.y * width + c.x), 0, shade);
+                    static_cast<std::uint32_t>(c.y * c.settings->width + c.x), 0, shade);
     check(report, shade, "radiance", l, pixel_rgb(f, "final", c.x, c.y));
     report.sections.push_back(shade);
+}
+
+}  // namespace
+
+void explain_basic(const ProbeContext& c, ProbeReport& report) {
+    const BasicParams params = parse_basic_params(c.settings->params);
+    const Bvh bvh = build_bvh(c.scene->positions);
+
+    ProbeSection map{"forward map", "screen pixel -> buffer texel", {}};
+    map.add("mapping", "none (no foveation): buffer texel (" + std::to_string(c.x) + ", " +
+                           std::to_string(c.y) + "), weight 1");
+    report.sections.push_back(map);
+
+    const Ray ray = pixel_centre_ray(c.camera, tan_half_vfov(c.camera), c.settings->width,
+                                     c.settings->height, c.x, c.y);
+    if (params.primary == PrimaryVisibility::raster)
+        explain_raster_visibility(c, params.raster, bvh, ray, report);
+    else
+        explain_ray_visibility(c, bvh, ray, report);
+    explain_shade_direct(c, bvh, report);
 }
 
 void explain_ground_truth(const ProbeContext& c, ProbeReport& report) {
