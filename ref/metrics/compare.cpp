@@ -165,6 +165,101 @@ namespace {
 /// Equal for an id comparison: the same bits, both zero (-0 == +0) or both NaN.
 bool same_id(float a, float b) { return a == b || (std::isnan(a) && std::isnan(b)); }
 
+// The sums behind the mean absolute error and the MSE: over finite element pairs, in pixel then
+// channel order, in binary64.
+struct ErrorSums {
+    double abs = 0.0, squared = 0.0;
+    std::int64_t finite_elements = 0;
+};
+
+// What one pixel's comparison found.
+struct PixelVerdict {
+    double abs = 0.0;    ///< largest channel error (+inf for a non-finite mismatch)
+    bool fails = false;  ///< a channel outside the tolerance, or a non-finite mismatch
+};
+
+// The channels of pixel p compared element by element: counts and maxima into r, sums into sums.
+PixelVerdict compare_pixel(const Image& golden, const Image& candidate, std::size_t p,
+                           const Tolerance& tolerance, BufferComparison& r, ErrorSums& sums) {
+    const auto channels = static_cast<std::size_t>(golden.channels);
+    PixelVerdict verdict;
+    for (std::size_t c = 0; c < channels; ++c) {
+        const float g = golden.data[p * channels + c];
+        const float v = candidate.data[p * channels + c];
+        std::uint32_t gb = 0, vb = 0;
+        std::memcpy(&gb, &g, 4);
+        std::memcpy(&vb, &v, 4);
+        if (gb != vb) ++r.differing_elements;
+        if (!std::isfinite(g) || !std::isfinite(v)) {
+            // NaN against NaN and inf against the same inf are equal; anything else with a
+            // non-finite side is a mismatch no tolerance admits (a convention difference, or
+            // a bug): no error figure is defined for it.
+            if (!same_id(g, v)) {
+                ++r.nonfinite_mismatches;
+                if (std::isnan(g) != std::isnan(v)) ++r.nan_mismatches;
+                verdict.fails = true;
+                verdict.abs = std::numeric_limits<double>::infinity();
+            }
+            continue;
+        }
+        const double e = g == v ? 0.0 : std::fabs(static_cast<double>(v) - g);
+        const double rel = g != 0.0f ? e / std::fabs(static_cast<double>(g)) : 0.0;
+        const std::int64_t u = ulp_distance(g, v);
+        r.max_abs = std::max(r.max_abs, e);
+        r.max_rel = std::max(r.max_rel, rel);
+        r.max_ulp = std::max(r.max_ulp, u);
+        verdict.abs = std::max(verdict.abs, e);
+        sums.abs += e;
+        sums.squared += e * e;
+        ++sums.finite_elements;
+        const bool within = g == v || e <= tolerance.abs ||
+                            (tolerance.rel > 0.0 && e <= tolerance.rel * std::fabs(g)) ||
+                            (tolerance.ulp > 0 && u <= tolerance.ulp);
+        if (!within) verdict.fails = true;
+    }
+    return verdict;
+}
+
+// Worst pixels: (abs error, pixel index), largest error first, then lowest index.
+using WorstEntry = std::pair<double, std::size_t>;
+bool worse(const WorstEntry& a, const WorstEntry& b) {
+    return a.first != b.first ? a.first > b.first : a.second < b.second;
+}
+
+// Keeps the `keep` worst entries of a bounded, ordered list.
+void keep_worst(std::vector<WorstEntry>& worst, const WorstEntry& entry, std::size_t keep) {
+    if (worst.size() < keep || worse(entry, worst.back())) {
+        worst.insert(std::upper_bound(worst.begin(), worst.end(), entry, worse), entry);
+        if (worst.size() > keep) worst.pop_back();
+    }
+}
+
+// SSIM and ring errors where they mean something: 1 or 3 channels, at least the SSIM window,
+// no NaN/Inf. Masked-out pixels take the golden's value: no error where nothing is compared.
+void add_image_metrics(const Image& golden, const Image& candidate,
+                       const std::vector<std::uint8_t>* mask, const CompareOptions& options,
+                       BufferComparison& r) {
+    const auto channels = static_cast<std::size_t>(golden.channels);
+    const bool image_like =
+        (golden.channels == 1 || golden.channels == 3) && golden.width >= 11 && golden.height >= 11;
+    bool finite = true;
+    for (std::size_t i = 0; i < golden.data.size() && finite; ++i)
+        finite = std::isfinite(golden.data[i]) && std::isfinite(candidate.data[i]);
+    if (!image_like || !finite) return;
+    Image masked;
+    if (mask) {
+        masked = candidate;
+        for (std::size_t p = 0; p < golden.pixel_count(); ++p)
+            if ((*mask)[p] == 0)
+                for (std::size_t c = 0; c < channels; ++c)
+                    masked.data[p * channels + c] = golden.data[p * channels + c];
+    }
+    const Image& compared = mask ? masked : candidate;
+    const SsimMap map = ssim_map(luma(golden), luma(compared));
+    r.ssim = map.mean;
+    if (options.rings) r.rings = ring_errors(golden, compared, *options.rings, &map);
+}
+
 }  // namespace
 
 BufferComparison compare_buffers(const std::string& name, const Image& golden,
@@ -184,108 +279,36 @@ BufferComparison compare_buffers(const std::string& name, const Image& golden,
     r.tolerance = tolerance;
     r.threshold = options.threshold;
     r.abs_error = Image(golden.width, golden.height, 1, 0.0f);
-    const auto channels = static_cast<std::size_t>(golden.channels);
-    const double inf = std::numeric_limits<double>::infinity();
 
-    double sum_abs = 0.0, sum_squared = 0.0;
-    std::int64_t finite_elements = 0;
-    // Worst pixels: (abs error, pixel index), largest error first, then lowest index.
-    std::vector<std::pair<double, std::size_t>> worst;
-    auto worse = [](const std::pair<double, std::size_t>& a,
-                    const std::pair<double, std::size_t>& b) {
-        return a.first != b.first ? a.first > b.first : a.second < b.second;
-    };
+    ErrorSums sums;
+    std::vector<WorstEntry> worst;
     const std::size_t keep = static_cast<std::size_t>(std::max(options.worst_pixels, 0));
-
     for (std::size_t p = 0; p < golden.pixel_count(); ++p) {
         if (mask && (*mask)[p] == 0) {
             ++r.masked_pixels;
             continue;
         }
-        double pixel_abs = 0.0;
-        bool pixel_fails = false;
-        for (std::size_t c = 0; c < channels; ++c) {
-            const float g = golden.data[p * channels + c];
-            const float v = candidate.data[p * channels + c];
-            std::uint32_t gb = 0, vb = 0;
-            std::memcpy(&gb, &g, 4);
-            std::memcpy(&vb, &v, 4);
-            if (gb != vb) ++r.differing_elements;
-            if (!std::isfinite(g) || !std::isfinite(v)) {
-                // NaN against NaN and inf against the same inf are equal; anything else with a
-                // non-finite side is a mismatch no tolerance admits (a convention difference, or
-                // a bug): no error figure is defined for it.
-                if (!same_id(g, v)) {
-                    ++r.nonfinite_mismatches;
-                    if (std::isnan(g) != std::isnan(v)) ++r.nan_mismatches;
-                    pixel_fails = true;
-                    pixel_abs = inf;
-                }
-                continue;
-            }
-            const double e = g == v ? 0.0 : std::fabs(static_cast<double>(v) - g);
-            const double rel = g != 0.0f ? e / std::fabs(static_cast<double>(g)) : 0.0;
-            const std::int64_t u = ulp_distance(g, v);
-            r.max_abs = std::max(r.max_abs, e);
-            r.max_rel = std::max(r.max_rel, rel);
-            r.max_ulp = std::max(r.max_ulp, u);
-            pixel_abs = std::max(pixel_abs, e);
-            sum_abs += e;
-            sum_squared += e * e;
-            ++finite_elements;
-            const bool within = g == v || e <= tolerance.abs ||
-                                (tolerance.rel > 0.0 && e <= tolerance.rel * std::fabs(g)) ||
-                                (tolerance.ulp > 0 && u <= tolerance.ulp);
-            if (!within) pixel_fails = true;
-        }
-        r.abs_error.data[p] = static_cast<float>(pixel_abs);
-        const bool over = r.threshold >= 0.0 ? pixel_abs > r.threshold : pixel_fails;
+        const PixelVerdict pixel = compare_pixel(golden, candidate, p, tolerance, r, sums);
+        r.abs_error.data[p] = static_cast<float>(pixel.abs);
+        const bool over = r.threshold >= 0.0 ? pixel.abs > r.threshold : pixel.fails;
         if (over) ++r.pixels_over_threshold;
-        if (pixel_fails) ++r.failing_pixels;
-        if (pixel_fails && !r.first_failing)
-            r.first_failing = pixel_difference(golden, candidate, p, pixel_abs);
-        // Keep the `keep` worst differing pixels (a bounded, ordered list).
-        if (keep > 0 && pixel_abs > 0.0) {
-            const std::pair<double, std::size_t> entry(pixel_abs, p);
-            if (worst.size() < keep || worse(entry, worst.back())) {
-                worst.insert(std::upper_bound(worst.begin(), worst.end(), entry, worse), entry);
-                if (worst.size() > keep) worst.pop_back();
-            }
-        }
+        if (pixel.fails) ++r.failing_pixels;
+        if (pixel.fails && !r.first_failing)
+            r.first_failing = pixel_difference(golden, candidate, p, pixel.abs);
+        if (keep > 0 && pixel.abs > 0.0) keep_worst(worst, WorstEntry(pixel.abs, p), keep);
     }
     for (const auto& [error, pixel] : worst)
         r.worst.push_back(pixel_difference(golden, candidate, pixel, error));
-    if (finite_elements > 0) {
-        r.mean_abs = sum_abs / static_cast<double>(finite_elements);
-        const double mse_value = sum_squared / static_cast<double>(finite_elements);
+    if (sums.finite_elements > 0) {
+        r.mean_abs = sums.abs / static_cast<double>(sums.finite_elements);
+        const double mse_value = sums.squared / static_cast<double>(sums.finite_elements);
         r.rmse = std::sqrt(mse_value);
         r.psnr = psnr(mse_value);
     } else {
         r.psnr = std::numeric_limits<double>::infinity();
     }
     r.pass = r.nonfinite_mismatches == 0 && r.failing_pixels <= tolerance.max_failing_pixels;
-
-    // SSIM and ring errors where they mean something: 1 or 3 channels, no NaN/Inf.
-    const bool image_like =
-        (golden.channels == 1 || golden.channels == 3) && golden.width >= 11 && golden.height >= 11;
-    bool finite = true;
-    for (std::size_t i = 0; i < golden.data.size() && finite; ++i)
-        finite = std::isfinite(golden.data[i]) && std::isfinite(candidate.data[i]);
-    if (image_like && finite) {
-        // Masked-out pixels take the golden's value: no error where nothing is compared.
-        Image masked;
-        if (mask) {
-            masked = candidate;
-            for (std::size_t p = 0; p < golden.pixel_count(); ++p)
-                if ((*mask)[p] == 0)
-                    for (std::size_t c = 0; c < channels; ++c)
-                        masked.data[p * channels + c] = golden.data[p * channels + c];
-        }
-        const Image& compared = mask ? masked : candidate;
-        const SsimMap map = ssim_map(luma(golden), luma(compared));
-        r.ssim = map.mean;
-        if (options.rings) r.rings = ring_errors(golden, compared, *options.rings, &map);
-    }
+    add_image_metrics(golden, candidate, mask, options, r);
     return r;
 }
 
