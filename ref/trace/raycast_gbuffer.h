@@ -30,7 +30,6 @@ inline Ray pixel_centre_ray(const Camera& camera, float tan_half, int width, int
 struct RaycastStats {
     TraceStats primary;                       ///< traversal work of the primary rays
     std::int64_t motion_behind_previous = 0;  ///< hit pixels behind the previous camera (motion 0)
-    bool operator==(const RaycastStats&) const = default;
 };
 
 /// Per-pixel work of raycast_gbuffer: the primary ray through the centre of pixel (x, y), its
