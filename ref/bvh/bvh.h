@@ -73,10 +73,10 @@ struct BvhBuildStats {
     double sah_cost = 0.0;  ///< of the whole tree, relative to the root's surface area
 };
 
-/// Raw memory for the traversal arrays (bvh.cpp): an allocation of 2 MiB or more is aligned to
-/// 2 MiB and, on Linux, marked for transparent huge pages (madvise MADV_HUGEPAGE, as Embree does
-/// for its BVH), so that rays scattered over a large tree take far fewer TLB misses. Memory
-/// placement only: no result depends on it.
+/// Raw memory for the traversal arrays (bvh_memory.cpp): an allocation of 2 MiB or more is
+/// aligned to 2 MiB and, on Linux, marked for transparent huge pages (madvise MADV_HUGEPAGE, as
+/// Embree does for its BVH), so that rays scattered over a large tree take far fewer TLB misses.
+/// Memory placement only: no result depends on it.
 void* bvh_allocate(std::size_t bytes, std::size_t alignment);
 void bvh_deallocate(void* p, std::size_t bytes, std::size_t alignment);
 

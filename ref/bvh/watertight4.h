@@ -11,7 +11,8 @@
 #include "ref/bvh/watertight.h"
 
 // SSE (baseline x86-64) when available; FOVREF_BVH_SCALAR forces the plain per-lane path of
-// bvh.cpp, which computes the same values with intersect_watertight (the tests can run either).
+// bvh_traverse.cpp, which computes the same values with intersect_watertight (the tests can run
+// either).
 #if (defined(__SSE2__) || defined(_M_X64)) && !defined(FOVREF_BVH_SCALAR)
 #define FOVREF_BVH_SSE 1
 #include <xmmintrin.h>

@@ -321,7 +321,7 @@ TriangleSetup setup_triangle(const Scene& scene, const RasterFrame& frame, std::
 bool raster_fragment(const Scene& scene, const RasterFrame& frame, int x, int y,
                      std::int32_t primitive, RasterFragment& fragment) {
     // The pixel's primary ray, exactly as the ray caster builds it (raycast_gbuffer.h,
-    // bvh.cpp: t in (0, inf), the watertight per-ray setup).
+    // bvh_traverse.cpp: t in (0, inf), the watertight per-ray setup).
     const glm::vec3 direction =
         primary_ray_direction(frame.camera, frame.tan_half, frame.width, frame.height,
                               static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
