@@ -34,14 +34,13 @@ layers=(
   "image"
   "metrics scene"
   "stage"
-  "bvh core_passes"
+  "bvh core_passes golden"
   "raster"
   "trace"
   "foveation"
   "temporal"
   "bmfr"
   "modes"
-  "golden"
 )
 declare -A layer_of
 for i in "${!layers[@]}"; do

@@ -14,7 +14,6 @@
 #include "ref/core/error.h"
 #include "ref/core/json_locator.h"
 #include "ref/image/image_io.h"
-#include "ref/modes/modes.h"
 #include "ref/scene/procedural.h"
 #include "ref/scene/scene_file.h"
 
@@ -184,12 +183,6 @@ RenderSettings case_settings(const GoldenCase& golden_case,
     settings.requested = requested;
     settings.progress = progress;
     return settings;
-}
-
-std::vector<FrameResult> render_golden_case(const GoldenCase& golden_case, const Scene* scene,
-                                            const std::vector<std::string>& requested,
-                                            const std::function<void(double)>& progress) {
-    return render(scene, golden_case.mode, case_settings(golden_case, requested, progress));
 }
 
 // ---- Writing ---------------------------------------------------------------------------------

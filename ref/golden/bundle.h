@@ -61,11 +61,6 @@ RenderSettings case_settings(const GoldenCase& golden_case,
                              const std::vector<std::string>& requested,
                              const std::function<void(double)>& progress = {});
 
-/// Renders a case, keeping every frame.
-std::vector<FrameResult> render_golden_case(const GoldenCase& golden_case, const Scene* scene,
-                                            const std::vector<std::string>& requested,
-                                            const std::function<void(double)>& progress = {});
-
 /// Writes a bundle frame by frame into a staging directory beside the target and swaps it in on
 /// commit(), so a failure (or an exception before commit) leaves the target as it was and no
 /// staging directory behind. The target must be absent, an empty directory, or a fovref bundle

@@ -84,4 +84,10 @@ ProbeReport probe_pixel(const Scene* scene, const std::string& mode, const Rende
     return probe_pixel(scene, find_mode(mode), settings, frame, x, y);
 }
 
+std::vector<FrameResult> render_golden_case(const GoldenCase& golden_case, const Scene* scene,
+                                            const std::vector<std::string>& requested,
+                                            const std::function<void(double)>& progress) {
+    return render(scene, golden_case.mode, case_settings(golden_case, requested, progress));
+}
+
 }  // namespace fovref

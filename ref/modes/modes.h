@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "ref/golden/bundle.h"
 #include "ref/stage/pipeline.h"
 #include "ref/stage/probe.h"
 
@@ -25,5 +26,10 @@ std::vector<FrameResult> render(const Scene* scene, const std::string& mode,
                                 const RenderSettings& settings);
 ProbeReport probe_pixel(const Scene* scene, const std::string& mode, const RenderSettings& settings,
                         int frame, int x, int y);
+
+/// Renders a golden case (ref/golden/bundle.h), keeping every frame.
+std::vector<FrameResult> render_golden_case(const GoldenCase& golden_case, const Scene* scene,
+                                            const std::vector<std::string>& requested,
+                                            const std::function<void(double)>& progress = {});
 
 }  // namespace fovref
