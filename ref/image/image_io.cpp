@@ -36,6 +36,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <system_error>
 #include <vector>
@@ -457,28 +458,25 @@ void check_png_header(const std::string& path, const std::string& bytes) {
                                  std::to_string(bytes.size()) + "-byte file can hold");
 }
 
-/// The image data of a PNG is checked before stb_image decodes it, because stb_image reads
-/// memory it never wrote on two kinds of bad input (different values on each read; an oracle
-/// never reads undefined data; both found by fuzzing):
-///  - a deflate stream with an invalid distance code (30 or 31): stb_image copies from distance
-///    0, i.e. from its uninitialised output buffer. So every PNG's IDAT data is inflated with
-///    zlib into exactly the raster's size: a stream zlib rejects before the raster is complete
-///    is refused (bytes beyond the raster are never used);
-///  - a palette image whose pixels index beyond its PLTE chunk: stb_image reads uninitialised
-///    palette entries. So where the PLTE has fewer than 2^depth entries the inflated rows are
-///    unfiltered and every index compared with the palette's length.
-/// Anything else malformed (a short stream, a bad filter type, a bad header) is left to
-/// stb_image to report.
-void check_png_data(const std::string& path, const std::string& bytes) {
+/// What check_png_data reads from a PNG's chunks: the IHDR's fields, the PLTE's entry count and
+/// the IDAT chunks' data, joined.
+struct PngChunks {
+    std::uint64_t width = 0, height = 0, depth = 0, colour_type = 0, interlace = 0;
+    std::uint64_t palette_entries = 0;
+    std::string idat;
+};
+
+/// Walks the chunks after the signature up to IEND, or up to a chunk running past the end of
+/// the file. Empty when an IHDR chunk is not the first chunk or is too short (stb_image reports
+/// it).
+std::optional<PngChunks> read_png_chunks(const std::string& bytes) {
     const auto u8 = [&](std::size_t i) { return static_cast<unsigned char>(bytes[i]); };
     const auto u32 = [&](std::size_t i) {
         return static_cast<std::uint64_t>(u8(i)) << 24 |
                static_cast<std::uint64_t>(u8(i + 1)) << 16 |
                static_cast<std::uint64_t>(u8(i + 2)) << 8 | static_cast<std::uint64_t>(u8(i + 3));
     };
-    std::uint64_t width = 0, height = 0, depth = 0, colour_type = 0, interlace = 0;
-    std::uint64_t palette_entries = 0;
-    std::string idat;
+    PngChunks chunks;
     for (std::size_t pos = 8; pos + 12 <= bytes.size();) {
         const std::uint64_t length = u32(pos);
         // A chunk running past the end: stb_image may still decode (it stops at IEND without
@@ -490,47 +488,53 @@ void check_png_data(const std::string& path, const std::string& bytes) {
         if (type == "IHDR") {
             // Only the first chunk may be IHDR; stb_image reports "multiple IHDR" (a second one
             // once sent this check's buffer to terabytes: a fuzzer finding).
-            if (pos != 8 || length < 13) return;
-            width = u32(data);
-            height = u32(data + 4);
-            depth = u8(data + 8);
-            colour_type = u8(data + 9);
-            interlace = u8(data + 12);
+            if (pos != 8 || length < 13) return std::nullopt;
+            chunks.width = u32(data);
+            chunks.height = u32(data + 4);
+            chunks.depth = u8(data + 8);
+            chunks.colour_type = u8(data + 9);
+            chunks.interlace = u8(data + 12);
         } else if (type == "PLTE") {
-            palette_entries = length / 3;
+            chunks.palette_entries = length / 3;
         } else if (type == "IDAT") {
-            idat.append(bytes, data, static_cast<std::size_t>(length));
+            chunks.idat.append(bytes, data, static_cast<std::size_t>(length));
         }
         pos = data + static_cast<std::size_t>(length) + 4;
     }
-    const std::uint64_t samples = colour_type == 0   ? 1
-                                  : colour_type == 2 ? 3
-                                  : colour_type == 3 ? 1
-                                  : colour_type == 4 ? 2
-                                  : colour_type == 6 ? 4
-                                                     : 0;
-    if (samples == 0 || width == 0 || height == 0 || idat.empty()) return;
-    // check_png_header enforced the pixel limit on the first IHDR (the one read here).
-    if (width * height > input_limits().max_image_pixels) return;
-    if (depth != 1 && depth != 2 && depth != 4 && depth != 8 && depth != 16) return;
-    const std::uint64_t pixel_bits = samples * depth;
+    return chunks;
+}
 
-    // The passes (one, or Adam7's seven) and the raster's size.
-    struct Pass {
-        std::uint64_t x0, y0, dx, dy;
-    };
-    const std::vector<Pass> passes =
-        interlace == 1 ? std::vector<Pass>{{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4},
-                                           {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}}
-                       : std::vector<Pass>{{0, 0, 1, 1}};
+/// One pass of a PNG raster: the pixels (x0 + i dx, y0 + j dy).
+struct PngPass {
+    std::uint64_t x0, y0, dx, dy;
+};
+
+/// The passes of a raster: Adam7's seven when interlaced, else one covering every pixel.
+std::vector<PngPass> png_passes(std::uint64_t interlace) {
+    return interlace == 1
+               ? std::vector<PngPass>{{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4},
+                                      {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}}
+               : std::vector<PngPass>{{0, 0, 1, 1}};
+}
+
+/// The size of the inflated raster in bytes: each row of each non-empty pass, plus its filter
+/// byte.
+std::uint64_t png_raster_bytes(const std::vector<PngPass>& passes, std::uint64_t width,
+                               std::uint64_t height, std::uint64_t pixel_bits) {
     std::uint64_t raster = 0;
-    for (const Pass& p : passes) {
+    for (const PngPass& p : passes) {
         const std::uint64_t pw = width > p.x0 ? (width - p.x0 + p.dx - 1) / p.dx : 0;
         const std::uint64_t ph = height > p.y0 ? (height - p.y0 + p.dy - 1) / p.dy : 0;
         if (pw && ph) raster += ph * (1 + (pw * pixel_bits + 7) / 8);
     }
-    // check_png_header bounded the pixels; the raster fits in memory and in zlib's uInt steps.
-    std::vector<unsigned char> inflated(static_cast<std::size_t>(raster));
+    return raster;
+}
+
+/// Inflates the IDAT data with zlib into `inflated`, which has the raster's size, then checks
+/// the rest of the stream. Throws where zlib rejects the stream, or where it goes on for more
+/// than 1 MiB beyond the raster; returns false where it ends before the raster is complete.
+bool inflate_png_raster(const std::string& path, std::string& idat,
+                        std::vector<unsigned char>& inflated) {
     z_stream stream{};
     if (inflateInit(&stream) != Z_OK) throw io_error(path, "cannot start zlib");
     // zlib counts in uInt: feed at most 1 GiB of input and output per call.
@@ -582,20 +586,48 @@ void check_png_data(const std::string& path, const std::string& bytes) {
                                                        : zlib_message) +
                                  " (after " + std::to_string(out_done + extra) + " bytes; the " +
                                  "raster needs " + std::to_string(inflated.size()) + ")");
-    if (out_done < inflated.size()) return;  // ends early: stb_image reports "not enough pixels"
+    if (out_done < inflated.size()) return false;
     if (extra > max_extra)
         throw io_error(path, "PNG image data inflates to more than 1 MiB beyond the " +
                                  std::to_string(inflated.size()) +
                                  " bytes its header describes; refused");
+    return true;
+}
 
-    if (colour_type != 3 || palette_entries == 0 || depth > 8) return;
-    if (palette_entries >= (std::uint64_t{1} << depth)) return;  // every index is in range
+/// Undoes a row's PNG filter (1 to 4; 0 is none) into `row`, from the row's filtered bytes `in`
+/// and the unfiltered row above it, `previous` (zeros above a pass's first row). A filter unit
+/// is one byte (as for palette pixels, at most 8 bits).
+void unfilter_png_row(unsigned filter, const unsigned char* in,
+                      const std::vector<unsigned char>& previous, std::vector<unsigned char>& row) {
+    for (std::size_t i = 0; i < row.size(); ++i) {
+        const int a = i > 0 ? row[i - 1] : 0, b = previous[i], c = i > 0 ? previous[i - 1] : 0;
+        int predictor = 0;
+        switch (filter) {
+            case 1: predictor = a; break;
+            case 2: predictor = b; break;
+            case 3: predictor = (a + b) / 2; break;
+            case 4: {
+                const int pa = std::abs(b - c), pb = std::abs(a - c), pc = std::abs(a + b - 2 * c);
+                predictor = pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+                break;
+            }
+            default: break;
+        }
+        row[i] = static_cast<unsigned char>(in[i] + predictor);
+    }
+}
+
+/// Refuses a palette image with a pixel that indexes beyond its PLTE chunk: unfilters each
+/// pass of the inflated raster and compares every index with the palette's length. Leaves a row
+/// with an invalid filter type to stb_image.
+void check_palette_indices(const std::string& path, const PngChunks& png,
+                           const std::vector<PngPass>& passes,
+                           const std::vector<unsigned char>& inflated) {
+    const std::uint64_t width = png.width, height = png.height, depth = png.depth;
     const unsigned char* in = inflated.data();
-    // Unfilter each pass (one byte per filter unit: palette pixels have at most 8 bits) and
-    // check the indices.
     std::size_t offset = 0;
     std::uint64_t largest = 0;
-    for (const Pass& p : passes) {
+    for (const PngPass& p : passes) {
         const std::uint64_t pw = width > p.x0 ? (width - p.x0 + p.dx - 1) / p.dx : 0;
         const std::uint64_t ph = height > p.y0 ? (height - p.y0 + p.dy - 1) / p.dy : 0;
         if (!pw || !ph) continue;
@@ -604,24 +636,7 @@ void check_png_data(const std::string& path, const std::string& bytes) {
         for (std::uint64_t y = 0; y < ph; ++y) {
             const unsigned filter = in[offset++];
             if (filter > 4) return;  // stb_image: "invalid filter"
-            for (std::size_t i = 0; i < row_bytes; ++i) {
-                const int a = i > 0 ? row[i - 1] : 0, b = previous[i],
-                          c = i > 0 ? previous[i - 1] : 0;
-                int predictor = 0;
-                switch (filter) {
-                    case 1: predictor = a; break;
-                    case 2: predictor = b; break;
-                    case 3: predictor = (a + b) / 2; break;
-                    case 4: {
-                        const int pa = std::abs(b - c), pb = std::abs(a - c),
-                                  pc = std::abs(a + b - 2 * c);
-                        predictor = pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
-                        break;
-                    }
-                    default: break;
-                }
-                row[i] = static_cast<unsigned char>(in[offset + i] + predictor);
-            }
+            unfilter_png_row(filter, in + offset, previous, row);
             offset += row_bytes;
             for (std::uint64_t x = 0; x < pw; ++x) {
                 const std::uint64_t bit = x * depth;
@@ -633,10 +648,53 @@ void check_png_data(const std::string& path, const std::string& bytes) {
             previous.swap(row);
         }
     }
-    if (largest >= palette_entries)
+    if (largest >= png.palette_entries)
         throw io_error(path, "palette PNG: a pixel uses palette index " + std::to_string(largest) +
-                                 " but the PLTE chunk has only " + std::to_string(palette_entries) +
+                                 " but the PLTE chunk has only " +
+                                 std::to_string(png.palette_entries) +
                                  " entries (the colour is undefined; refused)");
+}
+
+/// The image data of a PNG is checked before stb_image decodes it, because stb_image reads
+/// memory it never wrote on two kinds of bad input (different values on each read; an oracle
+/// never reads undefined data; both found by fuzzing):
+///  - a deflate stream with an invalid distance code (30 or 31): stb_image copies from distance
+///    0, i.e. from its uninitialised output buffer. So every PNG's IDAT data is inflated with
+///    zlib into exactly the raster's size: a stream zlib rejects before the raster is complete
+///    is refused (bytes beyond the raster are never used);
+///  - a palette image whose pixels index beyond its PLTE chunk: stb_image reads uninitialised
+///    palette entries. So where the PLTE has fewer than 2^depth entries the inflated rows are
+///    unfiltered and every index compared with the palette's length.
+/// Anything else malformed (a short stream, a bad filter type, a bad header) is left to
+/// stb_image to report.
+void check_png_data(const std::string& path, const std::string& bytes) {
+    std::optional<PngChunks> chunks = read_png_chunks(bytes);
+    if (!chunks) return;
+    PngChunks& png = *chunks;
+    const std::uint64_t samples = png.colour_type == 0   ? 1
+                                  : png.colour_type == 2 ? 3
+                                  : png.colour_type == 3 ? 1
+                                  : png.colour_type == 4 ? 2
+                                  : png.colour_type == 6 ? 4
+                                                         : 0;
+    if (samples == 0 || png.width == 0 || png.height == 0 || png.idat.empty()) return;
+    // check_png_header enforced the pixel limit on the first IHDR (the one read here).
+    if (png.width * png.height > input_limits().max_image_pixels) return;
+    if (png.depth != 1 && png.depth != 2 && png.depth != 4 && png.depth != 8 && png.depth != 16)
+        return;
+    const std::uint64_t pixel_bits = samples * png.depth;
+
+    // The passes (one, or Adam7's seven) and the raster's size.
+    const std::vector<PngPass> passes = png_passes(png.interlace);
+    const std::uint64_t raster = png_raster_bytes(passes, png.width, png.height, pixel_bits);
+    // check_png_header bounded the pixels; the raster fits in memory and in zlib's uInt steps.
+    std::vector<unsigned char> inflated(static_cast<std::size_t>(raster));
+    // Ending early: stb_image reports "not enough pixels".
+    if (!inflate_png_raster(path, png.idat, inflated)) return;
+
+    if (png.colour_type != 3 || png.palette_entries == 0 || png.depth > 8) return;
+    if (png.palette_entries >= (std::uint64_t{1} << png.depth)) return;  // every index is in range
+    check_palette_indices(path, png, passes, inflated);
 }
 
 struct StbFree {
@@ -897,42 +955,83 @@ void exr_memory_error(exr_const_context_t ctxt, exr_result_t, const char* messag
         static_cast<ExrMemory*>(user)->message = message;
 }
 
-}  // namespace
+/// An OpenEXRCore read context on a file held in memory (closed when this is destroyed);
+/// check() turns a failed call into a fovref::Error naming what was being read, with the core
+/// library's last error message.
+class ExrReadContext {
+public:
+    ExrReadContext(const std::string& path, const std::string& bytes) : path_(path) {
+        memory_.bytes = &bytes;
+    }
+    ExrReadContext(const ExrReadContext&) = delete;
+    ExrReadContext& operator=(const ExrReadContext&) = delete;
+    ~ExrReadContext() {
+        if (context_) exr_finish(&context_);
+    }
 
-Image read_exr(const std::string& path) {
-    const std::string bytes = read_file(path);
-    if (bytes.empty()) throw io_error(path, "empty file (expected an EXR)");
-    ExrMemory memory;
-    memory.bytes = &bytes;
-    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-    init.user_data = &memory;
-    init.read_fn = exr_memory_read;
-    init.size_fn = exr_memory_size;
-    init.error_handler_fn = exr_memory_error;
-    exr_context_t context = nullptr;
-    struct Finish {
-        exr_context_t* context;
-        ~Finish() {
-            if (*context) exr_finish(context);
-        }
-    } finish{&context};
-    auto check = [&](exr_result_t result, const char* what) {
+    /// Reads the header.
+    void start() {
+        exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+        init.user_data = &memory_;
+        init.read_fn = exr_memory_read;
+        init.size_fn = exr_memory_size;
+        init.error_handler_fn = exr_memory_error;
+        check(exr_start_read(&context_, path_.c_str(), &init), "header");
+    }
+
+    void check(exr_result_t result, const char* what) const {
         if (result == EXR_ERR_SUCCESS) return;
         const std::string reason =
-            memory.message.empty() ? exr_get_default_error_message(result) : memory.message;
-        throw io_error(path, std::string("cannot read EXR (") + what + "): " + reason);
-    };
-    check(exr_start_read(&context, path.c_str(), &init), "header");
+            memory_.message.empty() ? exr_get_default_error_message(result) : memory_.message;
+        throw io_error(path_, std::string("cannot read EXR (") + what + "): " + reason);
+    }
 
-    // Part 0: scan lines or tiles of flat (not deep) data.
+    exr_context_t get() const { return context_; }
+    const std::string& path() const { return path_; }
+
+private:
+    const std::string& path_;
+    ExrMemory memory_;
+    exr_context_t context_ = nullptr;
+};
+
+/// What read_exr reads of part 0 before decoding it.
+struct ExrPart {
     exr_storage_t storage = EXR_STORAGE_SCANLINE;
-    check(exr_get_storage(context, 0, &storage), "storage");
-    if (storage != EXR_STORAGE_SCANLINE && storage != EXR_STORAGE_TILED)
-        throw io_error(path, "EXR with deep data (not supported)");
     exr_attr_box2i_t window{};
-    check(exr_get_data_window(context, 0, &window), "data window");
-    const std::int64_t width = std::int64_t{window.max.x} - window.min.x + 1;
-    const std::int64_t height = std::int64_t{window.max.y} - window.min.y + 1;
+    std::int64_t width = 0;
+    std::int64_t height = 0;
+    std::vector<std::string> names;  ///< the channels, in our order (exr_layout)
+};
+
+/// Part 0's channel names as the file lists them (sorted by name); refuses subsampled channels.
+std::vector<std::string> exr_channels_present(const ExrReadContext& exr) {
+    const exr_attr_chlist_t* list = nullptr;
+    exr.check(exr_get_channels(exr.get(), 0, &list), "channels");
+    std::vector<std::string> present;
+    for (int c = 0; list && c < list->num_channels; ++c) {
+        const exr_attr_chlist_entry_t& entry = list->entries[c];
+        const std::string name(entry.name.str, static_cast<std::size_t>(entry.name.length));
+        if (entry.x_sampling != 1 || entry.y_sampling != 1)
+            throw io_error(exr.path(), "EXR channel " + name + " is subsampled (not supported)");
+        present.push_back(name);
+    }
+    return present;
+}
+
+/// Reads part 0's layout, and refuses it (in this order) where it is deep data, where its data
+/// window is empty or has more pixels than the limit, where its channels are not an accepted
+/// layout, or where its decoded size is implausible for a file of `file_bytes` bytes.
+ExrPart read_exr_part(const ExrReadContext& exr, std::size_t file_bytes) {
+    const std::string& path = exr.path();
+    ExrPart part;
+    // Part 0: scan lines or tiles of flat (not deep) data.
+    exr.check(exr_get_storage(exr.get(), 0, &part.storage), "storage");
+    if (part.storage != EXR_STORAGE_SCANLINE && part.storage != EXR_STORAGE_TILED)
+        throw io_error(path, "EXR with deep data (not supported)");
+    exr.check(exr_get_data_window(exr.get(), 0, &part.window), "data window");
+    const std::int64_t width = std::int64_t{part.window.max.x} - part.window.min.x + 1;
+    const std::int64_t height = std::int64_t{part.window.max.y} - part.window.min.y + 1;
     if (width <= 0 || height <= 0)
         throw io_error(path, "EXR data window has no pixels (" + std::to_string(width) + "x" +
                                  std::to_string(height) + ")");
@@ -943,52 +1042,83 @@ Image read_exr(const std::string& path) {
     check_limit(path + ": EXR data window " + std::to_string(width) + "x" + std::to_string(height),
                 static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height),
                 input_limits().max_image_pixels, "pixels", "FOVREF_MAX_IMAGE_PIXELS");
-    const exr_attr_chlist_t* list = nullptr;
-    check(exr_get_channels(context, 0, &list), "channels");
-    std::vector<std::string> present;  // the file lists channels sorted by name
-    for (int c = 0; list && c < list->num_channels; ++c) {
-        const exr_attr_chlist_entry_t& entry = list->entries[c];
-        const std::string name(entry.name.str, static_cast<std::size_t>(entry.name.length));
-        if (entry.x_sampling != 1 || entry.y_sampling != 1)
-            throw io_error(path, "EXR channel " + name + " is subsampled (not supported)");
-        present.push_back(name);
-    }
-    const std::vector<std::string> names = exr_layout(path, present);
-    const int channels = static_cast<int>(names.size());
+    part.width = width;
+    part.height = height;
+    part.names = exr_layout(path, exr_channels_present(exr));
+    const int channels = static_cast<int>(part.names.size());
     const double decoded_bytes =
         static_cast<double>(width) * static_cast<double>(height) * channels * 4.0;
-    if (decoded_bytes > 16384.0 * static_cast<double>(bytes.size()) + 4.0 * 1024 * 1024)
+    if (decoded_bytes > 16384.0 * static_cast<double>(file_bytes) + 4.0 * 1024 * 1024)
         throw io_error(path, "EXR data window " + std::to_string(width) + "x" +
                                  std::to_string(height) + "x" + std::to_string(channels) +
-                                 " is implausibly large for a " + std::to_string(bytes.size()) +
+                                 " is implausibly large for a " + std::to_string(file_bytes) +
                                  "-byte file");
+    return part;
+}
 
-    // Decoded into one plane per channel (each channel pointer on its own plane, so no
-    // interleaving fast path of the core library is chosen: OpenEXRCore 3.1's RGBA one wrote the
-    // channels in the file's order), then interleaved.
+/// Calls decode(chunk, x0, y0) for each chunk of a scan-line part, first line first; (x0, y0)
+/// is the chunk's first pixel relative to the data window.
+template <class Decode>
+void for_each_exr_scanline_chunk(const ExrReadContext& exr, const ExrPart& part, Decode&& decode) {
+    int32_t lines = 0;
+    exr.check(exr_get_scanlines_per_chunk(exr.get(), 0, &lines), "scan lines per chunk");
+    if (lines < 1) throw io_error(exr.path(), "EXR with no scan lines per chunk");
+    for (std::int64_t y = part.window.min.y; y <= part.window.max.y; y += lines) {
+        exr_chunk_info_t chunk{};
+        exr.check(exr_read_scanline_chunk_info(exr.get(), 0, static_cast<int>(y), &chunk),
+                  "scan lines");
+        // A scan-line chunk gives its first line (in data window coordinates).
+        decode(chunk, 0, std::int64_t{chunk.start_y} - part.window.min.y);
+    }
+}
+
+/// Calls decode(chunk, x0, y0) for each tile of a tiled part (level 0), row by row; (x0, y0) is
+/// the tile's first pixel relative to the data window.
+template <class Decode>
+void for_each_exr_tile(const ExrReadContext& exr, const ExrPart& part, Decode&& decode) {
+    int32_t tile_w = 0, tile_h = 0;
+    exr.check(exr_get_tile_sizes(exr.get(), 0, 0, 0, &tile_w, &tile_h), "tile size");
+    if (tile_w < 1 || tile_h < 1) throw io_error(exr.path(), "EXR with empty tiles");
+    for (std::int64_t ty = 0; ty * tile_h < part.height; ++ty)
+        for (std::int64_t tx = 0; tx * tile_w < part.width; ++tx) {
+            exr_chunk_info_t chunk{};
+            exr.check(exr_read_tile_chunk_info(exr.get(), 0, static_cast<int>(tx),
+                                               static_cast<int>(ty), 0, 0, &chunk),
+                      "tiles");
+            // A tile chunk gives its tile indices, not pixels.
+            decode(chunk, tx * tile_w, ty * tile_h);
+        }
+}
+
+/// Decodes part 0 as float into one plane per channel (plane k holds part.names[k]). Each
+/// channel pointer is on its own plane, so no interleaving fast path of the core library is
+/// chosen (OpenEXRCore 3.1's RGBA one wrote the channels in the file's order).
+std::vector<float> decode_exr_planes(const ExrReadContext& exr, const ExrPart& part) {
+    const std::int64_t width = part.width, height = part.height;
+    const std::vector<std::string>& names = part.names;
     const std::size_t plane = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
-    std::vector<float> planes(plane * static_cast<std::size_t>(channels), 0.0f);
+    std::vector<float> planes(plane * names.size(), 0.0f);
     const std::size_t line_stride = static_cast<std::size_t>(width) * sizeof(float);
     exr_decode_pipeline_t decoder{};  // EXR_DECODE_PIPELINE_INITIALIZER: all zero
     struct Destroy {
-        exr_context_t* context;
+        exr_context_t context;
         exr_decode_pipeline_t* decoder;
         bool active = false;
         ~Destroy() {
-            if (active) exr_decoding_destroy(*context, decoder);
+            if (active) exr_decoding_destroy(context, decoder);
         }
-    } destroy{&context, &decoder};
-    // Decodes one chunk (a band of scan lines or a tile) into the planes, as float; (x0, y0) is
-    // its first pixel relative to the data window.
+    } destroy{exr.get(), &decoder};
+    // Decodes one chunk (a band of scan lines or a tile) into the planes; (x0, y0) is its first
+    // pixel relative to the data window.
     auto decode = [&](const exr_chunk_info_t& chunk, std::int64_t x0, std::int64_t y0) {
         if (!destroy.active) {
-            check(exr_decoding_initialize(context, 0, &chunk, &decoder), "decoder");
+            exr.check(exr_decoding_initialize(exr.get(), 0, &chunk, &decoder), "decoder");
             destroy.active = true;
         } else {
-            check(exr_decoding_update(context, 0, &chunk, &decoder), "decoder");
+            exr.check(exr_decoding_update(exr.get(), 0, &chunk, &decoder), "decoder");
         }
         if (x0 < 0 || y0 < 0 || x0 + chunk.width > width || y0 + chunk.height > height)
-            throw io_error(path, "EXR chunk outside the data window");
+            throw io_error(exr.path(), "EXR chunk outside the data window");
         for (int c = 0; c < decoder.channel_count; ++c) {
             exr_coding_channel_info_t& channel = decoder.channels[c];
             const auto k = static_cast<std::size_t>(
@@ -1000,35 +1130,30 @@ Image read_exr(const std::string& path) {
             channel.user_data_type = EXR_PIXEL_FLOAT;
             channel.user_bytes_per_element = 4;
         }
-        check(exr_decoding_choose_default_routines(context, 0, &decoder), "decoder");
-        check(exr_decoding_run(context, 0, &decoder), "pixel data");
+        exr.check(exr_decoding_choose_default_routines(exr.get(), 0, &decoder), "decoder");
+        exr.check(exr_decoding_run(exr.get(), 0, &decoder), "pixel data");
     };
-    if (storage == EXR_STORAGE_SCANLINE) {
-        int32_t lines = 0;
-        check(exr_get_scanlines_per_chunk(context, 0, &lines), "scan lines per chunk");
-        if (lines < 1) throw io_error(path, "EXR with no scan lines per chunk");
-        for (std::int64_t y = window.min.y; y <= window.max.y; y += lines) {
-            exr_chunk_info_t chunk{};
-            check(exr_read_scanline_chunk_info(context, 0, static_cast<int>(y), &chunk),
-                  "scan lines");
-            // A scan-line chunk gives its first line (in data window coordinates).
-            decode(chunk, 0, std::int64_t{chunk.start_y} - window.min.y);
-        }
-    } else {
-        int32_t tile_w = 0, tile_h = 0;
-        check(exr_get_tile_sizes(context, 0, 0, 0, &tile_w, &tile_h), "tile size");
-        if (tile_w < 1 || tile_h < 1) throw io_error(path, "EXR with empty tiles");
-        for (std::int64_t ty = 0; ty * tile_h < height; ++ty)
-            for (std::int64_t tx = 0; tx * tile_w < width; ++tx) {
-                exr_chunk_info_t chunk{};
-                check(exr_read_tile_chunk_info(context, 0, static_cast<int>(tx),
-                                               static_cast<int>(ty), 0, 0, &chunk),
-                      "tiles");
-                // A tile chunk gives its tile indices, not pixels.
-                decode(chunk, tx * tile_w, ty * tile_h);
-            }
-    }
-    Image image(static_cast<int>(width), static_cast<int>(height), channels);
+    if (part.storage == EXR_STORAGE_SCANLINE)
+        for_each_exr_scanline_chunk(exr, part, decode);
+    else
+        for_each_exr_tile(exr, part, decode);
+    return planes;
+}
+
+}  // namespace
+
+Image read_exr(const std::string& path) {
+    const std::string bytes = read_file(path);
+    if (bytes.empty()) throw io_error(path, "empty file (expected an EXR)");
+    ExrReadContext exr(path, bytes);
+    exr.start();
+    const ExrPart part = read_exr_part(exr, bytes.size());
+    const std::vector<float> planes = decode_exr_planes(exr, part);
+    // The planes, interleaved.
+    const int channels = static_cast<int>(part.names.size());
+    const std::size_t plane =
+        static_cast<std::size_t>(part.width) * static_cast<std::size_t>(part.height);
+    Image image(static_cast<int>(part.width), static_cast<int>(part.height), channels);
     for (std::size_t p = 0; p < plane; ++p)
         for (std::size_t c = 0; c < static_cast<std::size_t>(channels); ++c)
             image.data[p * channels + c] = planes[c * plane + p];

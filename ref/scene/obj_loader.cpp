@@ -437,31 +437,37 @@ int intern_material(Scene& scene, const Material& material, const std::string& d
     return static_cast<int>(scene.materials.size() - 1);
 }
 
-void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& transform,
-                   TextureCache& cache, const std::string& referenced_at) {
-    // Read and pre-scan.
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(obj_path, ec))
-        throw Error((referenced_at.empty() ? obj_path : referenced_at) + ": OBJ file '" + obj_path +
-                    "' not found");
-    const std::string text = read_file(obj_path);
-    const ObjScan scan = scan_obj(obj_path, text);
+namespace {
 
-    // Parse with tinyobjloader.
+// --- Meshes: tinyobjloader's faces to world-space triangles --------------------------------------
+
+// What tinyobjloader reads of an OBJ: its v/vt/vn arrays (only their sizes are used), faces,
+// materials and warnings.
+struct TinyObjMesh {
     tinyobj::attrib_t attrib;
     std::vector<tinyobj::shape_t> shapes;
-    std::vector<tinyobj::material_t> source_materials;
-    std::string warn, err;
+    std::vector<tinyobj::material_t> materials;
+    std::string warn;
+};
+
+// Parses the pre-scanned text with tinyobjloader (MTL files from the pre-scan), and checks that
+// it read the same v, vt, vn and f statements as the pre-scan: its indices refer to its own
+// v/vt/vn arrays, so the pre-scan's arrays must hold the same statements for the indices to
+// carry over (and faces must match face_lines).
+TinyObjMesh parse_with_tinyobj(const std::string& obj_path, const std::string& text,
+                               const ObjScan& scan) {
+    TinyObjMesh mesh;
+    std::string err;
     std::istringstream stream(text);
     PrescannedMaterialReader material_reader(scan.mtl);
-    if (!tinyobj::LoadObj(&attrib, &shapes, &source_materials, &warn, &err, &stream,
+    if (!tinyobj::LoadObj(&mesh.attrib, &mesh.shapes, &mesh.materials, &mesh.warn, &err, &stream,
                           &material_reader, /*triangulate=*/false,
                           /*default_vcols_fallback=*/false))
         throw Error(obj_path + ": " + tinyobj_message(err));
-    // tinyobjloader's indices refer to its own v/vt/vn arrays; the pre-scan's arrays must hold
-    // the same statements for the indices to carry over (and faces must match face_lines).
+    const tinyobj::attrib_t& attrib = mesh.attrib;
     std::size_t face_count = 0;
-    for (const tinyobj::shape_t& shape : shapes) face_count += shape.mesh.num_face_vertices.size();
+    for (const tinyobj::shape_t& shape : mesh.shapes)
+        face_count += shape.mesh.num_face_vertices.size();
     if (attrib.vertices.size() != 3 * scan.positions.size() ||
         attrib.texcoords.size() != 2 * scan.texcoords.size() ||
         attrib.normals.size() != 3 * scan.normals.size() || face_count != scan.face_lines.size())
@@ -472,35 +478,110 @@ void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& t
             " faces, the pre-scan " + std::to_string(scan.positions.size()) + ", " +
             std::to_string(scan.texcoords.size()) + ", " + std::to_string(scan.normals.size()) +
             " and " + std::to_string(scan.face_lines.size()));
+    return mesh;
+}
 
-    // Materials: every material of the MTL files, in file order; faces without usemtl get
-    // "default".
+// Adds every material of the MTL files to the scene, in file order; returns the scene's index
+// of each of tinyobjloader's materials.
+std::vector<int> intern_mtl_materials(Scene& scene, const std::string& obj_path,
+                                      const std::vector<tinyobj::material_t>& source_materials,
+                                      const MtlScan& mtl, TextureCache& cache) {
     std::vector<int> material_index(source_materials.size());
     for (std::size_t m = 0; m < source_materials.size(); ++m) {
-        auto info = scan.mtl.materials.find(source_materials[m].name);
-        if (info == scan.mtl.materials.end())
+        auto info = mtl.materials.find(source_materials[m].name);
+        if (info == mtl.materials.end())
             throw Error(obj_path + ": tinyobjloader read a material '" + source_materials[m].name +
                         "' that the pre-scan did not see");
         Material material = convert_material(scene, source_materials[m], info->second, cache);
         material_index[m] =
             intern_material(scene, material, location(info->second.file, info->second.line));
     }
-    int default_material = -1;
+    return material_index;
+}
 
-    // Object-to-world transform: positions by M, normals by the inverse transpose; a mirroring
-    // transform (det < 0) swaps corners 1 and 2 to keep the winding (and the geometric normal)
-    // facing the same way relative to the surface.
-    const bool identity = transform == glm::mat4(1.0f);
+// Object-to-world transform: positions by M, normals by the inverse transpose; a mirroring
+// transform (det < 0) swaps corners 1 and 2 to keep the winding (and the geometric normal)
+// facing the same way relative to the surface.
+struct ObjectToWorld {
+    bool identity = true;
+    glm::mat4 transform{1.0f};
+    glm::mat3 normal_matrix{1.0f};
+    bool mirror = false;
+};
+
+// The object-to-world transform of `transform`; throws "<where>: ..." when it is singular or
+// not finite.
+ObjectToWorld object_to_world(const glm::mat4& transform, const std::string& where) {
+    ObjectToWorld to_world;
+    to_world.identity = transform == glm::mat4(1.0f);
+    to_world.transform = transform;
     const glm::mat3 linear(transform);
     const float determinant = glm::determinant(linear);
     if (!(std::fabs(determinant) > 0.0f) || !std::isfinite(determinant))
-        throw Error((referenced_at.empty() ? obj_path : referenced_at) +
-                    ": the instance transform is singular or not finite");
-    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
-    const bool mirror = determinant < 0.0f;
+        throw Error(where + ": the instance transform is singular or not finite");
+    to_world.normal_matrix = glm::transpose(glm::inverse(linear));
+    to_world.mirror = determinant < 0.0f;
+    return to_world;
+}
 
-    // Triangles.
+// A triangle's corners in world space; normal[c] is set only where has_normal[c].
+struct WorldTriangle {
+    glm::vec3 position[3];
+    glm::vec3 normal[3];
+    glm::vec2 uv[3];
+    bool has_normal[3];
+};
+
+// Triangle (index[0], index[1], index[2]) from the pre-scan's arrays, in world space; uv (0,0)
+// where a corner has no texture coordinates.
+WorldTriangle world_triangle(const tinyobj::index_t (&index)[3], const ObjScan& scan,
+                             const ObjectToWorld& to_world, const std::string& obj_path, int line) {
+    WorldTriangle t{};
+    for (int c = 0; c < 3; ++c) {
+        t.position[c] = element(scan.positions, index[c].vertex_index, obj_path, line);
+        if (!to_world.identity)
+            t.position[c] = glm::vec3(to_world.transform * glm::vec4(t.position[c], 1.0f));
+        t.has_normal[c] = index[c].normal_index >= 0;
+        if (t.has_normal[c]) {
+            t.normal[c] = element(scan.normals, index[c].normal_index, obj_path, line);
+            if (!to_world.identity) t.normal[c] = to_world.normal_matrix * t.normal[c];
+        }
+        t.uv[c] = index[c].texcoord_index >= 0
+                      ? element(scan.texcoords, index[c].texcoord_index, obj_path, line)
+                      : glm::vec2(0.0f);
+    }
+    return t;
+}
+
+// Gives the triangle its final normals: as written when unit length, normalised otherwise, the
+// geometric normal cross(p1 - p0, p2 - p0) / |...| (|...| = double_area) where missing or zero.
+// Returns whether any corner got the geometric normal.
+bool finish_normals(WorldTriangle& t, float double_area) {
+    const glm::vec3 geometric =
+        glm::cross(t.position[1] - t.position[0], t.position[2] - t.position[0]) / double_area;
+    bool generated = false;
+    for (int c = 0; c < 3; ++c) {
+        float length2 = t.has_normal[c] ? glm::dot(t.normal[c], t.normal[c]) : 0.0f;
+        if (!(length2 > 0.0f) || !std::isfinite(length2)) {
+            t.normal[c] = geometric;
+            generated = true;
+        } else if (std::fabs(length2 - 1.0f) > unit_length_tolerance) {
+            t.normal[c] = t.normal[c] / std::sqrt(length2);
+        }
+    }
+    return generated;
+}
+
+// Appends the faces' triangles to the scene in face order, each face fan-triangulated, with
+// the material its usemtl gave it ("default", added on first use, where none). Zero-area (or
+// non-finite) triangles are dropped, counted and the first max_zero_area_warnings of them
+// listed; returns how many were dropped.
+std::int64_t add_obj_triangles(Scene& scene, const std::string& obj_path,
+                               const std::vector<tinyobj::shape_t>& shapes, const ObjScan& scan,
+                               const std::vector<int>& material_index,
+                               const ObjectToWorld& to_world) {
     SceneLoadStats& stats = scene.load_stats;
+    int default_material = -1;
     std::int64_t dropped_here = 0;
     std::size_t face = 0;
     for (const tinyobj::shape_t& shape : shapes) {
@@ -526,27 +607,11 @@ void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& t
                 tinyobj::index_t index[3] = {shape.mesh.indices[offset],
                                              shape.mesh.indices[offset + k],
                                              shape.mesh.indices[offset + k + 1]};
-                if (mirror) std::swap(index[1], index[2]);
-                glm::vec3 position[3];
-                glm::vec3 normal[3];
-                glm::vec2 uv[3];
-                bool has_normal[3];
-                for (int c = 0; c < 3; ++c) {
-                    position[c] = element(scan.positions, index[c].vertex_index, obj_path, line);
-                    if (!identity)
-                        position[c] = glm::vec3(transform * glm::vec4(position[c], 1.0f));
-                    has_normal[c] = index[c].normal_index >= 0;
-                    if (has_normal[c]) {
-                        normal[c] = element(scan.normals, index[c].normal_index, obj_path, line);
-                        if (!identity) normal[c] = normal_matrix * normal[c];
-                    }
-                    uv[c] = index[c].texcoord_index >= 0
-                                ? element(scan.texcoords, index[c].texcoord_index, obj_path, line)
-                                : glm::vec2(0.0f);
-                }
+                if (to_world.mirror) std::swap(index[1], index[2]);
+                WorldTriangle t = world_triangle(index, scan, to_world, obj_path, line);
                 // Zero-area (or non-finite) triangles are dropped: they are never hit (SPEC §2).
                 const float double_area =
-                    triangle_double_area(position[0], position[1], position[2]);
+                    triangle_double_area(t.position[0], t.position[1], t.position[2]);
                 if (!(double_area > 0.0f) || !std::isfinite(double_area)) {
                     ++stats.zero_area_triangles_dropped;
                     if (++dropped_here <= max_zero_area_warnings)
@@ -554,37 +619,49 @@ void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& t
                                                  ": zero-area triangle dropped");
                     continue;
                 }
-                // Normals: as written when unit length, normalised otherwise, the geometric
-                // normal cross(p1 - p0, p2 - p0) / |...| where missing or zero.
-                const glm::vec3 geometric =
-                    glm::cross(position[1] - position[0], position[2] - position[0]) / double_area;
-                bool generated = false;
+                if (finish_normals(t, double_area)) ++stats.normals_generated;
                 for (int c = 0; c < 3; ++c) {
-                    float length2 = has_normal[c] ? glm::dot(normal[c], normal[c]) : 0.0f;
-                    if (!(length2 > 0.0f) || !std::isfinite(length2)) {
-                        normal[c] = geometric;
-                        generated = true;
-                    } else if (std::fabs(length2 - 1.0f) > unit_length_tolerance) {
-                        normal[c] = normal[c] / std::sqrt(length2);
-                    }
-                }
-                if (generated) ++stats.normals_generated;
-                for (int c = 0; c < 3; ++c) {
-                    scene.positions.push_back(position[c]);
-                    scene.normals.push_back(normal[c]);
-                    scene.uvs.push_back(uv[c]);
+                    scene.positions.push_back(t.position[c]);
+                    scene.normals.push_back(t.normal[c]);
+                    scene.uvs.push_back(t.uv[c]);
                 }
                 scene.material_ids.push_back(material);
             }
             offset += corners;
         }
     }
+    return dropped_here;
+}
+
+}  // namespace
+
+void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& transform,
+                   TextureCache& cache, const std::string& referenced_at) {
+    // Read and pre-scan.
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(obj_path, ec))
+        throw Error((referenced_at.empty() ? obj_path : referenced_at) + ": OBJ file '" + obj_path +
+                    "' not found");
+    const std::string text = read_file(obj_path);
+    const ObjScan scan = scan_obj(obj_path, text);
+
+    const TinyObjMesh mesh = parse_with_tinyobj(obj_path, text, scan);
+    // Materials: every material of the MTL files, in file order; faces without usemtl get
+    // "default".
+    const std::vector<int> material_index =
+        intern_mtl_materials(scene, obj_path, mesh.materials, scan.mtl, cache);
+    const ObjectToWorld to_world =
+        object_to_world(transform, referenced_at.empty() ? obj_path : referenced_at);
+    const std::int64_t dropped_here =
+        add_obj_triangles(scene, obj_path, mesh.shapes, scan, material_index, to_world);
+
+    SceneLoadStats& stats = scene.load_stats;
     if (dropped_here > max_zero_area_warnings)
         stats.warnings.push_back(obj_path + ": " + std::to_string(dropped_here) +
                                  " zero-area triangles dropped (the first " +
                                  std::to_string(max_zero_area_warnings) + " are listed)");
     // tinyobjloader's own warnings, one per line.
-    std::istringstream warnings(warn);
+    std::istringstream warnings(mesh.warn);
     for (std::string line; std::getline(warnings, line);)
         if (!line.empty()) stats.warnings.push_back(obj_path + ": " + line);
 }

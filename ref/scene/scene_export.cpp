@@ -108,23 +108,23 @@ std::string compact_number_arrays(const std::string& text) {
     return result;
 }
 
-}  // namespace
-
-void export_scene(const Scene& scene, const std::string& directory) {
-    namespace fs = std::filesystem;
-    std::error_code ec;
-    fs::create_directories(directory, ec);
-    if (ec) throw Error(directory + ": cannot create directory: " + ec.message());
-    const fs::path root(directory);
-
-    // Material names, unique and without blanks (MTL names are single tokens).
+// The materials' names in the exported MTL, by material index: unique and without blanks (MTL
+// names are single tokens).
+std::vector<std::string> export_material_names(const Scene& scene) {
     std::vector<std::string> material_names;
     std::set<std::string> used_names;
     for (std::size_t m = 0; m < scene.materials.size(); ++m)
         material_names.push_back(unique(
             sanitize(scene.materials[m].name, "material_" + std::to_string(m)), used_names, m));
+    return material_names;
+}
 
-    // Textures: those the materials use, in order of first use, as textures/<stem>.pfm.
+// Writes the textures the materials use, in order of first use, as <root>/textures/<stem>.pfm;
+// returns each texture's file name relative to root ("" for a texture no material uses).
+std::vector<std::string> export_textures(const Scene& scene, const std::string& directory,
+                                         const std::filesystem::path& root) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
     std::vector<std::string> texture_files(scene.textures.size());
     std::set<std::string> used_files;
     for (const Material& material : scene.materials) {
@@ -142,89 +142,83 @@ void export_scene(const Scene& scene, const std::string& directory) {
         write_pfm((root / file).string(), texture.image);
         texture_files[static_cast<std::size_t>(t)] = file;
     }
+    return texture_files;
+}
 
-    // MTL: every material, in index order, with every value written (so the loader's defaults
-    // never apply).
-    {
-        std::string mtl =
-            "# fovref export_scene: " + std::to_string(scene.materials.size()) + " materials\n";
-        for (std::size_t m = 0; m < scene.materials.size(); ++m) {
-            const Material& material = scene.materials[m];
-            auto triple = [](glm::vec3 v) {
-                return format_float(v.x) + " " + format_float(v.y) + " " + format_float(v.z) + "\n";
-            };
-            mtl += "\nnewmtl " + material_names[m] + "\n";
-            mtl += "Kd " + triple(material.albedo);
-            mtl += "Ks " + triple(material.specular);
-            mtl += "Ke " + triple(material.emission);
-            mtl += "Pr " + format_float(material.roughness) + "\n";
-            if (material.texture >= 0)
-                mtl += "map_Kd " + texture_files[static_cast<std::size_t>(material.texture)] + "\n";
-        }
-        write_file_atomic((root / "scene.mtl").string(), mtl);
+// The MTL text: every material, in index order, with every value written (so the loader's
+// defaults never apply).
+std::string mtl_text(const Scene& scene, const std::vector<std::string>& material_names,
+                     const std::vector<std::string>& texture_files) {
+    std::string mtl =
+        "# fovref export_scene: " + std::to_string(scene.materials.size()) + " materials\n";
+    for (std::size_t m = 0; m < scene.materials.size(); ++m) {
+        const Material& material = scene.materials[m];
+        auto triple = [](glm::vec3 v) {
+            return format_float(v.x) + " " + format_float(v.y) + " " + format_float(v.z) + "\n";
+        };
+        mtl += "\nnewmtl " + material_names[m] + "\n";
+        mtl += "Kd " + triple(material.albedo);
+        mtl += "Ks " + triple(material.specular);
+        mtl += "Ke " + triple(material.emission);
+        mtl += "Pr " + format_float(material.roughness) + "\n";
+        if (material.texture >= 0)
+            mtl += "map_Kd " + texture_files[static_cast<std::size_t>(material.texture)] + "\n";
     }
+    return mtl;
+}
 
-    // OBJ: one v, vt, vn per triangle corner (corner k of triangle t is element 3t + k + 1),
-    // faces in triangle order, usemtl where the material changes.
-    {
-        // Built in memory and written in one piece (temporary file + rename); for the 1M-triangle
-        // scene this is ~0.3 GB, about what loading it back reads into memory too.
-        std::string obj = "# fovref export_scene: " + std::to_string(scene.triangle_count()) +
-                          " triangles, one v/vt/vn per corner\nmtllib scene.mtl\n";
-        obj.reserve(scene.positions.size() * 100);
-        for (const glm::vec3& p : scene.positions)
-            obj +=
-                "v " + format_float(p.x) + " " + format_float(p.y) + " " + format_float(p.z) + "\n";
-        for (const glm::vec2& uv : scene.uvs)
-            obj += "vt " + format_float(uv.x) + " " + format_float(uv.y) + "\n";
-        for (const glm::vec3& n : scene.normals)
-            obj += "vn " + format_float(n.x) + " " + format_float(n.y) + " " + format_float(n.z) +
-                   "\n";
-        int current_material = -1;
-        for (std::size_t t = 0; t < scene.triangle_count(); ++t) {
-            const int material = scene.material_ids[t];
-            if (material < 0 || static_cast<std::size_t>(material) >= scene.materials.size())
-                throw Error(directory + ": triangle " + std::to_string(t) + " has material " +
-                            std::to_string(material) + " out of range");
-            if (material != current_material) {
-                obj += "usemtl " + material_names[static_cast<std::size_t>(material)] + "\n";
-                current_material = material;
-            }
-            obj += "f";
-            for (std::size_t k = 0; k < 3; ++k) {
-                const std::string index = std::to_string(3 * t + k + 1);
-                obj += " " + index + "/" + index + "/" + index;
-            }
-            obj += "\n";
+// The OBJ text: one v, vt, vn per triangle corner (corner k of triangle t is element 3t + k + 1),
+// faces in triangle order, usemtl where the material changes. Built in memory to be written in
+// one piece (temporary file + rename); for the 1M-triangle scene this is ~0.3 GB, about what
+// loading it back reads into memory too.
+std::string obj_text(const Scene& scene, const std::vector<std::string>& material_names,
+                     const std::string& directory) {
+    std::string obj = "# fovref export_scene: " + std::to_string(scene.triangle_count()) +
+                      " triangles, one v/vt/vn per corner\nmtllib scene.mtl\n";
+    obj.reserve(scene.positions.size() * 100);
+    for (const glm::vec3& p : scene.positions)
+        obj += "v " + format_float(p.x) + " " + format_float(p.y) + " " + format_float(p.z) + "\n";
+    for (const glm::vec2& uv : scene.uvs)
+        obj += "vt " + format_float(uv.x) + " " + format_float(uv.y) + "\n";
+    for (const glm::vec3& n : scene.normals)
+        obj += "vn " + format_float(n.x) + " " + format_float(n.y) + " " + format_float(n.z) + "\n";
+    int current_material = -1;
+    for (std::size_t t = 0; t < scene.triangle_count(); ++t) {
+        const int material = scene.material_ids[t];
+        if (material < 0 || static_cast<std::size_t>(material) >= scene.materials.size())
+            throw Error(directory + ": triangle " + std::to_string(t) + " has material " +
+                        std::to_string(material) + " out of range");
+        if (material != current_material) {
+            obj += "usemtl " + material_names[static_cast<std::size_t>(material)] + "\n";
+            current_material = material;
         }
-        write_file_atomic((root / "scene.obj").string(), obj);
+        obj += "f";
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::string index = std::to_string(3 * t + k + 1);
+            obj += " " + index + "/" + index + "/" + index;
+        }
+        obj += "\n";
     }
+    return obj;
+}
 
-    // scene.json: camera as its exact basis, the path as quaternions, explicit lights only
-    // (finalize_scene re-derives the emissive-triangle lights from the materials).
-    json document;
-    document["version"] = 1;
-    document["name"] = scene.name;
-    document["meshes"] = json::array({json{{"obj", "scene.obj"}}});
-    document["camera"] = {{"position", json_vec3(scene.camera.position)},
-                          {"basis",
-                           {{"right", json_vec3(scene.camera.right)},
-                            {"up", json_vec3(scene.camera.up)},
-                            {"forward", json_vec3(scene.camera.forward)}}},
-                          {"vfov_deg", json_float(scene.camera.vfov_deg)}};
-    if (!scene.camera_path.empty()) {
-        json path = json::array();
-        for (const CameraKey& key : scene.camera_path) {
-            const glm::quat& q = key.orientation;
-            path.push_back({{"time", json_float(key.time)},
-                            {"position", json_vec3(key.position)},
-                            {"quaternion", json::array({json_float(q.x), json_float(q.y),
-                                                        json_float(q.z), json_float(q.w)})}});
-        }
-        document["camera_path"] = path;
+// scene.json's "camera_path": each key's time, position and orientation as a quaternion.
+json camera_path_json(const std::vector<CameraKey>& camera_path) {
+    json path = json::array();
+    for (const CameraKey& key : camera_path) {
+        const glm::quat& q = key.orientation;
+        path.push_back({{"time", json_float(key.time)},
+                        {"position", json_vec3(key.position)},
+                        {"quaternion", json::array({json_float(q.x), json_float(q.y),
+                                                    json_float(q.z), json_float(q.w)})}});
     }
+    return path;
+}
+
+// scene.json's "lights": the explicit point and quad lights.
+json lights_json(const std::vector<Light>& scene_lights) {
     json lights = json::array();
-    for (const Light& light : scene.lights) {
+    for (const Light& light : scene_lights) {
         if (light.type == Light::Type::point) {
             lights.push_back({{"type", "point"},
                               {"position", json_vec3(light.position)},
@@ -237,7 +231,24 @@ void export_scene(const Scene& scene, const std::string& directory) {
                               {"radiance", json_vec3(light.intensity)}});
         }
     }
-    document["lights"] = lights;
+    return lights;
+}
+
+// scene.json: camera as its exact basis, the path as quaternions, explicit lights only
+// (finalize_scene re-derives the emissive-triangle lights from the materials).
+json scene_json(const Scene& scene) {
+    json document;
+    document["version"] = 1;
+    document["name"] = scene.name;
+    document["meshes"] = json::array({json{{"obj", "scene.obj"}}});
+    document["camera"] = {{"position", json_vec3(scene.camera.position)},
+                          {"basis",
+                           {{"right", json_vec3(scene.camera.right)},
+                            {"up", json_vec3(scene.camera.up)},
+                            {"forward", json_vec3(scene.camera.forward)}}},
+                          {"vfov_deg", json_float(scene.camera.vfov_deg)}};
+    if (!scene.camera_path.empty()) document["camera_path"] = camera_path_json(scene.camera_path);
+    document["lights"] = lights_json(scene.lights);
     switch (scene.display.kind) {
         case DisplayModel::Kind::field_of_view: document["display"] = {{"model", "fov"}}; break;
         case DisplayModel::Kind::diagonal:
@@ -254,8 +265,25 @@ void export_scene(const Scene& scene, const std::string& directory) {
         for (const auto& [name, text] : scene.presets) presets[name] = json::parse(text);
         document["presets"] = presets;
     }
+    return document;
+}
+
+}  // namespace
+
+void export_scene(const Scene& scene, const std::string& directory) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    fs::create_directories(directory, ec);
+    if (ec) throw Error(directory + ": cannot create directory: " + ec.message());
+    const fs::path root(directory);
+
+    const std::vector<std::string> material_names = export_material_names(scene);
+    const std::vector<std::string> texture_files = export_textures(scene, directory, root);
+    write_file_atomic((root / "scene.mtl").string(),
+                      mtl_text(scene, material_names, texture_files));
+    write_file_atomic((root / "scene.obj").string(), obj_text(scene, material_names, directory));
     write_file_atomic((root / "scene.json").string(),
-                      compact_number_arrays(document.dump(2)) + "\n");
+                      compact_number_arrays(scene_json(scene).dump(2)) + "\n");
 }
 
 }  // namespace fovref
