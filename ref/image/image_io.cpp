@@ -466,10 +466,11 @@ struct PngChunks {
     std::string idat;
 };
 
-/// Walks the chunks after the signature up to IEND, or up to a chunk running past the end of
-/// the file. Empty when an IHDR chunk is not the first chunk or is too short (stb_image reports
-/// it).
-std::optional<PngChunks> read_png_chunks(const std::string& bytes) {
+/// Walks the chunks after the signature up to IEND. Empty when an IHDR chunk is not the first
+/// chunk or is too short (stb_image reports it). Throws where a chunk before IEND declares more
+/// bytes than the file has left: stb_image would fail on it anyway, but only after growing its
+/// IDAT buffer to the declared length (2 GiB for a 231-byte file: a fuzzer finding).
+std::optional<PngChunks> read_png_chunks(const std::string& path, const std::string& bytes) {
     const auto u8 = [&](std::size_t i) { return static_cast<unsigned char>(bytes[i]); };
     const auto u32 = [&](std::size_t i) {
         return static_cast<std::uint64_t>(u8(i)) << 24 |
@@ -479,12 +480,16 @@ std::optional<PngChunks> read_png_chunks(const std::string& bytes) {
     PngChunks chunks;
     for (std::size_t pos = 8; pos + 12 <= bytes.size();) {
         const std::uint64_t length = u32(pos);
-        // A chunk running past the end: stb_image may still decode (it stops at IEND without
-        // reading it), so validate what came before it (a fuzzer finding).
-        if (length > bytes.size() - pos - 12) break;
         const std::string type = bytes.substr(pos + 4, 4);
         const std::size_t data = pos + 8;
+        // stb_image stops at IEND without reading its data, so IEND's length may be anything.
         if (type == "IEND") break;
+        if (length > bytes.size() - pos - 12)
+            throw io_error(path, "truncated PNG: chunk " + quoted(type, 4) + " at byte " +
+                                     std::to_string(pos) + " declares " + std::to_string(length) +
+                                     " data bytes, but only " +
+                                     std::to_string(bytes.size() - pos - 8) +
+                                     " bytes follow its header (data and 4-byte CRC)");
         if (type == "IHDR") {
             // Only the first chunk may be IHDR; stb_image reports "multiple IHDR" (a second one
             // once sent this check's buffer to terabytes: a fuzzer finding).
@@ -668,7 +673,7 @@ void check_palette_indices(const std::string& path, const PngChunks& png,
 /// Anything else malformed (a short stream, a bad filter type, a bad header) is left to
 /// stb_image to report.
 void check_png_data(const std::string& path, const std::string& bytes) {
-    std::optional<PngChunks> chunks = read_png_chunks(bytes);
+    std::optional<PngChunks> chunks = read_png_chunks(path, bytes);
     if (!chunks) return;
     PngChunks& png = *chunks;
     const std::uint64_t samples = png.colour_type == 0   ? 1

@@ -265,3 +265,32 @@ TEST_CASE("hostile PNG: image data far beyond the raster is refused; a little is
     CHECK(test::contains(test::error_message([&] { read_png(dir.file("big_tail.png")); }),
                          "more than 1 MiB beyond"));
 }
+
+TEST_CASE("hostile PNG: a chunk declaring more bytes than the file has is refused up front") {
+    // Found by fuzzing: a 231-byte texture whose second IDAT chunk declares 1.2 GB. stb_image
+    // grows its IDAT buffer to the declared length (2 GiB) before finding the data missing; the
+    // chunk walk now refuses such a chunk first. An IEND chunk's length is never read.
+    test::TempDir dir("hostile-png-chunk");
+    std::string png = "\x89PNG\r\n\x1a\n";
+    std::string ihdr;
+    put_u32(ihdr, 1);
+    put_u32(ihdr, 1);
+    ihdr += std::string("\x08\x00\x00\x00\x00", 5);  // 1x1 grey, 8 bits
+    chunk(png, "IHDR", ihdr);
+    chunk(png, "IDAT", zlib_stored(std::string("\0\x80", 2)));
+    const std::size_t second = png.size();
+    put_u32(png, 0x49444154u);
+    png += "IDAT" + std::string(8, '\0');
+    test::write_bytes(dir.file("huge_idat.png"), png);
+    CHECK(test::error_message([&] { read_png(dir.file("huge_idat.png")); }) ==
+          dir.file("huge_idat.png") + ": truncated PNG: chunk \"IDAT\" at byte " +
+              std::to_string(second) +
+              " declares 1229209940 data bytes, but only 8 bytes follow its header (data and "
+              "4-byte CRC)");
+    // The same file with an IEND whose length runs past the end instead decodes.
+    std::string iend = png.substr(0, second);
+    put_u32(iend, 0x49444154u);
+    iend += "IEND";
+    test::write_bytes(dir.file("long_iend.png"), iend);
+    CHECK(read_png(dir.file("long_iend.png"), false).at(0, 0) == 128.0f / 255.0f);
+}
