@@ -106,7 +106,8 @@ TEST_CASE("errors: corrupt PNG files") {
 
     const std::string path = dir.file("cut.png");
     test::write_bytes(path, bytes.substr(0, bytes.size() / 2));
-    check_read_error([](const std::string& p) { read_png(p); }, path, "truncated PNG: chunk \"IDAT\"");
+    check_read_error([](const std::string& p) { read_png(p); }, path,
+                     "truncated PNG: chunk \"IDAT\"");
 
     test::write_bytes(path, "GIF89a" + bytes.substr(6));
     check_read_error([](const std::string& p) { read_png(p); }, path, "bad signature");
