@@ -1,7 +1,9 @@
 #include "ref/modes/modes.h"
 
 #include "ref/core/error.h"
+#include "ref/foveation/foveated_params.h"
 #include "ref/modes/core_modes.h"
+#include "ref/modes/foveated_modes.h"
 #include "ref/modes/trace_modes.h"
 #include "ref/trace/basic_params.h"
 #include "ref/trace/trace_probe.h"
@@ -37,9 +39,22 @@ std::vector<ModeInfo> make_modes() {
     ModeInfo halton = mode("halton", "the 16 Halton(2,3) points, raw and scaled (Lund eq. 3.11)",
                            halton_pipeline);
     halton.needs_scene = false;
+    const auto foveated = [](const std::string& name, const char* what,
+                             Pipeline (*build)(const Scene*, const RenderSettings&)) {
+        const FoveationPreset& preset = find_foveation_preset(name);
+        ModeInfo m = mode(name, std::string(what) + " (" + preset.source + ")", build);
+        m.params = foveated_param_specs(preset);
+        m.pixel_functions = foveated_pixel_functions;
+        return m;
+    };
     return {
         basic,
         ground_truth,
+        foveated("fov", "log-polar foveated ray tracing, shaded as basic", fov_pipeline),
+        foveated("kfov", "kernel log-polar foveated ray tracing, K(x) = x^alpha", kfov_pipeline),
+        foveated("cfov", "log-polar foveation with a ray-traced gaze buffer (composite)",
+                 cfov_pipeline),
+        foveated("ckfov", "kernel log-polar foveation with a gaze buffer", ckfov_pipeline),
         mode("splat",
              "centroid splat of every triangle with headlight shading (a trivial pass that "
              "pins scene, materials, textures and camera path)",

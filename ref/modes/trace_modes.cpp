@@ -1,9 +1,9 @@
 #include "ref/modes/trace_modes.h"
 
 #include <memory>
-#include <optional>
 
 #include "ref/bvh/bvh.h"
+#include "ref/modes/mode_common.h"
 #include "ref/raster/gbuffer.h"
 #include "ref/raster/rasterizer.h"
 #include "ref/trace/basic_params.h"
@@ -20,46 +20,8 @@ namespace {
 // BVH, built on first use and kept for later frames.
 struct TraceModeState : ModeState {
     BasicParams params;
-    std::optional<Bvh> bvh;
-
-    const Bvh& get_bvh(const Scene& scene, Counters& counters) {
-        if (!bvh) {
-            bvh = build_bvh(scene.positions);
-            counters.add("bvh_built_nodes", bvh->stats.nodes);
-            counters.add("bvh_built_leaves", bvh->stats.leaves);
-        }
-        return *bvh;
-    }
+    BvhCache bvh;
 };
-
-void add_trace_counters(Counters& counters, const std::string& kind, const TraceStats& stats) {
-    counters.add("rays_" + kind, stats.rays);
-    counters.add(kind + "_nodes_visited", stats.nodes_visited);
-    counters.add(kind + "_triangles_tested", stats.triangles_tested);
-    counters.add(kind + "_hits", stats.hits);
-}
-
-void add_raster_counters(Counters& counters, const RasterStats& stats) {
-    counters.add("raster_triangles_rasterized", stats.triangles_rasterized);
-    counters.add("raster_fragments_written", stats.fragments_written);
-    if (stats.fragments_without_plane_hit > 0)
-        counters.add("raster_fragments_without_plane_hit", stats.fragments_without_plane_hit);
-}
-
-void add_shading_counters(Counters& counters, const ShadingStats& stats) {
-    counters.add("pixels_shaded", stats.shaded);
-    counters.add("texture_fetches", stats.texture_fetches);
-    counters.add("light_samples_facing_away", stats.lights_facing_away);
-    counters.add("light_samples_degenerate", stats.light_samples_degenerate);
-    counters.add("nonfinite_inputs_replaced", stats.nonfinite_inputs);
-    counters.add("invalid_material_ids", stats.invalid_material_ids);
-    counters.add("shadow_rays_occluded", stats.shadow_rays_occluded);
-    add_trace_counters(counters, "shadow", stats.shadow_trace);
-}
-
-std::string shadow_note(const Scene& scene) {
-    return scene.lights.empty() ? "no lights: no shadow rays traced" : "";
-}
 
 const std::vector<std::string> shade_direct_inputs = {
     "gbuffer_world_position", "gbuffer_shading_normal", "gbuffer_geometric_normal",
@@ -81,7 +43,7 @@ void primary_visibility_stage(FrameContext& ctx) {
         add_gbuffer(*ctx.result, std::move(g));
     } else {
         RaycastStats stats;
-        GBuffer g = raycast_gbuffer(scene, state.get_bvh(scene, ctx.result->counters), ctx.camera,
+        GBuffer g = raycast_gbuffer(scene, state.bvh.get(scene, ctx.result->counters), ctx.camera,
                                     ctx.previous_camera, s.width, s.height, stats);
         add_trace_counters(ctx.result->counters, "primary", stats.primary);
         ctx.note = "ray cast";
@@ -97,7 +59,7 @@ void shade_direct_stage(FrameContext& ctx) {
         ctx.input("gbuffer_geometric_normal"), ctx.input("gbuffer_albedo"),
         ctx.input("gbuffer_material_id"),      ctx.input("gbuffer_primitive_id")};
     // No lights: no shadow rays, so no BVH is needed for shading.
-    const Bvh* tree = scene.lights.empty() ? nullptr : &state.get_bvh(scene, ctx.result->counters);
+    const Bvh* tree = scene.lights.empty() ? nullptr : &state.bvh.get(scene, ctx.result->counters);
     ShadingStats stats;
     Image out = shade_basic(scene, tree, inputs, ctx.camera, ctx.frame, stats);
     add_shading_counters(ctx.result->counters, stats);
@@ -110,7 +72,7 @@ void supersample_stage(FrameContext& ctx) {
     const Scene& scene = *ctx.scene;
     TraceStats primary;
     ShadingStats shading;
-    Image image = render_ground_truth(scene, state.get_bvh(scene, ctx.result->counters), ctx.camera,
+    Image image = render_ground_truth(scene, state.bvh.get(scene, ctx.result->counters), ctx.camera,
                                       static_cast<std::uint32_t>(ctx.frame), ctx.settings->width,
                                       ctx.settings->height, primary, shading);
     add_trace_counters(ctx.result->counters, "primary", primary);

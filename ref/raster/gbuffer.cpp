@@ -20,6 +20,15 @@ GBuffer::GBuffer(int width, int height)
 bool write_gbuffer_pixel(GBuffer& g, int x, int y, const Scene& scene, const Camera& camera,
                          const Camera& previous_camera, float previous_tan_half,
                          std::int32_t primitive, float u, float v) {
+    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    return write_gbuffer_sample(g, x, y, centre, g.view_depth.width, g.view_depth.height, scene,
+                                camera, previous_camera, previous_tan_half, primitive, u, v);
+}
+
+bool write_gbuffer_sample(GBuffer& g, int x, int y, glm::vec2 screen_point, int screen_width,
+                          int screen_height, const Scene& scene, const Camera& camera,
+                          const Camera& previous_camera, float previous_tan_half,
+                          std::int32_t primitive, float u, float v) {
     const SurfacePoint s = surface_at(scene, primitive, u, v);
     const glm::vec3 to_point = s.position - camera.position;
     g.view_depth.at(x, y) = view_depth(camera, s.position);
@@ -34,11 +43,11 @@ bool write_gbuffer_pixel(GBuffer& g, int x, int y, const Scene& scene, const Cam
     g.primitive_id.at(x, y) = static_cast<float>(primitive);
     glm::vec2 previous{0.0f};
     float previous_depth = 0.0f;
-    if (!project_to_screen(previous_camera, previous_tan_half, g.view_depth.width,
-                           g.view_depth.height, s.position, previous, previous_depth))
+    if (!project_to_screen(previous_camera, previous_tan_half, screen_width, screen_height,
+                           s.position, previous, previous_depth))
         return false;
-    g.motion.at(x, y, 0) = previous.x - (static_cast<float>(x) + 0.5f);
-    g.motion.at(x, y, 1) = previous.y - (static_cast<float>(y) + 0.5f);
+    g.motion.at(x, y, 0) = previous.x - screen_point.x;
+    g.motion.at(x, y, 1) = previous.y - screen_point.y;
     return true;
 }
 

@@ -38,6 +38,15 @@ bool write_gbuffer_pixel(GBuffer& gbuffer, int x, int y, const Scene& scene, con
                          const Camera& previous_camera, float previous_tan_half,
                          std::int32_t primitive, float u, float v);
 
+/// write_gbuffer_pixel for a G-buffer that is not the screen (a foveation buffer): texel (x, y)
+/// holds the sample through screen point `screen_point` of a screen_width x screen_height screen,
+/// and its motion is the point's previous-camera projection minus `screen_point`.
+/// write_gbuffer_pixel is this with the pixel centre and the G-buffer's own size.
+bool write_gbuffer_sample(GBuffer& gbuffer, int x, int y, glm::vec2 screen_point, int screen_width,
+                          int screen_height, const Scene& scene, const Camera& camera,
+                          const Camera& previous_camera, float previous_tan_half,
+                          std::int32_t primitive, float u, float v);
+
 /// The G-buffer's buffer names in SPEC §4 order, with a prefix ("gbuffer_" by default).
 void add_gbuffer(FrameResult& result, GBuffer gbuffer, const std::string& prefix = "gbuffer_");
 std::vector<std::string> gbuffer_names(const std::string& prefix = "gbuffer_");

@@ -1,5 +1,6 @@
 #include "ref/stage/params.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <system_error>
@@ -60,6 +61,31 @@ int Params::get_int(const std::vector<ParamSpec>& specs, const std::string& key,
         throw Error("parameter '" + key + "': " + text + " is outside [" + std::to_string(min) +
                     ", " + std::to_string(max) + "]");
     return value;
+}
+
+std::vector<float> Params::get_float_list(const std::vector<ParamSpec>& specs,
+                                          const std::string& key) const {
+    const std::string text = get_string(specs, key);
+    std::vector<float> values;
+    if (text.find_first_not_of(' ') == std::string::npos) return values;
+    std::size_t start = 0;
+    while (true) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        std::size_t first = text.find_first_not_of(' ', start);
+        std::size_t last = text.find_last_not_of(' ', comma == 0 ? 0 : comma - 1);
+        if (first == std::string::npos || first >= comma) first = last = comma;
+        const std::string item = first < comma ? text.substr(first, last + 1 - first) : "";
+        float value = 0.0f;
+        auto [end, ec] = std::from_chars(item.data(), item.data() + item.size(), value);
+        if (item.empty() || ec != std::errc() || end != item.data() + item.size() ||
+            !std::isfinite(value))
+            throw Error("parameter '" + key + "': '" + item + "' in '" + text +
+                        "' is not a finite number (expected a comma-separated list)");
+        values.push_back(value);
+        if (comma == text.size()) break;
+        start = comma + 1;
+    }
+    return values;
 }
 
 bool Params::get_bool(const std::vector<ParamSpec>& specs, const std::string& key) const {

@@ -34,6 +34,12 @@ public:
     int get_int(const std::vector<ParamSpec>& specs, const std::string& key, int min,
                 int max) const;
     bool get_bool(const std::vector<ParamSpec>& specs, const std::string& key) const;
+    /// A comma-separated list of finite numbers ("0, 0.5,0.5"; spaces allowed around commas);
+    /// empty text gives an empty list.
+    std::vector<float> get_float_list(const std::vector<ParamSpec>& specs,
+                                      const std::string& key) const;
+    /// True when the parameter was given (not defaulted).
+    bool given(const std::string& key) const { return values_.count(key) != 0; }
 
     const std::map<std::string, std::string>& values() const { return values_; }
     bool operator==(const Params&) const = default;

@@ -1,0 +1,102 @@
+#include "ref/foveation/foveated_trace.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fovref {
+
+TexelStatus lp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const LogPolarMap& map,
+                             const Scene& scene, const Bvh& bvh, const Camera& camera,
+                             float tan_half, const Camera& previous_camera, float previous_tan_half,
+                             int x, int y, FoveatedTraceStats& stats) {
+    glm::vec2 p{0.0f};
+    const TexelStatus status = lp_texel_status(map, x, y, p);
+    screen_points.at(x, y, 0) = p.x;
+    screen_points.at(x, y, 1) = p.y;
+    if (status == TexelStatus::off_screen) {
+        ++stats.texels_off_screen;
+        return status;
+    }
+    if (status == TexelStatus::inside_gaze) {
+        ++stats.texels_inside_gaze;
+        return status;
+    }
+    ++stats.texels_traced;
+    buffer.valid.at(x, y) = 1.0f;
+    const Ray ray = primary_ray(camera, tan_half, map.screen_width, map.screen_height, p.x, p.y);
+    const Hit hit = trace_closest(bvh, ray, stats.rays.primary);
+    if (hit.hit() && !write_gbuffer_sample(buffer.gbuffer, x, y, p, map.screen_width,
+                                           map.screen_height, scene, camera, previous_camera,
+                                           previous_tan_half, hit.primitive, hit.u, hit.v))
+        ++stats.rays.motion_behind_previous;
+    return status;
+}
+
+MaskedGBuffer trace_lp_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,
+                               const Camera& camera, const Camera& previous_camera,
+                               Image& screen_points, FoveatedTraceStats& stats) {
+    MaskedGBuffer buffer(map.width, map.height);
+    screen_points = Image(map.width, map.height, 2, 0.0f);
+    const float tan_half = tan_half_vfov(camera);
+    const float previous_tan_half = tan_half_vfov(previous_camera);
+    for (int y = 0; y < map.height; ++y)
+        for (int x = 0; x < map.width; ++x)
+            lp_gbuffer_texel(buffer, screen_points, map, scene, bvh, camera, tan_half,
+                             previous_camera, previous_tan_half, x, y, stats);
+    return buffer;
+}
+
+bool gaze_gbuffer_pixel(MaskedGBuffer& buffer, const LogPolarMap& map, const Scene& scene,
+                        const Bvh& bvh, const Camera& camera, float tan_half,
+                        const Camera& previous_camera, float previous_tan_half, int x, int y,
+                        FoveatedTraceStats& stats) {
+    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    if (!inside_gaze_circle(map, centre)) return false;
+    ++stats.gaze_pixels_traced;
+    buffer.valid.at(x, y) = 1.0f;
+    raycast_gbuffer_pixel(buffer.gbuffer, scene, bvh, camera, tan_half, previous_camera,
+                          previous_tan_half, x, y, stats.rays);
+    return true;
+}
+
+MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,
+                                 const Camera& camera, const Camera& previous_camera,
+                                 FoveatedTraceStats& stats) {
+    MaskedGBuffer buffer(map.screen_width, map.screen_height);
+    if (!map.has_gaze_buffer()) return buffer;
+    const float tan_half = tan_half_vfov(camera);
+    const float previous_tan_half = tan_half_vfov(previous_camera);
+    // The circle's bounding box, one pixel wider on each side, clipped to the screen (in double:
+    // the gaze may lie far off screen).
+    const double r = static_cast<double>(map.gaze_radius) + 1.0;
+    const auto clip = [](double value, int size) {
+        return static_cast<int>(std::clamp(value, 0.0, static_cast<double>(size)));
+    };
+    const int x0 = clip(std::floor(map.gaze.x - r), map.screen_width);
+    const int x1 = clip(std::ceil(map.gaze.x + r), map.screen_width);
+    const int y0 = clip(std::floor(map.gaze.y - r), map.screen_height);
+    const int y1 = clip(std::ceil(map.gaze.y + r), map.screen_height);
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x)
+            gaze_gbuffer_pixel(buffer, map, scene, bvh, camera, tan_half, previous_camera,
+                               previous_tan_half, x, y, stats);
+    return buffer;
+}
+
+Image ray_position_counts(const LogPolarMap& map, const Image& lp_valid, const Image& screen_points,
+                          const Image* gaze_valid) {
+    Image counts(map.screen_width, map.screen_height, 1, 0.0f);
+    for (int j = 0; j < lp_valid.height; ++j)
+        for (int i = 0; i < lp_valid.width; ++i) {
+            if (lp_valid.at(i, j) == 0.0f) continue;
+            const int x = static_cast<int>(std::floor(screen_points.at(i, j, 0)));
+            const int y = static_cast<int>(std::floor(screen_points.at(i, j, 1)));
+            counts.at(x, y) += 1.0f;  // a traced texel's point is on screen
+        }
+    if (gaze_valid)
+        for (int y = 0; y < counts.height; ++y)
+            for (int x = 0; x < counts.width; ++x) counts.at(x, y) += gaze_valid->at(x, y);
+    return counts;
+}
+
+}  // namespace fovref

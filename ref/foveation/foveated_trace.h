@@ -1,0 +1,75 @@
+// Ray generation and tracing in buffer space (Lund §3.3.1 LPRayGen, §3.3.3; SPEC §5.1-5.2): the
+// G-buffers of a foveated frame, read by the basic ray tracer's shading pass (ref/trace).
+//
+//   trace_lp_gbuffer:   for each texel (i, j) of the w x h log-polar buffer, row by row:
+//                         lp_gbuffer_texel(x = i, y = j):
+//                           centre (i + 1/2, j + 1/2) -> lp_inverse -> screen point p
+//                           p off screen (or inside the gaze circle): no ray, no data, valid 0
+//                           else the primary ray through p (SPEC §1), closest hit, the texel
+//                           written by write_gbuffer_sample (motion relative to p), valid 1
+//   trace_gaze_gbuffer: for each screen pixel (x, y) whose centre lies inside the gaze circle
+//                       (|centre - g| < r_G), row by row: raycast_gbuffer_pixel, exactly the
+//                       basic ray tracer's per-pixel work, so these pixels equal basic's bit for
+//                       bit; every other pixel keeps the background and valid 0.
+//
+// A texel or pixel that is not traced carries the G-buffer's background values (primitive id -1)
+// and 0 in the validity mask; only the mask tells it from a traced miss.
+#pragma once
+
+#include "ref/bvh/bvh.h"
+#include "ref/foveation/log_polar.h"
+#include "ref/raster/gbuffer.h"
+#include "ref/trace/raycast_gbuffer.h"
+
+namespace fovref {
+
+/// A G-buffer with a validity mask (1: a ray was traced for this texel or pixel, 0: not).
+struct MaskedGBuffer {
+    GBuffer gbuffer;
+    Image valid;  ///< 1 channel, 0 or 1
+    MaskedGBuffer() = default;
+    MaskedGBuffer(int width, int height) : gbuffer(width, height), valid(width, height, 1, 0.0f) {}
+};
+
+/// What the buffer-space passes did (they add to it).
+struct FoveatedTraceStats {
+    RaycastStats rays;  ///< the primary rays' traversal work (log-polar texels and gaze pixels)
+    std::int64_t texels_traced = 0;
+    std::int64_t texels_off_screen = 0;
+    std::int64_t texels_inside_gaze = 0;  ///< on screen but inside the gaze circle (G = 1 only)
+    std::int64_t gaze_pixels_traced = 0;
+};
+
+/// Per-texel work of trace_lp_gbuffer for texel (x, y) = (i, j). `screen_points` (2 channels,
+/// the buffer's size) receives the texel centre's inverse-mapped screen point, traced or not.
+/// Returns the texel's status.
+TexelStatus lp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const LogPolarMap& map,
+                             const Scene& scene, const Bvh& bvh, const Camera& camera,
+                             float tan_half, const Camera& previous_camera, float previous_tan_half,
+                             int x, int y, FoveatedTraceStats& stats);
+
+/// The log-polar buffer's G-buffer (map.width x map.height) and the texels' screen points.
+MaskedGBuffer trace_lp_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,
+                               const Camera& camera, const Camera& previous_camera,
+                               Image& screen_points, FoveatedTraceStats& stats);
+
+/// Per-pixel work of trace_gaze_gbuffer: traces pixel (x, y) when its centre is inside the gaze
+/// circle; returns whether it did.
+bool gaze_gbuffer_pixel(MaskedGBuffer& buffer, const LogPolarMap& map, const Scene& scene,
+                        const Bvh& bvh, const Camera& camera, float tan_half,
+                        const Camera& previous_camera, float previous_tan_half, int x, int y,
+                        FoveatedTraceStats& stats);
+
+/// The gaze buffer: screen-sized (W x H), traced inside the gaze circle only (only the circle's
+/// bounding box is visited; the result is the same as visiting every pixel).
+MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,
+                                 const Camera& camera, const Camera& previous_camera,
+                                 FoveatedTraceStats& stats);
+
+/// Where the rays of a foveated frame went (Lund Fig. 3.3): a W x H count of the primary rays
+/// whose screen point lies in each pixel (log-polar texels by their screen point, gaze pixels
+/// by their centre).
+Image ray_position_counts(const LogPolarMap& map, const Image& lp_valid, const Image& screen_points,
+                          const Image* gaze_valid);
+
+}  // namespace fovref

@@ -1,0 +1,108 @@
+#include "ref/foveation/resolve.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ref/core/error.h"
+
+namespace fovref {
+
+namespace {
+
+float lerp(float a, float b, float t) { return a + t * (b - a); }
+
+/// One row of the lookup: lerp in u over the traced taps; returns the row's weight.
+float sample_row(const Image& buffer, const BilinearLookup& l, int j, const bool traced[2],
+                 float* out) {
+    const int channels = buffer.channels;
+    if (traced[0] && traced[1]) {
+        for (int c = 0; c < channels; ++c)
+            out[c] = lerp(buffer.at(l.i0, j, c), buffer.at(l.i1, j, c), l.fu);
+        return 1.0f;
+    }
+    if (traced[0] || traced[1]) {
+        const int i = traced[0] ? l.i0 : l.i1;
+        for (int c = 0; c < channels; ++c) out[c] = buffer.at(i, j, c);
+        return traced[0] ? 1.0f - l.fu : l.fu;
+    }
+    return 0.0f;
+}
+
+}  // namespace
+
+bool sample_lp_bilinear(const Image& buffer, const Image& valid, glm::vec2 uv, float* out,
+                        BilinearLookup* lookup) {
+    const int w = buffer.width, h = buffer.height, channels = buffer.channels;
+    BilinearLookup l;
+    l.uv = uv;
+    // lp_forward gives a finite u and v in [0, h); anything else is a caller's bug.
+    FOVREF_CHECK(std::isfinite(uv.x) && uv.y >= -1.0f && uv.y <= static_cast<float>(h) + 1.0f,
+                 "bilinear lookup outside the buffer's angular range");
+    // u: clamped to the first and last texel centres.
+    const float s = std::clamp(uv.x, 0.5f, static_cast<float>(w) - 0.5f) - 0.5f;
+    const float i0 = std::floor(s);
+    l.i0 = static_cast<int>(i0);
+    l.i1 = std::min(l.i0 + 1, w - 1);
+    l.fu = s - i0;
+    // v: wraps (v is in [0, h) from lp_forward; a lookup outside is wrapped the same way).
+    const float t = uv.y - 0.5f;
+    const float j0 = std::floor(t);
+    l.fv = t - j0;
+    l.j0 = static_cast<int>(j0) % h;
+    if (l.j0 < 0) l.j0 += h;
+    l.j1 = (l.j0 + 1) % h;
+    l.traced[0] = valid.at(l.i0, l.j0) != 0.0f;
+    l.traced[1] = valid.at(l.i1, l.j0) != 0.0f;
+    l.traced[2] = valid.at(l.i0, l.j1) != 0.0f;
+    l.traced[3] = valid.at(l.i1, l.j1) != 0.0f;
+
+    float row0[4] = {0, 0, 0, 0}, row1[4] = {0, 0, 0, 0};
+    FOVREF_CHECK(channels <= 4, "bilinear lookup of a buffer with more than 4 channels");
+    const float w0 = sample_row(buffer, l, l.j0, &l.traced[0], row0);
+    const float w1 = sample_row(buffer, l, l.j1, &l.traced[2], row1);
+    l.row_weight[0] = (1.0f - l.fv) * w0;
+    l.row_weight[1] = l.fv * w1;
+    bool any = true;
+    if (l.row_weight[0] > 0.0f && l.row_weight[1] > 0.0f) {
+        l.t = w0 == w1 ? l.fv : l.row_weight[1] / (l.row_weight[0] + l.row_weight[1]);
+        for (int c = 0; c < channels; ++c) out[c] = lerp(row0[c], row1[c], l.t);
+    } else if (l.row_weight[0] > 0.0f) {
+        l.t = 0.0f;
+        for (int c = 0; c < channels; ++c) out[c] = row0[c];
+    } else if (l.row_weight[1] > 0.0f) {
+        l.t = 1.0f;
+        for (int c = 0; c < channels; ++c) out[c] = row1[c];
+    } else {
+        any = false;
+        for (int c = 0; c < channels; ++c) out[c] = 0.0f;
+    }
+    if (lookup) *lookup = l;
+    return any;
+}
+
+void resolve_pixel(const LogPolarMap& map, const ResolveInputs& in, Image& out, int x, int y,
+                   ResolveStats& stats, BilinearLookup* lookup) {
+    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    float* pixel = &out.at(x, y, 0);
+    if (in.gaze && inside_gaze_circle(map, centre)) {
+        ++stats.pixels_from_gaze;
+        for (int c = 0; c < out.channels; ++c) pixel[c] = in.gaze->at(x, y, c);
+        return;
+    }
+    ++stats.pixels_from_buffer;
+    if (!sample_lp_bilinear(in.buffer, in.buffer_valid, lp_forward(map, centre), pixel, lookup))
+        ++stats.pixels_untraced_taps;
+}
+
+Image resolve_log_polar(const LogPolarMap& map, const ResolveInputs& in, ResolveStats& stats) {
+    FOVREF_CHECK_EQ(in.buffer.width, map.width, "log-polar buffer width");
+    FOVREF_CHECK_EQ(in.buffer.height, map.height, "log-polar buffer height");
+    FOVREF_CHECK_EQ(in.buffer_valid.width, map.width, "validity mask width");
+    if (in.gaze) FOVREF_CHECK_EQ(in.gaze->width, map.screen_width, "gaze buffer width");
+    Image out(map.screen_width, map.screen_height, in.buffer.channels, 0.0f);
+    for (int y = 0; y < map.screen_height; ++y)
+        for (int x = 0; x < map.screen_width; ++x) resolve_pixel(map, in, out, x, y, stats);
+    return out;
+}
+
+}  // namespace fovref

@@ -1,0 +1,191 @@
+#include "ref/modes/foveated_modes.h"
+
+#include <cmath>
+#include <memory>
+
+#include "ref/foveation/foveated_params.h"
+#include "ref/foveation/foveated_trace.h"
+#include "ref/foveation/gaussian_lerp.h"
+#include "ref/foveation/resolve.h"
+#include "ref/modes/mode_common.h"
+#include "ref/raster/gbuffer.h"
+#include "ref/trace/shade_basic.h"
+
+namespace fovref {
+
+namespace {
+
+struct FoveatedModeState : ModeState {
+    FoveatedParams params;
+    BvhCache bvh;
+};
+
+std::vector<std::string> shade_inputs(const std::string& prefix) {
+    return {prefix + "world_position", prefix + "shading_normal", prefix + "geometric_normal",
+            prefix + "albedo",         prefix + "material_id",    prefix + "primitive_id"};
+}
+
+/// The shading pass over one G-buffer (log-polar or gaze), as basic's shade_direct stage.
+Image shade_gbuffer(FrameContext& ctx, const std::string& prefix) {
+    FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
+    const Scene& scene = *ctx.scene;
+    const ShadeInputs inputs{
+        ctx.input(prefix + "world_position"),   ctx.input(prefix + "shading_normal"),
+        ctx.input(prefix + "geometric_normal"), ctx.input(prefix + "albedo"),
+        ctx.input(prefix + "material_id"),      ctx.input(prefix + "primitive_id")};
+    const Bvh* tree = scene.lights.empty() ? nullptr : &state.bvh.get(scene, ctx.result->counters);
+    ShadingStats stats;
+    Image out = shade_basic(scene, tree, inputs, ctx.camera, ctx.frame, stats);
+    add_shading_counters(ctx.result->counters, stats);
+    ctx.note = shadow_note(scene);
+    return out;
+}
+
+void add_mask(FrameResult& result, const std::string& name, Image mask) {
+    result.add(name, BufferKind::id, {"valid"}, std::move(mask));
+}
+
+}  // namespace
+
+LogPolarMap frame_log_polar_map(const FrameContext& ctx) {
+    const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
+    const RenderSettings& s = *ctx.settings;
+    const float d_px =
+        display_distance_px(ctx.scene->display, s.width, s.height, ctx.camera.vfov_deg);
+    return make_log_polar_map(state.params.map, s.width, s.height,
+                              gaze_point(state.params, s.width, s.height), d_px);
+}
+
+void lp_trace_stage(FrameContext& ctx) {
+    FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
+    const LogPolarMap map = frame_log_polar_map(ctx);
+    Counters& counters = ctx.result->counters;
+    FoveatedTraceStats stats;
+    Image screen_points;
+    MaskedGBuffer lp = trace_lp_gbuffer(map, *ctx.scene, state.bvh.get(*ctx.scene, counters),
+                                        ctx.camera, ctx.previous_camera, screen_points, stats);
+    counters.add("buffer_width", map.width);
+    counters.add("buffer_height", map.height);
+    counters.add("texels_traced", stats.texels_traced);
+    counters.add("texels_off_screen", stats.texels_off_screen);
+    if (stats.texels_inside_gaze > 0) counters.add("texels_inside_gaze", stats.texels_inside_gaze);
+    add_trace_counters(counters, "primary", stats.rays.primary);
+    ctx.note = std::to_string(map.width) + "x" + std::to_string(map.height) + " texels, " +
+               std::to_string(stats.texels_traced) + " traced, K = " + kernel_text(map.kernel);
+    add_gbuffer(*ctx.result, std::move(lp.gbuffer), "lp_gbuffer_");
+    add_mask(*ctx.result, "lp_valid", std::move(lp.valid));
+    ctx.result->add("lp_screen_point", BufferKind::scalar, {"x", "y"}, std::move(screen_points));
+}
+
+void gaze_trace_stage(FrameContext& ctx) {
+    FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
+    const LogPolarMap map = frame_log_polar_map(ctx);
+    Counters& counters = ctx.result->counters;
+    FoveatedTraceStats stats;
+    MaskedGBuffer gaze = trace_gaze_gbuffer(map, *ctx.scene, state.bvh.get(*ctx.scene, counters),
+                                            ctx.camera, ctx.previous_camera, stats);
+    counters.add("gaze_radius_px", static_cast<std::int64_t>(std::round(map.gaze_radius)));
+    counters.add("gaze_pixels_traced", stats.gaze_pixels_traced);
+    add_trace_counters(counters, "primary", stats.rays.primary);
+    ctx.note = "r_G = " + std::to_string(map.gaze_radius) + " px, " +
+               std::to_string(stats.gaze_pixels_traced) + " pixels traced";
+    add_gbuffer(*ctx.result, std::move(gaze.gbuffer), "gaze_gbuffer_");
+    add_mask(*ctx.result, "gaze_valid", std::move(gaze.valid));
+}
+
+void lp_shade_stage(FrameContext& ctx) {
+    ctx.result->add("lp_color", BufferKind::color, {"r", "g", "b"},
+                    shade_gbuffer(ctx, "lp_gbuffer_"));
+}
+
+void gaze_shade_stage(FrameContext& ctx) {
+    ctx.result->add("gaze_color", BufferKind::color, {"r", "g", "b"},
+                    shade_gbuffer(ctx, "gaze_gbuffer_"));
+}
+
+void resolve_stage(FrameContext& ctx) {
+    const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
+    const LogPolarMap map = frame_log_polar_map(ctx);
+    const bool composite = map.has_gaze_buffer();
+    const ResolveInputs inputs{ctx.input("lp_color"), ctx.input("lp_valid"),
+                               composite ? &ctx.input("gaze_color") : nullptr};
+    ResolveStats stats;
+    Image out = resolve_log_polar(map, inputs, stats);
+    ctx.result->counters.add("screen_pixels_untraced_taps", stats.pixels_untraced_taps);
+    ctx.note = std::to_string(stats.pixels_from_gaze) + " pixels from the gaze buffer, " +
+               std::to_string(stats.pixels_from_buffer) + " from the log-polar buffer";
+    const char* name = state.params.gaussian_lerp ? "resolved" : "final";
+    ctx.result->add(name, BufferKind::color, {"r", "g", "b"}, std::move(out));
+}
+
+void gaussian_lerp_stage(FrameContext& ctx) {
+    const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
+    const RenderSettings& s = *ctx.settings;
+    ctx.result->add(
+        "final", BufferKind::color, {"r", "g", "b"},
+        gaussian_lerp(ctx.input("resolved"), gaze_point(state.params, s.width, s.height)));
+}
+
+void ray_positions_stage(FrameContext& ctx) {
+    const LogPolarMap map = frame_log_polar_map(ctx);
+    const Image* gaze_valid = map.has_gaze_buffer() ? &ctx.input("gaze_valid") : nullptr;
+    ctx.result->add(
+        "ray_positions", BufferKind::scalar, {"rays"},
+        ray_position_counts(map, ctx.input("lp_valid"), ctx.input("lp_screen_point"), gaze_valid));
+}
+
+std::vector<PixelFunction> foveated_pixel_functions(const Params&) {
+    return {{"lp_trace", "fovref::lp_gbuffer_texel", "x, y: the texel (i, j)"},
+            {"gaze_trace", "fovref::gaze_gbuffer_pixel", "composite modes only"},
+            {"lp_shade", "fovref::shade_basic_pixel", "x, y: the texel (i, j)"},
+            {"resolve", "fovref::resolve_pixel", ""}};
+}
+
+Pipeline foveated_pipeline(const std::string& preset_name, const Scene*,
+                           const RenderSettings& settings) {
+    const FoveationPreset& preset = find_foveation_preset(preset_name);
+    auto state = std::make_shared<FoveatedModeState>();
+    state->params = parse_foveated_params(settings.params, preset);
+    // Validate the map's parameters now (the buffer size, a_G), not in the first stage.
+    log_polar_buffer_size(state->params.map, settings.width, settings.height);
+    const bool composite = state->params.map.gaze_angle > 0.0f;
+    std::vector<std::string> lp_outputs = gbuffer_names("lp_gbuffer_");
+    lp_outputs.push_back("lp_valid");
+    lp_outputs.push_back("lp_screen_point");
+    std::vector<std::string> gaze_outputs = gbuffer_names("gaze_gbuffer_");
+    gaze_outputs.push_back("gaze_valid");
+
+    Pipeline p;
+    p.state = state;
+    p.stages.push_back({"lp_trace", {}, lp_outputs, lp_trace_stage});
+    if (composite) p.stages.push_back({"gaze_trace", {}, gaze_outputs, gaze_trace_stage});
+    p.stages.push_back({"lp_shade", shade_inputs("lp_gbuffer_"), {"lp_color"}, lp_shade_stage});
+    if (composite)
+        p.stages.push_back(
+            {"gaze_shade", shade_inputs("gaze_gbuffer_"), {"gaze_color"}, gaze_shade_stage});
+    std::vector<std::string> resolve_inputs = {"lp_color", "lp_valid"};
+    if (composite) resolve_inputs.push_back("gaze_color");
+    const bool lerp = state->params.gaussian_lerp;
+    p.stages.push_back({"resolve", resolve_inputs, {lerp ? "resolved" : "final"}, resolve_stage});
+    if (lerp) p.stages.push_back({"gaussian_lerp", {"resolved"}, {"final"}, gaussian_lerp_stage});
+    std::vector<std::string> position_inputs = {"lp_valid", "lp_screen_point"};
+    if (composite) position_inputs.push_back("gaze_valid");
+    p.stages.push_back({"ray_positions", position_inputs, {"ray_positions"}, ray_positions_stage});
+    p.final_outputs = {"final"};
+    return p;
+}
+
+Pipeline fov_pipeline(const Scene* scene, const RenderSettings& settings) {
+    return foveated_pipeline("fov", scene, settings);
+}
+Pipeline kfov_pipeline(const Scene* scene, const RenderSettings& settings) {
+    return foveated_pipeline("kfov", scene, settings);
+}
+Pipeline cfov_pipeline(const Scene* scene, const RenderSettings& settings) {
+    return foveated_pipeline("cfov", scene, settings);
+}
+Pipeline ckfov_pipeline(const Scene* scene, const RenderSettings& settings) {
+    return foveated_pipeline("ckfov", scene, settings);
+}
+
+}  // namespace fovref

@@ -1,0 +1,31 @@
+// What the ray-tracing modes share (internal to ref/modes): the BVH built on first use, and the
+// counters every tracing or shading stage adds to its frame (their names are read by scripts and
+// recorded in golden manifests).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "ref/bvh/bvh.h"
+#include "ref/raster/rasterizer.h"
+#include "ref/stage/frame.h"
+#include "ref/trace/direct_light.h"
+
+namespace fovref {
+
+/// The scene's BVH, built when a stage first traces a ray and kept for later frames; its build
+/// appears in the counters of the frame that needed it.
+struct BvhCache {
+    std::optional<Bvh> bvh;
+    const Bvh& get(const Scene& scene, Counters& counters);
+};
+
+/// rays_<kind>, <kind>_nodes_visited, <kind>_triangles_tested, <kind>_hits.
+void add_trace_counters(Counters& counters, const std::string& kind, const TraceStats& stats);
+void add_raster_counters(Counters& counters, const RasterStats& stats);
+void add_shading_counters(Counters& counters, const ShadingStats& stats);
+
+/// The stage note of a shading pass: says when no shadow rays were traced.
+std::string shadow_note(const Scene& scene);
+
+}  // namespace fovref

@@ -1,0 +1,279 @@
+// The foveated modes end to end (ref/modes/foveated_modes.h) and pass 2 and the filters on
+// hand-computed cases (ref/foveation/resolve.h, gaussian_lerp.h): counters against direct
+// counts, the composite gaze pixels against the basic ray tracer bit for bit, a constant buffer
+// through pass 2, degenerate screens and parameters.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "ref/foveation/foveated_params.h"
+#include "ref/foveation/gaussian_lerp.h"
+#include "ref/foveation/resolve.h"
+#include "ref/modes/modes.h"
+#include "ref/scene/procedural.h"
+#include "tests/image/image_test_util.h"
+
+using namespace fovref;
+
+namespace {
+
+const Scene& cornell() {
+    static const Scene scene = make_procedural_scene("cornell");
+    return scene;
+}
+
+FrameResult render_one(const Scene& scene, const std::string& mode, int width, int height,
+                       std::map<std::string, std::string> params = {},
+                       std::vector<std::string> requested = {"all"}) {
+    RenderSettings s;
+    s.width = width;
+    s.height = height;
+    s.params = Params(std::move(params));
+    s.requested = std::move(requested);
+    std::vector<FrameResult> frames = render(&scene, mode, s);
+    REQUIRE(frames.size() == 1);
+    return std::move(frames[0]);
+}
+
+const Image& buffer(const FrameResult& f, const std::string& name) {
+    const Buffer* b = f.find(name);
+    REQUIRE_MESSAGE(b != nullptr, name);
+    return b->image;
+}
+
+bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+glm::vec2 centre(int x, int y) {
+    return {static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+}
+
+}  // namespace
+
+TEST_CASE("foveated modes: counters equal direct counts of the buffers") {
+    // texels_traced = the texels whose stored screen point lies on screen = the mask's ones;
+    // rays_primary = texels_traced + gaze_pixels_traced = the sum of ray_positions; the buffer's
+    // size is the preset's.
+    for (const std::string mode : {"fov", "kfov", "cfov", "ckfov"}) {
+        const FrameResult f = render_one(cornell(), mode, 160, 90, {{"gaze", "50.5,30"}});
+        const Image& valid = buffer(f, "lp_valid");
+        const Image& points = buffer(f, "lp_screen_point");
+        std::int64_t masked = 0, on_screen = 0;
+        for (int j = 0; j < valid.height; ++j)
+            for (int i = 0; i < valid.width; ++i) {
+                masked += valid.at(i, j) != 0.0f;
+                const float x = points.at(i, j, 0), y = points.at(i, j, 1);
+                on_screen += x >= 0 && x < 160 && y >= 0 && y < 90;
+            }
+        INFO(mode);
+        const Counters& c = f.counters;
+        CHECK(c.get("buffer_width") == valid.width);
+        CHECK(c.get("buffer_height") == valid.height);
+        CHECK(c.get("texels_traced") == masked);
+        CHECK(c.get("texels_traced") == on_screen);
+        CHECK(c.get("texels_traced") + c.get("texels_off_screen") ==
+              static_cast<std::int64_t>(valid.width) * valid.height);
+        CHECK(c.get("rays_primary") == c.get("texels_traced") + c.get("gaze_pixels_traced"));
+        double rays = 0.0;
+        const Image& positions = buffer(f, "ray_positions");
+        for (const float v : positions.data) rays += v;
+        CHECK(rays == static_cast<double>(c.get("rays_primary")));
+        const BufferSize size = log_polar_buffer_size(find_foveation_preset(mode).map, 160, 90);
+        CHECK(valid.width == size.width);
+        CHECK(valid.height == size.height);
+        if (mode[0] == 'c') {
+            // The gaze pixels: the pixel centres inside the circle, counted directly.
+            const float d_px = f.display_distance_px;
+            const float r_g = d_px * std::tan(find_foveation_preset(mode).map.gaze_angle);
+            std::int64_t inside = 0, gaze_masked = 0;
+            const Image& gaze_valid = buffer(f, "gaze_valid");
+            for (int y = 0; y < 90; ++y)
+                for (int x = 0; x < 160; ++x) {
+                    const double dx = x + 0.5 - 50.5, dy = y + 0.5 - 30.0;
+                    inside += std::sqrt(dx * dx + dy * dy) < r_g;
+                    gaze_masked += gaze_valid.at(x, y) != 0.0f;
+                }
+            CHECK(c.get("gaze_pixels_traced") == gaze_masked);
+            // Pixels exactly on the circle may round either way: none here.
+            CHECK(c.get("gaze_pixels_traced") == inside);
+            CHECK(c.get("gaze_radius_px") == static_cast<std::int64_t>(std::round(r_g)));
+        }
+    }
+}
+
+TEST_CASE("foveated modes: composite gaze pixels equal the basic ray tracer's bit for bit") {
+    const FrameResult basic = render_one(cornell(), "basic", 160, 90, {}, {});
+    for (const std::string mode : {"cfov", "ckfov"})
+        for (const std::string gaze : {"", "20,70.25", "-10,45"}) {
+            const FrameResult f = render_one(cornell(), mode, 160, 90, {{"gaze", gaze}});
+            const Image& gaze_valid = buffer(f, "gaze_valid");
+            const Image& out = buffer(f, "final");
+            const Image& ref = buffer(basic, "final");
+            std::int64_t compared = 0, differing = 0;
+            for (int y = 0; y < 90; ++y)
+                for (int x = 0; x < 160; ++x) {
+                    if (gaze_valid.at(x, y) == 0.0f) continue;
+                    ++compared;
+                    for (int c = 0; c < 3; ++c)
+                        differing += !same_bits(out.at(x, y, c), ref.at(x, y, c));
+                }
+            INFO(mode, " gaze '", gaze, "'");
+            CHECK(compared == f.counters.get("gaze_pixels_traced"));
+            CHECK(compared > 0);
+            CHECK(differing == 0);
+        }
+}
+
+TEST_CASE("foveated modes: a gaze circle covering the screen gives the basic image") {
+    // a_G = 1.5 rad: r_G = 49.4 tan(1.5) = 699 px around the centre of 64x36: every pixel is a
+    // gaze pixel, no texel is traced, and the image is basic's, bit for bit.
+    const FrameResult basic = render_one(cornell(), "basic", 64, 36, {}, {});
+    const FrameResult f = render_one(cornell(), "cfov", 64, 36, {{"gaze_angle", "1.5"}});
+    CHECK(f.counters.get("gaze_pixels_traced") == 64 * 36);
+    CHECK(f.counters.get("texels_traced") == 0);
+    CHECK(f.counters.get("screen_pixels_untraced_taps") == 0);
+    const Image& out = buffer(f, "final");
+    const Image& ref = buffer(basic, "final");
+    for (std::size_t k = 0; k < out.data.size(); ++k) REQUIRE(same_bits(out.data[k], ref.data[k]));
+}
+
+TEST_CASE("foveated modes: a 1x1 screen and extreme parameters render without NaN") {
+    // 1x1: the one texel's centre maps off screen (log_polar_test), so the pixel is black and
+    // counted as having no traced tap.
+    const FrameResult tiny = render_one(cornell(), "fov", 1, 1);
+    CHECK(tiny.counters.get("texels_traced") == 0);
+    CHECK(tiny.counters.get("screen_pixels_untraced_taps") == 1);
+    CHECK(buffer(tiny, "final").at(0, 0) == 0.0f);
+    const std::vector<std::map<std::string, std::string>> extremes = {
+        {{"sigma", "0.25"}},
+        {{"sigma", "8"}},
+        {{"alpha", "8"}},
+        {{"lp_aspect", "0.1"}},
+        {{"lp_aspect", "10"}},
+        {{"lp_aspect", "0"}, {"L", "corners"}},
+        {{"beta", "0,0.25,0.75"}},
+        {{"gaze", "-500,-500"}},
+        {{"gaze", "40,0"}, {"gaze_angle", "0.6"}},
+        {{"filters", "lerp"}, {"gaze", "79,44"}},
+    };
+    for (const auto& params : extremes) {
+        const FrameResult f = render_one(cornell(), "ckfov", 80, 45, params);
+        for (const Buffer& b : f.buffers)
+            for (const float v : b.image.data) REQUIRE_MESSAGE(std::isfinite(v), b.name);
+    }
+}
+
+TEST_CASE("foveated modes: parameters override the preset and bad ones are named") {
+    const FrameResult f = render_one(cornell(), "fov", 80, 45, {{"sigma", "2"}}, {"final"});
+    // h = round(sqrt(3600 / 1.2) / 2) = round(27.39) = 27; w = round(32.4) = 32.
+    CHECK(f.counters.get("buffer_width") == 32);
+    CHECK(f.counters.get("buffer_height") == 27);
+    const auto message = [](std::map<std::string, std::string> params) {
+        return test::error_message([&] { render_one(cornell(), "kfov", 16, 9, params); });
+    };
+    CHECK(test::contains(message({{"beta", "0,-0.5,1.5"}}), "parameter 'beta': K'(0)"));
+    CHECK(test::contains(message({{"beta", "0,1"}, {"alpha", "2"}}), "'alpha' and 'beta'"));
+    CHECK(test::contains(message({{"gaze", "1"}}), "parameter 'gaze': expected X,Y"));
+    CHECK(test::contains(message({{"gaze", "1,nan"}}), "parameter 'gaze'"));
+    CHECK(test::contains(message({{"filters", "blur"}}), "parameter 'filters'"));
+    CHECK(test::contains(message({{"L", "radius"}}), "parameter 'L'"));
+    CHECK(test::contains(message({{"sigma", "0"}}), "parameter 'sigma'"));
+    CHECK(test::contains(message({{"alpha", "0.5"}}), "parameter 'alpha'"));
+    CHECK(test::contains(message({{"ipd", "0.06"}}), "not a parameter of mode 'kfov'"));
+}
+
+TEST_CASE("pass 2: a constant buffer resolves to exactly that constant where a tap is traced") {
+    // A 3-channel buffer of constants with a pseudo-random validity mask (1 texel in 3 missing):
+    // every screen pixel with a traced tap gets the constant bit for bit (the lerps of equal
+    // values are exact), every other pixel is black and counted.
+    LogPolarParams params;
+    params.sigma = 1.5f;
+    params.lp_aspect = 1.0f;
+    const LogPolarMap map = make_log_polar_map(params, 96, 54, {30.5f, 20.25f}, 60.0f);
+    Image lp(map.width, map.height, 3, 0.0f), valid(map.width, map.height, 1, 0.0f);
+    test::SplitMix64 rng(7);
+    for (int j = 0; j < map.height; ++j)
+        for (int i = 0; i < map.width; ++i) {
+            valid.at(i, j) = rng.below(3) != 0 ? 1.0f : 0.0f;
+            lp.at(i, j, 0) = 0.3f;
+            lp.at(i, j, 1) = 1.7f;
+            lp.at(i, j, 2) = 1e-7f;
+        }
+    ResolveStats stats;
+    const Image out = resolve_log_polar(map, {lp, valid, nullptr}, stats);
+    std::int64_t black = 0;
+    for (int y = 0; y < 54; ++y)
+        for (int x = 0; x < 96; ++x) {
+            if (out.at(x, y, 0) == 0.0f) {
+                ++black;
+                continue;
+            }
+            REQUIRE(out.at(x, y, 0) == 0.3f);
+            REQUIRE(out.at(x, y, 1) == 1.7f);
+            REQUIRE(out.at(x, y, 2) == 1e-7f);
+        }
+    CHECK(black == stats.pixels_untraced_taps);
+    CHECK(stats.pixels_from_buffer == 96 * 54);
+}
+
+TEST_CASE("pass 2: bilinear lookups by hand, with wrap, clamp and missing taps") {
+    // A 4x3 one-channel buffer with values 10 i + j.
+    Image lp(4, 3, 1, 0.0f), valid(4, 3, 1, 1.0f);
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 4; ++i) lp.at(i, j) = static_cast<float>(10 * i + j);
+    float out = 0.0f;
+    BilinearLookup l;
+    // All traced at (u, v) = (1.75, 1.25): s = 1.25, fu = 0.25; t = 0.75, fv = 0.75; taps
+    // (1, 0), (2, 0), (1, 1), (2, 1): rows 12.5 and 13.5, result 12.5 + 0.75 = 13.25.
+    REQUIRE(sample_lp_bilinear(lp, valid, {1.75f, 1.25f}, &out, &l));
+    CHECK(out == 13.25f);
+    CHECK(l.i0 == 1);
+    CHECK(l.j0 == 0);
+    // v wraps: v = 0.25 -> rows j0 = -1 -> 2 and j1 = 0, fv = 0.75: lerp(row 2, row 0, 0.75).
+    REQUIRE(sample_lp_bilinear(lp, valid, {0.5f, 0.25f}, &out, &l));
+    CHECK(l.j0 == 2);
+    CHECK(l.j1 == 0);
+    CHECK(out == 2.0f + 0.75f * (0.0f - 2.0f));
+    // u clamps: u = 9 -> the last column's centre, u = -3 -> the first.
+    REQUIRE(sample_lp_bilinear(lp, valid, {9.0f, 1.5f}, &out));
+    CHECK(out == 31.0f);
+    REQUIRE(sample_lp_bilinear(lp, valid, {-3.0f, 1.5f}, &out));
+    CHECK(out == 1.0f);
+    // A missing tap: (2, 1) untraced at (1.75, 1.25). Weights (1 - fu)(1 - fv) = 0.1875 for
+    // 10, fu (1 - fv) = 0.0625 for 20, (1 - fu) fv = 0.5625 for 11: sum 0.8125;
+    // (1.875 + 1.25 + 6.1875) / 0.8125 = 11.4615...
+    valid.at(2, 1) = 0.0f;
+    REQUIRE(sample_lp_bilinear(lp, valid, {1.75f, 1.25f}, &out, &l));
+    CHECK(out == doctest::Approx((0.1875 * 10 + 0.0625 * 20 + 0.5625 * 11) / 0.8125).epsilon(1e-6));
+    CHECK_FALSE(l.traced[3]);
+    // Every tap missing: black, false.
+    for (float& v : valid.data) v = 0.0f;
+    out = 5.0f;
+    CHECK_FALSE(sample_lp_bilinear(lp, valid, {1.75f, 1.25f}, &out));
+    CHECK(out == 0.0f);
+}
+
+TEST_CASE("Gaussian lerp: the blend amount and a filtered pixel by hand") {
+    // 60x80 screen, gaze (10, 10): D = 100, D/6 = 16.667, farthest corner (60, 80) at
+    // sqrt(50^2 + 70^2) = 86.023. Pixel (40, 50): centre (40.5, 50.5), distance
+    // sqrt(30.5^2 + 40.5^2) = 50.700: t = (50.700 - 16.667) / (86.023 - 16.667) = 0.49070.
+    const glm::vec2 gaze{10, 10};
+    const double t = (std::hypot(30.5, 40.5) - 100.0 / 6) / (std::hypot(50.0, 70.0) - 100.0 / 6);
+    CHECK(gaussian_lerp_amount(60, 80, gaze, centre(40, 50)) == doctest::Approx(t).epsilon(1e-6));
+    CHECK(gaussian_lerp_amount(60, 80, gaze, centre(10, 10)) == 0.0f);
+    CHECK(gaussian_lerp_amount(60, 80, gaze, {60, 80}) == 1.0f);
+    // An image that is 1 at (40, 50) and 0 elsewhere: the pixel keeps 1 - t + t 4/16, its right
+    // neighbour gets t' 2/16 (its own t'), a far pixel stays 0.
+    Image in(60, 80, 1, 0.0f);
+    in.at(40, 50) = 1.0f;
+    const Image out = gaussian_lerp(in, gaze);
+    CHECK(out.at(40, 50) == doctest::Approx(1 - t + t * 0.25).epsilon(1e-6));
+    const double t_right =
+        (std::hypot(31.5, 40.5) - 100.0 / 6) / (std::hypot(50.0, 70.0) - 100.0 / 6);
+    CHECK(out.at(41, 50) == doctest::Approx(t_right * 2 / 16).epsilon(1e-6));
+    CHECK(out.at(10, 10) == 0.0f);
+    // Border pixels clamp their neighbours: a constant image is unchanged everywhere.
+    Image flat(60, 80, 1, 0.625f);
+    const Image flat_out = gaussian_lerp(flat, gaze);
+    for (const float v : flat_out.data) REQUIRE(v == 0.625f);
+}
