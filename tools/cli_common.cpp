@@ -1,5 +1,6 @@
 #include "tools/cli_common.h"
 
+#include <CLI/CLI.hpp>
 #include <iostream>
 
 #include "ref/core/error.h"
@@ -23,7 +24,18 @@ GoldenCase command_case(const CaseOptions& o, const std::string& name) {
     run.time_start = o.time_start;
     run.time_step = o.time_step;
     for (const std::string& p : o.params) run.params.set_from_assignment(p);
+    if (!o.gaze.empty()) {
+        if (run.params.given("gaze"))
+            throw Error(name + ": --gaze and --param gaze=... both given; give one");
+        run.params.set("gaze", o.gaze);
+    }
     return run;
+}
+
+void add_gaze_option(CLI::App& c, CaseOptions& o) {
+    c.add_option("--gaze", o.gaze,
+                 "gaze point X,Y in screen pixels for the foveated modes (any finite point, off "
+                 "screen too; default the screen centre) (= --param gaze=X,Y)");
 }
 
 std::optional<Scene> command_scene(const CaseOptions& o, const std::string& command) {

@@ -9,6 +9,10 @@
 #include "ref/golden/bundle.h"
 #include "ref/scene/scene.h"
 
+namespace CLI {
+class App;
+}
+
 namespace fovref {
 
 /// Exit codes of fovref: 0 ok, 1 a check failed (golden verify, diff, probe), 2 usage or input
@@ -26,7 +30,11 @@ struct CaseOptions {
     float time_start = 0.0f;          ///< camera-path time of frame 0
     float time_step = 1.0f / 30;      ///< camera-path time between frames
     std::vector<std::string> params;  ///< mode parameters, key=value
+    std::string gaze;                 ///< --gaze X,Y: the foveated modes' gaze=X,Y ("": unset)
 };
+
+/// Registers --gaze X,Y on a command whose options derive from CaseOptions.
+void add_gaze_option(CLI::App& command, CaseOptions& options);
 
 /// The case the options describe, named `name`, with one frame.
 GoldenCase command_case(const CaseOptions& options, const std::string& name);

@@ -110,6 +110,7 @@ void add_probe_options(CLI::App& c, ProbeOptions& o) {
     c.add_option("--time-step", o.time_step, "camera-path time between frames")
         ->capture_default_str();
     c.add_option("--param", o.params, "mode parameter key=value (repeatable)");
+    add_gaze_option(c, o);
     c.add_flag("--json", o.json, "machine-readable output");
     c.add_option("--debugger", o.debugger,
                  "also print a gdb or lldb command line that renders this case and stops in "

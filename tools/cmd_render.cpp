@@ -39,6 +39,7 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     c.add_option("--time-step", o.time_step, "camera-path time between frames")
         ->capture_default_str();
     c.add_option("--param", o.params, "mode parameter key=value (repeatable)");
+    add_gaze_option(c, o);
     c.add_option("--primary", o.primary,
                  "primary visibility for 'basic': ray or raster (= --param primary=...)")
         ->check(CLI::IsMember({"ray", "raster"}));
