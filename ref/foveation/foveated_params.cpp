@@ -117,4 +117,10 @@ glm::vec2 gaze_point(const FoveatedParams& params, int width, int height) {
     return {static_cast<float>(width) * 0.5f, static_cast<float>(height) * 0.5f};
 }
 
+LogPolarMap foveated_map(const FoveatedParams& params, const Scene& scene, const Camera& camera,
+                         int width, int height) {
+    const float d_px = display_distance_px(scene.display, width, height, camera.vfov_deg);
+    return make_log_polar_map(params.map, width, height, gaze_point(params, width, height), d_px);
+}
+
 }  // namespace fovref

@@ -16,6 +16,7 @@
 #include <glm/glm.hpp>
 
 #include "ref/foveation/log_polar.h"
+#include "ref/scene/scene.h"
 #include "ref/stage/params.h"
 
 namespace fovref {
@@ -48,5 +49,10 @@ FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset
 
 /// The gaze for a W x H screen: the given point, else the centre (W/2, H/2).
 glm::vec2 gaze_point(const FoveatedParams& params, int width, int height);
+
+/// The log-polar map of a W x H frame: the parameters' map, the gaze point and the viewing
+/// distance of the scene's display model for the camera (docs/foveation.md).
+LogPolarMap foveated_map(const FoveatedParams& params, const Scene& scene, const Camera& camera,
+                         int width, int height);
 
 }  // namespace fovref

@@ -49,11 +49,8 @@ void add_mask(FrameResult& result, const std::string& name, Image mask) {
 
 LogPolarMap frame_log_polar_map(const FrameContext& ctx) {
     const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
-    const RenderSettings& s = *ctx.settings;
-    const float d_px =
-        display_distance_px(ctx.scene->display, s.width, s.height, ctx.camera.vfov_deg);
-    return make_log_polar_map(state.params.map, s.width, s.height,
-                              gaze_point(state.params, s.width, s.height), d_px);
+    return foveated_map(state.params, *ctx.scene, ctx.camera, ctx.settings->width,
+                        ctx.settings->height);
 }
 
 void lp_trace_stage(FrameContext& ctx) {

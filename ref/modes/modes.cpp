@@ -95,8 +95,8 @@ std::vector<FrameResult> render(const Scene* scene, const std::string& mode,
 }
 
 ProbeReport probe_pixel(const Scene* scene, const std::string& mode, const RenderSettings& settings,
-                        int frame, int x, int y) {
-    return probe_pixel(scene, find_mode(mode), settings, frame, x, y);
+                        int frame, int x, int y, std::optional<glm::ivec2> texel) {
+    return probe_pixel(scene, find_mode(mode), settings, frame, x, y, texel);
 }
 
 std::vector<FrameResult> render_golden_case(const GoldenCase& golden_case, const Scene* scene,

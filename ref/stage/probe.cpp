@@ -26,12 +26,18 @@ std::string probe_bits(float v) {
 }
 
 ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSettings& settings,
-                        int frame, int x, int y) {
+                        int frame, int x, int y, std::optional<glm::ivec2> texel) {
     validate_settings(settings);      // --width 0 is a bad width, not a pixel outside the screen
     constexpr int max_frame = 99999;  // frames 0 .. F run: at most 100000 (validate_settings)
     if (frame < 0 || frame > max_frame)
         throw Error("--frame " + std::to_string(frame) + ": must be in [0, " +
                     std::to_string(max_frame) + "] (frames 0 .. F are rendered)");
+    if (texel) {
+        x = 0;
+        y = 0;
+        if (!mode.explain)
+            throw Error("--texel: mode '" + mode.name + "' has no explanation to give");
+    }
     if (x < 0 || y < 0 || x >= settings.width || y >= settings.height)
         throw Error("--pixel " + std::to_string(x) + "," + std::to_string(y) + ": outside the " +
                     std::to_string(settings.width) + "x" + std::to_string(settings.height) +
@@ -50,14 +56,18 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
     report.frame = frame;
     report.x = x;
     report.y = y;
+    report.texel = texel;
     const float time = s.time_start + static_cast<float>(frame) * s.time_step;
     const Camera camera = scene ? camera_at(*scene, time) : Camera{};
 
-    ProbeSection screen{"screen", "screen pixel", {}};
-    screen.add("pixel", "(" + std::to_string(x) + ", " + std::to_string(y) + ") of " +
-                            std::to_string(s.width) + "x" + std::to_string(s.height) +
-                            ", centre (" + probe_float(static_cast<float>(x) + 0.5f) + ", " +
-                            probe_float(static_cast<float>(y) + 0.5f) + ")");
+    ProbeSection screen{"screen", texel ? "the screen" : "screen pixel", {}};
+    if (texel)
+        screen.add("screen", std::to_string(s.width) + "x" + std::to_string(s.height));
+    else
+        screen.add("pixel", "(" + std::to_string(x) + ", " + std::to_string(y) + ") of " +
+                                std::to_string(s.width) + "x" + std::to_string(s.height) +
+                                ", centre (" + probe_float(static_cast<float>(x) + 0.5f) + ", " +
+                                probe_float(static_cast<float>(y) + 0.5f) + ")");
     screen.add("frame", std::to_string(frame) + ", camera-path time " + probe_float(time));
     if (scene) {
         screen.add("camera", "position " + probe_vec3(camera.position) + ", forward " +
@@ -69,19 +79,27 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
 
     // What the mode's own explainer says about the pixel, stage by stage.
     if (mode.explain) {
-        ProbeContext context{scene, &s, &last, camera, x, y};
+        ProbeContext context{scene, &s, &last, camera, x, y, texel};
         mode.explain(context, report);
     }
 
     // Every buffer's value at the pixel, in pipeline order (screen-sized buffers only).
-    ProbeSection buffers{"buffers", "every buffer at this pixel, in pipeline order", {}};
+    ProbeSection buffers{
+        "buffers",
+        texel ? "every buffer at this texel, in pipeline order" : "every buffer at this pixel, in "
+                                                                  "pipeline order",
+        {}};
+    // A texel is looked up in the buffers that are not screen-sized (the foveation buffers).
+    const int bx = texel ? texel->x : x, by = texel ? texel->y : y;
     for (const StageRun& run : last.stages)
         if (!run.ran) buffers.add("stage " + run.name, "skipped (" + run.note + ")");
     for (const Buffer& b : last.buffers) {
         const std::string key = b.stage + " -> " + b.name;
-        if (b.image.width != s.width || b.image.height != s.height) {
+        const bool screen_sized = b.image.width == s.width && b.image.height == s.height;
+        if (screen_sized == texel.has_value() || bx >= b.image.width || by >= b.image.height) {
             buffers.add(key, std::to_string(b.image.width) + "x" + std::to_string(b.image.height) +
-                                 " (not a screen-space buffer)");
+                                 (texel ? " (a screen-space buffer)"
+                                        : " (not a screen-space buffer)"));
             continue;
         }
         std::string value;
@@ -89,7 +107,7 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
             const std::string name = c < static_cast<int>(b.channel_names.size())
                                          ? b.channel_names[static_cast<std::size_t>(c)]
                                          : std::to_string(c);
-            value += (c ? ", " : "") + name + " " + probe_float(b.image.at(x, y, c));
+            value += (c ? ", " : "") + name + " " + probe_float(b.image.at(bx, by, c));
         }
         buffers.add(key, value);
     }
@@ -98,9 +116,12 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
 }
 
 std::string probe_text(const ProbeReport& report) {
+    const std::string target =
+        report.texel ? "texel (" + std::to_string(report.texel->x) + ", " +
+                           std::to_string(report.texel->y) + ")"
+                     : "pixel (" + std::to_string(report.x) + ", " + std::to_string(report.y) + ")";
     std::string out = "fovref probe: mode " + report.mode + ", frame " +
-                      std::to_string(report.frame) + ", pixel (" + std::to_string(report.x) + ", " +
-                      std::to_string(report.y) + ")\n";
+                      std::to_string(report.frame) + ", " + target + "\n";
     for (const ProbeSection& section : report.sections) {
         out += "\n[" + section.stage + "] " + section.title + "\n";
         std::size_t width = 0;

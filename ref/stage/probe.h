@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,8 @@ struct ProbeSection {
 struct ProbeReport {
     std::string mode;
     int frame = 0, x = 0, y = 0;
+    /// Set when a buffer texel (i, j) is probed instead of a screen pixel (`--texel`).
+    std::optional<glm::ivec2> texel;
     std::vector<ProbeSection> sections;
     /// False when the probe's recomputation differs from the rendered buffer: a bug in the
     /// probe or a nondeterminism in the stage.
@@ -42,12 +45,17 @@ struct ProbeContext {
     const FrameResult* frame = nullptr;
     Camera camera;
     int x = 0, y = 0;
+    /// A buffer texel (i, j) to explain instead of the pixel (modes with a foveation buffer).
+    std::optional<glm::ivec2> texel;
 };
 
-/// Renders frames 0 .. frame of `mode` (every buffer of the last), then explains pixel (x, y).
-/// Throws fovref::Error for a pixel outside the screen or a bad frame number.
+/// Renders frames 0 .. frame of `mode` (every buffer of the last), then explains pixel (x, y),
+/// or, when `texel` is given, that texel of the mode's buffer (x, y are then ignored). Throws
+/// fovref::Error for a pixel outside the screen, a bad frame number, or a texel for a mode
+/// without a buffer.
 ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSettings& settings,
-                        int frame, int x, int y);
+                        int frame, int x, int y,
+                        std::optional<glm::ivec2> texel = std::nullopt);
 
 /// Formatting helpers for explainers: "%.9g" floats (round-trip exact), vectors, hex bits.
 std::string probe_float(float v);

@@ -16,34 +16,10 @@
 
 namespace fovref {
 
-namespace {
-
-glm::vec3 pixel_rgb(const FrameResult& frame, const std::string& name, int x, int y) {
+glm::vec3 probe_rgb(const FrameResult& frame, const std::string& name, int x, int y) {
     const Buffer* b = frame.find(name);
     if (!b || b->image.channels < 3) return glm::vec3(NAN);
     return {b->image.at(x, y, 0), b->image.at(x, y, 1), b->image.at(x, y, 2)};
-}
-
-bool same_bits(glm::vec3 a, glm::vec3 b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
-// The ray, the closest hit and the surface there.
-void explain_ray(const Scene& scene, const Bvh& bvh, const Ray& ray, const std::string& label,
-                 ProbeSection& section, Hit& hit, SurfacePoint& surface) {
-    section.add(label + " ray", "origin " + probe_vec3(ray.origin) + ", direction " +
-                                    probe_vec3(ray.direction) + ", t in (" +
-                                    probe_float(ray.t_min) + ", " + probe_float(ray.t_max) + ")");
-    TraceStats stats;
-    hit = trace_closest(bvh, ray, stats);
-    section.add("traversal", std::to_string(stats.nodes_visited) + " nodes visited, " +
-                                 std::to_string(stats.triangles_tested) + " triangles tested");
-    if (!hit.hit()) {
-        section.add("hit", "miss (background: black)");
-        return;
-    }
-    section.add("hit", "t " + probe_float(hit.t) + ", primitive " + std::to_string(hit.primitive) +
-                           ", barycentrics u " + probe_float(hit.u) + " v " + probe_float(hit.v) +
-                           " (closest; ties: lowest primitive id)");
-    surface = surface_at(scene, hit.primitive, hit.u, hit.v);
 }
 
 void explain_surface(const Scene& scene, const SurfacePoint& surface, ProbeSection& section) {
@@ -82,6 +58,38 @@ void explain_surface(const Scene& scene, const SurfacePoint& surface, ProbeSecti
         }
     }
     section.add("albedo", probe_vec3(surface.albedo));
+}
+
+void probe_check(ProbeReport& report, ProbeSection& section, const std::string& what, glm::vec3 mine,
+           glm::vec3 rendered) {
+    const bool same = std::memcmp(&mine, &rendered, sizeof mine) == 0;
+    section.add("check", what + ": " +
+                             (same ? "bit-identical to the rendered buffer"
+                                   : "DIFFERS from the rendered buffer " + probe_vec3(rendered)));
+    if (!same) report.consistent = false;
+}
+
+namespace {
+
+
+// The ray, the closest hit and the surface there.
+void explain_ray(const Scene& scene, const Bvh& bvh, const Ray& ray, const std::string& label,
+                 ProbeSection& section, Hit& hit, SurfacePoint& surface) {
+    section.add(label + " ray", "origin " + probe_vec3(ray.origin) + ", direction " +
+                                    probe_vec3(ray.direction) + ", t in (" +
+                                    probe_float(ray.t_min) + ", " + probe_float(ray.t_max) + ")");
+    TraceStats stats;
+    hit = trace_closest(bvh, ray, stats);
+    section.add("traversal", std::to_string(stats.nodes_visited) + " nodes visited, " +
+                                 std::to_string(stats.triangles_tested) + " triangles tested");
+    if (!hit.hit()) {
+        section.add("hit", "miss (background: black)");
+        return;
+    }
+    section.add("hit", "t " + probe_float(hit.t) + ", primitive " + std::to_string(hit.primitive) +
+                           ", barycentrics u " + probe_float(hit.u) + " v " + probe_float(hit.v) +
+                           " (closest; ties: lowest primitive id)");
+    surface = surface_at(scene, hit.primitive, hit.u, hit.v);
 }
 
 // The light samples shade_direct recorded, and the radiance.
@@ -200,15 +208,6 @@ void explain_raster(const ProbeContext& c, const RasterSettings& raster, ProbeRe
     if (!same) report.consistent = false;
 }
 
-void check(ProbeReport& report, ProbeSection& section, const std::string& what, glm::vec3 mine,
-           glm::vec3 rendered) {
-    const bool same = same_bits(mine, rendered);
-    section.add("check", what + ": " +
-                             (same ? "bit-identical to the rendered buffer"
-                                   : "DIFFERS from the rendered buffer " + probe_vec3(rendered)));
-    if (!same) report.consistent = false;
-}
-
 // [primary_visibility] of a rasterized G-buffer: the rasterizer's decision, the surface at the
 // winner's plane point, and the ray caster's answer for comparison.
 void explain_raster_visibility(const ProbeContext& c, const RasterSettings& raster, const Bvh& bvh,
@@ -225,8 +224,8 @@ void explain_raster_visibility(const ProbeContext& c, const RasterSettings& rast
     if (winner >= 0) {
         const SurfacePoint surface = surface_at(scene, winner, winning.u, winning.v);
         explain_surface(scene, surface, vis);
-        check(report, vis, "position", surface.position,
-              pixel_rgb(f, "gbuffer_world_position", c.x, c.y));
+        probe_check(report, vis, "position", surface.position,
+              probe_rgb(f, "gbuffer_world_position", c.x, c.y));
     }
     report.sections.push_back(vis);
     // The ray caster's answer, for comparison only: it is not what this G-buffer used.
@@ -298,34 +297,39 @@ void explain_ray_visibility(const ProbeContext& c, const Bvh& bvh, const Ray& ra
 
 // [shade_direct]: the shading pass's own per-pixel function on the rendered G-buffer.
 void explain_shade_direct(const ProbeContext& c, const Bvh& bvh, ProbeReport& report) {
+    ProbeSection shade{"shade_direct", "Lambert + one shadow ray per light sample (Gupta §2)", {}};
+    explain_shade_at(c, bvh, "gbuffer_", "final", c.x, c.y, shade, report);
+    report.sections.push_back(shade);
+}
+
+}  // namespace
+
+void explain_shade_at(const ProbeContext& c, const Bvh& bvh, const std::string& prefix,
+                      const std::string& color, int x, int y, ProbeSection& shade,
+                      ProbeReport& report) {
     const Scene& scene = *c.scene;
     const FrameResult& f = *c.frame;
     const ShadeInputs inputs{
-        f.find("gbuffer_world_position")->image,   f.find("gbuffer_shading_normal")->image,
-        f.find("gbuffer_geometric_normal")->image, f.find("gbuffer_albedo")->image,
-        f.find("gbuffer_material_id")->image,      f.find("gbuffer_primitive_id")->image};
-    ProbeSection shade{"shade_direct", "Lambert + one shadow ray per light sample (Gupta §2)", {}};
+        f.find(prefix + "world_position")->image,   f.find(prefix + "shading_normal")->image,
+        f.find(prefix + "geometric_normal")->image, f.find(prefix + "albedo")->image,
+        f.find(prefix + "material_id")->image,      f.find(prefix + "primitive_id")->image};
     SurfacePoint surface;
     ShadingStats unused;
-    if (!gbuffer_surface(scene, inputs, c.x, c.y, surface, unused)) {
-        shade.add("pixel", "background (or no valid material): black, nothing shaded");
-        report.sections.push_back(shade);
+    if (!gbuffer_surface(scene, inputs, x, y, surface, unused)) {
+        shade.add("shading", "background (or no valid material): black, nothing shaded");
         return;
     }
-    shade.add("inputs", "from the G-buffer: position " + probe_vec3(surface.position) +
+    shade.add("inputs", "from " + prefix + "*: position " + probe_vec3(surface.position) +
                             ", shading normal " + probe_vec3(surface.shading_normal) + ", albedo " +
                             probe_vec3(surface.albedo));
     ShadingStats stats;
     std::vector<LightSampleRecord> lights;
     const glm::vec3 l = shade_basic_pixel(scene, scene.lights.empty() ? nullptr : &bvh, inputs,
-                                          c.camera, c.frame->frame, c.x, c.y, stats, &lights);
-    explain_shading(scene, surface, l, lights, static_cast<std::uint32_t>(c.frame->frame),
-                    static_cast<std::uint32_t>(c.y * c.settings->width + c.x), 0, shade);
-    check(report, shade, "radiance", l, pixel_rgb(f, "final", c.x, c.y));
-    report.sections.push_back(shade);
+                                          c.camera, f.frame, x, y, stats, &lights);
+    explain_shading(scene, surface, l, lights, static_cast<std::uint32_t>(f.frame),
+                    static_cast<std::uint32_t>(y * inputs.position.width + x), 0, shade);
+    probe_check(report, shade, "radiance", l, probe_rgb(f, color, x, y));
 }
-
-}  // namespace
 
 void explain_basic(const ProbeContext& c, ProbeReport& report) {
     const BasicParams params = parse_basic_params(c.settings->params);
@@ -372,7 +376,7 @@ void explain_ground_truth(const ProbeContext& c, ProbeReport& report) {
     }
     const glm::vec3 sum = samples.empty() ? glm::vec3(0.0f) : samples.back().sum;
     ss.add("box filter", "sum " + probe_vec3(sum) + " x 1/16 = " + probe_vec3(mean));
-    check(report, ss, "mean", mean, pixel_rgb(*c.frame, "final", c.x, c.y));
+    probe_check(report, ss, "mean", mean, probe_rgb(*c.frame, "final", c.x, c.y));
     report.sections.push_back(ss);
 }
 

@@ -4,11 +4,32 @@
 // the pass also wrote is checked against the rendered buffer bit for bit.
 #pragma once
 
+#include <string>
+
+#include "ref/bvh/bvh.h"
+#include "ref/scene/surface.h"
 #include "ref/stage/probe.h"
 
 namespace fovref {
 
 void explain_basic(const ProbeContext& context, ProbeReport& report);
+
+// Pieces the foveated modes' explanations reuse.
+
+/// Channels 0..2 of buffer `name` of `frame` at (x, y); NaN when it is missing.
+glm::vec3 probe_rgb(const FrameResult& frame, const std::string& name, int x, int y);
+/// The surface's attributes, material and texture lookup (the sampler's own record).
+void explain_surface(const Scene& scene, const SurfacePoint& surface, ProbeSection& section);
+/// "check: <what>: bit-identical to the rendered buffer" or "DIFFERS ..." (then the report is
+/// marked inconsistent).
+void probe_check(ProbeReport& report, ProbeSection& section, const std::string& what,
+                 glm::vec3 mine, glm::vec3 rendered);
+/// The shading pass's own per-pixel function (shade_basic_pixel) at (x, y) of the rendered
+/// G-buffer named prefix + "world_position", ... (its light samples and random numbers), checked
+/// against buffer `color` at (x, y).
+void explain_shade_at(const ProbeContext& context, const Bvh& bvh, const std::string& prefix,
+                      const std::string& color, int x, int y, ProbeSection& section,
+                      ProbeReport& report);
 void explain_ground_truth(const ProbeContext& context, ProbeReport& report);
 
 }  // namespace fovref
