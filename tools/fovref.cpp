@@ -1,6 +1,6 @@
 // fovref: the command-line tool of the reference renderer. This file builds the command line and
 // dispatches; each command (or command group) is a module of its own: tools/cmd_scene.h,
-// cmd_render.h, cmd_modes.h, cmd_rays.h, cmd_golden.h, cmd_probe.h, bench_rays.h,
+// cmd_render.h, cmd_modes.h, cmd_rays.h, cmd_golden.h, cmd_probe.h, cmd_gain.h, bench_rays.h,
 // bench_metrics.h, evaluate.h and diff.h, each with its options, their registration and its run
 // function.
 // Exit codes: 0 ok, 1 a check failed (golden verify, diff), 2 usage or input error.
@@ -17,6 +17,7 @@
 #include "tools/bench_metrics.h"
 #include "tools/bench_rays.h"
 #include "tools/cli_common.h"
+#include "tools/cmd_gain.h"
 #include "tools/cmd_golden.h"
 #include "tools/cmd_modes.h"
 #include "tools/cmd_probe.h"
@@ -62,6 +63,8 @@ const char* const app_footer =
     "                                         ring errors against the ground truth\n"
     "  fovref diff GOLDEN CANDIDATE [--tolerance N:abs=X] [--json F] [--html DIR]\n"
     "                                         compare a GPU's buffers with a golden bundle\n"
+    "  fovref gain [--fov-deg W[,H] --max-cpd C] [--json]\n"
+    "                                         theoretical gain of foveation (Koskela P1)\n"
     "SCENE is a procedural scene name (see `scene list`) or a scene file or directory.\n"
     "Run `fovref COMMAND --help` for each command's options.";
 
@@ -81,6 +84,7 @@ struct Options {
     ProbeOptions probe;
     EvaluateOptions evaluate;
     DiffOptions diff;
+    GainOptions gain;
 };
 
 // -q applies to every command that prints progress or lines (bench metrics prints its figures
@@ -201,6 +205,17 @@ void add_check_commands(CLI::App& app, Options& o, Commands& commands) {
     commands.emplace_back(diff, [&o] { return run_diff(o.diff); });
 }
 
+// gain: an analysis of the acuity model alone, no scene or frame.
+void add_analysis_commands(CLI::App& app, Options& o, Commands& commands) {
+    CLI::App* gain = app.add_subcommand(
+        "gain",
+        "theoretical gain of foveated rendering for a display (Koskela P1 §4): 1 - integral of "
+        "the eye's acuity V over the FOV / (the display's maximum c/deg * area), gaze at the FOV "
+        "centre; without --fov-deg, P1's three cases next to the figures the sources quote");
+    add_gain_options(*gain, o.gain);
+    commands.emplace_back(gain, [&o] { return run_gain(o.gain); });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -221,6 +236,7 @@ int main(int argc, char** argv) {
     add_bench_commands(app, o, commands);
     add_golden_commands(app, o, commands);
     add_check_commands(app, o, commands);
+    add_analysis_commands(app, o, commands);
 
     try {
         app.parse(argc, argv);
