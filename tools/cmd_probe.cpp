@@ -66,7 +66,10 @@ nlohmann::json probe_json(const ProbeReport& report, const std::string& debug_co
     if (!debug_command.empty()) j["debugger_command"] = debug_command;
     j["mode"] = report.mode;
     j["frame"] = report.frame;
-    j["pixel"] = {report.x, report.y};
+    if (report.texel)
+        j["texel"] = {report.texel->x, report.texel->y};
+    else
+        j["pixel"] = {report.x, report.y};
     j["consistent"] = report.consistent;
     for (const ProbeSection& section : report.sections) {
         nlohmann::json js;
@@ -104,7 +107,10 @@ void add_probe_options(CLI::App& c, ProbeOptions& o) {
     c.add_option("--frame", o.frame, "frame number (frames before it run too)")
         ->check(CLI::Range(0, 100000))
         ->capture_default_str();
-    c.add_option("--pixel", o.pixel, "X,Y of the screen pixel")->required();
+    c.add_option("--pixel", o.pixel, "X,Y of the screen pixel");
+    c.add_option("--texel", o.texel,
+                 "I,J of a texel of a foveated mode's log-polar buffer (column I, row J), "
+                 "explained instead of a pixel: its screen point, ray, hit and shading");
     c.add_option("--time-start", o.time_start, "camera-path time of frame 0")
         ->capture_default_str();
     c.add_option("--time-step", o.time_step, "camera-path time between frames")
@@ -119,16 +125,28 @@ void add_probe_options(CLI::App& c, ProbeOptions& o) {
 }
 
 int run_probe(const ProbeOptions& o) {
+    if (o.pixel.empty() == o.texel.empty())
+        throw Error("probe: give --pixel X,Y or --texel I,J (one of them)");
     int x = -1, y = -1;
     char tail = 0;
-    if (std::sscanf(o.pixel.c_str(), "%d,%d%c", &x, &y, &tail) != 2)
+    std::optional<glm::ivec2> texel;
+    if (!o.texel.empty()) {
+        int eye = 0;
+        const int n = std::sscanf(o.texel.c_str(), "%d,%d,%d%c", &x, &y, &eye, &tail);
+        if (n == 3) throw Error("--texel '" + o.texel + "': an eye applies to stereo modes only");
+        if (n != 2) throw Error("--texel '" + o.texel + "': expected I,J (e.g. 10,20)");
+        texel = glm::ivec2(x, y);
+        if (!o.debugger.empty())
+            throw Error("--texel with --debugger: stop at a pixel (--pixel) instead");
+    } else if (std::sscanf(o.pixel.c_str(), "%d,%d%c", &x, &y, &tail) != 2) {
         throw Error("--pixel '" + o.pixel + "': expected X,Y (e.g. 10,20)");
+    }
     const std::optional<Scene> scene = command_scene(o, "probe");
     const GoldenCase run = command_case(o, "probe");
     Progress progress("probe " + o.mode, o.quiet);
-    const ProbeReport report =
-        probe_pixel(scene ? &*scene : nullptr, o.mode,
-                    case_settings(run, {}, [&](double f) { progress.update(f); }), o.frame, x, y);
+    const ProbeReport report = probe_pixel(
+        scene ? &*scene : nullptr, o.mode,
+        case_settings(run, {}, [&](double f) { progress.update(f); }), o.frame, x, y, texel);
     progress.finish();
     std::string debug_command;
     if (!o.debugger.empty()) debug_command = debugger_line(o, x, y);

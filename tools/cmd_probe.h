@@ -16,6 +16,7 @@ namespace fovref {
 struct ProbeOptions : CaseOptions {
     int frame = 0;         ///< frame number (frames before it run too)
     std::string pixel;     ///< "X,Y" of the screen pixel
+    std::string texel;     ///< "I,J" of a foveation buffer texel (instead of --pixel)
     bool json = false;     ///< machine-readable output
     std::string debugger;  ///< "gdb" or "lldb": print a command that stops at the pixel
     bool quiet = false;

@@ -2,6 +2,7 @@
 
 #include "ref/core/error.h"
 #include "ref/foveation/foveated_params.h"
+#include "ref/foveation/foveation_probe.h"
 #include "ref/modes/core_modes.h"
 #include "ref/modes/foveated_modes.h"
 #include "ref/modes/trace_modes.h"
@@ -45,6 +46,8 @@ std::vector<ModeInfo> make_modes() {
         ModeInfo m = mode(name, std::string(what) + " (" + preset.source + ")", build);
         m.params = foveated_param_specs(preset);
         m.pixel_functions = foveated_pixel_functions;
+        m.explain = explain_foveated;
+        m.explains_texels = true;
         return m;
     };
     return {

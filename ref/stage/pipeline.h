@@ -120,6 +120,8 @@ struct ModeInfo {
     /// Explains one pixel of a rendered frame for `fovref probe` (ref/stage/probe.h); may be
     /// null (the probe then lists the buffers' values only).
     void (*explain)(const ProbeContext& context, ProbeReport& report) = nullptr;
+    /// True when `explain` can also explain a texel of the mode's buffer (`probe --texel`).
+    bool explains_texels = false;
     /// The per-pixel functions of the passes the parameters select, in pipeline order; may be
     /// null (no breakpoints to offer).
     std::vector<PixelFunction> (*pixel_functions)(const Params& params) = nullptr;

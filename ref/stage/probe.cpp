@@ -35,8 +35,9 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
     if (texel) {
         x = 0;
         y = 0;
-        if (!mode.explain)
-            throw Error("--texel: mode '" + mode.name + "' has no explanation to give");
+        if (!mode.explain || !mode.explains_texels)
+            throw Error("--texel: mode '" + mode.name +
+                        "' has no foveation buffer (give --pixel X,Y)");
     }
     if (x < 0 || y < 0 || x >= settings.width || y >= settings.height)
         throw Error("--pixel " + std::to_string(x) + "," + std::to_string(y) + ": outside the " +
@@ -84,11 +85,11 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
     }
 
     // Every buffer's value at the pixel, in pipeline order (screen-sized buffers only).
-    ProbeSection buffers{
-        "buffers",
-        texel ? "every buffer at this texel, in pipeline order" : "every buffer at this pixel, in "
-                                                                  "pipeline order",
-        {}};
+    ProbeSection buffers{"buffers",
+                         texel ? "every buffer at this texel, in pipeline order"
+                               : "every buffer at this pixel, in "
+                                 "pipeline order",
+                         {}};
     // A texel is looked up in the buffers that are not screen-sized (the foveation buffers).
     const int bx = texel ? texel->x : x, by = texel ? texel->y : y;
     for (const StageRun& run : last.stages)
@@ -97,9 +98,9 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
         const std::string key = b.stage + " -> " + b.name;
         const bool screen_sized = b.image.width == s.width && b.image.height == s.height;
         if (screen_sized == texel.has_value() || bx >= b.image.width || by >= b.image.height) {
-            buffers.add(key, std::to_string(b.image.width) + "x" + std::to_string(b.image.height) +
-                                 (texel ? " (a screen-space buffer)"
-                                        : " (not a screen-space buffer)"));
+            buffers.add(key,
+                        std::to_string(b.image.width) + "x" + std::to_string(b.image.height) +
+                            (texel ? " (a screen-space buffer)" : " (not a screen-space buffer)"));
             continue;
         }
         std::string value;

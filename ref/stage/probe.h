@@ -54,8 +54,7 @@ struct ProbeContext {
 /// fovref::Error for a pixel outside the screen, a bad frame number, or a texel for a mode
 /// without a buffer.
 ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSettings& settings,
-                        int frame, int x, int y,
-                        std::optional<glm::ivec2> texel = std::nullopt);
+                        int frame, int x, int y, std::optional<glm::ivec2> texel = std::nullopt);
 
 /// Formatting helpers for explainers: "%.9g" floats (round-trip exact), vectors, hex bits.
 std::string probe_float(float v);

@@ -60,8 +60,8 @@ void explain_surface(const Scene& scene, const SurfacePoint& surface, ProbeSecti
     section.add("albedo", probe_vec3(surface.albedo));
 }
 
-void probe_check(ProbeReport& report, ProbeSection& section, const std::string& what, glm::vec3 mine,
-           glm::vec3 rendered) {
+void probe_check(ProbeReport& report, ProbeSection& section, const std::string& what,
+                 glm::vec3 mine, glm::vec3 rendered) {
     const bool same = std::memcmp(&mine, &rendered, sizeof mine) == 0;
     section.add("check", what + ": " +
                              (same ? "bit-identical to the rendered buffer"
@@ -70,7 +70,6 @@ void probe_check(ProbeReport& report, ProbeSection& section, const std::string& 
 }
 
 namespace {
-
 
 // The ray, the closest hit and the surface there.
 void explain_ray(const Scene& scene, const Bvh& bvh, const Ray& ray, const std::string& label,
@@ -225,7 +224,7 @@ void explain_raster_visibility(const ProbeContext& c, const RasterSettings& rast
         const SurfacePoint surface = surface_at(scene, winner, winning.u, winning.v);
         explain_surface(scene, surface, vis);
         probe_check(report, vis, "position", surface.position,
-              probe_rgb(f, "gbuffer_world_position", c.x, c.y));
+                    probe_rgb(f, "gbuffer_world_position", c.x, c.y));
     }
     report.sections.push_back(vis);
     // The ray caster's answer, for comparison only: it is not what this G-buffer used.

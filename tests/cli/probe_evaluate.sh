@@ -37,6 +37,28 @@ expect 2 "pixel outside" -- "$FOVREF" probe --scene cornell --mode basic --width
 contains "outside the 16x9 screen" "pixel outside"
 expect 2 "malformed pixel" -- "$FOVREF" probe --scene cornell --mode basic --pixel 3
 expect 2 "unknown mode" -- "$FOVREF" probe --scene cornell --mode nope --pixel 1,1
+# Foveated modes: pass 2's taps, each tap's texel traced and shaded, the gaze buffer, a texel.
+expect 0 "probe ckfov outside the gaze circle, with the Gaussian lerp" -- "$FOVREF" probe --scene checker-room --mode ckfov --width 160 --height 90 --pixel 130,20 --param filters=lerp
+contains "forward map  (u, v) = (26.1863174, 144.785217)" "the forward map"
+contains "tap 3      texel (26, 145) traced" "the four taps"
+contains "resolved: bit-identical to the rendered buffer" "pass 2 agrees"
+contains "[lp_trace] texel (25, 144)" "each tap's texel"
+contains "texel: bit-identical to the rendered buffers" "the texel's G-buffer agrees"
+contains "rand(frame 0, pixel 7945," "texel index j w + i seeds rand()"
+contains "final: bit-identical to the rendered buffer" "the lerp agrees"
+expect 0 "probe cfov inside the gaze circle" -- "$FOVREF" probe --scene cornell --mode cfov --width 160 --height 90 --pixel 80,45
+contains "the gaze buffer's pixel" "gaze buffer source"
+contains "[gaze_shade]" "gaze shading"
+expect 0 "probe a texel" -- "$FOVREF" probe --scene cornell --mode cfov --width 160 --height 90 --texel 3,40 --gaze 70,50
+contains "fovref probe: mode cfov, frame 0, texel (3, 40)" "texel header"
+contains "gaze         (70, 50)" "--gaze"
+contains "on screen: traced" "texel status"
+expect 2 "texel outside the buffer" -- "$FOVREF" probe --scene cornell --mode cfov --width 160 --height 90 --texel 999,1
+contains "outside the 49x149 log-polar buffer" "texel bounds"
+expect 2 "texel of a mode without a buffer" -- "$FOVREF" probe --scene cornell --mode basic --width 16 --height 9 --texel 1,1
+contains "has no foveation buffer" "texel needs a buffer"
+expect 2 "pixel and texel" -- "$FOVREF" probe --scene cornell --mode cfov --width 16 --height 9 --texel 1,1 --pixel 1,1
+expect 2 "an eye for a mono mode" -- "$FOVREF" probe --scene cornell --mode cfov --width 16 --height 9 --texel 1,1,0
 
 expect 0 "evaluate two modes" -- "$FOVREF" evaluate --scene cornell --mode basic,splat --width 96 --height 54 --frames 4 --every 2 --time-step 0.5 --out "$TMP/ev"
 for f in rings.csv frames.csv summary.json rings.svg heatmap_basic.png heatmap_splat.png; do

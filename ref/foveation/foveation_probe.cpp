@@ -1,0 +1,248 @@
+#include "ref/foveation/foveation_probe.h"
+
+#include <cstring>
+#include <set>
+#include <utility>
+
+#include "ref/bvh/bvh.h"
+#include "ref/foveation/foveated_params.h"
+#include "ref/foveation/foveated_trace.h"
+#include "ref/foveation/gaussian_lerp.h"
+#include "ref/foveation/resolve.h"
+#include "ref/trace/trace_probe.h"
+
+namespace fovref {
+
+namespace {
+
+std::string point_text(glm::vec2 p) {
+    return "(" + probe_float(p.x) + ", " + probe_float(p.y) + ")";
+}
+
+const char* status_text(TexelStatus s) {
+    switch (s) {
+        case TexelStatus::traced: return "on screen: traced";
+        case TexelStatus::off_screen: return "off screen: not traced, no data";
+        case TexelStatus::inside_gaze: return "inside the gaze circle: not traced (G = 1)";
+    }
+    return "?";
+}
+
+// Bit comparison of every G-buffer channel but motion at (x, y) of `mine` with the rendered
+// buffers named prefix + channel.
+bool same_gbuffer(const GBuffer& mine, const FrameResult& f, const std::string& prefix, int x,
+                  int y) {
+    bool same = true;
+    for (const auto& [name, image] :
+         {std::pair<const char*, const Image*>{"view_depth", &mine.view_depth},
+          {"hit_distance", &mine.hit_distance},
+          {"world_position", &mine.world_position},
+          {"shading_normal", &mine.shading_normal},
+          {"geometric_normal", &mine.geometric_normal},
+          {"albedo", &mine.albedo},
+          {"material_id", &mine.material_id},
+          {"primitive_id", &mine.primitive_id}}) {
+        const Image& rendered = f.find(prefix + name)->image;
+        for (int k = 0; k < image->channels; ++k) {
+            const float a = image->at(x, y, k), b = rendered.at(x, y, k);
+            same = same && std::memcmp(&a, &b, sizeof a) == 0;
+        }
+    }
+    return same;
+}
+
+// The ray's closest hit and the surface there (the same ray the pass traced; its G-buffer values
+// are checked separately).
+void explain_hit(const ProbeContext& c, const Bvh& bvh, const Ray& ray, ProbeSection& section) {
+    TraceStats stats;
+    const Hit hit = trace_closest(bvh, ray, stats);
+    section.add("traversal", std::to_string(stats.nodes_visited) + " nodes visited, " +
+                                 std::to_string(stats.triangles_tested) + " triangles tested");
+    if (!hit.hit()) {
+        section.add("hit", "miss (background: ids -1, every other channel 0)");
+        return;
+    }
+    section.add("hit", "t " + probe_float(hit.t) + ", primitive " + std::to_string(hit.primitive) +
+                           ", barycentrics u " + probe_float(hit.u) + " v " + probe_float(hit.v) +
+                           " (closest; ties: lowest primitive id)");
+    explain_surface(*c.scene, surface_at(*c.scene, hit.primitive, hit.u, hit.v), section);
+}
+
+// [foveation] the map's constants for this frame.
+void explain_map(const LogPolarMap& m, ProbeReport& report) {
+    ProbeSection s{"foveation", "the log-polar map of this frame (docs/foveation.md)", {}};
+    s.add("gaze", point_text(m.gaze));
+    s.add("buffer", std::to_string(m.width) + "x" + std::to_string(m.height) +
+                        " texels (u: columns, radial; v: rows, angular)");
+    s.add("kernel", "K(x) = " + kernel_text(m.kernel));
+    s.add("R, L", "R " + probe_float(m.radius_max) +
+                      " px, L = ln(1 + R) = " + probe_float(m.log_radius_max));
+    if (m.has_gaze_buffer())
+        s.add("gaze buffer", "r_G " + probe_float(m.gaze_radius) +
+                                 " px, G = K(ln(1 + r_G) / L) = " + probe_float(m.composite));
+    else
+        s.add("gaze buffer", "none (a_G = 0): G = 0");
+    report.sections.push_back(s);
+}
+
+// [lp_trace] and [lp_shade] of texel (i, j): the pass's own per-texel function into a scratch
+// buffer, checked against the rendered one, then the shading pass at the texel.
+void explain_texel(const ProbeContext& c, const LogPolarMap& m, const Bvh& bvh, int i, int j,
+                   ProbeReport& report) {
+    const FrameResult& f = *c.frame;
+    ProbeSection trace{"lp_trace",
+                       "texel (" + std::to_string(i) + ", " + std::to_string(j) +
+                           "): one ray through its centre's inverse-mapped screen point",
+                       {}};
+    const glm::vec2 uv{static_cast<float>(i) + 0.5f, static_cast<float>(j) + 0.5f};
+    trace.add("centre", "(u, v) = " + point_text(uv));
+    const float t = m.composite + (1.0f - m.composite) * (uv.x / static_cast<float>(m.width));
+    const float rho = kernel_inverse(m.kernel, t);
+    trace.add("inverse", "rho = K^-1(G + (1 - G) u / w) = K^-1(" + probe_float(t) +
+                             ") = " + probe_float(rho) + ", theta = 2 pi v / h");
+    MaskedGBuffer scratch(m.width, m.height);
+    Image points(m.width, m.height, 2, 0.0f);
+    FoveatedTraceStats stats;
+    const float tan_half = tan_half_vfov(c.camera);
+    const TexelStatus status = lp_gbuffer_texel(scratch, points, m, *c.scene, bvh, c.camera,
+                                                tan_half, c.camera, tan_half, i, j, stats);
+    const glm::vec2 p{points.at(i, j, 0), points.at(i, j, 1)};
+    trace.add("screen point", point_text(p) + ", r = " + probe_float(gaze_distance(m.gaze, p)) +
+                                  " px from the gaze: " + status_text(status));
+    if (status == TexelStatus::traced) {
+        const Ray ray = primary_ray(c.camera, tan_half, m.screen_width, m.screen_height, p.x, p.y);
+        trace.add("primary ray",
+                  "origin " + probe_vec3(ray.origin) + ", direction " + probe_vec3(ray.direction));
+        explain_hit(c, bvh, ray, trace);
+    }
+    const bool same = same_gbuffer(scratch.gbuffer, f, "lp_gbuffer_", i, j) &&
+                      scratch.valid.at(i, j) == f.find("lp_valid")->image.at(i, j);
+    trace.add("check", std::string("texel: ") + (same ? "bit-identical to the rendered buffers"
+                                                      : "DIFFERS from the rendered buffers"));
+    if (!same) report.consistent = false;
+    report.sections.push_back(trace);
+    if (status != TexelStatus::traced) return;
+    ProbeSection shade{"lp_shade",
+                       "texel (" + std::to_string(i) + ", " + std::to_string(j) +
+                           "): the basic ray tracer's shading (docs/trace.md)",
+                       {}};
+    explain_shade_at(c, bvh, "lp_gbuffer_", "lp_color", i, j, shade, report);
+    report.sections.push_back(shade);
+}
+
+// [gaze_trace] and [gaze_shade] of screen pixel (x, y), inside the gaze circle.
+void explain_gaze_pixel(const ProbeContext& c, const LogPolarMap& m, const Bvh& bvh,
+                        ProbeReport& report) {
+    ProbeSection trace{"gaze_trace", "one ray through the pixel centre (as basic)", {}};
+    MaskedGBuffer scratch(m.screen_width, m.screen_height);
+    FoveatedTraceStats stats;
+    const float tan_half = tan_half_vfov(c.camera);
+    gaze_gbuffer_pixel(scratch, m, *c.scene, bvh, c.camera, tan_half, c.camera, tan_half, c.x, c.y,
+                       stats);
+    const Ray ray = pixel_centre_ray(c.camera, tan_half, m.screen_width, m.screen_height, c.x, c.y);
+    trace.add("primary ray",
+              "origin " + probe_vec3(ray.origin) + ", direction " + probe_vec3(ray.direction));
+    explain_hit(c, bvh, ray, trace);
+    const bool same = same_gbuffer(scratch.gbuffer, *c.frame, "gaze_gbuffer_", c.x, c.y);
+    trace.add("check", std::string("pixel: ") + (same ? "bit-identical to the rendered buffers"
+                                                      : "DIFFERS from the rendered buffers"));
+    if (!same) report.consistent = false;
+    report.sections.push_back(trace);
+    ProbeSection shade{"gaze_shade", "the basic ray tracer's shading (docs/trace.md)", {}};
+    explain_shade_at(c, bvh, "gaze_gbuffer_", "gaze_color", c.x, c.y, shade, report);
+    report.sections.push_back(shade);
+}
+
+// [resolve]: pass 2 at the pixel; returns the taps' texels that were traced.
+std::vector<std::pair<int, int>> explain_resolve(const ProbeContext& c, const LogPolarMap& m,
+                                                 const std::string& output, ProbeReport& report) {
+    const FrameResult& f = *c.frame;
+    ProbeSection s{"resolve", "pass 2 (docs/foveation.md, \"Pass 2\")", {}};
+    const glm::vec2 centre{static_cast<float>(c.x) + 0.5f, static_cast<float>(c.y) + 0.5f};
+    const float r = gaze_distance(m.gaze, centre);
+    s.add("distance", "r = |centre - gaze| = " + probe_float(r) + " px");
+    const Image* gaze = m.has_gaze_buffer() ? &f.find("gaze_color")->image : nullptr;
+    const ResolveInputs inputs{f.find("lp_color")->image, f.find("lp_valid")->image, gaze};
+    Image out(m.screen_width, m.screen_height, 3, 0.0f);
+    ResolveStats stats;
+    BilinearLookup l;
+    resolve_pixel(m, inputs, out, c.x, c.y, stats, &l);
+    std::vector<std::pair<int, int>> taps;
+    if (stats.pixels_from_gaze > 0) {
+        s.add("source", "r < r_G = " + probe_float(m.gaze_radius) +
+                            ": the gaze buffer's pixel, taken as it is");
+    } else {
+        const glm::vec2 uv = lp_forward(m, centre);
+        s.add("forward map", "(u, v) = " + point_text(uv) +
+                                 " (u = w (K(rho) - G) / (1 - G), v = " + "h theta / (2 pi))");
+        s.add("lookup", "columns i0 " + std::to_string(l.i0) + ", i1 " + std::to_string(l.i1) +
+                            ", fu " + probe_float(l.fu) + "; rows j0 " + std::to_string(l.j0) +
+                            ", j1 " + std::to_string(l.j1) + ", fv " + probe_float(l.fv) +
+                            " (v wraps, u clamps)");
+        const int is[4] = {l.i0, l.i1, l.i0, l.i1}, js[4] = {l.j0, l.j0, l.j1, l.j1};
+        const Image& color = f.find("lp_color")->image;
+        for (int k = 0; k < 4; ++k) {
+            const glm::vec3 value{color.at(is[k], js[k], 0), color.at(is[k], js[k], 1),
+                                  color.at(is[k], js[k], 2)};
+            s.add("  tap " + std::to_string(k),
+                  "texel (" + std::to_string(is[k]) + ", " + std::to_string(js[k]) + ") " +
+                      (l.traced[k] ? "traced, lp_color " + probe_vec3(value)
+                                   : std::string("not traced: left out")));
+            if (l.traced[k] && (k == 0 || is[k] != is[k - 1] || js[k] != js[k - 1]))
+                taps.emplace_back(is[k], js[k]);
+        }
+        s.add("rows", "weights W0 = (1 - fv) w(j0) = " + probe_float(l.row_weight[0]) +
+                          ", W1 = fv w(j1) = " + probe_float(l.row_weight[1]) +
+                          "; final lerp t = " + probe_float(l.t));
+        if (stats.pixels_untraced_taps > 0)
+            s.add("result", "no traced tap with a weight: black (screen_pixels_untraced_taps)");
+    }
+    const glm::vec3 mine{out.at(c.x, c.y, 0), out.at(c.x, c.y, 1), out.at(c.x, c.y, 2)};
+    s.add("value", probe_vec3(mine));
+    probe_check(report, s, output, mine, probe_rgb(f, output, c.x, c.y));
+    report.sections.push_back(s);
+    return taps;
+}
+
+}  // namespace
+
+void explain_foveated(const ProbeContext& c, ProbeReport& report) {
+    const FoveatedParams params =
+        parse_foveated_params(c.settings->params, find_foveation_preset(report.mode));
+    const LogPolarMap m =
+        foveated_map(params, *c.scene, c.camera, c.settings->width, c.settings->height);
+    const Bvh bvh = build_bvh(c.scene->positions);
+    explain_map(m, report);
+    if (c.texel) {
+        const int i = c.texel->x, j = c.texel->y;
+        if (i < 0 || j < 0 || i >= m.width || j >= m.height)
+            throw Error("--texel " + std::to_string(i) + "," + std::to_string(j) +
+                        ": outside the " + std::to_string(m.width) + "x" +
+                        std::to_string(m.height) + " log-polar buffer");
+        explain_texel(c, m, bvh, i, j, report);
+        return;
+    }
+    const std::string resolved = params.gaussian_lerp ? "resolved" : "final";
+    const std::vector<std::pair<int, int>> taps = explain_resolve(c, m, resolved, report);
+    const glm::vec2 centre{static_cast<float>(c.x) + 0.5f, static_cast<float>(c.y) + 0.5f};
+    if (inside_gaze_circle(m, centre)) explain_gaze_pixel(c, m, bvh, report);
+    for (const auto& [i, j] : taps) explain_texel(c, m, bvh, i, j, report);
+    if (params.gaussian_lerp) {
+        ProbeSection s{"gaussian_lerp", "Lund's Gaussian lerp (docs/foveation.md)", {}};
+        const Image& in = c.frame->find("resolved")->image;
+        const float t = gaussian_lerp_amount(in.width, in.height, m.gaze, centre);
+        s.add("amount", "t = clamp((r - D/6) / (R_c - D/6), 0, 1) = " + probe_float(t));
+        const glm::vec3 g{gaussian3x3_clamped(in, c.x, c.y, 0),
+                          gaussian3x3_clamped(in, c.x, c.y, 1),
+                          gaussian3x3_clamped(in, c.x, c.y, 2)};
+        s.add("3x3 Gaussian", probe_vec3(g));
+        Image out(in.width, in.height, 3, 0.0f);
+        gaussian_lerp_pixel(in, m.gaze, out, c.x, c.y);
+        const glm::vec3 mine{out.at(c.x, c.y, 0), out.at(c.x, c.y, 1), out.at(c.x, c.y, 2)};
+        s.add("value", probe_vec3(mine) + (t == 0.0f ? " (t = 0: unchanged)" : ""));
+        probe_check(report, s, "final", mine, probe_rgb(*c.frame, "final", c.x, c.y));
+        report.sections.push_back(s);
+    }
+}
+
+}  // namespace fovref
