@@ -1,9 +1,9 @@
 // fovref: the command-line tool of the reference renderer. This file builds the command line and
 // dispatches; each command (or command group) is a module of its own: tools/cmd_scene.h,
 // cmd_render.h, cmd_modes.h, cmd_rays.h, cmd_golden.h, cmd_probe.h, cmd_gain.h, bench_rays.h,
-// bench_metrics.h, evaluate.h and diff.h, each with its options, their registration and its run
-// function.
-// Exit codes: 0 ok, 1 a check failed (golden verify, diff), 2 usage or input error.
+// bench_metrics.h, bench_foveation.h, evaluate.h and diff.h, each with its options, their
+// registration and its run function. Exit codes: 0 ok, 1 a check failed (golden verify, diff), 2
+// usage or input error.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
@@ -14,6 +14,7 @@
 
 #include "ref/core/error.h"
 #include "ref/golden/bundle.h"
+#include "tools/bench_foveation.h"
 #include "tools/bench_metrics.h"
 #include "tools/bench_rays.h"
 #include "tools/cli_common.h"
@@ -51,6 +52,7 @@ const char* const app_footer =
     "  fovref bench rays [--scene S] [--width W --height H]   BVH and ray throughput (vs "
     "Embree)\n"
     "  fovref bench metrics [--size WxH]      metric times (vs scikit-image's SSIM)\n"
+    "  fovref bench foveation [--scene S]     foveated modes' stage times vs basic, rays traced\n"
     "  fovref golden list                     the golden cases (golden/cases.json)\n"
     "  fovref golden verify [--case C]        recompute, compare bit-exactly, exit 1 on a "
     "difference\n"
@@ -78,6 +80,7 @@ struct Options {
     RaysMakeOptions rays_make;
     BenchRaysOptions bench_rays;
     BenchMetricsOptions bench_metrics;
+    BenchFoveationOptions bench_foveation;
     GoldenOptions golden;
     GoldenCasesOptions golden_verify, golden_update;
     GoldenExportOptions golden_export;
@@ -91,8 +94,8 @@ struct Options {
 // either way).
 void share_quiet(Options& o) {
     o.scene_export.quiet = o.render.quiet = o.rays_trace.quiet = o.rays_make.quiet =
-        o.bench_rays.quiet = o.golden.quiet = o.probe.quiet = o.evaluate.quiet = o.diff.quiet =
-            o.quiet;
+        o.bench_rays.quiet = o.bench_foveation.quiet = o.golden.quiet = o.probe.quiet =
+            o.evaluate.quiet = o.diff.quiet = o.quiet;
 }
 
 // The commands that do the work (no subcommands of their own), each with its run function.
@@ -159,6 +162,12 @@ void add_bench_commands(CLI::App& app, Options& o, Commands& commands) {
     add_bench_metrics_options(*metrics, o.bench_metrics);
     commands.emplace_back(rays, [&o] { return run_bench_rays(o.bench_rays); });
     commands.emplace_back(metrics, [&o] { return run_bench_metrics(o.bench_metrics); });
+    CLI::App* foveation = bench->add_subcommand(
+        "foveation",
+        "stage times of the foveated modes against basic in the same run, with the rays traced "
+        "and the speed-up target (0.8 x the ray-count ratio)");
+    add_bench_foveation_options(*foveation, o.bench_foveation);
+    commands.emplace_back(foveation, [&o] { return run_bench_foveation(o.bench_foveation); });
 }
 
 void add_golden_commands(CLI::App& app, Options& o, Commands& commands) {

@@ -1,0 +1,33 @@
+// `fovref bench foveation` (issue 13, point 9): single-thread stage times of the foveated modes
+// against the basic ray tracer measured in the same run, on the procedural scenes, with the share
+// of W x H dispatched and traced. A benchmark, not a test: it prints figures (docs/foveation.md
+// has a measured table).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace fovref {
+
+struct BenchFoveationOptions {
+    std::vector<std::string> scenes;  ///< empty: every procedural scene
+    int width = 1280;
+    int height = 720;
+    /// Frames timed per mode after a first one (which builds the BVH and is left out); each
+    /// stage's time is the fastest over them.
+    int repeats = 3;
+    std::vector<std::string> modes;  ///< empty: fov, kfov, cfov, ckfov and cfov with filters=lerp
+    bool quiet = false;
+};
+
+void add_bench_foveation_options(CLI::App& command, BenchFoveationOptions& options);
+
+/// Runs the benchmark and prints its tables. Returns 0; throws fovref::Error for an unknown scene
+/// or mode, or a bad size.
+int run_bench_foveation(const BenchFoveationOptions& options);
+
+}  // namespace fovref
