@@ -28,29 +28,6 @@ const char* status_text(TexelStatus s) {
     return "?";
 }
 
-// Bit comparison of every G-buffer channel but motion at (x, y) of `mine` with the rendered
-// buffers named prefix + channel.
-bool same_gbuffer(const GBuffer& mine, const FrameResult& f, const std::string& prefix, int x,
-                  int y) {
-    bool same = true;
-    for (const auto& [name, image] :
-         {std::pair<const char*, const Image*>{"view_depth", &mine.view_depth},
-          {"hit_distance", &mine.hit_distance},
-          {"world_position", &mine.world_position},
-          {"shading_normal", &mine.shading_normal},
-          {"geometric_normal", &mine.geometric_normal},
-          {"albedo", &mine.albedo},
-          {"material_id", &mine.material_id},
-          {"primitive_id", &mine.primitive_id}}) {
-        const Image& rendered = f.find(prefix + name)->image;
-        for (int k = 0; k < image->channels; ++k) {
-            const float a = image->at(x, y, k), b = rendered.at(x, y, k);
-            same = same && std::memcmp(&a, &b, sizeof a) == 0;
-        }
-    }
-    return same;
-}
-
 // The ray's closest hit and the surface there (the same ray the pass traced; its G-buffer values
 // are checked separately).
 void explain_hit(const ProbeContext& c, const Bvh& bvh, const Ray& ray, ProbeSection& section) {
@@ -115,7 +92,7 @@ void explain_texel(const ProbeContext& c, const LogPolarMap& m, const Bvh& bvh, 
                   "origin " + probe_vec3(ray.origin) + ", direction " + probe_vec3(ray.direction));
         explain_hit(c, bvh, ray, trace);
     }
-    const bool same = same_gbuffer(scratch.gbuffer, f, "lp_gbuffer_", i, j) &&
+    const bool same = probe_same_gbuffer(scratch.gbuffer, f, "lp_gbuffer_", i, j) &&
                       scratch.valid.at(i, j) == f.find("lp_valid")->image.at(i, j);
     trace.add("check", std::string("texel: ") + (same ? "bit-identical to the rendered buffers"
                                                       : "DIFFERS from the rendered buffers"));
@@ -143,7 +120,7 @@ void explain_gaze_pixel(const ProbeContext& c, const LogPolarMap& m, const Bvh& 
     trace.add("primary ray",
               "origin " + probe_vec3(ray.origin) + ", direction " + probe_vec3(ray.direction));
     explain_hit(c, bvh, ray, trace);
-    const bool same = same_gbuffer(scratch.gbuffer, *c.frame, "gaze_gbuffer_", c.x, c.y);
+    const bool same = probe_same_gbuffer(scratch.gbuffer, *c.frame, "gaze_gbuffer_", c.x, c.y);
     trace.add("check", std::string("pixel: ") + (same ? "bit-identical to the rendered buffers"
                                                       : "DIFFERS from the rendered buffers"));
     if (!same) report.consistent = false;

@@ -271,22 +271,7 @@ void explain_ray_visibility(const ProbeContext& c, const Bvh& bvh, const Ray& ra
         explain_surface(scene, surface_at(scene, hit.primitive, hit.u, hit.v), vis);
     }
     // Every channel but motion (the scratch pass used this camera as the previous one).
-    bool same = true;
-    for (const auto& [name, image] :
-         {std::pair<const char*, const Image*>{"gbuffer_view_depth", &scratch.view_depth},
-          {"gbuffer_hit_distance", &scratch.hit_distance},
-          {"gbuffer_world_position", &scratch.world_position},
-          {"gbuffer_shading_normal", &scratch.shading_normal},
-          {"gbuffer_geometric_normal", &scratch.geometric_normal},
-          {"gbuffer_albedo", &scratch.albedo},
-          {"gbuffer_material_id", &scratch.material_id},
-          {"gbuffer_primitive_id", &scratch.primitive_id}}) {
-        const Image& rendered = f.find(name)->image;
-        for (int k = 0; k < image->channels; ++k) {
-            const float a = image->at(c.x, c.y, k), b = rendered.at(c.x, c.y, k);
-            same = same && std::memcmp(&a, &b, sizeof a) == 0;
-        }
-    }
+    const bool same = probe_same_gbuffer(scratch, f, "gbuffer_", c.x, c.y);
     vis.add("check",
             std::string("G-buffer pixel: ") + (same ? "bit-identical to the rendered buffers"
                                                     : "DIFFERS from the rendered buffers"));
@@ -302,6 +287,27 @@ void explain_shade_direct(const ProbeContext& c, const Bvh& bvh, ProbeReport& re
 }
 
 }  // namespace
+
+bool probe_same_gbuffer(const GBuffer& mine, const FrameResult& f, const std::string& prefix, int x,
+                        int y) {
+    bool same = true;
+    for (const auto& [name, image] :
+         {std::pair<const char*, const Image*>{"view_depth", &mine.view_depth},
+          {"hit_distance", &mine.hit_distance},
+          {"world_position", &mine.world_position},
+          {"shading_normal", &mine.shading_normal},
+          {"geometric_normal", &mine.geometric_normal},
+          {"albedo", &mine.albedo},
+          {"material_id", &mine.material_id},
+          {"primitive_id", &mine.primitive_id}}) {
+        const Image& rendered = f.find(prefix + name)->image;
+        for (int k = 0; k < image->channels; ++k) {
+            const float a = image->at(x, y, k), b = rendered.at(x, y, k);
+            same = same && std::memcmp(&a, &b, sizeof a) == 0;
+        }
+    }
+    return same;
+}
 
 void explain_shade_at(const ProbeContext& c, const Bvh& bvh, const std::string& prefix,
                       const std::string& color, int x, int y, ProbeSection& shade,

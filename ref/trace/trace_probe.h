@@ -7,6 +7,7 @@
 #include <string>
 
 #include "ref/bvh/bvh.h"
+#include "ref/raster/gbuffer.h"
 #include "ref/scene/surface.h"
 #include "ref/stage/probe.h"
 
@@ -24,6 +25,10 @@ void explain_surface(const Scene& scene, const SurfacePoint& surface, ProbeSecti
 /// marked inconsistent).
 void probe_check(ProbeReport& report, ProbeSection& section, const std::string& what,
                  glm::vec3 mine, glm::vec3 rendered);
+/// True when every G-buffer channel but motion of `mine` at (x, y) has the bits of the rendered
+/// buffer named prefix + channel ("gbuffer_view_depth", ...).
+bool probe_same_gbuffer(const GBuffer& mine, const FrameResult& frame, const std::string& prefix,
+                        int x, int y);
 /// The shading pass's own per-pixel function (shade_basic_pixel) at (x, y) of the rendered
 /// G-buffer named prefix + "world_position", ... (its light samples and random numbers), checked
 /// against buffer `color` at (x, y).

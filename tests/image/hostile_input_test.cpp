@@ -44,6 +44,17 @@ void chunk(std::string& png, const std::string& type, const std::string& data) {
     put_u32(png, crc32(type + data));
 }
 
+// The PNG signature and the IHDR chunk of a 1x1 8-bit grey image.
+std::string grey_1x1_signature_and_header() {
+    std::string png = "\x89PNG\r\n\x1a\n";
+    std::string ihdr;
+    put_u32(ihdr, 1);
+    put_u32(ihdr, 1);
+    ihdr += std::string("\x08\x00\x00\x00\x00", 5);
+    chunk(png, "IHDR", ihdr);
+    return png;
+}
+
 // zlib stream of stored blocks (valid deflate, no compression).
 std::string zlib_stored(const std::string& raw) {
     std::string z = "\x78\x01";
@@ -249,12 +260,7 @@ TEST_CASE("hostile PNG: image data far beyond the raster is refused; a little is
     // as decoders accept it, more is refused.
     test::TempDir dir("hostile-png-tail");
     auto grey = [&](std::size_t extra) {
-        std::string png = "\x89PNG\r\n\x1a\n";
-        std::string ihdr;
-        put_u32(ihdr, 1);
-        put_u32(ihdr, 1);
-        ihdr += std::string("\x08\x00\x00\x00\x00", 5);  // 1x1 grey, 8 bits
-        chunk(png, "IHDR", ihdr);
+        std::string png = grey_1x1_signature_and_header();
         chunk(png, "IDAT", zlib_stored(std::string("\0\x80", 2) + std::string(extra, '\0')));
         chunk(png, "IEND", "");
         return png;
@@ -271,12 +277,7 @@ TEST_CASE("hostile PNG: a chunk declaring more bytes than the file has is refuse
     // grows its IDAT buffer to the declared length (2 GiB) before finding the data missing; the
     // chunk walk now refuses such a chunk first. An IEND chunk's length is never read.
     test::TempDir dir("hostile-png-chunk");
-    std::string png = "\x89PNG\r\n\x1a\n";
-    std::string ihdr;
-    put_u32(ihdr, 1);
-    put_u32(ihdr, 1);
-    ihdr += std::string("\x08\x00\x00\x00\x00", 5);  // 1x1 grey, 8 bits
-    chunk(png, "IHDR", ihdr);
+    std::string png = grey_1x1_signature_and_header();
     chunk(png, "IDAT", zlib_stored(std::string("\0\x80", 2)));
     const std::size_t second = png.size();
     put_u32(png, 0x49444154u);
