@@ -6,11 +6,11 @@
 namespace fovref {
 
 TexelStatus lp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const LogPolarMap& map,
-                             const Scene& scene, const Bvh& bvh, const Camera& camera,
-                             float tan_half, const Camera& previous_camera, float previous_tan_half,
-                             int x, int y, FoveatedTraceStats& stats) {
+                             const LpInverseTable& table, const Scene& scene, const Bvh& bvh,
+                             const Camera& camera, float tan_half, const Camera& previous_camera,
+                             float previous_tan_half, int x, int y, FoveatedTraceStats& stats) {
     glm::vec2 p{0.0f};
-    const TexelStatus status = lp_texel_status(map, x, y, p);
+    const TexelStatus status = lp_texel_status(map, table, x, y, p);
     screen_points.at(x, y, 0) = p.x;
     screen_points.at(x, y, 1) = p.y;
     if (status == TexelStatus::off_screen) {
@@ -39,9 +39,10 @@ MaskedGBuffer trace_lp_gbuffer(const LogPolarMap& map, const Scene& scene, const
     screen_points = Image(map.width, map.height, 2, 0.0f);
     const float tan_half = tan_half_vfov(camera);
     const float previous_tan_half = tan_half_vfov(previous_camera);
+    const LpInverseTable table = lp_inverse_table(map);
     for (int y = 0; y < map.height; ++y)
         for (int x = 0; x < map.width; ++x)
-            lp_gbuffer_texel(buffer, screen_points, map, scene, bvh, camera, tan_half,
+            lp_gbuffer_texel(buffer, screen_points, map, table, scene, bvh, camera, tan_half,
                              previous_camera, previous_tan_half, x, y, stats);
     return buffer;
 }

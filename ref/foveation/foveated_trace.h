@@ -4,6 +4,7 @@
 //   trace_lp_gbuffer:   for each texel (i, j) of the w x h log-polar buffer, row by row:
 //                         lp_gbuffer_texel(x = i, y = j):
 //                           centre (i + 1/2, j + 1/2) -> lp_inverse -> screen point p
+//                           (from lp_inverse_table: the same bits, w + h transcendentals)
 //                           p off screen (or inside the gaze circle): no ray, no data, valid 0
 //                           else the primary ray through p (SPEC §1), closest hit, the texel
 //                           written by write_gbuffer_sample (motion relative to p), valid 1
@@ -44,9 +45,9 @@ struct FoveatedTraceStats {
 /// the buffer's size) receives the texel centre's inverse-mapped screen point, traced or not.
 /// Returns the texel's status.
 TexelStatus lp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const LogPolarMap& map,
-                             const Scene& scene, const Bvh& bvh, const Camera& camera,
-                             float tan_half, const Camera& previous_camera, float previous_tan_half,
-                             int x, int y, FoveatedTraceStats& stats);
+                             const LpInverseTable& table, const Scene& scene, const Bvh& bvh,
+                             const Camera& camera, float tan_half, const Camera& previous_camera,
+                             float previous_tan_half, int x, int y, FoveatedTraceStats& stats);
 
 /// The log-polar buffer's G-buffer (map.width x map.height) and the texels' screen points.
 MaskedGBuffer trace_lp_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,

@@ -81,8 +81,9 @@ void explain_texel(const ProbeContext& c, const LogPolarMap& m, const Bvh& bvh, 
     Image points(m.width, m.height, 2, 0.0f);
     FoveatedTraceStats stats;
     const float tan_half = tan_half_vfov(c.camera);
-    const TexelStatus status = lp_gbuffer_texel(scratch, points, m, *c.scene, bvh, c.camera,
-                                                tan_half, c.camera, tan_half, i, j, stats);
+    const TexelStatus status =
+        lp_gbuffer_texel(scratch, points, m, lp_inverse_table(m), *c.scene, bvh, c.camera, tan_half,
+                         c.camera, tan_half, i, j, stats);
     const glm::vec2 p{points.at(i, j, 0), points.at(i, j, 1)};
     trace.add("screen point", point_text(p) + ", r = " + probe_float(gaze_distance(m.gaze, p)) +
                                   " px from the gaze: " + status_text(status));

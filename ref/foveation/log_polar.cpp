@@ -107,16 +107,47 @@ glm::vec2 lp_forward(const LogPolarMap& map, glm::vec2 p) {
     return {u, v};
 }
 
-glm::vec2 lp_inverse(const LogPolarMap& map, glm::vec2 uv) {
-    const float t = map.composite + (1.0f - map.composite) * (uv.x / static_cast<float>(map.width));
+namespace {
+
+float inverse_radius(const LogPolarMap& map, float u) {
+    const float t = map.composite + (1.0f - map.composite) * (u / static_cast<float>(map.width));
     const float rho = kernel_inverse(map.kernel, t);
-    const float r = dm::exp(map.log_radius_max * rho) - 1.0f;
-    const float theta = two_pi * uv.y / static_cast<float>(map.height);
+    return dm::exp(map.log_radius_max * rho) - 1.0f;
+}
+
+float inverse_angle(const LogPolarMap& map, float v) {
+    return two_pi * v / static_cast<float>(map.height);
+}
+
+}  // namespace
+
+glm::vec2 lp_inverse(const LogPolarMap& map, glm::vec2 uv) {
+    const float r = inverse_radius(map, uv.x);
+    const float theta = inverse_angle(map, uv.y);
     return {map.gaze.x + r * dm::cos(theta), map.gaze.y + r * dm::sin(theta)};
 }
 
-TexelStatus lp_texel_status(const LogPolarMap& map, int i, int j, glm::vec2& screen_point) {
-    screen_point = lp_inverse(map, {static_cast<float>(i) + 0.5f, static_cast<float>(j) + 0.5f});
+LpInverseTable lp_inverse_table(const LogPolarMap& map) {
+    LpInverseTable table;
+    table.radius.resize(static_cast<std::size_t>(map.width));
+    table.cos_theta.resize(static_cast<std::size_t>(map.height));
+    table.sin_theta.resize(static_cast<std::size_t>(map.height));
+    for (int i = 0; i < map.width; ++i)
+        table.radius[static_cast<std::size_t>(i)] =
+            inverse_radius(map, static_cast<float>(i) + 0.5f);
+    for (int j = 0; j < map.height; ++j) {
+        const float theta = inverse_angle(map, static_cast<float>(j) + 0.5f);
+        table.cos_theta[static_cast<std::size_t>(j)] = dm::cos(theta);
+        table.sin_theta[static_cast<std::size_t>(j)] = dm::sin(theta);
+    }
+    return table;
+}
+
+TexelStatus lp_texel_status(const LogPolarMap& map, const LpInverseTable& table, int i, int j,
+                            glm::vec2& screen_point) {
+    const float r = table.radius[static_cast<std::size_t>(i)];
+    screen_point = {map.gaze.x + r * table.cos_theta[static_cast<std::size_t>(j)],
+                    map.gaze.y + r * table.sin_theta[static_cast<std::size_t>(j)]};
     if (!on_screen(map.screen_width, map.screen_height, screen_point))
         return TexelStatus::off_screen;
     if (inside_gaze_circle(map, screen_point)) return TexelStatus::inside_gaze;

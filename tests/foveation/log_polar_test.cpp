@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 #include "ref/core/error.h"
 #include "ref/foveation/foveated_params.h"
@@ -222,11 +223,12 @@ TEST_CASE("log-polar: analytic inverse of the classic map (alpha = 1, no gaze bu
 TEST_CASE("log-polar: texel status: off screen, traced, the composite circle") {
     const float d_px = display_distance(180);
     const LogPolarMap m = make_log_polar_map(preset_params("cfov"), 320, 180, {160, 90}, d_px);
+    const LpInverseTable table = lp_inverse_table(m);
     std::int64_t traced = 0, off = 0, inside = 0;
     for (int j = 0; j < m.height; ++j)
         for (int i = 0; i < m.width; ++i) {
             glm::vec2 p{0.0f};
-            const TexelStatus s = lp_texel_status(m, i, j, p);
+            const TexelStatus s = lp_texel_status(m, table, i, j, p);
             // Independent check of the status from the screen point.
             const bool on = p.x >= 0 && p.x < 320 && p.y >= 0 && p.y < 180;
             if (s == TexelStatus::traced) {
@@ -252,10 +254,11 @@ TEST_CASE("log-polar: a gaze circle covering R leaves no texel to trace and no N
     params.gaze_angle = 1.5f;
     const LogPolarMap m = make_log_polar_map(params, 64, 36, {32, 18}, display_distance(36));
     CHECK(m.composite == 1.0f);
+    const LpInverseTable table = lp_inverse_table(m);
     for (int j = 0; j < m.height; ++j)
         for (int i = 0; i < m.width; ++i) {
             glm::vec2 p{0.0f};
-            CHECK(lp_texel_status(m, i, j, p) != TexelStatus::traced);
+            CHECK(lp_texel_status(m, table, i, j, p) != TexelStatus::traced);
         }
     const glm::vec2 uv = lp_forward(m, {200, 200});
     CHECK(std::isfinite(uv.x));
@@ -303,7 +306,7 @@ TEST_CASE("log-polar: extreme parameters stay finite and bounded") {
     // Its one texel's centre (u = 1/2: r = sqrt(1 + sqrt(2)) - 1 = 0.554 px at theta = pi) lies
     // at (-0.054, 0.5): off screen, so nothing is traced (pass 2 counts the pixel untraced).
     glm::vec2 p{0.0f};
-    CHECK(lp_texel_status(tiny, 0, 0, p) == TexelStatus::off_screen);
+    CHECK(lp_texel_status(tiny, lp_inverse_table(tiny), 0, 0, p) == TexelStatus::off_screen);
     CHECK(p.x == doctest::Approx(0.5 - (std::sqrt(1 + std::sqrt(2.0)) - 1)).epsilon(1e-5));
     // 16384x16384: cfov's buffer is 6723x20372 (h = round(16384 / sqrt(0.33) / 1.4)); a sample
     // of texels maps to finite points. fov's would be 23930x19942 texels (1.8x the screen),
@@ -400,4 +403,20 @@ TEST_CASE("kernel: Meng's polynomial, validated, inverted by bisection") {
                              polynomial_kernel({0.0f, NAN});
                          }),
                          "not a finite"));
+}
+
+TEST_CASE("log-polar: the factored inverse table gives lp_inverse's bits at every texel") {
+    const float d_px = display_distance(180);
+    for (const FoveationPreset& preset : foveation_presets())
+        for (const glm::vec2& gaze : {glm::vec2{160, 90}, glm::vec2{-30.25f, 17}}) {
+            const LogPolarMap m = make_log_polar_map(preset.map, 320, 180, gaze, d_px);
+            const LpInverseTable table = lp_inverse_table(m);
+            for (int j = 0; j < m.height; ++j)
+                for (int i = 0; i < m.width; ++i) {
+                    glm::vec2 p{0.0f};
+                    lp_texel_status(m, table, i, j, p);
+                    const glm::vec2 direct = lp_inverse(m, centre(i, j));
+                    REQUIRE(std::memcmp(&p, &direct, sizeof p) == 0);
+                }
+        }
 }
