@@ -146,7 +146,9 @@ void add_evaluate_options(CLI::App& c, EvaluateOptions& o) {
         ->capture_default_str();
     c.add_option("--time-step", o.time_step, "camera-path time between frames")
         ->capture_default_str();
-    c.add_option("--gaze", o.gaze, "gaze point X,Y in pixels (default: the centre)");
+    c.add_option("--gaze", o.gaze,
+                 "gaze point X,Y in pixels, of the error ranges and of the foveated modes "
+                 "(default: the centre)");
     c.add_option("--rings", o.rings, "number of error ranges")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
@@ -185,7 +187,15 @@ struct Evaluation {
 // The --mode and --frames-dir candidates, in that order.
 std::vector<Candidate> make_candidates(const EvaluateOptions& o) {
     std::vector<Candidate> candidates;
-    for (const std::string& m : o.modes) candidates.push_back(parse_mode(m, o.params));
+    // --gaze is the gaze of the error ranges and of every foveated mode evaluated.
+    std::vector<std::string> shared = o.params;
+    if (!o.gaze.empty()) {
+        for (const std::string& p : o.params)
+            if (p.rfind("gaze=", 0) == 0)
+                throw Error("evaluate: --gaze and --param gaze=... both given; give --gaze");
+        shared.push_back("gaze=" + o.gaze);
+    }
+    for (const std::string& m : o.modes) candidates.push_back(parse_mode(m, shared));
     for (const std::string& d : o.frame_dirs) {
         if (!fs::is_directory(d)) throw Error(d + ": not a directory of frames");
         Candidate c;

@@ -66,6 +66,8 @@ std::vector<ParamSpec> foveated_param_specs(const FoveationPreset& preset) {
         {"gaze_angle", number_text(m.gaze_angle),
          "a_G in radians: the gaze buffer's angular radius (composite foveation); 0: none"},
         {"gaze", "", "gaze point X,Y in screen pixels (any finite point); empty: the centre"},
+        {"gaze_track", "",
+         "CSV file of 'frame,x,y' lines: the gaze of each frame (held until the next sample)"},
         {"filters", "", "screen-space filters after pass 2: '' (none) or 'lerp' (Lund §3.5)"},
         {"resolve", "bilinear", "pass 2's filter: 'bilinear' (SPEC §6)"},
     };
@@ -101,6 +103,11 @@ FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset
     else if (!gaze.empty())
         throw Error("parameter 'gaze': expected X,Y (two numbers), got " +
                     std::to_string(gaze.size()));
+    const std::string track = params.get_string(specs, "gaze_track");
+    if (!track.empty()) {
+        if (parsed.gaze) throw Error("parameters 'gaze' and 'gaze_track' both given: give one");
+        parsed.gaze_track = read_gaze_track(track);
+    }
     const std::string filters = params.get_string(specs, "filters");
     if (filters == "lerp")
         parsed.gaussian_lerp = true;
@@ -112,15 +119,17 @@ FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset
     return parsed;
 }
 
-glm::vec2 gaze_point(const FoveatedParams& params, int width, int height) {
+glm::vec2 gaze_point(const FoveatedParams& params, int width, int height, int frame) {
+    if (!params.gaze_track.empty()) return gaze_at_frame(params.gaze_track, frame);
     if (params.gaze) return *params.gaze;
     return {static_cast<float>(width) * 0.5f, static_cast<float>(height) * 0.5f};
 }
 
 LogPolarMap foveated_map(const FoveatedParams& params, const Scene& scene, const Camera& camera,
-                         int width, int height) {
+                         int width, int height, int frame) {
     const float d_px = display_distance_px(scene.display, width, height, camera.vfov_deg);
-    return make_log_polar_map(params.map, width, height, gaze_point(params, width, height), d_px);
+    return make_log_polar_map(params.map, width, height, gaze_point(params, width, height, frame),
+                              d_px);
 }
 
 }  // namespace fovref

@@ -15,6 +15,7 @@
 
 #include <glm/glm.hpp>
 
+#include "ref/foveation/gaze_track.h"
 #include "ref/foveation/log_polar.h"
 #include "ref/scene/scene.h"
 #include "ref/stage/params.h"
@@ -36,6 +37,8 @@ struct FoveatedParams {
     LogPolarParams map;
     /// The gaze point in screen pixels (`gaze=X,Y`, any finite point); empty: the screen centre.
     std::optional<glm::vec2> gaze;
+    /// A recorded gaze path (`gaze_track=FILE`, ref/foveation/gaze_track.h); empty: none.
+    std::vector<GazeSample> gaze_track;
     /// Lund §3.5's Gaussian lerp after pass 2 (`filters=lerp`); off by default, as in Lund's
     /// error measurements (§5.3.4).
     bool gaussian_lerp = false;
@@ -47,12 +50,13 @@ std::vector<ParamSpec> foveated_param_specs(const FoveationPreset& preset);
 /// Parses and validates; throws fovref::Error naming the parameter.
 FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset& preset);
 
-/// The gaze for a W x H screen: the given point, else the centre (W/2, H/2).
-glm::vec2 gaze_point(const FoveatedParams& params, int width, int height);
+/// The gaze of frame `frame` on a W x H screen: the gaze track's, else the given point, else the
+/// centre (W/2, H/2).
+glm::vec2 gaze_point(const FoveatedParams& params, int width, int height, int frame);
 
 /// The log-polar map of a W x H frame: the parameters' map, the gaze point and the viewing
 /// distance of the scene's display model for the camera (docs/foveation.md).
 LogPolarMap foveated_map(const FoveatedParams& params, const Scene& scene, const Camera& camera,
-                         int width, int height);
+                         int width, int height, int frame);
 
 }  // namespace fovref

@@ -187,8 +187,8 @@ std::vector<std::pair<int, int>> explain_resolve(const ProbeContext& c, const Lo
 void explain_foveated(const ProbeContext& c, ProbeReport& report) {
     const FoveatedParams params =
         parse_foveated_params(c.settings->params, find_foveation_preset(report.mode));
-    const LogPolarMap m =
-        foveated_map(params, *c.scene, c.camera, c.settings->width, c.settings->height);
+    const LogPolarMap m = foveated_map(params, *c.scene, c.camera, c.settings->width,
+                                       c.settings->height, c.frame->frame);
     const Bvh bvh = build_bvh(c.scene->positions);
     explain_map(m, report);
     if (c.texel) {

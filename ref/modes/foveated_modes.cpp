@@ -1,6 +1,7 @@
 #include "ref/modes/foveated_modes.h"
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 
 #include "ref/foveation/foveated_params.h"
@@ -50,7 +51,7 @@ void add_mask(FrameResult& result, const std::string& name, Image mask) {
 LogPolarMap frame_log_polar_map(const FrameContext& ctx) {
     const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
     return foveated_map(state.params, *ctx.scene, ctx.camera, ctx.settings->width,
-                        ctx.settings->height);
+                        ctx.settings->height, ctx.frame);
 }
 
 void lp_trace_stage(FrameContext& ctx) {
@@ -67,7 +68,10 @@ void lp_trace_stage(FrameContext& ctx) {
     counters.add("texels_off_screen", stats.texels_off_screen);
     if (stats.texels_inside_gaze > 0) counters.add("texels_inside_gaze", stats.texels_inside_gaze);
     add_trace_counters(counters, "primary", stats.rays.primary);
-    ctx.note = std::to_string(map.width) + "x" + std::to_string(map.height) + " texels, " +
+    char gaze[64];
+    std::snprintf(gaze, sizeof gaze, "gaze (%.9g, %.9g), ", static_cast<double>(map.gaze.x),
+                  static_cast<double>(map.gaze.y));
+    ctx.note = gaze + std::to_string(map.width) + "x" + std::to_string(map.height) + " texels, " +
                std::to_string(stats.texels_traced) + " traced, K = " + kernel_text(map.kernel);
     add_gbuffer(*ctx.result, std::move(lp.gbuffer), "lp_gbuffer_");
     add_mask(*ctx.result, "lp_valid", std::move(lp.valid));
@@ -116,11 +120,9 @@ void resolve_stage(FrameContext& ctx) {
 }
 
 void gaussian_lerp_stage(FrameContext& ctx) {
-    const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
-    const RenderSettings& s = *ctx.settings;
-    ctx.result->add(
-        "final", BufferKind::color, {"r", "g", "b"},
-        gaussian_lerp(ctx.input("resolved"), gaze_point(state.params, s.width, s.height)));
+    const LogPolarMap map = frame_log_polar_map(ctx);
+    ctx.result->add("final", BufferKind::color, {"r", "g", "b"},
+                    gaussian_lerp(ctx.input("resolved"), map.gaze));
 }
 
 void ray_positions_stage(FrameContext& ctx) {
