@@ -49,7 +49,7 @@ rm -rf "$seeds"
 mkdir -p "$seeds"
 make_seeds() {
   local s=$seeds
-  mkdir -p "$s"/{fuzz_pfm,fuzz_png,fuzz_exr,fuzz_raw,fuzz_scene_json,fuzz_obj,fuzz_texture,fuzz_rays,fuzz_tolerance,fuzz_manifest,fuzz_cases}
+  mkdir -p "$s"/{fuzz_pfm,fuzz_png,fuzz_exr,fuzz_raw,fuzz_scene_json,fuzz_obj,fuzz_texture,fuzz_rays,fuzz_tolerance,fuzz_manifest,fuzz_cases,fuzz_gaze_track}
   local k=0
   for f in golden/*/*.pfm; do [ $((k++ % 7)) -eq 0 ] && [ "$(stat -c %s "$f")" -lt 65536 ] && cp "$f" "$s/fuzz_pfm/$(echo "$f" | tr / _)"; done
   for f in golden/*/*.png scenes/textured-room/*.png; do [ -f "$f" ] && [ "$(stat -c %s "$f")" -lt 65536 ] && cp "$f" "$s/fuzz_png/$(echo "$f" | tr / _)"; done
@@ -74,6 +74,8 @@ make_seeds() {
   # Tolerance files.
   printf '{\n  "final": {"ulp": 4, "reason": "GPU pow"},\n  "gbuffer_primitive_id": {"edge_mismatch_share": 0.01, "interior_mismatches": 0},\n  "*": {"abs": 1e-6, "rel": 1e-4, "max_failing_pixels": 3}\n}\n' > "$s/fuzz_tolerance/file.json"
   printf 'final:abs=1e-5,ulp=4,pixels=10' > "$s/fuzz_tolerance/option"
+  # Gaze tracks.
+  printf 'frame,x,y\n# eye tracker, 120 Hz\n0,640,360\n3,612.5,340.25\n10,-20,1e3\n' > "$s/fuzz_gaze_track/track.csv"
 }
 make_seeds
 dictionary() {
