@@ -1,5 +1,6 @@
 #include "ref/foveation/foveated_params.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "ref/core/error.h"
@@ -21,6 +22,18 @@ FoveationPreset preset(std::string name, float sigma, float alpha, float gaze_an
     return p;
 }
 
+// Meng's KFR (Meng ch. 3-4; SPEC §12): w = W/sigma, h = H/sigma, R from the corners, the
+// rasterized G-buffer sampled per texel, internal AA, mip resolve, post-AA.
+FoveationPreset kfr_preset() {
+    FoveationPreset p = preset("kfr", 1.8f, 4.0f, 0.0f, 0.0f);
+    p.source = "Meng 2018, KFR";
+    p.map.radius = RadiusMode::corners;
+    p.primary = "raster";
+    p.resolve = "mip";
+    p.filters = "internal_aa,post_aa";
+    return p;
+}
+
 std::string number_text(float value) {
     char text[32];
     std::snprintf(text, sizeof text, "%.9g", static_cast<double>(value));
@@ -35,6 +48,7 @@ const std::vector<FoveationPreset>& foveation_presets() {
         preset("kfov", 1.0f, 3.0f, 0.0f, 0.70f),
         preset("cfov", 1.4f, 1.0f, 0.20f, 0.33f),
         preset("ckfov", 1.3f, 2.0f, 0.15f, 0.35f),
+        kfr_preset(),
     };
     return presets;
 }
@@ -68,8 +82,15 @@ std::vector<ParamSpec> foveated_param_specs(const FoveationPreset& preset) {
         {"gaze", "", "gaze point X,Y in screen pixels (any finite point); empty: the centre"},
         {"gaze_track", "",
          "CSV file of 'frame,x,y' lines: the gaze of each frame (held until the next sample)"},
-        {"filters", "", "screen-space filters after pass 2: '' (none) or 'lerp' (Lund §3.5)"},
-        {"resolve", "bilinear", "pass 2's filter: 'bilinear' (SPEC §6)"},
+        {"primary", preset.primary,
+         "the buffer's G-buffer: 'ray' (a ray per texel) or 'raster' (Meng's deferred variant: "
+         "the rasterized full-resolution G-buffer sampled per texel)"},
+        {"fill_rule", "d3d", "rasterizer fill rule (primary=raster): 'd3d' or 'gl'"},
+        {"resolve", preset.resolve,
+         "pass 2's filter: 'bilinear' or 'mip' (a pyramid of the buffer, trilinear; Meng §5.1)"},
+        {"filters", preset.filters,
+         "comma-separated: 'internal_aa' (Meng, buffer space), 'lerp' (Lund §3.5), 'post_aa' "
+         "(Meng eq. 2.14); empty: none"},
     };
 }
 
@@ -109,13 +130,39 @@ FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset
         parsed.gaze_track = read_gaze_track(track);
     }
     const std::string filters = params.get_string(specs, "filters");
-    if (filters == "lerp")
-        parsed.gaussian_lerp = true;
-    else if (!filters.empty())
-        throw Error("parameter 'filters': '" + filters + "' is not a filter ('' or 'lerp')");
+    std::size_t start = 0;
+    while (start < filters.size()) {
+        const std::size_t comma = std::min(filters.find(',', start), filters.size());
+        const std::string name = filters.substr(start, comma - start);
+        if (name == "internal_aa")
+            parsed.internal_aa = true;
+        else if (name == "lerp")
+            parsed.gaussian_lerp = true;
+        else if (name == "post_aa")
+            parsed.post_aa = true;
+        else
+            throw Error("parameter 'filters': '" + name +
+                        "' is not a filter (internal_aa, lerp, post_aa)");
+        start = comma + 1;
+    }
     const std::string resolve = params.get_string(specs, "resolve");
-    if (resolve != "bilinear")
-        throw Error("parameter 'resolve': '" + resolve + "' is not a resolve filter ('bilinear')");
+    if (resolve == "mip")
+        parsed.mip_resolve = true;
+    else if (resolve != "bilinear")
+        throw Error("parameter 'resolve': '" + resolve + "' is neither 'bilinear' nor 'mip'");
+    const std::string primary = params.get_string(specs, "primary");
+    if (primary == "raster")
+        parsed.deferred = true;
+    else if (primary != "ray")
+        throw Error("parameter 'primary': '" + primary + "' is neither 'ray' nor 'raster'");
+    parsed.raster.fill_rule =
+        parse_fill_rule(params.get_string(specs, "fill_rule"), "parameter 'fill_rule'");
+    if (!parsed.deferred && params.given("fill_rule"))
+        throw Error("parameter 'fill_rule' applies to the rasterizer only: add primary=raster");
+    if (parsed.deferred && m.gaze_angle > 0.0f)
+        throw Error(
+            "parameters 'primary=raster' and 'gaze_angle' > 0: the deferred variant has no "
+            "gaze buffer (give gaze_angle=0 or primary=ray)");
     return parsed;
 }
 
@@ -123,6 +170,18 @@ glm::vec2 gaze_point(const FoveatedParams& params, int width, int height, int fr
     if (!params.gaze_track.empty()) return gaze_at_frame(params.gaze_track, frame);
     if (params.gaze) return *params.gaze;
     return {static_cast<float>(width) * 0.5f, static_cast<float>(height) * 0.5f};
+}
+
+std::string resolve_color_name(const FoveatedParams& params) {
+    return params.internal_aa ? "lp_color_aa" : "lp_color";
+}
+
+std::vector<std::string> screen_chain(const FoveatedParams& params) {
+    std::vector<std::string> chain = {"resolved"};
+    if (params.gaussian_lerp) chain.push_back("lerp_filtered");
+    if (params.post_aa) chain.push_back("post_aa_filtered");
+    chain.back() = "final";
+    return chain;
 }
 
 LogPolarMap foveated_map(const FoveatedParams& params, const Scene& scene, const Camera& camera,

@@ -1,13 +1,18 @@
 #include "ref/foveation/foveation_probe.h"
 
+#include <cmath>
 #include <cstring>
 #include <set>
 #include <utility>
 
 #include "ref/bvh/bvh.h"
+#include "ref/foveation/deferred_sample.h"
 #include "ref/foveation/foveated_params.h"
 #include "ref/foveation/foveated_trace.h"
 #include "ref/foveation/gaussian_lerp.h"
+#include "ref/foveation/internal_aa.h"
+#include "ref/foveation/mip_resolve.h"
+#include "ref/foveation/post_aa.h"
 #include "ref/foveation/resolve.h"
 #include "ref/trace/trace_probe.h"
 
@@ -64,13 +69,16 @@ void explain_map(const LogPolarMap& m, ProbeReport& report) {
 
 // [lp_trace] and [lp_shade] of texel (i, j): the pass's own per-texel function into a scratch
 // buffer, checked against the rendered one, then the shading pass at the texel.
-void explain_texel(const ProbeContext& c, const LogPolarMap& m, const Bvh& bvh, int i, int j,
-                   ProbeReport& report) {
+void explain_texel(const ProbeContext& c, const FoveatedParams& params, const LogPolarMap& m,
+                   const Bvh& bvh, int i, int j, ProbeReport& report) {
     const FrameResult& f = *c.frame;
-    ProbeSection trace{"lp_trace",
-                       "texel (" + std::to_string(i) + ", " + std::to_string(j) +
-                           "): one ray through its centre's inverse-mapped screen point",
-                       {}};
+    const std::string texel = "texel (" + std::to_string(i) + ", " + std::to_string(j) + ")";
+    ProbeSection trace{
+        params.deferred ? "lp_sample" : "lp_trace",
+        texel + (params.deferred ? ": the rasterized G-buffer's pixel under its centre's "
+                                   "inverse-mapped screen point (Meng's deferred variant)"
+                                 : ": one ray through its centre's inverse-mapped screen point"),
+        {}};
     const glm::vec2 uv{static_cast<float>(i) + 0.5f, static_cast<float>(j) + 0.5f};
     trace.add("centre", "(u, v) = " + point_text(uv));
     const float t = m.composite + (1.0f - m.composite) * (uv.x / static_cast<float>(m.width));
@@ -81,13 +89,33 @@ void explain_texel(const ProbeContext& c, const LogPolarMap& m, const Bvh& bvh, 
     Image points(m.width, m.height, 2, 0.0f);
     FoveatedTraceStats stats;
     const float tan_half = tan_half_vfov(c.camera);
-    const TexelStatus status =
-        lp_gbuffer_texel(scratch, points, m, lp_inverse_table(m), *c.scene, bvh, c.camera, tan_half,
-                         c.camera, tan_half, i, j, stats);
+    const LpInverseTable table = lp_inverse_table(m);
+    TexelStatus status = TexelStatus::off_screen;
+    if (params.deferred) {
+        const ScreenGBuffer screen{f.find("gbuffer_view_depth")->image,
+                                   f.find("gbuffer_hit_distance")->image,
+                                   f.find("gbuffer_world_position")->image,
+                                   f.find("gbuffer_shading_normal")->image,
+                                   f.find("gbuffer_geometric_normal")->image,
+                                   f.find("gbuffer_albedo")->image,
+                                   f.find("gbuffer_material_id")->image,
+                                   f.find("gbuffer_primitive_id")->image,
+                                   f.find("gbuffer_motion")->image};
+        status = deferred_gbuffer_texel(scratch, points, m, table, screen, i, j, stats);
+    } else {
+        status = lp_gbuffer_texel(scratch, points, m, table, *c.scene, bvh, c.camera, tan_half,
+                                  c.camera, tan_half, i, j, stats);
+    }
     const glm::vec2 p{points.at(i, j, 0), points.at(i, j, 1)};
     trace.add("screen point", point_text(p) + ", r = " + probe_float(gaze_distance(m.gaze, p)) +
                                   " px from the gaze: " + status_text(status));
-    if (status == TexelStatus::traced) {
+    if (status == TexelStatus::traced && params.deferred) {
+        trace.add("sampled pixel", "(" + std::to_string(static_cast<int>(std::floor(p.x))) + ", " +
+                                       std::to_string(static_cast<int>(std::floor(p.y))) +
+                                       ") of the rasterized G-buffer, every channel copied "
+                                       "(`fovref probe --pixel` explains its rasterization)");
+        trace.add("primitive", probe_float(scratch.gbuffer.primitive_id.at(i, j)));
+    } else if (status == TexelStatus::traced) {
         const Ray ray = primary_ray(c.camera, tan_half, m.screen_width, m.screen_height, p.x, p.y);
         trace.add("primary ray",
                   "origin " + probe_vec3(ray.origin) + ", direction " + probe_vec3(ray.direction));
@@ -106,6 +134,18 @@ void explain_texel(const ProbeContext& c, const LogPolarMap& m, const Bvh& bvh, 
                        {}};
     explain_shade_at(c, bvh, "lp_gbuffer_", "lp_color", i, j, shade, report);
     report.sections.push_back(shade);
+    if (!params.internal_aa) return;
+    ProbeSection aa{
+        "internal_aa", texel + ": Meng's internal anti-aliasing (docs/foveation.md)", {}};
+    const Image& color = f.find("lp_color")->image;
+    Image out(m.width, m.height, 3, 0.0f);
+    internal_aa_texel(color, f.find("lp_valid")->image, out, i, j);
+    aa.add("applies", 2 * i < m.width ? "no: a texel of the inner half (2 i < w), unchanged"
+                                      : "yes: the 3x3 Gaussian over its traced neighbours");
+    const glm::vec3 mine{out.at(i, j, 0), out.at(i, j, 1), out.at(i, j, 2)};
+    aa.add("value", probe_vec3(mine));
+    probe_check(report, aa, "lp_color_aa", mine, probe_rgb(f, "lp_color_aa", i, j));
+    report.sections.push_back(aa);
 }
 
 // [gaze_trace] and [gaze_shade] of screen pixel (x, y), inside the gaze circle.
@@ -132,7 +172,8 @@ void explain_gaze_pixel(const ProbeContext& c, const LogPolarMap& m, const Bvh& 
 }
 
 // [resolve]: pass 2 at the pixel; returns the taps' texels that were traced.
-std::vector<std::pair<int, int>> explain_resolve(const ProbeContext& c, const LogPolarMap& m,
+std::vector<std::pair<int, int>> explain_resolve(const ProbeContext& c,
+                                                 const FoveatedParams& params, const LogPolarMap& m,
                                                  const std::string& output, ProbeReport& report) {
     const FrameResult& f = *c.frame;
     ProbeSection s{"resolve", "pass 2 (docs/foveation.md, \"Pass 2\")", {}};
@@ -140,11 +181,34 @@ std::vector<std::pair<int, int>> explain_resolve(const ProbeContext& c, const Lo
     const float r = gaze_distance(m.gaze, centre);
     s.add("distance", "r = |centre - gaze| = " + probe_float(r) + " px");
     const Image* gaze = m.has_gaze_buffer() ? &f.find("gaze_color")->image : nullptr;
-    const ResolveInputs inputs{f.find("lp_color")->image, f.find("lp_valid")->image, gaze};
+    const std::string color_name = resolve_color_name(params);
+    const Image& color = f.find(color_name)->image;
+    const Image& valid = f.find("lp_valid")->image;
     Image out(m.screen_width, m.screen_height, 3, 0.0f);
     ResolveStats stats;
     BilinearLookup l;
-    resolve_pixel(m, inputs, out, c.x, c.y, stats, &l);
+    float lambda = 0.0f;
+    if (params.mip_resolve) {
+        const std::vector<MipLevel> mips = build_lp_mips(color, valid);
+        resolve_mip_pixel(m, mips, gaze, out, c.x, c.y, stats, &lambda);
+        s.add("filter", "mip: a pyramid of " + std::to_string(mips.size()) +
+                            " levels, level lambda = " + probe_float(lambda) +
+                            " (log2 of the larger of the radial and angular texels per pixel)");
+        if (lambda > 0.0f) {
+            s.add("levels", "levels " + std::to_string(static_cast<int>(std::floor(lambda))) +
+                                " and the next, lerped by " +
+                                probe_float(lambda - std::floor(lambda)) +
+                                "; texels of level 0 are listed only when lambda = 0");
+            const glm::vec3 mine{out.at(c.x, c.y, 0), out.at(c.x, c.y, 1), out.at(c.x, c.y, 2)};
+            s.add("value", probe_vec3(mine));
+            probe_check(report, s, output, mine, probe_rgb(f, output, c.x, c.y));
+            report.sections.push_back(s);
+            return {};
+        }
+        sample_lp_bilinear(color, valid, lp_forward(m, centre), &out.at(c.x, c.y, 0), &l);
+    } else {
+        resolve_pixel(m, {color, valid, gaze}, out, c.x, c.y, stats, &l);
+    }
     std::vector<std::pair<int, int>> taps;
     if (stats.pixels_from_gaze > 0) {
         s.add("source", "r < r_G = " + probe_float(m.gaze_radius) +
@@ -158,13 +222,12 @@ std::vector<std::pair<int, int>> explain_resolve(const ProbeContext& c, const Lo
                             ", j1 " + std::to_string(l.j1) + ", fv " + probe_float(l.fv) +
                             " (v wraps, u clamps)");
         const int is[4] = {l.i0, l.i1, l.i0, l.i1}, js[4] = {l.j0, l.j0, l.j1, l.j1};
-        const Image& color = f.find("lp_color")->image;
         for (int k = 0; k < 4; ++k) {
             const glm::vec3 value{color.at(is[k], js[k], 0), color.at(is[k], js[k], 1),
                                   color.at(is[k], js[k], 2)};
             s.add("  tap " + std::to_string(k),
                   "texel (" + std::to_string(is[k]) + ", " + std::to_string(js[k]) + ") " +
-                      (l.traced[k] ? "traced, lp_color " + probe_vec3(value)
+                      (l.traced[k] ? "traced, " + color_name + " " + probe_vec3(value)
                                    : std::string("not traced: left out")));
             if (l.traced[k] && (k == 0 || is[k] != is[k - 1] || js[k] != js[k - 1]))
                 taps.emplace_back(is[k], js[k]);
@@ -197,17 +260,18 @@ void explain_foveated(const ProbeContext& c, ProbeReport& report) {
             throw Error("--texel " + std::to_string(i) + "," + std::to_string(j) +
                         ": outside the " + std::to_string(m.width) + "x" +
                         std::to_string(m.height) + " log-polar buffer");
-        explain_texel(c, m, bvh, i, j, report);
+        explain_texel(c, params, m, bvh, i, j, report);
         return;
     }
-    const std::string resolved = params.gaussian_lerp ? "resolved" : "final";
-    const std::vector<std::pair<int, int>> taps = explain_resolve(c, m, resolved, report);
+    const std::vector<std::string> chain = screen_chain(params);
+    const std::vector<std::pair<int, int>> taps = explain_resolve(c, params, m, chain[0], report);
     const glm::vec2 centre{static_cast<float>(c.x) + 0.5f, static_cast<float>(c.y) + 0.5f};
     if (inside_gaze_circle(m, centre)) explain_gaze_pixel(c, m, bvh, report);
-    for (const auto& [i, j] : taps) explain_texel(c, m, bvh, i, j, report);
+    for (const auto& [i, j] : taps) explain_texel(c, params, m, bvh, i, j, report);
+    std::size_t link = 0;
     if (params.gaussian_lerp) {
         ProbeSection s{"gaussian_lerp", "Lund's Gaussian lerp (docs/foveation.md)", {}};
-        const Image& in = c.frame->find("resolved")->image;
+        const Image& in = c.frame->find(chain[link])->image;
         const float t = gaussian_lerp_amount(in.width, in.height, m.gaze, centre);
         s.add("amount", "t = clamp((r - D/6) / (R_c - D/6), 0, 1) = " + probe_float(t));
         const glm::vec3 g{gaussian3x3_clamped(in, c.x, c.y, 0),
@@ -218,6 +282,25 @@ void explain_foveated(const ProbeContext& c, ProbeReport& report) {
         gaussian_lerp_pixel(in, m.gaze, out, c.x, c.y);
         const glm::vec3 mine{out.at(c.x, c.y, 0), out.at(c.x, c.y, 1), out.at(c.x, c.y, 2)};
         s.add("value", probe_vec3(mine) + (t == 0.0f ? " (t = 0: unchanged)" : ""));
+        ++link;
+        probe_check(report, s, chain[link], mine, probe_rgb(*c.frame, chain[link], c.x, c.y));
+        report.sections.push_back(s);
+    }
+    if (params.post_aa) {
+        ProbeSection s{"post_aa", "Meng's post anti-aliasing, eq. 2.14 (docs/foveation.md)", {}};
+        const Image& in = c.frame->find(chain[link])->image;
+        const float t = gaze_distance(m.gaze, centre) / m.radius_max;
+        const int eta = post_aa_size(t);
+        s.add("size", "t = r / R = " + probe_float(t) +
+                          (eta == 0 ? ": t <= 0.10, unfiltered"
+                                    : ": eta = 3 + 2 ceil((t - 0.10) / 0.05) = " +
+                                          std::to_string(eta) + ", sigma = eta / 6"));
+        std::vector<std::vector<float>> weights(static_cast<std::size_t>(std::max(eta, 0) + 1));
+        if (eta > 0) weights[static_cast<std::size_t>(eta)] = post_aa_weights(eta);
+        Image out(in.width, in.height, 3, 0.0f);
+        post_aa_pixel(in, m.gaze, m.radius_max, weights, out, c.x, c.y);
+        const glm::vec3 mine{out.at(c.x, c.y, 0), out.at(c.x, c.y, 1), out.at(c.x, c.y, 2)};
+        s.add("value", probe_vec3(mine));
         probe_check(report, s, "final", mine, probe_rgb(*c.frame, "final", c.x, c.y));
         report.sections.push_back(s);
     }

@@ -88,6 +88,16 @@ float kernel_inverse(const Kernel& kernel, float t) {
     return mid;
 }
 
+float kernel_derivative(const Kernel& kernel, float x) {
+    x = std::clamp(x, 0.0f, 1.0f);
+    if (kernel.kind == KernelKind::power)
+        return kernel.alpha == 1.0f ? 1.0f : kernel.alpha * dm::pow(x, kernel.alpha - 1.0f);
+    float sum = 0.0f;
+    for (std::size_t i = kernel.beta.size() - 1; i >= 1; --i)
+        sum = sum * x + static_cast<float>(i) * kernel.beta[i];
+    return sum;
+}
+
 std::string kernel_text(const Kernel& kernel) {
     if (kernel.kind == KernelKind::power) return "x^" + number_text(kernel.alpha);
     std::string text = "poly(";

@@ -51,6 +51,11 @@ float kernel_forward(const Kernel& kernel, float x);
 /// result is the last mid (SPEC §5.1).
 float kernel_inverse(const Kernel& kernel, float t);
 
+/// K'(x) for x in [0, 1] (clamped first): alpha x^(alpha - 1) (1 for alpha = 1), or
+/// sum i beta_i x^(i-1) by Horner's rule from the highest coefficient down. Used by the mip
+/// resolve's level (ref/foveation/mip_resolve.h).
+float kernel_derivative(const Kernel& kernel, float x);
+
 /// "x^3", "poly(0, 0.5, 0.5)": for notes and reports.
 std::string kernel_text(const Kernel& kernel);
 

@@ -4,12 +4,17 @@
 #include <cstdio>
 #include <memory>
 
+#include "ref/foveation/deferred_sample.h"
 #include "ref/foveation/foveated_params.h"
 #include "ref/foveation/foveated_trace.h"
 #include "ref/foveation/gaussian_lerp.h"
+#include "ref/foveation/internal_aa.h"
+#include "ref/foveation/mip_resolve.h"
+#include "ref/foveation/post_aa.h"
 #include "ref/foveation/resolve.h"
 #include "ref/modes/mode_common.h"
 #include "ref/raster/gbuffer.h"
+#include "ref/raster/rasterizer.h"
 #include "ref/trace/shade_basic.h"
 
 namespace fovref {
@@ -46,6 +51,26 @@ void add_mask(FrameResult& result, const std::string& name, Image mask) {
     result.add(name, BufferKind::id, {"valid"}, std::move(mask));
 }
 
+// The buffer counters every log-polar frame reports (names read by scripts).
+void add_buffer_counters(FrameContext& ctx, const LogPolarMap& map,
+                         const FoveatedTraceStats& stats) {
+    Counters& counters = ctx.result->counters;
+    counters.add("buffer_width", map.width);
+    counters.add("buffer_height", map.height);
+    counters.add("texels_traced", stats.texels_traced);
+    counters.add("texels_off_screen", stats.texels_off_screen);
+    if (stats.texels_inside_gaze > 0) counters.add("texels_inside_gaze", stats.texels_inside_gaze);
+}
+
+// "gaze (x, y), w x h texels, K = x^a": the buffer stage's note.
+std::string map_note(const LogPolarMap& map) {
+    char gaze[64];
+    std::snprintf(gaze, sizeof gaze, "gaze (%.9g, %.9g), ", static_cast<double>(map.gaze.x),
+                  static_cast<double>(map.gaze.y));
+    return gaze + std::to_string(map.width) + "x" + std::to_string(map.height) +
+           " texels, K = " + kernel_text(map.kernel);
+}
+
 }  // namespace
 
 LogPolarMap frame_log_polar_map(const FrameContext& ctx) {
@@ -62,17 +87,9 @@ void lp_trace_stage(FrameContext& ctx) {
     Image screen_points;
     MaskedGBuffer lp = trace_lp_gbuffer(map, *ctx.scene, state.bvh.get(*ctx.scene, counters),
                                         ctx.camera, ctx.previous_camera, screen_points, stats);
-    counters.add("buffer_width", map.width);
-    counters.add("buffer_height", map.height);
-    counters.add("texels_traced", stats.texels_traced);
-    counters.add("texels_off_screen", stats.texels_off_screen);
-    if (stats.texels_inside_gaze > 0) counters.add("texels_inside_gaze", stats.texels_inside_gaze);
+    add_buffer_counters(ctx, map, stats);
     add_trace_counters(counters, "primary", stats.rays.primary);
-    char gaze[64];
-    std::snprintf(gaze, sizeof gaze, "gaze (%.9g, %.9g), ", static_cast<double>(map.gaze.x),
-                  static_cast<double>(map.gaze.y));
-    ctx.note = gaze + std::to_string(map.width) + "x" + std::to_string(map.height) + " texels, " +
-               std::to_string(stats.texels_traced) + " traced, K = " + kernel_text(map.kernel);
+    ctx.note = map_note(map) + ", " + std::to_string(stats.texels_traced) + " traced";
     add_gbuffer(*ctx.result, std::move(lp.gbuffer), "lp_gbuffer_");
     add_mask(*ctx.result, "lp_valid", std::move(lp.valid));
     ctx.result->add("lp_screen_point", BufferKind::scalar, {"x", "y"}, std::move(screen_points));
@@ -107,22 +124,74 @@ void gaze_shade_stage(FrameContext& ctx) {
 void resolve_stage(FrameContext& ctx) {
     const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
     const LogPolarMap map = frame_log_polar_map(ctx);
-    const bool composite = map.has_gaze_buffer();
-    const ResolveInputs inputs{ctx.input("lp_color"), ctx.input("lp_valid"),
-                               composite ? &ctx.input("gaze_color") : nullptr};
+    const Image* gaze = map.has_gaze_buffer() ? &ctx.input("gaze_color") : nullptr;
+    const Image& color = ctx.input(resolve_color_name(state.params));
+    const Image& valid = ctx.input("lp_valid");
     ResolveStats stats;
-    Image out = resolve_log_polar(map, inputs, stats);
+    Image out = state.params.mip_resolve
+                    ? resolve_log_polar_mip(map, build_lp_mips(color, valid), gaze, stats)
+                    : resolve_log_polar(map, {color, valid, gaze}, stats);
     ctx.result->counters.add("screen_pixels_untraced_taps", stats.pixels_untraced_taps);
-    ctx.note = std::to_string(stats.pixels_from_gaze) + " pixels from the gaze buffer, " +
+    ctx.note = std::string(state.params.mip_resolve ? "mip" : "bilinear") + ": " +
+               std::to_string(stats.pixels_from_gaze) + " pixels from the gaze buffer, " +
                std::to_string(stats.pixels_from_buffer) + " from the log-polar buffer";
-    const char* name = state.params.gaussian_lerp ? "resolved" : "final";
-    ctx.result->add(name, BufferKind::color, {"r", "g", "b"}, std::move(out));
+    ctx.result->add(screen_chain(state.params).front(), BufferKind::color, {"r", "g", "b"},
+                    std::move(out));
+}
+
+void gbuffer_raster_stage(FrameContext& ctx) {
+    const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
+    const RenderSettings& s = *ctx.settings;
+    RasterStats stats;
+    GBuffer g = rasterize_gbuffer(*ctx.scene, ctx.camera, ctx.previous_camera, s.width, s.height,
+                                  stats, state.params.raster);
+    add_raster_counters(ctx.result->counters, stats);
+    ctx.note =
+        std::string("rasterized, fill rule ") + fill_rule_name(state.params.raster.fill_rule);
+    add_gbuffer(*ctx.result, std::move(g));
+}
+
+void lp_sample_stage(FrameContext& ctx) {
+    const LogPolarMap map = frame_log_polar_map(ctx);
+    const ScreenGBuffer screen{ctx.input("gbuffer_view_depth"),
+                               ctx.input("gbuffer_hit_distance"),
+                               ctx.input("gbuffer_world_position"),
+                               ctx.input("gbuffer_shading_normal"),
+                               ctx.input("gbuffer_geometric_normal"),
+                               ctx.input("gbuffer_albedo"),
+                               ctx.input("gbuffer_material_id"),
+                               ctx.input("gbuffer_primitive_id"),
+                               ctx.input("gbuffer_motion")};
+    FoveatedTraceStats stats;
+    Image screen_points;
+    MaskedGBuffer lp = sample_lp_gbuffer(map, screen, screen_points, stats);
+    add_buffer_counters(ctx, map, stats);
+    ctx.note = map_note(map) + ", " + std::to_string(stats.texels_traced) +
+               " sampled from the rasterized G-buffer";
+    add_gbuffer(*ctx.result, std::move(lp.gbuffer), "lp_gbuffer_");
+    add_mask(*ctx.result, "lp_valid", std::move(lp.valid));
+    ctx.result->add("lp_screen_point", BufferKind::scalar, {"x", "y"}, std::move(screen_points));
+}
+
+void internal_aa_stage(FrameContext& ctx) {
+    ctx.result->add("lp_color_aa", BufferKind::color, {"r", "g", "b"},
+                    internal_aa(ctx.input("lp_color"), ctx.input("lp_valid")));
 }
 
 void gaussian_lerp_stage(FrameContext& ctx) {
+    const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
     const LogPolarMap map = frame_log_polar_map(ctx);
+    const std::vector<std::string> chain = screen_chain(state.params);
+    ctx.result->add(chain[1], BufferKind::color, {"r", "g", "b"},
+                    gaussian_lerp(ctx.input(chain[0]), map.gaze));
+}
+
+void post_aa_stage(FrameContext& ctx) {
+    const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
+    const LogPolarMap map = frame_log_polar_map(ctx);
+    const std::vector<std::string> chain = screen_chain(state.params);
     ctx.result->add("final", BufferKind::color, {"r", "g", "b"},
-                    gaussian_lerp(ctx.input("resolved"), map.gaze));
+                    post_aa(ctx.input(chain[chain.size() - 2]), map.gaze, map.radius_max));
 }
 
 void ray_positions_stage(FrameContext& ctx) {
@@ -145,9 +214,10 @@ Pipeline foveated_pipeline(const std::string& preset_name, const Scene*,
     const FoveationPreset& preset = find_foveation_preset(preset_name);
     auto state = std::make_shared<FoveatedModeState>();
     state->params = parse_foveated_params(settings.params, preset);
+    const FoveatedParams& params = state->params;
     // Validate the map's parameters now (the buffer size, a_G), not in the first stage.
-    log_polar_buffer_size(state->params.map, settings.width, settings.height);
-    const bool composite = state->params.map.gaze_angle > 0.0f;
+    log_polar_buffer_size(params.map, settings.width, settings.height);
+    const bool composite = params.map.gaze_angle > 0.0f;
     std::vector<std::string> lp_outputs = gbuffer_names("lp_gbuffer_");
     lp_outputs.push_back("lp_valid");
     lp_outputs.push_back("lp_screen_point");
@@ -156,17 +226,35 @@ Pipeline foveated_pipeline(const std::string& preset_name, const Scene*,
 
     Pipeline p;
     p.state = state;
-    p.stages.push_back({"lp_trace", {}, lp_outputs, lp_trace_stage});
+    // The buffers' G-buffers: traced, or sampled from the rasterized screen G-buffer.
+    if (params.deferred) {
+        p.stages.push_back({"gbuffer_raster", {}, gbuffer_names(), gbuffer_raster_stage});
+        p.stages.push_back({"lp_sample", gbuffer_names(), lp_outputs, lp_sample_stage});
+    } else {
+        p.stages.push_back({"lp_trace", {}, lp_outputs, lp_trace_stage});
+    }
     if (composite) p.stages.push_back({"gaze_trace", {}, gaze_outputs, gaze_trace_stage});
+    // Shading in the buffers, buffer-space filters.
     p.stages.push_back({"lp_shade", shade_inputs("lp_gbuffer_"), {"lp_color"}, lp_shade_stage});
     if (composite)
         p.stages.push_back(
             {"gaze_shade", shade_inputs("gaze_gbuffer_"), {"gaze_color"}, gaze_shade_stage});
-    std::vector<std::string> resolve_inputs = {"lp_color", "lp_valid"};
+    if (params.internal_aa)
+        p.stages.push_back(
+            {"internal_aa", {"lp_color", "lp_valid"}, {"lp_color_aa"}, internal_aa_stage});
+    // Pass 2, then the screen-space filters.
+    const std::vector<std::string> chain = screen_chain(params);
+    std::vector<std::string> resolve_inputs = {resolve_color_name(params), "lp_valid"};
     if (composite) resolve_inputs.push_back("gaze_color");
-    const bool lerp = state->params.gaussian_lerp;
-    p.stages.push_back({"resolve", resolve_inputs, {lerp ? "resolved" : "final"}, resolve_stage});
-    if (lerp) p.stages.push_back({"gaussian_lerp", {"resolved"}, {"final"}, gaussian_lerp_stage});
+    p.stages.push_back({"resolve", resolve_inputs, {chain[0]}, resolve_stage});
+    std::size_t link = 0;
+    if (params.gaussian_lerp) {
+        p.stages.push_back(
+            {"gaussian_lerp", {chain[link]}, {chain[link + 1]}, gaussian_lerp_stage});
+        ++link;
+    }
+    if (params.post_aa)
+        p.stages.push_back({"post_aa", {chain[link]}, {chain[link + 1]}, post_aa_stage});
     std::vector<std::string> position_inputs = {"lp_valid", "lp_screen_point"};
     if (composite) position_inputs.push_back("gaze_valid");
     p.stages.push_back({"ray_positions", position_inputs, {"ray_positions"}, ray_positions_stage});
@@ -185,6 +273,9 @@ Pipeline cfov_pipeline(const Scene* scene, const RenderSettings& settings) {
 }
 Pipeline ckfov_pipeline(const Scene* scene, const RenderSettings& settings) {
     return foveated_pipeline("ckfov", scene, settings);
+}
+Pipeline kfr_pipeline(const Scene* scene, const RenderSettings& settings) {
+    return foveated_pipeline("kfr", scene, settings);
 }
 
 }  // namespace fovref

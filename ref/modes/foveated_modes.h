@@ -1,16 +1,22 @@
 // The log-polar foveated ray tracers as render modes (Lund §3.3, Table 5.1; SPEC §5.1-5.2, §6,
-// §12): fov, kfov, cfov, ckfov. This file only wires the passes of ref/foveation and ref/trace:
+// §12): fov, kfov, cfov, ckfov, kfr. This file only wires the passes of ref/foveation and
+// ref/trace:
 //
 // clang-format off
 //   lp_trace      one ray per log-polar texel through its inverse-mapped screen point
 //                   -> lp_gbuffer_* (w x h), lp_valid, lp_screen_point
+//   (primary=raster, kfr: gbuffer_raster  the full-resolution rasterized G-buffer -> gbuffer_*
+//                         lp_sample       each texel copies the pixel under its screen point
+//                                           -> lp_gbuffer_*, lp_valid, lp_screen_point)
 //   gaze_trace    (a_G > 0) one ray per pixel centre inside the gaze circle
 //                   -> gaze_gbuffer_* (W x H), gaze_valid
 //   lp_shade      the basic ray tracer's shading of lp_gbuffer_*      -> lp_color
 //   gaze_shade    (a_G > 0) the same shading of gaze_gbuffer_*       -> gaze_color
-//   resolve       pass 2: gaze pixels inside the circle, bilinear lookups in lp_color outside
-//                   -> final (resolved when a screen-space filter follows)
-//   gaussian_lerp (filters=lerp) Lund §3.5                          -> final
+//   internal_aa   (filters=internal_aa) Meng §2.2.3, buffer space    -> lp_color_aa
+//   resolve       pass 2 (bilinear or mip): gaze pixels inside the circle, lookups in the
+//                   buffer outside -> final (resolved when a screen-space filter follows)
+//   gaussian_lerp (filters=lerp) Lund §3.5                          -> final (or lerp_filtered)
+//   post_aa       (filters=post_aa) Meng eq. 2.14                    -> final
 //   ray_positions (for --dump) rays per screen pixel (Lund Fig. 3.3) -> ray_positions
 // clang-format on
 //
@@ -35,6 +41,7 @@ Pipeline fov_pipeline(const Scene* scene, const RenderSettings& settings);
 Pipeline kfov_pipeline(const Scene* scene, const RenderSettings& settings);
 Pipeline cfov_pipeline(const Scene* scene, const RenderSettings& settings);
 Pipeline ckfov_pipeline(const Scene* scene, const RenderSettings& settings);
+Pipeline kfr_pipeline(const Scene* scene, const RenderSettings& settings);
 
 std::vector<PixelFunction> foveated_pixel_functions(const Params& params);
 
@@ -48,6 +55,10 @@ void lp_shade_stage(FrameContext& context);
 void gaze_shade_stage(FrameContext& context);
 void resolve_stage(FrameContext& context);
 void gaussian_lerp_stage(FrameContext& context);
+void gbuffer_raster_stage(FrameContext& context);
+void lp_sample_stage(FrameContext& context);
+void internal_aa_stage(FrameContext& context);
+void post_aa_stage(FrameContext& context);
 void ray_positions_stage(FrameContext& context);
 
 }  // namespace fovref

@@ -58,6 +58,10 @@ std::vector<ModeInfo> make_modes() {
         foveated("cfov", "log-polar foveation with a ray-traced gaze buffer (composite)",
                  cfov_pipeline),
         foveated("ckfov", "kernel log-polar foveation with a gaze buffer", ckfov_pipeline),
+        foveated("kfr",
+                 "kernel foveated rendering: deferred shading in the log-polar buffer, internal "
+                 "AA, mip resolve, post-AA (no TAA yet)",
+                 kfr_pipeline),
         mode("splat",
              "centroid splat of every triangle with headlight shading (a trivial pass that "
              "pins scene, materials, textures and camera path)",

@@ -11,12 +11,13 @@ using namespace fovref;
 TEST_CASE("foveation probe: every pixel and texel explanation agrees with the frame") {
     const Scene scene = make_procedural_scene("checker-room");
     const int pixels[][2] = {{40, 22}, {0, 0}, {79, 44}, {0, 30}, {45, 24}, {70, 5}};
-    for (const std::string mode : {"fov", "kfov", "cfov", "ckfov"})
-        for (const std::string filters : {"", "lerp"}) {
+    for (const std::string mode : {"fov", "kfov", "cfov", "ckfov", "kfr"})
+        for (const std::string filters : {"", "lerp", "internal_aa,lerp,post_aa"}) {
             RenderSettings s;
             s.width = 80;
             s.height = 45;
             s.params = Params({{"filters", filters}, {"gaze", "45.5,20"}});
+            if (mode == "kfr") s.params.set("resolve", filters.empty() ? "bilinear" : "mip");
             for (const auto& p : pixels) {
                 const ProbeReport r = probe_pixel(&scene, mode, s, 0, p[0], p[1]);
                 INFO(mode, " ", filters, " pixel ", p[0], ",", p[1]);
@@ -26,7 +27,7 @@ TEST_CASE("foveation probe: every pixel and texel explanation agrees with the fr
                     resolved |= section.stage == "resolve";
                 CHECK(resolved);
             }
-            for (const auto& t : {std::pair{0, 0}, std::pair{5, 17}, std::pair{20, 60}}) {
+            for (const auto& t : {std::pair{0, 0}, std::pair{5, 17}, std::pair{20, 24}}) {
                 const ProbeReport r =
                     probe_pixel(&scene, mode, s, 0, 0, 0, glm::ivec2(t.first, t.second));
                 INFO(mode, " texel ", t.first, ",", t.second);

@@ -1,0 +1,39 @@
+// Meng's post anti-aliasing (Meng 2018 eq. 2.14; SPEC §6): a screen-space Gaussian after pass 2
+// whose size grows with the distance from the gaze point.
+//
+//   for each screen pixel (x, y), row by row:   post_aa_pixel(x, y)
+//     c = (x + 1/2, y + 1/2), t = min(|c - g| / R, 1)   (R: the log-polar map's R; t is clamped
+//                                                         to 1 where R = the diagonal and the gaze
+//                                                         is off screen: choice)
+//     t <= 0.10: unchanged
+//     otherwise eta = 3 + 2 ceil((t - 0.10) / 0.05) (binary32: t - 0.1f, then / 0.05f, then
+//       ceil; 5 .. 39), sigma = eta / 6 (choice), and the eta x eta Gaussian
+//       out = sum_{dy} g(dy) sum_{dx} g(dx) I(clamp(x + dx), clamp(y + dy)),
+//       dx, dy in -(eta-1)/2 .. (eta-1)/2, summed left to right within a row, rows top to bottom;
+//       g(d) = e^(-d^2 / (2 sigma^2)) / sum_d e^(-d^2 / (2 sigma^2)) (binary32, dm::exp, the sum
+//       from d = -(eta-1)/2 up), neighbours clamped to the screen.
+// The weights of each eta are computed once (post_aa_weights).
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "ref/image/image.h"
+
+namespace fovref {
+
+/// The kernel size eta at distance ratio t = r / R (0 for t <= 0.10: no filter).
+int post_aa_size(float t);
+
+/// The normalised 1-D weights g(-(eta-1)/2) .. g((eta-1)/2) of size eta.
+std::vector<float> post_aa_weights(int eta);
+
+/// Per-pixel work of the filter: pixel (x, y) of `out`. `weights[eta]` are post_aa_weights(eta).
+void post_aa_pixel(const Image& in, glm::vec2 gaze, float radius_max,
+                   const std::vector<std::vector<float>>& weights, Image& out, int x, int y);
+
+/// The filter: an image of `in`'s size and channels.
+Image post_aa(const Image& in, glm::vec2 gaze, float radius_max);
+
+}  // namespace fovref
