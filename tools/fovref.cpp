@@ -1,9 +1,9 @@
 // fovref: the command-line tool of the reference renderer. This file builds the command line and
 // dispatches; each command (or command group) is a module of its own: tools/cmd_scene.h,
-// cmd_render.h, cmd_modes.h, cmd_rays.h, cmd_golden.h, cmd_probe.h, cmd_gain.h, bench_rays.h,
-// bench_metrics.h, bench_foveation.h, evaluate.h and diff.h, each with its options, their
-// registration and its run function. Exit codes: 0 ok, 1 a check failed (golden verify, diff), 2
-// usage or input error.
+// cmd_render.h, cmd_modes.h, cmd_rays.h, cmd_golden.h, cmd_probe.h, cmd_gain.h, cmd_density.h,
+// bench_rays.h, bench_metrics.h, bench_foveation.h, evaluate.h and diff.h, each with its options,
+// their registration and its run function. Exit codes: 0 ok, 1 a check failed (golden verify,
+// diff), 2 usage or input error.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
@@ -18,6 +18,7 @@
 #include "tools/bench_metrics.h"
 #include "tools/bench_rays.h"
 #include "tools/cli_common.h"
+#include "tools/cmd_density.h"
 #include "tools/cmd_gain.h"
 #include "tools/cmd_golden.h"
 #include "tools/cmd_modes.h"
@@ -67,6 +68,8 @@ const char* const app_footer =
     "                                         compare a GPU's buffers with a golden bundle\n"
     "  fovref gain [--fov-deg W[,H] --max-cpd C] [--json]\n"
     "                                         theoretical gain of foveation (Koskela P1)\n"
+    "  fovref density MODE [--scene S --gaze X,Y --param k=v] [--out DIR]\n"
+    "                                         rays per pixel per error ring vs acuity\n"
     "SCENE is a procedural scene name (see `scene list`) or a scene file or directory.\n"
     "Run `fovref COMMAND --help` for each command's options.";
 
@@ -88,14 +91,15 @@ struct Options {
     EvaluateOptions evaluate;
     DiffOptions diff;
     GainOptions gain;
+    DensityOptions density;
 };
 
 // -q applies to every command that prints progress or lines (bench metrics prints its figures
 // either way).
 void share_quiet(Options& o) {
     o.scene_export.quiet = o.render.quiet = o.rays_trace.quiet = o.rays_make.quiet =
-        o.bench_rays.quiet = o.bench_foveation.quiet = o.golden.quiet = o.probe.quiet =
-            o.evaluate.quiet = o.diff.quiet = o.quiet;
+        o.bench_rays.quiet = o.density.quiet = o.bench_foveation.quiet = o.golden.quiet =
+            o.probe.quiet = o.evaluate.quiet = o.diff.quiet = o.quiet;
 }
 
 // The commands that do the work (no subcommands of their own), each with its run function.
@@ -223,6 +227,12 @@ void add_analysis_commands(CLI::App& app, Options& o, Commands& commands) {
         "centre; without --fov-deg, P1's three cases next to the figures the sources quote");
     add_gain_options(*gain, o.gain);
     commands.emplace_back(gain, [&o] { return run_gain(o.gain); });
+    CLI::App* density = app.add_subcommand(
+        "density",
+        "rays per pixel of a log-polar mode along the radius and the circle at each error "
+        "ring's middle (Lund's mid_range_res), with the relative visual acuity: table, CSV, SVG");
+    add_density_options(*density, o.density);
+    commands.emplace_back(density, [&o] { return run_density(o.density); });
 }
 
 }  // namespace

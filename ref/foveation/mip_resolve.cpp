@@ -5,12 +5,11 @@
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
+#include "ref/foveation/density.h"
 
 namespace fovref {
 
 namespace {
-
-constexpr float two_pi = 6.28318530717958647692f;
 
 MipLevel downsample(const MipLevel& in) {
     const int w = in.color.width, h = in.color.height, channels = in.color.channels;
@@ -49,12 +48,8 @@ std::vector<MipLevel> build_lp_mips(const Image& color, const Image& valid) {
 
 float mip_level(const LogPolarMap& map, glm::vec2 c, int levels) {
     const float r = std::max(gaze_distance(map.gaze, c), 0x1p-10f);
-    const float rho = dm::log(1.0f + r) / map.log_radius_max;
-    const float radial =
-        static_cast<float>(map.width) * kernel_derivative(map.kernel, rho) /
-        ((1.0f + r) * map.log_radius_max * std::max(1.0f - map.composite, 0x1p-24f));
-    const float angular = static_cast<float>(map.height) / (two_pi * r);
-    const float lambda = dm::log2(std::max(radial, angular));
+    const TexelsPerPixel s = texels_per_pixel(map, r);
+    const float lambda = dm::log2(std::max(s.radial, s.angular));
     return std::clamp(lambda, 0.0f, static_cast<float>(levels - 1));
 }
 
