@@ -35,8 +35,8 @@ float relative_acuity(float eccentricity_deg);
 struct DensityRow {
     int ring = 0;
     float inner_deg = 0.0f, outer_deg = 0.0f, middle_deg = 0.0f;
-    float radius_px = 0.0f;          ///< r = d_px tan(middle)
-    bool in_gaze_buffer = false;     ///< r < r_G
+    float radius_px = 0.0f;            ///< r = d_px tan(middle)
+    bool in_gaze_buffer = false;       ///< r < r_G
     float radial_rays_per_px = 0.0f;   ///< s_u (1 in the gaze buffer)
     float angular_rays_per_px = 0.0f;  ///< s_v (1 in the gaze buffer)
     float acuity = 0.0f;               ///< m(middle)
