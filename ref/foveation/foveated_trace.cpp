@@ -84,9 +84,9 @@ MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const Scene& scene, con
     return buffer;
 }
 
-Image ray_position_counts(const LogPolarMap& map, const Image& lp_valid, const Image& screen_points,
+Image ray_position_counts(int width, int height, const Image& lp_valid, const Image& screen_points,
                           const Image* gaze_valid) {
-    Image counts(map.screen_width, map.screen_height, 1, 0.0f);
+    Image counts(width, height, 1, 0.0f);
     for (int j = 0; j < lp_valid.height; ++j)
         for (int i = 0; i < lp_valid.width; ++i) {
             if (lp_valid.at(i, j) == 0.0f) continue;

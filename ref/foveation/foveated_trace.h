@@ -70,7 +70,7 @@ MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const Scene& scene, con
 /// Where the rays of a foveated frame went (Lund Fig. 3.3): a W x H count of the primary rays
 /// whose screen point lies in each pixel (log-polar texels by their screen point, gaze pixels
 /// by their centre).
-Image ray_position_counts(const LogPolarMap& map, const Image& lp_valid, const Image& screen_points,
+Image ray_position_counts(int width, int height, const Image& lp_valid, const Image& screen_points,
                           const Image* gaze_valid);
 
 }  // namespace fovref

@@ -1,5 +1,6 @@
 #include "ref/modes/foveated_modes.h"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -12,6 +13,7 @@
 #include "ref/foveation/mip_resolve.h"
 #include "ref/foveation/post_aa.h"
 #include "ref/foveation/resolve.h"
+#include "ref/foveation/stereo.h"
 #include "ref/modes/mode_common.h"
 #include "ref/raster/gbuffer.h"
 #include "ref/raster/rasterizer.h"
@@ -197,9 +199,9 @@ void post_aa_stage(FrameContext& ctx) {
 void ray_positions_stage(FrameContext& ctx) {
     const LogPolarMap map = frame_log_polar_map(ctx);
     const Image* gaze_valid = map.has_gaze_buffer() ? &ctx.input("gaze_valid") : nullptr;
-    ctx.result->add(
-        "ray_positions", BufferKind::scalar, {"rays"},
-        ray_position_counts(map, ctx.input("lp_valid"), ctx.input("lp_screen_point"), gaze_valid));
+    ctx.result->add("ray_positions", BufferKind::scalar, {"rays"},
+                    ray_position_counts(map.screen_width, map.screen_height, ctx.input("lp_valid"),
+                                        ctx.input("lp_screen_point"), gaze_valid));
 }
 
 std::vector<PixelFunction> foveated_pixel_functions(const Params&) {
@@ -260,6 +262,113 @@ Pipeline foveated_pipeline(const std::string& preset_name, const Scene*,
     p.stages.push_back({"ray_positions", position_inputs, {"ray_positions"}, ray_positions_stage});
     p.final_outputs = {"final"};
     return p;
+}
+
+namespace {
+
+struct StereoModeState : ModeState {
+    StereoParams params;
+    BvhCache bvh;
+};
+
+// This frame's two eye maps and cameras (and the previous frame's cameras, for motion).
+std::array<LogPolarMap, 2> frame_stereo_maps(const FrameContext& ctx) {
+    const StereoModeState& state = ctx.mode_state<StereoModeState>();
+    return stereo_maps(state.params, *ctx.scene, ctx.camera, ctx.settings->width,
+                       ctx.settings->height, ctx.frame);
+}
+
+std::array<Camera, 2> eye_cameras(const Camera& camera, float ipd) {
+    return {eye_camera(camera, 0, ipd), eye_camera(camera, 1, ipd)};
+}
+
+}  // namespace
+
+void stereo_trace_stage(FrameContext& ctx) {
+    StereoModeState& state = ctx.mode_state<StereoModeState>();
+    const std::array<LogPolarMap, 2> maps = frame_stereo_maps(ctx);
+    Counters& counters = ctx.result->counters;
+    FoveatedTraceStats stats;
+    Image screen_points;
+    MaskedGBuffer lp = trace_stereo_gbuffer(maps, *ctx.scene, state.bvh.get(*ctx.scene, counters),
+                                            eye_cameras(ctx.camera, state.params.ipd),
+                                            eye_cameras(ctx.previous_camera, state.params.ipd),
+                                            screen_points, stats);
+    add_buffer_counters(ctx, maps[0], stats);
+    counters.add("eyes", 2);
+    add_trace_counters(counters, "primary", stats.rays.primary);
+    ctx.note = "eye 0: " + map_note(maps[0]) + "; eye 1: " + map_note(maps[1]) + "; " +
+               std::to_string(stats.texels_traced) + " traced";
+    add_gbuffer(*ctx.result, std::move(lp.gbuffer), "lp_gbuffer_");
+    add_mask(*ctx.result, "lp_valid", std::move(lp.valid));
+    ctx.result->add("lp_screen_point", BufferKind::scalar, {"x", "y"}, std::move(screen_points));
+}
+
+void stereo_shade_stage(FrameContext& ctx) {
+    StereoModeState& state = ctx.mode_state<StereoModeState>();
+    const Scene& scene = *ctx.scene;
+    const ShadeInputs inputs{
+        ctx.input("lp_gbuffer_world_position"),   ctx.input("lp_gbuffer_shading_normal"),
+        ctx.input("lp_gbuffer_geometric_normal"), ctx.input("lp_gbuffer_albedo"),
+        ctx.input("lp_gbuffer_material_id"),      ctx.input("lp_gbuffer_primitive_id")};
+    const Bvh* tree = scene.lights.empty() ? nullptr : &state.bvh.get(scene, ctx.result->counters);
+    ShadingStats stats;
+    Image out = shade_stereo(scene, tree, inputs, eye_cameras(ctx.camera, state.params.ipd),
+                             inputs.position.width / 2, ctx.frame, stats);
+    add_shading_counters(ctx.result->counters, stats);
+    ctx.note = shadow_note(scene);
+    ctx.result->add("lp_color", BufferKind::color, {"r", "g", "b"}, std::move(out));
+}
+
+void stereo_resolve_stage(FrameContext& ctx) {
+    const StereoModeState& state = ctx.mode_state<StereoModeState>();
+    const std::array<LogPolarMap, 2> maps = frame_stereo_maps(ctx);
+    StereoResolveStats stats;
+    Image out =
+        resolve_stereo(state.params, maps, ctx.input("lp_color"), ctx.input("lp_valid"), stats);
+    ctx.result->counters.add("screen_pixels_untraced_taps", stats.resolve.pixels_untraced_taps);
+    if (state.params.barrel)
+        ctx.result->counters.add("screen_pixels_outside_lens", stats.pixels_outside_lens);
+    ctx.note = state.params.barrel ? "bilinear, barrel distortion" : "bilinear";
+    ctx.result->add("final", BufferKind::color, {"r", "g", "b"}, std::move(out));
+}
+
+void stereo_ray_positions_stage(FrameContext& ctx) {
+    ctx.result->add(
+        "ray_positions", BufferKind::scalar, {"rays"},
+        ray_position_counts(ctx.settings->width, ctx.settings->height, ctx.input("lp_valid"),
+                            ctx.input("lp_screen_point"), nullptr));
+}
+
+Pipeline stereo_pipeline(const Scene*, const RenderSettings& settings) {
+    auto state = std::make_shared<StereoModeState>();
+    state->params = parse_stereo_params(settings.params);
+    if (settings.width % 2 != 0)
+        throw Error("stereo-lp: the width " + std::to_string(settings.width) +
+                    " is odd; the two eyes share it equally (give an even --width)");
+    log_polar_buffer_size(state->params.eye.map, settings.width / 2, settings.height);
+    std::vector<std::string> lp_outputs = gbuffer_names("lp_gbuffer_");
+    lp_outputs.push_back("lp_valid");
+    lp_outputs.push_back("lp_screen_point");
+    Pipeline p;
+    p.state = state;
+    p.stages.push_back({"stereo_trace", {}, lp_outputs, stereo_trace_stage});
+    p.stages.push_back(
+        {"stereo_shade", shade_inputs("lp_gbuffer_"), {"lp_color"}, stereo_shade_stage});
+    p.stages.push_back({"resolve", {"lp_color", "lp_valid"}, {"final"}, stereo_resolve_stage});
+    p.stages.push_back({"ray_positions",
+                        {"lp_valid", "lp_screen_point"},
+                        {"ray_positions"},
+                        stereo_ray_positions_stage});
+    p.final_outputs = {"final"};
+    return p;
+}
+
+std::vector<PixelFunction> stereo_pixel_functions(const Params&) {
+    return {
+        {"stereo_trace", "fovref::stereo_gbuffer_texel", "x, y: the texel of both eyes' buffer"},
+        {"stereo_shade", "fovref::shade_basic_pixel", "x, y: the texel"},
+        {"resolve", "fovref::resolve_stereo_pixel", ""}};
 }
 
 Pipeline fov_pipeline(const Scene* scene, const RenderSettings& settings) {

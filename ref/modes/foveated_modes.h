@@ -42,6 +42,9 @@ Pipeline kfov_pipeline(const Scene* scene, const RenderSettings& settings);
 Pipeline cfov_pipeline(const Scene* scene, const RenderSettings& settings);
 Pipeline ckfov_pipeline(const Scene* scene, const RenderSettings& settings);
 Pipeline kfr_pipeline(const Scene* scene, const RenderSettings& settings);
+/// Gupta's stereo-lp: both eyes side by side (ref/foveation/stereo.h).
+Pipeline stereo_pipeline(const Scene* scene, const RenderSettings& settings);
+std::vector<PixelFunction> stereo_pixel_functions(const Params& params);
 
 std::vector<PixelFunction> foveated_pixel_functions(const Params& params);
 
@@ -59,6 +62,10 @@ void gbuffer_raster_stage(FrameContext& context);
 void lp_sample_stage(FrameContext& context);
 void internal_aa_stage(FrameContext& context);
 void post_aa_stage(FrameContext& context);
+void stereo_trace_stage(FrameContext& context);
+void stereo_shade_stage(FrameContext& context);
+void stereo_resolve_stage(FrameContext& context);
+void stereo_ray_positions_stage(FrameContext& context);
 void ray_positions_stage(FrameContext& context);
 
 }  // namespace fovref

@@ -3,6 +3,7 @@
 #include "ref/core/error.h"
 #include "ref/foveation/foveated_params.h"
 #include "ref/foveation/foveation_probe.h"
+#include "ref/foveation/stereo.h"
 #include "ref/modes/core_modes.h"
 #include "ref/modes/foveated_modes.h"
 #include "ref/modes/trace_modes.h"
@@ -50,6 +51,13 @@ std::vector<ModeInfo> make_modes() {
         m.explains_texels = true;
         return m;
     };
+    ModeInfo stereo =
+        mode("stereo-lp",
+             "both eyes side by side in one pass, each with its own camera (+-IPD/2), "
+             "gaze and log-polar buffer; optional barrel distortion (Gupta 2019)",
+             stereo_pipeline);
+    stereo.params = stereo_param_specs();
+    stereo.pixel_functions = stereo_pixel_functions;
     return {
         basic,
         ground_truth,
@@ -62,6 +70,7 @@ std::vector<ModeInfo> make_modes() {
                  "kernel foveated rendering: deferred shading in the log-polar buffer, internal "
                  "AA, mip resolve, post-AA (no TAA yet)",
                  kfr_pipeline),
+        stereo,
         mode("splat",
              "centroid splat of every triangle with headlight shading (a trivial pass that "
              "pins scene, materials, textures and camera path)",

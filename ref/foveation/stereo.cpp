@@ -1,0 +1,195 @@
+#include "ref/foveation/stereo.h"
+
+#include <cmath>
+
+#include "ref/core/error.h"
+
+namespace fovref {
+
+namespace {
+
+// The foveated parameters stereo-lp takes (the rest keep the preset's values).
+const char* const eye_params[] = {"sigma", "alpha", "beta", "lp_aspect", "L", "gaze", "gaze_track"};
+
+}  // namespace
+
+const FoveationPreset& stereo_preset() {
+    static const FoveationPreset preset = [] {
+        FoveationPreset p;
+        p.name = "stereo-lp";
+        p.source = "Gupta 2019";
+        p.map.sigma = 1.41421356f;
+        p.map.kernel = power_kernel(1.0f);
+        p.map.lp_aspect = 0.0f;
+        p.map.radius = RadiusMode::corners;
+        return p;
+    }();
+    return preset;
+}
+
+std::vector<ParamSpec> stereo_param_specs() {
+    std::vector<ParamSpec> specs;
+    for (const ParamSpec& spec : foveated_param_specs(stereo_preset()))
+        for (const char* name : eye_params)
+            if (spec.name == name) specs.push_back(spec);
+    for (ParamSpec& spec : specs)
+        if (spec.name == "gaze" || spec.name == "gaze_track")
+            spec.doc += " (in each eye's coordinates, for both eyes; default each eye's centre)";
+    specs.push_back({"ipd", "0.064", "interpupillary distance in scene units"});
+    specs.push_back({"barrel", "off", "Gupta's barrel distortion in pass 2: on or off"});
+    specs.push_back({"k1", "0.22", "barrel distortion: coefficient of |q|^2"});
+    specs.push_back({"k2", "0.24", "barrel distortion: coefficient of |q|^4"});
+    return specs;
+}
+
+StereoParams parse_stereo_params(const Params& params) {
+    const std::vector<ParamSpec> specs = stereo_param_specs();
+    std::map<std::string, std::string> eye;
+    for (const auto& [key, value] : params.values())
+        for (const char* name : eye_params)
+            if (key == name) eye[key] = value;
+    StereoParams parsed;
+    parsed.eye = parse_foveated_params(Params(eye), stereo_preset());
+    parsed.ipd = params.get_float(specs, "ipd", 0.0f, 1e6f);
+    parsed.barrel = params.get_bool(specs, "barrel");
+    parsed.k1 = params.get_float(specs, "k1", -10.0f, 10.0f);
+    parsed.k2 = params.get_float(specs, "k2", -10.0f, 10.0f);
+    if (!parsed.barrel && (params.given("k1") || params.given("k2")))
+        throw Error("parameters 'k1' and 'k2' apply to the barrel distortion: add barrel=on");
+    return parsed;
+}
+
+Camera eye_camera(const Camera& camera, int eye, float ipd) {
+    Camera c = camera;
+    const float offset = (eye == 0 ? -0.5f : 0.5f) * ipd;
+    c.position = camera.position + offset * camera.right;
+    return c;
+}
+
+std::array<LogPolarMap, 2> stereo_maps(const StereoParams& params, const Scene& scene,
+                                       const Camera& camera, int width, int height, int frame) {
+    if (width % 2 != 0)
+        throw Error("stereo-lp: the width " + std::to_string(width) +
+                    " is odd; the two eyes share it equally (give an even --width)");
+    const int eye_width = width / 2;
+    return {foveated_map(params.eye, scene, camera, eye_width, height, frame),
+            foveated_map(params.eye, scene, camera, eye_width, height, frame)};
+}
+
+TexelStatus stereo_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points,
+                                 const std::array<LogPolarMap, 2>& maps,
+                                 const std::array<LpInverseTable, 2>& tables, const Scene& scene,
+                                 const Bvh& bvh, const std::array<Camera, 2>& cameras,
+                                 const std::array<Camera, 2>& previous, int x, int y,
+                                 FoveatedTraceStats& stats) {
+    const int w = maps[0].width;
+    const int eye = x / w, i = x - eye * w;
+    const LogPolarMap& map = maps[static_cast<std::size_t>(eye)];
+    glm::vec2 p{0.0f};
+    const TexelStatus status = lp_texel_status(map, tables[static_cast<std::size_t>(eye)], i, y, p);
+    screen_points.at(x, y, 0) = p.x + static_cast<float>(eye * map.screen_width);
+    screen_points.at(x, y, 1) = p.y;
+    if (status != TexelStatus::traced) {
+        ++stats.texels_off_screen;  // no gaze buffer in stereo: never inside it
+        return status;
+    }
+    ++stats.texels_traced;
+    buffer.valid.at(x, y) = 1.0f;
+    const Camera& camera = cameras[static_cast<std::size_t>(eye)];
+    const Ray ray =
+        primary_ray(camera, tan_half_vfov(camera), map.screen_width, map.screen_height, p.x, p.y);
+    const Hit hit = trace_closest(bvh, ray, stats.rays.primary);
+    const Camera& before = previous[static_cast<std::size_t>(eye)];
+    if (hit.hit() &&
+        !write_gbuffer_sample(buffer.gbuffer, x, y, p, map.screen_width, map.screen_height, scene,
+                              camera, before, tan_half_vfov(before), hit.primitive, hit.u, hit.v))
+        ++stats.rays.motion_behind_previous;
+    return status;
+}
+
+MaskedGBuffer trace_stereo_gbuffer(const std::array<LogPolarMap, 2>& maps, const Scene& scene,
+                                   const Bvh& bvh, const std::array<Camera, 2>& cameras,
+                                   const std::array<Camera, 2>& previous, Image& screen_points,
+                                   FoveatedTraceStats& stats) {
+    const int w = maps[0].width, h = maps[0].height;
+    MaskedGBuffer buffer(2 * w, h);
+    screen_points = Image(2 * w, h, 2, 0.0f);
+    const std::array<LpInverseTable, 2> tables = {lp_inverse_table(maps[0]),
+                                                  lp_inverse_table(maps[1])};
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < 2 * w; ++x)
+            stereo_gbuffer_texel(buffer, screen_points, maps, tables, scene, bvh, cameras, previous,
+                                 x, y, stats);
+    return buffer;
+}
+
+Image shade_stereo(const Scene& scene, const Bvh* bvh, const ShadeInputs& inputs,
+                   const std::array<Camera, 2>& cameras, int eye_buffer_width, int frame,
+                   ShadingStats& stats) {
+    const int width = inputs.position.width, height = inputs.position.height;
+    Image out(width, height, 3, 0.0f);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const Camera& camera = cameras[static_cast<std::size_t>(x / eye_buffer_width)];
+            const glm::vec3 l = shade_basic_pixel(scene, bvh, inputs, camera, frame, x, y, stats);
+            for (int c = 0; c < 3; ++c) out.at(x, y, c) = l[c];
+        }
+    return out;
+}
+
+glm::vec2 barrel_source(glm::vec2 c, int eye_width, int height, float k1, float k2) {
+    const float half = static_cast<float>(eye_width) * 0.5f;
+    const glm::vec2 centre{half, static_cast<float>(height) * 0.5f};
+    const glm::vec2 q = (c - centre) / half;
+    const float q2 = q.x * q.x + q.y * q.y;
+    const float scale = 1.0f + k1 * q2 + k2 * (q2 * q2);
+    return centre + half * (q * scale);
+}
+
+void resolve_stereo_pixel(const StereoParams& params, const std::array<LogPolarMap, 2>& maps,
+                          const std::array<Image, 2>& colors, const std::array<Image, 2>& valid,
+                          Image& out, int x, int y, StereoResolveStats& stats) {
+    const int eye_width = maps[0].screen_width, height = maps[0].screen_height;
+    const int eye = x / eye_width;
+    const auto e = static_cast<std::size_t>(eye);
+    glm::vec2 c{static_cast<float>(x - eye * eye_width) + 0.5f, static_cast<float>(y) + 0.5f};
+    float* pixel = &out.at(x, y, 0);
+    if (params.barrel) {
+        c = barrel_source(c, eye_width, height, params.k1, params.k2);
+        if (!on_screen(eye_width, height, c)) {
+            ++stats.pixels_outside_lens;
+            for (int k = 0; k < out.channels; ++k) pixel[k] = 0.0f;
+            return;
+        }
+    }
+    ++stats.resolve.pixels_from_buffer;
+    if (!sample_lp_bilinear(colors[e], valid[e], lp_forward(maps[e], c), pixel))
+        ++stats.resolve.pixels_untraced_taps;
+}
+
+Image resolve_stereo(const StereoParams& params, const std::array<LogPolarMap, 2>& maps,
+                     const Image& color, const Image& valid, StereoResolveStats& stats) {
+    const int w = maps[0].width, h = maps[0].height;
+    FOVREF_CHECK_EQ(color.width, 2 * w, "side-by-side buffer width");
+    FOVREF_CHECK_EQ(color.height, h, "side-by-side buffer height");
+    // Each eye's half, as a buffer of its own (the lookup wraps and clamps within it).
+    std::array<Image, 2> colors, masks;
+    for (int eye = 0; eye < 2; ++eye) {
+        const auto e = static_cast<std::size_t>(eye);
+        colors[e] = Image(w, h, color.channels, 0.0f);
+        masks[e] = Image(w, h, 1, 0.0f);
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) {
+                for (int k = 0; k < color.channels; ++k)
+                    colors[e].at(i, j, k) = color.at(eye * w + i, j, k);
+                masks[e].at(i, j) = valid.at(eye * w + i, j);
+            }
+    }
+    Image out(2 * maps[0].screen_width, maps[0].screen_height, color.channels, 0.0f);
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x)
+            resolve_stereo_pixel(params, maps, colors, masks, out, x, y, stats);
+    return out;
+}
+
+}  // namespace fovref

@@ -1,0 +1,93 @@
+// Stereo foveated ray casting in one pass (Gupta 2019 §2-3; SPEC §1 "Stereo", §6 "Barrel
+// distortion", §12 `stereo-lp`). docs/foveation.md, "Stereo".
+//
+// The W x H screen holds two eyes side by side, each a W/2 x H sub-screen (W even) with its own
+// camera (the frame's camera moved by -IPD/2 (eye 0, left) or +IPD/2 (eye 1, right) along its
+// right axis, same orientation and field of view), its own gaze (in eye coordinates, by default
+// the eye's centre) and its own log-polar map on the sub-screen. Both eyes' buffers are stored side
+// by side in one 2w x h buffer: eye e's texel (i, j) is column e w + i.
+//
+//   trace_stereo_gbuffer:  for each texel (x, y) of the 2w x h buffer, row by row:
+//                            stereo_gbuffer_texel(x, y): eye e = x / w, i = x - e w; as
+//                            lp_gbuffer_texel with eye e's map and camera on the W/2 x H
+//                            sub-screen; lp_screen_point holds the point on the full screen
+//                            (x + e W/2)
+//   shade_stereo:          the basic shading of every texel with its eye's camera; rand()'s
+//                          pixel index is y 2w + x
+//   resolve_stereo:        for each screen pixel (x, y), row by row: eye e = x / (W/2); the
+//                          eye-local centre c; with barrel distortion its source s (below),
+//                          black when s leaves the eye's image; then eye e's bilinear (or mip)
+//                          lookup at s in its half of the buffer
+//   barrel (Gupta §3):     q = (c - eye centre) / (W/4) (the eye's half-width is 1);
+//                          s = eye centre + (W/4) q (1 + k1 |q|^2 + k2 |q|^4)
+#pragma once
+
+#include <array>
+
+#include "ref/foveation/foveated_params.h"
+#include "ref/foveation/foveated_trace.h"
+#include "ref/foveation/resolve.h"
+#include "ref/stage/params.h"
+#include "ref/trace/shade_basic.h"
+
+namespace fovref {
+
+struct StereoParams {
+    FoveatedParams eye;   ///< each eye's map (sigma, K, lp_aspect, L) and gaze; bilinear pass 2
+    float ipd = 0.064f;   ///< interpupillary distance in scene units
+    bool barrel = false;  ///< Gupta's barrel distortion in pass 2
+    float k1 = 0.22f, k2 = 0.24f;
+};
+
+/// stereo-lp's preset (SPEC §12): sigma = sqrt 2 per eye (both buffers together W H / 2 texels),
+/// K = x, lp_aspect off, L = corners (Meng's map, which Gupta builds on: choice).
+const FoveationPreset& stereo_preset();
+std::vector<ParamSpec> stereo_param_specs();
+/// Throws fovref::Error naming the parameter.
+StereoParams parse_stereo_params(const Params& params);
+
+/// The camera of eye 0 (left) or 1 (right).
+Camera eye_camera(const Camera& camera, int eye, float ipd);
+
+/// Both eyes' maps for a W x H screen (W even) in frame `frame`.
+std::array<LogPolarMap, 2> stereo_maps(const StereoParams& params, const Scene& scene,
+                                       const Camera& camera, int width, int height, int frame);
+
+/// Per-texel work of trace_stereo_gbuffer.
+TexelStatus stereo_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points,
+                                 const std::array<LogPolarMap, 2>& maps,
+                                 const std::array<LpInverseTable, 2>& tables, const Scene& scene,
+                                 const Bvh& bvh, const std::array<Camera, 2>& cameras,
+                                 const std::array<Camera, 2>& previous, int x, int y,
+                                 FoveatedTraceStats& stats);
+
+/// Both eyes' G-buffers, side by side (2w x h), and the texels' full-screen points.
+MaskedGBuffer trace_stereo_gbuffer(const std::array<LogPolarMap, 2>& maps, const Scene& scene,
+                                   const Bvh& bvh, const std::array<Camera, 2>& cameras,
+                                   const std::array<Camera, 2>& previous, Image& screen_points,
+                                   FoveatedTraceStats& stats);
+
+/// The basic shading of the side-by-side buffer, each texel with its eye's camera.
+Image shade_stereo(const Scene& scene, const Bvh* bvh, const ShadeInputs& inputs,
+                   const std::array<Camera, 2>& cameras, int eye_buffer_width, int frame,
+                   ShadingStats& stats);
+
+/// The barrel distortion's source point for eye-local point c of a W/2 x H eye.
+glm::vec2 barrel_source(glm::vec2 c, int eye_width, int height, float k1, float k2);
+
+/// Pass 2 counters, plus the pixels whose barrel source left the eye's image.
+struct StereoResolveStats {
+    ResolveStats resolve;
+    std::int64_t pixels_outside_lens = 0;
+};
+
+/// Per-pixel work of resolve_stereo.
+void resolve_stereo_pixel(const StereoParams& params, const std::array<LogPolarMap, 2>& maps,
+                          const std::array<Image, 2>& colors, const std::array<Image, 2>& valid,
+                          Image& out, int x, int y, StereoResolveStats& stats);
+
+/// Pass 2 of both eyes: a W x H image from the side-by-side buffer and its mask.
+Image resolve_stereo(const StereoParams& params, const std::array<LogPolarMap, 2>& maps,
+                     const Image& color, const Image& valid, StereoResolveStats& stats);
+
+}  // namespace fovref
