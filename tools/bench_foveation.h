@@ -20,7 +20,8 @@ struct BenchFoveationOptions {
     /// Frames timed per mode after a first one (which builds the BVH and is left out); each
     /// stage's time is the fastest over them.
     int repeats = 3;
-    std::vector<std::string> modes;  ///< empty: fov, kfov, cfov, ckfov and cfov with filters=lerp
+    /// empty: fov, kfov, cfov, ckfov, kfr, stereo-lp and cfov with filters=lerp
+    std::vector<std::string> modes;
     bool quiet = false;
 };
 

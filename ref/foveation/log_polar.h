@@ -77,6 +77,7 @@ struct LogPolarMap {
     float composite = 0.0f;       ///< G = K(ln(1 + r_G) / L), at most 1 (0: no gaze buffer)
 
     bool has_gaze_buffer() const { return gaze_radius > 0.0f; }
+    bool operator==(const LogPolarMap&) const = default;
 };
 
 /// Makes the map for a W x H screen and gaze point: the buffer size (log_polar_buffer_size),

@@ -54,7 +54,8 @@ float mip_level(const LogPolarMap& map, glm::vec2 c, int levels) {
 }
 
 void resolve_mip_pixel(const LogPolarMap& map, const std::vector<MipLevel>& mips, const Image* gaze,
-                       Image& out, int x, int y, ResolveStats& stats, float* lambda_out) {
+                       Image& out, int x, int y, ResolveStats& stats, float* lambda_out,
+                       const ForwardTable* table) {
     const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
     float* pixel = &out.at(x, y, 0);
     if (gaze && inside_gaze_circle(map, centre)) {
@@ -63,9 +64,11 @@ void resolve_mip_pixel(const LogPolarMap& map, const std::vector<MipLevel>& mips
         return;
     }
     ++stats.pixels_from_buffer;
-    const float lambda = mip_level(map, centre, static_cast<int>(mips.size()));
+    const std::size_t k = static_cast<std::size_t>(y) * map.screen_width + x;
+    const float lambda =
+        table ? table->mip_lambda[k] : mip_level(map, centre, static_cast<int>(mips.size()));
     if (lambda_out) *lambda_out = lambda;
-    const glm::vec2 uv = lp_forward(map, centre);
+    const glm::vec2 uv = table ? table->uv[k] : lp_forward(map, centre);
     const int l0 = static_cast<int>(std::floor(lambda));
     const int l1 = std::min(l0 + 1, static_cast<int>(mips.size()) - 1);
     const float f = lambda - static_cast<float>(l0);
@@ -89,13 +92,16 @@ void resolve_mip_pixel(const LogPolarMap& map, const std::vector<MipLevel>& mips
 }
 
 Image resolve_log_polar_mip(const LogPolarMap& map, const std::vector<MipLevel>& mips,
-                            const Image* gaze, ResolveStats& stats) {
+                            const Image* gaze, ResolveStats& stats, const ForwardTable* table) {
     FOVREF_CHECK(!mips.empty(), "an empty mip pyramid");
+    if (table)
+        FOVREF_CHECK(table->map == map && table->mip_levels == static_cast<int>(mips.size()),
+                     "a forward table made for another map or pyramid");
     FOVREF_CHECK_EQ(mips[0].color.width, map.width, "log-polar buffer width");
     Image out(map.screen_width, map.screen_height, mips[0].color.channels, 0.0f);
     for (int y = 0; y < map.screen_height; ++y)
         for (int x = 0; x < map.screen_width; ++x)
-            resolve_mip_pixel(map, mips, gaze, out, x, y, stats);
+            resolve_mip_pixel(map, mips, gaze, out, x, y, stats, nullptr, table);
     return out;
 }
 

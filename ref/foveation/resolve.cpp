@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ref/core/error.h"
+#include "ref/foveation/mip_resolve.h"
 
 namespace fovref {
 
@@ -80,8 +81,25 @@ bool sample_lp_bilinear(const Image& buffer, const Image& valid, glm::vec2 uv, f
     return any;
 }
 
+ForwardTable forward_table(const LogPolarMap& map, int mip_levels) {
+    ForwardTable table;
+    table.map = map;
+    table.mip_levels = mip_levels;
+    const std::size_t pixels = static_cast<std::size_t>(map.screen_width) * map.screen_height;
+    table.uv.resize(pixels);
+    if (mip_levels > 0) table.mip_lambda.resize(pixels);
+    for (int y = 0; y < map.screen_height; ++y)
+        for (int x = 0; x < map.screen_width; ++x) {
+            const glm::vec2 c{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+            const std::size_t k = static_cast<std::size_t>(y) * map.screen_width + x;
+            table.uv[k] = lp_forward(map, c);
+            if (mip_levels > 0) table.mip_lambda[k] = mip_level(map, c, mip_levels);
+        }
+    return table;
+}
+
 void resolve_pixel(const LogPolarMap& map, const ResolveInputs& in, Image& out, int x, int y,
-                   ResolveStats& stats, BilinearLookup* lookup) {
+                   ResolveStats& stats, BilinearLookup* lookup, const ForwardTable* table) {
     const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
     float* pixel = &out.at(x, y, 0);
     if (in.gaze && inside_gaze_circle(map, centre)) {
@@ -90,18 +108,23 @@ void resolve_pixel(const LogPolarMap& map, const ResolveInputs& in, Image& out, 
         return;
     }
     ++stats.pixels_from_buffer;
-    if (!sample_lp_bilinear(in.buffer, in.buffer_valid, lp_forward(map, centre), pixel, lookup))
+    const glm::vec2 uv = table ? table->uv[static_cast<std::size_t>(y) * map.screen_width + x]
+                               : lp_forward(map, centre);
+    if (!sample_lp_bilinear(in.buffer, in.buffer_valid, uv, pixel, lookup))
         ++stats.pixels_untraced_taps;
 }
 
-Image resolve_log_polar(const LogPolarMap& map, const ResolveInputs& in, ResolveStats& stats) {
+Image resolve_log_polar(const LogPolarMap& map, const ResolveInputs& in, ResolveStats& stats,
+                        const ForwardTable* table) {
+    if (table) FOVREF_CHECK(table->map == map, "a forward table made for another map");
     FOVREF_CHECK_EQ(in.buffer.width, map.width, "log-polar buffer width");
     FOVREF_CHECK_EQ(in.buffer.height, map.height, "log-polar buffer height");
     FOVREF_CHECK_EQ(in.buffer_valid.width, map.width, "validity mask width");
     if (in.gaze) FOVREF_CHECK_EQ(in.gaze->width, map.screen_width, "gaze buffer width");
     Image out(map.screen_width, map.screen_height, in.buffer.channels, 0.0f);
     for (int y = 0; y < map.screen_height; ++y)
-        for (int x = 0; x < map.screen_width; ++x) resolve_pixel(map, in, out, x, y, stats);
+        for (int x = 0; x < map.screen_width; ++x)
+            resolve_pixel(map, in, out, x, y, stats, nullptr, table);
     return out;
 }
 

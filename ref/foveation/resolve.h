@@ -22,6 +22,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "ref/foveation/log_polar.h"
 #include "ref/image/image.h"
@@ -59,11 +60,25 @@ struct ResolveInputs {
     const Image* gaze = nullptr;  ///< null: no gaze buffer
 };
 
-/// Per-pixel work of pass 2: screen pixel (x, y) of `out`.
+/// Pass 2's forward map of every pixel centre, made once for a map and reused while the map (the
+/// gaze, the sizes, the constants) stays the same, as a GPU renderer keeps such a table: the
+/// values are lp_forward's, bit for bit, and with `mip_levels` > 0 also mip_level's.
+struct ForwardTable {
+    LogPolarMap map;
+    int mip_levels = 0;
+    std::vector<glm::vec2> uv;      ///< W x H, row-major
+    std::vector<float> mip_lambda;  ///< W x H when mip_levels > 0
+};
+ForwardTable forward_table(const LogPolarMap& map, int mip_levels = 0);
+
+/// Per-pixel work of pass 2: screen pixel (x, y) of `out`. With `table` (made for this map) the
+/// forward map is read from it instead of computed: the same bits.
 void resolve_pixel(const LogPolarMap& map, const ResolveInputs& in, Image& out, int x, int y,
-                   ResolveStats& stats, BilinearLookup* lookup = nullptr);
+                   ResolveStats& stats, BilinearLookup* lookup = nullptr,
+                   const ForwardTable* table = nullptr);
 
 /// Pass 2: a W x H image with the buffer's channel count.
-Image resolve_log_polar(const LogPolarMap& map, const ResolveInputs& in, ResolveStats& stats);
+Image resolve_log_polar(const LogPolarMap& map, const ResolveInputs& in, ResolveStats& stats,
+                        const ForwardTable* table = nullptr);
 
 }  // namespace fovref

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "ref/foveation/deferred_sample.h"
 #include "ref/foveation/foveated_params.h"
@@ -26,6 +27,8 @@ namespace {
 struct FoveatedModeState : ModeState {
     FoveatedParams params;
     BvhCache bvh;
+    /// Pass 2's forward map, kept while the map stays the same (a static gaze).
+    std::optional<ForwardTable> forward;
 };
 
 std::vector<std::string> shade_inputs(const std::string& prefix) {
@@ -124,17 +127,24 @@ void gaze_shade_stage(FrameContext& ctx) {
 }
 
 void resolve_stage(FrameContext& ctx) {
-    const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
+    FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
     const LogPolarMap map = frame_log_polar_map(ctx);
     const Image* gaze = map.has_gaze_buffer() ? &ctx.input("gaze_color") : nullptr;
     const Image& color = ctx.input(resolve_color_name(state.params));
     const Image& valid = ctx.input("lp_valid");
     ResolveStats stats;
+    std::vector<MipLevel> mips;
+    if (state.params.mip_resolve) mips = build_lp_mips(color, valid);
+    const int levels = static_cast<int>(mips.size());
+    const bool reused =
+        state.forward && state.forward->map == map && state.forward->mip_levels == levels;
+    if (!reused) state.forward = forward_table(map, levels);
     Image out = state.params.mip_resolve
-                    ? resolve_log_polar_mip(map, build_lp_mips(color, valid), gaze, stats)
-                    : resolve_log_polar(map, {color, valid, gaze}, stats);
+                    ? resolve_log_polar_mip(map, mips, gaze, stats, &*state.forward)
+                    : resolve_log_polar(map, {color, valid, gaze}, stats, &*state.forward);
     ctx.result->counters.add("screen_pixels_untraced_taps", stats.pixels_untraced_taps);
-    ctx.note = std::string(state.params.mip_resolve ? "mip" : "bilinear") + ": " +
+    ctx.note = std::string(state.params.mip_resolve ? "mip" : "bilinear") +
+               (reused ? ", forward map reused" : ", forward map computed") + ": " +
                std::to_string(stats.pixels_from_gaze) + " pixels from the gaze buffer, " +
                std::to_string(stats.pixels_from_buffer) + " from the log-polar buffer";
     ctx.result->add(screen_chain(state.params).front(), BufferKind::color, {"r", "g", "b"},
