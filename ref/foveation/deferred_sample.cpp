@@ -12,19 +12,8 @@ TexelStatus deferred_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points,
                                    const ScreenGBuffer& screen, int x, int y,
                                    FoveatedTraceStats& stats) {
     glm::vec2 p{0.0f};
-    const TexelStatus status = lp_texel_status(map, table, x, y, p);
-    screen_points.at(x, y, 0) = p.x;
-    screen_points.at(x, y, 1) = p.y;
-    if (status == TexelStatus::off_screen) {
-        ++stats.texels_off_screen;
-        return status;
-    }
-    if (status == TexelStatus::inside_gaze) {
-        ++stats.texels_inside_gaze;
-        return status;
-    }
-    ++stats.texels_traced;
-    buffer.valid.at(x, y) = 1.0f;
+    const TexelStatus status = begin_texel(buffer, screen_points, map, table, x, y, p, stats);
+    if (status != TexelStatus::traced) return status;
     const int sx = static_cast<int>(std::floor(p.x)), sy = static_cast<int>(std::floor(p.y));
     GBuffer& g = buffer.gbuffer;
     const std::pair<Image*, const Image*> channels[] = {

@@ -5,24 +5,30 @@
 
 namespace fovref {
 
-TexelStatus lp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const LogPolarMap& map,
-                             const LpInverseTable& table, const Scene& scene, const Bvh& bvh,
-                             const Camera& camera, float tan_half, const Camera& previous_camera,
-                             float previous_tan_half, int x, int y, FoveatedTraceStats& stats) {
-    glm::vec2 p{0.0f};
+TexelStatus begin_texel(MaskedGBuffer& buffer, Image& screen_points, const LogPolarMap& map,
+                        const LpInverseTable& table, int x, int y, glm::vec2& p,
+                        FoveatedTraceStats& stats) {
     const TexelStatus status = lp_texel_status(map, table, x, y, p);
     screen_points.at(x, y, 0) = p.x;
     screen_points.at(x, y, 1) = p.y;
     if (status == TexelStatus::off_screen) {
         ++stats.texels_off_screen;
-        return status;
-    }
-    if (status == TexelStatus::inside_gaze) {
+    } else if (status == TexelStatus::inside_gaze) {
         ++stats.texels_inside_gaze;
-        return status;
+    } else {
+        ++stats.texels_traced;
+        buffer.valid.at(x, y) = 1.0f;
     }
-    ++stats.texels_traced;
-    buffer.valid.at(x, y) = 1.0f;
+    return status;
+}
+
+TexelStatus lp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const LogPolarMap& map,
+                             const LpInverseTable& table, const Scene& scene, const Bvh& bvh,
+                             const Camera& camera, float tan_half, const Camera& previous_camera,
+                             float previous_tan_half, int x, int y, FoveatedTraceStats& stats) {
+    glm::vec2 p{0.0f};
+    const TexelStatus status = begin_texel(buffer, screen_points, map, table, x, y, p, stats);
+    if (status != TexelStatus::traced) return status;
     const Ray ray = primary_ray(camera, tan_half, map.screen_width, map.screen_height, p.x, p.y);
     const Hit hit = trace_closest(bvh, ray, stats.rays.primary);
     if (hit.hit() && !write_gbuffer_sample(buffer.gbuffer, x, y, p, map.screen_width,

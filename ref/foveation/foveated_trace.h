@@ -41,6 +41,12 @@ struct FoveatedTraceStats {
     std::int64_t gaze_pixels_traced = 0;
 };
 
+/// What every buffer-space pass does first for texel (x, y): its screen point p (stored in
+/// `screen_points`), its status, counted; a traced texel is marked valid.
+TexelStatus begin_texel(MaskedGBuffer& buffer, Image& screen_points, const LogPolarMap& map,
+                        const LpInverseTable& table, int x, int y, glm::vec2& p,
+                        FoveatedTraceStats& stats);
+
 /// Per-texel work of trace_lp_gbuffer for texel (x, y) = (i, j). `screen_points` (2 channels,
 /// the buffer's size) receives the texel centre's inverse-mapped screen point, traced or not.
 /// Returns the texel's status.

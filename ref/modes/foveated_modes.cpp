@@ -40,10 +40,7 @@ std::vector<std::string> shade_inputs(const std::string& prefix) {
 Image shade_gbuffer(FrameContext& ctx, const std::string& prefix) {
     FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
     const Scene& scene = *ctx.scene;
-    const ShadeInputs inputs{
-        ctx.input(prefix + "world_position"),   ctx.input(prefix + "shading_normal"),
-        ctx.input(prefix + "geometric_normal"), ctx.input(prefix + "albedo"),
-        ctx.input(prefix + "material_id"),      ctx.input(prefix + "primitive_id")};
+    const ShadeInputs inputs = shade_inputs_of(ctx, prefix);
     const Bvh* tree = scene.lights.empty() ? nullptr : &state.bvh.get(scene, ctx.result->counters);
     ShadingStats stats;
     Image out = shade_basic(scene, tree, inputs, ctx.camera, ctx.frame, stats);
@@ -317,10 +314,7 @@ void stereo_trace_stage(FrameContext& ctx) {
 void stereo_shade_stage(FrameContext& ctx) {
     StereoModeState& state = ctx.mode_state<StereoModeState>();
     const Scene& scene = *ctx.scene;
-    const ShadeInputs inputs{
-        ctx.input("lp_gbuffer_world_position"),   ctx.input("lp_gbuffer_shading_normal"),
-        ctx.input("lp_gbuffer_geometric_normal"), ctx.input("lp_gbuffer_albedo"),
-        ctx.input("lp_gbuffer_material_id"),      ctx.input("lp_gbuffer_primitive_id")};
+    const ShadeInputs inputs = shade_inputs_of(ctx, "lp_gbuffer_");
     const Bvh* tree = scene.lights.empty() ? nullptr : &state.bvh.get(scene, ctx.result->counters);
     ShadingStats stats;
     Image out = shade_stereo(scene, tree, inputs, eye_cameras(ctx.camera, state.params.ipd),

@@ -36,6 +36,12 @@ void add_shading_counters(Counters& counters, const ShadingStats& stats) {
     add_trace_counters(counters, "shadow", stats.shadow_trace);
 }
 
+ShadeInputs shade_inputs_of(const FrameContext& ctx, const std::string& prefix) {
+    return {ctx.input(prefix + "world_position"),   ctx.input(prefix + "shading_normal"),
+            ctx.input(prefix + "geometric_normal"), ctx.input(prefix + "albedo"),
+            ctx.input(prefix + "material_id"),      ctx.input(prefix + "primitive_id")};
+}
+
 std::string shadow_note(const Scene& scene) {
     return scene.lights.empty() ? "no lights: no shadow rays traced" : "";
 }

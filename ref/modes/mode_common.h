@@ -9,7 +9,9 @@
 #include "ref/bvh/bvh.h"
 #include "ref/raster/rasterizer.h"
 #include "ref/stage/frame.h"
+#include "ref/stage/pipeline.h"
 #include "ref/trace/direct_light.h"
+#include "ref/trace/shade_basic.h"
 
 namespace fovref {
 
@@ -24,6 +26,9 @@ struct BvhCache {
 void add_trace_counters(Counters& counters, const std::string& kind, const TraceStats& stats);
 void add_raster_counters(Counters& counters, const RasterStats& stats);
 void add_shading_counters(Counters& counters, const ShadingStats& stats);
+
+/// The shading pass's inputs: the frame's G-buffer channels named prefix + "world_position", ...
+ShadeInputs shade_inputs_of(const FrameContext& context, const std::string& prefix);
 
 /// The stage note of a shading pass: says when no shadow rays were traced.
 std::string shadow_note(const Scene& scene);

@@ -54,10 +54,7 @@ void primary_visibility_stage(FrameContext& ctx) {
 void shade_direct_stage(FrameContext& ctx) {
     TraceModeState& state = ctx.mode_state<TraceModeState>();
     const Scene& scene = *ctx.scene;
-    const ShadeInputs inputs{
-        ctx.input("gbuffer_world_position"),   ctx.input("gbuffer_shading_normal"),
-        ctx.input("gbuffer_geometric_normal"), ctx.input("gbuffer_albedo"),
-        ctx.input("gbuffer_material_id"),      ctx.input("gbuffer_primitive_id")};
+    const ShadeInputs inputs = shade_inputs_of(ctx, "gbuffer_");
     // No lights: no shadow rays, so no BVH is needed for shading.
     const Bvh* tree = scene.lights.empty() ? nullptr : &state.bvh.get(scene, ctx.result->counters);
     ShadingStats stats;
