@@ -146,29 +146,65 @@ glm::vec2 barrel_source(glm::vec2 c, int eye_width, int height, float k1, float 
     return centre + half * (q * scale);
 }
 
-void resolve_stereo_pixel(const StereoParams& params, const std::array<LogPolarMap, 2>& maps,
-                          const std::array<Image, 2>& colors, const std::array<Image, 2>& valid,
-                          Image& out, int x, int y, StereoResolveStats& stats) {
+bool stereo_lookup(const StereoParams& params, const std::array<LogPolarMap, 2>& maps, int x, int y,
+                   glm::vec2& uv) {
     const int eye_width = maps[0].screen_width, height = maps[0].screen_height;
     const int eye = x / eye_width;
-    const auto e = static_cast<std::size_t>(eye);
     glm::vec2 c{static_cast<float>(x - eye * eye_width) + 0.5f, static_cast<float>(y) + 0.5f};
-    float* pixel = &out.at(x, y, 0);
     if (params.barrel) {
         c = barrel_source(c, eye_width, height, params.k1, params.k2);
-        if (!on_screen(eye_width, height, c)) {
-            ++stats.pixels_outside_lens;
-            for (int k = 0; k < out.channels; ++k) pixel[k] = 0.0f;
-            return;
+        if (!on_screen(eye_width, height, c)) return false;
+    }
+    uv = lp_forward(maps[static_cast<std::size_t>(eye)], c);
+    return true;
+}
+
+StereoForwardTable stereo_forward_table(const StereoParams& params,
+                                        const std::array<LogPolarMap, 2>& maps) {
+    StereoForwardTable table;
+    table.maps = maps;
+    table.barrel = params.barrel;
+    table.k1 = params.k1;
+    table.k2 = params.k2;
+    const int width = 2 * maps[0].screen_width, height = maps[0].screen_height;
+    table.uv.assign(static_cast<std::size_t>(width) * height, glm::vec2(0.0f));
+    table.in_lens.assign(static_cast<std::size_t>(width) * height, 0);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const std::size_t k = static_cast<std::size_t>(y) * width + x;
+            table.in_lens[k] = stereo_lookup(params, maps, x, y, table.uv[k]) ? 1 : 0;
         }
+    return table;
+}
+
+void resolve_stereo_pixel(const StereoParams& params, const std::array<LogPolarMap, 2>& maps,
+                          const std::array<Image, 2>& colors, const std::array<Image, 2>& valid,
+                          Image& out, int x, int y, StereoResolveStats& stats,
+                          const StereoForwardTable* table) {
+    const auto e = static_cast<std::size_t>(x / maps[0].screen_width);
+    float* pixel = &out.at(x, y, 0);
+    glm::vec2 uv{0.0f};
+    bool in_lens = false;
+    if (table) {
+        const std::size_t k = static_cast<std::size_t>(y) * out.width + x;
+        uv = table->uv[k];
+        in_lens = table->in_lens[k] != 0;
+    } else {
+        in_lens = stereo_lookup(params, maps, x, y, uv);
+    }
+    if (!in_lens) {
+        ++stats.pixels_outside_lens;
+        for (int k = 0; k < out.channels; ++k) pixel[k] = 0.0f;
+        return;
     }
     ++stats.resolve.pixels_from_buffer;
-    if (!sample_lp_bilinear(colors[e], valid[e], lp_forward(maps[e], c), pixel))
-        ++stats.resolve.pixels_untraced_taps;
+    if (!sample_lp_bilinear(colors[e], valid[e], uv, pixel)) ++stats.resolve.pixels_untraced_taps;
 }
 
 Image resolve_stereo(const StereoParams& params, const std::array<LogPolarMap, 2>& maps,
-                     const Image& color, const Image& valid, StereoResolveStats& stats) {
+                     const Image& color, const Image& valid, StereoResolveStats& stats,
+                     const StereoForwardTable* table) {
+    if (table) FOVREF_CHECK(table->made_for(params, maps), "a forward table made for other maps");
     const int w = maps[0].width, h = maps[0].height;
     FOVREF_CHECK_EQ(color.width, 2 * w, "side-by-side buffer width");
     FOVREF_CHECK_EQ(color.height, h, "side-by-side buffer height");
@@ -188,7 +224,7 @@ Image resolve_stereo(const StereoParams& params, const std::array<LogPolarMap, 2
     Image out(2 * maps[0].screen_width, maps[0].screen_height, color.channels, 0.0f);
     for (int y = 0; y < out.height; ++y)
         for (int x = 0; x < out.width; ++x)
-            resolve_stereo_pixel(params, maps, colors, masks, out, x, y, stats);
+            resolve_stereo_pixel(params, maps, colors, masks, out, x, y, stats, table);
     return out;
 }
 

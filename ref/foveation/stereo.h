@@ -23,6 +23,8 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
+#include <vector>
 
 #include "ref/foveation/foveated_params.h"
 #include "ref/foveation/foveated_trace.h"
@@ -81,13 +83,35 @@ struct StereoResolveStats {
     std::int64_t pixels_outside_lens = 0;
 };
 
-/// Per-pixel work of resolve_stereo.
+/// Where screen pixel (x, y) looks in its eye's half: the buffer coordinates of its (barrel-
+/// distorted) eye-local centre. False when the barrel source leaves the eye's image.
+bool stereo_lookup(const StereoParams& params, const std::array<LogPolarMap, 2>& maps, int x, int y,
+                   glm::vec2& uv);
+
+/// stereo_lookup of every pixel, kept while the maps and the distortion stay the same (as the
+/// mono modes' ForwardTable): the same bits.
+struct StereoForwardTable {
+    std::array<LogPolarMap, 2> maps;
+    bool barrel = false;
+    float k1 = 0.0f, k2 = 0.0f;
+    std::vector<glm::vec2> uv;          ///< W x H, row-major
+    std::vector<std::uint8_t> in_lens;  ///< W x H: 0 where the barrel source leaves the eye
+    bool made_for(const StereoParams& params, const std::array<LogPolarMap, 2>& m) const {
+        return maps == m && barrel == params.barrel && k1 == params.k1 && k2 == params.k2;
+    }
+};
+StereoForwardTable stereo_forward_table(const StereoParams& params,
+                                        const std::array<LogPolarMap, 2>& maps);
+
+/// Per-pixel work of resolve_stereo (`table`, when given, replaces stereo_lookup).
 void resolve_stereo_pixel(const StereoParams& params, const std::array<LogPolarMap, 2>& maps,
                           const std::array<Image, 2>& colors, const std::array<Image, 2>& valid,
-                          Image& out, int x, int y, StereoResolveStats& stats);
+                          Image& out, int x, int y, StereoResolveStats& stats,
+                          const StereoForwardTable* table = nullptr);
 
 /// Pass 2 of both eyes: a W x H image from the side-by-side buffer and its mask.
 Image resolve_stereo(const StereoParams& params, const std::array<LogPolarMap, 2>& maps,
-                     const Image& color, const Image& valid, StereoResolveStats& stats);
+                     const Image& color, const Image& valid, StereoResolveStats& stats,
+                     const StereoForwardTable* table = nullptr);
 
 }  // namespace fovref

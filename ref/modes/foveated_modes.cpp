@@ -276,6 +276,7 @@ namespace {
 struct StereoModeState : ModeState {
     StereoParams params;
     BvhCache bvh;
+    std::optional<StereoForwardTable> forward;  ///< pass 2's lookups, kept while the maps stay
 };
 
 // This frame's two eye maps and cameras (and the previous frame's cameras, for motion).
@@ -325,15 +326,18 @@ void stereo_shade_stage(FrameContext& ctx) {
 }
 
 void stereo_resolve_stage(FrameContext& ctx) {
-    const StereoModeState& state = ctx.mode_state<StereoModeState>();
+    StereoModeState& state = ctx.mode_state<StereoModeState>();
     const std::array<LogPolarMap, 2> maps = frame_stereo_maps(ctx);
+    const bool reused = state.forward && state.forward->made_for(state.params, maps);
+    if (!reused) state.forward = stereo_forward_table(state.params, maps);
     StereoResolveStats stats;
-    Image out =
-        resolve_stereo(state.params, maps, ctx.input("lp_color"), ctx.input("lp_valid"), stats);
+    Image out = resolve_stereo(state.params, maps, ctx.input("lp_color"), ctx.input("lp_valid"),
+                               stats, &*state.forward);
     ctx.result->counters.add("screen_pixels_untraced_taps", stats.resolve.pixels_untraced_taps);
     if (state.params.barrel)
         ctx.result->counters.add("screen_pixels_outside_lens", stats.pixels_outside_lens);
-    ctx.note = state.params.barrel ? "bilinear, barrel distortion" : "bilinear";
+    ctx.note = std::string(state.params.barrel ? "bilinear, barrel distortion" : "bilinear") +
+               (reused ? ", lookups reused" : ", lookups computed");
     ctx.result->add("final", BufferKind::color, {"r", "g", "b"}, std::move(out));
 }
 

@@ -125,3 +125,24 @@ TEST_CASE("stereo: bad parameters are refused with their names") {
     CHECK(test::contains(message(16, {{"gaze_angle", "0.2"}}), "not a parameter of mode"));
     CHECK(test::contains(message(16, {{"barrel", "maybe"}}), "parameter 'barrel'"));
 }
+
+TEST_CASE("stereo: pass 2 from the kept lookup table gives the same bits") {
+    const Scene scene = make_procedural_scene("cornell");
+    const StereoParams params = parse_stereo_params(
+        Params(std::map<std::string, std::string>{{"barrel", "on"}, {"gaze", "20,30"}}));
+    const std::array<LogPolarMap, 2> maps =
+        stereo_maps(params, scene, camera_at(scene, 0.0f), 96, 54, 0);
+    Image color(2 * maps[0].width, maps[0].height, 3, 0.0f);
+    Image valid(color.width, color.height, 1, 1.0f);
+    test::SplitMix64 rng(5);
+    for (float& v : color.data) v = rng.unit();
+    for (float& v : valid.data) v = rng.below(5) == 0 ? 0.0f : 1.0f;
+    StereoResolveStats a, b;
+    const StereoForwardTable table = stereo_forward_table(params, maps);
+    CHECK(table.made_for(params, maps));
+    const Image direct = resolve_stereo(params, maps, color, valid, a);
+    const Image cached = resolve_stereo(params, maps, color, valid, b, &table);
+    CHECK(std::memcmp(direct.data.data(), cached.data.data(), direct.data.size() * 4) == 0);
+    CHECK(a.pixels_outside_lens == b.pixels_outside_lens);
+    CHECK(a.resolve.pixels_untraced_taps == b.resolve.pixels_untraced_taps);
+}
