@@ -66,12 +66,16 @@ Camera eye_camera(const Camera& camera, int eye, float ipd) {
     return c;
 }
 
-std::array<LogPolarMap, 2> stereo_maps(const StereoParams& params, const Scene& scene,
-                                       const Camera& camera, int width, int height, int frame) {
+int stereo_eye_width(int width) {
     if (width % 2 != 0)
         throw Error("stereo-lp: the width " + std::to_string(width) +
                     " is odd; the two eyes share it equally (give an even --width)");
-    const int eye_width = width / 2;
+    return width / 2;
+}
+
+std::array<LogPolarMap, 2> stereo_maps(const StereoParams& params, const Scene& scene,
+                                       const Camera& camera, int width, int height, int frame) {
+    const int eye_width = stereo_eye_width(width);
     return {foveated_map(params.eye, scene, camera, eye_width, height, frame),
             foveated_map(params.eye, scene, camera, eye_width, height, frame)};
 }

@@ -51,6 +51,9 @@ StereoParams parse_stereo_params(const Params& params);
 /// The camera of eye 0 (left) or 1 (right).
 Camera eye_camera(const Camera& camera, int eye, float ipd);
 
+/// The width of one eye, W / 2. Throws fovref::Error for an odd W.
+int stereo_eye_width(int width);
+
 /// Both eyes' maps for a W x H screen (W even) in frame `frame`.
 std::array<LogPolarMap, 2> stereo_maps(const StereoParams& params, const Scene& scene,
                                        const Camera& camera, int width, int height, int frame);

@@ -351,10 +351,7 @@ void stereo_ray_positions_stage(FrameContext& ctx) {
 Pipeline stereo_pipeline(const Scene*, const RenderSettings& settings) {
     auto state = std::make_shared<StereoModeState>();
     state->params = parse_stereo_params(settings.params);
-    if (settings.width % 2 != 0)
-        throw Error("stereo-lp: the width " + std::to_string(settings.width) +
-                    " is odd; the two eyes share it equally (give an even --width)");
-    log_polar_buffer_size(state->params.eye.map, settings.width / 2, settings.height);
+    log_polar_buffer_size(state->params.eye.map, stereo_eye_width(settings.width), settings.height);
     std::vector<std::string> lp_outputs = gbuffer_names("lp_gbuffer_");
     lp_outputs.push_back("lp_valid");
     lp_outputs.push_back("lp_screen_point");
