@@ -25,7 +25,8 @@ namespace {
 
 /// The fastest time of each stage group, and of the whole frame, over the timed frames.
 struct ModeTimes {
-    std::map<std::string, double> group;  ///< trace, shade, pass2, filters
+    std::map<std::string, double> group;                ///< trace, shade, pass2, filters
+    std::vector<std::pair<std::string, double>> stage;  ///< each stage that ran, pipeline order
     double frame = 0.0;
     std::int64_t rays = 0, dispatched = 0, buffer_width = 0, buffer_height = 0;
 };
@@ -65,10 +66,16 @@ ModeTimes time_mode(const Scene& scene, const std::string& mode, const Params& p
         std::map<std::string, double> groups = {
             {"trace", 0.0}, {"shade", 0.0}, {"pass2", 0.0}, {"filters", 0.0}};
         double frame = 0.0;
+        std::size_t k = 0;
         for (const StageRun& run : f.stages) {
             if (!run.ran) continue;
             groups[stage_group(run.name)] += run.seconds;
             frame += run.seconds;
+            if (k == t.stage.size())
+                t.stage.emplace_back(run.name, run.seconds);
+            else
+                t.stage[k].second = std::min(t.stage[k].second, run.seconds);
+            ++k;
         }
         for (const auto& [name, seconds] : groups)
             t.group[name] = t.group.count(name) ? std::min(t.group[name], seconds) : seconds;
@@ -96,6 +103,7 @@ void add_bench_foveation_options(CLI::App& c, BenchFoveationOptions& o) {
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
     c.add_option("--mode", o.modes, "foveated mode (repeatable; default: the four presets)");
+    c.add_flag("--stages", o.stages, "also print each stage's own fastest time under its row");
 }
 
 int run_bench_foveation(const BenchFoveationOptions& o) {
@@ -169,6 +177,9 @@ int run_bench_foveation(const BenchFoveationOptions& o) {
                 100.0 * static_cast<double>(t.rays) / pixels, 1e3 * t.group.at("trace"),
                 1e3 * t.group.at("shade"), 1e3 * t.group.at("pass2"), 1e3 * t.group.at("filters"),
                 1e3 * t.frame, speedup, target_text, 100.0 * share, verdict);
+            if (o.stages)
+                for (const auto& [stage, seconds] : t.stage)
+                    std::printf("    %-24s %9.2f ms\n", stage.c_str(), 1e3 * seconds);
             std::fflush(stdout);
         }
     }

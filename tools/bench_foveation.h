@@ -22,6 +22,8 @@ struct BenchFoveationOptions {
     int repeats = 3;
     /// empty: fov, kfov, cfov, ckfov, kfr, stereo-lp and cfov with filters=lerp
     std::vector<std::string> modes;
+    /// Also print each stage's own fastest time under its mode's row (where the time goes).
+    bool stages = false;
     bool quiet = false;
 };
 

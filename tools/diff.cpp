@@ -122,6 +122,31 @@ std::string values_text(const std::vector<float>& values) {
     return out + ")";
 }
 
+// The probe's point for element (x, y) of buffer item.name: a log-polar buffer's texel
+// (--texel I,J; in stereo the eye from the half it lies in), a gaze-buffer pixel moved by the
+// buffer's window on the screen (the frame's gaze_window_* counters), otherwise a screen pixel.
+std::string probe_point(const Manifest& m, const DiffItem& item, int x, int y) {
+    const bool known_frame =
+        item.frame >= 0 && item.frame < static_cast<int>(m.frame_counters.size());
+    const Counters none;
+    const Counters& counters =
+        known_frame ? m.frame_counters[static_cast<std::size_t>(item.frame)] : none;
+    if (item.name.rfind("lp_", 0) == 0) {
+        const auto w = counters.get("buffer_width");
+        if (counters.get("eyes") == 2 && w > 0) {
+            const auto eye = x >= w ? 1 : 0;
+            return " --texel " + std::to_string(x - eye * w) + "," + std::to_string(y) + "," +
+                   std::to_string(eye);
+        }
+        return " --texel " + std::to_string(x) + "," + std::to_string(y);
+    }
+    if (item.name.rfind("gaze_", 0) == 0) {
+        x += static_cast<int>(counters.get("gaze_window_x0"));
+        y += static_cast<int>(counters.get("gaze_window_y0"));
+    }
+    return " --pixel " + std::to_string(x) + "," + std::to_string(y);
+}
+
 std::string probe_command(const Manifest& m, const DiffItem& item, int x, int y) {
     const GoldenCase& c = m.golden_case;
     if (c.scene.empty() && c.mode.empty()) return "";
@@ -131,8 +156,7 @@ std::string probe_command(const Manifest& m, const DiffItem& item, int x, int y)
                std::to_string(c.height);
     if (c.time_start != 0.0f) command += " --time-start " + format(c.time_start);
     if (c.frames > 1 || item.frame > 0) command += " --time-step " + format(c.time_step);
-    command += " --frame " + std::to_string(item.frame) + " --pixel " + std::to_string(x) + "," +
-               std::to_string(y);
+    command += " --frame " + std::to_string(item.frame) + probe_point(m, item, x, y);
     for (const auto& [key, value] : c.params.values()) command += " --param " + key + "=" + value;
     return command;
 }

@@ -53,45 +53,52 @@ MaskedGBuffer trace_lp_gbuffer(const LogPolarMap& map, const Scene& scene, const
     return buffer;
 }
 
-bool gaze_gbuffer_pixel(MaskedGBuffer& buffer, const LogPolarMap& map, const Scene& scene,
-                        const Bvh& bvh, const Camera& camera, float tan_half,
+ScreenWindow gaze_window(const LogPolarMap& map) {
+    ScreenWindow w;
+    w.screen_width = map.screen_width;
+    w.screen_height = map.screen_height;
+    // In double: the gaze may lie far off screen.
+    const double r = static_cast<double>(map.gaze_radius) + 1.0;
+    const auto clip = [](double value, int size) {
+        return static_cast<int>(std::clamp(value, 0.0, static_cast<double>(size)));
+    };
+    w.x0 = std::min(clip(std::floor(map.gaze.x - r), map.screen_width), map.screen_width - 1);
+    w.y0 = std::min(clip(std::floor(map.gaze.y - r), map.screen_height), map.screen_height - 1);
+    w.width = std::max(clip(std::ceil(map.gaze.x + r), map.screen_width) - w.x0, 1);
+    w.height = std::max(clip(std::ceil(map.gaze.y + r), map.screen_height) - w.y0, 1);
+    return w;
+}
+
+bool gaze_gbuffer_pixel(MaskedGBuffer& buffer, const ScreenWindow& window, const LogPolarMap& map,
+                        const Scene& scene, const Bvh& bvh, const Camera& camera, float tan_half,
                         const Camera& previous_camera, float previous_tan_half, int x, int y,
                         FoveatedTraceStats& stats) {
     const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
     if (!inside_gaze_circle(map, centre)) return false;
     ++stats.gaze_pixels_traced;
-    buffer.valid.at(x, y) = 1.0f;
-    raycast_gbuffer_pixel(buffer.gbuffer, scene, bvh, camera, tan_half, previous_camera,
-                          previous_tan_half, x, y, stats.rays);
+    buffer.valid.at(x - window.x0, y - window.y0) = 1.0f;
+    raycast_window_pixel(buffer.gbuffer, window, scene, bvh, camera, tan_half, previous_camera,
+                         previous_tan_half, x, y, stats.rays);
     return true;
 }
 
 MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,
                                  const Camera& camera, const Camera& previous_camera,
                                  FoveatedTraceStats& stats) {
-    MaskedGBuffer buffer(map.screen_width, map.screen_height);
+    const ScreenWindow window = gaze_window(map);
+    MaskedGBuffer buffer(window.width, window.height);
     if (!map.has_gaze_buffer()) return buffer;
     const float tan_half = tan_half_vfov(camera);
     const float previous_tan_half = tan_half_vfov(previous_camera);
-    // The circle's bounding box, one pixel wider on each side, clipped to the screen (in double:
-    // the gaze may lie far off screen).
-    const double r = static_cast<double>(map.gaze_radius) + 1.0;
-    const auto clip = [](double value, int size) {
-        return static_cast<int>(std::clamp(value, 0.0, static_cast<double>(size)));
-    };
-    const int x0 = clip(std::floor(map.gaze.x - r), map.screen_width);
-    const int x1 = clip(std::ceil(map.gaze.x + r), map.screen_width);
-    const int y0 = clip(std::floor(map.gaze.y - r), map.screen_height);
-    const int y1 = clip(std::ceil(map.gaze.y + r), map.screen_height);
-    for (int y = y0; y < y1; ++y)
-        for (int x = x0; x < x1; ++x)
-            gaze_gbuffer_pixel(buffer, map, scene, bvh, camera, tan_half, previous_camera,
+    for (int y = window.y0; y < window.y0 + window.height; ++y)
+        for (int x = window.x0; x < window.x0 + window.width; ++x)
+            gaze_gbuffer_pixel(buffer, window, map, scene, bvh, camera, tan_half, previous_camera,
                                previous_tan_half, x, y, stats);
     return buffer;
 }
 
 Image ray_position_counts(int width, int height, const Image& lp_valid, const Image& screen_points,
-                          const Image* gaze_valid) {
+                          const Image* gaze_valid, const ScreenWindow& gaze) {
     Image counts(width, height, 1, 0.0f);
     for (int j = 0; j < lp_valid.height; ++j)
         for (int i = 0; i < lp_valid.width; ++i) {
@@ -101,8 +108,9 @@ Image ray_position_counts(int width, int height, const Image& lp_valid, const Im
             counts.at(x, y) += 1.0f;  // a traced texel's point is on screen
         }
     if (gaze_valid)
-        for (int y = 0; y < counts.height; ++y)
-            for (int x = 0; x < counts.width; ++x) counts.at(x, y) += gaze_valid->at(x, y);
+        for (int j = 0; j < gaze_valid->height; ++j)
+            for (int i = 0; i < gaze_valid->width; ++i)
+                counts.at(gaze.x0 + i, gaze.y0 + j) += gaze_valid->at(i, j);
     return counts;
 }
 

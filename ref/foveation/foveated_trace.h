@@ -8,10 +8,11 @@
 //                           p off screen (or inside the gaze circle): no ray, no data, valid 0
 //                           else the primary ray through p (SPEC §1), closest hit, the texel
 //                           written by write_gbuffer_sample (motion relative to p), valid 1
-//   trace_gaze_gbuffer: for each screen pixel (x, y) whose centre lies inside the gaze circle
-//                       (|centre - g| < r_G), row by row: raycast_gbuffer_pixel, exactly the
-//                       basic ray tracer's per-pixel work, so these pixels equal basic's bit for
-//                       bit; every other pixel keeps the background and valid 0.
+//   trace_gaze_gbuffer: the gaze buffer covers gaze_window(map), the bounding box of the gaze
+//                       circle on the screen; for each screen pixel (x, y) of the window whose
+//                       centre lies inside the circle (|centre - g| < r_G), row by row: the basic
+//                       ray tracer's per-pixel work (raycast_window_pixel), so these pixels equal
+//                       basic's bit for bit; every other pixel keeps the background and valid 0.
 //
 // A texel or pixel that is not traced carries the G-buffer's background values (primitive id -1)
 // and 0 in the validity mask; only the mask tells it from a traced miss.
@@ -60,23 +61,29 @@ MaskedGBuffer trace_lp_gbuffer(const LogPolarMap& map, const Scene& scene, const
                                const Camera& camera, const Camera& previous_camera,
                                Image& screen_points, FoveatedTraceStats& stats);
 
-/// Per-pixel work of trace_gaze_gbuffer: traces pixel (x, y) when its centre is inside the gaze
-/// circle; returns whether it did.
-bool gaze_gbuffer_pixel(MaskedGBuffer& buffer, const LogPolarMap& map, const Scene& scene,
-                        const Bvh& bvh, const Camera& camera, float tan_half,
+/// The gaze buffer's window on the screen: the pixels x0 <= x < x0 + width, y0 <= y < y0 + height
+/// with x0 = floor(g.x - r_G - 1), x0 + width = ceil(g.x + r_G + 1) and the same in y (in
+/// binary64), clipped to the screen, and at least 1 x 1 (a circle off screen gives a window with
+/// no pixel inside it, which can still be written). Every pixel whose centre lies inside the
+/// gaze circle is in it (the box is one pixel wider than the circle on each side).
+ScreenWindow gaze_window(const LogPolarMap& map);
+
+/// Per-pixel work of trace_gaze_gbuffer: traces screen pixel (x, y) of `window` (its buffer pixel
+/// is (x - x0, y - y0)) when its centre is inside the gaze circle; returns whether it did.
+bool gaze_gbuffer_pixel(MaskedGBuffer& buffer, const ScreenWindow& window, const LogPolarMap& map,
+                        const Scene& scene, const Bvh& bvh, const Camera& camera, float tan_half,
                         const Camera& previous_camera, float previous_tan_half, int x, int y,
                         FoveatedTraceStats& stats);
 
-/// The gaze buffer: screen-sized (W x H), traced inside the gaze circle only (only the circle's
-/// bounding box is visited; the result is the same as visiting every pixel).
+/// The gaze buffer: gaze_window(map)'s size, traced inside the gaze circle only.
 MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,
                                  const Camera& camera, const Camera& previous_camera,
                                  FoveatedTraceStats& stats);
 
 /// Where the rays of a foveated frame went (Lund Fig. 3.3): a W x H count of the primary rays
 /// whose screen point lies in each pixel (log-polar texels by their screen point, gaze pixels
-/// by their centre).
+/// by their centre; `gaze_valid` covers `gaze`, the gaze buffer's window).
 Image ray_position_counts(int width, int height, const Image& lp_valid, const Image& screen_points,
-                          const Image* gaze_valid);
+                          const Image* gaze_valid, const ScreenWindow& gaze = {});
 
 }  // namespace fovref

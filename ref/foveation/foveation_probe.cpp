@@ -152,22 +152,29 @@ void explain_texel(const ProbeContext& c, const FoveatedParams& params, const Lo
 void explain_gaze_pixel(const ProbeContext& c, const LogPolarMap& m, const Bvh& bvh,
                         ProbeReport& report) {
     ProbeSection trace{"gaze_trace", "one ray through the pixel centre (as basic)", {}};
-    MaskedGBuffer scratch(m.screen_width, m.screen_height);
+    const ScreenWindow window = gaze_window(m);
+    MaskedGBuffer scratch(window.width, window.height);
     FoveatedTraceStats stats;
     const float tan_half = tan_half_vfov(c.camera);
-    gaze_gbuffer_pixel(scratch, m, *c.scene, bvh, c.camera, tan_half, c.camera, tan_half, c.x, c.y,
-                       stats);
+    gaze_gbuffer_pixel(scratch, window, m, *c.scene, bvh, c.camera, tan_half, c.camera, tan_half,
+                       c.x, c.y, stats);
+    const int i = c.x - window.x0, j = c.y - window.y0;  // in the gaze buffer
+    trace.add("gaze buffer", "covers screen pixels x " + std::to_string(window.x0) + ".." +
+                                 std::to_string(window.x0 + window.width - 1) + ", y " +
+                                 std::to_string(window.y0) + ".." +
+                                 std::to_string(window.y0 + window.height - 1) + ": pixel (" +
+                                 std::to_string(i) + ", " + std::to_string(j) + ") of it");
     const Ray ray = pixel_centre_ray(c.camera, tan_half, m.screen_width, m.screen_height, c.x, c.y);
     trace.add("primary ray",
               "origin " + probe_vec3(ray.origin) + ", direction " + probe_vec3(ray.direction));
     explain_hit(c, bvh, ray, trace);
-    const bool same = probe_same_gbuffer(scratch.gbuffer, *c.frame, "gaze_gbuffer_", c.x, c.y);
+    const bool same = probe_same_gbuffer(scratch.gbuffer, *c.frame, "gaze_gbuffer_", i, j);
     trace.add("check", std::string("pixel: ") + (same ? "bit-identical to the rendered buffers"
                                                       : "DIFFERS from the rendered buffers"));
     if (!same) report.consistent = false;
     report.sections.push_back(trace);
     ProbeSection shade{"gaze_shade", "the basic ray tracer's shading (docs/trace.md)", {}};
-    explain_shade_at(c, bvh, "gaze_gbuffer_", "gaze_color", c.x, c.y, shade, report);
+    explain_shade_at(c, bvh, "gaze_gbuffer_", "gaze_color", i, j, shade, report, &window);
     report.sections.push_back(shade);
 }
 
@@ -180,7 +187,8 @@ std::vector<std::pair<int, int>> explain_resolve(const ProbeContext& c,
     const glm::vec2 centre{static_cast<float>(c.x) + 0.5f, static_cast<float>(c.y) + 0.5f};
     const float r = gaze_distance(m.gaze, centre);
     s.add("distance", "r = |centre - gaze| = " + probe_float(r) + " px");
-    const Image* gaze = m.has_gaze_buffer() ? &f.find("gaze_color")->image : nullptr;
+    const GazeInput gaze =
+        gaze_input(m, m.has_gaze_buffer() ? &f.find("gaze_color")->image : nullptr);
     const std::string color_name = resolve_color_name(params);
     const Image& color = f.find(color_name)->image;
     const Image& valid = f.find("lp_valid")->image;

@@ -53,17 +53,13 @@ float mip_level(const LogPolarMap& map, glm::vec2 c, int levels) {
     return std::clamp(lambda, 0.0f, static_cast<float>(levels - 1));
 }
 
-void resolve_mip_pixel(const LogPolarMap& map, const std::vector<MipLevel>& mips, const Image* gaze,
-                       Image& out, int x, int y, ResolveStats& stats, float* lambda_out,
-                       const ForwardTable* table) {
-    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+void resolve_mip_pixel(const LogPolarMap& map, const std::vector<MipLevel>& mips,
+                       const GazeInput& gaze, Image& out, int x, int y, ResolveStats& stats,
+                       float* lambda_out, const ForwardTable* table) {
     float* pixel = &out.at(x, y, 0);
-    if (gaze && inside_gaze_circle(map, centre)) {
-        ++stats.pixels_from_gaze;
-        for (int c = 0; c < out.channels; ++c) pixel[c] = gaze->at(x, y, c);
-        return;
-    }
+    if (gaze_pixel(map, gaze, x, y, pixel, out.channels, stats)) return;
     ++stats.pixels_from_buffer;
+    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
     const std::size_t k = static_cast<std::size_t>(y) * map.screen_width + x;
     const float lambda =
         table ? table->mip_lambda[k] : mip_level(map, centre, static_cast<int>(mips.size()));
@@ -92,7 +88,7 @@ void resolve_mip_pixel(const LogPolarMap& map, const std::vector<MipLevel>& mips
 }
 
 Image resolve_log_polar_mip(const LogPolarMap& map, const std::vector<MipLevel>& mips,
-                            const Image* gaze, ResolveStats& stats, const ForwardTable* table) {
+                            const GazeInput& gaze, ResolveStats& stats, const ForwardTable* table) {
     FOVREF_CHECK(!mips.empty(), "an empty mip pyramid");
     if (table)
         FOVREF_CHECK(table->map == map && table->mip_levels == static_cast<int>(mips.size()),

@@ -44,15 +44,15 @@ float mip_level(const LogPolarMap& map, glm::vec2 c, int levels);
 
 /// Per-pixel work of the mip resolve: screen pixel (x, y) of `out`. `lambda` (optional)
 /// receives the level.
-void resolve_mip_pixel(const LogPolarMap& map, const std::vector<MipLevel>& mips, const Image* gaze,
-                       Image& out, int x, int y, ResolveStats& stats, float* lambda = nullptr,
-                       const ForwardTable* table = nullptr);
+void resolve_mip_pixel(const LogPolarMap& map, const std::vector<MipLevel>& mips,
+                       const GazeInput& gaze, Image& out, int x, int y, ResolveStats& stats,
+                       float* lambda = nullptr, const ForwardTable* table = nullptr);
 
 /// Pass 2 with the mip resolve: a W x H image with the buffer's channel count. `table` (made
 /// for this map with mip_levels = the pyramid's size) replaces the per-pixel forward map and
 /// level: the same bits.
 Image resolve_log_polar_mip(const LogPolarMap& map, const std::vector<MipLevel>& mips,
-                            const Image* gaze, ResolveStats& stats,
+                            const GazeInput& gaze, ResolveStats& stats,
                             const ForwardTable* table = nullptr);
 
 }  // namespace fovref

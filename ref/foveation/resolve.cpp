@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ref/core/error.h"
+#include "ref/foveation/foveated_trace.h"
 #include "ref/foveation/mip_resolve.h"
 
 namespace fovref {
@@ -49,9 +50,11 @@ bool sample_lp_bilinear(const Image& buffer, const Image& valid, glm::vec2 uv, f
     const float t = uv.y - 0.5f;
     const float j0 = std::floor(t);
     l.fv = t - j0;
-    l.j0 = static_cast<int>(j0) % h;
-    if (l.j0 < 0) l.j0 += h;
-    l.j1 = (l.j0 + 1) % h;
+    // floor(v - 1/2) lies in [-2, h] (checked above): wrapped by adding or subtracting h.
+    l.j0 = static_cast<int>(j0);
+    while (l.j0 < 0) l.j0 += h;
+    while (l.j0 >= h) l.j0 -= h;
+    l.j1 = l.j0 + 1 == h ? 0 : l.j0 + 1;
     l.traced[0] = valid.at(l.i0, l.j0) != 0.0f;
     l.traced[1] = valid.at(l.i1, l.j0) != 0.0f;
     l.traced[2] = valid.at(l.i0, l.j1) != 0.0f;
@@ -81,6 +84,31 @@ bool sample_lp_bilinear(const Image& buffer, const Image& valid, glm::vec2 uv, f
     return any;
 }
 
+GazeInput gaze_input(const LogPolarMap& map, const Image* image) {
+    GazeInput gaze;
+    if (!image) return gaze;
+    gaze.image = image;
+    gaze.window = gaze_window(map);
+    FOVREF_CHECK_EQ(image->width, gaze.window.width, "gaze buffer width");
+    FOVREF_CHECK_EQ(image->height, gaze.window.height, "gaze buffer height");
+    return gaze;
+}
+
+bool gaze_pixel(const LogPolarMap& map, const GazeInput& gaze, int x, int y, float* pixel,
+                int channels, ResolveStats& stats) {
+    if (!gaze.image) return false;
+    const ScreenWindow& w = gaze.window;
+    // Outside the window no pixel centre is inside the circle (gaze_window), so only the
+    // window's pixels need the distance.
+    if (x < w.x0 || y < w.y0 || x >= w.x0 + w.width || y >= w.y0 + w.height) return false;
+    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    if (!inside_gaze_circle(map, centre)) return false;
+    ++stats.pixels_from_gaze;
+    for (int c = 0; c < channels; ++c)
+        pixel[c] = gaze.image->at(x - gaze.window.x0, y - gaze.window.y0, c);
+    return true;
+}
+
 ForwardTable forward_table(const LogPolarMap& map, int mip_levels) {
     ForwardTable table;
     table.map = map;
@@ -100,14 +128,10 @@ ForwardTable forward_table(const LogPolarMap& map, int mip_levels) {
 
 void resolve_pixel(const LogPolarMap& map, const ResolveInputs& in, Image& out, int x, int y,
                    ResolveStats& stats, BilinearLookup* lookup, const ForwardTable* table) {
-    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
     float* pixel = &out.at(x, y, 0);
-    if (in.gaze && inside_gaze_circle(map, centre)) {
-        ++stats.pixels_from_gaze;
-        for (int c = 0; c < out.channels; ++c) pixel[c] = in.gaze->at(x, y, c);
-        return;
-    }
+    if (gaze_pixel(map, in.gaze, x, y, pixel, out.channels, stats)) return;
     ++stats.pixels_from_buffer;
+    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
     const glm::vec2 uv = table ? table->uv[static_cast<std::size_t>(y) * map.screen_width + x]
                                : lp_forward(map, centre);
     if (!sample_lp_bilinear(in.buffer, in.buffer_valid, uv, pixel, lookup))
@@ -120,7 +144,7 @@ Image resolve_log_polar(const LogPolarMap& map, const ResolveInputs& in, Resolve
     FOVREF_CHECK_EQ(in.buffer.width, map.width, "log-polar buffer width");
     FOVREF_CHECK_EQ(in.buffer.height, map.height, "log-polar buffer height");
     FOVREF_CHECK_EQ(in.buffer_valid.width, map.width, "validity mask width");
-    if (in.gaze) FOVREF_CHECK_EQ(in.gaze->width, map.screen_width, "gaze buffer width");
+    if (in.gaze.image) FOVREF_CHECK(in.gaze.window == gaze_window(map), "a gaze buffer's window");
     Image out(map.screen_width, map.screen_height, in.buffer.channels, 0.0f);
     for (int y = 0; y < map.screen_height; ++y)
         for (int x = 0; x < map.screen_width; ++x)

@@ -3,7 +3,8 @@
 //
 //   for each screen pixel (x, y), row by row:   resolve_pixel(x, y)
 //     c = (x + 1/2, y + 1/2)
-//     |c - g| < r_G: the gaze buffer's pixel (x, y)   (traced: the circle test is the same one)
+//     |c - g| < r_G: the gaze buffer's pixel for screen pixel (x, y), (x - x0, y - y0) in the
+//                    buffer that covers gaze_window (traced: the circle test is the same one)
 //     otherwise (u, v) = lp_forward(c) and the log-polar buffer sampled bilinearly
 //       (sample_lp_bilinear): texel centres at +1/2, v wraps modulo h, u clamped to
 //       [1/2, w - 1/2]; only traced texels count, with their weights renormalised; no traced
@@ -26,6 +27,7 @@
 
 #include "ref/foveation/log_polar.h"
 #include "ref/image/image.h"
+#include "ref/raster/gbuffer.h"
 
 namespace fovref {
 
@@ -52,12 +54,26 @@ struct ResolveStats {
     std::int64_t pixels_untraced_taps = 0;  ///< no traced tap: black
 };
 
+/// The composite modes' gaze buffer as pass 2 reads it.
+struct GazeInput {
+    const Image* image = nullptr;  ///< null: no gaze buffer
+    ScreenWindow window;           ///< where it lies on the screen (gaze_window of the map)
+};
+/// The gaze input of a frame: `image` (null: none) covering gaze_window(map).
+GazeInput gaze_input(const LogPolarMap& map, const Image* image);
+
+/// Pass 2 inside the gaze circle: when screen pixel (x, y)'s centre lies inside it and there is
+/// a gaze buffer, copies that buffer's pixel to `pixel` (channels values), counts it and returns
+/// true; otherwise returns false.
+bool gaze_pixel(const LogPolarMap& map, const GazeInput& gaze, int x, int y, float* pixel,
+                int channels, ResolveStats& stats);
+
 /// The inputs of pass 2: the log-polar buffer and its mask, and (composite foveation) the gaze
-/// buffer, screen-sized, with the same channel count.
+/// buffer, with the same channel count.
 struct ResolveInputs {
     const Image& buffer;
     const Image& buffer_valid;
-    const Image* gaze = nullptr;  ///< null: no gaze buffer
+    GazeInput gaze{};
 };
 
 /// Pass 2's forward map of every pixel centre, made once for a map and reused while the map (the

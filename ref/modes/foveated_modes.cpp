@@ -37,10 +37,13 @@ std::vector<std::string> shade_inputs(const std::string& prefix) {
 }
 
 /// The shading pass over one G-buffer (log-polar or gaze), as basic's shade_direct stage.
-Image shade_gbuffer(FrameContext& ctx, const std::string& prefix) {
+/// `window`: where the buffer lies on the screen (the gaze buffer), null for the log-polar one.
+Image shade_gbuffer(FrameContext& ctx, const std::string& prefix,
+                    const ScreenWindow* window = nullptr) {
     FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
     const Scene& scene = *ctx.scene;
-    const ShadeInputs inputs = shade_inputs_of(ctx, prefix);
+    ShadeInputs inputs = shade_inputs_of(ctx, prefix);
+    inputs.window = window;
     const Bvh* tree = scene.lights.empty() ? nullptr : &state.bvh.get(scene, ctx.result->counters);
     ShadingStats stats;
     Image out = shade_basic(scene, tree, inputs, ctx.camera, ctx.frame, stats);
@@ -106,6 +109,10 @@ void gaze_trace_stage(FrameContext& ctx) {
                                             ctx.camera, ctx.previous_camera, stats);
     counters.add("gaze_radius_px", static_cast<std::int64_t>(std::round(map.gaze_radius)));
     counters.add("gaze_pixels_traced", stats.gaze_pixels_traced);
+    // Where the gaze buffer lies on the screen (its size is the buffers' size).
+    const ScreenWindow window = gaze_window(map);
+    counters.add("gaze_window_x0", window.x0);
+    counters.add("gaze_window_y0", window.y0);
     add_trace_counters(counters, "primary", stats.rays.primary);
     ctx.note = "r_G = " + std::to_string(map.gaze_radius) + " px, " +
                std::to_string(stats.gaze_pixels_traced) + " pixels traced";
@@ -119,14 +126,16 @@ void lp_shade_stage(FrameContext& ctx) {
 }
 
 void gaze_shade_stage(FrameContext& ctx) {
+    const ScreenWindow window = gaze_window(frame_log_polar_map(ctx));
     ctx.result->add("gaze_color", BufferKind::color, {"r", "g", "b"},
-                    shade_gbuffer(ctx, "gaze_gbuffer_"));
+                    shade_gbuffer(ctx, "gaze_gbuffer_", &window));
 }
 
 void resolve_stage(FrameContext& ctx) {
     FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
     const LogPolarMap map = frame_log_polar_map(ctx);
-    const Image* gaze = map.has_gaze_buffer() ? &ctx.input("gaze_color") : nullptr;
+    const GazeInput gaze =
+        gaze_input(map, map.has_gaze_buffer() ? &ctx.input("gaze_color") : nullptr);
     const Image& color = ctx.input(resolve_color_name(state.params));
     const Image& valid = ctx.input("lp_valid");
     ResolveStats stats;
@@ -206,9 +215,10 @@ void post_aa_stage(FrameContext& ctx) {
 void ray_positions_stage(FrameContext& ctx) {
     const LogPolarMap map = frame_log_polar_map(ctx);
     const Image* gaze_valid = map.has_gaze_buffer() ? &ctx.input("gaze_valid") : nullptr;
-    ctx.result->add("ray_positions", BufferKind::scalar, {"rays"},
-                    ray_position_counts(map.screen_width, map.screen_height, ctx.input("lp_valid"),
-                                        ctx.input("lp_screen_point"), gaze_valid));
+    ctx.result->add(
+        "ray_positions", BufferKind::scalar, {"rays"},
+        ray_position_counts(map.screen_width, map.screen_height, ctx.input("lp_valid"),
+                            ctx.input("lp_screen_point"), gaze_valid, gaze_window(map)));
 }
 
 std::vector<PixelFunction> foveated_pixel_functions(const Params&) {

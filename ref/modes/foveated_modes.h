@@ -9,7 +9,7 @@
 //                         lp_sample       each texel copies the pixel under its screen point
 //                                           -> lp_gbuffer_*, lp_valid, lp_screen_point)
 //   gaze_trace    (a_G > 0) one ray per pixel centre inside the gaze circle
-//                   -> gaze_gbuffer_* (W x H), gaze_valid
+//                   -> gaze_gbuffer_* (the circle's window, gaze_window), gaze_valid
 //   lp_shade      the basic ray tracer's shading of lp_gbuffer_*      -> lp_color
 //   gaze_shade    (a_G > 0) the same shading of gaze_gbuffer_*       -> gaze_color
 //   internal_aa   (filters=internal_aa) Meng §2.2.3, buffer space    -> lp_color_aa
@@ -21,7 +21,8 @@
 // clang-format on
 //
 // Counters of every frame (names read by scripts): buffer_width, buffer_height, texels_traced,
-// texels_off_screen, gaze_radius_px (rounded to an integer), gaze_pixels_traced, rays_primary
+// texels_off_screen, gaze_radius_px (rounded to an integer), gaze_pixels_traced, gaze_window_x0
+// and gaze_window_y0 (the screen pixel of the gaze buffer's pixel (0, 0)), rays_primary
 // (= texels_traced + gaze_pixels_traced), screen_pixels_untraced_taps, plus the tracing and
 // shading counters of the basic ray tracer.
 #pragma once

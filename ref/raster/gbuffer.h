@@ -14,6 +14,19 @@
 
 namespace fovref {
 
+/// Where a screen-aligned buffer lies on the screen: its pixel (i, j) is screen pixel
+/// (x0 + i, y0 + j) of a screen_width x screen_height screen. A screen-sized buffer is
+/// full_screen(W, H); the composite modes' gaze buffer is a window around the gaze circle.
+struct ScreenWindow {
+    int x0 = 0, y0 = 0;         ///< the screen pixel of the buffer's pixel (0, 0)
+    int width = 0, height = 0;  ///< the buffer's size
+    int screen_width = 0, screen_height = 0;
+    bool operator==(const ScreenWindow&) const = default;
+};
+inline ScreenWindow full_screen(int width, int height) {
+    return {0, 0, width, height, width, height};
+}
+
 struct GBuffer {
     Image view_depth;        ///< 1: depth along F (SPEC §1); 0 on background
     Image hit_distance;      ///< 1: distance from the camera to the surface; 0 on background

@@ -39,6 +39,14 @@ Hit raycast_gbuffer_pixel(GBuffer& gbuffer, const Scene& scene, const Bvh& bvh,
                           const Camera& camera, float tan_half, const Camera& previous_camera,
                           float previous_tan_half, int x, int y, RaycastStats& stats);
 
+/// raycast_gbuffer_pixel for a G-buffer that covers `window` of the screen: the ray through the
+/// centre of screen pixel (x, y), written at buffer pixel (x - x0, y - y0). With
+/// full_screen(W, H) this is raycast_gbuffer_pixel, which calls it.
+Hit raycast_window_pixel(GBuffer& gbuffer, const ScreenWindow& window, const Scene& scene,
+                         const Bvh& bvh, const Camera& camera, float tan_half,
+                         const Camera& previous_camera, float previous_tan_half, int x, int y,
+                         RaycastStats& stats);
+
 /// Primary rays through every pixel centre (t in (0, inf)); motion against `previous_camera`.
 GBuffer raycast_gbuffer(const Scene& scene, const Bvh& bvh, const Camera& camera,
                         const Camera& previous_camera, int width, int height, RaycastStats& stats);

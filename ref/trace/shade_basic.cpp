@@ -38,9 +38,8 @@ glm::vec3 shade_basic_pixel(const Scene& scene, const Bvh* bvh, const ShadeInput
                             std::vector<LightSampleRecord>* record) {
     SurfacePoint surface;
     if (!gbuffer_surface(scene, in, x, y, surface, stats)) return glm::vec3(0.0f);
-    const auto pixel = static_cast<std::uint32_t>(y * in.position.width + x);
     return shade_direct(scene, bvh, surface, camera.position, static_cast<std::uint32_t>(frame),
-                        pixel, 0, stats, record);
+                        shade_pixel_index(in, x, y), 0, stats, record);
 }
 
 Image shade_basic(const Scene& scene, const Bvh* bvh, const ShadeInputs& in, const Camera& camera,

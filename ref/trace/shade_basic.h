@@ -5,11 +5,13 @@
 //     gbuffer_surface: read the G-buffer channels (NaN/Inf -> 0, counted: SPEC §0);
 //                      background (primitive id < 0) stays black, an id that is not a valid
 //                      material index is treated as background (counted)
-//     shade_direct(frame, pixel index y W + x, dimension base 0)
+//     shade_direct(frame, pixel index y W + x, dimension base 0); for a buffer that is a window of
+//                  the screen (the gaze buffer), the screen pixel's index (y0 + y) W + x0 + x
 #pragma once
 
 #include "ref/bvh/bvh.h"
 #include "ref/image/image.h"
+#include "ref/raster/gbuffer.h"
 #include "ref/scene/camera.h"
 #include "ref/scene/scene.h"
 #include "ref/scene/surface.h"
@@ -25,7 +27,17 @@ struct ShadeInputs {
     const Image& albedo;
     const Image& material_id;
     const Image& primitive_id;
+    /// Where the buffer lies on the screen, for the random numbers' pixel index; null: the
+    /// buffer is its own screen (the index of pixel (x, y) is y width + x).
+    const ScreenWindow* window = nullptr;
 };
+
+/// The random numbers' pixel index of buffer pixel (x, y) (SPEC §3): y W + x on the screen.
+inline std::uint32_t shade_pixel_index(const ShadeInputs& in, int x, int y) {
+    if (!in.window) return static_cast<std::uint32_t>(y * in.position.width + x);
+    return static_cast<std::uint32_t>((in.window->y0 + y) * in.window->screen_width +
+                                      in.window->x0 + x);
+}
 
 /// Pixel (x, y) of the G-buffer as the pass reads it. False for background and for an invalid
 /// material id (then `surface` is unspecified); counts non-finite values and invalid ids.

@@ -311,13 +311,16 @@ bool probe_same_gbuffer(const GBuffer& mine, const FrameResult& f, const std::st
 
 void explain_shade_at(const ProbeContext& c, const Bvh& bvh, const std::string& prefix,
                       const std::string& color, int x, int y, ProbeSection& shade,
-                      ProbeReport& report) {
+                      ProbeReport& report, const ScreenWindow* window) {
     const Scene& scene = *c.scene;
     const FrameResult& f = *c.frame;
-    const ShadeInputs inputs{
-        f.find(prefix + "world_position")->image,   f.find(prefix + "shading_normal")->image,
-        f.find(prefix + "geometric_normal")->image, f.find(prefix + "albedo")->image,
-        f.find(prefix + "material_id")->image,      f.find(prefix + "primitive_id")->image};
+    const ShadeInputs inputs{f.find(prefix + "world_position")->image,
+                             f.find(prefix + "shading_normal")->image,
+                             f.find(prefix + "geometric_normal")->image,
+                             f.find(prefix + "albedo")->image,
+                             f.find(prefix + "material_id")->image,
+                             f.find(prefix + "primitive_id")->image,
+                             window};
     SurfacePoint surface;
     ShadingStats unused;
     if (!gbuffer_surface(scene, inputs, x, y, surface, unused)) {
@@ -332,7 +335,7 @@ void explain_shade_at(const ProbeContext& c, const Bvh& bvh, const std::string& 
     const glm::vec3 l = shade_basic_pixel(scene, scene.lights.empty() ? nullptr : &bvh, inputs,
                                           c.camera, f.frame, x, y, stats, &lights);
     explain_shading(scene, surface, l, lights, static_cast<std::uint32_t>(f.frame),
-                    static_cast<std::uint32_t>(y * inputs.position.width + x), 0, shade);
+                    shade_pixel_index(inputs, x, y), 0, shade);
     probe_check(report, shade, "radiance", l, probe_rgb(f, color, x, y));
 }
 

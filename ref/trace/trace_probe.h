@@ -31,10 +31,11 @@ bool probe_same_gbuffer(const GBuffer& mine, const FrameResult& frame, const std
                         int x, int y);
 /// The shading pass's own per-pixel function (shade_basic_pixel) at (x, y) of the rendered
 /// G-buffer named prefix + "world_position", ... (its light samples and random numbers), checked
-/// against buffer `color` at (x, y).
+/// against buffer `color` at (x, y). `window`: where that buffer lies on the screen (null: it is
+/// its own screen), as the pass was given it.
 void explain_shade_at(const ProbeContext& context, const Bvh& bvh, const std::string& prefix,
                       const std::string& color, int x, int y, ProbeSection& section,
-                      ProbeReport& report);
+                      ProbeReport& report, const ScreenWindow* window = nullptr);
 void explain_ground_truth(const ProbeContext& context, ProbeReport& report);
 
 }  // namespace fovref

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "ref/foveation/foveated_params.h"
+#include "ref/foveation/foveated_trace.h"
 #include "ref/foveation/gaussian_lerp.h"
 #include "ref/foveation/resolve.h"
 #include "ref/modes/modes.h"
@@ -40,6 +41,16 @@ const Image& buffer(const FrameResult& f, const std::string& name) {
     const Buffer* b = f.find(name);
     REQUIRE_MESSAGE(b != nullptr, name);
     return b->image;
+}
+
+/// gaze_valid at screen pixel (x, y): the gaze buffer covers a window of the screen (its
+/// counters say where); 0 outside it.
+float gaze_valid_at(const FrameResult& f, int x, int y) {
+    const Image& valid = buffer(f, "gaze_valid");
+    const auto i = x - static_cast<int>(f.counters.get("gaze_window_x0"));
+    const auto j = y - static_cast<int>(f.counters.get("gaze_window_y0"));
+    if (i < 0 || j < 0 || i >= valid.width || j >= valid.height) return 0.0f;
+    return valid.at(i, j);
 }
 
 bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
@@ -86,12 +97,11 @@ TEST_CASE("foveated modes: counters equal direct counts of the buffers") {
             const float d_px = f.display_distance_px;
             const float r_g = d_px * std::tan(find_foveation_preset(mode).map.gaze_angle);
             std::int64_t inside = 0, gaze_masked = 0;
-            const Image& gaze_valid = buffer(f, "gaze_valid");
             for (int y = 0; y < 90; ++y)
                 for (int x = 0; x < 160; ++x) {
                     const double dx = x + 0.5 - 50.5, dy = y + 0.5 - 30.0;
                     inside += std::sqrt(dx * dx + dy * dy) < r_g;
-                    gaze_masked += gaze_valid.at(x, y) != 0.0f;
+                    gaze_masked += gaze_valid_at(f, x, y) != 0.0f;
                 }
             CHECK(c.get("gaze_pixels_traced") == gaze_masked);
             // Pixels exactly on the circle may round either way: none here.
@@ -106,13 +116,12 @@ TEST_CASE("foveated modes: composite gaze pixels equal the basic ray tracer's bi
     for (const std::string mode : {"cfov", "ckfov"})
         for (const std::string gaze : {"", "20,70.25", "-10,45"}) {
             const FrameResult f = render_one(cornell(), mode, 160, 90, {{"gaze", gaze}});
-            const Image& gaze_valid = buffer(f, "gaze_valid");
             const Image& out = buffer(f, "final");
             const Image& ref = buffer(basic, "final");
             std::int64_t compared = 0, differing = 0;
             for (int y = 0; y < 90; ++y)
                 for (int x = 0; x < 160; ++x) {
-                    if (gaze_valid.at(x, y) == 0.0f) continue;
+                    if (gaze_valid_at(f, x, y) == 0.0f) continue;
                     ++compared;
                     for (int c = 0; c < 3; ++c)
                         differing += !same_bits(out.at(x, y, c), ref.at(x, y, c));
@@ -182,6 +191,44 @@ TEST_CASE("foveated modes: parameters override the preset and bad ones are named
     CHECK(test::contains(message({{"ipd", "0.06"}}), "not a parameter of mode 'kfov'"));
 }
 
+TEST_CASE("gaze window: holds every pixel inside the gaze circle, at least 1x1, on the screen") {
+    LogPolarMap map;
+    for (const auto& [w, h] : {std::pair{64, 36}, std::pair{1, 1}, std::pair{7, 300}})
+        for (const glm::vec2& g :
+             {glm::vec2{32.0f, 18.0f}, glm::vec2{0.0f, 0.0f}, glm::vec2{63.5f, 35.99f},
+              glm::vec2{-3.0f, 10.0f}, glm::vec2{70.25f, -8.0f}, glm::vec2{-1e6f, 2e7f},
+              glm::vec2{31.5f, 17.5f}})
+            for (const float r : {0.25f, 0.5f, 1.0f, 7.5f, 40.0f, 700.0f}) {
+                map.screen_width = w;
+                map.screen_height = h;
+                map.gaze = g;
+                map.gaze_radius = r;
+                const ScreenWindow win = gaze_window(map);
+                INFO(w, "x", h, " gaze (", g.x, ", ", g.y, ") r ", r);
+                CHECK(win.width >= 1);
+                CHECK(win.height >= 1);
+                CHECK(win.x0 >= 0);
+                CHECK(win.y0 >= 0);
+                CHECK(win.x0 + win.width <= w);
+                CHECK(win.y0 + win.height <= h);
+                CHECK(win.screen_width == w);
+                CHECK(win.screen_height == h);
+                // Not much larger than the circle: its box plus one pixel and rounding per side.
+                CHECK(win.width <= static_cast<int>(2.0f * r) + 4);
+                std::int64_t inside = 0;
+                for (int y = 0; y < h; ++y)
+                    for (int x = 0; x < w; ++x) {
+                        if (!inside_gaze_circle(map, centre(x, y))) continue;
+                        ++inside;
+                        REQUIRE(x >= win.x0);
+                        REQUIRE(x < win.x0 + win.width);
+                        REQUIRE(y >= win.y0);
+                        REQUIRE(y < win.y0 + win.height);
+                    }
+                if (g.x == 32.0f && r >= 1.0f && w == 64) CHECK(inside > 0);
+            }
+}
+
 TEST_CASE("pass 2: a constant buffer resolves to exactly that constant where a tap is traced") {
     // A 3-channel buffer of constants with a pseudo-random validity mask (1 texel in 3 missing):
     // every screen pixel with a traced tap gets the constant bit for bit (the lerps of equal
@@ -200,7 +247,7 @@ TEST_CASE("pass 2: a constant buffer resolves to exactly that constant where a t
             lp.at(i, j, 2) = 1e-7f;
         }
     ResolveStats stats;
-    const Image out = resolve_log_polar(map, {lp, valid, nullptr}, stats);
+    const Image out = resolve_log_polar(map, {lp, valid, {}}, stats);
     std::int64_t black = 0;
     for (int y = 0; y < 54; ++y)
         for (int x = 0; x < 96; ++x) {

@@ -75,7 +75,7 @@ TEST_CASE("mip resolve: the level from the Jacobian, and a constant buffer resol
     CHECK(mip_level(map, {100.0f, 50.0f}, 9) == 8.0f);  // at the gaze: the coarsest level
     Image flat(map.width, map.height, 3, 0.7f), valid(map.width, map.height, 1, 1.0f);
     ResolveStats stats;
-    const Image out = resolve_log_polar_mip(map, build_lp_mips(flat, valid), nullptr, stats);
+    const Image out = resolve_log_polar_mip(map, build_lp_mips(flat, valid), {}, stats);
     for (const float v : out.data) REQUIRE(v == 0.7f);
     CHECK(stats.pixels_untraced_taps == 0);
 }
