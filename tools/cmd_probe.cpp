@@ -66,7 +66,9 @@ nlohmann::json probe_json(const ProbeReport& report, const std::string& debug_co
     if (!debug_command.empty()) j["debugger_command"] = debug_command;
     j["mode"] = report.mode;
     j["frame"] = report.frame;
-    if (report.texel)
+    if (report.texel && report.eye >= 0)
+        j["texel"] = {report.texel->x, report.texel->y, report.eye};
+    else if (report.texel)
         j["texel"] = {report.texel->x, report.texel->y};
     else
         j["pixel"] = {report.x, report.y};
@@ -110,7 +112,8 @@ void add_probe_options(CLI::App& c, ProbeOptions& o) {
     c.add_option("--pixel", o.pixel, "X,Y of the screen pixel");
     c.add_option("--texel", o.texel,
                  "I,J of a texel of a foveated mode's log-polar buffer (column I, row J), "
-                 "explained instead of a pixel: its screen point, ray, hit and shading");
+                 "explained instead of a pixel: its screen point, ray, hit and shading; "
+                 "stereo-lp: I,J,EYE (EYE 0 left, 1 right)");
     c.add_option("--time-start", o.time_start, "camera-path time of frame 0")
         ->capture_default_str();
     c.add_option("--time-step", o.time_step, "camera-path time between frames")
@@ -130,11 +133,15 @@ int run_probe(const ProbeOptions& o) {
     int x = -1, y = -1;
     char tail = 0;
     std::optional<glm::ivec2> texel;
+    int eye = -1;
     if (!o.texel.empty()) {
-        int eye = 0;
-        const int n = std::sscanf(o.texel.c_str(), "%d,%d,%d%c", &x, &y, &eye, &tail);
-        if (n == 3) throw Error("--texel '" + o.texel + "': an eye applies to stereo modes only");
-        if (n != 2) throw Error("--texel '" + o.texel + "': expected I,J (e.g. 10,20)");
+        const bool with_eye = std::sscanf(o.texel.c_str(), "%d,%d,%d%c", &x, &y, &eye, &tail) == 3;
+        if (!with_eye) eye = -1;
+        const bool ok = with_eye ? eye == 0 || eye == 1
+                                 : std::sscanf(o.texel.c_str(), "%d,%d%c", &x, &y, &tail) == 2;
+        if (!ok)
+            throw Error("--texel '" + o.texel +
+                        "': expected I,J (e.g. 10,20), or I,J,EYE with EYE 0 or 1 (stereo-lp)");
         texel = glm::ivec2(x, y);
         if (!o.debugger.empty())
             throw Error("--texel with --debugger: stop at a pixel (--pixel) instead");
@@ -146,7 +153,7 @@ int run_probe(const ProbeOptions& o) {
     Progress progress("probe " + o.mode, o.quiet);
     const ProbeReport report = probe_pixel(
         scene ? &*scene : nullptr, o.mode,
-        case_settings(run, {}, [&](double f) { progress.update(f); }), o.frame, x, y, texel);
+        case_settings(run, {}, [&](double f) { progress.update(f); }), o.frame, x, y, texel, eye);
     progress.finish();
     std::string debug_command;
     if (!o.debugger.empty()) debug_command = debugger_line(o, x, y);

@@ -14,6 +14,7 @@
 #include "ref/foveation/mip_resolve.h"
 #include "ref/foveation/post_aa.h"
 #include "ref/foveation/resolve.h"
+#include "ref/foveation/stereo.h"
 #include "ref/trace/trace_probe.h"
 
 namespace fovref {
@@ -263,6 +264,8 @@ void explain_foveated(const ProbeContext& c, ProbeReport& report) {
     const Bvh bvh = build_bvh(c.scene->positions);
     explain_map(m, report);
     if (c.texel) {
+        if (c.eye >= 0)
+            throw Error("--texel I,J,EYE: an eye applies to stereo-lp only (give --texel I,J)");
         const int i = c.texel->x, j = c.texel->y;
         if (i < 0 || j < 0 || i >= m.width || j >= m.height)
             throw Error("--texel " + std::to_string(i) + "," + std::to_string(j) +
@@ -312,6 +315,169 @@ void explain_foveated(const ProbeContext& c, ProbeReport& report) {
         probe_check(report, s, "final", mine, probe_rgb(*c.frame, "final", c.x, c.y));
         report.sections.push_back(s);
     }
+}
+
+namespace {
+
+// [stereo] which eye and its camera.
+void explain_eye(const StereoParams& params, const Camera& camera, int eye, ProbeReport& report) {
+    ProbeSection s{"stereo", "Gupta's stereo pass: two eyes side by side (docs/foveation.md)", {}};
+    s.add("eye", std::to_string(eye) + (eye == 0 ? " (left" : " (right") +
+                     "): the frame's camera moved by " + (eye == 0 ? "-" : "+") +
+                     "IPD/2 along its right axis, IPD " + probe_float(params.ipd));
+    s.add("eye camera", "position " + probe_vec3(camera.position));
+    report.sections.push_back(s);
+}
+
+// [stereo_trace] and [stereo_shade] of texel x (= e w + i), y of the side-by-side buffer.
+void explain_stereo_texel(const ProbeContext& c, const std::array<LogPolarMap, 2>& maps,
+                          const std::array<Camera, 2>& cameras, const Bvh& bvh, int x, int y,
+                          ProbeReport& report) {
+    const FrameResult& f = *c.frame;
+    const int w = maps[0].width, eye = x / w, i = x - eye * w;
+    const LogPolarMap& m = maps[static_cast<std::size_t>(eye)];
+    const std::string texel = "texel (" + std::to_string(i) + ", " + std::to_string(y) +
+                              ") of eye " + std::to_string(eye) + " = column " + std::to_string(x) +
+                              " of the side-by-side buffer";
+    ProbeSection trace{"stereo_trace",
+                       texel +
+                           ": one ray through its centre's inverse-mapped point, with the "
+                           "eye's camera on its W/2 x H sub-screen",
+                       {}};
+    MaskedGBuffer scratch(2 * w, m.height);
+    Image points(2 * w, m.height, 2, 0.0f);
+    FoveatedTraceStats stats;
+    const std::array<LpInverseTable, 2> tables = {lp_inverse_table(maps[0]),
+                                                  lp_inverse_table(maps[1])};
+    // The probe explains the frame as rendered: the previous cameras only change the motion
+    // vectors, which the check below leaves out.
+    const TexelStatus status = stereo_gbuffer_texel(scratch, points, maps, tables, *c.scene, bvh,
+                                                    cameras, cameras, x, y, stats);
+    const glm::vec2 full{points.at(x, y, 0), points.at(x, y, 1)};
+    const glm::vec2 p{full.x - static_cast<float>(eye * m.screen_width), full.y};
+    trace.add("screen point", point_text(p) + " in the eye, " + point_text(full) +
+                                  " on the screen; r = " + probe_float(gaze_distance(m.gaze, p)) +
+                                  " px from the eye's gaze: " + status_text(status));
+    const Camera& camera = cameras[static_cast<std::size_t>(eye)];
+    if (status == TexelStatus::traced) {
+        const Ray ray =
+            primary_ray(camera, tan_half_vfov(camera), m.screen_width, m.screen_height, p.x, p.y);
+        trace.add("primary ray",
+                  "origin " + probe_vec3(ray.origin) + ", direction " + probe_vec3(ray.direction));
+        explain_hit(c, bvh, ray, trace);
+    }
+    const bool same = probe_same_gbuffer(scratch.gbuffer, f, "lp_gbuffer_", x, y) &&
+                      scratch.valid.at(x, y) == f.find("lp_valid")->image.at(x, y);
+    trace.add("check", std::string("texel: ") + (same ? "bit-identical to the rendered buffers"
+                                                      : "DIFFERS from the rendered buffers"));
+    if (!same) report.consistent = false;
+    report.sections.push_back(trace);
+    if (status != TexelStatus::traced) return;
+    ProbeSection shade{"stereo_shade",
+                       "column " + std::to_string(x) + ", row " + std::to_string(y) +
+                           ": the basic ray tracer's shading with eye " + std::to_string(eye) +
+                           "'s camera (docs/trace.md)",
+                       {}};
+    ProbeContext eye_context = c;
+    eye_context.camera = camera;
+    explain_shade_at(eye_context, bvh, "lp_gbuffer_", "lp_color", x, y, shade, report);
+    report.sections.push_back(shade);
+}
+
+// [resolve] of screen pixel (x, y): the eye, the (barrel) source, the bilinear lookup in the
+// eye's half; returns the traced taps as columns of the side-by-side buffer.
+std::vector<std::pair<int, int>> explain_stereo_resolve(const ProbeContext& c,
+                                                        const StereoParams& params,
+                                                        const std::array<LogPolarMap, 2>& maps,
+                                                        ProbeReport& report) {
+    const FrameResult& f = *c.frame;
+    const int eye_width = maps[0].screen_width, eye = c.x / eye_width, w = maps[0].width;
+    const LogPolarMap& m = maps[static_cast<std::size_t>(eye)];
+    ProbeSection s{"resolve", "pass 2 in the eye's half of the buffer (docs/foveation.md)", {}};
+    const glm::vec2 local{static_cast<float>(c.x - eye * eye_width) + 0.5f,
+                          static_cast<float>(c.y) + 0.5f};
+    s.add("eye", std::to_string(eye) + ": eye-local centre " + point_text(local));
+    glm::vec2 uv{0.0f};
+    const bool in_lens = stereo_lookup(params, maps, c.x, c.y, uv);
+    if (params.barrel) {
+        const glm::vec2 source =
+            barrel_source(local, eye_width, m.screen_height, params.k1, params.k2);
+        s.add("barrel",
+              "source s = centre + (W/4) q (1 + k1 |q|^2 + k2 |q|^4) = " + point_text(source) +
+                  (in_lens ? "" : ": outside the eye's image, black (counted)"));
+    }
+    const std::array<Image, 2> colors = {eye_half(f.find("lp_color")->image, 0),
+                                         eye_half(f.find("lp_color")->image, 1)};
+    const std::array<Image, 2> masks = {eye_half(f.find("lp_valid")->image, 0),
+                                        eye_half(f.find("lp_valid")->image, 1)};
+    Image out(2 * eye_width, m.screen_height, 3, 0.0f);
+    StereoResolveStats stats;
+    resolve_stereo_pixel(params, maps, colors, masks, out, c.x, c.y, stats);
+    std::vector<std::pair<int, int>> taps;
+    if (in_lens) {
+        BilinearLookup l;
+        float scratch[4];
+        const auto e = static_cast<std::size_t>(eye);
+        sample_lp_bilinear(colors[e], masks[e], uv, scratch, &l);
+        s.add("forward map", "(u, v) = " + point_text(uv) + " in eye " + std::to_string(eye) +
+                                 "'s " + std::to_string(w) + "x" + std::to_string(m.height) +
+                                 " half");
+        const int is[4] = {l.i0, l.i1, l.i0, l.i1}, js[4] = {l.j0, l.j0, l.j1, l.j1};
+        for (int k = 0; k < 4; ++k) {
+            const int column = eye * w + is[k];
+            s.add(
+                "  tap " + std::to_string(k),
+                "texel (" + std::to_string(is[k]) + ", " + std::to_string(js[k]) + "), column " +
+                    std::to_string(column) + ": " +
+                    (l.traced[k] ? "traced, lp_color " + probe_vec3({colors[e].at(is[k], js[k], 0),
+                                                                     colors[e].at(is[k], js[k], 1),
+                                                                     colors[e].at(is[k], js[k], 2)})
+                                 : std::string("not traced: left out")));
+            if (l.traced[k] && (k == 0 || is[k] != is[k - 1] || js[k] != js[k - 1]))
+                taps.emplace_back(column, js[k]);
+        }
+        s.add("rows", "weights W0 = " + probe_float(l.row_weight[0]) + ", W1 = " +
+                          probe_float(l.row_weight[1]) + "; final lerp t = " + probe_float(l.t));
+        if (stats.resolve.pixels_untraced_taps > 0)
+            s.add("result", "no traced tap with a weight: black (screen_pixels_untraced_taps)");
+    }
+    const glm::vec3 mine{out.at(c.x, c.y, 0), out.at(c.x, c.y, 1), out.at(c.x, c.y, 2)};
+    s.add("value", probe_vec3(mine));
+    probe_check(report, s, "final", mine, probe_rgb(f, "final", c.x, c.y));
+    report.sections.push_back(s);
+    return taps;
+}
+
+}  // namespace
+
+void explain_stereo(const ProbeContext& c, ProbeReport& report) {
+    const StereoParams params = parse_stereo_params(c.settings->params);
+    const std::array<LogPolarMap, 2> maps = stereo_maps(
+        params, *c.scene, c.camera, c.settings->width, c.settings->height, c.frame->frame);
+    const std::array<Camera, 2> cameras = {eye_camera(c.camera, 0, params.ipd),
+                                           eye_camera(c.camera, 1, params.ipd)};
+    const Bvh bvh = build_bvh(c.scene->positions);
+    const int w = maps[0].width, h = maps[0].height;
+    if (c.texel) {
+        const int i = c.texel->x, j = c.texel->y, eye = c.eye;
+        if (eye < 0)
+            throw Error("--texel " + std::to_string(i) + "," + std::to_string(j) +
+                        ": stereo-lp needs the eye too, --texel I,J,EYE (EYE 0 left, 1 right)");
+        if (i < 0 || j < 0 || i >= w || j >= h)
+            throw Error("--texel " + std::to_string(i) + "," + std::to_string(j) + "," +
+                        std::to_string(eye) + ": outside eye " + std::to_string(eye) + "'s " +
+                        std::to_string(w) + "x" + std::to_string(h) + " log-polar buffer");
+        explain_eye(params, cameras[static_cast<std::size_t>(eye)], eye, report);
+        explain_map(maps[static_cast<std::size_t>(eye)], report);
+        report.buffer_texel = glm::ivec2(eye * w + i, j);
+        explain_stereo_texel(c, maps, cameras, bvh, eye * w + i, j, report);
+        return;
+    }
+    const int eye = c.x / maps[0].screen_width;
+    explain_eye(params, cameras[static_cast<std::size_t>(eye)], eye, report);
+    explain_map(maps[static_cast<std::size_t>(eye)], report);
+    for (const auto& [x, y] : explain_stereo_resolve(c, params, maps, report))
+        explain_stereo_texel(c, maps, cameras, bvh, x, y, report);
 }
 
 }  // namespace fovref

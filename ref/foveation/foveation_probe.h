@@ -13,4 +13,10 @@ namespace fovref {
 
 void explain_foveated(const ProbeContext& context, ProbeReport& report);
 
+/// stereo-lp: a screen pixel through its eye's pass 2 (the barrel source, the taps in the eye's
+/// half of the side-by-side buffer) and each tap's texel; or, with `--texel I,J,EYE`, one texel
+/// of one eye (stereo_gbuffer_texel, shade_basic_pixel with the eye's camera,
+/// resolve_stereo_pixel), checked against the rendered buffers bit for bit.
+void explain_stereo(const ProbeContext& context, ProbeReport& report);
+
 }  // namespace fovref

@@ -205,6 +205,16 @@ void resolve_stereo_pixel(const StereoParams& params, const std::array<LogPolarM
     if (!sample_lp_bilinear(colors[e], valid[e], uv, pixel)) ++stats.resolve.pixels_untraced_taps;
 }
 
+Image eye_half(const Image& side_by_side, int eye) {
+    const int w = side_by_side.width / 2, h = side_by_side.height;
+    Image half(w, h, side_by_side.channels, 0.0f);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i)
+            for (int k = 0; k < side_by_side.channels; ++k)
+                half.at(i, j, k) = side_by_side.at(eye * w + i, j, k);
+    return half;
+}
+
 Image resolve_stereo(const StereoParams& params, const std::array<LogPolarMap, 2>& maps,
                      const Image& color, const Image& valid, StereoResolveStats& stats,
                      const StereoForwardTable* table) {
@@ -212,19 +222,8 @@ Image resolve_stereo(const StereoParams& params, const std::array<LogPolarMap, 2
     const int w = maps[0].width, h = maps[0].height;
     FOVREF_CHECK_EQ(color.width, 2 * w, "side-by-side buffer width");
     FOVREF_CHECK_EQ(color.height, h, "side-by-side buffer height");
-    // Each eye's half, as a buffer of its own (the lookup wraps and clamps within it).
-    std::array<Image, 2> colors, masks;
-    for (int eye = 0; eye < 2; ++eye) {
-        const auto e = static_cast<std::size_t>(eye);
-        colors[e] = Image(w, h, color.channels, 0.0f);
-        masks[e] = Image(w, h, 1, 0.0f);
-        for (int j = 0; j < h; ++j)
-            for (int i = 0; i < w; ++i) {
-                for (int k = 0; k < color.channels; ++k)
-                    colors[e].at(i, j, k) = color.at(eye * w + i, j, k);
-                masks[e].at(i, j) = valid.at(eye * w + i, j);
-            }
-    }
+    const std::array<Image, 2> colors = {eye_half(color, 0), eye_half(color, 1)};
+    const std::array<Image, 2> masks = {eye_half(valid, 0), eye_half(valid, 1)};
     Image out(2 * maps[0].screen_width, maps[0].screen_height, color.channels, 0.0f);
     for (int y = 0; y < out.height; ++y)
         for (int x = 0; x < out.width; ++x)

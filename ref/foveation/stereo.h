@@ -112,6 +112,10 @@ void resolve_stereo_pixel(const StereoParams& params, const std::array<LogPolarM
                           Image& out, int x, int y, StereoResolveStats& stats,
                           const StereoForwardTable* table = nullptr);
 
+/// Eye e's half of a side-by-side 2w x h buffer (columns e w .. e w + w - 1), as a w x h buffer
+/// of its own: pass 2 looks up each eye in its half (the lookup wraps and clamps within it).
+Image eye_half(const Image& side_by_side, int eye);
+
 /// Pass 2 of both eyes: a W x H image from the side-by-side buffer and its mask.
 Image resolve_stereo(const StereoParams& params, const std::array<LogPolarMap, 2>& maps,
                      const Image& color, const Image& valid, StereoResolveStats& stats,

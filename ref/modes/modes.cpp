@@ -58,6 +58,8 @@ std::vector<ModeInfo> make_modes() {
              stereo_pipeline);
     stereo.params = stereo_param_specs();
     stereo.pixel_functions = stereo_pixel_functions;
+    stereo.explain = explain_stereo;
+    stereo.explains_texels = true;
     return {
         basic,
         ground_truth,
@@ -111,8 +113,8 @@ std::vector<FrameResult> render(const Scene* scene, const std::string& mode,
 }
 
 ProbeReport probe_pixel(const Scene* scene, const std::string& mode, const RenderSettings& settings,
-                        int frame, int x, int y, std::optional<glm::ivec2> texel) {
-    return probe_pixel(scene, find_mode(mode), settings, frame, x, y, texel);
+                        int frame, int x, int y, std::optional<glm::ivec2> texel, int eye) {
+    return probe_pixel(scene, find_mode(mode), settings, frame, x, y, texel, eye);
 }
 
 std::vector<FrameResult> render_golden_case(const GoldenCase& golden_case, const Scene* scene,

@@ -25,7 +25,8 @@ std::vector<std::string> render_each(const Scene* scene, const std::string& mode
 std::vector<FrameResult> render(const Scene* scene, const std::string& mode,
                                 const RenderSettings& settings);
 ProbeReport probe_pixel(const Scene* scene, const std::string& mode, const RenderSettings& settings,
-                        int frame, int x, int y, std::optional<glm::ivec2> texel = std::nullopt);
+                        int frame, int x, int y, std::optional<glm::ivec2> texel = std::nullopt,
+                        int eye = -1);
 
 /// Renders a golden case (ref/golden/bundle.h), keeping every frame.
 std::vector<FrameResult> render_golden_case(const GoldenCase& golden_case, const Scene* scene,

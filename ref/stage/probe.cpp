@@ -26,12 +26,13 @@ std::string probe_bits(float v) {
 }
 
 ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSettings& settings,
-                        int frame, int x, int y, std::optional<glm::ivec2> texel) {
+                        int frame, int x, int y, std::optional<glm::ivec2> texel, int eye) {
     validate_settings(settings);      // --width 0 is a bad width, not a pixel outside the screen
     constexpr int max_frame = 99999;  // frames 0 .. F run: at most 100000 (validate_settings)
     if (frame < 0 || frame > max_frame)
         throw Error("--frame " + std::to_string(frame) + ": must be in [0, " +
                     std::to_string(max_frame) + "] (frames 0 .. F are rendered)");
+    if (eye >= 0 && !texel) throw Error("an eye is given with --texel I,J,EYE only");
     if (texel) {
         x = 0;
         y = 0;
@@ -58,6 +59,7 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
     report.x = x;
     report.y = y;
     report.texel = texel;
+    report.eye = eye;
     const float time = s.time_start + static_cast<float>(frame) * s.time_step;
     const Camera camera = scene ? camera_at(*scene, time) : Camera{};
 
@@ -80,7 +82,7 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
 
     // What the mode's own explainer says about the pixel, stage by stage.
     if (mode.explain) {
-        ProbeContext context{scene, &s, &last, camera, x, y, texel};
+        ProbeContext context{scene, &s, &last, camera, x, y, texel, eye};
         mode.explain(context, report);
     }
 
@@ -91,7 +93,10 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
                                  "pipeline order",
                          {}};
     // A texel is looked up in the buffers that are not screen-sized (the foveation buffers).
-    const int bx = texel ? texel->x : x, by = texel ? texel->y : y;
+    const glm::ivec2 at = report.buffer_texel ? *report.buffer_texel
+                          : texel             ? *texel
+                                              : glm::ivec2(x, y);
+    const int bx = at.x, by = at.y;
     for (const StageRun& run : last.stages)
         if (!run.ran) buffers.add("stage " + run.name, "skipped (" + run.note + ")");
     for (const Buffer& b : last.buffers) {
@@ -118,9 +123,10 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
 
 std::string probe_text(const ProbeReport& report) {
     const std::string target =
-        report.texel ? "texel (" + std::to_string(report.texel->x) + ", " +
-                           std::to_string(report.texel->y) + ")"
-                     : "pixel (" + std::to_string(report.x) + ", " + std::to_string(report.y) + ")";
+        report.texel
+            ? "texel (" + std::to_string(report.texel->x) + ", " + std::to_string(report.texel->y) +
+                  ")" + (report.eye >= 0 ? " of eye " + std::to_string(report.eye) : "")
+            : "pixel (" + std::to_string(report.x) + ", " + std::to_string(report.y) + ")";
     std::string out = "fovref probe: mode " + report.mode + ", frame " +
                       std::to_string(report.frame) + ", " + target + "\n";
     for (const ProbeSection& section : report.sections) {

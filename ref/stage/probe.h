@@ -32,6 +32,10 @@ struct ProbeReport {
     int frame = 0, x = 0, y = 0;
     /// Set when a buffer texel (i, j) is probed instead of a screen pixel (`--texel`).
     std::optional<glm::ivec2> texel;
+    int eye = -1;  ///< the eye of a stereo texel (0 left, 1 right); -1: none given
+    /// Where the texel lies in the mode's buffers, when not at (i, j) (stereo: column e w + i of
+    /// the side-by-side buffer); set by the mode's explainer, read by the buffer listing.
+    std::optional<glm::ivec2> buffer_texel;
     std::vector<ProbeSection> sections;
     /// False when the probe's recomputation differs from the rendered buffer: a bug in the
     /// probe or a nondeterminism in the stage.
@@ -47,14 +51,16 @@ struct ProbeContext {
     int x = 0, y = 0;
     /// A buffer texel (i, j) to explain instead of the pixel (modes with a foveation buffer).
     std::optional<glm::ivec2> texel;
+    int eye = -1;  ///< the texel's eye in stereo modes (-1: none given)
 };
 
 /// Renders frames 0 .. frame of `mode` (every buffer of the last), then explains pixel (x, y),
-/// or, when `texel` is given, that texel of the mode's buffer (x, y are then ignored). Throws
-/// fovref::Error for a pixel outside the screen, a bad frame number, or a texel for a mode
-/// without a buffer.
+/// or, when `texel` is given, that texel of the mode's buffer (x, y are then ignored; `eye`: the
+/// texel's eye in a stereo mode, -1 for none). Throws fovref::Error for a pixel outside the
+/// screen, a bad frame number, a texel for a mode without a buffer, or an eye without a texel.
 ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSettings& settings,
-                        int frame, int x, int y, std::optional<glm::ivec2> texel = std::nullopt);
+                        int frame, int x, int y, std::optional<glm::ivec2> texel = std::nullopt,
+                        int eye = -1);
 
 /// Formatting helpers for explainers: "%.9g" floats (round-trip exact), vectors, hex bits.
 std::string probe_float(float v);

@@ -36,4 +36,49 @@ expect 0 "bench foveation (small)" -- "$FOVREF" bench foveation --scene cornell 
 contains "cfov+lerp" "bench rows"
 contains "speed-up" "bench columns"
 expect 2 "bench foveation: unknown mode" -- "$FOVREF" bench foveation --mode nope --width 16 --height 9
+# probe --texel I,J,EYE explains one texel of one eye of stereo-lp.
+expect 0 "probe a stereo texel" -- "$FOVREF" probe --scene cornell --mode stereo-lp --width 96 --height 54 --texel 10,7,1
+contains "texel (10, 7) of eye 1" "the eye named"
+contains "texel: bit-identical to the rendered buffers" "the texel recomputed"
+expect 2 "a stereo texel without its eye" -- "$FOVREF" probe --scene cornell --mode stereo-lp --width 96 --height 54 --texel 10,7
+contains "needs the eye too" "the eye asked for"
+expect 2 "an eye for a mono mode" -- "$FOVREF" probe --scene cornell --mode cfov --width 64 --height 36 --texel 10,7,0
+contains "an eye applies to stereo-lp only" "the eye refused"
+
+# fovref diff points at a texel for a log-polar buffer (with the eye in stereo) and moves a gaze
+# buffer's pixel to the screen; each printed probe command runs.
+PY=$(command -v /usr/bin/python3 || command -v python3)
+bump() {  # bump FILE X Y: adds 0.5 to channel 0 of element (X, Y) of a little-endian PFM
+  "$PY" - "$@" <<'PYTHON'
+import struct, sys
+path, x, y = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+data = bytearray(open(path, "rb").read())
+lines = data.split(b"\n", 3)
+channels = 3 if lines[0] == b"PF" else 1
+w, h = map(int, lines[1].split())
+at = len(lines[0]) + len(lines[1]) + len(lines[2]) + 3 + ((h - 1 - y) * w + x) * channels * 4
+value = struct.unpack("<f", data[at:at + 4])[0] + 0.5
+data[at:at + 4] = struct.pack("<f", value)
+open(path, "wb").write(data)
+PYTHON
+}
+expect 0 "export a stereo golden" -- "$FOVREF" golden export cornell-stereo-lp "$TMP/st_gold" -q
+cp -r "$TMP/st_gold" "$TMP/st_cand"
+W_EYE=$("$PY" -c "import json,sys; print(json.load(open(sys.argv[1]))['frames'][0]['counters']['buffer_width'])" "$TMP/st_gold/manifest.json")
+bump "$TMP/st_cand/f000_lp_color.pfm" $((W_EYE + 5)) 9
+expect 1 "a stereo texel changed" -- "$FOVREF" diff "$TMP/st_gold" "$TMP/st_cand"
+contains "buffer 'lp_color'" "names the buffer"
+contains "--texel 5,9,1" "the texel of eye 1"
+CMD=$(grep -o "explain it: fovref probe.*" <<<"$OUT" | sed 's/^explain it: fovref //')
+# shellcheck disable=SC2086
+expect 0 "the printed stereo probe command runs" -- "$FOVREF" $CMD
+contains "texel (5, 9) of eye 1" "explains that texel"
+expect 0 "export a composite golden" -- "$FOVREF" golden export cornell-cfov "$TMP/cf_gold" -q
+cp -r "$TMP/cf_gold" "$TMP/cf_cand"
+X0=$("$PY" -c "import json,sys; print(json.load(open(sys.argv[1]))['frames'][0]['counters']['gaze_window_x0'])" "$TMP/cf_gold/manifest.json")
+Y0=$("$PY" -c "import json,sys; print(json.load(open(sys.argv[1]))['frames'][0]['counters']['gaze_window_y0'])" "$TMP/cf_gold/manifest.json")
+bump "$TMP/cf_cand/f000_gaze_color.pfm" 4 3
+expect 1 "a gaze pixel changed" -- "$FOVREF" diff "$TMP/cf_gold" "$TMP/cf_cand"
+contains "buffer 'gaze_color'" "names the gaze buffer"
+contains "--pixel $((X0 + 4)),$((Y0 + 3))" "the screen pixel of the gaze buffer's pixel"
 finish

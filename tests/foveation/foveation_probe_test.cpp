@@ -3,6 +3,7 @@
 // and out of the gaze circle, on the screen's corners and edges, and at texels traced or not.
 #include <doctest/doctest.h>
 
+#include "ref/core/error.h"
 #include "ref/modes/modes.h"
 #include "ref/scene/procedural.h"
 
@@ -35,4 +36,44 @@ TEST_CASE("foveation probe: every pixel and texel explanation agrees with the fr
                 REQUIRE(r.texel.has_value());
             }
         }
+}
+
+TEST_CASE("foveation probe: stereo pixels of both eyes and texels of each eye agree") {
+    const Scene scene = make_procedural_scene("cornell");
+    for (const std::string barrel : {"off", "on"}) {
+        RenderSettings s;
+        s.width = 96;
+        s.height = 40;
+        s.params = Params({{"barrel", barrel}});
+        // Both eyes, their centres, the seam between them and the screen's corners.
+        for (const auto& p : {std::pair{10, 20}, std::pair{60, 13}, std::pair{47, 39},
+                              std::pair{48, 0}, std::pair{24, 20}, std::pair{95, 39}}) {
+            const ProbeReport r = probe_pixel(&scene, "stereo-lp", s, 0, p.first, p.second);
+            INFO("barrel ", barrel, " pixel ", p.first, ",", p.second);
+            CHECK(r.consistent);
+            int traced = 0;
+            for (const ProbeSection& section : r.sections)
+                traced += section.stage == "stereo_trace";
+            // Away from the corners (whose taps lie beyond them, untraced) and the lens's edge, a
+            // pixel looks up traced texels of its eye.
+            if (p.first % 48 > 8 && p.first % 48 < 40 && p.second > 5 && p.second < 35)
+                CHECK(traced > 0);
+        }
+        for (const int eye : {0, 1})
+            for (const auto& t : {std::pair{0, 0}, std::pair{10, 7}, std::pair{20, 27}}) {
+                const ProbeReport r = probe_pixel(&scene, "stereo-lp", s, 0, 0, 0,
+                                                  glm::ivec2(t.first, t.second), eye);
+                INFO("eye ", eye, " texel ", t.first, ",", t.second);
+                CHECK(r.consistent);
+                REQUIRE(r.buffer_texel.has_value());
+                CHECK(r.buffer_texel->y == t.second);
+                CHECK(r.buffer_texel->x == eye * 34 + t.first);  // w = 34 at 96x40
+            }
+        // The eye is required for a stereo texel and refused for a mono one.
+        CHECK_THROWS_AS(probe_pixel(&scene, "stereo-lp", s, 0, 0, 0, glm::ivec2(1, 1)), Error);
+    }
+    RenderSettings mono;
+    mono.width = 64;
+    mono.height = 36;
+    CHECK_THROWS_AS(probe_pixel(&scene, "cfov", mono, 0, 0, 0, glm::ivec2(1, 1), 0), Error);
 }
