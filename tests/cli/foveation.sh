@@ -32,9 +32,11 @@ contains "unknown foveation preset 'basic'" "density needs a log-polar mode"
 expect 2 "density with an unknown parameter" -- "$FOVREF" density fov --param ipd=1
 contains "not a parameter of mode 'fov'" "parameter checked"
 
-expect 0 "bench foveation (small)" -- "$FOVREF" bench foveation --scene cornell --width 64 --height 36 --repeats 1 -q
+expect 0 "bench foveation (small)" -- "$FOVREF" bench foveation --scene cornell --width 64 --height 36 --repeats 1 --stages -q
 contains "cfov+lerp" "bench rows"
 contains "speed-up" "bench columns"
+contains "w-target" "bench work column"
+contains "    gaze_trace" "bench --stages lists the stages"
 expect 2 "bench foveation: unknown mode" -- "$FOVREF" bench foveation --mode nope --width 16 --height 9
 # probe --texel I,J,EYE explains one texel of one eye of stereo-lp.
 expect 0 "probe a stereo texel" -- "$FOVREF" probe --scene cornell --mode stereo-lp --width 96 --height 54 --texel 10,7,1
