@@ -13,8 +13,9 @@ namespace {
 
 float lerp(float a, float b, float t) { return a + t * (b - a); }
 
-/// One row of the lookup: lerp in u over the traced taps; returns the row's weight.
-float sample_row(const Image& buffer, const BilinearLookup& l, int j, const bool traced[2],
+/// One row of the lookup: lerp in u over the traced taps; returns the row's weight. (Inlined
+/// into every lookup: pass 2 runs it twice per screen pixel.)
+[[gnu::always_inline]] inline float sample_row(const Image& buffer, const BilinearLookup& l, int j, const bool traced[2],
                  float* out) {
     const int channels = buffer.channels;
     if (traced[0] && traced[1]) {
