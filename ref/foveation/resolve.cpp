@@ -15,8 +15,8 @@ float lerp(float a, float b, float t) { return a + t * (b - a); }
 
 /// One row of the lookup: lerp in u over the traced taps; returns the row's weight. (Inlined
 /// into every lookup: pass 2 runs it twice per screen pixel.)
-[[gnu::always_inline]] inline float sample_row(const Image& buffer, const BilinearLookup& l, int j, const bool traced[2],
-                 float* out) {
+[[gnu::always_inline]] inline float sample_row(const Image& buffer, const BilinearLookup& l, int j,
+                                               const bool traced[2], float* out) {
     const int channels = buffer.channels;
     if (traced[0] && traced[1]) {
         for (int c = 0; c < channels; ++c)
@@ -60,9 +60,23 @@ bool sample_lp_bilinear(const Image& buffer, const Image& valid, glm::vec2 uv, f
     l.traced[1] = valid.at(l.i1, l.j0) != 0.0f;
     l.traced[2] = valid.at(l.i0, l.j1) != 0.0f;
     l.traced[3] = valid.at(l.i1, l.j1) != 0.0f;
+    FOVREF_CHECK(channels <= 4, "bilinear lookup of a buffer with more than 4 channels");
+    if (!lookup && l.traced[0] && l.traced[1] && l.traced[2] && l.traced[3]) {
+        // Every tap traced (most lookups): the general path below with both row weights 1
+        // written out, the same operations. fv < 1, so W0 = 1 - fv > 0; W1 = fv > 0 unless fv = 0,
+        // when the general path takes row 0 alone.
+        const float* a = &buffer.data[buffer.index(l.i0, l.j0)];
+        const float* b = &buffer.data[buffer.index(l.i1, l.j0)];
+        const float* c = &buffer.data[buffer.index(l.i0, l.j1)];
+        const float* d = &buffer.data[buffer.index(l.i1, l.j1)];
+        for (int k = 0; k < channels; ++k) {
+            const float r0 = lerp(a[k], b[k], l.fu);
+            out[k] = l.fv > 0.0f ? lerp(r0, lerp(c[k], d[k], l.fu), l.fv) : r0;
+        }
+        return true;
+    }
 
     float row0[4] = {0, 0, 0, 0}, row1[4] = {0, 0, 0, 0};
-    FOVREF_CHECK(channels <= 4, "bilinear lookup of a buffer with more than 4 channels");
     const float w0 = sample_row(buffer, l, l.j0, &l.traced[0], row0);
     const float w1 = sample_row(buffer, l, l.j1, &l.traced[2], row1);
     l.row_weight[0] = (1.0f - l.fv) * w0;

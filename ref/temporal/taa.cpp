@@ -1,0 +1,197 @@
+#include "ref/temporal/taa.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ref/core/error.h"
+
+namespace fovref {
+
+const char* taa_decision_name(TaaDecision decision) {
+    switch (decision) {
+        case TaaDecision::first: return "first frame: the current pixel";
+        case TaaDecision::stationary: return "stationary camera: the history at the pixel, kept";
+        case TaaDecision::kept: return "kept (depths consistent)";
+        case TaaDecision::rejected: return "rejected: the current pixel";
+        case TaaDecision::periphery: return "inconsistent beyond the periphery radius: kept, age 2";
+        case TaaDecision::clamped: return "clamped to the current 3x3 neighbourhood";
+    }
+    return "?";
+}
+
+float taa_sample(const Image& image, glm::vec2 q, float* out) {
+    const int channels = image.channels;
+    FOVREF_CHECK(channels <= 4, "a TAA sample of more than 4 channels");
+    for (int c = 0; c < channels; ++c) out[c] = 0.0f;
+    // Taps further than one pixel outside the screen have no weight on it (and far-off points
+    // would overflow an int).
+    if (!(q.x > -1.0f && q.y > -1.0f && q.x < static_cast<float>(image.width) + 1.0f &&
+          q.y < static_cast<float>(image.height) + 1.0f))
+        return 0.0f;
+    const float sx = q.x - 0.5f, sy = q.y - 0.5f;
+    const float fx0 = std::floor(sx), fy0 = std::floor(sy);
+    const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
+    const float fx = sx - fx0, fy = sy - fy0;
+    const int xs[4] = {x0, x0 + 1, x0, x0 + 1}, ys[4] = {y0, y0, y0 + 1, y0 + 1};
+    const float ws[4] = {(1.0f - fx) * (1.0f - fy), fx * (1.0f - fy), (1.0f - fx) * fy, fx * fy};
+    float sum = 0.0f, acc[4] = {0, 0, 0, 0};
+    for (int k = 0; k < 4; ++k) {
+        if (xs[k] < 0 || ys[k] < 0 || xs[k] >= image.width || ys[k] >= image.height) continue;
+        sum += ws[k];
+        for (int c = 0; c < channels; ++c) acc[c] += ws[k] * image.at(xs[k], ys[k], c);
+    }
+    if (!(sum > 0.0f)) return 0.0f;
+    for (int c = 0; c < channels; ++c) out[c] = acc[c] / sum;
+    return sum;
+}
+
+bool taa_reproject(const Camera& camera, float tan_half, const Camera& previous,
+                   float previous_tan_half, int width, int height, int x, int y, float z,
+                   glm::vec2& previous_point, float& previous_depth) {
+    const glm::vec3 d =
+        primary_ray_direction(camera, tan_half, width, height, static_cast<float>(x) + 0.5f,
+                              static_cast<float>(y) + 0.5f);
+    const glm::vec3 p = camera.position + d * (z / glm::dot(d, camera.forward));
+    return project_to_screen(previous, previous_tan_half, width, height, p, previous_point,
+                             previous_depth);
+}
+
+namespace {
+
+bool finite3(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+glm::vec3 rgb_at(const Image& image, int x, int y) {
+    return {image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2)};
+}
+
+// Karis's clamp: the history per channel within the current 3x3 neighbourhood's min and max.
+glm::vec3 clamp_to_neighbourhood(const Image& color, int x, int y, glm::vec3 history) {
+    glm::vec3 lo = rgb_at(color, x, y), hi = lo;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const glm::vec3 v = rgb_at(color, std::clamp(x + dx, 0, color.width - 1),
+                                       std::clamp(y + dy, 0, color.height - 1));
+            lo = glm::min(lo, v);
+            hi = glm::max(hi, v);
+        }
+    return glm::clamp(history, lo, hi);
+}
+
+}  // namespace
+
+TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const TaaState& previous,
+                         int x, int y, Image& out, Image& age) {
+    TaaPixelRecord r;
+    const glm::vec3 current = rgb_at(in.color, x, y);
+    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    r.previous_point = centre;
+    const auto write = [&](glm::vec3 value, float a) {
+        for (int c = 0; c < 3; ++c) out.at(x, y, c) = value[c];
+        age.at(x, y) = a;
+        r.age = a;
+    };
+    if (!previous.valid) {
+        r.decision = TaaDecision::first;
+        write(current, 1.0f);
+        return r;
+    }
+    const int width = in.color.width, height = in.color.height;
+    bool consistent = true;
+    if (in.camera == previous.camera) {
+        // Stationary: the history at p, never rejected, nothing reprojected.
+        r.decision = TaaDecision::stationary;
+        r.history = rgb_at(previous.history, x, y);
+        r.age_previous = previous.age.at(x, y);
+    } else {
+        // Reprojection by the current depth.
+        const float z = in.depth.at(x, y);
+        float h[3] = {0, 0, 0};
+        if (!(z > 0.0f && std::isfinite(z)) ||
+            !taa_reproject(in.camera, tan_half_vfov(in.camera), previous.camera,
+                           tan_half_vfov(previous.camera), width, height, x, y, z, r.previous_point,
+                           r.previous_depth) ||
+            taa_sample(previous.history, r.previous_point, h) <= 0.0f) {
+            r.decision = TaaDecision::rejected;
+            write(current, 1.0f);
+            return r;
+        }
+        r.history = {h[0], h[1], h[2]};
+        taa_sample(previous.depth, r.previous_point, &r.history_depth);
+        const int px = std::clamp(static_cast<int>(std::floor(r.previous_point.x)), 0, width - 1);
+        const int py = std::clamp(static_cast<int>(std::floor(r.previous_point.y)), 0, height - 1);
+        r.age_previous = previous.age.at(px, py);
+        consistent = std::fabs(r.previous_depth - r.history_depth) <= params.tau * r.previous_depth;
+        r.decision = TaaDecision::kept;
+    }
+    if (!finite3(r.history) || !std::isfinite(r.age_previous)) {
+        r.history_nonfinite = true;
+        r.decision = TaaDecision::rejected;
+        write(current, 1.0f);
+        return r;
+    }
+    float age_new =
+        std::min(std::max(r.age_previous, 1.0f) + 1.0f, static_cast<float>(params.age_cap));
+    if (params.rejection == TaaRejection::clamp && r.decision != TaaDecision::stationary) {
+        r.history = clamp_to_neighbourhood(in.color, x, y, r.history);
+        r.decision = TaaDecision::clamped;
+    } else if (!consistent) {
+        const float diagonal = std::sqrt(static_cast<float>(width) * static_cast<float>(width) +
+                                         static_cast<float>(height) * static_cast<float>(height));
+        const glm::vec2 d = centre - in.gaze;
+        if (std::sqrt(d.x * d.x + d.y * d.y) > params.periphery * diagonal) {
+            r.decision = TaaDecision::periphery;
+            age_new = 2.0f;
+        } else {
+            r.decision = TaaDecision::rejected;
+            write(current, 1.0f);
+            return r;
+        }
+    }
+    const float w = 1.0f / age_new;
+    write(r.history * (1.0f - w) + current * w, age_new);
+    return r;
+}
+
+void taa(const TaaParams& params, const TaaInputs& in, const TaaState& previous, Image& out,
+         Image& age, TaaStats& stats) {
+    const int width = in.color.width, height = in.color.height;
+    FOVREF_CHECK_EQ(in.color.channels, 3, "TAA colour channels");
+    FOVREF_CHECK(in.depth.width == width && in.depth.height == height,
+                 "TAA depth of another size than the colour");
+    if (previous.valid)
+        FOVREF_CHECK(previous.history.same_shape(in.color) && previous.age.width == width &&
+                         previous.age.height == height && previous.depth.width == width &&
+                         previous.depth.height == height,
+                     "a TAA history of another size than the frame");
+    FOVREF_CHECK(params.age_cap >= 1, "TAA age cap below 1");
+    out = Image(width, height, 3, 0.0f);
+    age = Image(width, height, 1, 0.0f);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const TaaPixelRecord r = taa_pixel(params, in, previous, x, y, out, age);
+            switch (r.decision) {
+                case TaaDecision::first: break;
+                case TaaDecision::stationary:
+                    ++stats.reprojection_skipped;
+                    ++stats.kept;
+                    break;
+                case TaaDecision::kept: ++stats.kept; break;
+                case TaaDecision::rejected: ++stats.rejected; break;
+                case TaaDecision::periphery: ++stats.periphery_kept; break;
+                case TaaDecision::clamped: ++stats.clamped; break;
+            }
+            if (r.history_nonfinite) ++stats.nonfinite_history;
+        }
+}
+
+TaaState next_taa_state(Image out, Image age, const Image& depth, const Camera& camera) {
+    TaaState s;
+    s.valid = true;
+    s.history = std::move(out);
+    s.age = std::move(age);
+    s.depth = depth;
+    s.camera = camera;
+    return s;
+}
+
+}  // namespace fovref

@@ -1,0 +1,117 @@
+// Temporal anti-aliasing (Lund §3.4, SPEC §7): the history of earlier frames blended into the
+// current frame after pass 2 (SPEC §6: before the screen-space filters). docs/temporal.md.
+//
+// State carried between frames, explicitly (TaaState): the history colour (the previous TAA
+// output), its per-pixel age, the previous frame's view depth and camera.
+//
+//   for each screen pixel p = (x, y), row by row:   taa_pixel(x, y)
+//     no history (the first frame): output = current, age 1
+//     stationary camera (its pose bit-equal to the previous one): the history pixel at p itself,
+//       never rejected, no reprojection (counted: taa_reprojection_skipped)
+//     otherwise reprojection (taa_reproject): z = the current view depth at p (0: no surface: the
+//       history is rejected), d = the primary direction through p's centre,
+//       P = camera + d z / (d . F), projected by the previous camera to p' with view depth z'
+//       (behind it: rejected). The history colour and the previous depth z_h are sampled
+//       bilinearly at p' (taa_sample: taps at pixel centres, taps off screen dropped and the
+//       weights renormalised; no tap: rejected); the previous age is that of the pixel under p'
+//       (clamped to the screen). A history with a non-finite value is rejected.
+//       depth mode: consistent when |z' - z_h| <= tau z'; inconsistent -> rejected, except
+//         beyond periphery x the diagonal from the gaze (Lund's flicker rule): kept, age 2
+//       clamp mode (Karis): the history clamped per channel to the min/max of the current 3x3
+//         neighbourhood (clamped at the screen border); never rejected for depth
+//     age_new = min(age_prev + 1, age_cap) (kept or clamped), 1 (rejected), 2 (periphery)
+//     output = history (1 - 1/age_new) + current (1/age_new), per channel in binary32;
+//       a rejected pixel's output is the current pixel itself
+#pragma once
+
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "ref/image/image.h"
+#include "ref/scene/camera.h"
+
+namespace fovref {
+
+enum class TaaRejection {
+    depth,  ///< depth-based rejection with tau (Lund §3.4.1)
+    clamp,  ///< neighbourhood clamping of the history, screen space (Karis 2014, Lund §3.4.2)
+};
+
+struct TaaParams {
+    TaaRejection rejection = TaaRejection::depth;
+    float tau = 0.01f;              ///< relative depth tolerance (SPEC §7 choice; Lund gives none)
+    int age_cap = 20;               ///< Lund eq. 3.12
+    float periphery = 1.0f / 3.0f;  ///< the flicker rule applies beyond this x the diagonal
+};
+
+/// What a frame hands to the next.
+struct TaaState {
+    bool valid = false;  ///< false before the first frame
+    Image history;       ///< W x H x 3: the previous TAA output
+    Image age;           ///< W x H x 1: its age, 1 .. age_cap
+    Image depth;         ///< W x H x 1: the previous frame's view depth (0: no surface)
+    Camera camera;       ///< the previous frame's camera
+};
+
+/// The current frame as TAA reads it.
+struct TaaInputs {
+    const Image& color;  ///< W x H x 3, pass 2's output
+    const Image& depth;  ///< W x H x 1, the view depth at each pixel (0: no surface)
+    const Camera& camera;
+    glm::vec2 gaze{0.0f};  ///< for the periphery rule (screen pixels)
+};
+
+enum class TaaDecision {
+    first,       ///< no history: the current pixel
+    stationary,  ///< static camera: the history at p, kept
+    kept,        ///< reprojected and consistent
+    rejected,    ///< no surface, behind the previous camera, off screen, non-finite, inconsistent
+    periphery,   ///< inconsistent beyond the periphery radius: kept with age 2
+    clamped,     ///< clamp mode: the history clamped to the neighbourhood (changed or not)
+};
+const char* taa_decision_name(TaaDecision decision);
+
+/// A bilinear sample at screen point q (pixel centres at +1/2) of `image`, over the taps that
+/// lie on the screen, renormalised; `out` gets image.channels values. Returns the weight of the
+/// taps used (0: none on screen, `out` zero). Taps: (x0, y0), (x0 + 1, y0), (x0, y0 + 1),
+/// (x0 + 1, y0 + 1) with x0 = floor(q.x - 1/2), fx = q.x - 1/2 - x0 (y likewise), weights
+/// (1 - fx)(1 - fy), fx (1 - fy), (1 - fx) fy, fx fy, summed in that order.
+float taa_sample(const Image& image, glm::vec2 q, float* out);
+
+/// Where pixel (x, y) at view depth z (> 0) was in the previous camera's view: its screen point
+/// and view depth. False when the point is behind the previous camera.
+bool taa_reproject(const Camera& camera, float tan_half, const Camera& previous,
+                   float previous_tan_half, int width, int height, int x, int y, float z,
+                   glm::vec2& previous_point, float& previous_depth);
+
+/// What taa_pixel did at a pixel (for counters and `fovref probe`).
+struct TaaPixelRecord {
+    TaaDecision decision = TaaDecision::first;
+    glm::vec2 previous_point{0.0f};  ///< p' (reprojected)
+    float previous_depth = 0.0f;     ///< z'
+    float history_depth = 0.0f;      ///< z_h
+    float age_previous = 0.0f, age = 1.0f;
+    glm::vec3 history{0.0f};         ///< the history used (after clamping)
+    bool history_nonfinite = false;  ///< rejected because the history (or its age) was not finite
+};
+
+/// Per-pixel work of the pass: pixel (x, y) of `out` (3 channels) and `age`.
+TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const TaaState& previous,
+                         int x, int y, Image& out, Image& age);
+
+/// Counters of one frame's TAA.
+struct TaaStats {
+    std::int64_t kept = 0, rejected = 0, clamped = 0, periphery_kept = 0;
+    std::int64_t reprojection_skipped = 0;  ///< pixels of a stationary camera
+    std::int64_t nonfinite_history = 0;     ///< rejected because the history was not finite
+};
+
+/// The pass: the TAA output (the next frame's history) and the age, W x H.
+void taa(const TaaParams& params, const TaaInputs& in, const TaaState& previous, Image& out,
+         Image& age, TaaStats& stats);
+
+/// The state the next frame reads: this frame's output, age, depth and camera.
+TaaState next_taa_state(Image out, Image age, const Image& depth, const Camera& camera);
+
+}  // namespace fovref
