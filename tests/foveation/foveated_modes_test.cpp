@@ -193,12 +193,13 @@ TEST_CASE("foveated modes: parameters override the preset and bad ones are named
 
 TEST_CASE("gaze window: holds every pixel inside the gaze circle, at least 1x1, on the screen") {
     LogPolarMap map;
-    for (const auto& [w, h] : {std::pair{64, 36}, std::pair{1, 1}, std::pair{7, 300}})
+    for (const auto& size : {std::pair{64, 36}, std::pair{1, 1}, std::pair{7, 300}})
         for (const glm::vec2& g :
              {glm::vec2{32.0f, 18.0f}, glm::vec2{0.0f, 0.0f}, glm::vec2{63.5f, 35.99f},
               glm::vec2{-3.0f, 10.0f}, glm::vec2{70.25f, -8.0f}, glm::vec2{-1e6f, 2e7f},
               glm::vec2{31.5f, 17.5f}})
             for (const float r : {0.25f, 0.5f, 1.0f, 7.5f, 40.0f, 700.0f}) {
+                const int w = size.first, h = size.second;  // (not bindings: INFO captures)
                 map.screen_width = w;
                 map.screen_height = h;
                 map.gaze = g;

@@ -92,8 +92,9 @@ TEST_CASE("TAA: reprojection of a pure rotation matches the analytic projection 
     const int w = 64, h = 36;
     const Camera previous = yawed(0.0f), camera = yawed(7.5f);
     const double tan_half = std::tan(20.0 * 3.14159265358979323846 / 180.0);
-    for (const auto& [x, y] : {std::pair{32, 18}, std::pair{5, 30}, std::pair{60, 2}})
+    for (const auto& pixel : {std::pair{32, 18}, std::pair{5, 30}, std::pair{60, 2}})
         for (const float z : {0.5f, 3.0f, 40.0f}) {
+            const int x = pixel.first, y = pixel.second;
             glm::vec2 q;
             float depth = 0.0f;
             REQUIRE(taa_reproject(camera, tan_half_vfov(camera), previous, tan_half_vfov(previous),
