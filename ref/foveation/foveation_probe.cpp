@@ -283,14 +283,15 @@ void explain_foveated(const ProbeContext& c, ProbeReport& report) {
     if (params.gaussian_lerp) {
         ProbeSection s{"gaussian_lerp", "Lund's Gaussian lerp (docs/foveation.md)", {}};
         const Image& in = c.frame->find(chain[link])->image;
-        const float t = gaussian_lerp_amount(in.width, in.height, m.gaze, centre);
+        const LerpRamp ramp = gaussian_lerp_ramp(in.width, in.height, m.gaze);
+        const float t = gaussian_lerp_amount(ramp, m.gaze, centre);
         s.add("amount", "t = clamp((r - D/6) / (R_c - D/6), 0, 1) = " + probe_float(t));
         const glm::vec3 g{gaussian3x3_clamped(in, c.x, c.y, 0),
                           gaussian3x3_clamped(in, c.x, c.y, 1),
                           gaussian3x3_clamped(in, c.x, c.y, 2)};
         s.add("3x3 Gaussian", probe_vec3(g));
         Image out(in.width, in.height, 3, 0.0f);
-        gaussian_lerp_pixel(in, m.gaze, out, c.x, c.y);
+        gaussian_lerp_pixel(in, m.gaze, ramp, out, c.x, c.y);
         const glm::vec3 mine{out.at(c.x, c.y, 0), out.at(c.x, c.y, 1), out.at(c.x, c.y, 2)};
         s.add("value", probe_vec3(mine) + (t == 0.0f ? " (t = 0: unchanged)" : ""));
         ++link;

@@ -7,14 +7,20 @@
 
 namespace fovref {
 
-float gaussian_lerp_amount(int width, int height, glm::vec2 gaze, glm::vec2 p) {
+LerpRamp gaussian_lerp_ramp(int width, int height, glm::vec2 gaze) {
     const float w = static_cast<float>(width), h = static_cast<float>(height);
     const float diagonal = std::sqrt(w * w + h * h);
     float farthest = 0.0f;
     const glm::vec2 corners[4] = {{0.0f, 0.0f}, {w, 0.0f}, {0.0f, h}, {w, h}};
     for (const glm::vec2& c : corners) farthest = std::max(farthest, gaze_distance(gaze, c));
-    const float start = diagonal / 6.0f;
-    return std::clamp((gaze_distance(gaze, p) - start) / (farthest - start), 0.0f, 1.0f);
+    LerpRamp ramp;
+    ramp.start = diagonal / 6.0f;
+    ramp.span = farthest - ramp.start;
+    return ramp;
+}
+
+float gaussian_lerp_amount(const LerpRamp& ramp, glm::vec2 gaze, glm::vec2 p) {
+    return std::clamp((gaze_distance(gaze, p) - ramp.start) / ramp.span, 0.0f, 1.0f);
 }
 
 float gaussian3x3_clamped(const Image& in, int x, int y, int c) {
@@ -30,9 +36,10 @@ float gaussian3x3_clamped(const Image& in, int x, int y, int c) {
     return sum / 16.0f;
 }
 
-void gaussian_lerp_pixel(const Image& in, glm::vec2 gaze, Image& out, int x, int y) {
+void gaussian_lerp_pixel(const Image& in, glm::vec2 gaze, const LerpRamp& ramp, Image& out, int x,
+                         int y) {
     const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
-    const float t = gaussian_lerp_amount(in.width, in.height, gaze, centre);
+    const float t = gaussian_lerp_amount(ramp, gaze, centre);
     for (int c = 0; c < in.channels; ++c) {
         const float value = in.at(x, y, c);
         out.at(x, y, c) =
@@ -42,8 +49,9 @@ void gaussian_lerp_pixel(const Image& in, glm::vec2 gaze, Image& out, int x, int
 
 Image gaussian_lerp(const Image& in, glm::vec2 gaze) {
     Image out(in.width, in.height, in.channels, 0.0f);
+    const LerpRamp ramp = gaussian_lerp_ramp(in.width, in.height, gaze);
     for (int y = 0; y < in.height; ++y)
-        for (int x = 0; x < in.width; ++x) gaussian_lerp_pixel(in, gaze, out, x, y);
+        for (int x = 0; x < in.width; ++x) gaussian_lerp_pixel(in, gaze, ramp, out, x, y);
     return out;
 }
 

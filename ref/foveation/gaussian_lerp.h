@@ -18,14 +18,23 @@
 
 namespace fovref {
 
-/// Per-pixel work of the filter: pixel (x, y) of `out` from `in`.
-void gaussian_lerp_pixel(const Image& in, glm::vec2 gaze, Image& out, int x, int y);
+/// The ramp's constants for a W x H screen and gaze: D/6 and R_c - D/6 (computed once a pass).
+struct LerpRamp {
+    float start = 0.0f;  ///< D / 6
+    float span = 0.0f;   ///< R_c - D / 6
+};
+LerpRamp gaussian_lerp_ramp(int width, int height, glm::vec2 gaze);
+
+/// Per-pixel work of the filter: pixel (x, y) of `out` from `in` (`ramp`: for in's size and
+/// `gaze`).
+void gaussian_lerp_pixel(const Image& in, glm::vec2 gaze, const LerpRamp& ramp, Image& out, int x,
+                         int y);
 
 /// The filter: an image of `in`'s size and channels.
 Image gaussian_lerp(const Image& in, glm::vec2 gaze);
 
 /// t of the blend at screen point p (0: unfiltered, 1: the full 3x3 Gaussian).
-float gaussian_lerp_amount(int width, int height, glm::vec2 gaze, glm::vec2 p);
+float gaussian_lerp_amount(const LerpRamp& ramp, glm::vec2 gaze, glm::vec2 p);
 
 /// The 3x3 Gaussian [1 2 1; 2 4 2; 1 2 1] / 16 of channel c around pixel (x, y), neighbours
 /// clamped to the image (also Meng's internal anti-aliasing kernel, SPEC §6).

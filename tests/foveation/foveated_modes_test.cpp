@@ -307,9 +307,10 @@ TEST_CASE("Gaussian lerp: the blend amount and a filtered pixel by hand") {
     // sqrt(30.5^2 + 40.5^2) = 50.700: t = (50.700 - 16.667) / (86.023 - 16.667) = 0.49070.
     const glm::vec2 gaze{10, 10};
     const double t = (std::hypot(30.5, 40.5) - 100.0 / 6) / (std::hypot(50.0, 70.0) - 100.0 / 6);
-    CHECK(gaussian_lerp_amount(60, 80, gaze, centre(40, 50)) == doctest::Approx(t).epsilon(1e-6));
-    CHECK(gaussian_lerp_amount(60, 80, gaze, centre(10, 10)) == 0.0f);
-    CHECK(gaussian_lerp_amount(60, 80, gaze, {60, 80}) == 1.0f);
+    CHECK(gaussian_lerp_amount(gaussian_lerp_ramp(60, 80, gaze), gaze, centre(40, 50)) ==
+          doctest::Approx(t).epsilon(1e-6));
+    CHECK(gaussian_lerp_amount(gaussian_lerp_ramp(60, 80, gaze), gaze, centre(10, 10)) == 0.0f);
+    CHECK(gaussian_lerp_amount(gaussian_lerp_ramp(60, 80, gaze), gaze, {60, 80}) == 1.0f);
     // An image that is 1 at (40, 50) and 0 elsewhere: the pixel keeps 1 - t + t 4/16, its right
     // neighbour gets t' 2/16 (its own t'), a far pixel stays 0.
     Image in(60, 80, 1, 0.0f);
