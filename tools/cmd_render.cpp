@@ -2,9 +2,11 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <optional>
 
 #include "ref/core/error.h"
+#include "ref/image/image_io.h"
 #include "ref/modes/modes.h"
 #include "tools/progress.h"
 
@@ -21,6 +23,63 @@ std::string frame_line(const FrameResult& f) {
     return line;
 }
 
+// --frames N or A..B: sets first_frame for a range.
+int parse_count(const std::string& text, const std::string& what) {
+    std::size_t used = 0;
+    int value = -1;
+    try {
+        value = std::stoi(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != text.size() || text.empty() || !std::isdigit(static_cast<unsigned char>(text[0])))
+        throw Error("--frames " + what + ": '" + text + "' is not a non-negative integer");
+    return value;
+}
+
+void parse_frames(RenderOptions& o) {
+    const std::size_t dots = o.frames.find("..");
+    if (dots == std::string::npos) {
+        parse_count(o.frames, o.frames);
+        return;
+    }
+    const int a = parse_count(o.frames.substr(0, dots), o.frames);
+    const int b = parse_count(o.frames.substr(dots + 2), o.frames);
+    if (b < a) throw Error("--frames " + o.frames + ": the range is empty (B < A)");
+    if (o.first_frame != 0 && o.first_frame != a)
+        throw Error("--frames " + o.frames + " and --first-frame " + std::to_string(o.first_frame) +
+                    " disagree; give one");
+    o.first_frame = a;
+    o.frames = std::to_string(b - a + 1);
+}
+
+int frame_count(const RenderOptions& o) { return parse_count(o.frames, o.frames); }
+
+// The buffers of frame `frame` in the bundle `directory`, checked to come from the same render.
+std::vector<Buffer> resume_buffers(const std::string& directory, const GoldenCase& run, int frame) {
+    const Manifest manifest = read_manifest(directory);
+    const GoldenCase& c = manifest.golden_case;
+    if (c.mode != run.mode || c.scene != run.scene || c.width != run.width ||
+        c.height != run.height || c.params != run.params || c.time_start != run.time_start ||
+        c.time_step != run.time_step)
+        throw Error("--resume " + directory +
+                    ": the bundle was rendered with other settings (mode, scene, size, "
+                    "parameters or camera-path times differ)");
+    std::vector<Buffer> buffers;
+    for (const ManifestBuffer& b : manifest.buffers) {
+        if (b.frame != frame || b.file.empty()) continue;
+        Buffer buffer;
+        buffer.name = b.name;
+        buffer.image = read_image(directory + "/" + b.file);
+        buffers.push_back(std::move(buffer));
+    }
+    if (buffers.empty())
+        throw Error("--resume " + directory + ": the bundle holds no buffer of frame " +
+                    std::to_string(frame) + " (dump frames up to " + std::to_string(frame) +
+                    " with --dump)");
+    return buffers;
+}
+
 }  // namespace
 
 void add_render_options(CLI::App& c, RenderOptions& o) {
@@ -28,12 +87,23 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     c.add_option("--mode", o.mode, "render mode (see `fovref modes`)")->capture_default_str();
     c.add_option("--width", o.width, "screen width in pixels")->capture_default_str();
     c.add_option("--height", o.height, "screen height in pixels")->capture_default_str();
-    c.add_option("--frames", o.frames, "number of frames")->capture_default_str();
+    c.add_option("--frames", o.frames,
+                 "number of frames N, or a range A..B of frame numbers (= --first-frame A, "
+                 "B - A + 1 frames)")
+        ->capture_default_str();
     c.add_option("--first-frame", o.first_frame,
-                 "number of the first frame (seeds rand() and sets the camera-path time): "
-                 "render frame F of a sequence alone, bit-identical to the sequence's")
+                 "number of the first frame (seeds rand() and the Halton index, sets the "
+                 "camera-path time): render frames of a sequence alone, bit-identical to the "
+                 "sequence's; with TAA give --resume")
         ->check(CLI::Range(0, 100000))
         ->capture_default_str();
+    c.add_option("--resume", o.resume,
+                 "a --dump (or --out with --output all) bundle that holds frame F - 1 of the same "
+                 "render: the state carried into frame F = the first frame (TAA history, age, "
+                 "depth)");
+    c.add_flag("--static-camera", o.static_camera,
+               "keep the camera at the path's start for every frame (= --time-step 0): the "
+               "static-camera sequence");
     c.add_option("--time-start", o.time_start, "camera-path time of frame 0")
         ->capture_default_str();
     c.add_option("--time-step", o.time_step, "camera-path time between frames")
@@ -54,12 +124,15 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
                "textures + scene.json; OBJ triangle k is primitive id k)");
 }
 
-int run_render(const RenderOptions& o) {
+int run_render(const RenderOptions& given) {
+    RenderOptions o = given;
+    parse_frames(o);
     if (o.out_dir.empty() && o.dump_dir.empty())
         throw Error("render: give --out DIR and/or --dump DIR");
     const std::optional<Scene> scene = command_scene(o, "render");
     GoldenCase run = command_case(o, "render");
-    run.frames = o.frames;
+    run.frames = frame_count(o);
+    if (o.static_camera) run.time_step = 0.0f;
     if (!o.primary.empty()) run.params.set("primary", o.primary);
     const bool keep_all = std::find(o.outputs.begin(), o.outputs.end(), "all") != o.outputs.end();
     // With --dump every buffer is computed; --out keeps the requested (or final) ones.
@@ -89,6 +162,13 @@ int run_render(const RenderOptions& o) {
         throw Error("--first-frame: mode '" + o.mode +
                     "' carries state from frame to frame; render from frame 0");
     settings.first_frame = o.first_frame;
+    if (!o.resume.empty()) {
+        if (o.first_frame == 0)
+            throw Error("--resume " + o.resume +
+                        ": frame 0 has no previous frame; give "
+                        "--first-frame F (or --frames A..B with A > 0)");
+        settings.state_buffers = resume_buffers(o.resume, run, o.first_frame - 1);
+    }
     render_each(scene ? &*scene : nullptr, o.mode, settings, [&](FrameResult& f) {
         lines.push_back(frame_line(f));
         if (dump) dump->add_frame(f);
@@ -104,10 +184,9 @@ int run_render(const RenderOptions& o) {
     if (dump) dump->commit();
     if (out) out->commit();
     for (const std::string& line : lines) say(o.quiet, line);
-    if (dump)
-        say(o.quiet,
-            "dumped every buffer of " + std::to_string(o.frames) + " frame(s) to " + o.dump_dir);
-    if (out) say(o.quiet, "wrote " + std::to_string(o.frames) + " frame(s) to " + o.out_dir);
+    const std::string count = std::to_string(run.frames);
+    if (dump) say(o.quiet, "dumped every buffer of " + count + " frame(s) to " + o.dump_dir);
+    if (out) say(o.quiet, "wrote " + count + " frame(s) to " + o.out_dir);
     return exit_ok;
 }
 

@@ -14,9 +14,11 @@ class App;
 namespace fovref {
 
 struct RenderOptions : CaseOptions {
-    int frames = 1;       ///< number of frames
-    int first_frame = 0;  ///< number of the first frame (stateless modes only)
-    std::string primary;  ///< "ray" or "raster": --param primary=... of basic ("" = unset)
+    std::string frames = "1";    ///< a count N (frames 0..N-1 from --first-frame) or a range A..B
+    int first_frame = 0;         ///< number of the first frame
+    std::string resume;          ///< a bundle holding frame first_frame - 1 (state of TAA)
+    bool static_camera = false;  ///< --time-step 0: every frame at the path's time_start
+    std::string primary;         ///< "ray" or "raster": --param primary=... of basic ("" = unset)
     std::vector<std::string> outputs;  ///< buffers --out keeps ("all"; default: final outputs)
     std::string out_dir;               ///< the final (or --output) buffers
     std::string dump_dir;              ///< every buffer

@@ -32,12 +32,13 @@ TexelStatus deferred_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points,
 }
 
 MaskedGBuffer sample_lp_gbuffer(const LogPolarMap& map, const ScreenGBuffer& screen,
-                                Image& screen_points, FoveatedTraceStats& stats) {
+                                Image& screen_points, FoveatedTraceStats& stats,
+                                glm::vec2 screen_offset) {
     FOVREF_CHECK_EQ(screen.primitive_id.width, map.screen_width, "screen G-buffer width");
     FOVREF_CHECK_EQ(screen.primitive_id.height, map.screen_height, "screen G-buffer height");
     MaskedGBuffer buffer(map.width, map.height);
     screen_points = Image(map.width, map.height, 2, 0.0f);
-    const LpInverseTable table = lp_inverse_table(map);
+    const LpInverseTable table = lp_inverse_table(map, Offset2{}, screen_offset);
     for (int y = 0; y < map.height; ++y)
         for (int x = 0; x < map.width; ++x)
             deferred_gbuffer_texel(buffer, screen_points, map, table, screen, x, y, stats);

@@ -33,7 +33,10 @@ TexelStatus deferred_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points,
                                    FoveatedTraceStats& stats);
 
 /// The log-polar buffer's G-buffer sampled from the screen G-buffer (W x H).
+/// `screen_offset` (TAA in the kfr mode, Meng §2.3.2; SPEC §7): the Halton jitter applied after
+/// the inverse transform, o - (1/2, 1/2) screen pixels added to every texel's screen point.
 MaskedGBuffer sample_lp_gbuffer(const LogPolarMap& map, const ScreenGBuffer& screen,
-                                Image& screen_points, FoveatedTraceStats& stats);
+                                Image& screen_points, FoveatedTraceStats& stats,
+                                glm::vec2 screen_offset = glm::vec2(0.0f));
 
 }  // namespace fovref

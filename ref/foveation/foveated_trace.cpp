@@ -40,12 +40,12 @@ TexelStatus lp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const 
 
 MaskedGBuffer trace_lp_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,
                                const Camera& camera, const Camera& previous_camera,
-                               Image& screen_points, FoveatedTraceStats& stats) {
+                               Image& screen_points, FoveatedTraceStats& stats, Offset2 jitter) {
     MaskedGBuffer buffer(map.width, map.height);
     screen_points = Image(map.width, map.height, 2, 0.0f);
     const float tan_half = tan_half_vfov(camera);
     const float previous_tan_half = tan_half_vfov(previous_camera);
-    const LpInverseTable table = lp_inverse_table(map);
+    const LpInverseTable table = lp_inverse_table(map, jitter);
     for (int y = 0; y < map.height; ++y)
         for (int x = 0; x < map.width; ++x)
             lp_gbuffer_texel(buffer, screen_points, map, table, scene, bvh, camera, tan_half,
@@ -72,19 +72,19 @@ ScreenWindow gaze_window(const LogPolarMap& map) {
 bool gaze_gbuffer_pixel(MaskedGBuffer& buffer, const ScreenWindow& window, const LogPolarMap& map,
                         const Scene& scene, const Bvh& bvh, const Camera& camera, float tan_half,
                         const Camera& previous_camera, float previous_tan_half, int x, int y,
-                        FoveatedTraceStats& stats) {
+                        FoveatedTraceStats& stats, Offset2 jitter) {
     const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
     if (!inside_gaze_circle(map, centre)) return false;
     ++stats.gaze_pixels_traced;
     buffer.valid.at(x - window.x0, y - window.y0) = 1.0f;
     raycast_window_pixel(buffer.gbuffer, window, scene, bvh, camera, tan_half, previous_camera,
-                         previous_tan_half, x, y, stats.rays);
+                         previous_tan_half, x, y, stats.rays, jitter);
     return true;
 }
 
 MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,
                                  const Camera& camera, const Camera& previous_camera,
-                                 FoveatedTraceStats& stats) {
+                                 FoveatedTraceStats& stats, Offset2 jitter) {
     const ScreenWindow window = gaze_window(map);
     MaskedGBuffer buffer(window.width, window.height);
     if (!map.has_gaze_buffer()) return buffer;
@@ -93,7 +93,7 @@ MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const Scene& scene, con
     for (int y = window.y0; y < window.y0 + window.height; ++y)
         for (int x = window.x0; x < window.x0 + window.width; ++x)
             gaze_gbuffer_pixel(buffer, window, map, scene, bvh, camera, tan_half, previous_camera,
-                               previous_tan_half, x, y, stats);
+                               previous_tan_half, x, y, stats, jitter);
     return buffer;
 }
 

@@ -57,9 +57,12 @@ TexelStatus lp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const 
                              float previous_tan_half, int x, int y, FoveatedTraceStats& stats);
 
 /// The log-polar buffer's G-buffer (map.width x map.height) and the texels' screen points.
+/// `jitter` (TAA, SPEC §7): each texel's ray launches at (i + o_x, j + o_y) in the buffer, before
+/// the inverse map, instead of the texel centre.
 MaskedGBuffer trace_lp_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,
                                const Camera& camera, const Camera& previous_camera,
-                               Image& screen_points, FoveatedTraceStats& stats);
+                               Image& screen_points, FoveatedTraceStats& stats,
+                               Offset2 jitter = {});
 
 /// The gaze buffer's window on the screen: the pixels x0 <= x < x0 + width, y0 <= y < y0 + height
 /// with x0 = floor(g.x - r_G - 1), x0 + width = ceil(g.x + r_G + 1) and the same in y (in
@@ -73,12 +76,13 @@ ScreenWindow gaze_window(const LogPolarMap& map);
 bool gaze_gbuffer_pixel(MaskedGBuffer& buffer, const ScreenWindow& window, const LogPolarMap& map,
                         const Scene& scene, const Bvh& bvh, const Camera& camera, float tan_half,
                         const Camera& previous_camera, float previous_tan_half, int x, int y,
-                        FoveatedTraceStats& stats);
+                        FoveatedTraceStats& stats, Offset2 jitter = {});
 
-/// The gaze buffer: gaze_window(map)'s size, traced inside the gaze circle only.
+/// The gaze buffer: gaze_window(map)'s size, traced inside the gaze circle only (the circle test
+/// on the pixel centre; with `jitter` the ray goes through (x + o_x, y + o_y), as basic's).
 MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,
                                  const Camera& camera, const Camera& previous_camera,
-                                 FoveatedTraceStats& stats);
+                                 FoveatedTraceStats& stats, Offset2 jitter = {});
 
 /// Where the rays of a foveated frame went (Lund Fig. 3.3): a W x H count of the primary rays
 /// whose screen point lies in each pixel (log-polar texels by their screen point, gaze pixels

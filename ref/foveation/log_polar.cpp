@@ -127,16 +127,17 @@ glm::vec2 lp_inverse(const LogPolarMap& map, glm::vec2 uv) {
     return {map.gaze.x + r * dm::cos(theta), map.gaze.y + r * dm::sin(theta)};
 }
 
-LpInverseTable lp_inverse_table(const LogPolarMap& map) {
+LpInverseTable lp_inverse_table(const LogPolarMap& map, Offset2 jitter, glm::vec2 screen_offset) {
     LpInverseTable table;
+    table.screen_offset = screen_offset;
     table.radius.resize(static_cast<std::size_t>(map.width));
     table.cos_theta.resize(static_cast<std::size_t>(map.height));
     table.sin_theta.resize(static_cast<std::size_t>(map.height));
     for (int i = 0; i < map.width; ++i)
         table.radius[static_cast<std::size_t>(i)] =
-            inverse_radius(map, static_cast<float>(i) + 0.5f);
+            inverse_radius(map, static_cast<float>(i) + jitter.x);
     for (int j = 0; j < map.height; ++j) {
-        const float theta = inverse_angle(map, static_cast<float>(j) + 0.5f);
+        const float theta = inverse_angle(map, static_cast<float>(j) + jitter.y);
         table.cos_theta[static_cast<std::size_t>(j)] = dm::cos(theta);
         table.sin_theta[static_cast<std::size_t>(j)] = dm::sin(theta);
     }
@@ -148,6 +149,7 @@ TexelStatus lp_texel_status(const LogPolarMap& map, const LpInverseTable& table,
     const float r = table.radius[static_cast<std::size_t>(i)];
     screen_point = {map.gaze.x + r * table.cos_theta[static_cast<std::size_t>(j)],
                     map.gaze.y + r * table.sin_theta[static_cast<std::size_t>(j)]};
+    if (table.screen_offset != glm::vec2(0.0f)) screen_point += table.screen_offset;
     if (!on_screen(map.screen_width, map.screen_height, screen_point))
         return TexelStatus::off_screen;
     if (inside_gaze_circle(map, screen_point)) return TexelStatus::inside_gaze;

@@ -28,6 +28,7 @@
 
 #include <glm/glm.hpp>
 
+#include "ref/core/halton.h"
 #include "ref/foveation/kernel.h"
 
 namespace fovref {
@@ -108,12 +109,19 @@ glm::vec2 lp_inverse(const LogPolarMap& map, glm::vec2 uv);
 /// angle on the row only. lp_inverse(map, (i + 1/2, j + 1/2)) is
 /// (g.x + radius[i] cos_theta[j], g.y + radius[i] sin_theta[j]) with the very same operations, so
 /// the table gives the same bits with w + h transcendental evaluations instead of 3 w h.
+///
+/// TAA jitter (SPEC §7): `jitter` replaces the centre (1/2, 1/2) by the Halton offset (o_x, o_y)
+/// inside the texel, in the buffer's space before the inverse map: the table then holds the
+/// inverse of (i + o_x, j + o_y). `screen_offset` (Meng's jitter after the inverse transform, the
+/// kfr mode) is added to every screen point when it is not zero.
 struct LpInverseTable {
     std::vector<float> radius;     ///< r of column i: exp(L K^-1(G + (1 - G) u / w)) - 1
     std::vector<float> cos_theta;  ///< cos(2 pi v / h) of row j
     std::vector<float> sin_theta;  ///< sin(2 pi v / h) of row j
+    glm::vec2 screen_offset{0.0f};
 };
-LpInverseTable lp_inverse_table(const LogPolarMap& map);
+LpInverseTable lp_inverse_table(const LogPolarMap& map, Offset2 jitter = {},
+                                glm::vec2 screen_offset = glm::vec2(0.0f));
 
 /// What the ray generation does with texel (i, j).
 enum class TexelStatus {

@@ -16,20 +16,38 @@
 #include "ref/foveation/resolve.h"
 #include "ref/foveation/stereo.h"
 #include "ref/modes/mode_common.h"
+#include "ref/modes/taa_stage.h"
 #include "ref/raster/gbuffer.h"
 #include "ref/raster/rasterizer.h"
+#include "ref/temporal/taa_foveated.h"
 #include "ref/trace/shade_basic.h"
 
 namespace fovref {
 
 namespace {
 
-struct FoveatedModeState : ModeState {
+struct FoveatedModeState : TaaModeState {
     FoveatedParams params;
     BvhCache bvh;
     /// Pass 2's forward map, kept while the map stays the same (a static gaze).
     std::optional<ForwardTable> forward;
+    /// The screen-space chain: pass 2's output, then TAA's and each filter's; the last is
+    /// "final" (see foveated_pipeline).
+    std::vector<std::string> chain;
+    std::size_t lerp_link = 0, post_aa_link = 0;  ///< the filters' input in `chain`
 };
+
+// Pass 2's forward table for `map` (made again only when the map changed).
+const ForwardTable& frame_forward_table(FoveatedModeState& state, const LogPolarMap& map,
+                                        int mip_levels, bool* reused = nullptr) {
+    const bool same =
+        state.forward && state.forward->map == map && state.forward->mip_levels == mip_levels;
+    if (!same) state.forward = forward_table(map, mip_levels);
+    if (reused) *reused = same;
+    return *state.forward;
+}
+
+glm::vec2 frame_gaze(const FrameContext& ctx) { return frame_log_polar_map(ctx).gaze; }
 
 std::vector<std::string> shade_inputs(const std::string& prefix) {
     return {prefix + "world_position", prefix + "shading_normal", prefix + "geometric_normal",
@@ -67,6 +85,15 @@ void add_buffer_counters(FrameContext& ctx, const LogPolarMap& map,
     if (stats.texels_inside_gaze > 0) counters.add("texels_inside_gaze", stats.texels_inside_gaze);
 }
 
+// ", jittered to (x, y) in each texel" (nothing without jitter).
+std::string jitter_note(Offset2 jitter, const char* unit) {
+    if (jitter == Offset2{}) return "";
+    char text[96];
+    std::snprintf(text, sizeof text, ", jittered to (%.9g, %.9g) in each %s",
+                  static_cast<double>(jitter.x), static_cast<double>(jitter.y), unit);
+    return text;
+}
+
 // "gaze (x, y), w x h texels, K = x^a": the buffer stage's note.
 std::string map_note(const LogPolarMap& map) {
     char gaze[64];
@@ -90,11 +117,14 @@ void lp_trace_stage(FrameContext& ctx) {
     Counters& counters = ctx.result->counters;
     FoveatedTraceStats stats;
     Image screen_points;
-    MaskedGBuffer lp = trace_lp_gbuffer(map, *ctx.scene, state.bvh.get(*ctx.scene, counters),
-                                        ctx.camera, ctx.previous_camera, screen_points, stats);
+    const Offset2 jitter = frame_jitter(ctx);
+    MaskedGBuffer lp =
+        trace_lp_gbuffer(map, *ctx.scene, state.bvh.get(*ctx.scene, counters), ctx.camera,
+                         ctx.previous_camera, screen_points, stats, jitter);
     add_buffer_counters(ctx, map, stats);
     add_trace_counters(counters, "primary", stats.rays.primary);
-    ctx.note = map_note(map) + ", " + std::to_string(stats.texels_traced) + " traced";
+    ctx.note = map_note(map) + ", " + std::to_string(stats.texels_traced) + " traced" +
+               jitter_note(jitter, "texel");
     add_gbuffer(*ctx.result, std::move(lp.gbuffer), "lp_gbuffer_");
     add_mask(*ctx.result, "lp_valid", std::move(lp.valid));
     ctx.result->add("lp_screen_point", BufferKind::scalar, {"x", "y"}, std::move(screen_points));
@@ -105,8 +135,9 @@ void gaze_trace_stage(FrameContext& ctx) {
     const LogPolarMap map = frame_log_polar_map(ctx);
     Counters& counters = ctx.result->counters;
     FoveatedTraceStats stats;
+    const Offset2 jitter = frame_jitter(ctx);
     MaskedGBuffer gaze = trace_gaze_gbuffer(map, *ctx.scene, state.bvh.get(*ctx.scene, counters),
-                                            ctx.camera, ctx.previous_camera, stats);
+                                            ctx.camera, ctx.previous_camera, stats, jitter);
     counters.add("gaze_radius_px", static_cast<std::int64_t>(std::round(map.gaze_radius)));
     counters.add("gaze_pixels_traced", stats.gaze_pixels_traced);
     // Where the gaze buffer lies on the screen (its size is the buffers' size).
@@ -115,7 +146,8 @@ void gaze_trace_stage(FrameContext& ctx) {
     counters.add("gaze_window_y0", window.y0);
     add_trace_counters(counters, "primary", stats.rays.primary);
     ctx.note = "r_G = " + std::to_string(map.gaze_radius) + " px, " +
-               std::to_string(stats.gaze_pixels_traced) + " pixels traced";
+               std::to_string(stats.gaze_pixels_traced) + " pixels traced" +
+               jitter_note(jitter, "pixel");
     add_gbuffer(*ctx.result, std::move(gaze.gbuffer), "gaze_gbuffer_");
     add_mask(*ctx.result, "gaze_valid", std::move(gaze.valid));
 }
@@ -141,20 +173,48 @@ void resolve_stage(FrameContext& ctx) {
     ResolveStats stats;
     std::vector<MipLevel> mips;
     if (state.params.mip_resolve) mips = build_lp_mips(color, valid);
-    const int levels = static_cast<int>(mips.size());
-    const bool reused =
-        state.forward && state.forward->map == map && state.forward->mip_levels == levels;
-    if (!reused) state.forward = forward_table(map, levels);
+    bool reused = false;
+    const ForwardTable& table =
+        frame_forward_table(state, map, static_cast<int>(mips.size()), &reused);
     Image out = state.params.mip_resolve
-                    ? resolve_log_polar_mip(map, mips, gaze, stats, &*state.forward)
-                    : resolve_log_polar(map, {color, valid, gaze}, stats, &*state.forward);
+                    ? resolve_log_polar_mip(map, mips, gaze, stats, &table)
+                    : resolve_log_polar(map, {color, valid, gaze}, stats, &table);
     ctx.result->counters.add("screen_pixels_untraced_taps", stats.pixels_untraced_taps);
     ctx.note = std::string(state.params.mip_resolve ? "mip" : "bilinear") +
                (reused ? ", forward map reused" : ", forward map computed") + ": " +
                std::to_string(stats.pixels_from_gaze) + " pixels from the gaze buffer, " +
                std::to_string(stats.pixels_from_buffer) + " from the log-polar buffer";
-    ctx.result->add(screen_chain(state.params).front(), BufferKind::color, {"r", "g", "b"},
-                    std::move(out));
+    ctx.result->add(state.chain.front(), BufferKind::color, {"r", "g", "b"}, std::move(out));
+}
+
+// The TAA inputs from the buffers (the gaze buffer's when there is one).
+TaaBufferInputs taa_buffer_inputs(FrameContext& ctx, const LogPolarMap& map) {
+    FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
+    const int levels = state.forward ? state.forward->mip_levels : 0;
+    return {map, frame_forward_table(state, map, levels), ctx.input("lp_valid"),
+            map.has_gaze_buffer() ? &ctx.input("gaze_valid") : nullptr};
+}
+
+void taa_depth_stage(FrameContext& ctx) {
+    const LogPolarMap map = frame_log_polar_map(ctx);
+    const TaaBufferInputs in = taa_buffer_inputs(ctx, map);
+    ctx.note = "the view depth of the texel pass 2 sampled (nearest traced tap)";
+    ctx.result->add(
+        "taa_view_depth", BufferKind::depth, {"z"},
+        taa_screen_depth(in, ctx.input("lp_gbuffer_view_depth"),
+                         in.gaze_valid ? &ctx.input("gaze_gbuffer_view_depth") : nullptr));
+}
+
+void taa_bounds_stage(FrameContext& ctx) {
+    const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
+    const LogPolarMap map = frame_log_polar_map(ctx);
+    const TaaBufferInputs in = taa_buffer_inputs(ctx, map);
+    ctx.note = "3x3 min and max in the buffer around the texel pass 2 sampled";
+    ctx.result->add("taa_bounds", BufferKind::scalar,
+                    {"min_r", "min_g", "min_b", "max_r", "max_g", "max_b"},
+                    taa_buffer_bounds(in, ctx.input(resolve_color_name(state.params)),
+                                      in.gaze_valid ? &ctx.input("gaze_color") : nullptr,
+                                      ctx.input(state.chain.front())));
 }
 
 void gbuffer_raster_stage(FrameContext& ctx) {
@@ -182,10 +242,17 @@ void lp_sample_stage(FrameContext& ctx) {
                                ctx.input("gbuffer_motion")};
     FoveatedTraceStats stats;
     Image screen_points;
-    MaskedGBuffer lp = sample_lp_gbuffer(map, screen, screen_points, stats);
+    // Meng's TAA jitter comes after the inverse transform: o - (1/2, 1/2) screen pixels.
+    const Offset2 jitter = frame_jitter(ctx);
+    MaskedGBuffer lp =
+        sample_lp_gbuffer(map, screen, screen_points, stats, {jitter.x - 0.5f, jitter.y - 0.5f});
     add_buffer_counters(ctx, map, stats);
-    ctx.note = map_note(map) + ", " + std::to_string(stats.texels_traced) +
-               " sampled from the rasterized G-buffer";
+    ctx.note =
+        map_note(map) + ", " + std::to_string(stats.texels_traced) +
+        " sampled from the rasterized G-buffer" +
+        (jitter == Offset2{} ? std::string()
+                             : ", screen points offset by (" + std::to_string(jitter.x - 0.5f) +
+                                   ", " + std::to_string(jitter.y - 0.5f) + ") px");
     add_gbuffer(*ctx.result, std::move(lp.gbuffer), "lp_gbuffer_");
     add_mask(*ctx.result, "lp_valid", std::move(lp.valid));
     ctx.result->add("lp_screen_point", BufferKind::scalar, {"x", "y"}, std::move(screen_points));
@@ -199,17 +266,16 @@ void internal_aa_stage(FrameContext& ctx) {
 void gaussian_lerp_stage(FrameContext& ctx) {
     const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
     const LogPolarMap map = frame_log_polar_map(ctx);
-    const std::vector<std::string> chain = screen_chain(state.params);
-    ctx.result->add(chain[1], BufferKind::color, {"r", "g", "b"},
-                    gaussian_lerp(ctx.input(chain[0]), map.gaze));
+    const std::size_t k = state.lerp_link;
+    ctx.result->add(state.chain[k + 1], BufferKind::color, {"r", "g", "b"},
+                    gaussian_lerp(ctx.input(state.chain[k]), map.gaze));
 }
 
 void post_aa_stage(FrameContext& ctx) {
     const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
     const LogPolarMap map = frame_log_polar_map(ctx);
-    const std::vector<std::string> chain = screen_chain(state.params);
     ctx.result->add("final", BufferKind::color, {"r", "g", "b"},
-                    post_aa(ctx.input(chain[chain.size() - 2]), map.gaze, map.radius_max));
+                    post_aa(ctx.input(state.chain[state.post_aa_link]), map.gaze, map.radius_max));
 }
 
 void ray_positions_stage(FrameContext& ctx) {
@@ -261,19 +327,54 @@ Pipeline foveated_pipeline(const std::string& preset_name, const Scene*,
     if (params.internal_aa)
         p.stages.push_back(
             {"internal_aa", {"lp_color", "lp_valid"}, {"lp_color_aa"}, internal_aa_stage});
-    // Pass 2, then the screen-space filters.
-    const std::vector<std::string> chain = screen_chain(params);
+    // Pass 2, TAA, then the screen-space filters (SPEC §6).
+    state->taa = parse_taa_params(settings.params);
+    state->gaze = frame_gaze;
+    std::vector<std::string>& chain = state->chain;
+    chain = {"resolved"};
+    if (state->taa.enabled()) chain.push_back("taa_color");
+    if (params.gaussian_lerp) chain.push_back("lerp_filtered");
+    if (params.post_aa) chain.push_back("post_aa_filtered");
+    chain.back() = "final";
     std::vector<std::string> resolve_inputs = {resolve_color_name(params), "lp_valid"};
     if (composite) resolve_inputs.push_back("gaze_color");
     p.stages.push_back({"resolve", resolve_inputs, {chain[0]}, resolve_stage});
     std::size_t link = 0;
+    if (state->taa.enabled()) {
+        std::string depth = "gbuffer_view_depth";  // kfr: the full-resolution G-buffer's
+        if (!params.deferred) {
+            std::vector<std::string> depth_inputs = {"lp_gbuffer_view_depth", "lp_valid"};
+            if (composite) {
+                depth_inputs.push_back("gaze_gbuffer_view_depth");
+                depth_inputs.push_back("gaze_valid");
+            }
+            p.stages.push_back({"taa_depth", depth_inputs, {"taa_view_depth"}, taa_depth_stage});
+            depth = "taa_view_depth";
+        }
+        std::string bounds;
+        if (state->taa.mode == TaaMode::clamp_buffer) {
+            std::vector<std::string> bounds_inputs = {resolve_color_name(params), "lp_valid",
+                                                      chain[0]};
+            if (composite) {
+                bounds_inputs.push_back("gaze_color");
+                bounds_inputs.push_back("gaze_valid");
+            }
+            p.stages.push_back({"taa_bounds", bounds_inputs, {"taa_bounds"}, taa_bounds_stage});
+            bounds = "taa_bounds";
+        }
+        add_taa_stage(p, *state, chain[0], depth, bounds, chain[1]);
+        ++link;
+    }
     if (params.gaussian_lerp) {
+        state->lerp_link = link;
         p.stages.push_back(
             {"gaussian_lerp", {chain[link]}, {chain[link + 1]}, gaussian_lerp_stage});
         ++link;
     }
-    if (params.post_aa)
+    if (params.post_aa) {
+        state->post_aa_link = link;
         p.stages.push_back({"post_aa", {chain[link]}, {chain[link + 1]}, post_aa_stage});
+    }
     std::vector<std::string> position_inputs = {"lp_valid", "lp_screen_point"};
     if (composite) position_inputs.push_back("gaze_valid");
     p.stages.push_back({"ray_positions", position_inputs, {"ray_positions"}, ray_positions_stage});

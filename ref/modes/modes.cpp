@@ -7,6 +7,7 @@
 #include "ref/modes/core_modes.h"
 #include "ref/modes/foveated_modes.h"
 #include "ref/modes/trace_modes.h"
+#include "ref/temporal/taa_params.h"
 #include "ref/trace/basic_params.h"
 #include "ref/trace/trace_probe.h"
 
@@ -29,6 +30,7 @@ std::vector<ModeInfo> make_modes() {
                           "per light (Lund §3.1)",
                           basic_pipeline);
     basic.params = basic_param_specs();
+    for (ParamSpec& spec : taa_param_specs()) basic.params.push_back(std::move(spec));
     basic.explain = explain_basic;
     basic.pixel_functions = basic_pixel_functions;
     ModeInfo ground_truth = mode(
@@ -46,6 +48,7 @@ std::vector<ModeInfo> make_modes() {
         const FoveationPreset& preset = find_foveation_preset(name);
         ModeInfo m = mode(name, std::string(what) + " (" + preset.source + ")", build);
         m.params = foveated_param_specs(preset);
+        for (ParamSpec& spec : taa_param_specs()) m.params.push_back(std::move(spec));
         m.pixel_functions = foveated_pixel_functions;
         m.explain = explain_foveated;
         m.explains_texels = true;
@@ -68,10 +71,11 @@ std::vector<ModeInfo> make_modes() {
         foveated("cfov", "log-polar foveation with a ray-traced gaze buffer (composite)",
                  cfov_pipeline),
         foveated("ckfov", "kernel log-polar foveation with a gaze buffer", ckfov_pipeline),
-        foveated("kfr",
-                 "kernel foveated rendering: deferred shading in the log-polar buffer, internal "
-                 "AA, mip resolve, post-AA (no TAA yet)",
-                 kfr_pipeline),
+        foveated(
+            "kfr",
+            "kernel foveated rendering: deferred shading in the log-polar buffer, internal "
+            "AA, mip resolve, post-AA; TAA with jitter after the inverse transform (Meng 2018)",
+            kfr_pipeline),
         stereo,
         mode("splat",
              "centroid splat of every triangle with headlight shading (a trivial pass that "

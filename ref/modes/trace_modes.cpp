@@ -3,7 +3,9 @@
 #include <memory>
 
 #include "ref/bvh/bvh.h"
+#include "ref/core/error.h"
 #include "ref/modes/mode_common.h"
+#include "ref/modes/taa_stage.h"
 #include "ref/raster/gbuffer.h"
 #include "ref/raster/rasterizer.h"
 #include "ref/trace/basic_params.h"
@@ -16,9 +18,9 @@ namespace fovref {
 
 namespace {
 
-// The state of a basic or ground-truth render: the parameters, parsed once, and the scene's
-// BVH, built on first use and kept for later frames.
-struct TraceModeState : ModeState {
+// The state of a basic or ground-truth render: the parameters, parsed once, the scene's BVH,
+// built on first use and kept for later frames, and (basic) the TAA state.
+struct TraceModeState : TaaModeState {
     BasicParams params;
     BvhCache bvh;
 };
@@ -43,10 +45,13 @@ void primary_visibility_stage(FrameContext& ctx) {
         add_gbuffer(*ctx.result, std::move(g));
     } else {
         RaycastStats stats;
+        const Offset2 jitter = frame_jitter(ctx);
         GBuffer g = raycast_gbuffer(scene, state.bvh.get(scene, ctx.result->counters), ctx.camera,
-                                    ctx.previous_camera, s.width, s.height, stats);
+                                    ctx.previous_camera, s.width, s.height, stats, jitter);
         add_trace_counters(ctx.result->counters, "primary", stats.primary);
-        ctx.note = "ray cast";
+        ctx.note = jitter == Offset2{} ? "ray cast"
+                                       : "ray cast, jittered to (" + std::to_string(jitter.x) +
+                                             ", " + std::to_string(jitter.y) + ") in each pixel";
         add_gbuffer(*ctx.result, std::move(g));
     }
 }
@@ -61,7 +66,8 @@ void shade_direct_stage(FrameContext& ctx) {
     Image out = shade_basic(scene, tree, inputs, ctx.camera, ctx.frame, stats);
     add_shading_counters(ctx.result->counters, stats);
     ctx.note = shadow_note(scene);
-    ctx.result->add("final", BufferKind::color, {"r", "g", "b"}, std::move(out));
+    const std::string name = state.taa.enabled() ? "shaded" : "final";
+    ctx.result->add(name, BufferKind::color, {"r", "g", "b"}, std::move(out));
 }
 
 void supersample_stage(FrameContext& ctx) {
@@ -97,9 +103,24 @@ std::vector<PixelFunction> ground_truth_pixel_functions(const Params&) {
 Pipeline basic_pipeline(const Scene*, const RenderSettings& settings) {
     auto state = std::make_shared<TraceModeState>();
     state->params = parse_basic_params(settings.params);
+    state->taa = parse_taa_params(settings.params);
+    if (state->taa.enabled() && state->params.primary == PrimaryVisibility::raster)
+        throw Error(std::string("parameter 'taa': ") + taa_mode_name(state->taa.mode) +
+                    " needs the jittered primary rays of primary=ray (the rasterizer has no "
+                    "sub-pixel jitter)");
+    if (state->taa.mode == TaaMode::clamp_buffer)
+        throw Error(
+            "parameter 'taa': clamp-buffer is for the foveated modes; basic's buffer is "
+            "the screen: use clamp-screen");
     Pipeline p;
     p.state = state;
     p.stages.push_back({"primary_visibility", {}, gbuffer_names(), primary_visibility_stage});
+    if (state->taa.enabled()) {
+        p.stages.push_back({"shade_direct", shade_direct_inputs, {"shaded"}, shade_direct_stage});
+        add_taa_stage(p, *state, "shaded", "gbuffer_view_depth", "", "final");
+        p.final_outputs = {"final"};
+        return p;
+    }
     p.stages.push_back({"shade_direct", shade_direct_inputs, {"final"}, shade_direct_stage});
     p.final_outputs = {"final"};
     return p;

@@ -138,8 +138,14 @@ std::vector<std::string> render_each(const Scene* scene, const ModeInfo& mode,
         context.frame = f;
         context.time = settings.time_start + static_cast<float>(f) * settings.time_step;
         const Camera camera = scene ? camera_at(*scene, context.time) : Camera{};
-        context.previous_camera = k == 0 ? camera : context.camera;
-        context.has_previous = k > 0;
+        // Frame f's previous camera is frame f - 1's, also when f is the first frame rendered, so
+        // that frame f alone has the same motion vectors as in the sequence.
+        context.previous_camera =
+            k > 0            ? context.camera
+            : f > 0 && scene ? camera_at(*scene, settings.time_start +
+                                                     static_cast<float>(f - 1) * settings.time_step)
+                             : camera;
+        context.has_previous = f > 0;
         context.camera = camera;
         if (settings.progress)
             context.stage_progress = [&settings, k, frames](double within) {

@@ -32,6 +32,9 @@ struct RenderSettings {
     /// Called with the fraction done (0..1) after each stage (and by long stages as they go);
     /// may be empty.
     std::function<void(double)> progress;
+    /// The buffers of frame first_frame - 1 (a dump), for a mode that carries state from frame to
+    /// frame (TAA) and resumes at first_frame > 0; empty: none given.
+    std::vector<Buffer> state_buffers;
 };
 
 /// A mode's state for one render, shared by its stages: typed parameters parsed once, caches
@@ -48,8 +51,9 @@ struct FrameContext {
     int frame = 0;
     float time = 0.0f;
     Camera camera;
-    Camera previous_camera;  ///< equal to camera on the first frame
-    bool has_previous = false;
+    /// The camera of frame - 1 (the camera path at its time); equal to camera on frame 0.
+    Camera previous_camera;
+    bool has_previous = false;  ///< frame > 0
     FrameResult* result = nullptr;
     std::string note;  ///< set by a stage to explain what it did or skipped
     /// Set by the pipeline: reports the fraction of the current stage done (0..1).

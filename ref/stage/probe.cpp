@@ -48,9 +48,10 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
     RenderSettings s = settings;
     s.frame_count = frame + 1;
     s.requested = {"all"};
-    FrameResult last;
+    FrameResult last, previous;
     render_each(scene, mode, s, [&](FrameResult& f) {
         if (f.frame == frame) last = std::move(f);
+        if (f.frame + 1 == frame) previous = std::move(f);
     });
 
     ProbeReport report;
@@ -82,7 +83,8 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
 
     // What the mode's own explainer says about the pixel, stage by stage.
     if (mode.explain) {
-        ProbeContext context{scene, &s, &last, camera, x, y, texel, eye};
+        ProbeContext context{scene, &s,    &last, frame > 0 ? &previous : nullptr, camera, x,
+                             y,     texel, eye};
         mode.explain(context, report);
     }
 

@@ -47,6 +47,8 @@ struct ProbeContext {
     const Scene* scene = nullptr;
     const RenderSettings* settings = nullptr;
     const FrameResult* frame = nullptr;
+    /// Frame - 1 with every buffer (null for frame 0): what a mode carrying state (TAA) read.
+    const FrameResult* previous_frame = nullptr;
     Camera camera;
     int x = 0, y = 0;
     /// A buffer texel (i, j) to explain instead of the pixel (modes with a foveation buffer).

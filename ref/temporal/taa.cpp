@@ -132,7 +132,15 @@ TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const Taa
     float age_new =
         std::min(std::max(r.age_previous, 1.0f) + 1.0f, static_cast<float>(params.age_cap));
     if (params.rejection == TaaRejection::clamp && r.decision != TaaDecision::stationary) {
-        r.history = clamp_to_neighbourhood(in.color, x, y, r.history);
+        if (in.bounds) {
+            const glm::vec3 lo{in.bounds->at(x, y, 0), in.bounds->at(x, y, 1),
+                               in.bounds->at(x, y, 2)};
+            const glm::vec3 hi{in.bounds->at(x, y, 3), in.bounds->at(x, y, 4),
+                               in.bounds->at(x, y, 5)};
+            r.history = glm::clamp(r.history, lo, hi);
+        } else {
+            r.history = clamp_to_neighbourhood(in.color, x, y, r.history);
+        }
         r.decision = TaaDecision::clamped;
     } else if (!consistent) {
         const float diagonal = std::sqrt(static_cast<float>(width) * static_cast<float>(width) +
@@ -164,6 +172,10 @@ void taa(const TaaParams& params, const TaaInputs& in, const TaaState& previous,
                          previous.depth.height == height,
                      "a TAA history of another size than the frame");
     FOVREF_CHECK(params.age_cap >= 1, "TAA age cap below 1");
+    if (in.bounds)
+        FOVREF_CHECK(
+            in.bounds->width == width && in.bounds->height == height && in.bounds->channels == 6,
+            "TAA clamp bounds of another shape than the frame");
     out = Image(width, height, 3, 0.0f);
     age = Image(width, height, 1, 0.0f);
     for (int y = 0; y < height; ++y)

@@ -18,7 +18,8 @@
 //       depth mode: consistent when |z' - z_h| <= tau z'; inconsistent -> rejected, except
 //         beyond periphery x the diagonal from the gaze (Lund's flicker rule): kept, age 2
 //       clamp mode (Karis): the history clamped per channel to the min/max of the current 3x3
-//         neighbourhood (clamped at the screen border); never rejected for depth
+//         neighbourhood (clamped at the screen border; or bounds given per pixel, from the
+//         buffer's space); never rejected for depth
 //     age_new = min(age_prev + 1, age_cap) (kept or clamped), 1 (rejected), 2 (periphery)
 //     output = history (1 - 1/age_new) + current (1/age_new), per channel in binary32;
 //       a rejected pixel's output is the current pixel itself
@@ -60,6 +61,10 @@ struct TaaInputs {
     const Image& depth;  ///< W x H x 1, the view depth at each pixel (0: no surface)
     const Camera& camera;
     glm::vec2 gaze{0.0f};  ///< for the periphery rule (screen pixels)
+    /// Clamp mode: W x H x 6, per pixel the neighbourhood's min (r, g, b) then max (r, g, b),
+    /// computed elsewhere (in the buffer's space, taa_buffer_bounds); null: the 3x3
+    /// neighbourhood of `color` on the screen.
+    const Image* bounds = nullptr;
 };
 
 enum class TaaDecision {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "ref/bvh/bvh.h"
+#include "ref/core/halton.h"
 #include "ref/raster/gbuffer.h"
 #include "ref/scene/scene.h"
 
@@ -32,12 +33,16 @@ struct RaycastStats {
     std::int64_t motion_behind_previous = 0;  ///< hit pixels behind the previous camera (motion 0)
 };
 
+/// `jitter` (TAA, SPEC §7): the ray goes through (x + o_x, y + o_y) instead of the centre
+/// (x + 1/2, y + 1/2), the default.
+///
 /// Per-pixel work of raycast_gbuffer: the primary ray through the centre of pixel (x, y), its
 /// closest hit, and the G-buffer pixel written from it (write_gbuffer_pixel; a miss keeps the
 /// background). Returns the hit.
 Hit raycast_gbuffer_pixel(GBuffer& gbuffer, const Scene& scene, const Bvh& bvh,
                           const Camera& camera, float tan_half, const Camera& previous_camera,
-                          float previous_tan_half, int x, int y, RaycastStats& stats);
+                          float previous_tan_half, int x, int y, RaycastStats& stats,
+                          Offset2 jitter = {});
 
 /// raycast_gbuffer_pixel for a G-buffer that covers `window` of the screen: the ray through the
 /// centre of screen pixel (x, y), written at buffer pixel (x - x0, y - y0). With
@@ -45,10 +50,11 @@ Hit raycast_gbuffer_pixel(GBuffer& gbuffer, const Scene& scene, const Bvh& bvh,
 Hit raycast_window_pixel(GBuffer& gbuffer, const ScreenWindow& window, const Scene& scene,
                          const Bvh& bvh, const Camera& camera, float tan_half,
                          const Camera& previous_camera, float previous_tan_half, int x, int y,
-                         RaycastStats& stats);
+                         RaycastStats& stats, Offset2 jitter = {});
 
 /// Primary rays through every pixel centre (t in (0, inf)); motion against `previous_camera`.
 GBuffer raycast_gbuffer(const Scene& scene, const Bvh& bvh, const Camera& camera,
-                        const Camera& previous_camera, int width, int height, RaycastStats& stats);
+                        const Camera& previous_camera, int width, int height, RaycastStats& stats,
+                        Offset2 jitter = {});
 
 }  // namespace fovref

@@ -1,0 +1,97 @@
+#include "ref/modes/taa_stage.h"
+
+#include "ref/core/error.h"
+
+namespace fovref {
+
+namespace {
+
+// Halton point index of this frame, -1 when the jitter is off.
+int jitter_index(const FrameContext& ctx, const TaaSettings& taa) {
+    if (!taa.enabled() || !(ctx.camera == ctx.previous_camera)) return -1;
+    return (ctx.frame + taa.jitter_start) % 16;
+}
+
+const Buffer& state_buffer(const FrameContext& ctx, const std::string& name) {
+    for (const Buffer& b : ctx.settings->state_buffers)
+        if (b.name == name) return b;
+    throw Error("frame " + std::to_string(ctx.frame) + ": TAA carries state from frame " +
+                std::to_string(ctx.frame - 1) + ", and buffer '" + name +
+                "' of that frame was not given: render from frame 0, or resume from a --dump of "
+                "frame " +
+                std::to_string(ctx.frame - 1) + " (`fovref render --resume DIR`)");
+}
+
+// The state of the frame before the first one rendered, from its dumped buffers.
+TaaState resumed_state(const FrameContext& ctx, const TaaModeState& state, int width, int height) {
+    TaaState s;
+    s.valid = true;
+    s.history = state_buffer(ctx, state.output).image;
+    s.age = state_buffer(ctx, "taa_age").image;
+    s.depth = state_buffer(ctx, state.depth_input).image;
+    s.camera = ctx.previous_camera;
+    const auto check = [&](const Image& image, int channels, const std::string& name) {
+        if (image.width != width || image.height != height || image.channels != channels)
+            throw Error("--resume: buffer '" + name + "' is " + std::to_string(image.width) + "x" +
+                        std::to_string(image.height) + "x" + std::to_string(image.channels) +
+                        ", the frame needs " + std::to_string(width) + "x" +
+                        std::to_string(height) + "x" + std::to_string(channels));
+    };
+    check(s.history, 3, state.output);
+    check(s.age, 1, "taa_age");
+    check(s.depth, 1, state.depth_input);
+    return s;
+}
+
+}  // namespace
+
+Offset2 frame_jitter(const FrameContext& ctx) {
+    const TaaModeState& state = ctx.mode_state<TaaModeState>();
+    return taa_jitter(state.taa, ctx.frame, !(ctx.camera == ctx.previous_camera));
+}
+
+void taa_stage(FrameContext& ctx) {
+    TaaModeState& state = ctx.mode_state<TaaModeState>();
+    const Image& color = ctx.input(state.color_input);
+    const Image& depth = ctx.input(state.depth_input);
+    const Image* bounds = state.bounds_input.empty() ? nullptr : &ctx.input(state.bounds_input);
+    if (!state.history.valid && ctx.has_previous)
+        state.history = resumed_state(ctx, state, color.width, color.height);
+    const glm::vec2 gaze = state.gaze ? state.gaze(ctx)
+                                      : glm::vec2(static_cast<float>(color.width) * 0.5f,
+                                                  static_cast<float>(color.height) * 0.5f);
+    const TaaInputs in{color, depth, ctx.camera, gaze, bounds};
+    Image out, age;
+    TaaStats stats;
+    taa(state.taa.params, in, state.history, out, age, stats);
+    Counters& counters = ctx.result->counters;
+    counters.add("taa_history_kept", stats.kept);
+    counters.add("taa_history_rejected", stats.rejected);
+    counters.add("taa_history_clamped", stats.clamped);
+    counters.add("taa_periphery_kept", stats.periphery_kept);
+    counters.add("taa_reprojection_skipped", stats.reprojection_skipped);
+    counters.add("taa_history_nonfinite", stats.nonfinite_history);
+    const int index = jitter_index(ctx, state.taa);
+    counters.add("taa_jitter_index", index);
+    ctx.note = std::string(taa_mode_name(state.taa.mode)) +
+               (!state.history.valid                 ? ", first frame"
+                : ctx.camera == state.history.camera ? ", stationary camera: no reprojection"
+                                                     : ", reprojected") +
+               (index < 0 ? ", no jitter" : ", Halton point " + std::to_string(index));
+    state.history = next_taa_state(out, age, depth, ctx.camera);
+    ctx.result->add(state.output, BufferKind::color, {"r", "g", "b"}, std::move(out));
+    ctx.result->add("taa_age", BufferKind::scalar, {"age"}, std::move(age));
+}
+
+void add_taa_stage(Pipeline& pipeline, TaaModeState& state, const std::string& color,
+                   const std::string& depth, const std::string& bounds, const std::string& output) {
+    state.color_input = color;
+    state.depth_input = depth;
+    state.bounds_input = bounds;
+    state.output = output;
+    std::vector<std::string> inputs = {color, depth};
+    if (!bounds.empty()) inputs.push_back(bounds);
+    pipeline.stages.push_back({"taa", inputs, {output, "taa_age"}, taa_stage});
+}
+
+}  // namespace fovref

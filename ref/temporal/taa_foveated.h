@@ -1,0 +1,45 @@
+// What the TAA pass of a log-polar mode reads from the buffers (SPEC §7): the current view depth
+// of each screen pixel, and for clamp-buffer the neighbourhood bounds taken in the buffer's own
+// space. Both start from the texel that pass 2 sampled for the pixel (taa_source):
+//
+//   pixel centre inside the gaze circle (composite modes): the gaze buffer's pixel
+//   otherwise (u, v) = the forward map of the centre (pass 2's ForwardTable), the four bilinear
+//     taps of sample_lp_bilinear, and of the traced ones the nearest: the largest bilinear
+//     weight ((1 - fu)(1 - fv), fu (1 - fv), (1 - fu) fv, fu fv), ties to the first in that
+//     order; no traced tap with a non-zero weight: none (depth 0, bounds of the pixel itself)
+//
+//   taa_screen_depth:  the source's view depth (never interpolated across edges), 0 for none
+//   taa_buffer_bounds: per channel the min and max over the source's 3x3 neighbourhood of
+//                      traced texels (columns clamped, rows wrapped: the angle axis) or of traced
+//                      gaze-buffer pixels (clamped to its window)
+#pragma once
+
+#include "ref/foveation/resolve.h"
+
+namespace fovref {
+
+struct TaaSource {
+    enum class Kind { none, gaze, buffer };
+    Kind kind = Kind::none;
+    int i = 0, j = 0;  ///< the texel (buffer) or the gaze buffer's pixel (gaze)
+};
+
+/// The buffers a log-polar frame's TAA reads from (the gaze ones null without a gaze buffer).
+struct TaaBufferInputs {
+    const LogPolarMap& map;
+    const ForwardTable& forward;  ///< made for `map`
+    const Image& lp_valid;
+    const Image* gaze_valid = nullptr;  ///< covers gaze_window(map)
+};
+
+/// The texel or gaze pixel pass 2 sampled for screen pixel (x, y), as above.
+TaaSource taa_source(const TaaBufferInputs& in, int x, int y);
+
+/// The W x H view depth of the screen (0: no surface or no source).
+Image taa_screen_depth(const TaaBufferInputs& in, const Image& lp_depth, const Image* gaze_depth);
+
+/// The W x H x 6 clamp bounds (min r, g, b, max r, g, b) from the buffer's space.
+Image taa_buffer_bounds(const TaaBufferInputs& in, const Image& lp_color, const Image* gaze_color,
+                        const Image& screen_color);
+
+}  // namespace fovref
