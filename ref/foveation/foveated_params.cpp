@@ -176,8 +176,9 @@ std::string resolve_color_name(const FoveatedParams& params) {
     return params.internal_aa ? "lp_color_aa" : "lp_color";
 }
 
-std::vector<std::string> screen_chain(const FoveatedParams& params) {
+std::vector<std::string> screen_chain(const FoveatedParams& params, bool taa) {
     std::vector<std::string> chain = {"resolved"};
+    if (taa) chain.push_back("taa_color");
     if (params.gaussian_lerp) chain.push_back("lerp_filtered");
     if (params.post_aa) chain.push_back("post_aa_filtered");
     chain.back() = "final";

@@ -70,9 +70,10 @@ glm::vec2 gaze_point(const FoveatedParams& params, int width, int height, int fr
 std::string resolve_color_name(const FoveatedParams& params);
 
 /// The screen-space buffers from pass 2 on, in pipeline order: pass 2's output ("resolved"),
-/// then each screen filter's ("lerp_filtered", "post_aa_filtered"); the last is renamed "final"
-/// (pass 2 writes "final" itself when no filter follows).
-std::vector<std::string> screen_chain(const FoveatedParams& params);
+/// with `taa` the TAA stage's ("taa_color", SPEC §6: TAA comes before the screen filters), then
+/// each screen filter's ("lerp_filtered", "post_aa_filtered"); the last is renamed "final"
+/// (pass 2 writes "final" itself when nothing follows).
+std::vector<std::string> screen_chain(const FoveatedParams& params, bool taa = false);
 
 /// The log-polar map of a W x H frame: the parameters' map, the gaze point and the viewing
 /// distance of the scene's display model for the camera (docs/foveation.md).

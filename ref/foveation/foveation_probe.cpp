@@ -90,7 +90,14 @@ void explain_texel(const ProbeContext& c, const FoveatedParams& params, const Lo
     Image points(m.width, m.height, 2, 0.0f);
     FoveatedTraceStats stats;
     const float tan_half = tan_half_vfov(c.camera);
-    const LpInverseTable table = lp_inverse_table(m);
+    // TAA jitter: in the buffer before the inverse map, or (kfr) on the screen after it.
+    const LpInverseTable table =
+        params.deferred ? lp_inverse_table(m, Offset2{}, {c.jitter.x - 0.5f, c.jitter.y - 0.5f})
+                        : lp_inverse_table(m, c.jitter);
+    if (!(c.jitter == Offset2{}))
+        trace.add("TAA jitter", "(" + probe_float(c.jitter.x) + ", " + probe_float(c.jitter.y) +
+                                    (params.deferred ? ") in the pixel, after the inverse map"
+                                                     : ") in the texel, before the inverse map"));
     TexelStatus status = TexelStatus::off_screen;
     if (params.deferred) {
         const ScreenGBuffer screen{f.find("gbuffer_view_depth")->image,
@@ -158,14 +165,16 @@ void explain_gaze_pixel(const ProbeContext& c, const LogPolarMap& m, const Bvh& 
     FoveatedTraceStats stats;
     const float tan_half = tan_half_vfov(c.camera);
     gaze_gbuffer_pixel(scratch, window, m, *c.scene, bvh, c.camera, tan_half, c.camera, tan_half,
-                       c.x, c.y, stats);
+                       c.x, c.y, stats, c.jitter);
     const int i = c.x - window.x0, j = c.y - window.y0;  // in the gaze buffer
     trace.add("gaze buffer", "covers screen pixels x " + std::to_string(window.x0) + ".." +
                                  std::to_string(window.x0 + window.width - 1) + ", y " +
                                  std::to_string(window.y0) + ".." +
                                  std::to_string(window.y0 + window.height - 1) + ": pixel (" +
                                  std::to_string(i) + ", " + std::to_string(j) + ") of it");
-    const Ray ray = pixel_centre_ray(c.camera, tan_half, m.screen_width, m.screen_height, c.x, c.y);
+    const Ray ray =
+        primary_ray(c.camera, tan_half, m.screen_width, m.screen_height,
+                    static_cast<float>(c.x) + c.jitter.x, static_cast<float>(c.y) + c.jitter.y);
     trace.add("primary ray",
               "origin " + probe_vec3(ray.origin) + ", direction " + probe_vec3(ray.direction));
     explain_hit(c, bvh, ray, trace);
@@ -274,12 +283,14 @@ void explain_foveated(const ProbeContext& c, ProbeReport& report) {
         explain_texel(c, params, m, bvh, i, j, report);
         return;
     }
-    const std::vector<std::string> chain = screen_chain(params);
+    // With TAA (a taa_age buffer) the chain has TAA's output after pass 2's (SPEC §6).
+    const bool taa = c.frame->find("taa_age") != nullptr;
+    const std::vector<std::string> chain = screen_chain(params, taa);
     const std::vector<std::pair<int, int>> taps = explain_resolve(c, params, m, chain[0], report);
     const glm::vec2 centre{static_cast<float>(c.x) + 0.5f, static_cast<float>(c.y) + 0.5f};
     if (inside_gaze_circle(m, centre)) explain_gaze_pixel(c, m, bvh, report);
     for (const auto& [i, j] : taps) explain_texel(c, params, m, bvh, i, j, report);
-    std::size_t link = 0;
+    std::size_t link = taa ? 1 : 0;  // the TAA section comes from the modes' explainer
     if (params.gaussian_lerp) {
         ProbeSection s{"gaussian_lerp", "Lund's Gaussian lerp (docs/foveation.md)", {}};
         const Image& in = c.frame->find(chain[link])->image;

@@ -331,11 +331,7 @@ Pipeline foveated_pipeline(const std::string& preset_name, const Scene*,
     state->taa = parse_taa_params(settings.params);
     state->gaze = frame_gaze;
     std::vector<std::string>& chain = state->chain;
-    chain = {"resolved"};
-    if (state->taa.enabled()) chain.push_back("taa_color");
-    if (params.gaussian_lerp) chain.push_back("lerp_filtered");
-    if (params.post_aa) chain.push_back("post_aa_filtered");
-    chain.back() = "final";
+    chain = screen_chain(params, state->taa.enabled());
     std::vector<std::string> resolve_inputs = {resolve_color_name(params), "lp_valid"};
     if (composite) resolve_inputs.push_back("gaze_color");
     p.stages.push_back({"resolve", resolve_inputs, {chain[0]}, resolve_stage});

@@ -6,6 +6,7 @@
 #include "ref/foveation/stereo.h"
 #include "ref/modes/core_modes.h"
 #include "ref/modes/foveated_modes.h"
+#include "ref/modes/taa_stage.h"
 #include "ref/modes/trace_modes.h"
 #include "ref/temporal/taa_params.h"
 #include "ref/trace/basic_params.h"
@@ -14,6 +15,19 @@
 namespace fovref {
 
 namespace {
+
+void explain_basic_taa(const ProbeContext& c, ProbeReport& report) {
+    explain_with_taa(c, report, explain_basic,
+                     {static_cast<float>(c.settings->width) * 0.5f,
+                      static_cast<float>(c.settings->height) * 0.5f});
+}
+
+void explain_foveated_taa(const ProbeContext& c, ProbeReport& report) {
+    const FoveatedParams params =
+        parse_foveated_params(c.settings->params, find_foveation_preset(report.mode));
+    explain_with_taa(c, report, explain_foveated,
+                     gaze_point(params, c.settings->width, c.settings->height, c.frame->frame));
+}
 
 ModeInfo mode(std::string name, std::string description,
               Pipeline (*build)(const Scene*, const RenderSettings&)) {
@@ -31,7 +45,7 @@ std::vector<ModeInfo> make_modes() {
                           basic_pipeline);
     basic.params = basic_param_specs();
     for (ParamSpec& spec : taa_param_specs()) basic.params.push_back(std::move(spec));
-    basic.explain = explain_basic;
+    basic.explain = explain_basic_taa;
     basic.pixel_functions = basic_pixel_functions;
     ModeInfo ground_truth = mode(
         "ground-truth", "16 Halton(2,3) rays per pixel, shaded as basic, box-filtered (Lund §3.2)",
@@ -50,7 +64,7 @@ std::vector<ModeInfo> make_modes() {
         m.params = foveated_param_specs(preset);
         for (ParamSpec& spec : taa_param_specs()) m.params.push_back(std::move(spec));
         m.pixel_functions = foveated_pixel_functions;
-        m.explain = explain_foveated;
+        m.explain = explain_foveated_taa;
         m.explains_texels = true;
         return m;
     };

@@ -1,6 +1,7 @@
 #include "ref/modes/taa_stage.h"
 
 #include "ref/core/error.h"
+#include "ref/temporal/taa_probe.h"
 
 namespace fovref {
 
@@ -81,6 +82,18 @@ void taa_stage(FrameContext& ctx) {
     state.history = next_taa_state(out, age, depth, ctx.camera);
     ctx.result->add(state.output, BufferKind::color, {"r", "g", "b"}, std::move(out));
     ctx.result->add("taa_age", BufferKind::scalar, {"age"}, std::move(age));
+}
+
+void explain_with_taa(const ProbeContext& c, ProbeReport& report,
+                      void (*explain)(const ProbeContext&, ProbeReport&), glm::vec2 gaze) {
+    const TaaSettings taa = parse_taa_params(c.settings->params);
+    ProbeContext jittered = c;
+    const Camera previous =
+        c.previous_frame && c.previous_frame->camera ? *c.previous_frame->camera : c.camera;
+    jittered.jitter = taa_jitter(taa, c.frame->frame, !(c.camera == previous));
+    explain(jittered, report);
+    if (taa.enabled() && !c.texel && c.frame->find("taa_age"))
+        explain_taa(jittered, taa_probe_inputs(*c.frame, taa, gaze), report);
 }
 
 void add_taa_stage(Pipeline& pipeline, TaaModeState& state, const std::string& color,

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "ref/stage/pipeline.h"
+#include "ref/stage/probe.h"
 #include "ref/temporal/taa.h"
 #include "ref/temporal/taa_params.h"
 
@@ -36,6 +37,11 @@ struct TaaModeState : ModeState {
 Offset2 frame_jitter(const FrameContext& context);
 
 void taa_stage(FrameContext& context);
+
+/// `fovref probe` of a mode with a TAA stage: `explain` at the frame's TAA jitter, then (a pixel
+/// of a frame whose TAA ran) the [taa] section; `gaze` is the frame's gaze (the periphery rule).
+void explain_with_taa(const ProbeContext& context, ProbeReport& report,
+                      void (*explain)(const ProbeContext&, ProbeReport&), glm::vec2 gaze);
 
 /// Adds the TAA stage to `pipeline`, reading `color` and `depth` (and `bounds` when not empty),
 /// writing `output` and taa_age; records the wiring in `state`.

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "ref/core/halton.h"
 #include "ref/stage/frame.h"
 #include "ref/stage/pipeline.h"
 
@@ -54,6 +55,9 @@ struct ProbeContext {
     /// A buffer texel (i, j) to explain instead of the pixel (modes with a foveation buffer).
     std::optional<glm::ivec2> texel;
     int eye = -1;  ///< the texel's eye in stereo modes (-1: none given)
+    /// The frame's TAA launch offset in a pixel or texel (the centre without TAA; set by the
+    /// mode's explainer before it explains the ray generation).
+    Offset2 jitter{};
 };
 
 /// Renders frames 0 .. frame of `mode` (every buffer of the last), then explains pixel (x, y),

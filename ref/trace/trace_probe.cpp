@@ -251,7 +251,12 @@ void explain_ray_visibility(const ProbeContext& c, const Bvh& bvh, const Ray& ra
     const FrameResult& f = *c.frame;
     const int width = c.settings->width, height = c.settings->height;
     const float tan_half = tan_half_vfov(c.camera);
-    ProbeSection vis{"primary_visibility", "one ray through the pixel centre (Lund §3.1)", {}};
+    ProbeSection vis{"primary_visibility",
+                     c.jitter == Offset2{} ? "one ray through the pixel centre (Lund §3.1)"
+                                           : "one ray through the pixel at the TAA jitter (" +
+                                                 probe_float(c.jitter.x) + ", " +
+                                                 probe_float(c.jitter.y) + ") (SPEC §7)",
+                     {}};
     vis.add("primary ray", "origin " + probe_vec3(ray.origin) + ", direction " +
                                probe_vec3(ray.direction) + ", t in (" + probe_float(ray.t_min) +
                                ", " + probe_float(ray.t_max) + ")");
@@ -259,7 +264,7 @@ void explain_ray_visibility(const ProbeContext& c, const Bvh& bvh, const Ray& ra
     GBuffer scratch(width, height);
     RaycastStats stats;
     const Hit hit = raycast_gbuffer_pixel(scratch, scene, bvh, c.camera, tan_half, c.camera,
-                                          tan_half, c.x, c.y, stats);
+                                          tan_half, c.x, c.y, stats, c.jitter);
     vis.add("traversal", std::to_string(stats.primary.nodes_visited) + " nodes visited, " +
                              std::to_string(stats.primary.triangles_tested) + " triangles tested");
     if (!hit.hit()) {
@@ -282,7 +287,9 @@ void explain_ray_visibility(const ProbeContext& c, const Bvh& bvh, const Ray& ra
 // [shade_direct]: the shading pass's own per-pixel function on the rendered G-buffer.
 void explain_shade_direct(const ProbeContext& c, const Bvh& bvh, ProbeReport& report) {
     ProbeSection shade{"shade_direct", "Lambert + one shadow ray per light sample (Gupta §2)", {}};
-    explain_shade_at(c, bvh, "gbuffer_", "final", c.x, c.y, shade, report);
+    // With TAA the shading pass writes "shaded" (TAA then writes "final").
+    explain_shade_at(c, bvh, "gbuffer_", c.frame->find("shaded") ? "shaded" : "final", c.x, c.y,
+                     shade, report);
     report.sections.push_back(shade);
 }
 
@@ -348,8 +355,10 @@ void explain_basic(const ProbeContext& c, ProbeReport& report) {
                            std::to_string(c.y) + "), weight 1");
     report.sections.push_back(map);
 
-    const Ray ray = pixel_centre_ray(c.camera, tan_half_vfov(c.camera), c.settings->width,
-                                     c.settings->height, c.x, c.y);
+    // The pixel centre, or the TAA jitter's launch point.
+    const Ray ray =
+        primary_ray(c.camera, tan_half_vfov(c.camera), c.settings->width, c.settings->height,
+                    static_cast<float>(c.x) + c.jitter.x, static_cast<float>(c.y) + c.jitter.y);
     if (params.primary == PrimaryVisibility::raster)
         explain_raster_visibility(c, params.raster, bvh, ray, report);
     else
