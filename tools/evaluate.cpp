@@ -275,6 +275,9 @@ void evaluate_frame(const Evaluation& e, Candidate& c, int frame, const Image& i
         row["rays_percent_of_pixels"] =
             100.0 * static_cast<double>(rays) / (static_cast<double>(o.width) * o.height);
         row["pixels_shaded"] = counters->get("pixels_shaded");
+        // TAA's decisions (ghosting and flicker compared between settings).
+        for (const auto& [name, value] : counters->values)
+            if (name.rfind("taa_", 0) == 0 && name != "taa_jitter_index") row[name] = value;
         row["stage_seconds"] = seconds;
     }
     c.frame_rows.push_back(row);
@@ -350,7 +353,9 @@ std::string frames_csv_rows(const Candidate& c) {
         rows += c.label + "," + field("frame") + "," + field("mse") + "," + field("psnr") + "," +
                 field("ssim") + "," + field("flip_mean") + "," + field("rays_traced") + "," +
                 field("rays_percent_of_pixels") + "," + field("pixels_shaded") + "," +
-                field("stage_seconds") + "\n";
+                field("stage_seconds") + "," + field("taa_history_kept") + "," +
+                field("taa_history_rejected") + "," + field("taa_history_clamped") + "," +
+                field("taa_periphery_kept") + "," + field("taa_reprojection_skipped") + "\n";
     }
     return rows;
 }
@@ -391,7 +396,8 @@ void write_outputs(const Evaluation& e, const std::vector<Candidate>& candidates
     std::string rings_csv = "label,ring,inner_deg,outer_deg,pixels,mse,rmse,psnr,ssim,sd\n";
     std::string frames_csv =
         "label,frame,mse,psnr,ssim,flip_mean,rays_traced,rays_percent_of_pixels,"
-        "pixels_shaded,stage_seconds\n";
+        "pixels_shaded,stage_seconds,taa_history_kept,taa_history_rejected,taa_history_clamped,"
+        "taa_periphery_kept,taa_reprojection_skipped\n";
     json summary = summary_json(e);
     std::vector<PlotSeries> ssim_plot, psnr_plot, rmse_plot;
     for (const Candidate& c : candidates) {
@@ -443,6 +449,13 @@ void print_rings(const Evaluation& e, const std::vector<Candidate>& candidates) 
                             static_cast<double>(r.outer_deg), csv_number(r.psnr).c_str(),
                             csv_number(r.ssim).c_str());
     }
+    // The temporal error (SPEC §10): flicker and ghosting; the reference's changes with the
+    // camera alone.
+    std::printf("%-24s %s\n", "candidate", "temporal error (mean |luma(t) - luma(t-1)|)");
+    std::printf("%-24s %.6g\n", ("reference " + o.reference_mode).c_str(),
+                temporal_error(e.reference_display));
+    for (const Candidate& c : candidates)
+        std::printf("%-24s %.6g\n", c.label.c_str(), temporal_error(c.display_frames));
     std::printf("wrote %s/{rings.csv,frames.csv,summary.json,rings.svg,heatmap_*.png}\n",
                 o.out_dir.c_str());
 }
