@@ -206,6 +206,7 @@ int run_golden_export(const GoldenOptions& o, const GoldenExportOptions& e) {
     if (e.height) c.height = *e.height;
     if (e.frames) c.frames = *e.frames;
     for (const std::string& assignment : e.params) c.params.set_from_assignment(assignment);
+    c.files = "all";  // an export writes every frame's files
     SceneCache scenes(repository_root(dir));
     const Scene* scene = scenes.get(c.scene);
     if (e.with_scene && !scene) throw Error("--with-scene: case '" + c.name + "' has no scene");

@@ -52,6 +52,7 @@ json case_to_json(const GoldenCase& c) {
     j["time_start"] = c.time_start;
     j["time_step"] = c.time_step;
     j["params"] = json(c.params.values());
+    if (c.files != "all") j["files"] = c.files;
     return j;
 }
 
@@ -64,8 +65,8 @@ GoldenCase case_from_json(const json& j, const std::string& path, const std::str
                           (pointer.empty() ? std::string("case") : pointer) + ": " + message);
     };
     if (!j.is_object()) throw fail(pointer, "a case must be a JSON object");
-    static const char* known[] = {"name",   "description", "scene",      "mode",      "width",
-                                  "height", "frames",      "time_start", "time_step", "params"};
+    static const char* known[] = {"name",   "description", "scene",     "mode",   "width", "height",
+                                  "frames", "time_start",  "time_step", "params", "files"};
     for (const auto& item : j.items()) {
         bool ok = false;
         for (const char* k : known) ok = ok || item.key() == k;
@@ -118,6 +119,12 @@ GoldenCase case_from_json(const json& j, const std::string& path, const std::str
     c.frames = integer("frames", false, 1);
     c.time_start = number("time_start", 0.0f);
     c.time_step = number("time_step", 1.0f / 30);
+    if (value("files", false)) {
+        c.files = text("files", false);
+        if (c.files != "all" && c.files != "last-frame")
+            throw fail(json_pointer_member(pointer, "files"),
+                       "'files' must be \"all\" or \"last-frame\", got \"" + c.files + "\"");
+    }
     if (const json* params = value("params", false)) {
         if (!params->is_object())
             throw fail(json_pointer_member(pointer, "params"), "'params' must be an object");
@@ -332,14 +339,22 @@ void BundleWriter::add_frame(const FrameResult& frame) {
         jb["channels"] = buffer.image.channels;
         jb["channel_names"] = buffer.channel_names;
         jb["sha256"] = canonical_sha256(buffer.image);
-        if (buffer.image.pixel_count() <= s.options.max_stored_pixels) {
+        const bool small = buffer.image.pixel_count() <= s.options.max_stored_pixels;
+        const bool earlier_frame =
+            s.golden_case.files == "last-frame" && frame.frame != s.golden_case.frames - 1;
+        if (small && !earlier_frame) {
             const std::string file = buffer_file_name(frame.frame, buffer);
             write_image((s.staging / file).string(), buffer.image);
             jb["file"] = file;
         } else {
-            jb["file"] = nullptr;  // hash only: too large for the repository
-            jb["block_rows"] = hash_block_rows(buffer.image.height);
-            jb["block_sha256"] = block_hashes(buffer.image, hash_block_rows(buffer.image.height));
+            // Hash only: too large for the repository (with per-block hashes that locate a
+            // difference), or an earlier frame of a "last-frame" case (the whole hash only).
+            jb["file"] = nullptr;
+            if (!small) {
+                jb["block_rows"] = hash_block_rows(buffer.image.height);
+                jb["block_sha256"] =
+                    block_hashes(buffer.image, hash_block_rows(buffer.image.height));
+            }
         }
         if (s.options.previews_for_all || buffer.name == "final") {
             const std::string png = buffer_file_name(frame.frame, buffer, ".png");

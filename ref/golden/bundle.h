@@ -29,6 +29,10 @@ struct GoldenCase {
     float time_start = 0.0f;
     float time_step = 1.0f / 30;
     Params params;
+    /// "all": every frame's buffers stored as files; "last-frame": only the last frame's, the
+    /// earlier frames' recorded by their SHA-256 alone: keeps long sequences small in the
+    /// repository (`golden export` writes every file, to compare pixels).
+    std::string files = "all";
     bool operator==(const GoldenCase&) const = default;
 };
 
