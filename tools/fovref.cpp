@@ -1,9 +1,9 @@
 // fovref: the command-line tool of the reference renderer. This file builds the command line and
 // dispatches; each command (or command group) is a module of its own: tools/cmd_scene.h,
 // cmd_render.h, cmd_modes.h, cmd_rays.h, cmd_golden.h, cmd_probe.h, cmd_gain.h, cmd_density.h,
-// bench_rays.h, bench_metrics.h, bench_foveation.h, evaluate.h and diff.h, each with its options,
-// their registration and its run function. Exit codes: 0 ok, 1 a check failed (golden verify,
-// diff), 2 usage or input error.
+// bench_rays.h, bench_metrics.h, bench_foveation.h, bench_temporal.h, evaluate.h and diff.h, each
+// with its options, their registration and its run function. Exit codes: 0 ok, 1 a check failed
+// (golden verify, diff), 2 usage or input error.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
@@ -17,6 +17,7 @@
 #include "tools/bench_foveation.h"
 #include "tools/bench_metrics.h"
 #include "tools/bench_rays.h"
+#include "tools/bench_temporal.h"
 #include "tools/cli_common.h"
 #include "tools/cmd_density.h"
 #include "tools/cmd_gain.h"
@@ -54,6 +55,8 @@ const char* const app_footer =
     "Embree)\n"
     "  fovref bench metrics [--size WxH]      metric times (vs scikit-image's SSIM)\n"
     "  fovref bench foveation [--scene S]     foveated modes' stage times vs basic, rays traced\n"
+    "  fovref bench temporal [--scene S]      TAA cost per frame; errors and flicker with and "
+    "without TAA\n"
     "  fovref golden list                     the golden cases (golden/cases.json)\n"
     "  fovref golden verify [--case C]        recompute, compare bit-exactly, exit 1 on a "
     "difference\n"
@@ -84,6 +87,7 @@ struct Options {
     BenchRaysOptions bench_rays;
     BenchMetricsOptions bench_metrics;
     BenchFoveationOptions bench_foveation;
+    BenchTemporalOptions bench_temporal;
     GoldenOptions golden;
     GoldenCasesOptions golden_verify, golden_update;
     GoldenExportOptions golden_export;
@@ -98,8 +102,8 @@ struct Options {
 // either way).
 void share_quiet(Options& o) {
     o.scene_export.quiet = o.render.quiet = o.rays_trace.quiet = o.rays_make.quiet =
-        o.bench_rays.quiet = o.density.quiet = o.bench_foveation.quiet = o.golden.quiet =
-            o.probe.quiet = o.evaluate.quiet = o.diff.quiet = o.quiet;
+        o.bench_rays.quiet = o.density.quiet = o.bench_foveation.quiet = o.bench_temporal.quiet =
+            o.golden.quiet = o.probe.quiet = o.evaluate.quiet = o.diff.quiet = o.quiet;
 }
 
 // The commands that do the work (no subcommands of their own), each with its run function.
@@ -172,6 +176,12 @@ void add_bench_commands(CLI::App& app, Options& o, Commands& commands) {
         "and the speed-up target (0.8 x the ray-count ratio)");
     add_bench_foveation_options(*foveation, o.bench_foveation);
     commands.emplace_back(foveation, [&o] { return run_bench_foveation(o.bench_foveation); });
+    CLI::App* temporal = bench->add_subcommand(
+        "temporal",
+        "TAA's cost per frame relative to the rest of the frame, and the ring and temporal "
+        "errors of moving and static sequences with and without TAA, depth vs clamping");
+    add_bench_temporal_options(*temporal, o.bench_temporal);
+    commands.emplace_back(temporal, [&o] { return run_bench_temporal(o.bench_temporal); });
 }
 
 void add_golden_commands(CLI::App& app, Options& o, Commands& commands) {

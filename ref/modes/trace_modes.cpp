@@ -106,8 +106,8 @@ Pipeline basic_pipeline(const Scene*, const RenderSettings& settings) {
     state->taa = parse_taa_params(settings.params);
     if (state->taa.enabled() && state->params.primary == PrimaryVisibility::raster)
         throw Error(std::string("parameter 'taa': ") + taa_mode_name(state->taa.mode) +
-                    " needs the jittered primary rays of primary=ray (the rasterizer has no "
-                    "sub-pixel jitter)");
+                    " needs jittered primary rays, and primary=raster has no sub-pixel "
+                    "jitter: use primary=ray");
     if (state->taa.mode == TaaMode::clamp_buffer)
         throw Error(
             "parameter 'taa': clamp-buffer is for the foveated modes; basic's buffer is "

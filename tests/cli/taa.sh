@@ -1,0 +1,64 @@
+# TAA from the command line: sequences with every variant, frames A..B resumed from a dump with the
+# bits of the whole sequence, the static-camera sequence, the probe's TAA section, evaluate's
+# temporal error, and clear errors for what cannot work.
+source "$(dirname "$0")/lib.bash"
+common=(--scene checker-room --width 48 --height 27 --time-step 0.1 --quiet)
+for v in depth clamp-screen; do
+  expect 0 "basic taa=$v" -- "$FOVREF" render --mode basic --frames 3 --param taa=$v "${common[@]}" \
+    --out "$TMP/basic-$v"
+  check_file "$TMP/basic-$v/f002_final.pfm" "basic taa=$v"
+done
+expect 0 "cfov taa=clamp-buffer, every buffer" -- "$FOVREF" render --mode cfov --frames 5 \
+  --param taa=clamp-buffer "${common[@]}" --dump "$TMP/seq"
+for b in taa_view_depth final taa_age; do check_file "$TMP/seq/f004_$b.pfm" "dump $b"; done
+check_file "$TMP/seq/f004_taa_bounds.exr" "dump taa_bounds (6 channels: EXR)"
+expect 0 "kfr taa=depth" -- "$FOVREF" render --mode kfr --frames 2 --param taa=depth "${common[@]}" \
+  --out "$TMP/kfr"
+
+# Frames 3..4 resumed from the dump of frame 2: the same bits as in the sequence.
+expect 0 "resume frames 3..4" -- "$FOVREF" render --mode cfov --frames 3..4 --param taa=clamp-buffer \
+  "${common[@]}" --resume "$TMP/seq" --out "$TMP/resumed" --output all
+for f in 3 4; do
+  for b in final taa_age taa_view_depth; do
+    checks=$((checks + 1))
+    cmp -s "$TMP/seq/f00${f}_$b.pfm" "$TMP/resumed/f00${f}_$b.pfm" ||
+      { echo "FAIL: resumed frame $f $b differs from the sequence's"; failures=$((failures + 1)); }
+  done
+done
+expect 2 "frame 3 without --resume" -- "$FOVREF" render --mode cfov --first-frame 3 \
+  --param taa=depth "${common[@]}" --out "$TMP/bad1"
+contains "--resume" "the error names --resume"
+checks=$((checks + 1)); [ ! -e "$TMP/bad1" ] || { echo "FAIL: a failed render left $TMP/bad1"; failures=$((failures + 1)); }
+expect 2 "resume from another render" -- "$FOVREF" render --mode cfov --frames 3..3 --param taa=depth \
+  "${common[@]}" --resume "$TMP/seq" --out "$TMP/bad2"
+contains "other settings" "a mismatched dump is refused"
+expect 2 "an empty range" -- "$FOVREF" render --mode basic --frames 4..2 "${common[@]}" --out "$TMP/bad3"
+contains "4..2" "the range is named"
+expect 2 "taa needs jittered rays" -- "$FOVREF" render --mode basic --param taa=depth \
+  --param primary=raster "${common[@]}" --out "$TMP/bad4"
+contains "primary=raster" "raster + taa"
+expect 2 "a TAA tunable without TAA" -- "$FOVREF" render --mode cfov --param taa_tau=0.1 "${common[@]}" \
+  --out "$TMP/bad5"
+contains "taa_tau" "tunable named"
+expect 2 "an unknown variant" -- "$FOVREF" render --mode cfov --param taa=ghost "${common[@]}" --out "$TMP/bad6"
+contains "clamp-buffer" "the variants are listed"
+
+# The static-camera sequence: jittered (Halton point per frame), no reprojection after frame 0.
+expect 0 "static camera" -- "$FOVREF" render --mode basic --frames 3 --param taa=depth --static-camera \
+  --scene checker-room --width 48 --height 27 --out "$TMP/static"
+contains "taa_jitter_index 2" "frame 2 uses Halton point 2"
+contains "taa_reprojection_skipped 1296" "a stationary camera reprojects nothing"
+
+# The probe explains TAA; evaluate reports the temporal error.
+expect 0 "probe TAA" -- "$FOVREF" probe --scene checker-room --mode cfov --width 48 --height 27 \
+  --time-step 0.1 --param taa=depth --frame 2 --pixel 30,10
+contains "[taa]" "probe TAA section"
+contains "reprojected" "probe reprojection"
+contains "bit-identical to the rendered buffers" "probe check"
+expect 0 "evaluate temporal" -- "$FOVREF" evaluate --scene checker-room --width 48 --height 27 \
+  --frames 3 --mode basic,basic:taa=depth --out "$TMP/ev" --quiet
+checks=$((checks + 1))
+grep -q '"temporal_error"' "$TMP/ev/summary.json" || { echo "FAIL: no temporal error"; failures=$((failures + 1)); }
+checks=$((checks + 1))
+grep -q 'taa_history_rejected' "$TMP/ev/frames.csv" || { echo "FAIL: frames.csv lacks TAA counters"; failures=$((failures + 1)); }
+finish
