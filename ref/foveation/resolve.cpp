@@ -33,9 +33,8 @@ float lerp(float a, float b, float t) { return a + t * (b - a); }
 
 }  // namespace
 
-bool sample_lp_bilinear(const Image& buffer, const Image& valid, glm::vec2 uv, float* out,
-                        BilinearLookup* lookup) {
-    const int w = buffer.width, h = buffer.height, channels = buffer.channels;
+BilinearLookup lp_bilinear_taps(const Image& valid, glm::vec2 uv) {
+    const int w = valid.width, h = valid.height;
     BilinearLookup l;
     l.uv = uv;
     // lp_forward gives a finite u and v in [0, h); anything else is a caller's bug.
@@ -60,6 +59,15 @@ bool sample_lp_bilinear(const Image& buffer, const Image& valid, glm::vec2 uv, f
     l.traced[1] = valid.at(l.i1, l.j0) != 0.0f;
     l.traced[2] = valid.at(l.i0, l.j1) != 0.0f;
     l.traced[3] = valid.at(l.i1, l.j1) != 0.0f;
+    return l;
+}
+
+bool sample_lp_bilinear(const Image& buffer, const Image& valid, glm::vec2 uv, float* out,
+                        BilinearLookup* lookup) {
+    const int channels = buffer.channels;
+    FOVREF_CHECK(buffer.width == valid.width && buffer.height == valid.height,
+                 "a validity mask of another size than its buffer");
+    BilinearLookup l = lp_bilinear_taps(valid, uv);
     FOVREF_CHECK(channels <= 4, "bilinear lookup of a buffer with more than 4 channels");
     if (!lookup && l.traced[0] && l.traced[1] && l.traced[2] && l.traced[3]) {
         // Every tap traced (most lookups): the general path below with both row weights 1

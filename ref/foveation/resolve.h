@@ -41,6 +41,10 @@ struct BilinearLookup {
     float t = 0.0f;                                 ///< the final lerp's parameter
 };
 
+/// The four taps of the bilinear lookup at buffer coordinates uv (columns, rows, fractions and
+/// which are traced, from `valid`), as sample_lp_bilinear reads them; row_weight and t are 0.
+BilinearLookup lp_bilinear_taps(const Image& valid, glm::vec2 uv);
+
 /// Bilinear lookup of `buffer` (any channel count) at buffer coordinates uv over the traced
 /// texels of `valid`; writes buffer.channels values to `out`. Returns false (out = 0) when no
 /// traced tap has a non-zero weight. `lookup` (optional) receives the taps.

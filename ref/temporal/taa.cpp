@@ -45,18 +45,88 @@ float taa_sample(const Image& image, glm::vec2 q, float* out) {
     return sum;
 }
 
+TaaReprojection taa_reprojection(const Camera& camera, float tan_half, const Camera& previous,
+                                 float previous_tan_half, int width, int height) {
+    TaaReprojection k;
+    k.width = width;
+    k.height = height;
+    const float w = static_cast<float>(width), h = static_cast<float>(height);
+    k.sx_scale = tan_half * (w / h);
+    k.sy_scale = tan_half;
+    // A vector in the previous camera's axes: (v . R', -(v . U'), v . F').
+    const auto axes = [&](glm::vec3 v) {
+        return glm::vec3(glm::dot(v, previous.right), -glm::dot(v, previous.up),
+                         glm::dot(v, previous.forward));
+    };
+    k.o = axes(camera.position - previous.position);
+    k.f = axes(camera.forward);
+    k.r = axes(camera.right);
+    k.u = axes(camera.up);
+    k.a = {(0.5f * w) / (previous_tan_half * (w / h)), (0.5f * h) / previous_tan_half};
+    return k;
+}
+
+bool taa_reproject(const TaaReprojection& k, int x, int y, float z, glm::vec2& previous_point,
+                   float& previous_depth) {
+    const float w = static_cast<float>(k.width), h = static_cast<float>(k.height);
+    const float cx = static_cast<float>(x) + 0.5f, cy = static_cast<float>(y) + 0.5f;
+    const float sx = ((2.0f * cx) / w - 1.0f) * k.sx_scale;
+    const float sy = ((2.0f * cy) / h - 1.0f) * k.sy_scale;
+    const glm::vec3 d = k.f + sx * k.r - sy * k.u;
+    const glm::vec3 q = k.o + z * d;
+    previous_depth = q.z;
+    if (!(q.z > 0.0f)) return false;
+    previous_point = {q.x * (k.a.x / q.z) + 0.5f * w, q.y * (k.a.y / q.z) + 0.5f * h};
+    return true;
+}
+
 bool taa_reproject(const Camera& camera, float tan_half, const Camera& previous,
                    float previous_tan_half, int width, int height, int x, int y, float z,
                    glm::vec2& previous_point, float& previous_depth) {
-    const glm::vec3 d =
-        primary_ray_direction(camera, tan_half, width, height, static_cast<float>(x) + 0.5f,
-                              static_cast<float>(y) + 0.5f);
-    const glm::vec3 p = camera.position + d * (z / glm::dot(d, camera.forward));
-    return project_to_screen(previous, previous_tan_half, width, height, p, previous_point,
-                             previous_depth);
+    return taa_reproject(
+        taa_reprojection(camera, tan_half, previous, previous_tan_half, width, height), x, y, z,
+        previous_point, previous_depth);
 }
 
 namespace {
+
+// floor(v) for a finite v in (-2^31, 2^31) whose floor is a float: the same value as std::floor
+// (and the same zero: v here is never -0), without SSE2's long rounding sequence.
+int floor_int(float v) {
+    const int i = static_cast<int>(v);  // truncation towards zero
+    return static_cast<float>(i) > v ? i - 1 : i;
+}
+
+// taa_sample of the history (3 channels) and the previous depth at the same point in one pass:
+// the same taps, weights and operations, so the same bits as two taa_sample calls.
+float sample_history(const TaaState& previous, glm::vec2 q, glm::vec3& history, float& depth) {
+    history = glm::vec3(0.0f);
+    depth = 0.0f;
+    const Image& image = previous.history;
+    if (!(q.x > -1.0f && q.y > -1.0f && q.x < static_cast<float>(image.width) + 1.0f &&
+          q.y < static_cast<float>(image.height) + 1.0f))
+        return 0.0f;
+    const float sx = q.x - 0.5f, sy = q.y - 0.5f;  // in (-1.5, W + 0.5): floor_int applies
+    const int x0 = floor_int(sx), y0 = floor_int(sy);
+    const float fx = sx - static_cast<float>(x0), fy = sy - static_cast<float>(y0);
+    const int xs[4] = {x0, x0 + 1, x0, x0 + 1}, ys[4] = {y0, y0, y0 + 1, y0 + 1};
+    const float ws[4] = {(1.0f - fx) * (1.0f - fy), fx * (1.0f - fy), (1.0f - fx) * fy, fx * fy};
+    float sum = 0.0f, r = 0.0f, g = 0.0f, b = 0.0f, z = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+        if (xs[k] < 0 || ys[k] < 0 || xs[k] >= image.width || ys[k] >= image.height) continue;
+        const std::size_t pixel = static_cast<std::size_t>(ys[k]) * image.width + xs[k];
+        const float* c = &image.data[pixel * 3];
+        sum += ws[k];
+        r += ws[k] * c[0];
+        g += ws[k] * c[1];
+        b += ws[k] * c[2];
+        z += ws[k] * previous.depth.data[pixel];
+    }
+    if (!(sum > 0.0f)) return 0.0f;
+    history = {r / sum, g / sum, b / sum};
+    depth = z / sum;
+    return sum;
+}
 
 bool finite3(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -79,8 +149,23 @@ glm::vec3 clamp_to_neighbourhood(const Image& color, int x, int y, glm::vec3 his
 
 }  // namespace
 
+TaaConstants taa_constants(const TaaInputs& in, const TaaState& previous) {
+    TaaConstants k;
+    k.tan_half = tan_half_vfov(in.camera);
+    k.previous_tan_half = previous.valid ? tan_half_vfov(previous.camera) : k.tan_half;
+    const float width = static_cast<float>(in.color.width);
+    const float height = static_cast<float>(in.color.height);
+    k.diagonal = std::sqrt(width * width + height * height);
+    k.stationary = previous.valid && in.camera == previous.camera;
+    if (previous.valid)
+        k.reprojection = taa_reprojection(in.camera, k.tan_half, previous.camera,
+                                          k.previous_tan_half, in.color.width, in.color.height);
+    return k;
+}
+
 TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const TaaState& previous,
-                         int x, int y, Image& out, Image& age) {
+                         int x, int y, Image& out, Image& age, const TaaConstants* constants) {
+    const TaaConstants k = constants ? *constants : taa_constants(in, previous);
     TaaPixelRecord r;
     const glm::vec3 current = rgb_at(in.color, x, y);
     const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
@@ -97,7 +182,7 @@ TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const Taa
     }
     const int width = in.color.width, height = in.color.height;
     bool consistent = true;
-    if (in.camera == previous.camera) {
+    if (k.stationary) {
         // Stationary: the history at p, never rejected, nothing reprojected.
         r.decision = TaaDecision::stationary;
         r.history = rgb_at(previous.history, x, y);
@@ -105,20 +190,18 @@ TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const Taa
     } else {
         // Reprojection by the current depth.
         const float z = in.depth.at(x, y);
-        float h[3] = {0, 0, 0};
         if (!(z > 0.0f && std::isfinite(z)) ||
-            !taa_reproject(in.camera, tan_half_vfov(in.camera), previous.camera,
-                           tan_half_vfov(previous.camera), width, height, x, y, z, r.previous_point,
-                           r.previous_depth) ||
-            taa_sample(previous.history, r.previous_point, h) <= 0.0f) {
+            !taa_reproject(k.reprojection, x, y, z, r.previous_point, r.previous_depth) ||
+            sample_history(previous, r.previous_point, r.history, r.history_depth) <= 0.0f) {
+            r.history = glm::vec3(0.0f);
+            r.history_depth = 0.0f;
             r.decision = TaaDecision::rejected;
             write(current, 1.0f);
             return r;
         }
-        r.history = {h[0], h[1], h[2]};
-        taa_sample(previous.depth, r.previous_point, &r.history_depth);
-        const int px = std::clamp(static_cast<int>(std::floor(r.previous_point.x)), 0, width - 1);
-        const int py = std::clamp(static_cast<int>(std::floor(r.previous_point.y)), 0, height - 1);
+        // p' lies within a pixel of the screen here (sample_history had a tap).
+        const int px = std::clamp(floor_int(r.previous_point.x), 0, width - 1);
+        const int py = std::clamp(floor_int(r.previous_point.y), 0, height - 1);
         r.age_previous = previous.age.at(px, py);
         consistent = std::fabs(r.previous_depth - r.history_depth) <= params.tau * r.previous_depth;
         r.decision = TaaDecision::kept;
@@ -143,10 +226,8 @@ TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const Taa
         }
         r.decision = TaaDecision::clamped;
     } else if (!consistent) {
-        const float diagonal = std::sqrt(static_cast<float>(width) * static_cast<float>(width) +
-                                         static_cast<float>(height) * static_cast<float>(height));
         const glm::vec2 d = centre - in.gaze;
-        if (std::sqrt(d.x * d.x + d.y * d.y) > params.periphery * diagonal) {
+        if (std::sqrt(d.x * d.x + d.y * d.y) > params.periphery * k.diagonal) {
             r.decision = TaaDecision::periphery;
             age_new = 2.0f;
         } else {
@@ -178,9 +259,10 @@ void taa(const TaaParams& params, const TaaInputs& in, const TaaState& previous,
             "TAA clamp bounds of another shape than the frame");
     out = Image(width, height, 3, 0.0f);
     age = Image(width, height, 1, 0.0f);
+    const TaaConstants constants = taa_constants(in, previous);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            const TaaPixelRecord r = taa_pixel(params, in, previous, x, y, out, age);
+            const TaaPixelRecord r = taa_pixel(params, in, previous, x, y, out, age, &constants);
             switch (r.decision) {
                 case TaaDecision::first: break;
                 case TaaDecision::stationary:

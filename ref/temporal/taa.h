@@ -84,8 +84,29 @@ const char* taa_decision_name(TaaDecision decision);
 /// (1 - fx)(1 - fy), fx (1 - fy), (1 - fx) fy, fx fy, summed in that order.
 float taa_sample(const Image& image, glm::vec2 q, float* out);
 
+/// The reprojection of one frame, factored (every product below in binary32, in this order):
+///   pixel (x, y) at view depth z: c = (x + 1/2, y + 1/2),
+///     sx = ((2 c.x) / W - 1) tan (W / H), sy = ((2 c.y) / H - 1) tan  (as the primary ray)
+///     the point P = camera + z d with the unnormalised d = F + sx R - sy U (d . F = 1 for the
+///     orthonormal R, U, F: P is at view depth z), in the previous camera's axes:
+///     q = o + z (f + sx r - sy u), o = (camera - camera') . (R', -U', F') and f, r, u = F, R, U
+///     likewise (dot products once per frame)
+///   z' = q.z (> 0, else behind the previous camera), p' = (q.x (a.x / z') + W / 2,
+///     q.y (a.y / z') + H / 2) with a = (W / 2 / (tan' W / H), H / 2 / tan')
+struct TaaReprojection {
+    int width = 0, height = 0;
+    float sx_scale = 0.0f, sy_scale = 0.0f;  ///< tan (W / H), tan
+    glm::vec3 o{0.0f}, f{0.0f}, r{0.0f}, u{0.0f};
+    glm::vec2 a{0.0f};
+};
+TaaReprojection taa_reprojection(const Camera& camera, float tan_half, const Camera& previous,
+                                 float previous_tan_half, int width, int height);
+
 /// Where pixel (x, y) at view depth z (> 0) was in the previous camera's view: its screen point
 /// and view depth. False when the point is behind the previous camera.
+bool taa_reproject(const TaaReprojection& k, int x, int y, float z, glm::vec2& previous_point,
+                   float& previous_depth);
+/// The same, the constants made for this one call.
 bool taa_reproject(const Camera& camera, float tan_half, const Camera& previous,
                    float previous_tan_half, int width, int height, int x, int y, float z,
                    glm::vec2& previous_point, float& previous_depth);
@@ -101,9 +122,20 @@ struct TaaPixelRecord {
     bool history_nonfinite = false;  ///< rejected because the history (or its age) was not finite
 };
 
-/// Per-pixel work of the pass: pixel (x, y) of `out` (3 channels) and `age`.
+/// What every pixel of a frame shares, computed once per pass: the two cameras' tan(vfov / 2),
+/// the screen diagonal, whether the camera is stationary.
+struct TaaConstants {
+    float tan_half = 0.0f, previous_tan_half = 0.0f, diagonal = 0.0f;
+    bool stationary = false;
+    TaaReprojection reprojection;
+};
+TaaConstants taa_constants(const TaaInputs& in, const TaaState& previous);
+
+/// Per-pixel work of the pass: pixel (x, y) of `out` (3 channels) and `age`. `constants`: those
+/// of this frame (taa_constants), computed here when null.
 TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const TaaState& previous,
-                         int x, int y, Image& out, Image& age);
+                         int x, int y, Image& out, Image& age,
+                         const TaaConstants* constants = nullptr);
 
 /// Counters of one frame's TAA.
 struct TaaStats {

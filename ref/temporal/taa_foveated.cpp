@@ -21,9 +21,7 @@ TaaSource taa_source(const TaaBufferInputs& in, int x, int y) {
     const glm::vec2 uv =
         in.forward.uv[static_cast<std::size_t>(y) * static_cast<std::size_t>(map.screen_width) +
                       static_cast<std::size_t>(x)];
-    BilinearLookup l;
-    float ignored = 0.0f;
-    sample_lp_bilinear(in.lp_valid, in.lp_valid, uv, &ignored, &l);
+    const BilinearLookup l = lp_bilinear_taps(in.lp_valid, uv);
     const float weights[4] = {(1.0f - l.fu) * (1.0f - l.fv), l.fu * (1.0f - l.fv),
                               (1.0f - l.fu) * l.fv, l.fu * l.fv};
     const int is[4] = {l.i0, l.i1, l.i0, l.i1}, js[4] = {l.j0, l.j0, l.j1, l.j1};
