@@ -26,7 +26,7 @@ namespace {
 // The debugger command of `probe --debugger`: `fovref render` of the same case under gdb/lldb,
 // with a conditional breakpoint on the pixel in each per-pixel function of the mode's passes. A
 // stateless mode renders only the probed frame (--first-frame), so each breakpoint stops once
-// per call at that pixel in that frame.
+// per call at that pixel in that frame; with TAA (or a mode with state) frames 0 .. F run.
 std::string debugger_line(const ProbeOptions& o, int x, int y) {
     const ModeInfo& mode = find_mode(o.mode);
     if (!mode.pixel_functions)
@@ -51,7 +51,10 @@ std::string debugger_line(const ProbeOptions& o, int x, int y) {
     }
     std::snprintf(text, sizeof text, "%.9g", static_cast<double>(o.time_step));
     args.insert(args.end(), {"--time-step", text});
-    if (mode.stateless)
+    // TAA carries state from frame to frame: then frames 0 .. F run (the breakpoints stop in each).
+    const auto taa = run.params.values().find("taa");
+    const bool carries_state = taa != run.params.values().end() && taa->second != "off";
+    if (mode.stateless && !carries_state)
         args.insert(args.end(), {"--first-frame", std::to_string(o.frame), "--frames", "1"});
     else
         args.insert(args.end(), {"--frames", std::to_string(o.frame + 1)});

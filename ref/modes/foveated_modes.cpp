@@ -287,11 +287,15 @@ void ray_positions_stage(FrameContext& ctx) {
                             ctx.input("lp_screen_point"), gaze_valid, gaze_window(map)));
 }
 
-std::vector<PixelFunction> foveated_pixel_functions(const Params&) {
-    return {{"lp_trace", "fovref::lp_gbuffer_texel", "x, y: the texel (i, j)"},
-            {"gaze_trace", "fovref::gaze_gbuffer_pixel", "composite modes only"},
-            {"lp_shade", "fovref::shade_basic_pixel", "x, y: the texel (i, j)"},
-            {"resolve", "fovref::resolve_pixel", ""}};
+std::vector<PixelFunction> foveated_pixel_functions(const Params& params) {
+    std::vector<PixelFunction> functions = {
+        {"lp_trace", "fovref::lp_gbuffer_texel", "x, y: the texel (i, j)"},
+        {"gaze_trace", "fovref::gaze_gbuffer_pixel", "composite modes only"},
+        {"lp_shade", "fovref::shade_basic_pixel", "x, y: the texel (i, j)"},
+        {"resolve", "fovref::resolve_pixel", ""}};
+    if (parse_taa_params(params).enabled())
+        functions.push_back({"taa", "fovref::taa_pixel", "once per frame, frames 0 .. F"});
+    return functions;
 }
 
 Pipeline foveated_pipeline(const std::string& preset_name, const Scene*,

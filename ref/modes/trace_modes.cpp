@@ -85,6 +85,10 @@ void supersample_stage(FrameContext& ctx) {
 }
 
 std::vector<PixelFunction> basic_pixel_functions(const Params& params) {
+    if (parse_taa_params(params).enabled())
+        return {{"primary_visibility", "fovref::raycast_gbuffer_pixel", "jittered (TAA)"},
+                {"shade_direct", "fovref::shade_basic_pixel", ""},
+                {"taa", "fovref::taa_pixel", "once per frame, frames 0 .. F"}};
     if (parse_basic_params(params).primary == PrimaryVisibility::raster)
         return {{"primary_visibility", "fovref::raster_fragment",
                  "once per triangle whose snapped coverage contains the centre"},
