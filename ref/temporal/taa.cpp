@@ -14,7 +14,7 @@ const char* taa_decision_name(TaaDecision decision) {
         case TaaDecision::kept: return "kept (depths consistent)";
         case TaaDecision::rejected: return "rejected: the current pixel";
         case TaaDecision::periphery: return "inconsistent beyond the periphery radius: kept, age 2";
-        case TaaDecision::clamped: return "clamped to the current 3x3 neighbourhood";
+        case TaaDecision::clamped: return "outside the 3x3 neighbourhood's box: clamped to it";
     }
     return "?";
 }
@@ -215,6 +215,7 @@ TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const Taa
     float age_new =
         std::min(std::max(r.age_previous, 1.0f) + 1.0f, static_cast<float>(params.age_cap));
     if (params.rejection == TaaRejection::clamp && r.decision != TaaDecision::stationary) {
+        const glm::vec3 unclamped = r.history;
         if (in.bounds) {
             const glm::vec3 lo{in.bounds->at(x, y, 0), in.bounds->at(x, y, 1),
                                in.bounds->at(x, y, 2)};
@@ -224,7 +225,8 @@ TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const Taa
         } else {
             r.history = clamp_to_neighbourhood(in.color, x, y, r.history);
         }
-        r.decision = TaaDecision::clamped;
+        // Inside the box the history is kept as it is; outside it is clamped (counted apart).
+        r.decision = r.history == unclamped ? TaaDecision::kept : TaaDecision::clamped;
     } else if (!consistent) {
         const glm::vec2 d = centre - in.gaze;
         if (std::sqrt(d.x * d.x + d.y * d.y) > params.periphery * k.diagonal) {

@@ -73,7 +73,8 @@ enum class TaaDecision {
     kept,        ///< reprojected and consistent
     rejected,    ///< no surface, behind the previous camera, off screen, non-finite, inconsistent
     periphery,   ///< inconsistent beyond the periphery radius: kept with age 2
-    clamped,     ///< clamp mode: the history clamped to the neighbourhood (changed or not)
+    clamped,     ///< clamp mode: the history was outside the neighbourhood's box and clamped
+                 ///< (inside it: kept)
 };
 const char* taa_decision_name(TaaDecision decision);
 

@@ -102,10 +102,12 @@ void explain_taa(const ProbeContext& c, const TaaProbeInputs& in, ProbeReport& r
                                          : " (not used: clamping instead of rejection)"));
         }
     }
+    const bool clamp_mode =
+        in.settings.mode == TaaMode::clamp_screen || in.settings.mode == TaaMode::clamp_buffer;
     if (previous.valid && r.decision != TaaDecision::first) {
         s.add("history", probe_vec3(r.history) +
                              (r.decision == TaaDecision::clamped ? " (after clamping)" : ""));
-        if (r.decision == TaaDecision::clamped) {
+        if (clamp_mode && (r.decision == TaaDecision::kept || r.decision == TaaDecision::clamped)) {
             glm::vec3 lo, hi;
             if (bounds) {
                 lo = {bounds->at(c.x, c.y, 0), bounds->at(c.x, c.y, 1), bounds->at(c.x, c.y, 2)};
@@ -128,7 +130,9 @@ void explain_taa(const ProbeContext& c, const TaaProbeInputs& in, ProbeReport& r
                          " (cap " + std::to_string(params.age_cap) + ")");
     }
     if (r.history_nonfinite) s.add("note", "the history was not finite: rejected");
-    s.add("decision", taa_decision_name(r.decision));
+    s.add("decision", clamp_mode && r.decision == TaaDecision::kept
+                          ? "kept (inside the clamp box)"
+                          : taa_decision_name(r.decision));
     const glm::vec3 mine = rgb(out, c.x, c.y);
     s.add("value", probe_vec3(mine) + " = history (1 - 1/age) + current / age");
     const glm::vec3 rendered = rgb(image_of(f, in.output), c.x, c.y);
