@@ -2,7 +2,7 @@
 //   cost   each row renders 1 + repeats frames at W x H of the scene's moving camera path (the
 //          reprojection case) or of a static camera; frame 0 (BVH build, no history) is not
 //          timed; each stage's time is its fastest over the timed frames. TAA = the taa stage
-//          plus taa_depth and taa_bounds (what TAA adds); the share is TAA / (frame - TAA), the
+//          plus taa_source (what TAA adds); the share is TAA / (frame - TAA), the
 //          cost relative to the rest of the frame (Lund Table 5.2: about 5 % on the GPU; target
 //          here <= 10 %).
 //   error  the moving sequence (frames 0 .. N-1 along the path, compared every K-th frame) and
@@ -38,9 +38,7 @@ struct Row {
     std::map<std::string, std::string> params;
 };
 
-bool is_taa_stage(const std::string& name) {
-    return name == "taa" || name == "taa_depth" || name == "taa_bounds";
-}
+bool is_taa_stage(const std::string& name) { return name == "taa" || name == "taa_source"; }
 
 struct Cost {
     double frame = 1e300, taa = 1e300;

@@ -195,26 +195,28 @@ TaaBufferInputs taa_buffer_inputs(FrameContext& ctx, const LogPolarMap& map) {
             map.has_gaze_buffer() ? &ctx.input("gaze_valid") : nullptr};
 }
 
-void taa_depth_stage(FrameContext& ctx) {
-    const LogPolarMap map = frame_log_polar_map(ctx);
-    const TaaBufferInputs in = taa_buffer_inputs(ctx, map);
-    ctx.note = "the view depth of the texel pass 2 sampled (nearest traced tap)";
-    ctx.result->add(
-        "taa_view_depth", BufferKind::depth, {"z"},
-        taa_screen_depth(in, ctx.input("lp_gbuffer_view_depth"),
-                         in.gaze_valid ? &ctx.input("gaze_gbuffer_view_depth") : nullptr));
-}
-
-void taa_bounds_stage(FrameContext& ctx) {
+void taa_source_stage(FrameContext& ctx) {
     const FoveatedModeState& state = ctx.mode_state<FoveatedModeState>();
     const LogPolarMap map = frame_log_polar_map(ctx);
     const TaaBufferInputs in = taa_buffer_inputs(ctx, map);
-    ctx.note = "3x3 min and max in the buffer around the texel pass 2 sampled";
-    ctx.result->add("taa_bounds", BufferKind::scalar,
-                    {"min_r", "min_g", "min_b", "max_r", "max_g", "max_b"},
-                    taa_buffer_bounds(in, ctx.input(resolve_color_name(state.params)),
-                                      in.gaze_valid ? &ctx.input("gaze_color") : nullptr,
-                                      ctx.input(state.chain.front())));
+    const bool boxes = state.taa.mode == TaaMode::clamp_buffer;
+    std::optional<TaaBoxColors> colors;
+    if (boxes)
+        colors.emplace(TaaBoxColors{ctx.input(resolve_color_name(state.params)),
+                                    in.gaze_valid ? &ctx.input("gaze_color") : nullptr,
+                                    ctx.input(state.chain.front())});
+    TaaSourceOutputs out =
+        taa_source_pass(in, ctx.input("lp_gbuffer_view_depth"),
+                        in.gaze_valid ? &ctx.input("gaze_gbuffer_view_depth") : nullptr,
+                        colors ? &*colors : nullptr);
+    ctx.note = boxes ? "the texel pass 2 sampled (nearest traced tap): its view depth and its "
+                       "3x3 box in the buffer"
+                     : "the texel pass 2 sampled (nearest traced tap): its view depth";
+    ctx.result->add("taa_view_depth", BufferKind::depth, {"z"}, std::move(out.depth));
+    if (boxes)
+        ctx.result->add("taa_bounds", BufferKind::scalar,
+                        {"min_r", "min_g", "min_b", "max_r", "max_g", "max_b"},
+                        std::move(out.bounds));
 }
 
 void gbuffer_raster_stage(FrameContext& ctx) {
@@ -341,26 +343,26 @@ Pipeline foveated_pipeline(const std::string& preset_name, const Scene*,
     p.stages.push_back({"resolve", resolve_inputs, {chain[0]}, resolve_stage});
     std::size_t link = 0;
     if (state->taa.enabled()) {
-        std::string depth = "gbuffer_view_depth";  // kfr: the full-resolution G-buffer's
-        if (!params.deferred) {
-            std::vector<std::string> depth_inputs = {"lp_gbuffer_view_depth", "lp_valid"};
+        // The texel pass 2 sampled: the depth (kfr has its full-resolution G-buffer's) and, for
+        // clamp-buffer, the box in the buffer.
+        const bool boxes = state->taa.mode == TaaMode::clamp_buffer;
+        std::string depth = "gbuffer_view_depth", bounds;
+        if (!params.deferred || boxes) {
+            std::vector<std::string> inputs = {"lp_gbuffer_view_depth", "lp_valid"};
+            std::vector<std::string> outputs = {"taa_view_depth"};
             if (composite) {
-                depth_inputs.push_back("gaze_gbuffer_view_depth");
-                depth_inputs.push_back("gaze_valid");
+                inputs.push_back("gaze_gbuffer_view_depth");
+                inputs.push_back("gaze_valid");
             }
-            p.stages.push_back({"taa_depth", depth_inputs, {"taa_view_depth"}, taa_depth_stage});
-            depth = "taa_view_depth";
-        }
-        std::string bounds;
-        if (state->taa.mode == TaaMode::clamp_buffer) {
-            std::vector<std::string> bounds_inputs = {resolve_color_name(params), "lp_valid",
-                                                      chain[0]};
-            if (composite) {
-                bounds_inputs.push_back("gaze_color");
-                bounds_inputs.push_back("gaze_valid");
+            if (boxes) {
+                inputs.push_back(resolve_color_name(params));
+                inputs.push_back(chain[0]);
+                if (composite) inputs.push_back("gaze_color");
+                outputs.push_back("taa_bounds");
+                bounds = "taa_bounds";
             }
-            p.stages.push_back({"taa_bounds", bounds_inputs, {"taa_bounds"}, taa_bounds_stage});
-            bounds = "taa_bounds";
+            p.stages.push_back({"taa_source", inputs, outputs, taa_source_stage});
+            if (!params.deferred) depth = "taa_view_depth";
         }
         add_taa_stage(p, *state, chain[0], depth, bounds, chain[1]);
         ++link;

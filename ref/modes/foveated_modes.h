@@ -14,7 +14,10 @@
 //   gaze_shade    (a_G > 0) the same shading of gaze_gbuffer_*       -> gaze_color
 //   internal_aa   (filters=internal_aa) Meng §2.2.3, buffer space    -> lp_color_aa
 //   resolve       pass 2 (bilinear or mip): gaze pixels inside the circle, lookups in the
-//                   buffer outside -> final (resolved when a screen-space filter follows)
+//                   buffer outside -> final (resolved when TAA or a screen-space filter follows)
+//   taa_source    (taa on) the texel pass 2 sampled: its view depth and (clamp-buffer) its
+//                   3x3 box in the buffer -> taa_view_depth, taa_bounds (docs/temporal.md)
+//   taa           (taa on) TAA (ref/modes/taa_stage.h) -> taa_color (final when last), taa_age
 //   gaussian_lerp (filters=lerp) Lund §3.5                          -> final (or lerp_filtered)
 //   post_aa       (filters=post_aa) Meng eq. 2.14                    -> final
 //   ray_positions (for --dump) rays per screen pixel (Lund Fig. 3.3) -> ray_positions

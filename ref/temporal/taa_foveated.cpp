@@ -46,55 +46,68 @@ void check_inputs(const TaaBufferInputs& in) {
 
 }  // namespace
 
-Image taa_screen_depth(const TaaBufferInputs& in, const Image& lp_depth, const Image* gaze_depth) {
-    check_inputs(in);
-    FOVREF_CHECK(in.gaze_valid == nullptr || gaze_depth != nullptr, "gaze depth missing");
-    Image out(in.map.screen_width, in.map.screen_height, 1, 0.0f);
-    for (int y = 0; y < out.height; ++y)
-        for (int x = 0; x < out.width; ++x) {
-            const TaaSource s = taa_source(in, x, y);
-            if (s.kind == TaaSource::Kind::gaze)
-                out.at(x, y) = gaze_depth->at(s.i, s.j);
-            else if (s.kind == TaaSource::Kind::buffer)
-                out.at(x, y) = lp_depth.at(s.i, s.j);
+namespace {
+
+// The box of every texel (or gaze pixel) of `image`: min (r, g, b) and max (r, g, b) over its
+// 3x3 neighbourhood of traced texels, starting from the texel itself; columns clamped, rows
+// wrapped (`wrap_rows`, the angle axis) or clamped. Made once per buffer (a GPU's buffer-space
+// min/max pass); the screen pixels then read the box of their source texel.
+Image texel_boxes(const Image& image, const Image& valid, bool wrap_rows) {
+    Image boxes(image.width, image.height, 6, 0.0f);
+    for (int sj = 0; sj < image.height; ++sj)
+        for (int si = 0; si < image.width; ++si) {
+            float lo[3], hi[3];
+            for (int c = 0; c < 3; ++c) lo[c] = hi[c] = image.at(si, sj, c);
+            for (int dj = -1; dj <= 1; ++dj)
+                for (int di = -1; di <= 1; ++di) {
+                    const int i = std::clamp(si + di, 0, image.width - 1);
+                    const int j = wrap_rows ? (sj + dj + image.height) % image.height
+                                            : std::clamp(sj + dj, 0, image.height - 1);
+                    if (valid.at(i, j) == 0.0f) continue;
+                    for (int c = 0; c < 3; ++c) {
+                        lo[c] = std::min(lo[c], image.at(i, j, c));
+                        hi[c] = std::max(hi[c], image.at(i, j, c));
+                    }
+                }
+            for (int c = 0; c < 3; ++c) {
+                boxes.at(si, sj, c) = lo[c];
+                boxes.at(si, sj, 3 + c) = hi[c];
+            }
         }
-    return out;
+    return boxes;
 }
 
-Image taa_buffer_bounds(const TaaBufferInputs& in, const Image& lp_color, const Image* gaze_color,
-                        const Image& screen_color) {
+}  // namespace
+
+TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_depth,
+                                 const Image* gaze_depth, const TaaBoxColors* colors) {
     check_inputs(in);
-    FOVREF_CHECK(in.gaze_valid == nullptr || gaze_color != nullptr, "gaze colour missing");
-    Image out(in.map.screen_width, in.map.screen_height, 6, 0.0f);
-    for (int y = 0; y < out.height; ++y)
-        for (int x = 0; x < out.width; ++x) {
+    FOVREF_CHECK(in.gaze_valid == nullptr || gaze_depth != nullptr, "gaze depth missing");
+    FOVREF_CHECK(!colors || in.gaze_valid == nullptr || colors->gaze_color != nullptr,
+                 "gaze colour missing");
+    TaaSourceOutputs out;
+    out.depth = Image(in.map.screen_width, in.map.screen_height, 1, 0.0f);
+    Image lp_boxes, gaze_boxes;
+    if (colors) {
+        out.bounds = Image(in.map.screen_width, in.map.screen_height, 6, 0.0f);
+        lp_boxes = texel_boxes(colors->lp_color, in.lp_valid, true);
+        if (in.gaze_valid) gaze_boxes = texel_boxes(*colors->gaze_color, *in.gaze_valid, false);
+    }
+    for (int y = 0; y < out.depth.height; ++y)
+        for (int x = 0; x < out.depth.width; ++x) {
             const TaaSource s = taa_source(in, x, y);
-            float lo[3], hi[3];
-            for (int c = 0; c < 3; ++c) lo[c] = hi[c] = screen_color.at(x, y, c);
-            if (s.kind != TaaSource::Kind::none) {
-                const bool gaze = s.kind == TaaSource::Kind::gaze;
-                const Image& image = gaze ? *gaze_color : lp_color;
-                const Image& valid = gaze ? *in.gaze_valid : in.lp_valid;
-                for (int c = 0; c < 3; ++c) lo[c] = hi[c] = image.at(s.i, s.j, c);
-                for (int dj = -1; dj <= 1; ++dj)
-                    for (int di = -1; di <= 1; ++di) {
-                        const int i = std::clamp(s.i + di, 0, image.width - 1);
-                        int j = s.j + dj;
-                        if (gaze)
-                            j = std::clamp(j, 0, image.height - 1);
-                        else
-                            j = (j + image.height) % image.height;  // the angle axis wraps
-                        if (valid.at(i, j) == 0.0f) continue;
-                        for (int c = 0; c < 3; ++c) {
-                            lo[c] = std::min(lo[c], image.at(i, j, c));
-                            hi[c] = std::max(hi[c], image.at(i, j, c));
-                        }
-                    }
+            const bool gaze = s.kind == TaaSource::Kind::gaze;
+            if (s.kind != TaaSource::Kind::none)
+                out.depth.at(x, y) = gaze ? gaze_depth->at(s.i, s.j) : lp_depth.at(s.i, s.j);
+            if (!colors) continue;
+            if (s.kind == TaaSource::Kind::none) {
+                for (int c = 0; c < 3; ++c)
+                    out.bounds.at(x, y, c) = out.bounds.at(x, y, 3 + c) =
+                        colors->screen_color.at(x, y, c);
+                continue;
             }
-            for (int c = 0; c < 3; ++c) {
-                out.at(x, y, c) = lo[c];
-                out.at(x, y, 3 + c) = hi[c];
-            }
+            const Image& boxes = gaze ? gaze_boxes : lp_boxes;
+            for (int c = 0; c < 6; ++c) out.bounds.at(x, y, c) = boxes.at(s.i, s.j, c);
         }
     return out;
 }

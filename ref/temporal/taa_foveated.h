@@ -8,10 +8,13 @@
 //     weight ((1 - fu)(1 - fv), fu (1 - fv), (1 - fu) fv, fu fv), ties to the first in that
 //     order; no traced tap with a non-zero weight: none (depth 0, bounds of the pixel itself)
 //
-//   taa_screen_depth:  the source's view depth (never interpolated across edges), 0 for none
-//   taa_buffer_bounds: per channel the min and max over the source's 3x3 neighbourhood of
-//                      traced texels (columns clamped, rows wrapped: the angle axis) or of traced
-//                      gaze-buffer pixels (clamped to its window)
+// taa_source_pass, one pass over the screen (the stage taa_source):
+//   depth:  the source's view depth (never interpolated across edges), 0 for none
+//   bounds: (clamp-buffer) per channel the min and max over the source's 3x3 neighbourhood of
+//           traced texels (columns clamped, rows wrapped: the angle axis) or of traced
+//           gaze-buffer pixels (clamped to its window), the texel itself included; none: the
+//           pixel's own pass-2 value. The boxes are made once per texel (texel_boxes), as a GPU's
+//           buffer-space min/max pass would, and read by the pixels.
 #pragma once
 
 #include "ref/foveation/resolve.h"
@@ -35,11 +38,20 @@ struct TaaBufferInputs {
 /// The texel or gaze pixel pass 2 sampled for screen pixel (x, y), as above.
 TaaSource taa_source(const TaaBufferInputs& in, int x, int y);
 
-/// The W x H view depth of the screen (0: no surface or no source).
-Image taa_screen_depth(const TaaBufferInputs& in, const Image& lp_depth, const Image* gaze_depth);
+/// The colours the clamp boxes come from (clamp-buffer).
+struct TaaBoxColors {
+    const Image& lp_color;      ///< the buffer pass 2 read
+    const Image* gaze_color;    ///< the gaze buffer (null without one)
+    const Image& screen_color;  ///< pass 2's output (pixels without a source)
+};
 
-/// The W x H x 6 clamp bounds (min r, g, b, max r, g, b) from the buffer's space.
-Image taa_buffer_bounds(const TaaBufferInputs& in, const Image& lp_color, const Image* gaze_color,
-                        const Image& screen_color);
+struct TaaSourceOutputs {
+    Image depth;   ///< W x H: the view depth (0: no surface or no source)
+    Image bounds;  ///< W x H x 6: min r, g, b, max r, g, b (empty without `colors`)
+};
+
+/// The pass: every pixel's source, its depth and, with `colors`, its clamp box.
+TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_depth,
+                                 const Image* gaze_depth, const TaaBoxColors* colors = nullptr);
 
 }  // namespace fovref
