@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <optional>
 
 #include "ref/core/error.h"
@@ -46,6 +47,9 @@ void parse_frames(RenderOptions& o) {
     const int a = parse_count(o.frames.substr(0, dots), o.frames);
     const int b = parse_count(o.frames.substr(dots + 2), o.frames);
     if (b < a) throw Error("--frames " + o.frames + ": the range is empty (B < A)");
+    if (a > 100000 || static_cast<std::int64_t>(b) - a + 1 > 100000)
+        throw Error("--frames " + o.frames +
+                    ": at most 100000 frames, starting at frame 100000 at the latest");
     if (o.first_frame != 0 && o.first_frame != a)
         throw Error("--frames " + o.frames + " and --first-frame " + std::to_string(o.first_frame) +
                     " disagree; give one");
@@ -132,7 +136,13 @@ int run_render(const RenderOptions& given) {
     const std::optional<Scene> scene = command_scene(o, "render");
     GoldenCase run = command_case(o, "render");
     run.frames = frame_count(o);
-    if (o.static_camera) run.time_step = 0.0f;
+    if (o.static_camera) {
+        if (o.time_step != RenderOptions{}.time_step)
+            throw Error(
+                "--static-camera and --time-step both given: give one (--static-camera is "
+                "--time-step 0)");
+        run.time_step = 0.0f;
+    }
     if (!o.primary.empty()) run.params.set("primary", o.primary);
     const bool keep_all = std::find(o.outputs.begin(), o.outputs.end(), "all") != o.outputs.end();
     // With --dump every buffer is computed; --out keeps the requested (or final) ones.
@@ -163,6 +173,12 @@ int run_render(const RenderOptions& given) {
                     "' carries state from frame to frame; render from frame 0");
     settings.first_frame = o.first_frame;
     if (!o.resume.empty()) {
+        const auto taa = run.params.values().find("taa");
+        if (find_mode(o.mode).stateless &&
+            (taa == run.params.values().end() || taa->second == "off"))
+            throw Error("--resume " + o.resume + ": mode '" + o.mode +
+                        "' carries no state from frame to frame with these parameters (no TAA): "
+                        "render frame F alone with --first-frame F");
         if (o.first_frame == 0)
             throw Error("--resume " + o.resume +
                         ": frame 0 has no previous frame; give "

@@ -238,7 +238,9 @@ void render_reference(Evaluation& e, Progress& progress, double total) {
         };
         for (const FrameResult& f : render(&e.scene, e.options.reference_mode, s))
             e.reference[e.evaluated[i]] = e.space(final_image(f));
-        e.reference_display.push_back(e.reference[e.evaluated[i]]);
+        // The temporal error is measured in display space, also with --linear.
+        const Image& reference = e.reference[e.evaluated[i]];
+        e.reference_display.push_back(e.options.linear ? to_display(reference) : reference);
     }
 }
 
@@ -451,7 +453,12 @@ void print_rings(const Evaluation& e, const std::vector<Candidate>& candidates) 
     }
     // The temporal error (SPEC §10): flicker and ghosting; the reference's changes with the
     // camera alone.
-    std::printf("%-24s %s\n", "candidate", "temporal error (mean |luma(t) - luma(t-1)|)");
+    std::printf("%-24s %s\n", "candidate",
+                o.every == 1
+                    ? "temporal error (mean |luma(t) - luma(t-1)|, display space)"
+                    : ("temporal error (mean |luma(t) - luma(t-" + std::to_string(o.every) +
+                       ")| over the evaluated frames, display space)")
+                          .c_str());
     std::printf("%-24s %.6g\n", ("reference " + o.reference_mode).c_str(),
                 temporal_error(e.reference_display));
     for (const Candidate& c : candidates)

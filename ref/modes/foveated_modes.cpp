@@ -209,10 +209,13 @@ void taa_source_stage(FrameContext& ctx) {
         taa_source_pass(in, ctx.input("lp_gbuffer_view_depth"),
                         in.gaze_valid ? &ctx.input("gaze_gbuffer_view_depth") : nullptr,
                         colors ? &*colors : nullptr);
-    ctx.note = boxes ? "the texel pass 2 sampled (nearest traced tap): its view depth and its "
-                       "3x3 box in the buffer"
-                     : "the texel pass 2 sampled (nearest traced tap): its view depth";
-    ctx.result->add("taa_view_depth", BufferKind::depth, {"z"}, std::move(out.depth));
+    ctx.note = std::string("the texel pass 2 sampled (nearest traced tap): ") +
+               (state.params.deferred ? "its 3x3 box in the buffer"
+                : boxes               ? "its view depth and its 3x3 box in the buffer"
+                                      : "its view depth");
+    // kfr reads the depth of its full-resolution G-buffer: its taa_source gives the boxes only.
+    if (!state.params.deferred)
+        ctx.result->add("taa_view_depth", BufferKind::depth, {"z"}, std::move(out.depth));
     if (boxes)
         ctx.result->add("taa_bounds", BufferKind::scalar,
                         {"min_r", "min_g", "min_b", "max_r", "max_g", "max_b"},
@@ -349,7 +352,8 @@ Pipeline foveated_pipeline(const std::string& preset_name, const Scene*,
         std::string depth = "gbuffer_view_depth", bounds;
         if (!params.deferred || boxes) {
             std::vector<std::string> inputs = {"lp_gbuffer_view_depth", "lp_valid"};
-            std::vector<std::string> outputs = {"taa_view_depth"};
+            std::vector<std::string> outputs;
+            if (!params.deferred) outputs.push_back("taa_view_depth");
             if (composite) {
                 inputs.push_back("gaze_gbuffer_view_depth");
                 inputs.push_back("gaze_valid");

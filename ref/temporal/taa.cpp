@@ -190,6 +190,8 @@ TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const Taa
     } else {
         // Reprojection by the current depth.
         const float z = in.depth.at(x, y);
+        // A NaN or infinite current depth is no surface, and counted with the non-finite.
+        r.history_nonfinite = !std::isfinite(z);
         if (!(z > 0.0f && std::isfinite(z)) ||
             !taa_reproject(k.reprojection, x, y, z, r.previous_point, r.previous_depth) ||
             sample_history(previous, r.previous_point, r.history, r.history_depth) <= 0.0f) {
@@ -206,7 +208,7 @@ TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const Taa
         consistent = std::fabs(r.previous_depth - r.history_depth) <= params.tau * r.previous_depth;
         r.decision = TaaDecision::kept;
     }
-    if (!finite3(r.history) || !std::isfinite(r.age_previous)) {
+    if (!finite3(r.history) || !std::isfinite(r.age_previous) || !std::isfinite(r.history_depth)) {
         r.history_nonfinite = true;
         r.decision = TaaDecision::rejected;
         write(current, 1.0f);

@@ -119,8 +119,9 @@ struct TaaPixelRecord {
     float previous_depth = 0.0f;     ///< z'
     float history_depth = 0.0f;      ///< z_h
     float age_previous = 0.0f, age = 1.0f;
-    glm::vec3 history{0.0f};         ///< the history used (after clamping)
-    bool history_nonfinite = false;  ///< rejected because the history (or its age) was not finite
+    glm::vec3 history{0.0f};  ///< the history used (after clamping)
+    /// Rejected because the history, its age or depth, or the current depth was not finite.
+    bool history_nonfinite = false;
 };
 
 /// What every pixel of a frame shares, computed once per pass: the two cameras' tan(vfov / 2),
@@ -142,7 +143,7 @@ TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const Taa
 struct TaaStats {
     std::int64_t kept = 0, rejected = 0, clamped = 0, periphery_kept = 0;
     std::int64_t reprojection_skipped = 0;  ///< pixels of a stationary camera
-    std::int64_t nonfinite_history = 0;     ///< rejected because the history was not finite
+    std::int64_t nonfinite_history = 0;     ///< rejected: a non-finite history, age or depth
 };
 
 /// The pass: the TAA output (the next frame's history) and the age, W x H.

@@ -106,8 +106,14 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
                         colors->screen_color.at(x, y, c);
                 continue;
             }
+            // The box, widened to hold pass 2's own value (a mip resolve mixes coarser levels,
+            // which can lie outside the level-0 box; bilinear pass 2 lies inside it).
             const Image& boxes = gaze ? gaze_boxes : lp_boxes;
-            for (int c = 0; c < 6; ++c) out.bounds.at(x, y, c) = boxes.at(s.i, s.j, c);
+            for (int c = 0; c < 3; ++c) {
+                const float v = colors->screen_color.at(x, y, c);
+                out.bounds.at(x, y, c) = std::min(boxes.at(s.i, s.j, c), v);
+                out.bounds.at(x, y, 3 + c) = std::max(boxes.at(s.i, s.j, 3 + c), v);
+            }
         }
     return out;
 }

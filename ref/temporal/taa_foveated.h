@@ -12,9 +12,10 @@
 //   depth:  the source's view depth (never interpolated across edges), 0 for none
 //   bounds: (clamp-buffer) per channel the min and max over the source's 3x3 neighbourhood of
 //           traced texels (columns clamped, rows wrapped: the angle axis) or of traced
-//           gaze-buffer pixels (clamped to its window), the texel itself included; none: the
-//           pixel's own pass-2 value. The boxes are made once per texel (texel_boxes), as a GPU's
-//           buffer-space min/max pass would, and read by the pixels.
+//           gaze-buffer pixels (clamped to its window), the texel itself included, widened to
+//           hold the pixel's own pass-2 value (a mip resolve can lie outside the level-0 box);
+//           no source: the pass-2 value alone. The boxes are made once per texel (texel_boxes), as
+//           a GPU's buffer-space min/max pass would, and read by the pixels.
 #pragma once
 
 #include "ref/foveation/resolve.h"

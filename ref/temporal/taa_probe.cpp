@@ -33,6 +33,12 @@ glm::vec3 rgb(const Image& image, int x, int y) {
 
 // The taps taa_sample reads at q (the same arithmetic), listed with their weights.
 void add_taps(ProbeSection& s, const Image& history, const Image& depth, glm::vec2 q) {
+    // As taa_sample: a point further than a pixel off the screen has no tap on it.
+    if (!(q.x > -1.0f && q.y > -1.0f && q.x < static_cast<float>(history.width) + 1.0f &&
+          q.y < static_cast<float>(history.height) + 1.0f)) {
+        s.add("  taps", "none: p' lies off the screen");
+        return;
+    }
     const float sx = q.x - 0.5f, sy = q.y - 0.5f;
     const float fx0 = std::floor(sx), fy0 = std::floor(sy);
     const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);

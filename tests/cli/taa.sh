@@ -34,6 +34,15 @@ expect 2 "resume from another render" -- "$FOVREF" render --mode cfov --frames 3
 contains "other settings" "a mismatched dump is refused"
 expect 2 "an empty range" -- "$FOVREF" render --mode basic --frames 4..2 "${common[@]}" --out "$TMP/bad3"
 contains "4..2" "the range is named"
+expect 2 "a range too long" -- "$FOVREF" render --mode basic --frames 0..2147483647 "${common[@]}" \
+  --out "$TMP/bad3b"
+contains "at most 100000 frames" "the limit is said"
+expect 2 "resume without TAA" -- "$FOVREF" render --mode cfov --frames 3..3 "${common[@]}" \
+  --resume "$TMP/seq" --out "$TMP/bad3c"
+contains "carries no state" "nothing to resume"
+expect 2 "static camera and a time step" -- "$FOVREF" render --mode basic --static-camera \
+  --time-step 0.5 --scene checker-room --width 8 --height 8 --out "$TMP/bad3d"
+contains "--static-camera and --time-step" "the conflict is named"
 expect 2 "taa needs jittered rays" -- "$FOVREF" render --mode basic --param taa=depth \
   --param primary=raster "${common[@]}" --out "$TMP/bad4"
 contains "primary=raster" "raster + taa"
@@ -57,8 +66,18 @@ contains "reprojected" "probe reprojection"
 contains "bit-identical to the rendered buffers" "probe check"
 expect 0 "evaluate temporal" -- "$FOVREF" evaluate --scene checker-room --width 48 --height 27 \
   --frames 3 --mode basic,basic:taa=depth --out "$TMP/ev" --quiet
+# The TAA row of frame 2 carries its counters (kept + rejected + clamped + periphery = pixels);
+# the row without TAA leaves them empty.
 checks=$((checks + 1))
-grep -q '"temporal_error"' "$TMP/ev/summary.json" || { echo "FAIL: no temporal error"; failures=$((failures + 1)); }
+row=$(grep '^basic:taa=depth,2,' "$TMP/ev/frames.csv" | cut -d, -f11-15)
+IFS=, read -r kept rejected clamped periphery skipped <<<"$row"
+[ -n "$kept" ] && [ $((kept + rejected + clamped + periphery)) -eq 1296 ] && [ "$kept" -gt 0 ] ||
+  { echo "FAIL: frames.csv TAA counters of basic:taa=depth frame 2: '$row'"; failures=$((failures + 1)); }
 checks=$((checks + 1))
-grep -q 'taa_history_rejected' "$TMP/ev/frames.csv" || { echo "FAIL: frames.csv lacks TAA counters"; failures=$((failures + 1)); }
+[ -z "$(grep '^basic,2,' "$TMP/ev/frames.csv" | cut -d, -f11-15 | tr -d ,)" ] ||
+  { echo "FAIL: frames.csv has TAA counters for basic without TAA"; failures=$((failures + 1)); }
+expect 0 "evaluate prints the temporal error" -- "$FOVREF" evaluate --scene checker-room --width 48 \
+  --height 27 --frames 3 --mode basic:taa=depth --out "$TMP/ev2"
+contains "temporal error" "evaluate prints the temporal error"
+contains "reference ground-truth" "and the reference's"
 finish

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <set>
 
 #include "ref/core/halton.h"
 #include "ref/modes/modes.h"
@@ -148,6 +149,28 @@ TEST_CASE("TAA modes: resuming from the previous frame's buffers gives the seque
         CHECK_THROWS_WITH_AS(render_sequence("checker-room", mode, 1, 0.1f, params, 3),
                              doctest::Contains("--resume"), Error);
     }
+    // A static camera: the resumed frames are jittered (Halton point (f + 5) mod 16) and take
+    // the stationary path.
+    for (const char* mode : {"basic", "cfov", "kfr"}) {
+        CAPTURE(mode);
+        const std::map<std::string, std::string> params = {{"taa", "depth"},
+                                                           {"taa_jitter_start", "5"}};
+        const std::vector<FrameResult> whole =
+            render_sequence("checker-room", mode, 5, 0.0f, params);
+        const std::vector<FrameResult> resumed =
+            render_sequence("checker-room", mode, 2, 0.0f, params, 3, whole[2].buffers);
+        for (int k = 0; k < 2; ++k) {
+            const FrameResult& a = whole[static_cast<std::size_t>(3 + k)];
+            const FrameResult& b = resumed[static_cast<std::size_t>(k)];
+            CHECK(b.counters.get("taa_jitter_index") == 8 + k);
+            CHECK(b.counters.get("taa_reprojection_skipped") == 64 * 36);
+            REQUIRE(a.buffers.size() == b.buffers.size());
+            for (std::size_t i = 0; i < a.buffers.size(); ++i) {
+                CAPTURE(a.buffers[i].name);
+                CHECK(same_bits(a.buffers[i].image, b.buffers[i].image));
+            }
+        }
+    }
 }
 
 TEST_CASE("TAA modes: a disocclusion is rejected where the depth changes, kept where it does not") {
@@ -203,21 +226,48 @@ TEST_CASE("TAA modes: a disocclusion is rejected where the depth changes, kept w
 TEST_CASE(
     "TAA modes: the buffer-space clamp box holds pass 2's value; the depth is the gaze "
     "buffer's inside the circle") {
+    // kfr's mip resolve can lie outside the level-0 box: the box is widened to hold it.
+    {
+        const std::vector<FrameResult> kfr = render_sequence(
+            "checker-room", "kfr", 2, 0.1f, {{"taa", "clamp-buffer"}}, 0, {}, 160, 90);
+        const Image& bounds = buffer(kfr[1], "taa_bounds");
+        const Image& resolved = buffer(kfr[1], "resolved");
+        int outside = 0;
+        for (int y = 0; y < resolved.height; ++y)
+            for (int x = 0; x < resolved.width; ++x)
+                for (int c = 0; c < 3; ++c)
+                    if (!(bounds.at(x, y, c) <= resolved.at(x, y, c) &&
+                          resolved.at(x, y, c) <= bounds.at(x, y, 3 + c)))
+                        ++outside;
+        CHECK(outside == 0);
+        CHECK(kfr[1].find("taa_view_depth") == nullptr);  // kfr reads its G-buffer's depth
+    }
     const std::vector<FrameResult> f =
         render_sequence("checker-room", "cfov", 2, 0.1f, {{"taa", "clamp-buffer"}}, 0, {}, 160, 90);
     const std::vector<FrameResult> basic =
         render_sequence("checker-room", "basic", 2, 0.1f, {}, 0, {}, 160, 90);
+    // Bilinear pass 2 lies inside the unwidened box: every bound is the value of a texel of the
+    // buffer or the gaze buffer (widening would have put pass 2's own value there instead).
     const Image& bounds = buffer(f[1], "taa_bounds");
     const Image& resolved = buffer(f[1], "resolved");
-    int outside = 0;
+    std::set<float> texel_values[3];
+    for (const char* name : {"lp_color", "gaze_color"}) {
+        const Image& image = buffer(f[1], name);
+        for (std::size_t i = 0; i < image.data.size(); ++i)
+            texel_values[i % 3].insert(image.data[i]);
+    }
+    int outside = 0, not_texel = 0;
     for (int y = 0; y < resolved.height; ++y)
         for (int x = 0; x < resolved.width; ++x)
             for (int c = 0; c < 3; ++c) {
-                const float v = resolved.at(x, y, c), slack = 1e-6f * (1.0f + std::fabs(v));
-                if (v < bounds.at(x, y, c) - slack || v > bounds.at(x, y, 3 + c) + slack) ++outside;
-                CHECK(bounds.at(x, y, c) <= bounds.at(x, y, 3 + c));
+                const float v = resolved.at(x, y, c);
+                if (v < bounds.at(x, y, c) || v > bounds.at(x, y, 3 + c)) ++outside;
+                if (texel_values[c].count(bounds.at(x, y, c)) == 0 ||
+                    texel_values[c].count(bounds.at(x, y, 3 + c)) == 0)
+                    ++not_texel;
             }
     CHECK(outside == 0);
+    CHECK(not_texel == 0);
     CHECK(f[1].counters.get("taa_history_clamped") > 0);
     // The TAA depth: the gaze buffer's own pixel inside the circle, which is basic's bit for bit
     // (no jitter: the camera moves); elsewhere the nearest traced texel's.

@@ -197,6 +197,24 @@ TEST_CASE("TAA: a non-finite history never reaches the output") {
     CHECK(f.stats.rejected == 3);
 }
 
+TEST_CASE("TAA: a non-finite depth, previous or current, is rejected, also in the periphery") {
+    // A moving camera, the gaze far away so that every pixel is beyond the periphery radius: a
+    // NaN previous depth fails the depth test, which the flicker rule would otherwise keep.
+    const int w = 4, h = 3;
+    const Camera previous = yawed(0.0f), camera = yawed(0.5f);
+    const Image color(w, h, 3, 0.5f);
+    Image depth(w, h, 1, 2.0f);
+    depth.at(0, 0) = std::numeric_limits<float>::infinity();
+    TaaState state =
+        next_taa_state(Image(w, h, 3, 0.1f), Image(w, h, 1, 3.0f),
+                       Image(w, h, 1, std::numeric_limits<float>::quiet_NaN()), previous);
+    const Frame f = run_taa({}, color, depth, camera, state, {1000.0f, 1000.0f});
+    for (const float v : f.out.data) CHECK(v == 0.5f);
+    CHECK(f.stats.periphery_kept == 0);
+    CHECK(f.stats.rejected == w * h);
+    CHECK(f.stats.nonfinite_history == w * h);
+}
+
 TEST_CASE("TAA: bilinear history samples renormalise over the taps on the screen") {
     Image image(3, 2, 1, 0.0f);
     image.at(0, 0) = 1.0f;
