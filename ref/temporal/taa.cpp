@@ -19,26 +19,43 @@ const char* taa_decision_name(TaaDecision decision) {
     return "?";
 }
 
+namespace {
+
+// floor(v) for a finite v in (-2^31, 2^31) whose floor is a float: the same value as std::floor
+// (and the same zero: v here is never -0), without SSE2's long rounding sequence.
+int floor_int(float v) {
+    const int i = static_cast<int>(v);  // truncation towards zero
+    return static_cast<float>(i) > v ? i - 1 : i;
+}
+
+}  // namespace
+
+bool taa_taps(int width, int height, glm::vec2 q, TaaTaps& t) {
+    // Taps further than one pixel outside the screen have no weight on it (and far-off points
+    // would overflow an int).
+    if (!(q.x > -1.0f && q.y > -1.0f && q.x < static_cast<float>(width) + 1.0f &&
+          q.y < static_cast<float>(height) + 1.0f))
+        return false;
+    const float sx = q.x - 0.5f, sy = q.y - 0.5f;  // in (-1.5, W + 0.5): floor_int applies
+    const int x0 = floor_int(sx), y0 = floor_int(sy);
+    const float fx = sx - static_cast<float>(x0), fy = sy - static_cast<float>(y0);
+    t = {{x0, x0 + 1, x0, x0 + 1},
+         {y0, y0, y0 + 1, y0 + 1},
+         {(1.0f - fx) * (1.0f - fy), fx * (1.0f - fy), (1.0f - fx) * fy, fx * fy}};
+    return true;
+}
+
 float taa_sample(const Image& image, glm::vec2 q, float* out) {
     const int channels = image.channels;
     FOVREF_CHECK(channels <= 4, "a TAA sample of more than 4 channels");
     for (int c = 0; c < channels; ++c) out[c] = 0.0f;
-    // Taps further than one pixel outside the screen have no weight on it (and far-off points
-    // would overflow an int).
-    if (!(q.x > -1.0f && q.y > -1.0f && q.x < static_cast<float>(image.width) + 1.0f &&
-          q.y < static_cast<float>(image.height) + 1.0f))
-        return 0.0f;
-    const float sx = q.x - 0.5f, sy = q.y - 0.5f;
-    const float fx0 = std::floor(sx), fy0 = std::floor(sy);
-    const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
-    const float fx = sx - fx0, fy = sy - fy0;
-    const int xs[4] = {x0, x0 + 1, x0, x0 + 1}, ys[4] = {y0, y0, y0 + 1, y0 + 1};
-    const float ws[4] = {(1.0f - fx) * (1.0f - fy), fx * (1.0f - fy), (1.0f - fx) * fy, fx * fy};
+    TaaTaps t;
+    if (!taa_taps(image.width, image.height, q, t)) return 0.0f;
     float sum = 0.0f, acc[4] = {0, 0, 0, 0};
     for (int k = 0; k < 4; ++k) {
-        if (xs[k] < 0 || ys[k] < 0 || xs[k] >= image.width || ys[k] >= image.height) continue;
-        sum += ws[k];
-        for (int c = 0; c < channels; ++c) acc[c] += ws[k] * image.at(xs[k], ys[k], c);
+        if (!t.on_screen(k, image.width, image.height)) continue;
+        sum += t.w[k];
+        for (int c = 0; c < channels; ++c) acc[c] += t.w[k] * image.at(t.x[k], t.y[k], c);
     }
     if (!(sum > 0.0f)) return 0.0f;
     for (int c = 0; c < channels; ++c) out[c] = acc[c] / sum;
@@ -90,37 +107,24 @@ bool taa_reproject(const Camera& camera, float tan_half, const Camera& previous,
 
 namespace {
 
-// floor(v) for a finite v in (-2^31, 2^31) whose floor is a float: the same value as std::floor
-// (and the same zero: v here is never -0), without SSE2's long rounding sequence.
-int floor_int(float v) {
-    const int i = static_cast<int>(v);  // truncation towards zero
-    return static_cast<float>(i) > v ? i - 1 : i;
-}
-
 // taa_sample of the history (3 channels) and the previous depth at the same point in one pass:
 // the same taps, weights and operations, so the same bits as two taa_sample calls.
 float sample_history(const TaaState& previous, glm::vec2 q, glm::vec3& history, float& depth) {
     history = glm::vec3(0.0f);
     depth = 0.0f;
     const Image& image = previous.history;
-    if (!(q.x > -1.0f && q.y > -1.0f && q.x < static_cast<float>(image.width) + 1.0f &&
-          q.y < static_cast<float>(image.height) + 1.0f))
-        return 0.0f;
-    const float sx = q.x - 0.5f, sy = q.y - 0.5f;  // in (-1.5, W + 0.5): floor_int applies
-    const int x0 = floor_int(sx), y0 = floor_int(sy);
-    const float fx = sx - static_cast<float>(x0), fy = sy - static_cast<float>(y0);
-    const int xs[4] = {x0, x0 + 1, x0, x0 + 1}, ys[4] = {y0, y0, y0 + 1, y0 + 1};
-    const float ws[4] = {(1.0f - fx) * (1.0f - fy), fx * (1.0f - fy), (1.0f - fx) * fy, fx * fy};
+    TaaTaps t;
+    if (!taa_taps(image.width, image.height, q, t)) return 0.0f;
     float sum = 0.0f, r = 0.0f, g = 0.0f, b = 0.0f, z = 0.0f;
     for (int k = 0; k < 4; ++k) {
-        if (xs[k] < 0 || ys[k] < 0 || xs[k] >= image.width || ys[k] >= image.height) continue;
-        const std::size_t pixel = static_cast<std::size_t>(ys[k]) * image.width + xs[k];
+        if (!t.on_screen(k, image.width, image.height)) continue;
+        const std::size_t pixel = static_cast<std::size_t>(t.y[k]) * image.width + t.x[k];
         const float* c = &image.data[pixel * 3];
-        sum += ws[k];
-        r += ws[k] * c[0];
-        g += ws[k] * c[1];
-        b += ws[k] * c[2];
-        z += ws[k] * previous.depth.data[pixel];
+        sum += t.w[k];
+        r += t.w[k] * c[0];
+        g += t.w[k] * c[1];
+        b += t.w[k] * c[2];
+        z += t.w[k] * previous.depth.data[pixel];
     }
     if (!(sum > 0.0f)) return 0.0f;
     history = {r / sum, g / sum, b / sum};

@@ -85,6 +85,18 @@ const char* taa_decision_name(TaaDecision decision);
 /// (1 - fx)(1 - fy), fx (1 - fy), (1 - fx) fy, fx fy, summed in that order.
 float taa_sample(const Image& image, glm::vec2 q, float* out);
 
+/// The four taps of taa_sample at q on a W x H screen, in that order, with their weights; a tap
+/// may lie off the screen (the sampler drops it). False when q lies a pixel or more off the
+/// screen (no tap can be on it).
+struct TaaTaps {
+    int x[4] = {0, 0, 0, 0}, y[4] = {0, 0, 0, 0};
+    float w[4] = {0, 0, 0, 0};
+    bool on_screen(int k, int width, int height) const {
+        return x[k] >= 0 && y[k] >= 0 && x[k] < width && y[k] < height;
+    }
+};
+bool taa_taps(int width, int height, glm::vec2 q, TaaTaps& taps);
+
 /// The reprojection of one frame, factored (every product below in binary32, in this order):
 ///   pixel (x, y) at view depth z: c = (x + 1/2, y + 1/2),
 ///     sx = ((2 c.x) / W - 1) tan (W / H), sy = ((2 c.y) / H - 1) tan  (as the primary ray)

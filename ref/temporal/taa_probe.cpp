@@ -31,27 +31,19 @@ glm::vec3 rgb(const Image& image, int x, int y) {
     return {image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2)};
 }
 
-// The taps taa_sample reads at q (the same arithmetic), listed with their weights.
+// The taps taa_sample reads at q, listed with their weights.
 void add_taps(ProbeSection& s, const Image& history, const Image& depth, glm::vec2 q) {
-    // As taa_sample: a point further than a pixel off the screen has no tap on it.
-    if (!(q.x > -1.0f && q.y > -1.0f && q.x < static_cast<float>(history.width) + 1.0f &&
-          q.y < static_cast<float>(history.height) + 1.0f)) {
+    TaaTaps t;
+    if (!taa_taps(history.width, history.height, q, t)) {
         s.add("  taps", "none: p' lies off the screen");
         return;
     }
-    const float sx = q.x - 0.5f, sy = q.y - 0.5f;
-    const float fx0 = std::floor(sx), fy0 = std::floor(sy);
-    const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
-    const float fx = sx - fx0, fy = sy - fy0;
-    const int xs[4] = {x0, x0 + 1, x0, x0 + 1}, ys[4] = {y0, y0, y0 + 1, y0 + 1};
-    const float ws[4] = {(1.0f - fx) * (1.0f - fy), fx * (1.0f - fy), (1.0f - fx) * fy, fx * fy};
     for (int k = 0; k < 4; ++k) {
-        const bool on = xs[k] >= 0 && ys[k] >= 0 && xs[k] < history.width && ys[k] < history.height;
-        std::string text = "(" + std::to_string(xs[k]) + ", " + std::to_string(ys[k]) +
-                           "), weight " + probe_float(ws[k]);
-        if (on)
-            text += ": history " + probe_vec3(rgb(history, xs[k], ys[k])) + ", depth " +
-                    probe_float(depth.at(xs[k], ys[k]));
+        std::string text = "(" + std::to_string(t.x[k]) + ", " + std::to_string(t.y[k]) +
+                           "), weight " + probe_float(t.w[k]);
+        if (t.on_screen(k, history.width, history.height))
+            text += ": history " + probe_vec3(rgb(history, t.x[k], t.y[k])) + ", depth " +
+                    probe_float(depth.at(t.x[k], t.y[k]));
         else
             text += ": off screen, dropped";
         s.add("  tap " + std::to_string(k), text);
