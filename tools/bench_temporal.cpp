@@ -78,6 +78,7 @@ void print_cost(const Scene& scene, const BenchTemporalOptions& o, Progress& pro
         {{"cfov clamp-buffer", "cfov", {{"taa", "clamp-buffer"}}}, 1.0f / 30},
         {{"cfov depth static", "cfov", {{"taa", "depth"}}}, 0.0f},
         {{"kfr depth", "kfr", {{"taa", "depth"}}}, 1.0f / 30},
+        {{"stereo-lp depth", "stereo-lp", {{"taa", "depth"}}}, 1.0f / 30},
     };
     std::printf(
         "\ncost: %s %dx%d, one thread, fastest of %d frames after an untimed first; camera "

@@ -359,8 +359,9 @@ void explain_stereo_texel(const ProbeContext& c, const std::array<LogPolarMap, 2
     MaskedGBuffer scratch(2 * w, m.height);
     Image points(2 * w, m.height, 2, 0.0f);
     FoveatedTraceStats stats;
-    const std::array<LpInverseTable, 2> tables = {lp_inverse_table(maps[0]),
-                                                  lp_inverse_table(maps[1])};
+    // The frame's TAA jitter (the centre without TAA).
+    const std::array<LpInverseTable, 2> tables = {lp_inverse_table(maps[0], c.jitter),
+                                                  lp_inverse_table(maps[1], c.jitter)};
     // The probe explains the frame as rendered: the previous cameras only change the motion
     // vectors, which the check below leaves out.
     const TexelStatus status = stereo_gbuffer_texel(scratch, points, maps, tables, *c.scene, bvh,
@@ -455,7 +456,9 @@ std::vector<std::pair<int, int>> explain_stereo_resolve(const ProbeContext& c,
     }
     const glm::vec3 mine{out.at(c.x, c.y, 0), out.at(c.x, c.y, 1), out.at(c.x, c.y, 2)};
     s.add("value", probe_vec3(mine));
-    probe_check(report, s, "final", mine, probe_rgb(f, "final", c.x, c.y));
+    // With TAA pass 2 writes "resolved" (TAA then writes "final").
+    const std::string output = f.find("resolved") ? "resolved" : "final";
+    probe_check(report, s, output, mine, probe_rgb(f, output, c.x, c.y));
     report.sections.push_back(s);
     return taps;
 }

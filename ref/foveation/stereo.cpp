@@ -114,12 +114,12 @@ TexelStatus stereo_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points,
 MaskedGBuffer trace_stereo_gbuffer(const std::array<LogPolarMap, 2>& maps, const Scene& scene,
                                    const Bvh& bvh, const std::array<Camera, 2>& cameras,
                                    const std::array<Camera, 2>& previous, Image& screen_points,
-                                   FoveatedTraceStats& stats) {
+                                   FoveatedTraceStats& stats, Offset2 jitter) {
     const int w = maps[0].width, h = maps[0].height;
     MaskedGBuffer buffer(2 * w, h);
     screen_points = Image(2 * w, h, 2, 0.0f);
-    const std::array<LpInverseTable, 2> tables = {lp_inverse_table(maps[0]),
-                                                  lp_inverse_table(maps[1])};
+    const std::array<LpInverseTable, 2> tables = {lp_inverse_table(maps[0], jitter),
+                                                  lp_inverse_table(maps[1], jitter)};
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < 2 * w; ++x)
             stereo_gbuffer_texel(buffer, screen_points, maps, tables, scene, bvh, cameras, previous,

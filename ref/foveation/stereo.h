@@ -67,10 +67,11 @@ TexelStatus stereo_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points,
                                  FoveatedTraceStats& stats);
 
 /// Both eyes' G-buffers, side by side (2w x h), and the texels' full-screen points.
+/// `jitter` (TAA): each eye's texels launch at (i + o_x, j + o_y), before the inverse map.
 MaskedGBuffer trace_stereo_gbuffer(const std::array<LogPolarMap, 2>& maps, const Scene& scene,
                                    const Bvh& bvh, const std::array<Camera, 2>& cameras,
                                    const std::array<Camera, 2>& previous, Image& screen_points,
-                                   FoveatedTraceStats& stats);
+                                   FoveatedTraceStats& stats, Offset2 jitter = {});
 
 /// The basic shading of the side-by-side buffer, each texel with its eye's camera.
 Image shade_stereo(const Scene& scene, const Bvh* bvh, const ShadeInputs& inputs,

@@ -3,6 +3,7 @@
 
 #include <openssl/evp.h>
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cstdint>
@@ -89,6 +90,24 @@ std::string canonical_sha256(const Image& image) {
     }
     sha256_update(ctx.get(), buffer.data(), used);
     return sha256_finish(ctx.get());
+}
+
+Image image_columns(const Image& image, int x0, int width) {
+    FOVREF_CHECK(x0 >= 0 && width >= 0 && x0 + width <= image.width, "columns outside the image");
+    Image part(width, image.height, image.channels, 0.0f);
+    const std::size_t row = static_cast<std::size_t>(width) * image.channels;
+    for (int y = 0; y < image.height; ++y)
+        std::copy_n(&image.data[image.index(x0, y)], row, &part.data[part.index(0, y)]);
+    return part;
+}
+
+void set_image_columns(Image& image, int x0, const Image& part) {
+    FOVREF_CHECK(x0 >= 0 && x0 + part.width <= image.width && part.height == image.height &&
+                     part.channels == image.channels,
+                 "columns outside the image");
+    const std::size_t row = static_cast<std::size_t>(part.width) * part.channels;
+    for (int y = 0; y < image.height; ++y)
+        std::copy_n(&part.data[part.index(0, y)], row, &image.data[image.index(x0, y)]);
 }
 
 }  // namespace fovref

@@ -34,6 +34,12 @@ struct Image {
 /// Bitwise equality of the float data (NaN payloads compared as bits; -0 differs from +0).
 bool bit_equal(const Image& a, const Image& b);
 
+/// Columns x0 .. x0 + width - 1 of `image` (every row and channel), e.g. one eye of a stereo
+/// frame. Throws fovref::Error (a bug) when they are not all inside.
+Image image_columns(const Image& image, int x0, int width);
+/// Writes `part` into `image` at columns x0 .. x0 + part.width - 1 (same height and channels).
+void set_image_columns(Image& image, int x0, const Image& part);
+
 /// SHA-256 of the canonical float data (SPEC §1): row-major, top row first, little-endian
 /// binary32, channels interleaved. Lower-case hex, 64 characters.
 std::string canonical_sha256(const Image& image);

@@ -15,6 +15,7 @@
 #include "ref/foveation/post_aa.h"
 #include "ref/foveation/resolve.h"
 #include "ref/foveation/stereo.h"
+#include "ref/image/image.h"
 #include "ref/modes/mode_common.h"
 #include "ref/modes/taa_stage.h"
 #include "ref/raster/gbuffer.h"
@@ -390,10 +391,13 @@ Pipeline foveated_pipeline(const std::string& preset_name, const Scene*,
 
 namespace {
 
-struct StereoModeState : ModeState {
+struct StereoModeState : TaaModeState {
     StereoParams params;
     BvhCache bvh;
     std::optional<StereoForwardTable> forward;  ///< pass 2's lookups, kept while the maps stay
+    /// TAA runs on each eye's sub-screen with its own camera, gaze and history.
+    std::array<TaaState, 2> eye_history;
+    std::array<std::optional<ForwardTable>, 2> eye_forward;  ///< each eye's map (TAA's source)
 };
 
 // This frame's two eye maps and cameras (and the previous frame's cameras, for motion).
@@ -415,15 +419,16 @@ void stereo_trace_stage(FrameContext& ctx) {
     Counters& counters = ctx.result->counters;
     FoveatedTraceStats stats;
     Image screen_points;
+    const Offset2 jitter = frame_jitter(ctx);
     MaskedGBuffer lp = trace_stereo_gbuffer(maps, *ctx.scene, state.bvh.get(*ctx.scene, counters),
                                             eye_cameras(ctx.camera, state.params.ipd),
                                             eye_cameras(ctx.previous_camera, state.params.ipd),
-                                            screen_points, stats);
+                                            screen_points, stats, jitter);
     add_buffer_counters(ctx, maps[0], stats);
     counters.add("eyes", 2);
     add_trace_counters(counters, "primary", stats.rays.primary);
     ctx.note = "eye 0: " + map_note(maps[0]) + "; eye 1: " + map_note(maps[1]) + "; " +
-               std::to_string(stats.texels_traced) + " traced";
+               std::to_string(stats.texels_traced) + " traced" + jitter_note(jitter, "texel");
     add_gbuffer(*ctx.result, std::move(lp.gbuffer), "lp_gbuffer_");
     add_mask(*ctx.result, "lp_valid", std::move(lp.valid));
     ctx.result->add("lp_screen_point", BufferKind::scalar, {"x", "y"}, std::move(screen_points));
@@ -455,7 +460,79 @@ void stereo_resolve_stage(FrameContext& ctx) {
         ctx.result->counters.add("screen_pixels_outside_lens", stats.pixels_outside_lens);
     ctx.note = std::string(state.params.barrel ? "bilinear, barrel distortion" : "bilinear") +
                (reused ? ", lookups reused" : ", lookups computed");
+    ctx.result->add(state.taa.enabled() ? "resolved" : "final", BufferKind::color, {"r", "g", "b"},
+                    std::move(out));
+}
+
+// TAA of stereo-lp: each eye's W/2 x H half of the screen on its own, as a frame of its own
+// (its camera, its gaze, its log-polar map, its history), then the halves side by side.
+void stereo_taa_source_stage(FrameContext& ctx) {
+    StereoModeState& state = ctx.mode_state<StereoModeState>();
+    const std::array<LogPolarMap, 2> maps = frame_stereo_maps(ctx);
+    const int w = maps[0].width, eye_width = maps[0].screen_width;
+    const bool boxes = state.taa.mode == TaaMode::clamp_buffer;
+    Image depth(ctx.settings->width, ctx.settings->height, 1, 0.0f), bounds;
+    if (boxes) bounds = Image(ctx.settings->width, ctx.settings->height, 6, 0.0f);
+    for (int e = 0; e < 2; ++e) {
+        std::optional<ForwardTable>& table = state.eye_forward[static_cast<std::size_t>(e)];
+        if (!table || !(table->map == maps[static_cast<std::size_t>(e)]))
+            table = forward_table(maps[static_cast<std::size_t>(e)]);
+        const Image valid = image_columns(ctx.input("lp_valid"), e * w, w);
+        const Image lp_depth = image_columns(ctx.input("lp_gbuffer_view_depth"), e * w, w);
+        const Image lp_color = image_columns(ctx.input("lp_color"), e * w, w);
+        const Image screen = image_columns(ctx.input("resolved"), e * eye_width, eye_width);
+        const TaaBoxColors colors{lp_color, nullptr, screen};
+        const TaaSourceOutputs out =
+            taa_source_pass({maps[static_cast<std::size_t>(e)], *table, valid, nullptr}, lp_depth,
+                            nullptr, boxes ? &colors : nullptr);
+        set_image_columns(depth, e * eye_width, out.depth);
+        if (boxes) set_image_columns(bounds, e * eye_width, out.bounds);
+    }
+    ctx.note = "per eye: the texel pass 2 sampled (nearest traced tap)";
+    ctx.result->add("taa_view_depth", BufferKind::depth, {"z"}, std::move(depth));
+    if (boxes)
+        ctx.result->add("taa_bounds", BufferKind::scalar,
+                        {"min_r", "min_g", "min_b", "max_r", "max_g", "max_b"}, std::move(bounds));
+}
+
+void stereo_taa_stage(FrameContext& ctx) {
+    StereoModeState& state = ctx.mode_state<StereoModeState>();
+    const std::array<LogPolarMap, 2> maps = frame_stereo_maps(ctx);
+    const int eye_width = maps[0].screen_width;
+    const std::array<Camera, 2> cameras = eye_cameras(ctx.camera, state.params.ipd);
+    const std::array<Camera, 2> previous = eye_cameras(ctx.previous_camera, state.params.ipd);
+    const bool boxes = state.taa.mode == TaaMode::clamp_buffer;
+    Image out(ctx.settings->width, ctx.settings->height, 3, 0.0f);
+    Image age(ctx.settings->width, ctx.settings->height, 1, 0.0f);
+    TaaStats stats;
+    for (int e = 0; e < 2; ++e) {
+        const auto x0 = e * eye_width;
+        const Image color = image_columns(ctx.input("resolved"), x0, eye_width);
+        const Image depth = image_columns(ctx.input("taa_view_depth"), x0, eye_width);
+        const Image bounds =
+            boxes ? image_columns(ctx.input("taa_bounds"), x0, eye_width) : Image();
+        TaaState& history = state.eye_history[static_cast<std::size_t>(e)];
+        if (!history.valid && ctx.has_previous) {
+            // Resumed: the previous frame's halves from its dumped buffers.
+            const TaaState whole = resumed_taa_state(ctx, "final", "taa_view_depth");
+            history = next_taa_state(image_columns(whole.history, x0, eye_width),
+                                     image_columns(whole.age, x0, eye_width),
+                                     image_columns(whole.depth, x0, eye_width),
+                                     previous[static_cast<std::size_t>(e)]);
+        }
+        const TaaInputs in{color, depth, cameras[static_cast<std::size_t>(e)],
+                           maps[static_cast<std::size_t>(e)].gaze, boxes ? &bounds : nullptr};
+        Image eye_out, eye_age;
+        taa(state.taa.params, in, history, eye_out, eye_age, stats);
+        set_image_columns(out, x0, eye_out);
+        set_image_columns(age, x0, eye_age);
+        history = next_taa_state(std::move(eye_out), std::move(eye_age), depth,
+                                 cameras[static_cast<std::size_t>(e)]);
+    }
+    add_taa_counters(ctx, stats);
+    ctx.note = std::string(taa_mode_name(state.taa.mode)) + ", each eye on its own";
     ctx.result->add("final", BufferKind::color, {"r", "g", "b"}, std::move(out));
+    ctx.result->add("taa_age", BufferKind::scalar, {"age"}, std::move(age));
 }
 
 void stereo_ray_positions_stage(FrameContext& ctx) {
@@ -468,6 +545,11 @@ void stereo_ray_positions_stage(FrameContext& ctx) {
 Pipeline stereo_pipeline(const Scene*, const RenderSettings& settings) {
     auto state = std::make_shared<StereoModeState>();
     state->params = parse_stereo_params(settings.params);
+    state->taa = parse_taa_params(settings.params);
+    if (state->taa.enabled() && state->params.barrel)
+        throw Error(std::string("parameter 'taa': ") + taa_mode_name(state->taa.mode) +
+                    " with barrel=on is not supported yet (TAA would have to run before the "
+                    "distortion that pass 2 applies): use barrel=off");
     log_polar_buffer_size(state->params.eye.map, stereo_eye_width(settings.width), settings.height);
     std::vector<std::string> lp_outputs = gbuffer_names("lp_gbuffer_");
     lp_outputs.push_back("lp_valid");
@@ -477,7 +559,21 @@ Pipeline stereo_pipeline(const Scene*, const RenderSettings& settings) {
     p.stages.push_back({"stereo_trace", {}, lp_outputs, stereo_trace_stage});
     p.stages.push_back(
         {"stereo_shade", shade_inputs("lp_gbuffer_"), {"lp_color"}, stereo_shade_stage});
-    p.stages.push_back({"resolve", {"lp_color", "lp_valid"}, {"final"}, stereo_resolve_stage});
+    const bool taa = state->taa.enabled();
+    p.stages.push_back(
+        {"resolve", {"lp_color", "lp_valid"}, {taa ? "resolved" : "final"}, stereo_resolve_stage});
+    if (taa) {
+        const bool boxes = state->taa.mode == TaaMode::clamp_buffer;
+        std::vector<std::string> outputs = {"taa_view_depth"};
+        if (boxes) outputs.push_back("taa_bounds");
+        p.stages.push_back({"taa_source",
+                            {"lp_gbuffer_view_depth", "lp_valid", "lp_color", "resolved"},
+                            outputs,
+                            stereo_taa_source_stage});
+        std::vector<std::string> inputs = {"resolved", "taa_view_depth"};
+        if (boxes) inputs.push_back("taa_bounds");
+        p.stages.push_back({"taa", inputs, {"final", "taa_age"}, stereo_taa_stage});
+    }
     p.stages.push_back({"ray_positions",
                         {"lp_valid", "lp_screen_point"},
                         {"ray_positions"},
@@ -486,11 +582,14 @@ Pipeline stereo_pipeline(const Scene*, const RenderSettings& settings) {
     return p;
 }
 
-std::vector<PixelFunction> stereo_pixel_functions(const Params&) {
-    return {
+std::vector<PixelFunction> stereo_pixel_functions(const Params& params) {
+    std::vector<PixelFunction> functions = {
         {"stereo_trace", "fovref::stereo_gbuffer_texel", "x, y: the texel of both eyes' buffer"},
         {"stereo_shade", "fovref::shade_basic_pixel", "x, y: the texel"},
         {"resolve", "fovref::resolve_stereo_pixel", ""}};
+    if (parse_taa_params(params).enabled())
+        functions.push_back({"taa", "fovref::taa_pixel", "x, y: the pixel within its eye"});
+    return functions;
 }
 
 Pipeline fov_pipeline(const Scene* scene, const RenderSettings& settings) {

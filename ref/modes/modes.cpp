@@ -29,6 +29,18 @@ void explain_foveated_taa(const ProbeContext& c, ProbeReport& report) {
                      gaze_point(params, c.settings->width, c.settings->height, c.frame->frame));
 }
 
+// stereo-lp: the ray generation at the frame's jitter; TAA runs per eye, which the probe lists
+// (buffers) but does not explain step by step yet.
+void explain_stereo_taa(const ProbeContext& c, ProbeReport& report) {
+    explain_stereo(probe_at_jitter(c), report);
+    if (parse_taa_params(c.settings->params).enabled() && !c.texel)
+        report.sections.push_back(
+            {"taa",
+             "temporal anti-aliasing per eye (docs/temporal.md): see final and taa_age in the "
+             "buffer list; the step-by-step TAA probe covers basic and the single-view modes",
+             {}});
+}
+
 ModeInfo mode(std::string name, std::string description,
               Pipeline (*build)(const Scene*, const RenderSettings&)) {
     ModeInfo m;
@@ -74,8 +86,9 @@ std::vector<ModeInfo> make_modes() {
              "gaze and log-polar buffer; optional barrel distortion (Gupta 2019)",
              stereo_pipeline);
     stereo.params = stereo_param_specs();
+    for (ParamSpec& spec : taa_param_specs()) stereo.params.push_back(std::move(spec));
     stereo.pixel_functions = stereo_pixel_functions;
-    stereo.explain = explain_stereo;
+    stereo.explain = explain_stereo_taa;
     stereo.explains_texels = true;
     return {
         basic,

@@ -23,13 +23,16 @@ const Buffer& state_buffer(const FrameContext& ctx, const std::string& name) {
                 std::to_string(ctx.frame - 1) + " (`fovref render --resume DIR`)");
 }
 
-// The state of the frame before the first one rendered, from its dumped buffers.
-TaaState resumed_state(const FrameContext& ctx, const TaaModeState& state, int width, int height) {
+}  // namespace
+
+TaaState resumed_taa_state(const FrameContext& ctx, const std::string& output,
+                           const std::string& depth) {
+    const int width = ctx.settings->width, height = ctx.settings->height;
     TaaState s;
     s.valid = true;
-    s.history = state_buffer(ctx, state.output).image;
+    s.history = state_buffer(ctx, output).image;
     s.age = state_buffer(ctx, "taa_age").image;
-    s.depth = state_buffer(ctx, state.depth_input).image;
+    s.depth = state_buffer(ctx, depth).image;
     s.camera = ctx.previous_camera;
     const auto check = [&](const Image& image, int channels, const std::string& name) {
         if (image.width != width || image.height != height || image.channels != channels)
@@ -38,13 +41,23 @@ TaaState resumed_state(const FrameContext& ctx, const TaaModeState& state, int w
                         ", the frame needs " + std::to_string(width) + "x" +
                         std::to_string(height) + "x" + std::to_string(channels));
     };
-    check(s.history, 3, state.output);
+    check(s.history, 3, output);
     check(s.age, 1, "taa_age");
-    check(s.depth, 1, state.depth_input);
+    check(s.depth, 1, depth);
     return s;
 }
 
-}  // namespace
+void add_taa_counters(FrameContext& ctx, const TaaStats& stats) {
+    const TaaModeState& state = ctx.mode_state<TaaModeState>();
+    Counters& counters = ctx.result->counters;
+    counters.add("taa_history_kept", stats.kept);
+    counters.add("taa_history_rejected", stats.rejected);
+    counters.add("taa_history_clamped", stats.clamped);
+    counters.add("taa_periphery_kept", stats.periphery_kept);
+    counters.add("taa_reprojection_skipped", stats.reprojection_skipped);
+    counters.add("taa_history_nonfinite", stats.nonfinite_history);
+    counters.add("taa_jitter_index", jitter_index(ctx, state.taa));
+}
 
 Offset2 frame_jitter(const FrameContext& ctx) {
     const TaaModeState& state = ctx.mode_state<TaaModeState>();
@@ -57,7 +70,7 @@ void taa_stage(FrameContext& ctx) {
     const Image& depth = ctx.input(state.depth_input);
     const Image* bounds = state.bounds_input.empty() ? nullptr : &ctx.input(state.bounds_input);
     if (!state.history.valid && ctx.has_previous)
-        state.history = resumed_state(ctx, state, color.width, color.height);
+        state.history = resumed_taa_state(ctx, state.output, state.depth_input);
     const glm::vec2 gaze = state.gaze ? state.gaze(ctx)
                                       : glm::vec2(static_cast<float>(color.width) * 0.5f,
                                                   static_cast<float>(color.height) * 0.5f);
@@ -65,15 +78,8 @@ void taa_stage(FrameContext& ctx) {
     Image out, age;
     TaaStats stats;
     taa(state.taa.params, in, state.history, out, age, stats);
-    Counters& counters = ctx.result->counters;
-    counters.add("taa_history_kept", stats.kept);
-    counters.add("taa_history_rejected", stats.rejected);
-    counters.add("taa_history_clamped", stats.clamped);
-    counters.add("taa_periphery_kept", stats.periphery_kept);
-    counters.add("taa_reprojection_skipped", stats.reprojection_skipped);
-    counters.add("taa_history_nonfinite", stats.nonfinite_history);
+    add_taa_counters(ctx, stats);
     const int index = jitter_index(ctx, state.taa);
-    counters.add("taa_jitter_index", index);
     ctx.note = std::string(taa_mode_name(state.taa.mode)) +
                (!state.history.valid                 ? ", first frame"
                 : ctx.camera == state.history.camera ? ", stationary camera: no reprojection"
@@ -84,13 +90,19 @@ void taa_stage(FrameContext& ctx) {
     ctx.result->add("taa_age", BufferKind::scalar, {"age"}, std::move(age));
 }
 
-void explain_with_taa(const ProbeContext& c, ProbeReport& report,
-                      void (*explain)(const ProbeContext&, ProbeReport&), glm::vec2 gaze) {
+ProbeContext probe_at_jitter(const ProbeContext& c) {
     const TaaSettings taa = parse_taa_params(c.settings->params);
     ProbeContext jittered = c;
     const Camera previous =
         c.previous_frame && c.previous_frame->camera ? *c.previous_frame->camera : c.camera;
     jittered.jitter = taa_jitter(taa, c.frame->frame, !(c.camera == previous));
+    return jittered;
+}
+
+void explain_with_taa(const ProbeContext& c, ProbeReport& report,
+                      void (*explain)(const ProbeContext&, ProbeReport&), glm::vec2 gaze) {
+    const TaaSettings taa = parse_taa_params(c.settings->params);
+    const ProbeContext jittered = probe_at_jitter(c);
     explain(jittered, report);
     if (taa.enabled() && !c.texel && c.frame->find("taa_age"))
         explain_taa(jittered, taa_probe_inputs(*c.frame, taa, gaze), report);

@@ -38,6 +38,18 @@ Offset2 frame_jitter(const FrameContext& context);
 
 void taa_stage(FrameContext& context);
 
+/// The TAA state of the frame before the first one rendered (frame > 0), from
+/// RenderSettings::state_buffers: `output` (the TAA output), taa_age and `depth`, with the
+/// previous camera. Throws fovref::Error naming --resume when a buffer is missing or misshapen.
+TaaState resumed_taa_state(const FrameContext& context, const std::string& output,
+                           const std::string& depth);
+
+/// The taa_* counters of a frame (TaaStats and the jitter index).
+void add_taa_counters(FrameContext& context, const TaaStats& stats);
+
+/// The probe's context with the frame's TAA jitter (ProbeContext::jitter).
+ProbeContext probe_at_jitter(const ProbeContext& context);
+
 /// `fovref probe` of a mode with a TAA stage: `explain` at the frame's TAA jitter, then (a pixel
 /// of a frame whose TAA ran) the [taa] section; `gaze` is the frame's gaze (the periphery rule).
 void explain_with_taa(const ProbeContext& context, ProbeReport& report,

@@ -49,6 +49,11 @@ contains "primary=raster" "raster + taa"
 expect 2 "a TAA tunable without TAA" -- "$FOVREF" render --mode cfov --param taa_tau=0.1 "${common[@]}" \
   --out "$TMP/bad5"
 contains "taa_tau" "tunable named"
+expect 2 "stereo TAA with the barrel distortion" -- "$FOVREF" render --mode stereo-lp --param taa=depth \
+  --param barrel=on "${common[@]}" --out "$TMP/bad7"
+contains "barrel=off" "the way out is said"
+expect 0 "stereo TAA" -- "$FOVREF" render --mode stereo-lp --frames 2 --param taa=depth "${common[@]}" \
+  --out "$TMP/stereo"
 expect 2 "an unknown variant" -- "$FOVREF" render --mode cfov --param taa=ghost "${common[@]}" --out "$TMP/bad6"
 contains "clamp-buffer" "the variants are listed"
 

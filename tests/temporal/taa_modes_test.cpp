@@ -1,9 +1,9 @@
-// TAA in the modes (ref/modes/taa_stage.h, SPEC §6-7): sequences of basic, cfov and kfr with
-// each TAA variant. A static camera converges to the mean of its 16 jittered frames; a moving
-// camera turns the jitter off; the first frame is the current frame; resuming from the previous
-// frame's buffers gives the bits of the whole sequence; a disocclusion is rejected where the
-// depth changes and kept where it does not; the buffer-space clamp box holds pass 2's value; the
-// TAA depth of a composite mode is the gaze buffer's (= basic's) inside the gaze circle.
+// TAA in the modes (ref/modes/taa_stage.h, SPEC §6-7): sequences of basic, cfov, kfr, ckfov and
+// stereo-lp with each TAA variant. A static camera converges to the mean of its 16 jittered frames;
+// a moving camera turns the jitter off; the first frame is the current frame; resuming from the
+// previous frame's buffers gives the bits of the whole sequence; a disocclusion is rejected where
+// the depth changes and kept where it does not; the buffer-space clamp box holds pass 2's value;
+// the TAA depth of a composite mode is the gaze buffer's (= basic's) inside the gaze circle.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -62,7 +62,7 @@ TEST_CASE("TAA modes: a static camera converges to the mean of its 16 jittered f
     // checker-room's textured checker floor: with the camera still, frame k (k < 16 < the age
     // cap) outputs the running mean of the k + 1 shaded frames. 16 float updates, each within
     // 2 ulp of exact: |output - mean| <= 16 * 2 * 2^-24 * max(1, |values|) < 4e-6.
-    for (const char* mode : {"basic", "cfov"}) {
+    for (const char* mode : {"basic", "cfov", "stereo-lp"}) {
         CAPTURE(mode);
         const std::vector<FrameResult> frames =
             render_sequence("checker-room", mode, 16, 0.0f, {{"taa", "depth"}});
@@ -93,7 +93,7 @@ TEST_CASE("TAA modes: a static camera converges to the mean of its 16 jittered f
 
 TEST_CASE("TAA modes: the first frame is the current frame; a moving camera has no jitter") {
     const std::map<std::string, std::string> none;
-    for (const char* mode : {"basic", "cfov", "kfr"}) {
+    for (const char* mode : {"basic", "cfov", "kfr", "stereo-lp"}) {
         for (const char* variant : {"depth", "clamp-screen", "clamp-buffer"}) {
             if (std::string(mode) == "basic" && std::string(variant) == "clamp-buffer") continue;
             CAPTURE(mode);
@@ -123,8 +123,11 @@ TEST_CASE("TAA modes: the first frame is the current frame; a moving camera has 
 }
 
 TEST_CASE("TAA modes: resuming from the previous frame's buffers gives the sequence's bits") {
-    const std::pair<const char*, const char*> cases[] = {
-        {"basic", "clamp-screen"}, {"cfov", "clamp-buffer"}, {"kfr", "depth"}, {"ckfov", "depth"}};
+    const std::pair<const char*, const char*> cases[] = {{"basic", "clamp-screen"},
+                                                         {"cfov", "clamp-buffer"},
+                                                         {"kfr", "depth"},
+                                                         {"ckfov", "depth"},
+                                                         {"stereo-lp", "clamp-buffer"}};
     for (const auto& c : cases) {
         const std::string mode = c.first;
         const std::map<std::string, std::string> params = {{"taa", c.second}};
@@ -151,7 +154,7 @@ TEST_CASE("TAA modes: resuming from the previous frame's buffers gives the seque
     }
     // A static camera: the resumed frames are jittered (Halton point (f + 5) mod 16) and take
     // the stationary path.
-    for (const char* mode : {"basic", "cfov", "kfr"}) {
+    for (const char* mode : {"basic", "cfov", "kfr", "stereo-lp"}) {
         CAPTURE(mode);
         const std::map<std::string, std::string> params = {{"taa", "depth"},
                                                            {"taa_jitter_start", "5"}};
