@@ -4,11 +4,13 @@
 #include "ref/foveation/foveated_params.h"
 #include "ref/foveation/foveation_probe.h"
 #include "ref/foveation/stereo.h"
+#include "ref/image/image.h"
 #include "ref/modes/core_modes.h"
 #include "ref/modes/foveated_modes.h"
 #include "ref/modes/taa_stage.h"
 #include "ref/modes/trace_modes.h"
 #include "ref/temporal/taa_params.h"
+#include "ref/temporal/taa_probe.h"
 #include "ref/trace/basic_params.h"
 #include "ref/trace/trace_probe.h"
 
@@ -29,16 +31,46 @@ void explain_foveated_taa(const ProbeContext& c, ProbeReport& report) {
                      gaze_point(params, c.settings->width, c.settings->height, c.frame->frame));
 }
 
-// stereo-lp: the ray generation at the frame's jitter; TAA runs per eye, which the probe lists
-// (buffers) but does not explain step by step yet.
+// The TAA buffers of one eye's half of a stereo frame, as the frame of that eye's TAA.
+FrameResult stereo_eye_frame(const FrameResult& frame, const Camera& camera, int eye, float ipd,
+                             int eye_width) {
+    FrameResult out;
+    out.frame = frame.frame;
+    out.camera = eye_camera(camera, eye, ipd);
+    for (const char* name : {"resolved", "taa_view_depth", "taa_bounds", "final", "taa_age"})
+        if (const Buffer* b = frame.find(name))
+            out.add(name, b->kind, b->channel_names,
+                    image_columns(b->image, eye * eye_width, eye_width));
+    return out;
+}
+
+// stereo-lp: the ray generation at the frame's jitter, then the TAA of the pixel's eye, explained
+// on that eye's half of the screen (its camera, gaze and history).
 void explain_stereo_taa(const ProbeContext& c, ProbeReport& report) {
-    explain_stereo(probe_at_jitter(c), report);
-    if (parse_taa_params(c.settings->params).enabled() && !c.texel)
-        report.sections.push_back(
-            {"taa",
-             "temporal anti-aliasing per eye (docs/temporal.md): see final and taa_age in the "
-             "buffer list; the step-by-step TAA probe covers basic and the single-view modes",
-             {}});
+    const ProbeContext jittered = probe_at_jitter(c);
+    explain_stereo(jittered, report);
+    const TaaSettings taa = parse_taa_params(c.settings->params);
+    if (!taa.enabled() || c.texel || !c.frame->find("taa_age")) return;
+    const StereoParams params = parse_stereo_params(c.settings->params);
+    const int eye_width = stereo_eye_width(c.settings->width);
+    const int eye = c.x / eye_width;
+    const FrameResult current = stereo_eye_frame(*c.frame, c.camera, eye, params.ipd, eye_width);
+    std::optional<FrameResult> previous;
+    if (c.previous_frame && c.previous_frame->camera)
+        previous = stereo_eye_frame(*c.previous_frame, *c.previous_frame->camera, eye, params.ipd,
+                                    eye_width);
+    ProbeContext local = jittered;
+    local.frame = &current;
+    local.previous_frame = previous ? &*previous : nullptr;
+    local.camera = *current.camera;
+    local.x = c.x - eye * eye_width;
+    const glm::vec2 gaze = stereo_maps(params, *c.scene, c.camera, c.settings->width,
+                                       c.settings->height, c.frame->frame)[eye]
+                               .gaze;
+    explain_taa(local, taa_probe_inputs(current, taa, gaze), report);
+    report.sections.back().title += "; eye " + std::to_string(eye) + ", pixel (" +
+                                    std::to_string(local.x) + ", " + std::to_string(c.y) +
+                                    ") of its half, with its own camera and history";
 }
 
 ModeInfo mode(std::string name, std::string description,

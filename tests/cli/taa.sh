@@ -54,6 +54,10 @@ expect 2 "stereo TAA with the barrel distortion" -- "$FOVREF" render --mode ster
 contains "barrel=off" "the way out is said"
 expect 0 "stereo TAA" -- "$FOVREF" render --mode stereo-lp --frames 2 --param taa=depth "${common[@]}" \
   --out "$TMP/stereo"
+expect 0 "probe stereo TAA" -- "$FOVREF" probe --scene checker-room --mode stereo-lp --width 48 \
+  --height 27 --time-step 0.1 --param taa=clamp-buffer --frame 2 --pixel 40,10
+contains "eye 1, pixel (16, 10) of its half" "the eye's own TAA"
+contains "bit-identical to the rendered buffers" "stereo probe check"
 expect 2 "an unknown variant" -- "$FOVREF" render --mode cfov --param taa=ghost "${common[@]}" --out "$TMP/bad6"
 contains "clamp-buffer" "the variants are listed"
 
