@@ -96,6 +96,13 @@ std::vector<ModeInfo> make_modes() {
         ground_truth_pipeline);
     ground_truth.explain = explain_ground_truth;
     ground_truth.pixel_functions = ground_truth_pixel_functions;
+    ModeInfo pathtrace =
+        mode("pathtrace",
+             "1-spp path tracing from the rasterized G-buffer: next-event estimation to one "
+             "light, one cosine-weighted secondary ray, NEE at its hit (Koskela §2.4; SPEC §8)",
+             pathtrace_pipeline);
+    pathtrace.params = pathtrace_param_specs();
+    pathtrace.pixel_functions = pathtrace_pixel_functions;
     ModeInfo rng = mode("rng", "rand(frame, pixel, d) for d = 0..2 (SPEC §0)", rng_pipeline);
     rng.needs_scene = false;
     ModeInfo halton = mode("halton", "the 16 Halton(2,3) points, raw and scaled (Lund eq. 3.11)",
@@ -136,6 +143,7 @@ std::vector<ModeInfo> make_modes() {
             "AA, mip resolve, post-AA; TAA with jitter after the inverse transform (Meng 2018)",
             kfr_pipeline),
         stereo,
+        pathtrace,
         mode("splat",
              "centroid splat of every triangle with headlight shading (a trivial pass that "
              "pins scene, materials, textures and camera path)",

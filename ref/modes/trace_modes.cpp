@@ -11,6 +11,7 @@
 #include "ref/trace/basic_params.h"
 #include "ref/trace/direct_light.h"
 #include "ref/trace/ground_truth.h"
+#include "ref/trace/pathtrace.h"
 #include "ref/trace/raycast_gbuffer.h"
 #include "ref/trace/shade_basic.h"
 
@@ -82,6 +83,68 @@ void supersample_stage(FrameContext& ctx) {
     add_shading_counters(ctx.result->counters, shading);
     ctx.note = shadow_note(scene);
     ctx.result->add("final", BufferKind::color, {"r", "g", "b"}, std::move(image));
+}
+
+namespace {
+
+// The state of a path-traced render: the TAA-free trace state (rasterized primary visibility,
+// the BVH) and the path tracer's parameters.
+struct PathTraceModeState : TraceModeState {
+    PathTraceParams path;
+};
+
+}  // namespace
+
+void pathtrace_stage(FrameContext& ctx) {
+    PathTraceModeState& state = ctx.mode_state<PathTraceModeState>();
+    const Scene& scene = *ctx.scene;
+    const ShadeInputs inputs = shade_inputs_of(ctx, "gbuffer_");
+    PathTraceStats stats;
+    Image out = pathtrace(scene, state.bvh.get(scene, ctx.result->counters), state.path, inputs,
+                          ctx.camera, ctx.frame, stats);
+    add_shading_counters(ctx.result->counters, stats.shading);
+    add_trace_counters(ctx.result->counters, "secondary", stats.secondary);
+    Counters& counters = ctx.result->counters;
+    counters.add("paths", stats.paths);
+    counters.add("paths_ended_background", stats.ended_background);
+    counters.add("paths_ended_black", stats.ended_black);
+    counters.add("paths_ended_roulette", stats.ended_roulette);
+    counters.add("paths_ended_below_surface", stats.ended_below);
+    ctx.note = "max_bounces " + std::to_string(state.path.max_bounces) +
+               (scene.lights.empty() ? ", no lights: no shadow rays" : "");
+    ctx.result->add("final", BufferKind::color, {"r", "g", "b"}, std::move(out));
+}
+
+std::vector<ParamSpec> pathtrace_param_specs() {
+    return {{"fill_rule", "d3d", "rasterizer fill rule of the primary visibility: 'd3d' or 'gl'"},
+            {"max_bounces", "1",
+             "secondary rays per path: 1 = the sources' four rays per pixel (primary, two shadow "
+             "rays, one secondary); more with Russian roulette"},
+            {"rr", "0.8", "Russian-roulette continuation probability from the second bounce on"}};
+}
+
+Pipeline pathtrace_pipeline(const Scene*, const RenderSettings& settings) {
+    auto state = std::make_shared<PathTraceModeState>();
+    const std::vector<ParamSpec> specs = pathtrace_param_specs();
+    state->params.primary = PrimaryVisibility::raster;
+    state->params.raster.fill_rule =
+        parse_fill_rule(settings.params.get_string(specs, "fill_rule"), "parameter 'fill_rule'");
+    state->path.max_bounces = settings.params.get_int(specs, "max_bounces", 1, 64);
+    state->path.rr = settings.params.get_float(specs, "rr", 0.01f, 1.0f);
+    if (state->path.max_bounces == 1 && settings.params.values().count("rr") != 0)
+        throw Error("parameter 'rr' applies from the second bounce on: add max_bounces=2 or more");
+    Pipeline p;
+    p.state = state;
+    p.stages.push_back({"primary_visibility", {}, gbuffer_names(), primary_visibility_stage});
+    p.stages.push_back({"pathtrace", shade_direct_inputs, {"final"}, pathtrace_stage});
+    p.final_outputs = {"final"};
+    return p;
+}
+
+std::vector<PixelFunction> pathtrace_pixel_functions(const Params&) {
+    return {{"primary_visibility", "fovref::raster_fragment",
+             "once per triangle whose snapped coverage contains the centre"},
+            {"pathtrace", "fovref::pathtrace_pixel", ""}};
 }
 
 std::vector<PixelFunction> basic_pixel_functions(const Params& params) {

@@ -6,6 +6,8 @@
 //                    -> shade_direct (Lambert + one shadow ray per light)       -> final
 //   ground-truth:  primary_visibility (G-buffer by rays; for --dump and goldens only)
 //                  supersample (16 Halton rays per pixel, shaded, box-filtered) -> final
+//   pathtrace:     primary_visibility (rasterized G-buffer)
+//                    -> pathtrace (1-spp paths: NEE + secondary rays, SPEC §8)   -> final
 // clang-format on
 //
 // The BVH is built only when something traces a ray (ray primaries or shadow rays), once per
@@ -20,6 +22,9 @@ namespace fovref {
 
 Pipeline basic_pipeline(const Scene* scene, const RenderSettings& settings);
 Pipeline ground_truth_pipeline(const Scene* scene, const RenderSettings& settings);
+Pipeline pathtrace_pipeline(const Scene* scene, const RenderSettings& settings);
+std::vector<ParamSpec> pathtrace_param_specs();
+std::vector<PixelFunction> pathtrace_pixel_functions(const Params& params);
 
 /// The per-pixel functions of basic's and ground-truth's passes (for `fovref probe --debugger`).
 std::vector<PixelFunction> basic_pixel_functions(const Params& params);
@@ -32,5 +37,7 @@ void primary_visibility_stage(FrameContext& context);
 void shade_direct_stage(FrameContext& context);
 /// ground-truth's supersampling: render_ground_truth (ref/trace/ground_truth.h).
 void supersample_stage(FrameContext& context);
+/// pathtrace's paths: pathtrace (ref/trace/pathtrace.h) over the rasterized G-buffer.
+void pathtrace_stage(FrameContext& context);
 
 }  // namespace fovref

@@ -11,8 +11,30 @@ namespace {
 
 constexpr float inv_pi = 0.318309886183790671538f;
 
-// One shadow ray from `origin` to `target`; true when nothing blocks it.
-bool visible(const Bvh& bvh, glm::vec3 origin, glm::vec3 target, ShadingStats& stats) {
+}  // namespace
+
+bool sample_light_point(const Light& light, float r1, float r2, glm::vec3& y, glm::vec3& normal,
+                        float& area) {
+    y = light.position;
+    normal = glm::vec3(0.0f);
+    area = 0.0f;
+    if (light.type == Light::Type::point) return true;
+    const glm::vec3 cross = glm::cross(light.edge_u, light.edge_v);
+    const float cross_length = std::sqrt(glm::dot(cross, cross));
+    if (!(cross_length > 0.0f)) return false;
+    normal = cross / cross_length;
+    if (light.type == Light::Type::quad) {
+        y = light.position + light.edge_u * r1 + light.edge_v * r2;
+        area = cross_length;
+    } else {  // uniform on the triangle: (1 - sqrt r1, sqrt r1 (1 - r2), sqrt r1 r2)
+        const float s = std::sqrt(r1);
+        y = light.position + light.edge_u * (s * (1.0f - r2)) + light.edge_v * (s * r2);
+        area = 0.5f * cross_length;
+    }
+    return true;
+}
+
+bool shadow_visible(const Bvh& bvh, glm::vec3 origin, glm::vec3 target, ShadingStats& stats) {
     Ray ray;
     ray.origin = origin;
     ray.direction = target - origin;
@@ -23,8 +45,6 @@ bool visible(const Bvh& bvh, glm::vec3 origin, glm::vec3 target, ShadingStats& s
     if (occluded) ++stats.shadow_rays_occluded;
     return !occluded;
 }
-
-}  // namespace
 
 glm::vec3 shade_direct(const Scene& scene, const Bvh* bvh, const SurfacePoint& surface,
                        glm::vec3 eye, std::uint32_t frame, std::uint32_t pixel,
@@ -53,30 +73,16 @@ glm::vec3 shade_direct(const Scene& scene, const Bvh* bvh, const SurfacePoint& s
         LightSampleRecord& rec = record ? record->emplace_back() : dummy;
         rec.light = static_cast<int>(l);
         // Sample a point y on the light and its emitted quantity.
-        glm::vec3 y = light.position;
-        glm::vec3 light_normal(0.0f);
+        glm::vec3 y, light_normal;
         float area = 0.0f;
         if (light.type != Light::Type::point) {
-            const float r1 = rand_unit(frame, pixel, dimension);
-            const float r2 = rand_unit(frame, pixel, dimension + 1);
-            rec.r1 = r1;
-            rec.r2 = r2;
-            const glm::vec3 cross = glm::cross(light.edge_u, light.edge_v);
-            const float cross_length = std::sqrt(glm::dot(cross, cross));
-            if (!(cross_length > 0.0f)) {
-                ++stats.light_samples_degenerate;
-                rec.outcome = "degenerate";
-                continue;
-            }
-            light_normal = cross / cross_length;
-            if (light.type == Light::Type::quad) {
-                y = light.position + light.edge_u * r1 + light.edge_v * r2;
-                area = cross_length;
-            } else {  // uniform on the triangle: (1 - sqrt r1, sqrt r1 (1 - r2), sqrt r1 r2)
-                const float s = std::sqrt(r1);
-                y = light.position + light.edge_u * (s * (1.0f - r2)) + light.edge_v * (s * r2);
-                area = 0.5f * cross_length;
-            }
+            rec.r1 = rand_unit(frame, pixel, dimension);
+            rec.r2 = rand_unit(frame, pixel, dimension + 1);
+        }
+        if (!sample_light_point(light, rec.r1, rec.r2, y, light_normal, area)) {
+            ++stats.light_samples_degenerate;
+            rec.outcome = "degenerate";
+            continue;
         }
         rec.sample = y;
         const glm::vec3 to_light = y - surface.position;
@@ -100,7 +106,7 @@ glm::vec3 shade_direct(const Scene& scene, const Bvh* bvh, const SurfacePoint& s
             continue;
         }
         rec.shadow_origin = surface.position + n_g * epsilon;
-        if (!visible(*bvh, rec.shadow_origin, y, stats)) {
+        if (!shadow_visible(*bvh, rec.shadow_origin, y, stats)) {
             rec.outcome = "occluded";
             continue;
         }

@@ -62,6 +62,16 @@ struct LightSampleRecord {
     glm::vec3 contribution{0.0f};   ///< added radiance
 };
 
+/// A point y on `light` from two numbers in [0, 1) (unused for a point light: y = its position):
+/// quad y = corner + r1 edge_u + r2 edge_v; triangle uniformly, (1 - sqrt r1, sqrt r1 (1 - r2),
+/// sqrt r1 r2). `normal` and `area` of the emitting side (point: 0). False for a zero-area light.
+bool sample_light_point(const Light& light, float r1, float r2, glm::vec3& y, glm::vec3& normal,
+                        float& area);
+
+/// One shadow ray from `origin` to `target` (t in (0, shadow_t_max]), counted; true when
+/// nothing blocks it.
+bool shadow_visible(const Bvh& bvh, glm::vec3 origin, glm::vec3 target, ShadingStats& stats);
+
 /// Radiance leaving `surface` towards the viewer at `eye` (linear RGB). `record`, when given,
 /// receives one entry per light (the probe's view of the computation; costs nothing otherwise).
 glm::vec3 shade_direct(const Scene& scene, const Bvh* bvh, const SurfacePoint& surface,

@@ -1,0 +1,148 @@
+#include "ref/trace/pathtrace.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ref/core/dmath.h"
+#include "ref/core/error.h"
+#include "ref/core/rng.h"
+
+namespace fovref {
+
+namespace {
+
+constexpr float inv_pi = 0.318309886183790671538f;
+constexpr float two_pi = 6.28318530717958647692f;
+
+// Turns the normals of `surface` to the side `towards` points to (two-sided surfaces, as
+// direct_light.h): n_g towards it, n_s to n_g's side.
+void facing_normals(const SurfacePoint& surface, glm::vec3 towards, glm::vec3& n_g,
+                    glm::vec3& n_s) {
+    n_g = glm::dot(surface.geometric_normal, towards) >= 0.0f ? surface.geometric_normal
+                                                              : -surface.geometric_normal;
+    n_s = glm::dot(surface.shading_normal, n_g) < 0.0f ? -surface.shading_normal
+                                                       : surface.shading_normal;
+}
+
+}  // namespace
+
+glm::vec3 cosine_direction(glm::vec3 n, float u1, float u2) {
+    // Duff et al. 2017, "Building an orthonormal basis, revisited".
+    const float sign = n.z >= 0.0f ? 1.0f : -1.0f;
+    const float a = -1.0f / (sign + n.z);
+    const float b = n.x * n.y * a;
+    const glm::vec3 t{1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x};
+    const glm::vec3 s{b, sign + n.y * n.y * a, -n.y};
+    const float r = std::sqrt(u1);
+    const float phi = two_pi * u2;
+    const float z = std::sqrt(std::max(0.0f, 1.0f - u1));
+    return t * (r * dm::cos(phi)) + s * (r * dm::sin(phi)) + n * z;
+}
+
+glm::vec3 sample_one_light(const Scene& scene, const Bvh& bvh, const SurfacePoint& surface,
+                           glm::vec3 n_g, glm::vec3 n_s, std::uint32_t frame, std::uint32_t pixel,
+                           std::uint32_t dimension, ShadingStats& stats) {
+    if (scene.lights.empty()) return glm::vec3(0.0f);
+    const auto count = static_cast<std::uint32_t>(scene.lights.size());
+    // Uniform choice: floor(u N), clamped (u < 1, but u N may round up to N).
+    const std::uint32_t l = std::min(
+        static_cast<std::uint32_t>(rand_unit(frame, pixel, dimension) * static_cast<float>(count)),
+        count - 1u);
+    const Light& light = scene.lights[l];
+    glm::vec3 y, light_normal;
+    float area = 0.0f;
+    if (!sample_light_point(light, rand_unit(frame, pixel, dimension + 1),
+                            rand_unit(frame, pixel, dimension + 2), y, light_normal, area)) {
+        ++stats.light_samples_degenerate;
+        return glm::vec3(0.0f);
+    }
+    const glm::vec3 to_light = y - surface.position;
+    const float d2 = glm::dot(to_light, to_light);
+    if (!(d2 > min_light_distance2)) {
+        ++stats.light_samples_degenerate;
+        return glm::vec3(0.0f);
+    }
+    const float d = std::sqrt(d2);
+    const float cos_surface = glm::dot(n_s, to_light) / d;
+    float geometry = cos_surface / d2;
+    if (light.type != Light::Type::point)
+        geometry *= area * (-glm::dot(light_normal, to_light) / d);
+    if (!(cos_surface > 0.0f) || !(geometry > 0.0f) || glm::dot(n_g, to_light) <= 0.0f) {
+        ++stats.lights_facing_away;
+        return glm::vec3(0.0f);
+    }
+    const glm::vec3 origin = surface.position + n_g * (shadow_epsilon_scale * scene.scene_scale);
+    if (!shadow_visible(bvh, origin, y, stats)) return glm::vec3(0.0f);
+    // f Le G / (pdf of the choice 1 / N), the point's pdf 1 / A folded into G.
+    return surface.albedo * inv_pi * light.intensity * (geometry * static_cast<float>(count));
+}
+
+glm::vec3 pathtrace_pixel(const Scene& scene, const Bvh& bvh, const PathTraceParams& params,
+                          const ShadeInputs& in, const Camera& camera, int frame, int x, int y,
+                          PathTraceStats& stats) {
+    SurfacePoint surface;
+    if (!gbuffer_surface(scene, in, x, y, surface, stats.shading)) return glm::vec3(0.0f);
+    ++stats.paths;
+    const auto f = static_cast<std::uint32_t>(frame);
+    const std::uint32_t pixel = shade_pixel_index(in, x, y);
+    glm::vec3 incoming = camera.position - surface.position;  // towards where the path came from
+    glm::vec3 n_g, n_s;
+    facing_normals(surface, incoming, n_g, n_s);
+    const Material& first = scene.materials[static_cast<std::size_t>(surface.material)];
+    glm::vec3 radiance =
+        glm::dot(surface.geometric_normal, incoming) >= 0.0f ? first.emission : glm::vec3(0.0f);
+    glm::vec3 throughput(1.0f);
+    const float epsilon = shadow_epsilon_scale * scene.scene_scale;
+    for (int k = 0;; ++k) {
+        const std::uint32_t base = 6u * static_cast<std::uint32_t>(k);
+        ++stats.shading.shaded;
+        radiance += throughput *
+                    sample_one_light(scene, bvh, surface, n_g, n_s, f, pixel, base, stats.shading);
+        if (k == params.max_bounces) break;
+        if (!(surface.albedo.x > 0.0f || surface.albedo.y > 0.0f || surface.albedo.z > 0.0f)) {
+            ++stats.ended_black;
+            break;
+        }
+        // f cos / pdf = (albedo / pi) cos / (cos / pi) = albedo.
+        throughput *= surface.albedo;
+        if (k >= 1) {
+            if (!(rand_unit(f, pixel, base + 5) < params.rr)) {
+                ++stats.ended_roulette;
+                break;
+            }
+            throughput /= params.rr;
+        }
+        Ray ray;
+        ray.origin = surface.position + n_g * epsilon;
+        ray.direction =
+            cosine_direction(n_s, rand_unit(f, pixel, base + 3), rand_unit(f, pixel, base + 4));
+        if (!(glm::dot(ray.direction, n_g) > 0.0f)) {  // below the geometric surface: absorbed
+            ++stats.ended_below;
+            break;
+        }
+        const Hit hit = trace_closest(bvh, ray, stats.secondary);
+        if (!hit.hit()) {
+            ++stats.ended_background;
+            break;
+        }
+        surface = surface_at(scene, hit.primitive, hit.u, hit.v);
+        incoming = -ray.direction;
+        facing_normals(surface, incoming, n_g, n_s);
+    }
+    return radiance;
+}
+
+Image pathtrace(const Scene& scene, const Bvh& bvh, const PathTraceParams& params,
+                const ShadeInputs& in, const Camera& camera, int frame, PathTraceStats& stats) {
+    FOVREF_CHECK(params.max_bounces >= 1, "path tracing with no secondary ray");
+    FOVREF_CHECK(params.rr > 0.0f && params.rr <= 1.0f, "Russian roulette probability");
+    Image out(in.position.width, in.position.height, 3, 0.0f);
+    for (int y = 0; y < out.height; ++y)
+        for (int x = 0; x < out.width; ++x) {
+            const glm::vec3 l = pathtrace_pixel(scene, bvh, params, in, camera, frame, x, y, stats);
+            for (int c = 0; c < 3; ++c) out.at(x, y, c) = l[c];
+        }
+    return out;
+}
+
+}  // namespace fovref
