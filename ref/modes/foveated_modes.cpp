@@ -86,6 +86,12 @@ void add_buffer_counters(FrameContext& ctx, const LogPolarMap& map,
     if (stats.texels_inside_gaze > 0) counters.add("texels_inside_gaze", stats.texels_inside_gaze);
 }
 
+// The clamp-buffer boxes of a frame (W x H x 6), as TAA reads them.
+void add_taa_bounds(FrameContext& ctx, Image bounds) {
+    ctx.result->add("taa_bounds", BufferKind::scalar,
+                    {"min_r", "min_g", "min_b", "max_r", "max_g", "max_b"}, std::move(bounds));
+}
+
 // ", jittered to (x, y) in each texel" (nothing without jitter).
 std::string jitter_note(Offset2 jitter, const char* unit) {
     if (jitter == Offset2{}) return "";
@@ -217,10 +223,7 @@ void taa_source_stage(FrameContext& ctx) {
     // kfr reads the depth of its full-resolution G-buffer: its taa_source gives the boxes only.
     if (!state.params.deferred)
         ctx.result->add("taa_view_depth", BufferKind::depth, {"z"}, std::move(out.depth));
-    if (boxes)
-        ctx.result->add("taa_bounds", BufferKind::scalar,
-                        {"min_r", "min_g", "min_b", "max_r", "max_g", "max_b"},
-                        std::move(out.bounds));
+    if (boxes) add_taa_bounds(ctx, std::move(out.bounds));
 }
 
 void gbuffer_raster_stage(FrameContext& ctx) {
@@ -479,8 +482,10 @@ void stereo_taa_source_stage(FrameContext& ctx) {
             table = forward_table(maps[static_cast<std::size_t>(e)]);
         const Image valid = image_columns(ctx.input("lp_valid"), e * w, w);
         const Image lp_depth = image_columns(ctx.input("lp_gbuffer_view_depth"), e * w, w);
-        const Image lp_color = image_columns(ctx.input("lp_color"), e * w, w);
-        const Image screen = image_columns(ctx.input("resolved"), e * eye_width, eye_width);
+        // The colours only for clamp-buffer's boxes.
+        const Image lp_color = boxes ? image_columns(ctx.input("lp_color"), e * w, w) : Image();
+        const Image screen =
+            boxes ? image_columns(ctx.input("resolved"), e * eye_width, eye_width) : Image();
         const TaaBoxColors colors{lp_color, nullptr, screen};
         const TaaSourceOutputs out =
             taa_source_pass({maps[static_cast<std::size_t>(e)], *table, valid, nullptr}, lp_depth,
@@ -490,9 +495,7 @@ void stereo_taa_source_stage(FrameContext& ctx) {
     }
     ctx.note = "per eye: the texel pass 2 sampled (nearest traced tap)";
     ctx.result->add("taa_view_depth", BufferKind::depth, {"z"}, std::move(depth));
-    if (boxes)
-        ctx.result->add("taa_bounds", BufferKind::scalar,
-                        {"min_r", "min_g", "min_b", "max_r", "max_g", "max_b"}, std::move(bounds));
+    if (boxes) add_taa_bounds(ctx, std::move(bounds));
 }
 
 void stereo_taa_stage(FrameContext& ctx) {

@@ -61,6 +61,15 @@ contains "bit-identical to the rendered buffers" "stereo probe check"
 expect 2 "an unknown variant" -- "$FOVREF" render --mode cfov --param taa=ghost "${common[@]}" --out "$TMP/bad6"
 contains "clamp-buffer" "the variants are listed"
 
+# A gaze track moves the gaze during a TAA sequence: the composite gaze window follows it.
+printf 'frame,x,y\n0,10,10\n1,30,15\n' > "$TMP/track.csv"
+expect 0 "TAA with a gaze track" -- "$FOVREF" render --mode cfov --frames 2 --param taa=depth \
+  --param gaze_track="$TMP/track.csv" "${common[@]}" --dump "$TMP/track"
+checks=$((checks + 1))
+x0=$(python3 -c "import json;m=json.load(open('$TMP/track/manifest.json'));print(' '.join(str(f['counters']['gaze_window_x0']) for f in m['frames']))")
+[ "$(cut -d' ' -f1 <<<"$x0")" != "$(cut -d' ' -f2 <<<"$x0")" ] ||
+  { echo "FAIL: the gaze did not move with the track ($x0)"; failures=$((failures + 1)); }
+
 # The static-camera sequence: jittered (Halton point per frame), no reprojection after frame 0.
 expect 0 "static camera" -- "$FOVREF" render --mode basic --frames 3 --param taa=depth --static-camera \
   --scene checker-room --width 48 --height 27 --out "$TMP/static"
