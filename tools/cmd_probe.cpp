@@ -51,10 +51,9 @@ std::string debugger_line(const ProbeOptions& o, int x, int y) {
     }
     std::snprintf(text, sizeof text, "%.9g", static_cast<double>(o.time_step));
     args.insert(args.end(), {"--time-step", text});
-    // TAA carries state from frame to frame: then frames 0 .. F run (the breakpoints stop in each).
-    const auto taa = run.params.values().find("taa");
-    const bool carries_state = taa != run.params.values().end() && taa->second != "off";
-    if (mode.stateless && !carries_state)
+    // TAA and BMFR carry state from frame to frame: then frames 0 .. F run (the breakpoints stop
+    // in each).
+    if (!carries_state(mode, run.params))
         args.insert(args.end(), {"--first-frame", std::to_string(o.frame), "--frames", "1"});
     else
         args.insert(args.end(), {"--frames", std::to_string(o.frame + 1)});

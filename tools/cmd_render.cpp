@@ -173,12 +173,10 @@ int run_render(const RenderOptions& given) {
                     "' carries state from frame to frame; render from frame 0");
     settings.first_frame = o.first_frame;
     if (!o.resume.empty()) {
-        const auto taa = run.params.values().find("taa");
-        if (find_mode(o.mode).stateless &&
-            (taa == run.params.values().end() || taa->second == "off"))
+        if (!carries_state(find_mode(o.mode), run.params))
             throw Error("--resume " + o.resume + ": mode '" + o.mode +
-                        "' carries no state from frame to frame with these parameters (no TAA): "
-                        "render frame F alone with --first-frame F");
+                        "' carries no state from frame to frame with these parameters (no TAA, "
+                        "no BMFR): render frame F alone with --first-frame F");
         if (o.first_frame == 0)
             throw Error("--resume " + o.resume +
                         ": frame 0 has no previous frame; give "

@@ -164,6 +164,14 @@ const std::vector<ModeInfo>& render_modes() {
     return modes;
 }
 
+bool carries_state(const ModeInfo& mode, const Params& params) {
+    const auto on = [&](const char* key, const char* off) {
+        const auto it = params.values().find(key);
+        return it != params.values().end() && it->second != off;
+    };
+    return !mode.stateless || on("taa", "off") || on("denoise", "none");
+}
+
 const ModeInfo& find_mode(const std::string& name) {
     for (const ModeInfo& mode : render_modes())
         if (mode.name == name) return mode;

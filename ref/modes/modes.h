@@ -18,6 +18,10 @@ const std::vector<ModeInfo>& render_modes();
 /// Throws fovref::Error listing the valid names.
 const ModeInfo& find_mode(const std::string& name);
 
+/// True when frame f of `mode` with these parameters depends on frame f - 1 (a stateful mode, or
+/// TAA or BMFR turned on), so it renders alone only with the previous frame's dump (--resume).
+bool carries_state(const ModeInfo& mode, const Params& params);
+
 /// render_each / render / probe_pixel of ref/stage for the mode named `mode`.
 std::vector<std::string> render_each(const Scene* scene, const std::string& mode,
                                      const RenderSettings& settings,

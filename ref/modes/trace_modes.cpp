@@ -4,6 +4,7 @@
 
 #include "ref/bvh/bvh.h"
 #include "ref/core/error.h"
+#include "ref/modes/bmfr_stage.h"
 #include "ref/modes/mode_common.h"
 #include "ref/modes/taa_stage.h"
 #include "ref/raster/gbuffer.h"
@@ -19,9 +20,10 @@ namespace fovref {
 
 namespace {
 
-// The state of a basic or ground-truth render: the parameters, parsed once, the scene's BVH,
-// built on first use and kept for later frames, and (basic) the TAA state.
-struct TraceModeState : TaaModeState {
+// The state of a basic, ground-truth or path-traced render: the parameters, parsed once, the
+// scene's BVH, built on first use and kept for later frames, and the TAA (basic) or BMFR
+// (pathtrace) state.
+struct TraceModeState : BmfrModeState {
     BasicParams params;
     BvhCache bvh;
 };
@@ -112,15 +114,19 @@ void pathtrace_stage(FrameContext& ctx) {
     counters.add("paths_ended_below_surface", stats.ended_below);
     ctx.note = "max_bounces " + std::to_string(state.path.max_bounces) +
                (scene.lights.empty() ? ", no lights: no shadow rays" : "");
-    ctx.result->add("final", BufferKind::color, {"r", "g", "b"}, std::move(out));
+    ctx.result->add(state.bmfr.enabled ? "radiance" : "final", BufferKind::color, {"r", "g", "b"},
+                    std::move(out));
 }
 
 std::vector<ParamSpec> pathtrace_param_specs() {
-    return {{"fill_rule", "d3d", "rasterizer fill rule of the primary visibility: 'd3d' or 'gl'"},
-            {"max_bounces", "1",
-             "secondary rays per path: 1 = the sources' four rays per pixel (primary, two shadow "
-             "rays, one secondary); more with Russian roulette"},
-            {"rr", "0.8", "Russian-roulette continuation probability from the second bounce on"}};
+    std::vector<ParamSpec> specs = {
+        {"fill_rule", "d3d", "rasterizer fill rule of the primary visibility: 'd3d' or 'gl'"},
+        {"max_bounces", "1",
+         "secondary rays per path: 1 = the sources' four rays per pixel (primary, two shadow "
+         "rays, one secondary); more with Russian roulette"},
+        {"rr", "0.8", "Russian-roulette continuation probability from the second bounce on"}};
+    for (ParamSpec& spec : bmfr_param_specs()) specs.push_back(std::move(spec));
+    return specs;
 }
 
 Pipeline pathtrace_pipeline(const Scene*, const RenderSettings& settings) {
@@ -133,10 +139,16 @@ Pipeline pathtrace_pipeline(const Scene*, const RenderSettings& settings) {
     state->path.rr = settings.params.get_float(specs, "rr", 0.01f, 1.0f);
     if (state->path.max_bounces == 1 && settings.params.values().count("rr") != 0)
         throw Error("parameter 'rr' applies from the second bounce on: add max_bounces=2 or more");
+    state->bmfr = parse_bmfr_params(settings.params);
     Pipeline p;
     p.state = state;
     p.stages.push_back({"primary_visibility", {}, gbuffer_names(), primary_visibility_stage});
-    p.stages.push_back({"pathtrace", shade_direct_inputs, {"final"}, pathtrace_stage});
+    if (state->bmfr.enabled) {
+        p.stages.push_back({"pathtrace", shade_direct_inputs, {"radiance"}, pathtrace_stage});
+        add_bmfr_stages(p, *state, "radiance", "final");
+    } else {
+        p.stages.push_back({"pathtrace", shade_direct_inputs, {"final"}, pathtrace_stage});
+    }
     p.final_outputs = {"final"};
     return p;
 }

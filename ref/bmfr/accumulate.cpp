@@ -1,0 +1,218 @@
+// Demodulation and the two temporal accumulations of BMFR (SPEC §9 items 1, 2 and 9).
+#include <algorithm>
+#include <cmath>
+
+#include "ref/bmfr/bmfr.h"
+#include "ref/bmfr/half.h"
+#include "ref/core/error.h"
+
+namespace fovref {
+
+namespace {
+
+float finite_or_zero(float v, std::int64_t& nonfinite) {
+    if (std::isfinite(v)) return v;
+    ++nonfinite;
+    return 0.0f;
+}
+
+glm::vec3 load3(const Image& image, int x, int y) {
+    const float* p = &image.data[image.index(x, y)];
+    return {p[0], p[1], p[2]};
+}
+
+float distance_squared(glm::vec3 a, glm::vec3 b) {
+    const glm::vec3 d = a - b;
+    return d.x * d.x + d.y * d.y + d.z * d.z;
+}
+
+// round half to even (the authors' convert with rte), for the sample count
+float round_half_even(float v) {
+    const float r = std::floor(v);
+    const float d = v - r;
+    if (d > 0.5f) return r + 1.0f;
+    if (d == 0.5f && std::fmod(r, 2.0f) != 0.0f) return r + 1.0f;
+    return r;
+}
+
+void check_shape(const Image& image, int width, int height, int channels, const char* name) {
+    FOVREF_CHECK(image.width == width && image.height == height && image.channels == channels,
+                 std::string("bmfr: buffer '") + name + "' is " + std::to_string(image.width) +
+                     "x" + std::to_string(image.height) + "x" + std::to_string(image.channels) +
+                     ", expected " + std::to_string(width) + "x" + std::to_string(height) + "x" +
+                     std::to_string(channels));
+}
+
+bool inside(int x, int y, int width, int height) {
+    return x >= 0 && y >= 0 && x < width && y < height;
+}
+
+// A bilinear blend of `image` over the taps whose bit is set in `mask`, renormalised; false when
+// their weights sum to 0.
+bool blend_accepted(const Image& image, const BmfrTaps& taps, unsigned mask, float* out) {
+    float total = 0.0f;
+    for (int c = 0; c < image.channels; ++c) out[c] = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+        if ((mask & (1u << k)) == 0) continue;
+        const float* p = &image.data[image.index(taps.x[k], taps.y[k])];
+        for (int c = 0; c < image.channels; ++c) out[c] += taps.w[k] * p[c];
+        total += taps.w[k];
+    }
+    if (!(total > 0.0f)) return false;
+    for (int c = 0; c < image.channels; ++c) out[c] = out[c] / total;
+    return true;
+}
+
+}  // namespace
+
+ViewProjection view_projection(const Camera& camera, int width, int height) {
+    const float tan_half = tan_half_vfov(camera);
+    const float sx = tan_half * (static_cast<float>(width) / static_cast<float>(height));
+    const auto row = [&](glm::vec3 axis, float scale, float* out) {
+        const float offset =
+            -(axis.x * camera.position.x + axis.y * camera.position.y + axis.z * camera.position.z);
+        out[0] = axis.x / scale;
+        out[1] = axis.y / scale;
+        out[2] = axis.z / scale;
+        out[3] = offset / scale;
+    };
+    ViewProjection vp;
+    row(camera.right, sx, &vp.m[0]);
+    row(camera.up, tan_half, &vp.m[4]);
+    row(camera.forward, 1.0f, &vp.m[8]);
+    row(camera.forward, 1.0f, &vp.m[12]);
+    return vp;
+}
+
+bool bmfr_project(const ViewProjection& vp, int width, int height, glm::vec3 p, glm::vec2& pixel) {
+    const auto& m = vp.m;
+    const float cx = m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3];
+    const float cy = m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7];
+    const float cw = m[12] * p.x + m[13] * p.y + m[14] * p.z + m[15];
+    if (!(cw > 0.0f)) return false;
+    pixel.x = (cx / cw + 1.0f) * 0.5f * static_cast<float>(width) - 0.5f;
+    pixel.y = (1.0f - cy / cw) * 0.5f * static_cast<float>(height) - 0.5f;
+    return std::isfinite(pixel.x) && std::isfinite(pixel.y);
+}
+
+BmfrTaps bmfr_taps(glm::vec2 q) {
+    BmfrTaps t;
+    const float fx0 = std::floor(q.x), fy0 = std::floor(q.y);
+    const float fx = q.x - fx0, fy = q.y - fy0;
+    const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
+    t.x[0] = x0, t.y[0] = y0, t.w[0] = (1.0f - fx) * (1.0f - fy);
+    t.x[1] = x0 + 1, t.y[1] = y0, t.w[1] = fx * (1.0f - fy);
+    t.x[2] = x0, t.y[2] = y0 + 1, t.w[2] = (1.0f - fx) * fy;
+    t.x[3] = x0 + 1, t.y[3] = y0 + 1, t.w[3] = fx * fy;
+    return t;
+}
+
+Image bmfr_demodulate(const BmfrParams& params, const Image& radiance, const Image& albedo,
+                      BmfrStats& stats) {
+    check_shape(albedo, radiance.width, radiance.height, 3, "albedo");
+    check_shape(radiance, radiance.width, radiance.height, 3, "radiance");
+    Image out(radiance.width, radiance.height, 3);
+    for (std::size_t i = 0; i < out.data.size(); ++i) {
+        const float a = finite_or_zero(albedo.data[i], stats.nonfinite_inputs);
+        const float c = finite_or_zero(radiance.data[i], stats.nonfinite_inputs);
+        out.data[i] = std::clamp(c / std::max(a, params.albedo_floor), -half_max, half_max);
+    }
+    return out;
+}
+
+BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& illumination,
+                                       const Image& world_position, const Image& normal,
+                                       const BmfrHistory& history, BmfrStats& stats) {
+    const int width = illumination.width, height = illumination.height;
+    check_shape(world_position, width, height, 3, "world_position");
+    check_shape(normal, width, height, 3, "normal");
+    const bool has_previous = history.valid && !history.accumulated_noisy.empty();
+    if (has_previous) {
+        check_shape(history.world_position, width, height, 3, "world_position history");
+        check_shape(history.normal, width, height, 3, "normal history");
+        check_shape(history.accumulated_noisy, width, height, 3, "accumulated_noisy history");
+        check_shape(history.spp, width, height, 1, "spp history");
+    }
+    BmfrAccumulation out;
+    out.accumulated = Image(width, height, 3);
+    out.spp = Image(width, height, 1);
+    out.accept = Image(width, height, 1);
+    out.previous_pixel = Image(width, height, 2);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const glm::vec3 c = load3(illumination, x, y);
+            glm::vec2 q(static_cast<float>(x), static_cast<float>(y));
+            unsigned mask = 0;
+            float h[3] = {0, 0, 0}, h_spp = 0.0f;
+            bool has_history = false;
+            if (has_previous) {
+                const glm::vec3 p = load3(world_position, x, y);
+                const glm::vec3 n = load3(normal, x, y);
+                if (!bmfr_project(history.view_projection, width, height, p, q)) {
+                    q = glm::vec2(static_cast<float>(x), static_cast<float>(y));
+                    ++stats.history_off_screen;
+                } else {
+                    const BmfrTaps taps = bmfr_taps(q);
+                    // Test the taps
+                    for (int k = 0; k < 4; ++k) {
+                        if (!inside(taps.x[k], taps.y[k], width, height)) continue;
+                        if (!(distance_squared(load3(history.world_position, taps.x[k], taps.y[k]),
+                                               p) < params.position_limit_squared))
+                            continue;
+                        if (!(distance_squared(load3(history.normal, taps.x[k], taps.y[k]), n) <
+                              params.normal_limit_squared))
+                            continue;
+                        mask |= 1u << k;
+                    }
+                    // Blend the accepted taps
+                    has_history = blend_accepted(history.accumulated_noisy, taps, mask, h) &&
+                                  blend_accepted(history.spp, taps, mask, &h_spp);
+                    ++(has_history ? stats.history_accepted : stats.history_rejected);
+                    if (!has_history) mask = 0;
+                }
+            }
+            float* acc = &out.accumulated.data[out.accumulated.index(x, y)];
+            if (has_history) {
+                const float alpha = std::max(1.0f / (h_spp + 1.0f), params.noisy_alpha_min);
+                for (int ch = 0; ch < 3; ++ch) acc[ch] = alpha * c[ch] + (1.0f - alpha) * h[ch];
+                out.spp.at(x, y) = std::min(round_half_even(h_spp) + 1.0f, 255.0f);
+            } else {
+                for (int ch = 0; ch < 3; ++ch) acc[ch] = c[ch];
+                out.spp.at(x, y) = 1.0f;
+            }
+            out.accept.at(x, y) = static_cast<float>(mask);
+            out.previous_pixel.at(x, y, 0) = q.x;
+            out.previous_pixel.at(x, y, 1) = q.y;
+        }
+    return out;
+}
+
+Image bmfr_accumulate_filtered(const BmfrParams& params, const Image& fitted, const Image& spp,
+                               const Image& accept, const Image& previous_pixel,
+                               const Image& history) {
+    const int width = fitted.width, height = fitted.height;
+    check_shape(spp, width, height, 1, "spp");
+    check_shape(accept, width, height, 1, "accept");
+    check_shape(previous_pixel, width, height, 2, "previous_pixel");
+    if (!history.empty()) check_shape(history, width, height, 3, "accumulated_filtered history");
+    Image out(width, height, 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const auto mask = static_cast<unsigned>(accept.at(x, y));
+            float* o = &out.data[out.index(x, y)];
+            const float* c = &fitted.data[fitted.index(x, y)];
+            float h[3];
+            if (!history.empty() && mask != 0 &&
+                blend_accepted(history,
+                               bmfr_taps({previous_pixel.at(x, y, 0), previous_pixel.at(x, y, 1)}),
+                               mask, h)) {
+                const float alpha = std::max(1.0f / spp.at(x, y), params.filtered_alpha_min);
+                for (int ch = 0; ch < 3; ++ch) o[ch] = alpha * c[ch] + (1.0f - alpha) * h[ch];
+            } else {
+                for (int ch = 0; ch < 3; ++ch) o[ch] = c[ch];
+            }
+        }
+    return out;
+}
+
+}  // namespace fovref

@@ -1,0 +1,268 @@
+// Blockwise multi-order feature regression, BMFR (Koskela et al. 2019, publication P2 of the
+// Koskela thesis; SPEC §9; docs/bmfr.md). Each phase below is one plain function, one GPU kernel
+// of the authors' OpenCL code, from explicit input buffers to explicit output buffers:
+//
+//   bmfr_demodulate            radiance / max(albedo, 0.01)                        -> illumination
+//   bmfr_accumulate_noisy      phase I: reproject, test, blend with the history    -> accumulated
+//   bmfr_fit                   phase II: per 32x32 block, features, noise, QR      -> weights
+//   bmfr_weighted_sum          phase II: sum_i w_i T_i per pixel, clamp at 0        -> fitted
+//   bmfr_accumulate_filtered   phase III: blend the fit with its history            -> filtered
+//   bmfr_remodulate            x max(albedo, 0.01), clamp(x^(1/2.2), 0, 1)           -> display
+//   bmfr_taa                   the authors' YCoCg TAA in display space              -> output
+//
+// Every per-pixel product is binary32 in the order written in the functions' comments; the QR's
+// dot products and norms accumulate in binary64 in row order and are rounded to float (SPEC §0).
+// Inputs that are NaN or infinite are replaced by 0 and counted (bmfr_nonfinite_inputs).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "ref/image/image.h"
+#include "ref/scene/camera.h"
+
+namespace fovref {
+
+enum class BmfrStorage {
+    half,   ///< the block matrix in binary16, rounded after every Householder column (default)
+    single  ///< binary32 throughout (`bmfr_storage=float`)
+};
+
+/// The denoiser's parameters; the defaults are the authors' (SPEC §9).
+struct BmfrParams {
+    BmfrStorage storage = BmfrStorage::half;
+    float position_limit_squared = 0.01f;  ///< phase I: |P' - P|^2 below this (scene units^2)
+    float normal_limit_squared = 0.25f;    ///< phase I: |n' - n|^2 below this
+    float albedo_floor = 0.01f;            ///< demodulation divides by max(albedo, this)
+    float noisy_alpha_min = 0.2f;          ///< phase I: alpha = max(1 / (spp + 1), this)
+    float filtered_alpha_min = 0.1f;       ///< phase III: alpha = max(1 / spp, this)
+    float noise_amount = 0.01f;            ///< stochastic regularisation amplitude
+    float pivot_epsilon = 1e-7f;           ///< |R_ii| below this: weight 0 (counted)
+    float taa_alpha = 0.2f;                ///< TAA: 0.2 new + 0.8 history
+};
+
+inline constexpr int bmfr_block_size = 32;  ///< block edge in pixels
+inline constexpr int bmfr_block_pixels = bmfr_block_size * bmfr_block_size;
+inline constexpr int bmfr_feature_count = 10;  ///< [1, n_x, n_y, n_z, w, w^2]
+inline constexpr int bmfr_column_count = 13;   ///< the features and the three colour channels
+inline constexpr int bmfr_scaled_first = 4;    ///< features 4..9 are scaled per block
+inline constexpr int bmfr_scaled_count = 6;    ///< world position and its squares
+inline constexpr int bmfr_weight_count = 30;   ///< 10 weights per colour channel
+
+/// The authors' 16 block-grid offsets (SPEC §9 item 3); frame f uses offset[f mod 16].
+const std::array<glm::ivec2, 16>& bmfr_block_offsets();
+
+/// The view-projection of a pinhole camera as the authors pass it (column vectors, OpenGL clip
+/// space: x and y in [-w, w] on screen, NDC y up, w the view depth). Rows (binary32):
+///   row 0 = (R, -R.C) / (tan (W / H)),  row 1 = (U, -U.C) / tan,  row 2 = row 3 = (F, -F.C)
+/// with tan = tan(vfov / 2). A pixel index (x, y) (integers at pixel centres) of a world point:
+///   x = (clip.x / clip.w + 1) 0.5 W - 0.5,  y = (1 - clip.y / clip.w) 0.5 H - 0.5,
+/// the point not seen when clip.w <= 0. `fovref denoise bmfr` reads these matrices from JSON.
+struct ViewProjection {
+    std::array<float, 16> m{};  ///< row-major
+    bool operator==(const ViewProjection&) const = default;
+};
+ViewProjection view_projection(const Camera& camera, int width, int height);
+/// The pixel index at which `world` appears under `vp` on a W x H screen; false when behind.
+bool bmfr_project(const ViewProjection& vp, int width, int height, glm::vec3 world,
+                  glm::vec2& pixel);
+
+/// What a frame hands on to the next one (all W x H).
+struct BmfrHistory {
+    bool valid = false;
+    ViewProjection view_projection;  ///< the previous frame's camera
+    Image world_position;            ///< 3
+    Image normal;                    ///< 3
+    Image accumulated_noisy;         ///< 3: phase I's output
+    Image spp;                       ///< 1: phase I's sample counts (1 .. 255)
+    Image accumulated_filtered;      ///< 3: phase III's output
+    Image taa;                       ///< 3: the TAA output (display space)
+};
+
+/// Counters of one frame (their names in the run's statistics in brackets).
+struct BmfrStats {
+    std::int64_t nonfinite_inputs = 0;     ///< [bmfr_nonfinite_inputs] values replaced by 0
+    std::int64_t history_accepted = 0;     ///< [bmfr_history_accepted] pixels with history
+    std::int64_t history_rejected = 0;     ///< [bmfr_history_rejected] reprojected, no tap
+    std::int64_t history_off_screen = 0;   ///< [bmfr_history_off_screen] behind or outside
+    std::int64_t blocks = 0;               ///< [bmfr_blocks] blocks fitted
+    std::int64_t pivots_zeroed = 0;        ///< [bmfr_pivots_zeroed] |R_ii| < pivot_epsilon
+    std::int64_t reflections_skipped = 0;  ///< [bmfr_reflections_skipped] |u|^2 = 0
+    std::int64_t fit_nonfinite = 0;        ///< [bmfr_fit_nonfinite] sums set to 0
+    std::int64_t taa_history_used = 0;     ///< [bmfr_taa_history_used]
+};
+
+// ---- demodulation -------------------------------------------------------------------------
+
+/// illumination = radiance / max(albedo, floor) per channel, clamped to [-65504, 65504] (the
+/// range the fit can store); a NaN or infinite radiance or albedo value is replaced by 0 first
+/// (counted).
+Image bmfr_demodulate(const BmfrParams& params, const Image& radiance, const Image& albedo,
+                      BmfrStats& stats);
+
+// ---- phase I --------------------------------------------------------------------------------
+
+/// Phase I's outputs (W x H).
+struct BmfrAccumulation {
+    Image accumulated;     ///< 3: alpha current + (1 - alpha) history
+    Image spp;             ///< 1: sample count after this frame
+    Image accept;          ///< 1: bit k set when tap k was accepted (k as in bmfr_taps)
+    Image previous_pixel;  ///< 2: the reprojected pixel index (the pixel itself without one)
+};
+
+/// The four bilinear taps around pixel index q: (x0, y0), (x0 + 1, y0), (x0, y0 + 1),
+/// (x0 + 1, y0 + 1), x0 = floor(q.x), fx = q.x - x0, weights (1 - fx)(1 - fy), fx (1 - fy),
+/// (1 - fx) fy, fx fy.
+struct BmfrTaps {
+    int x[4], y[4];
+    float w[4];
+};
+BmfrTaps bmfr_taps(glm::vec2 q);
+
+/// Phase I (the authors' accumulate_noisy_data). Per pixel: project its world position with the
+/// previous view-projection; tap k is accepted when it is inside the image,
+/// |P_k - P|^2 < position_limit_squared and |n_k - n|^2 < normal_limit_squared (strict); the
+/// accepted taps' colours and counts are averaged with their bilinear weights renormalised;
+/// alpha = max(1 / (spp_h + 1), noisy_alpha_min), out = alpha c + (1 - alpha) h,
+/// spp = min(round_half_even(spp_h) + 1, 255). No history (first frame, behind the camera, no
+/// tap accepted or their weights sum to 0): out = c, spp = 1.
+BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& illumination,
+                                       const Image& world_position, const Image& normal,
+                                       const BmfrHistory& history, BmfrStats& stats);
+
+// ---- phase II -------------------------------------------------------------------------------
+
+/// The features T_0..T_9 of one pixel: 1, n, w, w^2 (squares of the raw coordinates), NaN -> 0
+/// and each clamped to [-65504, 65504].
+void bmfr_features(glm::vec3 normal, glm::vec3 world, float t[bmfr_feature_count]);
+
+/// The block grid of frame `frame` on a W x H image: (ceil(W/32) + 1) x (ceil(H/32) + 1) cells;
+/// cell (i, j) covers pixels (32 i - 16 + o.x .. +31, 32 j - 16 + o.y .. +31), o the offset.
+struct BmfrGrid {
+    int width = 0, height = 0;     ///< the image
+    int cells_x = 0, cells_y = 0;  ///< the grid
+    glm::ivec2 offset{0};
+    glm::ivec2 origin(int cell_x, int cell_y) const {
+        return {cell_x * bmfr_block_size - bmfr_block_size / 2 + offset.x,
+                cell_y * bmfr_block_size - bmfr_block_size / 2 + offset.y};
+    }
+    /// The cell that covers pixel (x, y).
+    glm::ivec2 cell_of(int x, int y) const;
+};
+BmfrGrid bmfr_grid(int width, int height, int frame);
+
+/// Mirrors a coordinate into [0, size): -1 -> 0, size -> size - 1, reflecting again as often
+/// as needed (images narrower than a block).
+int bmfr_mirror(int index, int size);
+
+/// The fit of one block: the weights of the three colour channels and the range of the scaled
+/// features (what the weighted sum needs to scale them identically).
+struct BmfrBlockFit {
+    float weights[3][bmfr_feature_count] = {};
+    float feature_min[bmfr_scaled_count] = {};
+    float feature_max[bmfr_scaled_count] = {};
+    int pivots_zeroed = 0;
+    int reflections_skipped = 0;
+};
+
+/// One block's 1024 x 13 matrix as the QR receives it: row r = pixel_in_block r (row-major in
+/// the block), columns the scaled features with the regularisation noise (features 1..9) and the
+/// three colour channels, in the storage precision. Stride bmfr_matrix_stride floats per row.
+inline constexpr int bmfr_matrix_stride = 16;
+struct BmfrBlockMatrix {
+    std::vector<float> a = std::vector<float>(bmfr_block_pixels * bmfr_matrix_stride, 0.0f);
+    float feature_min[bmfr_scaled_count] = {};
+    float feature_max[bmfr_scaled_count] = {};
+    float& at(int row, int column) { return a[row * bmfr_matrix_stride + column]; }
+    float at(int row, int column) const { return a[row * bmfr_matrix_stride + column]; }
+};
+
+/// Gathers block (cell_x, cell_y) of `grid` (mirrored borders), scales features 4..9 with the
+/// block's min and max ((v - min) / (max - min) when max - min > 1, else v - min) and adds the
+/// noise 0.01 2 (r - 0.5) to features 1..9, r = wang_hash(s) / 4294967295.0f,
+/// s = pixel_in_block + feature 1024 + frame 13 1024 (`noise` false: none, for tests).
+void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_x, int cell_y,
+                       const Image& accumulated, const Image& world_position, const Image& normal,
+                       int frame, bool noise, BmfrBlockMatrix& out);
+
+/// The augmented Householder QR of a gathered block and the back substitution (SPEC §9 item 7),
+/// in place: columns 0..12, pivot row c = min(column, 10); s = sum over rows > c of x^2 and the
+/// dot products u . a_j (rows >= c) in binary64, row order, rounded to float;
+/// r = sqrt(s + x_c x_c), u_c = x_c - r, |u|^2 = s + u_c u_c; a_ij -= u_i ((2 d_j) / |u|^2),
+/// each updated value rounded to the storage precision; the column itself becomes r at row c
+/// and 0 below. |u|^2 = 0 leaves the columns as they are (counted). Weights from row 9 to 0:
+/// w_i = (b_i - sum_{k > i} R_ik w_k) / R_ii (k ascending), 0 when |R_ii| < pivot_epsilon.
+BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& matrix);
+
+/// Phase II's fit (the authors' fit kernel) over every block of the frame's grid. Outputs, one
+/// texel per block (cells_x x cells_y): weights (30 channels: red w_0..w_9, green, blue) and the
+/// feature ranges (12: min of features 4..9, then their max).
+struct BmfrFit {
+    BmfrGrid grid;
+    Image weights;
+    Image feature_range;
+};
+BmfrFit bmfr_fit(const BmfrParams& params, const Image& accumulated, const Image& world_position,
+                 const Image& normal, int frame, BmfrStats& stats);
+
+/// Phase II's weighted sum: each pixel takes its grid cell's weights and feature ranges,
+/// evaluates sum_{i=0..9} w_i T_i (i ascending, noise-free features, scaled as in the fit), and
+/// clamps each channel at 0 from below (a sum that overflows to infinity gives 0, counted).
+Image bmfr_weighted_sum(const BmfrFit& fit, const Image& world_position, const Image& normal,
+                        BmfrStats& stats);
+
+// ---- phase III, remodulation, TAA -----------------------------------------------------------
+
+/// Phase III: the fit blended with the previous phase III output `history` (empty: none),
+/// through phase I's accepted taps (its accept mask and reprojected pixel);
+/// alpha = max(1 / spp, filtered_alpha_min), out = alpha fit + (1 - alpha) history.
+Image bmfr_accumulate_filtered(const BmfrParams& params, const Image& fitted, const Image& spp,
+                               const Image& accept, const Image& previous_pixel,
+                               const Image& history);
+
+/// display = clamp((max(albedo, floor) x)^(1/2.2), 0, 1) per channel.
+Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Image& albedo);
+
+/// The authors' TAA in display space (SPEC §9 item 10): 3x3 neighbourhood in unnormalised
+/// YCoCg (Y = R + 2G + B, Co = 2R - 2B, Cg = -R + 2G - B; neighbours outside the image are
+/// skipped), min/max = (box extent + cross extent) 0.5; the history sampled bilinearly at phase
+/// I's reprojected pixel (taps outside the image dropped, weights renormalised), clamped, back
+/// to RGB (R = (Y - Cg + Co) / 4, G = (Y + Cg) / 4, B = (Y - Cg - Co) / 4);
+/// out = 0.2 new + 0.8 history. The new colour alone on the first frame, when the reprojected
+/// point lies outside the image or behind the camera, or when no tap is inside.
+/// `history` is the previous TAA output (empty: none).
+Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& previous_pixel,
+               const Image& history, BmfrStats& stats);
+
+/// The linear value of a display-space output: x^2.2 (the `final` buffer of a denoised frame).
+Image bmfr_linearize(const Image& display);
+
+// ---- the whole frame ------------------------------------------------------------------------
+
+/// Every buffer of one denoised frame, in phase order.
+struct BmfrFrame {
+    Image illumination;
+    BmfrAccumulation accumulation;
+    BmfrFit fit;
+    Image fitted;
+    Image filtered;
+    Image display;
+    Image taa;
+    Image output;  ///< linear (bmfr_linearize of taa)
+};
+
+/// Runs every phase on one frame and hands on its history (`history` is read, then replaced).
+/// Inputs are W x H: radiance, albedo, normal and world position (3 channels each).
+BmfrFrame bmfr_denoise_frame(const BmfrParams& params, const Image& radiance, const Image& albedo,
+                             const Image& normal, const Image& world_position,
+                             const ViewProjection& camera, int frame, BmfrHistory& history,
+                             BmfrStats& stats);
+
+/// The history a denoised frame hands on (its camera, G-buffer and accumulations).
+BmfrHistory bmfr_next_history(const BmfrFrame& frame, const Image& world_position,
+                              const Image& normal, const ViewProjection& camera);
+
+}  // namespace fovref

@@ -1,0 +1,46 @@
+#include "ref/bmfr/bmfr_params.h"
+
+#include "ref/core/error.h"
+
+namespace fovref {
+
+std::vector<ParamSpec> bmfr_param_specs() {
+    return {{"denoise", "none",
+             "'none' (the noisy 1-spp image is the final image) or 'bmfr' (blockwise multi-order "
+             "feature regression, Koskela P2; SPEC §9)"},
+            {"bmfr_storage", "half",
+             "BMFR block matrix precision: 'half' (binary16, as the authors' code) or 'float'"},
+            {"bmfr_position_limit_squared", "0.01",
+             "BMFR reprojection: a history tap is kept when |P' - P|^2 is below this (scene "
+             "units squared)"},
+            {"bmfr_normal_limit_squared", "0.25",
+             "BMFR reprojection: a history tap is kept when |n' - n|^2 is below this"}};
+}
+
+BmfrSettings parse_bmfr_params(const Params& params) {
+    const std::vector<ParamSpec> specs = bmfr_param_specs();
+    BmfrSettings s;
+    const std::string denoise = params.get_string(specs, "denoise");
+    if (denoise == "bmfr")
+        s.enabled = true;
+    else if (denoise != "none")
+        throw Error("parameter 'denoise': expected 'none' or 'bmfr', got '" + denoise + "'");
+    const std::string storage = params.get_string(specs, "bmfr_storage");
+    if (storage == "half")
+        s.params.storage = BmfrStorage::half;
+    else if (storage == "float")
+        s.params.storage = BmfrStorage::single;
+    else
+        throw Error("parameter 'bmfr_storage': expected 'half' or 'float', got '" + storage + "'");
+    s.params.position_limit_squared =
+        params.get_float(specs, "bmfr_position_limit_squared", 0.0f, 1e30f);
+    s.params.normal_limit_squared =
+        params.get_float(specs, "bmfr_normal_limit_squared", 0.0f, 4.0f);
+    if (!s.enabled)
+        for (const ParamSpec& spec : specs)
+            if (spec.name != "denoise" && params.given(spec.name))
+                throw Error("parameter '" + spec.name + "' applies to denoise=bmfr only");
+    return s;
+}
+
+}  // namespace fovref

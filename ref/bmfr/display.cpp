@@ -1,0 +1,105 @@
+// BMFR's last steps: remodulation and tone mapping, the authors' YCoCg TAA (SPEC §9 items 9-10).
+#include <algorithm>
+#include <cmath>
+
+#include "ref/bmfr/bmfr.h"
+#include "ref/core/dmath.h"
+#include "ref/core/error.h"
+
+namespace fovref {
+
+namespace {
+
+constexpr float inverse_gamma = 1.0f / 2.2f;
+
+glm::vec3 rgb_to_ycocg(glm::vec3 c) {
+    return {c.x + 2.0f * c.y + c.z, 2.0f * c.x - 2.0f * c.z, -c.x + 2.0f * c.y - c.z};
+}
+
+glm::vec3 ycocg_to_rgb(glm::vec3 v) {
+    return {(v.x - v.z + v.y) * 0.25f, (v.x + v.z) * 0.25f, (v.x - v.z - v.y) * 0.25f};
+}
+
+glm::vec3 load3(const Image& image, int x, int y) {
+    const float* p = &image.data[image.index(x, y)];
+    return {p[0], p[1], p[2]};
+}
+
+}  // namespace
+
+Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Image& albedo) {
+    Image out(filtered.width, filtered.height, 3);
+    for (std::size_t i = 0; i < out.data.size(); ++i) {
+        const float a = std::isfinite(albedo.data[i]) ? albedo.data[i] : 0.0f;
+        const float linear = std::max(0.0f, filtered.data[i] * std::max(a, params.albedo_floor));
+        out.data[i] = std::clamp(dm::pow(linear, inverse_gamma), 0.0f, 1.0f);
+    }
+    return out;
+}
+
+Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& previous_pixel,
+               const Image& history, BmfrStats& stats) {
+    const int width = display.width, height = display.height;
+    FOVREF_CHECK(previous_pixel.width == width && previous_pixel.height == height &&
+                     previous_pixel.channels == 2 &&
+                     (history.empty() || (history.width == width && history.height == height &&
+                                          history.channels == 3)),
+                 "bmfr_taa: buffers of different shapes");
+    Image out(width, height, 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const glm::vec3 current = load3(display, x, y);
+            float* o = &out.data[out.index(x, y)];
+            o[0] = current.x, o[1] = current.y, o[2] = current.z;
+            if (history.empty()) continue;
+            const glm::vec2 q(previous_pixel.at(x, y, 0), previous_pixel.at(x, y, 1));
+            // The reprojected point must be on the screen: pixel index in [-1/2, W - 1/2)
+            if (!(q.x >= -0.5f && q.y >= -0.5f && q.x < static_cast<float>(width) - 0.5f &&
+                  q.y < static_cast<float>(height) - 0.5f))
+                continue;
+            // The neighbourhood's extents in YCoCg: the 3x3 box and the 5-tap cross
+            glm::vec3 box_min(INFINITY), box_max(-INFINITY), cross_min(INFINITY),
+                cross_max(-INFINITY);
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int sx = x + dx, sy = y + dy;
+                    if (sx < 0 || sy < 0 || sx >= width || sy >= height) continue;
+                    const glm::vec3 v = rgb_to_ycocg(load3(display, sx, sy));
+                    box_min = glm::min(box_min, v);
+                    box_max = glm::max(box_max, v);
+                    if (dx == 0 || dy == 0) {
+                        cross_min = glm::min(cross_min, v);
+                        cross_max = glm::max(cross_max, v);
+                    }
+                }
+            const glm::vec3 lo = (box_min + cross_min) * 0.5f;
+            const glm::vec3 hi = (box_max + cross_max) * 0.5f;
+            // The history, bilinearly over the taps inside the image
+            const BmfrTaps taps = bmfr_taps(q);
+            glm::vec3 h(0.0f);
+            float total = 0.0f;
+            for (int k = 0; k < 4; ++k) {
+                if (taps.x[k] < 0 || taps.y[k] < 0 || taps.x[k] >= width || taps.y[k] >= height)
+                    continue;
+                h += taps.w[k] * load3(history, taps.x[k], taps.y[k]);
+                total += taps.w[k];
+            }
+            if (!(total > 0.0f)) continue;
+            h = h / total;
+            const glm::vec3 clamped = ycocg_to_rgb(glm::clamp(rgb_to_ycocg(h), lo, hi));
+            const glm::vec3 blended =
+                current * params.taa_alpha + clamped * (1.0f - params.taa_alpha);
+            o[0] = blended.x, o[1] = blended.y, o[2] = blended.z;
+            ++stats.taa_history_used;
+        }
+    return out;
+}
+
+Image bmfr_linearize(const Image& display) {
+    Image out(display.width, display.height, display.channels);
+    for (std::size_t i = 0; i < out.data.size(); ++i)
+        out.data[i] = dm::pow(std::max(display.data[i], 0.0f), 2.2f);
+    return out;
+}
+
+}  // namespace fovref

@@ -1,0 +1,251 @@
+// BMFR phase II: the block grid, the features, the per-block least-squares fit by an augmented
+// Householder QR, and the weighted sum (SPEC §9 items 3-8).
+#include <algorithm>
+#include <cmath>
+
+#include "ref/bmfr/bmfr.h"
+#include "ref/bmfr/half.h"
+#include "ref/core/error.h"
+#include "ref/core/rng.h"
+
+namespace fovref {
+
+namespace {
+
+float clamp_feature(float v) {
+    if (std::isnan(v)) return 0.0f;
+    return std::clamp(v, -half_max, half_max);
+}
+
+// (v - min) / (max - min) when the range exceeds 1, else v - min (SPEC §9 item 4).
+float scale_feature(float v, float lo, float hi) {
+    const float range = hi - lo;
+    return range > 1.0f ? (v - lo) / range : v - lo;
+}
+
+float store(BmfrStorage storage, float v) {
+    return storage == BmfrStorage::half ? round_to_half(v) : v;
+}
+
+// The regularisation noise of feature `feature` at row `row` of every block (SPEC §9 item 6).
+float regularisation_noise(float amount, int row, int feature, int frame) {
+    const std::uint32_t seed = static_cast<std::uint32_t>(row) +
+                               static_cast<std::uint32_t>(feature) * 1024u +
+                               static_cast<std::uint32_t>(frame) * 13u * 1024u;
+    const float r = static_cast<float>(wang_hash(seed)) / 4294967295.0f;
+    return amount * 2.0f * (r - 0.5f);
+}
+
+glm::vec3 load3(const Image& image, int x, int y) {
+    const float* p = &image.data[image.index(x, y)];
+    return {p[0], p[1], p[2]};
+}
+
+}  // namespace
+
+const std::array<glm::ivec2, 16>& bmfr_block_offsets() {
+    static const std::array<glm::ivec2, 16> offsets = {
+        glm::ivec2{-14, -14}, glm::ivec2{4, -6},   glm::ivec2{-8, 14},  glm::ivec2{8, 0},
+        glm::ivec2{-10, -8},  glm::ivec2{2, 12},   glm::ivec2{12, -12}, glm::ivec2{-10, 0},
+        glm::ivec2{12, 14},   glm::ivec2{-8, -16}, glm::ivec2{6, 6},    glm::ivec2{-2, -2},
+        glm::ivec2{6, -14},   glm::ivec2{-16, 12}, glm::ivec2{14, -4},  glm::ivec2{-6, 4}};
+    return offsets;
+}
+
+BmfrGrid bmfr_grid(int width, int height, int frame) {
+    FOVREF_CHECK(width > 0 && height > 0 && frame >= 0, "bmfr_grid: bad size or frame");
+    BmfrGrid g;
+    g.width = width;
+    g.height = height;
+    g.cells_x = (width + bmfr_block_size - 1) / bmfr_block_size + 1;
+    g.cells_y = (height + bmfr_block_size - 1) / bmfr_block_size + 1;
+    g.offset = bmfr_block_offsets()[static_cast<std::size_t>(frame % 16)];
+    return g;
+}
+
+glm::ivec2 BmfrGrid::cell_of(int x, int y) const {
+    // x - origin(0).x = x + 16 - offset.x >= 2 for offsets in [-16, 14]
+    return {(x + bmfr_block_size / 2 - offset.x) / bmfr_block_size,
+            (y + bmfr_block_size / 2 - offset.y) / bmfr_block_size};
+}
+
+int bmfr_mirror(int index, int size) {
+    const int period = 2 * size;
+    int m = index % period;
+    if (m < 0) m += period;
+    return m < size ? m : period - 1 - m;
+}
+
+void bmfr_features(glm::vec3 n, glm::vec3 w, float t[bmfr_feature_count]) {
+    t[0] = 1.0f;
+    t[1] = clamp_feature(n.x);
+    t[2] = clamp_feature(n.y);
+    t[3] = clamp_feature(n.z);
+    t[4] = clamp_feature(w.x);
+    t[5] = clamp_feature(w.y);
+    t[6] = clamp_feature(w.z);
+    t[7] = clamp_feature(w.x * w.x);
+    t[8] = clamp_feature(w.y * w.y);
+    t[9] = clamp_feature(w.z * w.z);
+}
+
+void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_x, int cell_y,
+                       const Image& accumulated, const Image& world_position, const Image& normal,
+                       int frame, bool noise, BmfrBlockMatrix& out) {
+    const glm::ivec2 origin = grid.origin(cell_x, cell_y);
+    float lo[bmfr_scaled_count], hi[bmfr_scaled_count];
+    std::fill(lo, lo + bmfr_scaled_count, half_max);
+    std::fill(hi, hi + bmfr_scaled_count, -half_max);
+    // Gather the raw features and colours (mirrored borders), and the ranges of features 4..9
+    for (int row = 0; row < bmfr_block_pixels; ++row) {
+        const int x = bmfr_mirror(origin.x + row % bmfr_block_size, grid.width);
+        const int y = bmfr_mirror(origin.y + row / bmfr_block_size, grid.height);
+        float* a = &out.a[static_cast<std::size_t>(row) * bmfr_matrix_stride];
+        bmfr_features(load3(normal, x, y), load3(world_position, x, y), a);
+        const glm::vec3 c = load3(accumulated, x, y);
+        a[10] = clamp_feature(c.x);
+        a[11] = clamp_feature(c.y);
+        a[12] = clamp_feature(c.z);
+        for (int k = 0; k < bmfr_scaled_count; ++k) {
+            lo[k] = std::min(lo[k], a[bmfr_scaled_first + k]);
+            hi[k] = std::max(hi[k], a[bmfr_scaled_first + k]);
+        }
+    }
+    std::copy(lo, lo + bmfr_scaled_count, out.feature_min);
+    std::copy(hi, hi + bmfr_scaled_count, out.feature_max);
+    // Scale, add the regularisation noise, round to the storage precision
+    for (int row = 0; row < bmfr_block_pixels; ++row) {
+        float* a = &out.a[static_cast<std::size_t>(row) * bmfr_matrix_stride];
+        for (int k = 0; k < bmfr_scaled_count; ++k)
+            a[bmfr_scaled_first + k] = scale_feature(a[bmfr_scaled_first + k], lo[k], hi[k]);
+        if (noise)
+            for (int f = 1; f < bmfr_feature_count; ++f)
+                a[f] = a[f] + regularisation_noise(params.noise_amount, row, f, frame);
+        for (int col = 0; col < bmfr_column_count; ++col) a[col] = store(params.storage, a[col]);
+    }
+}
+
+BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
+    BmfrBlockFit fit;
+    std::copy(m.feature_min, m.feature_min + bmfr_scaled_count, fit.feature_min);
+    std::copy(m.feature_max, m.feature_max + bmfr_scaled_count, fit.feature_max);
+    float* a = m.a.data();
+    constexpr int stride = bmfr_matrix_stride;
+    for (int col = 0; col < bmfr_column_count; ++col) {
+        const int c = std::min(col, bmfr_feature_count);
+        // The norm of the column below the pivot row (binary64, row order)
+        double s_sum = 0.0;
+        for (int i = c + 1; i < bmfr_block_pixels; ++i) {
+            const double x = a[i * stride + col];
+            s_sum += x * x;
+        }
+        const auto s = static_cast<float>(s_sum);
+        const float xc = a[c * stride + col];
+        const float r = std::sqrt(s + xc * xc);
+        const float uc = xc - r;
+        const float u_length_squared = s + uc * uc;
+        if (!(u_length_squared > 0.0f)) {
+            ++fit.reflections_skipped;
+            continue;
+        }
+        // The dot products u . a_j of the remaining columns (binary64, row order)
+        double d[bmfr_column_count] = {};
+        for (int j = col + 1; j < bmfr_column_count; ++j)
+            d[j] = static_cast<double>(uc) * static_cast<double>(a[c * stride + j]);
+        for (int i = c + 1; i < bmfr_block_pixels; ++i) {
+            const double u = a[i * stride + col];
+            const float* row = &a[i * stride];
+            for (int j = col + 1; j < bmfr_column_count; ++j) d[j] += u * row[j];
+        }
+        float t[bmfr_column_count] = {};
+        for (int j = col + 1; j < bmfr_column_count; ++j)
+            t[j] = (2.0f * static_cast<float>(d[j])) / u_length_squared;
+        // Reflect the remaining columns, rounding to the storage precision
+        for (int j = col + 1; j < bmfr_column_count; ++j)
+            a[c * stride + j] = store(params.storage, a[c * stride + j] - uc * t[j]);
+        for (int i = c + 1; i < bmfr_block_pixels; ++i) {
+            float* row = &a[i * stride];
+            const float u = row[col];
+            for (int j = col + 1; j < bmfr_column_count; ++j)
+                row[j] = store(params.storage, row[j] - u * t[j]);
+            row[col] = 0.0f;
+        }
+        a[c * stride + col] = store(params.storage, r);
+    }
+    // Back substitution, row 9 to 0, per colour channel
+    for (int ch = 0; ch < 3; ++ch) {
+        float* w = fit.weights[ch];
+        for (int i = bmfr_feature_count - 1; i >= 0; --i) {
+            float v = a[i * stride + bmfr_feature_count + ch];
+            for (int k = i + 1; k < bmfr_feature_count; ++k) v = v - a[i * stride + k] * w[k];
+            const float pivot = a[i * stride + i];
+            if (std::fabs(pivot) < params.pivot_epsilon) {
+                w[i] = 0.0f;
+                if (ch == 0) ++fit.pivots_zeroed;
+            } else {
+                w[i] = v / pivot;
+            }
+        }
+    }
+    return fit;
+}
+
+BmfrFit bmfr_fit(const BmfrParams& params, const Image& accumulated, const Image& world_position,
+                 const Image& normal, int frame, BmfrStats& stats) {
+    BmfrFit out;
+    out.grid = bmfr_grid(accumulated.width, accumulated.height, frame);
+    const BmfrGrid& g = out.grid;
+    out.weights = Image(g.cells_x, g.cells_y, bmfr_weight_count);
+    out.feature_range = Image(g.cells_x, g.cells_y, 2 * bmfr_scaled_count);
+    BmfrBlockMatrix matrix;
+    for (int cy = 0; cy < g.cells_y; ++cy)
+        for (int cx = 0; cx < g.cells_x; ++cx) {
+            bmfr_gather_block(params, g, cx, cy, accumulated, world_position, normal, frame, true,
+                              matrix);
+            const BmfrBlockFit fit = bmfr_solve_block(params, matrix);
+            float* w = &out.weights.data[out.weights.index(cx, cy)];
+            for (int ch = 0; ch < 3; ++ch)
+                for (int i = 0; i < bmfr_feature_count; ++i)
+                    w[ch * bmfr_feature_count + i] = fit.weights[ch][i];
+            float* range = &out.feature_range.data[out.feature_range.index(cx, cy)];
+            for (int k = 0; k < bmfr_scaled_count; ++k) {
+                range[k] = fit.feature_min[k];
+                range[bmfr_scaled_count + k] = fit.feature_max[k];
+            }
+            ++stats.blocks;
+            stats.pivots_zeroed += fit.pivots_zeroed;
+            stats.reflections_skipped += fit.reflections_skipped;
+        }
+    return out;
+}
+
+Image bmfr_weighted_sum(const BmfrFit& fit, const Image& world_position, const Image& normal,
+                        BmfrStats& stats) {
+    const BmfrGrid& g = fit.grid;
+    Image out(g.width, g.height, 3);
+    for (int y = 0; y < g.height; ++y)
+        for (int x = 0; x < g.width; ++x) {
+            const glm::ivec2 cell = g.cell_of(x, y);
+            const float* w = &fit.weights.data[fit.weights.index(cell.x, cell.y)];
+            const float* range = &fit.feature_range.data[fit.feature_range.index(cell.x, cell.y)];
+            float t[bmfr_feature_count];
+            bmfr_features(load3(normal, x, y), load3(world_position, x, y), t);
+            for (int k = 0; k < bmfr_scaled_count; ++k)
+                t[bmfr_scaled_first + k] =
+                    scale_feature(t[bmfr_scaled_first + k], range[k], range[bmfr_scaled_count + k]);
+            float* o = &out.data[out.index(x, y)];
+            for (int ch = 0; ch < 3; ++ch) {
+                float sum = 0.0f;
+                for (int i = 0; i < bmfr_feature_count; ++i)
+                    sum = sum + w[ch * bmfr_feature_count + i] * t[i];
+                if (!std::isfinite(sum)) {
+                    ++stats.fit_nonfinite;
+                    sum = 0.0f;
+                }
+                o[ch] = std::max(sum, 0.0f);
+            }
+        }
+    return out;
+}
+
+}  // namespace fovref

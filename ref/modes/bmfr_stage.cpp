@@ -1,0 +1,219 @@
+#include "ref/modes/bmfr_stage.h"
+
+#include <utility>
+
+#include "ref/core/error.h"
+
+namespace fovref {
+
+namespace {
+
+const std::vector<std::string> rgb = {"r", "g", "b"};
+
+const Buffer& state_buffer(const FrameContext& ctx, const std::string& name) {
+    for (const Buffer& b : ctx.settings->state_buffers)
+        if (b.name == name) return b;
+    throw Error("frame " + std::to_string(ctx.frame) + ": BMFR carries state from frame " +
+                std::to_string(ctx.frame - 1) + ", and buffer '" + name +
+                "' of that frame was not given: render from frame 0, or resume from a --dump of "
+                "frame " +
+                std::to_string(ctx.frame - 1) + " (`fovref render --resume DIR`)");
+}
+
+// The history of a frame rendered after frame 0 with nothing rendered before it: the previous
+// frame's dumped buffers.
+BmfrHistory resumed_bmfr_history(const FrameContext& ctx) {
+    const int width = ctx.settings->width, height = ctx.settings->height;
+    BmfrHistory h;
+    h.valid = true;
+    h.view_projection = view_projection(ctx.previous_camera, width, height);
+    const auto get = [&](const std::string& name, int channels) {
+        const Image& image = state_buffer(ctx, name).image;
+        if (image.width != width || image.height != height || image.channels != channels)
+            throw Error("--resume: buffer '" + name + "' is " + std::to_string(image.width) + "x" +
+                        std::to_string(image.height) + "x" + std::to_string(image.channels) +
+                        ", the frame needs " + std::to_string(width) + "x" +
+                        std::to_string(height) + "x" + std::to_string(channels));
+        return image;
+    };
+    h.world_position = get("gbuffer_world_position", 3);
+    h.normal = get("gbuffer_shading_normal", 3);
+    h.accumulated_noisy = get("bmfr_accumulated_noisy", 3);
+    h.spp = get("bmfr_spp", 1);
+    h.accumulated_filtered = get("bmfr_accumulated_filtered", 3);
+    h.taa = get("bmfr_taa", 3);
+    return h;
+}
+
+// The mode's BMFR state at this frame: the first BMFR stage of a frame moves what the previous
+// frame handed on into the history.
+BmfrModeState& bmfr_state(FrameContext& ctx) {
+    BmfrModeState& s = ctx.mode_state<BmfrModeState>();
+    if (s.bmfr_frame != ctx.frame) {
+        if (s.bmfr_frame == ctx.frame - 1 && s.bmfr_frame >= 0)
+            s.bmfr_history = std::move(s.bmfr_next);
+        else
+            s.bmfr_history = ctx.has_previous ? resumed_bmfr_history(ctx) : BmfrHistory{};
+        s.bmfr_next = BmfrHistory{};
+        s.bmfr_frame = ctx.frame;
+    }
+    return s;
+}
+
+void add_stats(FrameContext& ctx, const BmfrStats& stats) {
+    add_bmfr_counters(ctx.result->counters, stats);
+}
+
+}  // namespace
+
+void add_bmfr_counters(Counters& counters, const BmfrStats& s) {
+    counters.add("bmfr_nonfinite_inputs", s.nonfinite_inputs);
+    counters.add("bmfr_history_accepted", s.history_accepted);
+    counters.add("bmfr_history_rejected", s.history_rejected);
+    counters.add("bmfr_history_off_screen", s.history_off_screen);
+    counters.add("bmfr_blocks", s.blocks);
+    counters.add("bmfr_pivots_zeroed", s.pivots_zeroed);
+    counters.add("bmfr_reflections_skipped", s.reflections_skipped);
+    counters.add("bmfr_fit_nonfinite", s.fit_nonfinite);
+    counters.add("bmfr_taa_history_used", s.taa_history_used);
+}
+
+void bmfr_demodulate_stage(FrameContext& ctx) {
+    BmfrModeState& s = bmfr_state(ctx);
+    BmfrStats stats;
+    Image out = bmfr_demodulate(s.bmfr.params, ctx.input(s.bmfr_radiance),
+                                ctx.input("gbuffer_albedo"), stats);
+    add_stats(ctx, stats);
+    ctx.result->add("bmfr_illumination", BufferKind::color, rgb, std::move(out));
+}
+
+void bmfr_accumulate_noisy_stage(FrameContext& ctx) {
+    BmfrModeState& s = bmfr_state(ctx);
+    const Image& world = ctx.input("gbuffer_world_position");
+    const Image& normal = ctx.input("gbuffer_shading_normal");
+    BmfrStats stats;
+    BmfrAccumulation a = bmfr_accumulate_noisy(s.bmfr.params, ctx.input("bmfr_illumination"), world,
+                                               normal, s.bmfr_history, stats);
+    add_stats(ctx, stats);
+    ctx.note = !s.bmfr_history.valid
+                   ? "first frame: no history"
+                   : std::to_string(stats.history_accepted) + " pixels with history";
+    s.bmfr_next.valid = true;
+    s.bmfr_next.view_projection = view_projection(ctx.camera, world.width, world.height);
+    s.bmfr_next.world_position = world;
+    s.bmfr_next.normal = normal;
+    s.bmfr_next.accumulated_noisy = a.accumulated;
+    s.bmfr_next.spp = a.spp;
+    ctx.result->add("bmfr_accumulated_noisy", BufferKind::color, rgb, std::move(a.accumulated));
+    ctx.result->add("bmfr_spp", BufferKind::scalar, {"spp"}, std::move(a.spp));
+    ctx.result->add("bmfr_accept", BufferKind::scalar, {"mask"}, std::move(a.accept));
+    ctx.result->add("bmfr_previous_pixel", BufferKind::scalar, {"x", "y"},
+                    std::move(a.previous_pixel));
+}
+
+void bmfr_fit_stage(FrameContext& ctx) {
+    BmfrModeState& s = bmfr_state(ctx);
+    BmfrStats stats;
+    BmfrFit fit = bmfr_fit(s.bmfr.params, ctx.input("bmfr_accumulated_noisy"),
+                           ctx.input("gbuffer_world_position"), ctx.input("gbuffer_shading_normal"),
+                           ctx.frame, stats);
+    add_stats(ctx, stats);
+    ctx.note = std::to_string(fit.grid.cells_x) + "x" + std::to_string(fit.grid.cells_y) +
+               " blocks, offset (" + std::to_string(fit.grid.offset.x) + ", " +
+               std::to_string(fit.grid.offset.y) + "), " +
+               (s.bmfr.params.storage == BmfrStorage::half ? "binary16" : "binary32") + " storage";
+    std::vector<std::string> weight_names, range_names;
+    for (const char* ch : {"r", "g", "b"})
+        for (int i = 0; i < bmfr_feature_count; ++i)
+            weight_names.push_back(std::string(ch) + "_w" + std::to_string(i));
+    for (const char* bound : {"min", "max"})
+        for (int k = 0; k < bmfr_scaled_count; ++k)
+            range_names.push_back(std::string(bound) + "_t" +
+                                  std::to_string(bmfr_scaled_first + k));
+    ctx.result->add("bmfr_weights", BufferKind::scalar, weight_names, std::move(fit.weights));
+    ctx.result->add("bmfr_feature_range", BufferKind::scalar, range_names,
+                    std::move(fit.feature_range));
+}
+
+void bmfr_weighted_sum_stage(FrameContext& ctx) {
+    bmfr_state(ctx);
+    const Image& world = ctx.input("gbuffer_world_position");
+    BmfrFit fit;
+    fit.grid = bmfr_grid(world.width, world.height, ctx.frame);
+    fit.weights = ctx.input("bmfr_weights");
+    fit.feature_range = ctx.input("bmfr_feature_range");
+    BmfrStats stats;
+    Image out = bmfr_weighted_sum(fit, world, ctx.input("gbuffer_shading_normal"), stats);
+    add_stats(ctx, stats);
+    ctx.result->add("bmfr_fitted", BufferKind::color, rgb, std::move(out));
+}
+
+void bmfr_accumulate_filtered_stage(FrameContext& ctx) {
+    BmfrModeState& s = bmfr_state(ctx);
+    Image out = bmfr_accumulate_filtered(
+        s.bmfr.params, ctx.input("bmfr_fitted"), ctx.input("bmfr_spp"), ctx.input("bmfr_accept"),
+        ctx.input("bmfr_previous_pixel"), s.bmfr_history.accumulated_filtered);
+    s.bmfr_next.accumulated_filtered = out;
+    ctx.result->add("bmfr_accumulated_filtered", BufferKind::color, rgb, std::move(out));
+}
+
+void bmfr_remodulate_stage(FrameContext& ctx) {
+    BmfrModeState& s = bmfr_state(ctx);
+    Image out = bmfr_remodulate(s.bmfr.params, ctx.input("bmfr_accumulated_filtered"),
+                                ctx.input("gbuffer_albedo"));
+    ctx.note = "display space: clamp(x^(1/2.2), 0, 1)";
+    ctx.result->add("bmfr_display", BufferKind::scalar, rgb, std::move(out));
+}
+
+void bmfr_taa_stage(FrameContext& ctx) {
+    BmfrModeState& s = bmfr_state(ctx);
+    BmfrStats stats;
+    Image out = bmfr_taa(s.bmfr.params, ctx.input("bmfr_display"), ctx.input("bmfr_previous_pixel"),
+                         s.bmfr_history.taa, stats);
+    add_stats(ctx, stats);
+    s.bmfr_next.taa = out;
+    ctx.result->add("bmfr_taa", BufferKind::scalar, rgb, std::move(out));
+}
+
+void bmfr_output_stage(FrameContext& ctx) {
+    BmfrModeState& s = bmfr_state(ctx);
+    ctx.note = "linear: bmfr_taa^2.2";
+    ctx.result->add(s.bmfr_output, BufferKind::color, rgb, bmfr_linearize(ctx.input("bmfr_taa")));
+}
+
+void add_bmfr_stages(Pipeline& p, BmfrModeState& state, const std::string& radiance,
+                     const std::string& output) {
+    state.bmfr_radiance = radiance;
+    state.bmfr_output = output;
+    const std::string world = "gbuffer_world_position", normal = "gbuffer_shading_normal";
+    p.stages.push_back({"bmfr_demodulate",
+                        {radiance, "gbuffer_albedo"},
+                        {"bmfr_illumination"},
+                        bmfr_demodulate_stage});
+    p.stages.push_back(
+        {"bmfr_accumulate_noisy",
+         {"bmfr_illumination", world, normal},
+         {"bmfr_accumulated_noisy", "bmfr_spp", "bmfr_accept", "bmfr_previous_pixel"},
+         bmfr_accumulate_noisy_stage});
+    p.stages.push_back({"bmfr_fit",
+                        {"bmfr_accumulated_noisy", world, normal},
+                        {"bmfr_weights", "bmfr_feature_range"},
+                        bmfr_fit_stage});
+    p.stages.push_back({"bmfr_weighted_sum",
+                        {"bmfr_weights", "bmfr_feature_range", world, normal},
+                        {"bmfr_fitted"},
+                        bmfr_weighted_sum_stage});
+    p.stages.push_back({"bmfr_accumulate_filtered",
+                        {"bmfr_fitted", "bmfr_spp", "bmfr_accept", "bmfr_previous_pixel"},
+                        {"bmfr_accumulated_filtered"},
+                        bmfr_accumulate_filtered_stage});
+    p.stages.push_back({"bmfr_remodulate",
+                        {"bmfr_accumulated_filtered", "gbuffer_albedo"},
+                        {"bmfr_display"},
+                        bmfr_remodulate_stage});
+    p.stages.push_back(
+        {"bmfr_taa", {"bmfr_display", "bmfr_previous_pixel"}, {"bmfr_taa"}, bmfr_taa_stage});
+    p.stages.push_back({"bmfr_output", {"bmfr_taa"}, {output}, bmfr_output_stage});
+}
+
+}  // namespace fovref
