@@ -1,0 +1,105 @@
+// binary16 conversion (ref/bmfr/half.h): every half survives the round trip; rounding of floats
+// between halves is to the nearest, ties to even, checked against a binary64 reference written
+// here and (g++, which has _Float16 on x86-64) against the compiler's own conversion.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include "ref/bmfr/half.h"
+#include "ref/core/rng.h"
+
+using namespace fovref;
+
+namespace {
+
+float float_from_bits(std::uint32_t u) {
+    float f;
+    std::memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+// The nearest binary16 value of a finite float below 65520 in magnitude, ties to even, in binary64:
+// the spacing of halves at |f| is 2^(max(e, -14) - 10) with e = floor(log2 |f|).
+double nearest_half_reference(float f) {
+    const double a = std::fabs(static_cast<double>(f));
+    if (a == 0.0) return static_cast<double>(f);
+    int e = 0;
+    std::frexp(a, &e);  // a = m 2^e, m in [0.5, 1)
+    const double spacing = std::ldexp(1.0, std::max(e - 1, -14) - 10);
+    const double q = a / spacing;
+    double r = std::floor(q);
+    if (q - r > 0.5 || (q - r == 0.5 && std::fmod(r, 2.0) != 0.0)) r += 1.0;
+    const double v = r * spacing;
+    return f < 0 ? -v : v;
+}
+
+}  // namespace
+
+TEST_CASE("every binary16 value survives float and back") {
+    int checked = 0;
+    for (std::uint32_t h = 0; h < 65536; ++h) {
+        const auto half = static_cast<std::uint16_t>(h);
+        const bool nan = (h & 0x7c00u) == 0x7c00u && (h & 0x3ffu) != 0;
+        const float f = float_from_half(half);
+        if (nan) {
+            CHECK(std::isnan(f));
+            continue;
+        }
+        REQUIRE(half_from_float(f) == half);
+        ++checked;
+    }
+    CHECK(checked == 65536 - 2 * 1023);
+    CHECK(float_from_half(0x3c00u) == 1.0f);
+    CHECK(float_from_half(0x7bffu) == 65504.0f);
+    CHECK(float_from_half(0x0001u) == std::ldexp(1.0f, -24));
+    CHECK(float_from_half(0x0400u) == std::ldexp(1.0f, -14));
+}
+
+TEST_CASE("half_from_float rounds to nearest, ties to even (binary64 reference)") {
+    // ties: halfway between consecutive halves in the normal and subnormal ranges
+    CHECK(half_from_float(1.0f + std::ldexp(1.0f, -11)) == 0x3c00u);      // tie -> even 1.0
+    CHECK(half_from_float(1.0f + 3 * std::ldexp(1.0f, -11)) == 0x3c02u);  // tie -> even up
+    CHECK(half_from_float(std::ldexp(1.0f, -25)) == 0x0000u);             // tie with 0
+    CHECK(half_from_float(3 * std::ldexp(1.0f, -25)) == 0x0002u);         // 1.5 units -> 2
+    CHECK(half_from_float(65519.0f) == 0x7bffu);
+    CHECK(half_from_float(65520.0f) == 0x7c00u);  // the tie with 2^16 rounds to infinity
+    CHECK(half_from_float(-INFINITY) == 0xfc00u);
+    CHECK(std::isnan(float_from_half(half_from_float(NAN))));
+    // round_to_half saturates instead
+    CHECK(round_to_half(1e30f) == 65504.0f);
+    CHECK(round_to_half(-70000.0f) == -65504.0f);
+    // every float of a large sample below 65520 in magnitude
+    int checked = 0;
+    for (std::uint32_t i = 0; i < 2000000; ++i) {
+        const std::uint32_t bits = pcg_hash(i * 2654435761u + 7u);
+        const float f = float_from_bits(bits);
+        if (!std::isfinite(f) || std::fabs(f) >= 65520.0f) continue;
+        const double expected = nearest_half_reference(f);
+        const double got = static_cast<double>(float_from_half(half_from_float(f)));
+        if (got != expected) {
+            CAPTURE(bits);
+            REQUIRE(got == expected);
+        }
+        ++checked;
+    }
+    CHECK(checked > 500000);
+}
+
+#if defined(__FLT16_MAX__) && !defined(__clang__)
+TEST_CASE("half_from_float equals the compiler's _Float16 conversion") {
+    for (std::uint32_t i = 0; i < 4000000; ++i) {
+        const std::uint32_t bits = pcg_hash(i ^ 0x9e3779b9u) ^ (i << 16);
+        const float f = float_from_bits(bits);
+        if (std::isnan(f)) continue;
+        const _Float16 h = static_cast<_Float16>(f);
+        std::uint16_t expected;
+        std::memcpy(&expected, &h, sizeof expected);
+        if (half_from_float(f) != expected) {
+            CAPTURE(bits);
+            REQUIRE(half_from_float(f) == expected);
+        }
+    }
+}
+#endif
