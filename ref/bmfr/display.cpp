@@ -32,7 +32,9 @@ Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Ima
     for (std::size_t i = 0; i < out.data.size(); ++i) {
         const float a = std::isfinite(albedo.data[i]) ? albedo.data[i] : 0.0f;
         const float linear = std::max(0.0f, filtered.data[i] * std::max(a, params.albedo_floor));
-        out.data[i] = std::clamp(dm::pow(linear, inverse_gamma), 0.0f, 1.0f);
+        // x >= 1 gives x^(1/2.2) >= 1, clamped to 1: no need to evaluate it
+        out.data[i] =
+            linear >= 1.0f ? 1.0f : std::clamp(dm::pow_fast(linear, inverse_gamma), 0.0f, 1.0f);
     }
     return out;
 }
@@ -98,7 +100,7 @@ Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& prev
 Image bmfr_linearize(const Image& display) {
     Image out(display.width, display.height, display.channels);
     for (std::size_t i = 0; i < out.data.size(); ++i)
-        out.data[i] = dm::pow(std::max(display.data[i], 0.0f), 2.2f);
+        out.data[i] = dm::pow_fast(std::max(display.data[i], 0.0f), 2.2f);
     return out;
 }
 

@@ -148,27 +148,30 @@ BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
             ++fit.reflections_skipped;
             continue;
         }
-        // The dot products u . a_j of the remaining columns (binary64, row order)
-        double d[bmfr_column_count] = {};
-        for (int j = col + 1; j < bmfr_column_count; ++j)
+        // The dot products u . a_j of the remaining columns (binary64, row order). The loops
+        // run over whole groups of 4 columns, from j0 (col + 1 rounded down to a multiple of 4)
+        // to 15, so that they vectorise: columns other than col + 1 .. 12 get t_j = 0 below, and
+        // storing a stored value again leaves it unchanged.
+        const int j0 = (col + 1) & ~3;
+        double d[stride] = {};
+        for (int j = j0; j < stride; ++j)
             d[j] = static_cast<double>(uc) * static_cast<double>(a[c * stride + j]);
         for (int i = c + 1; i < bmfr_block_pixels; ++i) {
             const double u = a[i * stride + col];
             const float* row = &a[i * stride];
-            for (int j = col + 1; j < bmfr_column_count; ++j) d[j] += u * row[j];
+            for (int j = j0; j < stride; ++j) d[j] += u * static_cast<double>(row[j]);
         }
-        float t[bmfr_column_count] = {};
+        float t[stride] = {};
         for (int j = col + 1; j < bmfr_column_count; ++j)
             t[j] = (2.0f * static_cast<float>(d[j])) / u_length_squared;
         // Reflect the remaining columns, rounding to the storage precision
-        for (int j = col + 1; j < bmfr_column_count; ++j)
-            a[c * stride + j] = store(params.storage, a[c * stride + j] - uc * t[j]);
-        for (int i = c + 1; i < bmfr_block_pixels; ++i) {
+        const bool half = params.storage == BmfrStorage::half;
+        for (int i = c; i < bmfr_block_pixels; ++i) {
             float* row = &a[i * stride];
-            const float u = row[col];
-            for (int j = col + 1; j < bmfr_column_count; ++j)
-                row[j] = store(params.storage, row[j] - u * t[j]);
-            row[col] = 0.0f;
+            const float u = i == c ? uc : row[col];
+            for (int j = j0; j < stride; ++j) row[j] = row[j] - u * t[j];
+            if (half) round_to_half_16(row);
+            if (i > c) row[col] = 0.0f;
         }
         a[c * stride + col] = store(params.storage, r);
     }

@@ -59,9 +59,4 @@ float float_from_half(std::uint16_t h) {
     return sign != 0 ? -v : v;
 }
 
-float round_to_half(float f) {
-    const float clamped = f < -half_max ? -half_max : (f > half_max ? half_max : f);
-    return float_from_half(half_from_float(clamped));
-}
-
 }  // namespace fovref

@@ -493,6 +493,39 @@ float log2(float x) {
 
 float pow(float x, float y) { return static_cast<float>(pow_d(x, y)); }
 
+float pow_fast(float xf, float yf) {
+    const u32 xb = bits_of(xf);
+    // finite positive normal x and finite y only; the rest (and 1^y) as pow
+    if (xb - 0x00800000u >= 0x7f000000u || float_not_finite(yf) || xf == 1.0f) return pow(xf, yf);
+    // x = m 2^e, m in [sqrt(1/2), sqrt(2))
+    int e = static_cast<int>(xb >> 23) - 127;
+    double m = static_cast<double>(float_of((xb & 0x007fffffu) | 0x3f800000u));  // [1, 2)
+    if (m >= kSqrt2) {
+        m = m * 0.5;
+        e += 1;
+    }
+    // ln m = 2 atanh(s), s = (m - 1) / (m + 1), |s| <= 0.1716: terms up to s^23 (< 2^-58)
+    const double s = (m - 1.0) / (m + 1.0);
+    const double z = s * s;
+    double q = 2.0 / 23.0;
+    q = 2.0 / 21.0 + z * q;
+    q = 2.0 / 19.0 + z * q;
+    q = 2.0 / 17.0 + z * q;
+    q = 2.0 / 15.0 + z * q;
+    q = 2.0 / 13.0 + z * q;
+    q = 2.0 / 11.0 + z * q;
+    q = 2.0 / 9.0 + z * q;
+    q = 2.0 / 7.0 + z * q;
+    q = 2.0 / 5.0 + z * q;
+    q = 2.0 / 3.0 + z * q;
+    const double ln_m = 2.0 * s + s * (z * q);
+    // y ln x = y (e ln 2 + ln m)
+    const double ln_x = static_cast<double>(e) * (kLn2Hi + kLn2Lo) + ln_m;
+    const double t = static_cast<double>(yf) * ln_x;
+    if (t > 88.8 || t < -103.5) return pow(xf, yf);  // overflow or deep subnormal: pow decides
+    return static_cast<float>(exp_core(t, 0.0));
+}
+
 float sin(float x) {
     if (float_not_finite(x)) return x - x;  // NaN for NaN and ±inf
     if (float_abs(x) < kTinyArg) return x;

@@ -3,6 +3,7 @@
 // here and (g++, which has _Float16 on x86-64) against the compiler's own conversion.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -85,6 +86,34 @@ TEST_CASE("half_from_float rounds to nearest, ties to even (binary64 reference)"
         ++checked;
     }
     CHECK(checked > 500000);
+}
+
+TEST_CASE("round_to_half equals the conversion there and back of the clamped value") {
+    for (std::uint32_t i = 0; i < 4000000; ++i) {
+        const std::uint32_t bits = pcg_hash(i * 747796405u + 1u) >> (i % 5u);  // small values too
+        const float f = float_from_bits(bits ^ ((i & 1u) << 31));
+        if (std::isnan(f)) continue;
+        const float clamped = std::max(-65504.0f, std::min(65504.0f, f));
+        const float expected = float_from_half(half_from_float(clamped));
+        if (round_to_half(f) != expected ||
+            std::signbit(round_to_half(f)) != std::signbit(expected)) {
+            CAPTURE(bits);
+            REQUIRE(round_to_half(f) == expected);
+        }
+    }
+    float row[16];
+    for (std::uint32_t i = 0; i < 400000; ++i) {
+        float expected[16];
+        for (std::uint32_t j = 0; j < 16; ++j) {
+            row[j] = float_from_bits(pcg_hash(i * 16u + j) >> ((i + j) % 5u));
+            expected[j] = round_to_half(row[j]);
+        }
+        round_to_half_16(row);
+        for (int j = 0; j < 16; ++j)
+            if (!std::isnan(expected[j])) REQUIRE(std::memcmp(&row[j], &expected[j], 4) == 0);
+    }
+    CHECK(std::isnan(round_to_half(NAN)));
+    CHECK(round_to_half(INFINITY) == 65504.0f);
 }
 
 #if defined(__FLT16_MAX__) && !defined(__clang__)

@@ -331,6 +331,33 @@ TEST_CASE("dmath accuracy: pow") {
         });
 }
 
+TEST_CASE("dmath accuracy: pow_fast (positive bases)") {
+    measure_float2(
+        "pow_fast", 115, [](float x, float y) { return dm::pow_fast(x, y); },
+        [](double x, double y) { return std::pow(x, y); },
+        [](const Draw& d) {
+            switch (d.index % 3) {
+                case 0: {  // any positive base, exponent chosen so that x^y spans the float range
+                    float x = std::fabs(d.finite_bits(0));
+                    double t = d.uniform(-155.0, 130.0, 1);
+                    double l = std::log2(static_cast<double>(x));
+                    float y = l == 0.0 ? 1.0f : static_cast<float>(t / l);
+                    return Pair{x, y};
+                }
+                case 1:  // display gammas on [0, 1]
+                    return Pair{static_cast<float>(d.uniform(0.0, 1.0, 2)),
+                                d.index % 2 == 0 ? 2.2f : 1.0f / 2.2f};
+                default:
+                    return Pair{static_cast<float>(d.uniform(0.0, 4.0, 2)),
+                                static_cast<float>(d.uniform(-12.0, 12.0, 3))};
+            }
+        });
+    CHECK(dm::pow_fast(0.0f, 2.2f) == 0.0f);
+    CHECK(dm::pow_fast(1.0f, 2.2f) == 1.0f);
+    CHECK(dm::pow_fast(4.0f, 0.5f) == 2.0f);
+    CHECK(dm::pow_fast(2.0f, 10.0f) == 1024.0f);
+}
+
 TEST_CASE("dmath accuracy: sin, cos, tan over all finite floats") {
     measure_float1(
         "sin", 107, [](float x) { return dm::sin(x); }, [](double x) { return std::sin(x); },
