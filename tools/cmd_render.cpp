@@ -60,11 +60,18 @@ void parse_frames(RenderOptions& o) {
 int frame_count(const RenderOptions& o) { return parse_count(o.frames, o.frames); }
 
 // The buffers of frame `frame` in the bundle `directory`, checked to come from the same render.
-std::vector<Buffer> resume_buffers(const std::string& directory, const GoldenCase& run, int frame) {
+// `free_param`: a parameter that may differ between the runs (the reference's spp).
+std::vector<Buffer> resume_buffers(const std::string& directory, const GoldenCase& run, int frame,
+                                   const std::string& free_param = "") {
     const Manifest manifest = read_manifest(directory);
     const GoldenCase& c = manifest.golden_case;
+    Params bundle_params = c.params, run_params = run.params;
+    if (!free_param.empty()) {
+        bundle_params.set(free_param, "");
+        run_params.set(free_param, "");
+    }
     if (c.mode != run.mode || c.scene != run.scene || c.width != run.width ||
-        c.height != run.height || c.params != run.params || c.time_start != run.time_start ||
+        c.height != run.height || bundle_params != run_params || c.time_start != run.time_start ||
         c.time_step != run.time_step)
         throw Error("--resume " + directory +
                     ": the bundle was rendered with other settings (mode, scene, size, "
@@ -104,7 +111,8 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     c.add_option("--resume", o.resume,
                  "a --dump (or --out with --output all) bundle that holds frame F - 1 of the same "
                  "render: the state carried into frame F = the first frame (TAA history, age, "
-                 "depth)");
+                 "depth; BMFR's accumulations); for pathtrace-reference, a bundle of the same "
+                 "frame whose sums the run continues up to spp");
     c.add_flag("--static-camera", o.static_camera,
                "keep the camera at the path's start for every frame (= --time-step 0): the "
                "static-camera sequence");
@@ -172,7 +180,14 @@ int run_render(const RenderOptions& given) {
         throw Error("--first-frame: mode '" + o.mode +
                     "' carries state from frame to frame; render from frame 0");
     settings.first_frame = o.first_frame;
-    if (!o.resume.empty()) {
+    if (!o.resume.empty() && find_mode(o.mode).resume_same_frame) {
+        // the reference: continue the same frame's sums
+        if (frame_count(o) != 1)
+            throw Error("--resume " + o.resume + ": mode '" + o.mode +
+                        "' continues the accumulation of one frame: render one frame "
+                        "(--frames 1, --first-frame F)");
+        settings.state_buffers = resume_buffers(o.resume, run, o.first_frame, "spp");
+    } else if (!o.resume.empty()) {
         if (!carries_state(find_mode(o.mode), run.params))
             throw Error("--resume " + o.resume + ": mode '" + o.mode +
                         "' carries no state from frame to frame with these parameters (no TAA, "

@@ -26,8 +26,12 @@ public:
         const int filled = static_cast<int>(fraction * width + 0.5);
         std::string bar(static_cast<std::size_t>(filled), '#');
         bar.resize(width, ' ');
-        std::fprintf(stderr, "\r\033[K%s [%s] %3d%% %.1f s", label_.c_str(), bar.c_str(),
-                     static_cast<int>(fraction * 100 + 0.5), elapsed);
+        // the estimated time left, once a few percent are done
+        char eta[48] = "";
+        if (fraction >= 0.02 && fraction < 1.0)
+            std::snprintf(eta, sizeof eta, ", ETA %.0f s", elapsed * (1.0 - fraction) / fraction);
+        std::fprintf(stderr, "\r\033[K%s [%s] %3d%% %.1f s%s", label_.c_str(), bar.c_str(),
+                     static_cast<int>(fraction * 100 + 0.5), elapsed, eta);
         std::fflush(stderr);
         shown_ = true;
     }

@@ -103,6 +103,13 @@ std::vector<ModeInfo> make_modes() {
              pathtrace_pipeline);
     pathtrace.params = pathtrace_param_specs();
     pathtrace.pixel_functions = pathtrace_pixel_functions;
+    pathtrace.stateless = true;  // unless denoise=bmfr (carries_state)
+    ModeInfo reference = mode("pathtrace-reference",
+                              "the converged reference of pathtrace: N jittered samples per pixel "
+                              "averaged, a standard-error image, resumable sums (SPEC §8)",
+                              pathtrace_reference_pipeline);
+    reference.params = pathtrace_reference_param_specs();
+    reference.resume_same_frame = true;
     ModeInfo rng = mode("rng", "rand(frame, pixel, d) for d = 0..2 (SPEC §0)", rng_pipeline);
     rng.needs_scene = false;
     ModeInfo halton = mode("halton", "the 16 Halton(2,3) points, raw and scaled (Lund eq. 3.11)",
@@ -144,6 +151,7 @@ std::vector<ModeInfo> make_modes() {
             kfr_pipeline),
         stereo,
         pathtrace,
+        reference,
         mode("splat",
              "centroid splat of every triangle with headlight shading (a trivial pass that "
              "pins scene, materials, textures and camera path)",

@@ -13,6 +13,7 @@
 #include "ref/trace/direct_light.h"
 #include "ref/trace/ground_truth.h"
 #include "ref/trace/pathtrace.h"
+#include "ref/trace/pathtrace_reference.h"
 #include "ref/trace/raycast_gbuffer.h"
 #include "ref/trace/shade_basic.h"
 
@@ -150,6 +151,112 @@ Pipeline pathtrace_pipeline(const Scene*, const RenderSettings& settings) {
         p.stages.push_back({"pathtrace", shade_direct_inputs, {"final"}, pathtrace_stage});
     }
     p.final_outputs = {"final"};
+    return p;
+}
+
+namespace {
+
+struct ReferenceModeState : TraceModeState {
+    PathTraceParams path;
+    int spp = 1024;
+};
+
+// The sums of an earlier run of the same frame (`fovref render --resume DIR`), or none.
+PathReferenceSums resumed_reference_sums(const FrameContext& ctx) {
+    const int width = ctx.settings->width, height = ctx.settings->height;
+    PathReferenceSums sums = empty_reference_sums(width, height);
+    const auto find = [&](const std::string& name) -> const Image* {
+        for (const Buffer& b : ctx.settings->state_buffers)
+            if (b.name == name) return &b.image;
+        return nullptr;
+    };
+    const Image* count = find("reference_count");
+    if (!count) return sums;
+    const auto get = [&](const std::string& name) {
+        const Image* image = find(name);
+        if (!image || image->width != width || image->height != height || image->channels != 3)
+            throw Error("--resume: buffer '" + name + "' is missing or not " +
+                        std::to_string(width) + "x" + std::to_string(height) + "x3");
+        return *image;
+    };
+    sums.sum = get("reference_sum");
+    sums.compensation = get("reference_compensation");
+    sums.squares = get("reference_squares");
+    if (count->data.size() != 1 || !(count->data[0] >= 1.0f) || count->data[0] > 65536.0f ||
+        count->data[0] != static_cast<float>(static_cast<int>(count->data[0])))
+        throw Error("--resume: buffer 'reference_count' must hold one sample count in 1..65536");
+    sums.count = static_cast<int>(count->data[0]);
+    return sums;
+}
+
+}  // namespace
+
+void pathtrace_reference_stage(FrameContext& ctx) {
+    ReferenceModeState& state = ctx.mode_state<ReferenceModeState>();
+    const Scene& scene = *ctx.scene;
+    PathReferenceSums sums = resumed_reference_sums(ctx);
+    const int resumed = sums.count;
+    if (resumed > state.spp)
+        throw Error("--resume: the bundle already holds " + std::to_string(resumed) +
+                    " samples, more than spp=" + std::to_string(state.spp));
+    TraceStats primary;
+    PathTraceStats stats;
+    pathtrace_reference(scene, state.bvh.get(scene, ctx.result->counters), state.path, ctx.camera,
+                        ctx.frame, state.spp, sums, primary, stats,
+                        [&](double f) { ctx.report(f); });
+    add_trace_counters(ctx.result->counters, "primary", primary);
+    add_shading_counters(ctx.result->counters, stats.shading);
+    add_trace_counters(ctx.result->counters, "secondary", stats.secondary);
+    Counters& counters = ctx.result->counters;
+    counters.add("paths", stats.paths);
+    counters.add("reference_samples", sums.count);
+    counters.add("reference_samples_resumed", resumed);
+    Image mean, error;
+    reference_estimate(sums, mean, error);
+    double total = 0.0;
+    for (float v : error.data) total += v;
+    const double mean_error = total / static_cast<double>(error.data.size());
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "%d samples per pixel (%d resumed), mean standard error %.3g (linear radiance)",
+                  sums.count, resumed, mean_error);
+    ctx.note = text;
+    // the mean standard error in units of 1e-9, for scripts that read counters
+    counters.add("reference_mean_standard_error_e9", static_cast<std::int64_t>(mean_error * 1e9));
+    const std::vector<std::string> rgb = {"r", "g", "b"};
+    ctx.result->add("final", BufferKind::color, rgb, std::move(mean));
+    ctx.result->add("standard_error", BufferKind::scalar, rgb, std::move(error));
+    ctx.result->add("reference_sum", BufferKind::scalar, rgb, std::move(sums.sum));
+    ctx.result->add("reference_compensation", BufferKind::scalar, rgb,
+                    std::move(sums.compensation));
+    ctx.result->add("reference_squares", BufferKind::scalar, rgb, std::move(sums.squares));
+    ctx.result->add("reference_count", BufferKind::scalar, {"n"},
+                    Image(1, 1, 1, static_cast<float>(sums.count)));
+}
+
+std::vector<ParamSpec> pathtrace_reference_param_specs() {
+    return {{"spp", "1024", "samples per pixel (1..65536); --resume DIR continues an earlier run"},
+            {"max_bounces", "1", "secondary rays per path, as pathtrace"},
+            {"rr", "0.8", "Russian-roulette continuation probability, as pathtrace"}};
+}
+
+Pipeline pathtrace_reference_pipeline(const Scene*, const RenderSettings& settings) {
+    auto state = std::make_shared<ReferenceModeState>();
+    const std::vector<ParamSpec> specs = pathtrace_reference_param_specs();
+    state->params.primary = PrimaryVisibility::ray;
+    state->spp = settings.params.get_int(specs, "spp", 1, 65536);
+    state->path.max_bounces = settings.params.get_int(specs, "max_bounces", 1, 64);
+    state->path.rr = settings.params.get_float(specs, "rr", 0.01f, 1.0f);
+    Pipeline p;
+    p.state = state;
+    const std::vector<std::string> outputs = {"final",
+                                              "standard_error",
+                                              "reference_sum",
+                                              "reference_compensation",
+                                              "reference_squares",
+                                              "reference_count"};
+    p.stages.push_back({"pathtrace_reference", {}, outputs, pathtrace_reference_stage});
+    p.final_outputs = outputs;
     return p;
 }
 

@@ -8,6 +8,9 @@
 //                  supersample (16 Halton rays per pixel, shaded, box-filtered) -> final
 //   pathtrace:     primary_visibility (rasterized G-buffer)
 //                    -> pathtrace (1-spp paths: NEE + secondary rays, SPEC §8)   -> final
+//                    [denoise=bmfr: -> radiance -> the BMFR stages (ref/modes/bmfr_stage.h)]
+//   pathtrace-reference: pathtrace_reference (N jittered samples of the same paths)
+//                    -> final, standard_error, the running sums (resumable)
 // clang-format on
 //
 // The BVH is built only when something traces a ray (ray primaries or shadow rays), once per
@@ -25,6 +28,8 @@ Pipeline ground_truth_pipeline(const Scene* scene, const RenderSettings& setting
 Pipeline pathtrace_pipeline(const Scene* scene, const RenderSettings& settings);
 std::vector<ParamSpec> pathtrace_param_specs();
 std::vector<PixelFunction> pathtrace_pixel_functions(const Params& params);
+Pipeline pathtrace_reference_pipeline(const Scene* scene, const RenderSettings& settings);
+std::vector<ParamSpec> pathtrace_reference_param_specs();
 
 /// The per-pixel functions of basic's and ground-truth's passes (for `fovref probe --debugger`).
 std::vector<PixelFunction> basic_pixel_functions(const Params& params);
@@ -39,5 +44,7 @@ void shade_direct_stage(FrameContext& context);
 void supersample_stage(FrameContext& context);
 /// pathtrace's paths: pathtrace (ref/trace/pathtrace.h) over the rasterized G-buffer.
 void pathtrace_stage(FrameContext& context);
+/// pathtrace-reference: pathtrace_reference (ref/trace/pathtrace_reference.h), resumable.
+void pathtrace_reference_stage(FrameContext& context);
 
 }  // namespace fovref

@@ -132,6 +132,9 @@ struct ModeInfo {
     /// True when a frame depends on no earlier frame, so frame f can be rendered alone
     /// (RenderSettings::first_frame) with the same bits.
     bool stateless = true;
+    /// True when `--resume DIR` continues the same frame from DIR's buffers of that frame (the
+    /// accumulated reference) instead of carrying frame F - 1's state into frame F.
+    bool resume_same_frame = false;
 };
 
 /// Renders frames 0..frame_count-1 of `mode`, handing each frame to `on_frame` as soon as it is

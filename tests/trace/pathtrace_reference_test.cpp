@@ -1,0 +1,93 @@
+// The converged reference (ref/trace/pathtrace_reference.h): a run resumed from its written sums
+// gives the same bits as one run; its standard error is the sample formula; it converges to the
+// mean of many 1-spp pathtrace frames (the same estimator) within the stated statistical bound.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "ref/modes/modes.h"
+#include "ref/scene/procedural.h"
+#include "ref/trace/pathtrace_reference.h"
+
+using namespace fovref;
+
+namespace {
+
+std::vector<FrameResult> reference(const Scene& scene, int spp, std::vector<Buffer> resume = {}) {
+    RenderSettings s;
+    s.width = 24;
+    s.height = 16;
+    s.params.set("spp", std::to_string(spp));
+    s.state_buffers = std::move(resume);
+    return render(&scene, "pathtrace-reference", s);
+}
+
+}  // namespace
+
+TEST_CASE("pathtrace-reference: resuming from the written sums gives the bits of one run") {
+    const Scene scene = make_procedural_scene("cornell");
+    const std::vector<FrameResult> part = reference(scene, 5);
+    const std::vector<FrameResult> rest = reference(scene, 12, part[0].buffers);
+    const std::vector<FrameResult> whole = reference(scene, 12);
+    for (const char* name : {"final", "standard_error", "reference_sum", "reference_compensation",
+                             "reference_squares", "reference_count"}) {
+        CAPTURE(name);
+        CHECK(bit_equal(rest[0].find(name)->image, whole[0].find(name)->image));
+    }
+    CHECK(rest[0].counters.get("reference_samples_resumed") == 5);
+    CHECK(whole[0].find("reference_count")->image.data[0] == 12.0f);
+    CHECK_THROWS_WITH_AS(reference(scene, 4, part[0].buffers),
+                         doctest::Contains("already holds 5 samples"), Error);
+}
+
+TEST_CASE("reference_estimate: the mean and the standard error of the mean") {
+    PathReferenceSums sums = empty_reference_sums(1, 1);
+    const float samples[4] = {1.0f, 2.0f, 4.0f, 5.0f};  // mean 3, population variance 2.5
+    for (float v : samples)
+        for (int c = 0; c < 3; ++c) {
+            sums.sum.data[static_cast<std::size_t>(c)] += v;
+            sums.squares.data[static_cast<std::size_t>(c)] += v * v;
+        }
+    sums.count = 4;
+    Image mean, error;
+    reference_estimate(sums, mean, error);
+    CHECK(mean.data[0] == 3.0f);
+    // sqrt(2.5 / 3): the population variance over n - 1
+    CHECK(error.data[0] == doctest::Approx(std::sqrt(2.5 / 3.0)).epsilon(1e-6));
+}
+
+TEST_CASE("pathtrace-reference converges to the mean of 1-spp pathtrace frames") {
+    // The jittered reference averages over each pixel's area, pathtrace samples its centre:
+    // compare the image means (the area average of the whole image), within 5 standard errors.
+    const Scene scene = make_procedural_scene("cornell");
+    const std::vector<FrameResult> ref = reference(scene, 256);
+    double ref_mean = 0.0, ref_var = 0.0;
+    const Image& m = ref[0].find("final")->image;
+    const Image& se = ref[0].find("standard_error")->image;
+    for (std::size_t i = 0; i < m.data.size(); ++i) {
+        ref_mean += m.data[i];
+        ref_var += static_cast<double>(se.data[i]) * se.data[i];
+    }
+    const double n = static_cast<double>(m.data.size());
+    ref_mean /= n;
+    RenderSettings s;
+    s.width = 24;
+    s.height = 16;
+    s.frame_count = 256;
+    s.time_step = 0.0f;
+    double sum = 0.0, sum2 = 0.0;
+    for (const FrameResult& f : render(&scene, "pathtrace", s)) {
+        double frame_mean = 0.0;
+        for (float v : f.find("final")->image.data) frame_mean += v;
+        frame_mean /= n;
+        sum += frame_mean;
+        sum2 += frame_mean * frame_mean;
+    }
+    const double mean = sum / 256.0;
+    const double se_frames = std::sqrt(std::max(0.0, sum2 / 256.0 - mean * mean) / 255.0);
+    const double bound = 5.0 * std::sqrt(se_frames * se_frames + ref_var / (n * n)) +
+                         0.02 * ref_mean;  // + 2% for centre vs area sampling at the edges
+    MESSAGE("image mean: reference " << ref_mean << ", 1-spp frames " << mean << " +- "
+                                     << se_frames);
+    CHECK(std::fabs(mean - ref_mean) < bound);
+}
