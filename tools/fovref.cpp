@@ -19,6 +19,7 @@
 #include "tools/bench_rays.h"
 #include "tools/bench_temporal.h"
 #include "tools/cli_common.h"
+#include "tools/cmd_denoise.h"
 #include "tools/cmd_density.h"
 #include "tools/cmd_gain.h"
 #include "tools/cmd_golden.h"
@@ -73,6 +74,8 @@ const char* const app_footer =
     "                                         theoretical gain of foveation (Koskela P1)\n"
     "  fovref density MODE [--scene S --gaze X,Y --param k=v] [--out DIR]\n"
     "                                         rays per pixel per error ring vs acuity\n"
+    "  fovref denoise bmfr IN_DIR OUT_DIR [--param bmfr_storage=half|float]\n"
+    "                                         BMFR on another renderer's buffers, every phase\n"
     "SCENE is a procedural scene name (see `scene list`) or a scene file or directory.\n"
     "Run `fovref COMMAND --help` for each command's options.";
 
@@ -96,6 +99,7 @@ struct Options {
     DiffOptions diff;
     GainOptions gain;
     DensityOptions density;
+    DenoiseOptions denoise;
 };
 
 // -q applies to every command that prints progress or lines (bench metrics prints its figures
@@ -103,7 +107,8 @@ struct Options {
 void share_quiet(Options& o) {
     o.scene_export.quiet = o.render.quiet = o.rays_trace.quiet = o.rays_make.quiet =
         o.bench_rays.quiet = o.density.quiet = o.bench_foveation.quiet = o.bench_temporal.quiet =
-            o.golden.quiet = o.probe.quiet = o.evaluate.quiet = o.diff.quiet = o.quiet;
+            o.golden.quiet = o.probe.quiet = o.evaluate.quiet = o.diff.quiet = o.denoise.quiet =
+                o.quiet;
 }
 
 // The commands that do the work (no subcommands of their own), each with its run function.
@@ -245,6 +250,17 @@ void add_analysis_commands(CLI::App& app, Options& o, Commands& commands) {
     commands.emplace_back(density, [&o] { return run_density(o.density); });
 }
 
+// denoise: the reference's BMFR on buffers another renderer wrote.
+void add_denoise_commands(CLI::App& app, Options& o, Commands& commands) {
+    CLI::App* denoise = add_group(app, "denoise", "denoise buffers written by another renderer");
+    CLI::App* bmfr = denoise->add_subcommand(
+        "bmfr",
+        "BMFR (Koskela P2; docs/bmfr.md) on per-frame radiance, albedo, normal and world "
+        "position buffers with per-frame camera matrices; writes every phase as a bundle");
+    add_denoise_options(*bmfr, o.denoise);
+    commands.emplace_back(bmfr, [&o] { return run_denoise(o.denoise); });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -266,6 +282,7 @@ int main(int argc, char** argv) {
     add_golden_commands(app, o, commands);
     add_check_commands(app, o, commands);
     add_analysis_commands(app, o, commands);
+    add_denoise_commands(app, o, commands);
 
     try {
         app.parse(argc, argv);

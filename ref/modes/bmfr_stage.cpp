@@ -64,6 +64,28 @@ void add_stats(FrameContext& ctx, const BmfrStats& stats) {
     add_bmfr_counters(ctx.result->counters, stats);
 }
 
+// The stages' buffers, one function per stage so that the stages and add_bmfr_buffers name them
+// alike.
+void add_accumulation(FrameResult& r, BmfrAccumulation a) {
+    r.add("bmfr_accumulated_noisy", BufferKind::color, rgb, std::move(a.accumulated));
+    r.add("bmfr_spp", BufferKind::scalar, {"spp"}, std::move(a.spp));
+    r.add("bmfr_accept", BufferKind::scalar, {"mask"}, std::move(a.accept));
+    r.add("bmfr_previous_pixel", BufferKind::scalar, {"x", "y"}, std::move(a.previous_pixel));
+}
+
+void add_fit(FrameResult& r, Image weights, Image feature_range) {
+    std::vector<std::string> weight_names, range_names;
+    for (const char* ch : {"r", "g", "b"})
+        for (int i = 0; i < bmfr_feature_count; ++i)
+            weight_names.push_back(std::string(ch) + "_w" + std::to_string(i));
+    for (const char* bound : {"min", "max"})
+        for (int k = 0; k < bmfr_scaled_count; ++k)
+            range_names.push_back(std::string(bound) + "_t" +
+                                  std::to_string(bmfr_scaled_first + k));
+    r.add("bmfr_weights", BufferKind::scalar, weight_names, std::move(weights));
+    r.add("bmfr_feature_range", BufferKind::scalar, range_names, std::move(feature_range));
+}
+
 }  // namespace
 
 void add_bmfr_counters(Counters& counters, const BmfrStats& s) {
@@ -104,11 +126,7 @@ void bmfr_accumulate_noisy_stage(FrameContext& ctx) {
     s.bmfr_next.normal = normal;
     s.bmfr_next.accumulated_noisy = a.accumulated;
     s.bmfr_next.spp = a.spp;
-    ctx.result->add("bmfr_accumulated_noisy", BufferKind::color, rgb, std::move(a.accumulated));
-    ctx.result->add("bmfr_spp", BufferKind::scalar, {"spp"}, std::move(a.spp));
-    ctx.result->add("bmfr_accept", BufferKind::scalar, {"mask"}, std::move(a.accept));
-    ctx.result->add("bmfr_previous_pixel", BufferKind::scalar, {"x", "y"},
-                    std::move(a.previous_pixel));
+    add_accumulation(*ctx.result, std::move(a));
 }
 
 void bmfr_fit_stage(FrameContext& ctx) {
@@ -122,17 +140,7 @@ void bmfr_fit_stage(FrameContext& ctx) {
                " blocks, offset (" + std::to_string(fit.grid.offset.x) + ", " +
                std::to_string(fit.grid.offset.y) + "), " +
                (s.bmfr.params.storage == BmfrStorage::half ? "binary16" : "binary32") + " storage";
-    std::vector<std::string> weight_names, range_names;
-    for (const char* ch : {"r", "g", "b"})
-        for (int i = 0; i < bmfr_feature_count; ++i)
-            weight_names.push_back(std::string(ch) + "_w" + std::to_string(i));
-    for (const char* bound : {"min", "max"})
-        for (int k = 0; k < bmfr_scaled_count; ++k)
-            range_names.push_back(std::string(bound) + "_t" +
-                                  std::to_string(bmfr_scaled_first + k));
-    ctx.result->add("bmfr_weights", BufferKind::scalar, weight_names, std::move(fit.weights));
-    ctx.result->add("bmfr_feature_range", BufferKind::scalar, range_names,
-                    std::move(fit.feature_range));
+    add_fit(*ctx.result, std::move(fit.weights), std::move(fit.feature_range));
 }
 
 void bmfr_weighted_sum_stage(FrameContext& ctx) {
@@ -179,6 +187,17 @@ void bmfr_output_stage(FrameContext& ctx) {
     BmfrModeState& s = bmfr_state(ctx);
     ctx.note = "linear: bmfr_taa^2.2";
     ctx.result->add(s.bmfr_output, BufferKind::color, rgb, bmfr_linearize(ctx.input("bmfr_taa")));
+}
+
+void add_bmfr_buffers(FrameResult& r, BmfrFrame f, const std::string& output) {
+    r.add("bmfr_illumination", BufferKind::color, rgb, std::move(f.illumination));
+    add_accumulation(r, std::move(f.accumulation));
+    add_fit(r, std::move(f.fit.weights), std::move(f.fit.feature_range));
+    r.add("bmfr_fitted", BufferKind::color, rgb, std::move(f.fitted));
+    r.add("bmfr_accumulated_filtered", BufferKind::color, rgb, std::move(f.filtered));
+    r.add("bmfr_display", BufferKind::scalar, rgb, std::move(f.display));
+    r.add("bmfr_taa", BufferKind::scalar, rgb, std::move(f.taa));
+    r.add(output, BufferKind::color, rgb, std::move(f.output));
 }
 
 void add_bmfr_stages(Pipeline& p, BmfrModeState& state, const std::string& radiance,

@@ -45,4 +45,8 @@ void add_bmfr_stages(Pipeline& pipeline, BmfrModeState& state, const std::string
 /// The bmfr_* counters of a frame (BmfrStats).
 void add_bmfr_counters(Counters& counters, const BmfrStats& stats);
 
+/// Adds every buffer of a denoised frame under the stages' names and kinds (bmfr_illumination …
+/// bmfr_taa, and `output` for the linear result): what `fovref denoise bmfr` writes.
+void add_bmfr_buffers(FrameResult& frame, BmfrFrame denoised, const std::string& output);
+
 }  // namespace fovref
