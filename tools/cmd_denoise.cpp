@@ -123,11 +123,21 @@ Input read_input(const std::string& dir) {
     return in;
 }
 
+std::string input_prefix(int frame) {
+    char prefix[32];
+    std::snprintf(prefix, sizeof prefix, "f%03d_", frame);
+    return prefix;
+}
+
+bool has_input_buffer(const std::string& dir, int frame, const std::string& name) {
+    const std::string base = dir + "/" + input_prefix(frame) + name;
+    return fs::exists(base + ".pfm") || fs::exists(base + ".exr");
+}
+
 // IN_DIR/fNNN_<name>.pfm or .exr, 3 channels, W x H.
 Image read_input_buffer(const std::string& dir, int frame, const std::string& name, int width,
                         int height) {
-    char prefix[32];
-    std::snprintf(prefix, sizeof prefix, "f%03d_", frame);
+    const std::string prefix = input_prefix(frame);
     std::string path;
     for (const char* ext : {".pfm", ".exr"}) {
         const std::string p = dir + "/" + prefix + name + ext;
@@ -152,13 +162,14 @@ Image read_input_buffer(const std::string& dir, int frame, const std::string& na
 void add_denoise_options(CLI::App& c, DenoiseOptions& o) {
     c.add_option("IN_DIR", o.input,
                  "per-frame buffers fNNN_radiance, fNNN_gbuffer_albedo, "
-                 "fNNN_gbuffer_shading_normal, fNNN_gbuffer_world_position (.pfm or .exr) and "
-                 "cameras.json (or a fovref bundle's manifest.json)")
+                 "fNNN_gbuffer_shading_normal, fNNN_gbuffer_world_position (.pfm or .exr; "
+                 "optionally fNNN_emission) and cameras.json (or a fovref bundle's "
+                 "manifest.json)")
         ->required();
     c.add_option("OUT_DIR", o.output, "the bundle written: every phase of every frame")->required();
     c.add_option("--param", o.params,
                  "bmfr_storage=half|float, bmfr_position_limit_squared=V, "
-                 "bmfr_normal_limit_squared=V");
+                 "bmfr_normal_limit_squared=V, bmfr_emission=separate|include");
 }
 
 int run_denoise(const DenoiseOptions& o) {
@@ -193,10 +204,17 @@ int run_denoise(const DenoiseOptions& o) {
                   buffer("gbuffer_shading_normal"));
         frame.add("gbuffer_world_position", BufferKind::scalar, {"x", "y", "z"},
                   buffer("gbuffer_world_position"));
+        // optional: the directly seen emission, kept out of the fit (bmfr_emission=separate)
+        const Image* emission = nullptr;
+        if (has_input_buffer(o.input, f, "emission")) {
+            frame.add("emission", BufferKind::color, {"r", "g", "b"}, buffer("emission"));
+            emission = &frame.find("emission")->image;
+        }
+        static const Image none;
         BmfrStats stats;
         BmfrFrame denoised = bmfr_denoise_frame(
             settings.params, frame.find("radiance")->image, frame.find("gbuffer_albedo")->image,
-            frame.find("gbuffer_shading_normal")->image,
+            emission ? *emission : none, frame.find("gbuffer_shading_normal")->image,
             frame.find("gbuffer_world_position")->image, in.cameras[static_cast<std::size_t>(f)], f,
             history, stats);
         add_bmfr_buffers(frame, std::move(denoised), "final");

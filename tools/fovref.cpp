@@ -14,6 +14,7 @@
 
 #include "ref/core/error.h"
 #include "ref/golden/bundle.h"
+#include "tools/bench_bmfr.h"
 #include "tools/bench_foveation.h"
 #include "tools/bench_metrics.h"
 #include "tools/bench_rays.h"
@@ -58,6 +59,8 @@ const char* const app_footer =
     "  fovref bench foveation [--scene S]     foveated modes' stage times vs basic, rays traced\n"
     "  fovref bench temporal [--scene S]      TAA cost per frame; errors and flicker with and "
     "without TAA\n"
+    "  fovref bench bmfr [--scene S]          path tracer + BMFR phase times; error before/after "
+    "denoising\n"
     "  fovref golden list                     the golden cases (golden/cases.json)\n"
     "  fovref golden verify [--case C]        recompute, compare bit-exactly, exit 1 on a "
     "difference\n"
@@ -91,6 +94,7 @@ struct Options {
     BenchMetricsOptions bench_metrics;
     BenchFoveationOptions bench_foveation;
     BenchTemporalOptions bench_temporal;
+    BenchBmfrOptions bench_bmfr;
     GoldenOptions golden;
     GoldenCasesOptions golden_verify, golden_update;
     GoldenExportOptions golden_export;
@@ -107,8 +111,8 @@ struct Options {
 void share_quiet(Options& o) {
     o.scene_export.quiet = o.render.quiet = o.rays_trace.quiet = o.rays_make.quiet =
         o.bench_rays.quiet = o.density.quiet = o.bench_foveation.quiet = o.bench_temporal.quiet =
-            o.golden.quiet = o.probe.quiet = o.evaluate.quiet = o.diff.quiet = o.denoise.quiet =
-                o.quiet;
+            o.bench_bmfr.quiet = o.golden.quiet = o.probe.quiet = o.evaluate.quiet = o.diff.quiet =
+                o.denoise.quiet = o.quiet;
 }
 
 // The commands that do the work (no subcommands of their own), each with its run function.
@@ -187,6 +191,12 @@ void add_bench_commands(CLI::App& app, Options& o, Commands& commands) {
         "errors of moving and static sequences with and without TAA, depth vs clamping");
     add_bench_temporal_options(*temporal, o.bench_temporal);
     commands.emplace_back(temporal, [&o] { return run_bench_temporal(o.bench_temporal); });
+    CLI::App* bmfr = bench->add_subcommand(
+        "bmfr",
+        "path tracer and BMFR phase times per 720p frame, and the error before and after "
+        "denoising against the converged reference on a moving sequence (Koskela P2 style)");
+    add_bench_bmfr_options(*bmfr, o.bench_bmfr);
+    commands.emplace_back(bmfr, [&o] { return run_bench_bmfr(o.bench_bmfr); });
 }
 
 void add_golden_commands(CLI::App& app, Options& o, Commands& commands) {

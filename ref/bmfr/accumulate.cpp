@@ -16,6 +16,11 @@ float finite_or_zero(float v, std::int64_t& nonfinite) {
     return 0.0f;
 }
 
+glm::vec3 finite_or_zero(glm::vec3 v, BmfrStats& stats) {
+    for (int c = 0; c < 3; ++c) v[c] = finite_or_zero(v[c], stats.nonfinite_inputs);
+    return v;
+}
+
 glm::vec3 load3(const Image& image, int x, int y) {
     const float* p = &image.data[image.index(x, y)];
     return {p[0], p[1], p[2]};
@@ -97,6 +102,8 @@ bool bmfr_project(const ViewProjection& vp, int width, int height, glm::vec3 p, 
 
 BmfrTaps bmfr_taps(glm::vec2 q) {
     BmfrTaps t;
+    // far off the image all taps are outside anyway; the clamp keeps the int conversion defined
+    q = glm::clamp(q, glm::vec2(-1e6f), glm::vec2(1e6f));
     const float fx0 = std::floor(q.x), fy0 = std::floor(q.y);
     const float fx = q.x - fx0, fy = q.y - fy0;
     const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
@@ -108,13 +115,16 @@ BmfrTaps bmfr_taps(glm::vec2 q) {
 }
 
 Image bmfr_demodulate(const BmfrParams& params, const Image& radiance, const Image& albedo,
-                      BmfrStats& stats) {
+                      const Image& emission, BmfrStats& stats) {
     check_shape(albedo, radiance.width, radiance.height, 3, "albedo");
     check_shape(radiance, radiance.width, radiance.height, 3, "radiance");
+    const bool separate = params.separate_emission && !emission.empty();
+    if (separate) check_shape(emission, radiance.width, radiance.height, 3, "emission");
     Image out(radiance.width, radiance.height, 3);
     for (std::size_t i = 0; i < out.data.size(); ++i) {
         const float a = finite_or_zero(albedo.data[i], stats.nonfinite_inputs);
-        const float c = finite_or_zero(radiance.data[i], stats.nonfinite_inputs);
+        float c = finite_or_zero(radiance.data[i], stats.nonfinite_inputs);
+        if (separate) c = c - finite_or_zero(emission.data[i], stats.nonfinite_inputs);
         out.data[i] = std::clamp(c / std::max(a, params.albedo_floor), -half_max, half_max);
     }
     return out;
@@ -146,10 +156,10 @@ BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& il
             float h[3] = {0, 0, 0}, h_spp = 0.0f;
             bool has_history = false;
             if (has_previous) {
-                const glm::vec3 p = load3(world_position, x, y);
-                const glm::vec3 n = load3(normal, x, y);
+                const glm::vec3 p = finite_or_zero(load3(world_position, x, y), stats);
+                const glm::vec3 n = finite_or_zero(load3(normal, x, y), stats);
                 if (!bmfr_project(history.view_projection, width, height, p, q)) {
-                    q = glm::vec2(static_cast<float>(x), static_cast<float>(y));
+                    q = bmfr_behind_camera;
                     ++stats.history_off_screen;
                 } else {
                     const BmfrTaps taps = bmfr_taps(q);

@@ -4,11 +4,11 @@
 namespace fovref {
 
 BmfrFrame bmfr_denoise_frame(const BmfrParams& params, const Image& radiance, const Image& albedo,
-                             const Image& normal, const Image& world_position,
-                             const ViewProjection& camera, int frame, BmfrHistory& history,
-                             BmfrStats& stats) {
+                             const Image& emission, const Image& normal,
+                             const Image& world_position, const ViewProjection& camera, int frame,
+                             BmfrHistory& history, BmfrStats& stats) {
     BmfrFrame f;
-    f.illumination = bmfr_demodulate(params, radiance, albedo, stats);
+    f.illumination = bmfr_demodulate(params, radiance, albedo, emission, stats);
     f.accumulation =
         bmfr_accumulate_noisy(params, f.illumination, world_position, normal, history, stats);
     f.fit = bmfr_fit(params, f.accumulation.accumulated, world_position, normal, frame, stats);
@@ -16,7 +16,7 @@ BmfrFrame bmfr_denoise_frame(const BmfrParams& params, const Image& radiance, co
     const BmfrAccumulation& a = f.accumulation;
     f.filtered = bmfr_accumulate_filtered(params, f.fitted, a.spp, a.accept, a.previous_pixel,
                                           history.accumulated_filtered);
-    f.display = bmfr_remodulate(params, f.filtered, albedo);
+    f.display = bmfr_remodulate(params, f.filtered, albedo, emission);
     f.taa = bmfr_taa(params, f.display, a.previous_pixel, history.taa, stats);
     f.output = bmfr_linearize(f.taa);
     history = bmfr_next_history(f, world_position, normal, camera);

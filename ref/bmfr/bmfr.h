@@ -42,6 +42,10 @@ struct BmfrParams {
     float noise_amount = 0.01f;            ///< stochastic regularisation amplitude
     float pivot_epsilon = 1e-7f;           ///< |R_ii| below this: weight 0 (counted)
     float taa_alpha = 0.2f;                ///< TAA: 0.2 new + 0.8 history
+    /// Keep the directly seen emission out of the fit (our choice, docs/bmfr.md): demodulate
+    /// radiance - emission and add the emission back when remodulating. Without an emission
+    /// buffer (or with bmfr_emission=include) the radiance is demodulated whole, as SPEC §9.
+    bool separate_emission = true;
 };
 
 inline constexpr int bmfr_block_size = 32;  ///< block edge in pixels
@@ -100,22 +104,28 @@ struct BmfrStats {
 /// illumination = radiance / max(albedo, floor) per channel, clamped to [-65504, 65504] (the
 /// range the fit can store); a NaN or infinite radiance or albedo value is replaced by 0 first
 /// (counted).
+/// `emission` (empty: none) is subtracted from the radiance first (separate_emission).
 Image bmfr_demodulate(const BmfrParams& params, const Image& radiance, const Image& albedo,
-                      BmfrStats& stats);
+                      const Image& emission, BmfrStats& stats);
 
 // ---- phase I --------------------------------------------------------------------------------
 
 /// Phase I's outputs (W x H).
 struct BmfrAccumulation {
-    Image accumulated;     ///< 3: alpha current + (1 - alpha) history
-    Image spp;             ///< 1: sample count after this frame
-    Image accept;          ///< 1: bit k set when tap k was accepted (k as in bmfr_taps)
-    Image previous_pixel;  ///< 2: the reprojected pixel index (the pixel itself without one)
+    Image accumulated;  ///< 3: alpha current + (1 - alpha) history
+    Image spp;          ///< 1: sample count after this frame
+    Image accept;       ///< 1: bit k set when tap k was accepted (k as in bmfr_taps)
+    /// 2: the reprojected pixel index; the pixel itself without a previous frame,
+    /// bmfr_behind_camera when the point is behind the previous camera
+    Image previous_pixel;
 };
+
+/// The reprojected pixel of a point behind the previous camera: off the image for every stage.
+inline constexpr glm::vec2 bmfr_behind_camera{-2.0f, -2.0f};
 
 /// The four bilinear taps around pixel index q: (x0, y0), (x0 + 1, y0), (x0, y0 + 1),
 /// (x0 + 1, y0 + 1), x0 = floor(q.x), fx = q.x - x0, weights (1 - fx)(1 - fy), fx (1 - fy),
-/// (1 - fx) fy, fx fy.
+/// (1 - fx) fy, fx fy (q clamped to +-1e6 first).
 struct BmfrTaps {
     int x[4], y[4];
     float w[4];
@@ -128,7 +138,8 @@ BmfrTaps bmfr_taps(glm::vec2 q);
 /// accepted taps' colours and counts are averaged with their bilinear weights renormalised;
 /// alpha = max(1 / (spp_h + 1), noisy_alpha_min), out = alpha c + (1 - alpha) h,
 /// spp = min(round_half_even(spp_h) + 1, 255). No history (first frame, behind the camera, no
-/// tap accepted or their weights sum to 0): out = c, spp = 1.
+/// tap accepted or their weights sum to 0): out = c, spp = 1. A NaN or infinite position or
+/// normal is taken as 0 (counted).
 BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& illumination,
                                        const Image& world_position, const Image& normal,
                                        const BmfrHistory& history, BmfrStats& stats);
@@ -166,6 +177,7 @@ struct BmfrBlockFit {
     float feature_max[bmfr_scaled_count] = {};
     int pivots_zeroed = 0;
     int reflections_skipped = 0;
+    int weights_nonfinite = 0;  ///< weights that overflowed (set to 0)
 };
 
 /// One block's 1024 x 13 matrix as the QR receives it: row r = pixel_in_block r (row-major in
@@ -180,9 +192,10 @@ struct BmfrBlockMatrix {
     float at(int row, int column) const { return a[row * bmfr_matrix_stride + column]; }
 };
 
-/// Gathers block (cell_x, cell_y) of `grid` (mirrored borders), scales features 4..9 with the
-/// block's min and max ((v - min) / (max - min) when max - min > 1, else v - min) and adds the
-/// noise 0.01 2 (r - 0.5) to features 1..9, r = wang_hash(s) / 4294967295.0f,
+/// Gathers block (cell_x, cell_y) of `grid` (mirrored borders) in the authors' order: every value
+/// stored (storage precision); features 4..9 scaled with the block's min and max of the stored
+/// values ((v - min) / (max - min) when max - min > 1, else v - min) and stored again; then the
+/// noise 0.01 2 (r - 0.5) added in float to features 1..9, r = wang_hash(s) / 4294967295.0f,
 /// s = pixel_in_block + feature 1024 + frame 13 1024 (`noise` false: none, for tests).
 void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_x, int cell_y,
                        const Image& accumulated, const Image& world_position, const Image& normal,
@@ -190,11 +203,12 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
 
 /// The augmented Householder QR of a gathered block and the back substitution (SPEC §9 item 7),
 /// in place: columns 0..12, pivot row c = min(column, 10); s = sum over rows > c of x^2 and the
-/// dot products u . a_j (rows >= c) in binary64, row order, rounded to float;
-/// r = sqrt(s + x_c x_c), u_c = x_c - r, |u|^2 = s + u_c u_c; a_ij -= u_i ((2 d_j) / |u|^2),
-/// each updated value rounded to the storage precision; the column itself becomes r at row c
-/// and 0 below. |u|^2 = 0 leaves the columns as they are (counted). Weights from row 9 to 0:
-/// w_i = (b_i - sum_{k > i} R_ik w_k) / R_ii (k ascending), 0 when |R_ii| < pivot_epsilon.
+/// dot products d_j = u . a_j (rows >= c) in binary64, row order, rounded to float;
+/// r = sqrt(s + x_c x_c), u_c = x_c - r, |u|^2 = s + u_c u_c; a_ij -= ((2 u_i) d_j) / |u|^2,
+/// each updated value rounded to the storage precision; the column itself becomes r (float) at
+/// row c and 0 below. |u|^2 = 0 leaves the columns as they are (counted for columns 0..9).
+/// Weights from row 9 to 0 in the authors' order: w_i = b_i / R_ii - sum_{k > i} (R_ik w_k) / R_ii
+/// (k ascending), 0 when |R_ii| < pivot_epsilon; a weight that overflows is 0 (counted).
 BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& matrix);
 
 /// Phase II's fit (the authors' fit kernel) over every block of the frame's grid. Outputs, one
@@ -223,16 +237,19 @@ Image bmfr_accumulate_filtered(const BmfrParams& params, const Image& fitted, co
                                const Image& accept, const Image& previous_pixel,
                                const Image& history);
 
-/// display = clamp((max(albedo, floor) x)^(1/2.2), 0, 1) per channel.
-Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Image& albedo);
+/// display = clamp((max(albedo, floor) max(0, x) + e)^(1/2.2), 0, 1) per channel, e the emission
+/// (empty: 0).
+Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Image& albedo,
+                      const Image& emission);
 
 /// The authors' TAA in display space (SPEC §9 item 10): 3x3 neighbourhood in unnormalised
 /// YCoCg (Y = R + 2G + B, Co = 2R - 2B, Cg = -R + 2G - B; neighbours outside the image are
 /// skipped), min/max = (box extent + cross extent) 0.5; the history sampled bilinearly at phase
-/// I's reprojected pixel (taps outside the image dropped, weights renormalised), clamped, back
-/// to RGB (R = (Y - Cg + Co) / 4, G = (Y + Cg) / 4, B = (Y - Cg - Co) / 4);
-/// out = 0.2 new + 0.8 history. The new colour alone on the first frame, when the reprojected
-/// point lies outside the image or behind the camera, or when no tap is inside.
+/// I's reprojected pixel q (taps outside the image dropped, weights renormalised), clamped, back
+/// to RGB (R = ((Y + Co) - Cg) / 4, G = (Y + Cg) / 4, B = ((Y - Co) - Cg) / 4);
+/// out = 0.2 new + 0.8 history. The new colour alone on the first frame, when floor(q) lies
+/// outside [-1, W - 1] x [-1, H - 1] (the authors' test; behind the camera included), or when
+/// the taps inside have no weight.
 /// `history` is the previous TAA output (empty: none).
 Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& previous_pixel,
                const Image& history, BmfrStats& stats);
@@ -255,11 +272,12 @@ struct BmfrFrame {
 };
 
 /// Runs every phase on one frame and hands on its history (`history` is read, then replaced).
-/// Inputs are W x H: radiance, albedo, normal and world position (3 channels each).
+/// Inputs are W x H: radiance, albedo, normal and world position (3 channels each), and the
+/// directly seen emission (empty: none; used when params.separate_emission).
 BmfrFrame bmfr_denoise_frame(const BmfrParams& params, const Image& radiance, const Image& albedo,
-                             const Image& normal, const Image& world_position,
-                             const ViewProjection& camera, int frame, BmfrHistory& history,
-                             BmfrStats& stats);
+                             const Image& emission, const Image& normal,
+                             const Image& world_position, const ViewProjection& camera, int frame,
+                             BmfrHistory& history, BmfrStats& stats);
 
 /// The history a denoised frame hands on (its camera, G-buffer and accumulations).
 BmfrHistory bmfr_next_history(const BmfrFrame& frame, const Image& world_position,

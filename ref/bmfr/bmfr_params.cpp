@@ -14,7 +14,10 @@ std::vector<ParamSpec> bmfr_param_specs() {
              "BMFR reprojection: a history tap is kept when |P' - P|^2 is below this (scene "
              "units squared)"},
             {"bmfr_normal_limit_squared", "0.25",
-             "BMFR reprojection: a history tap is kept when |n' - n|^2 is below this"}};
+             "BMFR reprojection: a history tap is kept when |n' - n|^2 is below this"},
+            {"bmfr_emission", "separate",
+             "'separate': the emission seen directly is kept out of the fit and added back when "
+             "remodulating; 'include': the whole radiance is demodulated (SPEC §9 literally)"}};
 }
 
 BmfrSettings parse_bmfr_params(const Params& params) {
@@ -36,6 +39,11 @@ BmfrSettings parse_bmfr_params(const Params& params) {
         params.get_float(specs, "bmfr_position_limit_squared", 0.0f, 1e30f);
     s.params.normal_limit_squared =
         params.get_float(specs, "bmfr_normal_limit_squared", 0.0f, 4.0f);
+    const std::string emission = params.get_string(specs, "bmfr_emission");
+    if (emission != "separate" && emission != "include")
+        throw Error("parameter 'bmfr_emission': expected 'separate' or 'include', got '" +
+                    emission + "'");
+    s.params.separate_emission = emission == "separate";
     if (!s.enabled)
         for (const ParamSpec& spec : specs)
             if (spec.name != "denoise" && params.given(spec.name))

@@ -14,7 +14,8 @@ struct BmfrSettings {
     BmfrParams params;
 };
 
-/// denoise, bmfr_storage, bmfr_position_limit_squared, bmfr_normal_limit_squared.
+/// denoise, bmfr_storage, bmfr_position_limit_squared, bmfr_normal_limit_squared,
+/// bmfr_emission.
 std::vector<ParamSpec> bmfr_param_specs();
 /// Throws fovref::Error naming the parameter; a bmfr_* parameter without denoise=bmfr is an
 /// error (it would change nothing).

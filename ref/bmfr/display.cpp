@@ -17,7 +17,7 @@ glm::vec3 rgb_to_ycocg(glm::vec3 c) {
 }
 
 glm::vec3 ycocg_to_rgb(glm::vec3 v) {
-    return {(v.x - v.z + v.y) * 0.25f, (v.x + v.z) * 0.25f, (v.x - v.z - v.y) * 0.25f};
+    return {((v.x + v.y) - v.z) * 0.25f, (v.x + v.z) * 0.25f, ((v.x - v.y) - v.z) * 0.25f};
 }
 
 glm::vec3 load3(const Image& image, int x, int y) {
@@ -27,11 +27,18 @@ glm::vec3 load3(const Image& image, int x, int y) {
 
 }  // namespace
 
-Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Image& albedo) {
+Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Image& albedo,
+                      const Image& emission) {
+    const bool separate = params.separate_emission && !emission.empty();
+    FOVREF_CHECK(albedo.same_shape(filtered) && filtered.channels == 3 &&
+                     (!separate || emission.same_shape(filtered)),
+                 "bmfr_remodulate: the albedo or emission does not match the image");
     Image out(filtered.width, filtered.height, 3);
     for (std::size_t i = 0; i < out.data.size(); ++i) {
         const float a = std::isfinite(albedo.data[i]) ? albedo.data[i] : 0.0f;
-        const float linear = std::max(0.0f, filtered.data[i] * std::max(a, params.albedo_floor));
+        float linear = std::max(0.0f, filtered.data[i]) * std::max(a, params.albedo_floor);
+        if (separate && std::isfinite(emission.data[i])) linear = linear + emission.data[i];
+        linear = std::max(0.0f, linear);
         // x >= 1 gives x^(1/2.2) >= 1, clamped to 1: no need to evaluate it
         out.data[i] =
             linear >= 1.0f ? 1.0f : std::clamp(dm::pow_fast(linear, inverse_gamma), 0.0f, 1.0f);
@@ -55,9 +62,9 @@ Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& prev
             o[0] = current.x, o[1] = current.y, o[2] = current.z;
             if (history.empty()) continue;
             const glm::vec2 q(previous_pixel.at(x, y, 0), previous_pixel.at(x, y, 1));
-            // The reprojected point must be on the screen: pixel index in [-1/2, W - 1/2)
-            if (!(q.x >= -0.5f && q.y >= -0.5f && q.x < static_cast<float>(width) - 0.5f &&
-                  q.y < static_cast<float>(height) - 0.5f))
+            // Some tap of the reprojected point must be on the screen: floor(q) in [-1, W - 1]
+            if (!(q.x >= -1.0f && q.y >= -1.0f && q.x < static_cast<float>(width) &&
+                  q.y < static_cast<float>(height)))
                 continue;
             // The neighbourhood's extents in YCoCg: the 3x3 box and the 5-tap cross
             glm::vec3 box_min(INFINITY), box_max(-INFINITY), cross_min(INFINITY),

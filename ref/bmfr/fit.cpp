@@ -96,7 +96,9 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
     float lo[bmfr_scaled_count], hi[bmfr_scaled_count];
     std::fill(lo, lo + bmfr_scaled_count, half_max);
     std::fill(hi, hi + bmfr_scaled_count, -half_max);
-    // Gather the raw features and colours (mirrored borders), and the ranges of features 4..9
+    // Gather the raw features and colours (mirrored borders) in the storage precision, and the
+    // ranges of features 4..9 over the stored values (the authors store the features in binary16
+    // before the fit reads them)
     for (int row = 0; row < bmfr_block_pixels; ++row) {
         const int x = bmfr_mirror(origin.x + row % bmfr_block_size, grid.width);
         const int y = bmfr_mirror(origin.y + row / bmfr_block_size, grid.height);
@@ -106,6 +108,7 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
         a[10] = clamp_feature(c.x);
         a[11] = clamp_feature(c.y);
         a[12] = clamp_feature(c.z);
+        for (int col = 0; col < bmfr_column_count; ++col) a[col] = store(params.storage, a[col]);
         for (int k = 0; k < bmfr_scaled_count; ++k) {
             lo[k] = std::min(lo[k], a[bmfr_scaled_first + k]);
             hi[k] = std::max(hi[k], a[bmfr_scaled_first + k]);
@@ -113,15 +116,17 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
     }
     std::copy(lo, lo + bmfr_scaled_count, out.feature_min);
     std::copy(hi, hi + bmfr_scaled_count, out.feature_max);
-    // Scale, add the regularisation noise, round to the storage precision
+    // Scale features 4..9 (stored again), then add the regularisation noise to features 1..9 in
+    // float: the authors add it as the first Householder column reads the values, whose
+    // reflection then stores them
     for (int row = 0; row < bmfr_block_pixels; ++row) {
         float* a = &out.a[static_cast<std::size_t>(row) * bmfr_matrix_stride];
         for (int k = 0; k < bmfr_scaled_count; ++k)
-            a[bmfr_scaled_first + k] = scale_feature(a[bmfr_scaled_first + k], lo[k], hi[k]);
+            a[bmfr_scaled_first + k] =
+                store(params.storage, scale_feature(a[bmfr_scaled_first + k], lo[k], hi[k]));
         if (noise)
             for (int f = 1; f < bmfr_feature_count; ++f)
                 a[f] = a[f] + regularisation_noise(params.noise_amount, row, f, frame);
-        for (int col = 0; col < bmfr_column_count; ++col) a[col] = store(params.storage, a[col]);
     }
 }
 
@@ -145,7 +150,7 @@ BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
         const float uc = xc - r;
         const float u_length_squared = s + uc * uc;
         if (!(u_length_squared > 0.0f)) {
-            ++fit.reflections_skipped;
+            if (col < bmfr_feature_count) ++fit.reflections_skipped;
             continue;
         }
         // The dot products u . a_j of the remaining columns (binary64, row order). The loops
@@ -161,33 +166,40 @@ BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
             const float* row = &a[i * stride];
             for (int j = j0; j < stride; ++j) d[j] += u * static_cast<double>(row[j]);
         }
-        float t[stride] = {};
-        for (int j = col + 1; j < bmfr_column_count; ++j)
-            t[j] = (2.0f * static_cast<float>(d[j])) / u_length_squared;
-        // Reflect the remaining columns, rounding to the storage precision
+        float dot[stride] = {};
+        for (int j = col + 1; j < bmfr_column_count; ++j) dot[j] = static_cast<float>(d[j]);
+        // Reflect the remaining columns as the authors: a_ij -= ((2 u_i) d_j) / |u|^2, rounded to
+        // the storage precision (d_j = 0 elsewhere leaves a column unchanged)
         const bool half = params.storage == BmfrStorage::half;
         for (int i = c; i < bmfr_block_pixels; ++i) {
             float* row = &a[i * stride];
-            const float u = i == c ? uc : row[col];
-            for (int j = j0; j < stride; ++j) row[j] = row[j] - u * t[j];
+            const float u2 = 2.0f * (i == c ? uc : row[col]);
+            for (int j = j0; j < stride; ++j) row[j] = row[j] - (u2 * dot[j]) / u_length_squared;
             if (half) round_to_half_16(row);
             if (i > c) row[col] = 0.0f;
         }
-        a[c * stride + col] = store(params.storage, r);
+        // The diagonal stays in float (the authors keep R in local float memory)
+        a[c * stride + col] = r;
     }
-    // Back substitution, row 9 to 0, per colour channel
+    // Back substitution, row 9 to 0, per colour channel, in the authors' order: the row is
+    // divided by its pivot first, w_i = b_i / R_ii - sum_{k > i} (R_ik w_k) / R_ii (k ascending)
     for (int ch = 0; ch < 3; ++ch) {
         float* w = fit.weights[ch];
         for (int i = bmfr_feature_count - 1; i >= 0; --i) {
-            float v = a[i * stride + bmfr_feature_count + ch];
-            for (int k = i + 1; k < bmfr_feature_count; ++k) v = v - a[i * stride + k] * w[k];
             const float pivot = a[i * stride + i];
-            if (std::fabs(pivot) < params.pivot_epsilon) {
+            if (!(std::fabs(pivot) >= params.pivot_epsilon)) {
                 w[i] = 0.0f;
                 if (ch == 0) ++fit.pivots_zeroed;
-            } else {
-                w[i] = v / pivot;
+                continue;
             }
+            float v = a[i * stride + bmfr_feature_count + ch] / pivot;
+            for (int k = i + 1; k < bmfr_feature_count; ++k)
+                v = v - (a[i * stride + k] * w[k]) / pivot;
+            if (!std::isfinite(v)) {  // an overflow through a small pivot: counted, 0
+                ++fit.weights_nonfinite;
+                v = 0.0f;
+            }
+            w[i] = v;
         }
     }
     return fit;
@@ -217,6 +229,7 @@ BmfrFit bmfr_fit(const BmfrParams& params, const Image& accumulated, const Image
             }
             ++stats.blocks;
             stats.pivots_zeroed += fit.pivots_zeroed;
+            stats.fit_nonfinite += fit.weights_nonfinite;
             stats.reflections_skipped += fit.reflections_skipped;
         }
     return out;
@@ -225,6 +238,15 @@ BmfrFit bmfr_fit(const BmfrParams& params, const Image& accumulated, const Image
 Image bmfr_weighted_sum(const BmfrFit& fit, const Image& world_position, const Image& normal,
                         BmfrStats& stats) {
     const BmfrGrid& g = fit.grid;
+    const auto shaped = [](const Image& i, int w, int h, int c) {
+        return i.width == w && i.height == h && i.channels == c;
+    };
+    FOVREF_CHECK(shaped(fit.weights, g.cells_x, g.cells_y, bmfr_weight_count) &&
+                     shaped(fit.feature_range, g.cells_x, g.cells_y, 2 * bmfr_scaled_count) &&
+                     shaped(world_position, g.width, g.height, 3) &&
+                     shaped(normal, g.width, g.height, 3),
+                 "bmfr_weighted_sum: the weights, ranges, positions or normals do not match the "
+                 "grid");
     Image out(g.width, g.height, 3);
     for (int y = 0; y < g.height; ++y)
         for (int x = 0; x < g.width; ++x) {

@@ -21,52 +21,52 @@ inline constexpr float half_max = 65504.0f;
 /// What storing f as binary16 and loading it back gives, saturating instead of overflowing:
 /// f is first clamped to [-65504, 65504] (so a finite input never becomes infinite; SPEC §0),
 /// then rounded to the nearest binary16, ties to even. NaN stays NaN. Equal to
-/// float_from_half(half_from_float(clamped f)) for every float (tests/bmfr/half_test.cpp), without
-/// branches on the value's range, so the QR's inner loops can use it per element:
-///   |f| >= 2^-14 (normal halves): the float's mantissa rounded to 10 bits in integer code
-///     (add 0xfff plus the kept lowest bit, clear the 13 bits below; a carry moves into the
-///     exponent);
-///   |f| < 2^-14 (subnormal halves, steps of 2^-24): (|f| + 0.5) - 0.5 in binary32, whose
-///     rounding is exactly to a multiple of 2^-24, ties to even.
+/// float_from_half(half_from_float(clamped f)) for every float (tests/bmfr/half_test.cpp). In
+/// integer code: |f| >= 2^-14 (normal halves, and 0) rounds the float's mantissa to 10 bits (add
+/// 0xfff plus the kept lowest bit, clear the 13 bits below; a carry moves into the exponent);
+/// 0 < |f| < 2^-14 (subnormal halves, steps of 2^-24) goes through half_from_float.
 inline float round_to_half(float f) {
-    const float clamped = f < -half_max ? -half_max : (f > half_max ? half_max : f);
     std::uint32_t x;
-    std::memcpy(&x, &clamped, sizeof x);
-    const std::uint32_t sign = x & 0x80000000u;
-    const std::uint32_t ax = x & 0x7fffffffu;
-    const std::uint32_t normal_bits = sign | ((ax + 0x0fffu + ((ax >> 13) & 1u)) & 0xffffe000u);
-    float normal;
-    std::memcpy(&normal, &normal_bits, sizeof normal);
-    const float magnitude = std::fabs(clamped);
-    const float subnormal = std::copysign((magnitude + 0.5f) - 0.5f, clamped);
-    if (ax > 0x7f800000u) return clamped;  // NaN
-    return ax >= 0x38800000u ? normal : subnormal;
+    std::memcpy(&x, &f, sizeof x);
+    std::uint32_t ax = x & 0x7fffffffu;
+    if (ax > 0x7f800000u) return f;          // NaN
+    if (ax > 0x477fe000u) ax = 0x477fe000u;  // beyond 65504 (infinity too): 65504
+    if (ax != 0 && ax < 0x38800000u) {       // a subnormal half
+        const std::uint32_t clamped = (x & 0x80000000u) | ax;
+        float c;
+        std::memcpy(&c, &clamped, sizeof c);
+        return float_from_half(half_from_float(c));
+    }
+    const std::uint32_t r = (x & 0x80000000u) | ((ax + 0x0fffu + ((ax >> 13) & 1u)) & 0xffffe000u);
+    float out;
+    std::memcpy(&out, &r, sizeof out);
+    return out;
 }
 
-/// round_to_half of 16 consecutive floats in place, written as straight-line loops of integer
-/// and float operations with selects (no branches), so that compilers vectorise it; the same
-/// bits as round_to_half element by element.
+/// round_to_half of 16 consecutive floats in place, with the same bits: straight-line loops of
+/// integer operations with selects (no branches) that compilers vectorise for the common case,
+/// then round_to_half for the rare elements in the subnormal range or NaN.
 inline void round_to_half_16(float* v) {
-    std::uint32_t bits[16], magnitude_bits[16], subnormal_bits[16];
-    float magnitude[16], subnormal[16];
+    std::uint32_t bits[16];
     std::memcpy(bits, v, sizeof bits);
-    // |v| clamped to 65504 in integer code (the bits of non-negative floats are ordered); NaN
-    // (above 0x7f800000) is kept
+    std::int32_t special = 0;
     for (int j = 0; j < 16; ++j) {
-        const auto ax = static_cast<std::int32_t>(bits[j] & 0x7fffffffu);
-        magnitude_bits[j] =
-            static_cast<std::uint32_t>(ax > 0x477fe000 && ax <= 0x7f800000 ? 0x477fe000 : ax);
+        auto ax = static_cast<std::int32_t>(bits[j] & 0x7fffffffu);
+        special |= (ax != 0 && ax < 0x38800000) || ax > 0x7f800000 ? 1 : 0;
+        ax = ax > 0x477fe000 ? 0x477fe000 : ax;
+        const auto a = static_cast<std::uint32_t>(ax);
+        bits[j] = (bits[j] & 0x80000000u) | ((a + 0x0fffu + ((a >> 13) & 1u)) & 0xffffe000u);
     }
-    std::memcpy(magnitude, magnitude_bits, sizeof magnitude);
-    for (int j = 0; j < 16; ++j) subnormal[j] = (magnitude[j] + 0.5f) - 0.5f;
-    std::memcpy(subnormal_bits, subnormal, sizeof subnormal_bits);
-    for (int j = 0; j < 16; ++j) {
-        const auto ax = static_cast<std::int32_t>(magnitude_bits[j]);
-        const auto normal = static_cast<std::int32_t>(
-            (magnitude_bits[j] + 0x0fffu + ((magnitude_bits[j] >> 13) & 1u)) & 0xffffe000u);
-        std::int32_t r = ax >= 0x38800000 ? normal : static_cast<std::int32_t>(subnormal_bits[j]);
-        r = ax > 0x7f800000 ? ax : r;
-        bits[j] = (bits[j] & 0x80000000u) | static_cast<std::uint32_t>(r);
+    if (special != 0) {
+        for (int j = 0; j < 16; ++j) {
+            std::uint32_t x;
+            std::memcpy(&x, &v[j], sizeof x);
+            const std::uint32_t ax = x & 0x7fffffffu;
+            if ((ax != 0 && ax < 0x38800000u) || ax > 0x7f800000u) {
+                const float r = round_to_half(v[j]);
+                std::memcpy(&bits[j], &r, sizeof r);
+            }
+        }
     }
     std::memcpy(v, bits, sizeof bits);
 }

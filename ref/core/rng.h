@@ -17,7 +17,8 @@ inline constexpr std::uint32_t pcg_hash(std::uint32_t input) {
     return (word >> 22u) ^ word;
 }
 
-/// Thomas Wang's 32-bit integer hash, as in the BMFR authors' OpenCL code.
+/// Thomas Wang's 32-bit integer hash, which SPEC §9 names for BMFR's stochastic regularisation
+/// (the authors' published OpenCL code uses Bob Jenkins' six-shift hash instead; docs/bmfr.md).
 inline constexpr std::uint32_t wang_hash(std::uint32_t seed) {
     seed = (seed ^ 61u) ^ (seed >> 16u);
     seed *= 9u;

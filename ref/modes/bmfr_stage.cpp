@@ -60,6 +60,12 @@ BmfrModeState& bmfr_state(FrameContext& ctx) {
     return s;
 }
 
+// The directly seen emission when it is kept out of the fit, else an empty image.
+const Image& emission_input(const FrameContext& ctx, const BmfrModeState& s) {
+    static const Image none;
+    return s.bmfr.params.separate_emission ? ctx.input(s.bmfr_emission) : none;
+}
+
 void add_stats(FrameContext& ctx, const BmfrStats& stats) {
     add_bmfr_counters(ctx.result->counters, stats);
 }
@@ -104,7 +110,7 @@ void bmfr_demodulate_stage(FrameContext& ctx) {
     BmfrModeState& s = bmfr_state(ctx);
     BmfrStats stats;
     Image out = bmfr_demodulate(s.bmfr.params, ctx.input(s.bmfr_radiance),
-                                ctx.input("gbuffer_albedo"), stats);
+                                ctx.input("gbuffer_albedo"), emission_input(ctx, s), stats);
     add_stats(ctx, stats);
     ctx.result->add("bmfr_illumination", BufferKind::color, rgb, std::move(out));
 }
@@ -168,8 +174,9 @@ void bmfr_accumulate_filtered_stage(FrameContext& ctx) {
 void bmfr_remodulate_stage(FrameContext& ctx) {
     BmfrModeState& s = bmfr_state(ctx);
     Image out = bmfr_remodulate(s.bmfr.params, ctx.input("bmfr_accumulated_filtered"),
-                                ctx.input("gbuffer_albedo"));
-    ctx.note = "display space: clamp(x^(1/2.2), 0, 1)";
+                                ctx.input("gbuffer_albedo"), emission_input(ctx, s));
+    ctx.note = std::string("display space: clamp(x^(1/2.2), 0, 1)") +
+               (s.bmfr.params.separate_emission ? ", emission added back" : "");
     ctx.result->add("bmfr_display", BufferKind::scalar, rgb, std::move(out));
 }
 
@@ -201,14 +208,19 @@ void add_bmfr_buffers(FrameResult& r, BmfrFrame f, const std::string& output) {
 }
 
 void add_bmfr_stages(Pipeline& p, BmfrModeState& state, const std::string& radiance,
-                     const std::string& output) {
+                     const std::string& emission, const std::string& output) {
     state.bmfr_radiance = radiance;
+    state.bmfr_emission = emission;
     state.bmfr_output = output;
     const std::string world = "gbuffer_world_position", normal = "gbuffer_shading_normal";
-    p.stages.push_back({"bmfr_demodulate",
-                        {radiance, "gbuffer_albedo"},
-                        {"bmfr_illumination"},
-                        bmfr_demodulate_stage});
+    std::vector<std::string> demodulate_inputs = {radiance, "gbuffer_albedo"};
+    std::vector<std::string> remodulate_inputs = {"bmfr_accumulated_filtered", "gbuffer_albedo"};
+    if (state.bmfr.params.separate_emission) {
+        demodulate_inputs.push_back(emission);
+        remodulate_inputs.push_back(emission);
+    }
+    p.stages.push_back(
+        {"bmfr_demodulate", demodulate_inputs, {"bmfr_illumination"}, bmfr_demodulate_stage});
     p.stages.push_back(
         {"bmfr_accumulate_noisy",
          {"bmfr_illumination", world, normal},
@@ -226,10 +238,8 @@ void add_bmfr_stages(Pipeline& p, BmfrModeState& state, const std::string& radia
                         {"bmfr_fitted", "bmfr_spp", "bmfr_accept", "bmfr_previous_pixel"},
                         {"bmfr_accumulated_filtered"},
                         bmfr_accumulate_filtered_stage});
-    p.stages.push_back({"bmfr_remodulate",
-                        {"bmfr_accumulated_filtered", "gbuffer_albedo"},
-                        {"bmfr_display"},
-                        bmfr_remodulate_stage});
+    p.stages.push_back(
+        {"bmfr_remodulate", remodulate_inputs, {"bmfr_display"}, bmfr_remodulate_stage});
     p.stages.push_back(
         {"bmfr_taa", {"bmfr_display", "bmfr_previous_pixel"}, {"bmfr_taa"}, bmfr_taa_stage});
     p.stages.push_back({"bmfr_output", {"bmfr_taa"}, {output}, bmfr_output_stage});

@@ -1,7 +1,7 @@
 // The BMFR stages of the path-traced modes (SPEC §9, docs/bmfr.md): one stage per phase, each
 // calling one function of ref/bmfr, so every phase's output can be dumped and diffed by name:
 //
-//   bmfr_demodulate           radiance, gbuffer_albedo            -> bmfr_illumination
+//   bmfr_demodulate           radiance, gbuffer_albedo, emission  -> bmfr_illumination
 //   bmfr_accumulate_noisy     + world position, shading normal    -> bmfr_accumulated_noisy,
 //                                                                    bmfr_spp, bmfr_accept,
 //                                                                    bmfr_previous_pixel
@@ -9,7 +9,7 @@
 //                                                                    bmfr_feature_range (12)
 //   bmfr_weighted_sum         weights, ranges, world, normal      -> bmfr_fitted
 //   bmfr_accumulate_filtered  fitted, spp, accept, previous pixel -> bmfr_accumulated_filtered
-//   bmfr_remodulate           filtered, gbuffer_albedo            -> bmfr_display
+//   bmfr_remodulate           filtered, gbuffer_albedo, emission  -> bmfr_display
 //   bmfr_taa                  display, previous pixel             -> bmfr_taa
 //   bmfr_output               bmfr_taa                            -> final (linear, x^2.2)
 //
@@ -35,12 +35,14 @@ struct BmfrModeState : TaaModeState {
     BmfrHistory bmfr_next;      ///< what this frame hands on (filled by the stages)
     int bmfr_frame = -1;        ///< the frame bmfr_next belongs to
     std::string bmfr_radiance;  ///< the noisy radiance buffer (set by add_bmfr_stages)
+    std::string bmfr_emission;  ///< the directly seen emission (kept out of the fit)
     std::string bmfr_output;    ///< the denoised linear image
 };
 
-/// Adds the BMFR stages, reading `radiance` and the G-buffer, writing `output`.
+/// Adds the BMFR stages, reading `radiance`, `emission` (bmfr_emission=separate) and the
+/// G-buffer, writing `output`. state.bmfr must be set.
 void add_bmfr_stages(Pipeline& pipeline, BmfrModeState& state, const std::string& radiance,
-                     const std::string& output);
+                     const std::string& emission, const std::string& output);
 
 /// The bmfr_* counters of a frame (BmfrStats).
 void add_bmfr_counters(Counters& counters, const BmfrStats& stats);

@@ -103,8 +103,9 @@ void pathtrace_stage(FrameContext& ctx) {
     const Scene& scene = *ctx.scene;
     const ShadeInputs inputs = shade_inputs_of(ctx, "gbuffer_");
     PathTraceStats stats;
+    Image emission;
     Image out = pathtrace(scene, state.bvh.get(scene, ctx.result->counters), state.path, inputs,
-                          ctx.camera, ctx.frame, stats);
+                          ctx.camera, ctx.frame, stats, state.bmfr.enabled ? &emission : nullptr);
     add_shading_counters(ctx.result->counters, stats.shading);
     add_trace_counters(ctx.result->counters, "secondary", stats.secondary);
     Counters& counters = ctx.result->counters;
@@ -117,6 +118,8 @@ void pathtrace_stage(FrameContext& ctx) {
                (scene.lights.empty() ? ", no lights: no shadow rays" : "");
     ctx.result->add(state.bmfr.enabled ? "radiance" : "final", BufferKind::color, {"r", "g", "b"},
                     std::move(out));
+    if (state.bmfr.enabled)
+        ctx.result->add("emission", BufferKind::color, {"r", "g", "b"}, std::move(emission));
 }
 
 std::vector<ParamSpec> pathtrace_param_specs() {
@@ -145,8 +148,9 @@ Pipeline pathtrace_pipeline(const Scene*, const RenderSettings& settings) {
     p.state = state;
     p.stages.push_back({"primary_visibility", {}, gbuffer_names(), primary_visibility_stage});
     if (state->bmfr.enabled) {
-        p.stages.push_back({"pathtrace", shade_direct_inputs, {"radiance"}, pathtrace_stage});
-        add_bmfr_stages(p, *state, "radiance", "final");
+        p.stages.push_back(
+            {"pathtrace", shade_direct_inputs, {"radiance", "emission"}, pathtrace_stage});
+        add_bmfr_stages(p, *state, "radiance", "emission", "final");
     } else {
         p.stages.push_back({"pathtrace", shade_direct_inputs, {"final"}, pathtrace_stage});
     }

@@ -79,7 +79,8 @@ glm::vec3 sample_one_light(const Scene& scene, const Bvh& bvh, const SurfacePoin
 
 glm::vec3 pathtrace_pixel(const Scene& scene, const Bvh& bvh, const PathTraceParams& params,
                           const ShadeInputs& in, const Camera& camera, int frame, int x, int y,
-                          PathTraceStats& stats) {
+                          PathTraceStats& stats, glm::vec3* emission) {
+    if (emission) *emission = glm::vec3(0.0f);
     SurfacePoint surface;
     if (!gbuffer_surface(scene, in, x, y, surface, stats.shading)) return glm::vec3(0.0f);
     ++stats.paths;
@@ -91,6 +92,7 @@ glm::vec3 pathtrace_pixel(const Scene& scene, const Bvh& bvh, const PathTracePar
     const Material& first = scene.materials[static_cast<std::size_t>(surface.material)];
     glm::vec3 radiance =
         glm::dot(surface.geometric_normal, incoming) >= 0.0f ? first.emission : glm::vec3(0.0f);
+    if (emission) *emission = radiance;
     glm::vec3 throughput(1.0f);
     const float epsilon = shadow_epsilon_scale * scene.scene_scale;
     for (int k = 0;; ++k) {
@@ -133,14 +135,20 @@ glm::vec3 pathtrace_pixel(const Scene& scene, const Bvh& bvh, const PathTracePar
 }
 
 Image pathtrace(const Scene& scene, const Bvh& bvh, const PathTraceParams& params,
-                const ShadeInputs& in, const Camera& camera, int frame, PathTraceStats& stats) {
+                const ShadeInputs& in, const Camera& camera, int frame, PathTraceStats& stats,
+                Image* emission) {
     FOVREF_CHECK(params.max_bounces >= 1, "path tracing with no secondary ray");
     FOVREF_CHECK(params.rr > 0.0f && params.rr <= 1.0f, "Russian roulette probability");
     Image out(in.position.width, in.position.height, 3, 0.0f);
+    if (emission) *emission = Image(out.width, out.height, 3, 0.0f);
     for (int y = 0; y < out.height; ++y)
         for (int x = 0; x < out.width; ++x) {
-            const glm::vec3 l = pathtrace_pixel(scene, bvh, params, in, camera, frame, x, y, stats);
+            glm::vec3 e;
+            const glm::vec3 l = pathtrace_pixel(scene, bvh, params, in, camera, frame, x, y, stats,
+                                                emission ? &e : nullptr);
             for (int c = 0; c < 3; ++c) out.at(x, y, c) = l[c];
+            if (emission)
+                for (int c = 0; c < 3; ++c) emission->at(x, y, c) = e[c];
         }
     return out;
 }

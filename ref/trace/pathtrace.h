@@ -60,13 +60,16 @@ glm::vec3 sample_one_light(const Scene& scene, const Bvh& bvh, const SurfacePoin
                            glm::vec3 n_g, glm::vec3 n_s, std::uint32_t frame, std::uint32_t pixel,
                            std::uint32_t dimension, ShadingStats& stats);
 
-/// The radiance of one path from G-buffer pixel (x, y) (black for background).
+/// The radiance of one path from G-buffer pixel (x, y) (black for background). `emission`
+/// (may be null) gets the first term alone: the emission of the surface seen directly.
 glm::vec3 pathtrace_pixel(const Scene& scene, const Bvh& bvh, const PathTraceParams& params,
                           const ShadeInputs& in, const Camera& camera, int frame, int x, int y,
-                          PathTraceStats& stats);
+                          PathTraceStats& stats, glm::vec3* emission = nullptr);
 
-/// The pass: an RGB image of the G-buffer's size.
+/// The pass: an RGB image of the G-buffer's size; `emission` (may be null) gets each pixel's
+/// directly seen emission (BMFR keeps it out of the fit, docs/bmfr.md).
 Image pathtrace(const Scene& scene, const Bvh& bvh, const PathTraceParams& params,
-                const ShadeInputs& in, const Camera& camera, int frame, PathTraceStats& stats);
+                const ShadeInputs& in, const Camera& camera, int frame, PathTraceStats& stats,
+                Image* emission = nullptr);
 
 }  // namespace fovref

@@ -25,10 +25,10 @@ for f in 0 3; do
   done
 done
 
-# the documented input layout: four buffers per frame and cameras.json
+# the documented input layout: four buffers per frame (and the optional emission) and cameras.json
 mkdir -p "$TMP/ext"
 for f in 0 1 2 3; do
-  for b in radiance gbuffer_albedo gbuffer_shading_normal gbuffer_world_position; do
+  for b in radiance gbuffer_albedo gbuffer_shading_normal gbuffer_world_position emission; do
     cp "$TMP/seq/f00${f}_$b.pfm" "$TMP/ext/"
   done
 done
@@ -43,6 +43,16 @@ expect 0 "denoise bmfr on external buffers + cameras.json" -- "$FOVREF" denoise 
 checks=$((checks + 1))
 cmp -s "$TMP/seq/f003_final.pfm" "$TMP/den2/f003_final.pfm" ||
   { echo "FAIL: cameras.json: frame 3 differs"; failures=$((failures + 1)); }
+# without the emission files: the whole radiance is demodulated, as bmfr_emission=include
+expect 0 "render with bmfr_emission=include" -- "$FOVREF" render --mode pathtrace \
+  --param denoise=bmfr --param bmfr_emission=include --frames 4 "${common[@]}" --out "$TMP/incl"
+mkdir -p "$TMP/noem" && cp "$TMP/ext/"*.pfm "$TMP/ext/cameras.json" "$TMP/noem/" &&
+  rm "$TMP/noem/"*_emission.pfm
+expect 0 "denoise bmfr without emission buffers" -- "$FOVREF" denoise bmfr "$TMP/noem" \
+  "$TMP/den-noem" -q
+checks=$((checks + 1))
+cmp -s "$TMP/incl/f003_final.pfm" "$TMP/den-noem/f003_final.pfm" ||
+  { echo "FAIL: no emission files: frame 3 differs from bmfr_emission=include"; failures=$((failures + 1)); }
 
 # NaN radiance: replaced by 0, counted, the output finite
 python3 - "$TMP/ext/f001_radiance.pfm" <<'PY'
@@ -93,6 +103,9 @@ contains "applies to denoise=bmfr only" "the error says why"
 expect 2 "denoise=nlm" -- "$FOVREF" render --mode pathtrace --param denoise=nlm "${common[@]}" \
   --out "$TMP/bad6"
 contains "parameter 'denoise'" "the error names the parameter"
+expect 2 "bmfr_emission=twice" -- "$FOVREF" render --mode pathtrace --param denoise=bmfr \
+  --param bmfr_emission=twice "${common[@]}" --out "$TMP/bad6b"
+contains "parameter 'bmfr_emission'" "the error names the parameter"
 
 # frames 2..3 resumed from the dump of frame 1: the bits of the sequence
 expect 0 "resume frames 2..3" -- "$FOVREF" render --mode pathtrace --param denoise=bmfr \
