@@ -41,7 +41,8 @@ void print_cost(const Scene& scene, const BenchBmfrOptions& o, Progress& progres
         s.width = o.width;
         s.height = o.height;
         s.frame_count = 1 + o.repeats;
-        s.params = Params(std::map<std::string, std::string>{{"denoise", "bmfr"}, {"bmfr_storage", storage}});
+        s.params = Params(
+            std::map<std::string, std::string>{{"denoise", "bmfr"}, {"bmfr_storage", storage}});
         s.progress = [&](double f) { progress.update(f); };
         std::vector<std::string> order;
         std::map<std::string, double> best;
@@ -64,9 +65,8 @@ void print_cost(const Scene& scene, const BenchBmfrOptions& o, Progress& progres
             if (is_bmfr_phase(name)) bmfr += best[name];
             std::printf("    %-28s %9.1f ms\n", name.c_str(), 1e3 * best[name]);
         }
-        std::printf("    %-28s %9.1f ms  %s\n    %-28s %9.1f ms\n", "BMFR (all phases)",
-                    1e3 * bmfr, bmfr <= 0.3 ? "meets the target" : "misses the target",
-                    "frame", 1e3 * total);
+        std::printf("    %-28s %9.1f ms  %s\n    %-28s %9.1f ms\n", "BMFR (all phases)", 1e3 * bmfr,
+                    bmfr <= 0.3 ? "meets the target" : "misses the target", "frame", 1e3 * total);
         std::fflush(stdout);
     }
 }
@@ -99,7 +99,8 @@ void print_errors(const Scene& scene, const BenchBmfrOptions& o, Progress& progr
         RenderSettings r = s;
         r.first_frame = f;
         r.frame_count = 1;
-        r.params = Params(std::map<std::string, std::string>{{"spp", std::to_string(o.reference_spp)}});
+        r.params =
+            Params(std::map<std::string, std::string>{{"spp", std::to_string(o.reference_spp)}});
         r.progress = [&](double x) {
             progress.update(0.1 + 0.9 * (static_cast<double>(i) + x) /
                                       static_cast<double>(compared.size()));
@@ -124,8 +125,8 @@ void print_errors(const Scene& scene, const BenchBmfrOptions& o, Progress& progr
         std::fflush(stdout);
     }
     if (count > 0)
-        std::printf("  %6s %12.5f %12.5f %12.4f %12.4f\n", "mean", sums[0] / count,
-                    sums[1] / count, sums[2] / count, sums[3] / count);
+        std::printf("  %6s %12.5f %12.5f %12.4f %12.4f\n", "mean", sums[0] / count, sums[1] / count,
+                    sums[2] / count, sums[3] / count);
     std::printf("  temporal error: noisy %.5f, BMFR %.5f (mean |luma(t) - luma(t-1)|)\n",
                 temporal_error(noisy), temporal_error(denoised));
 }

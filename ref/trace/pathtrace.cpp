@@ -6,6 +6,7 @@
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
+#include "ref/trace/bsdf.h"
 
 namespace fovref {
 
@@ -28,11 +29,8 @@ void facing_normals(const SurfacePoint& surface, glm::vec3 towards, glm::vec3& n
 
 glm::vec3 cosine_direction(glm::vec3 n, float u1, float u2) {
     // Duff et al. 2017, "Building an orthonormal basis, revisited".
-    const float sign = n.z >= 0.0f ? 1.0f : -1.0f;
-    const float a = -1.0f / (sign + n.z);
-    const float b = n.x * n.y * a;
-    const glm::vec3 t{1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x};
-    const glm::vec3 s{b, sign + n.y * n.y * a, -n.y};
+    glm::vec3 t, s;
+    duff_basis(n, t, s);
     const float r = std::sqrt(u1);
     const float phi = two_pi * u2;
     const float z = std::sqrt(std::max(0.0f, 1.0f - u1));
@@ -41,7 +39,8 @@ glm::vec3 cosine_direction(glm::vec3 n, float u1, float u2) {
 
 glm::vec3 sample_one_light(const Scene& scene, const Bvh& bvh, const SurfacePoint& surface,
                            glm::vec3 n_g, glm::vec3 n_s, std::uint32_t frame, std::uint32_t pixel,
-                           std::uint32_t dimension, ShadingStats& stats) {
+                           std::uint32_t dimension, ShadingStats& stats, const Bsdf* glossy,
+                           glm::vec3 v) {
     if (scene.lights.empty()) return glm::vec3(0.0f);
     const auto count = static_cast<std::uint32_t>(scene.lights.size());
     // Uniform choice: floor(u N), clamped (u < 1, but u N may round up to N).
@@ -74,6 +73,9 @@ glm::vec3 sample_one_light(const Scene& scene, const Bvh& bvh, const SurfacePoin
     const glm::vec3 origin = surface.position + n_g * (shadow_epsilon_scale * scene.scene_scale);
     if (!shadow_visible(bvh, origin, y, stats)) return glm::vec3(0.0f);
     // f Le G / (pdf of the choice 1 / N), the point's pdf 1 / A folded into G.
+    if (glossy)
+        return bsdf_eval(*glossy, to_light / d, v) * light.intensity *
+               (geometry * static_cast<float>(count));
     return surface.albedo * inv_pi * light.intensity * (geometry * static_cast<float>(count));
 }
 
@@ -97,16 +99,24 @@ glm::vec3 pathtrace_pixel(const Scene& scene, const Bvh& bvh, const PathTracePar
     const float epsilon = shadow_epsilon_scale * scene.scene_scale;
     for (int k = 0;; ++k) {
         const std::uint32_t base = 6u * static_cast<std::uint32_t>(k);
+        const Material& material = scene.materials[static_cast<std::size_t>(surface.material)];
+        const Bsdf bsdf = make_bsdf(material, surface.albedo, n_s);
+        const glm::vec3 v = incoming / std::sqrt(glm::dot(incoming, incoming));
         ++stats.shading.shaded;
-        radiance += throughput *
-                    sample_one_light(scene, bvh, surface, n_g, n_s, f, pixel, base, stats.shading);
+        radiance +=
+            throughput * sample_one_light(scene, bvh, surface, n_g, n_s, f, pixel, base,
+                                          stats.shading, bsdf.glossy() ? &bsdf : nullptr, v);
         if (k == params.max_bounces) break;
-        if (!(surface.albedo.x > 0.0f || surface.albedo.y > 0.0f || surface.albedo.z > 0.0f)) {
+        const bool black =
+            !(surface.albedo.x > 0.0f || surface.albedo.y > 0.0f || surface.albedo.z > 0.0f);
+        if (black && !bsdf.glossy()) {
             ++stats.ended_black;
             break;
         }
-        // f cos / pdf = (albedo / pi) cos / (cos / pi) = albedo.
-        throughput *= surface.albedo;
+        if (!bsdf.glossy()) {
+            // f cos / pdf = (albedo / pi) cos / (cos / pi) = albedo.
+            throughput *= surface.albedo;
+        }
         if (k >= 1) {
             if (!(rand_unit(f, pixel, base + 5) < params.rr)) {
                 ++stats.ended_roulette;
@@ -116,8 +126,21 @@ glm::vec3 pathtrace_pixel(const Scene& scene, const Bvh& bvh, const PathTracePar
         }
         Ray ray;
         ray.origin = surface.position + n_g * epsilon;
-        ray.direction =
-            cosine_direction(n_s, rand_unit(f, pixel, base + 3), rand_unit(f, pixel, base + 4));
+        if (bsdf.glossy()) {
+            // The lobe choice uses its own dimensions (65536 + k), so that diffuse paths keep
+            // the numbers they had before glossy materials were sampled.
+            glm::vec3 weight;
+            if (!bsdf_sample(bsdf, v, rand_unit(f, pixel, 65536u + static_cast<std::uint32_t>(k)),
+                             rand_unit(f, pixel, base + 3), rand_unit(f, pixel, base + 4),
+                             ray.direction, weight)) {
+                ++stats.ended_below;
+                break;
+            }
+            throughput *= weight;
+        } else {
+            ray.direction =
+                cosine_direction(n_s, rand_unit(f, pixel, base + 3), rand_unit(f, pixel, base + 4));
+        }
         if (!(glm::dot(ray.direction, n_g) > 0.0f)) {  // below the geometric surface: absorbed
             ++stats.ended_below;
             break;

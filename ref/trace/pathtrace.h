@@ -16,12 +16,13 @@
 // A path ends at the background (no environment light), at a black albedo, at a Russian-roulette
 // termination, at a direction sampled about the shading normal that points below the geometric
 // surface (absorbed), or after B secondary rays; each is counted. Surfaces are two-sided as in
-// direct_light.h (normals turned towards the incoming direction); only the diffuse lobe is
-// sampled and evaluated (materials' GGX specular: not yet, docs/pathtrace.md).
+// direct_light.h (normals turned towards the incoming direction). A glossy material (specular
+// > 0) is evaluated and sampled with the BSDF of ref/trace/bsdf.h (Lambert + GGX, the secondary
+// direction from the lobe mixture), in NEE and for the secondary ray.
 //
 // Random numbers (SPEC §0): rand(frame, pixel, d) with d = 6 k + j at vertex k:
 //   j = 0 light choice, 1 and 2 the point on the light, 3 and 4 the secondary direction,
-//   5 Russian roulette.
+//   5 Russian roulette; and d = 65536 + k the lobe choice of a glossy vertex.
 #pragma once
 
 #include <cstdint>
@@ -54,11 +55,15 @@ struct PathTraceStats {
 /// Duff et al. 2017 around n.
 glm::vec3 cosine_direction(glm::vec3 n, float u1, float u2);
 
+struct Bsdf;
+
 /// NEE at `surface` (normals already turned to the incoming side): one light chosen with the
-/// numbers of dimensions d, d + 1, d + 2. Returns f Le G V N (the estimate of the direct light).
+/// numbers of dimensions d, d + 1, d + 2. Returns f Le G V N (the estimate of the direct light),
+/// f = albedo / pi, or the glossy BSDF's f(l, v) when `glossy` is given (v towards the viewer).
 glm::vec3 sample_one_light(const Scene& scene, const Bvh& bvh, const SurfacePoint& surface,
                            glm::vec3 n_g, glm::vec3 n_s, std::uint32_t frame, std::uint32_t pixel,
-                           std::uint32_t dimension, ShadingStats& stats);
+                           std::uint32_t dimension, ShadingStats& stats,
+                           const Bsdf* glossy = nullptr, glm::vec3 v = glm::vec3(0.0f));
 
 /// The radiance of one path from G-buffer pixel (x, y) (black for background). `emission`
 /// (may be null) gets the first term alone: the emission of the surface seen directly.
