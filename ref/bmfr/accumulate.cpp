@@ -174,9 +174,24 @@ BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& il
                             continue;
                         mask |= 1u << k;
                     }
-                    // Blend the accepted taps
-                    has_history = blend_accepted(history.accumulated_noisy, taps, mask, h) &&
-                                  blend_accepted(history.spp, taps, mask, &h_spp);
+                    // Blend the accepted taps' colours and counts (weights renormalised)
+                    float total = 0.0f;
+                    for (int k = 0; k < 4; ++k) {
+                        if ((mask & (1u << k)) == 0) continue;
+                        const std::size_t i = static_cast<std::size_t>(taps.y[k]) * width +
+                                              static_cast<std::size_t>(taps.x[k]);
+                        const float* c_k = &history.accumulated_noisy.data[3 * i];
+                        h[0] += taps.w[k] * c_k[0];
+                        h[1] += taps.w[k] * c_k[1];
+                        h[2] += taps.w[k] * c_k[2];
+                        h_spp += taps.w[k] * history.spp.data[i];
+                        total += taps.w[k];
+                    }
+                    has_history = total > 0.0f;
+                    if (has_history) {
+                        for (float& v : h) v = v / total;
+                        h_spp = h_spp / total;
+                    }
                     ++(has_history ? stats.history_accepted : stats.history_rejected);
                     if (!has_history) mask = 0;
                 }

@@ -55,6 +55,15 @@ Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& prev
                                           history.channels == 3)),
                  "bmfr_taa: buffers of different shapes");
     Image out(width, height, 3);
+    // Every pixel's YCoCg once (the neighbourhoods below read each one up to nine times)
+    Image ycocg(width, height, 3);
+    if (!history.empty())
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                const glm::vec3 v = rgb_to_ycocg(load3(display, x, y));
+                float* p = &ycocg.data[ycocg.index(x, y)];
+                p[0] = v.x, p[1] = v.y, p[2] = v.z;
+            }
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
             const glm::vec3 current = load3(display, x, y);
@@ -73,7 +82,7 @@ Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& prev
                 for (int dx = -1; dx <= 1; ++dx) {
                     const int sx = x + dx, sy = y + dy;
                     if (sx < 0 || sy < 0 || sx >= width || sy >= height) continue;
-                    const glm::vec3 v = rgb_to_ycocg(load3(display, sx, sy));
+                    const glm::vec3 v = load3(ycocg, sx, sy);
                     box_min = glm::min(box_min, v);
                     box_max = glm::max(box_max, v);
                     if (dx == 0 || dy == 0) {
