@@ -41,6 +41,35 @@ glm::vec3 load3(const Image& image, int x, int y) {
     return {p[0], p[1], p[2]};
 }
 
+// One Householder reflection of columns col + 1 .. 12 (bmfr_solve_block), over the rows c .. 1023
+// of the row-major block matrix `a` (stride 16). The loops run over columns J0 .. 15, J0 = col + 1
+// rounded down to a multiple of 4, a compile-time constant so that they vectorise: the other
+// columns get d_j = 0, which leaves them unchanged (storing a stored value again changes
+// nothing).
+template <int J0>
+void reflect_columns(float* a, int col, int c, float uc, float u_length_squared, bool half) {
+    constexpr int stride = bmfr_matrix_stride;
+    // The dot products u . a_j (binary64, row order)
+    double d[stride] = {};
+    for (int j = J0; j < stride; ++j)
+        d[j] = static_cast<double>(uc) * static_cast<double>(a[c * stride + j]);
+    for (int i = c + 1; i < bmfr_block_pixels; ++i) {
+        const double u = a[i * stride + col];
+        const float* row = &a[i * stride];
+        for (int j = J0; j < stride; ++j) d[j] += u * static_cast<double>(row[j]);
+    }
+    float dot[stride] = {};
+    for (int j = col + 1; j < bmfr_column_count; ++j) dot[j] = static_cast<float>(d[j]);
+    // a_ij -= ((2 u_i) d_j) / |u|^2 as the authors, rounded to the storage precision
+    for (int i = c; i < bmfr_block_pixels; ++i) {
+        float* row = &a[i * stride];
+        const float u2 = 2.0f * (i == c ? uc : row[col]);
+        for (int j = J0; j < stride; ++j) row[j] = row[j] - (u2 * dot[j]) / u_length_squared;
+        if (half) round_to_half_span<J0>(row);
+        if (i > c) row[col] = 0.0f;
+    }
+}
+
 }  // namespace
 
 const std::array<glm::ivec2, 16>& bmfr_block_offsets() {
@@ -158,25 +187,12 @@ BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
         // to 15, so that they vectorise: columns other than col + 1 .. 12 get t_j = 0 below, and
         // storing a stored value again leaves it unchanged.
         const int j0 = (col + 1) & ~3;
-        double d[stride] = {};
-        for (int j = j0; j < stride; ++j)
-            d[j] = static_cast<double>(uc) * static_cast<double>(a[c * stride + j]);
-        for (int i = c + 1; i < bmfr_block_pixels; ++i) {
-            const double u = a[i * stride + col];
-            const float* row = &a[i * stride];
-            for (int j = j0; j < stride; ++j) d[j] += u * static_cast<double>(row[j]);
-        }
-        float dot[stride] = {};
-        for (int j = col + 1; j < bmfr_column_count; ++j) dot[j] = static_cast<float>(d[j]);
-        // Reflect the remaining columns as the authors: a_ij -= ((2 u_i) d_j) / |u|^2, rounded to
-        // the storage precision (d_j = 0 elsewhere leaves a column unchanged)
         const bool half = params.storage == BmfrStorage::half;
-        for (int i = c; i < bmfr_block_pixels; ++i) {
-            float* row = &a[i * stride];
-            const float u2 = 2.0f * (i == c ? uc : row[col]);
-            for (int j = j0; j < stride; ++j) row[j] = row[j] - (u2 * dot[j]) / u_length_squared;
-            if (half) round_to_half_16(row);
-            if (i > c) row[col] = 0.0f;
+        switch (j0) {
+            case 0: reflect_columns<0>(a, col, c, uc, u_length_squared, half); break;
+            case 4: reflect_columns<4>(a, col, c, uc, u_length_squared, half); break;
+            case 8: reflect_columns<8>(a, col, c, uc, u_length_squared, half); break;
+            default: reflect_columns<12>(a, col, c, uc, u_length_squared, half); break;
         }
         // The diagonal stays in float (the authors keep R in local float memory)
         a[c * stride + col] = r;

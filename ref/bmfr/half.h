@@ -43,14 +43,15 @@ inline float round_to_half(float f) {
     return out;
 }
 
-/// round_to_half of 16 consecutive floats in place, with the same bits: straight-line loops of
+/// round_to_half of v[First] .. v[15] in place, with the same bits: straight-line loops of
 /// integer operations with selects (no branches) that compilers vectorise for the common case,
 /// then round_to_half for the rare elements in the subnormal range or NaN.
-inline void round_to_half_16(float* v) {
+template <int First>
+inline void round_to_half_span(float* v) {
     std::uint32_t bits[16];
-    std::memcpy(bits, v, sizeof bits);
+    std::memcpy(bits + First, v + First, sizeof(float) * (16 - First));
     std::int32_t special = 0;
-    for (int j = 0; j < 16; ++j) {
+    for (int j = First; j < 16; ++j) {
         auto ax = static_cast<std::int32_t>(bits[j] & 0x7fffffffu);
         special |= (ax != 0 && ax < 0x38800000) || ax > 0x7f800000 ? 1 : 0;
         ax = ax > 0x477fe000 ? 0x477fe000 : ax;
@@ -58,7 +59,7 @@ inline void round_to_half_16(float* v) {
         bits[j] = (bits[j] & 0x80000000u) | ((a + 0x0fffu + ((a >> 13) & 1u)) & 0xffffe000u);
     }
     if (special != 0) {
-        for (int j = 0; j < 16; ++j) {
+        for (int j = First; j < 16; ++j) {
             std::uint32_t x;
             std::memcpy(&x, &v[j], sizeof x);
             const std::uint32_t ax = x & 0x7fffffffu;
@@ -68,7 +69,10 @@ inline void round_to_half_16(float* v) {
             }
         }
     }
-    std::memcpy(v, bits, sizeof bits);
+    std::memcpy(v + First, bits + First, sizeof(float) * (16 - First));
 }
+
+/// round_to_half of 16 consecutive floats in place.
+inline void round_to_half_16(float* v) { round_to_half_span<0>(v); }
 
 }  // namespace fovref
