@@ -138,4 +138,12 @@ expect 2 "reference resumed from another scene" -- "$FOVREF" render --mode patht
   --param spp=24 --scene checker-room --width 64 --height 40 --quiet --resume "$TMP/ref8" \
   --out "$TMP/bad9"
 contains "other settings" "the error says the settings differ"
+# the benchmark, tiny: it runs and prints its tables
+expect 0 "bench bmfr" -- "$FOVREF" bench bmfr --width 64 --height 40 --repeats 1 --error-width 32 \
+  --error-height 24 --frames 2 --every 1 --reference-spp 2 -q
+contains "BMFR (all phases)" "the cost table"
+contains "RMSE BMFR" "the error table"
+expect 2 "bench bmfr --every beyond --frames" -- "$FOVREF" bench bmfr --no-cost --frames 2 \
+  --every 3 -q
+contains "no frame would be compared" "the error says why"
 finish
