@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "ref/core/error.h"
+#include "ref/modes/mode_common.h"
 
 namespace fovref {
 
@@ -10,38 +11,19 @@ namespace {
 
 const std::vector<std::string> rgb = {"r", "g", "b"};
 
-const Buffer& state_buffer(const FrameContext& ctx, const std::string& name) {
-    for (const Buffer& b : ctx.settings->state_buffers)
-        if (b.name == name) return b;
-    throw Error("frame " + std::to_string(ctx.frame) + ": BMFR carries state from frame " +
-                std::to_string(ctx.frame - 1) + ", and buffer '" + name +
-                "' of that frame was not given: render from frame 0, or resume from a --dump of "
-                "frame " +
-                std::to_string(ctx.frame - 1) + " (`fovref render --resume DIR`)");
-}
-
 // The history of a frame rendered after frame 0 with nothing rendered before it: the previous
 // frame's dumped buffers.
 BmfrHistory resumed_bmfr_history(const FrameContext& ctx) {
-    const int width = ctx.settings->width, height = ctx.settings->height;
     BmfrHistory h;
     h.valid = true;
-    h.view_projection = view_projection(ctx.previous_camera, width, height);
-    const auto get = [&](const std::string& name, int channels) {
-        const Image& image = state_buffer(ctx, name).image;
-        if (image.width != width || image.height != height || image.channels != channels)
-            throw Error("--resume: buffer '" + name + "' is " + std::to_string(image.width) + "x" +
-                        std::to_string(image.height) + "x" + std::to_string(image.channels) +
-                        ", the frame needs " + std::to_string(width) + "x" +
-                        std::to_string(height) + "x" + std::to_string(channels));
-        return image;
-    };
-    h.world_position = get("gbuffer_world_position", 3);
-    h.normal = get("gbuffer_shading_normal", 3);
-    h.accumulated_noisy = get("bmfr_accumulated_noisy", 3);
-    h.spp = get("bmfr_spp", 1);
-    h.accumulated_filtered = get("bmfr_accumulated_filtered", 3);
-    h.taa = get("bmfr_taa", 3);
+    h.view_projection =
+        view_projection(ctx.previous_camera, ctx.settings->width, ctx.settings->height);
+    h.world_position = resumed_buffer(ctx, "gbuffer_world_position", 3, "BMFR");
+    h.normal = resumed_buffer(ctx, "gbuffer_shading_normal", 3, "BMFR");
+    h.accumulated_noisy = resumed_buffer(ctx, "bmfr_accumulated_noisy", 3, "BMFR");
+    h.spp = resumed_buffer(ctx, "bmfr_spp", 1, "BMFR");
+    h.accumulated_filtered = resumed_buffer(ctx, "bmfr_accumulated_filtered", 3, "BMFR");
+    h.taa = resumed_buffer(ctx, "bmfr_taa", 3, "BMFR");
     return h;
 }
 

@@ -1,5 +1,7 @@
 #include "ref/modes/mode_common.h"
 
+#include "ref/core/error.h"
+
 namespace fovref {
 
 const Bvh& BvhCache::get(const Scene& scene, Counters& counters) {
@@ -40,6 +42,26 @@ ShadeInputs shade_inputs_of(const FrameContext& ctx, const std::string& prefix) 
     return {ctx.input(prefix + "world_position"),   ctx.input(prefix + "shading_normal"),
             ctx.input(prefix + "geometric_normal"), ctx.input(prefix + "albedo"),
             ctx.input(prefix + "material_id"),      ctx.input(prefix + "primitive_id")};
+}
+
+const Image& resumed_buffer(const FrameContext& ctx, const std::string& name, int channels,
+                            const std::string& what) {
+    const int width = ctx.settings->width, height = ctx.settings->height;
+    for (const Buffer& b : ctx.settings->state_buffers) {
+        if (b.name != name) continue;
+        const Image& image = b.image;
+        if (image.width != width || image.height != height || image.channels != channels)
+            throw Error("--resume: buffer '" + name + "' is " + std::to_string(image.width) + "x" +
+                        std::to_string(image.height) + "x" + std::to_string(image.channels) +
+                        ", the frame needs " + std::to_string(width) + "x" +
+                        std::to_string(height) + "x" + std::to_string(channels));
+        return image;
+    }
+    throw Error("frame " + std::to_string(ctx.frame) + ": " + what + " carries state from frame " +
+                std::to_string(ctx.frame - 1) + ", and buffer '" + name +
+                "' of that frame was not given: render from frame 0, or resume from a --dump of "
+                "frame " +
+                std::to_string(ctx.frame - 1) + " (`fovref render --resume DIR`)");
 }
 
 std::string shadow_note(const Scene& scene) {

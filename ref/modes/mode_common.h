@@ -30,6 +30,12 @@ void add_shading_counters(Counters& counters, const ShadingStats& stats);
 /// The shading pass's inputs: the frame's G-buffer channels named prefix + "world_position", ...
 ShadeInputs shade_inputs_of(const FrameContext& context, const std::string& prefix);
 
+/// Buffer `name` of frame F - 1 for a stage that carries state (`what`: "TAA", "BMFR") into the
+/// first frame F > 0 rendered, from RenderSettings::state_buffers (`fovref render --resume DIR`).
+/// Throws fovref::Error naming --resume when it is missing or not W x H x channels.
+const Image& resumed_buffer(const FrameContext& context, const std::string& name, int channels,
+                            const std::string& what);
+
 /// The stage note of a shading pass: says when no shadow rays were traced.
 std::string shadow_note(const Scene& scene);
 

@@ -1,6 +1,7 @@
 #include "ref/modes/taa_stage.h"
 
 #include "ref/core/error.h"
+#include "ref/modes/mode_common.h"
 #include "ref/temporal/taa_probe.h"
 
 namespace fovref {
@@ -13,37 +14,16 @@ int jitter_index(const FrameContext& ctx, const TaaSettings& taa) {
     return (ctx.frame + taa.jitter_start) % 16;
 }
 
-const Buffer& state_buffer(const FrameContext& ctx, const std::string& name) {
-    for (const Buffer& b : ctx.settings->state_buffers)
-        if (b.name == name) return b;
-    throw Error("frame " + std::to_string(ctx.frame) + ": TAA carries state from frame " +
-                std::to_string(ctx.frame - 1) + ", and buffer '" + name +
-                "' of that frame was not given: render from frame 0, or resume from a --dump of "
-                "frame " +
-                std::to_string(ctx.frame - 1) + " (`fovref render --resume DIR`)");
-}
-
 }  // namespace
 
 TaaState resumed_taa_state(const FrameContext& ctx, const std::string& output,
                            const std::string& depth) {
-    const int width = ctx.settings->width, height = ctx.settings->height;
     TaaState s;
     s.valid = true;
-    s.history = state_buffer(ctx, output).image;
-    s.age = state_buffer(ctx, "taa_age").image;
-    s.depth = state_buffer(ctx, depth).image;
+    s.history = resumed_buffer(ctx, output, 3, "TAA");
+    s.age = resumed_buffer(ctx, "taa_age", 1, "TAA");
+    s.depth = resumed_buffer(ctx, depth, 1, "TAA");
     s.camera = ctx.previous_camera;
-    const auto check = [&](const Image& image, int channels, const std::string& name) {
-        if (image.width != width || image.height != height || image.channels != channels)
-            throw Error("--resume: buffer '" + name + "' is " + std::to_string(image.width) + "x" +
-                        std::to_string(image.height) + "x" + std::to_string(image.channels) +
-                        ", the frame needs " + std::to_string(width) + "x" +
-                        std::to_string(height) + "x" + std::to_string(channels));
-    };
-    check(s.history, 3, output);
-    check(s.age, 1, "taa_age");
-    check(s.depth, 1, depth);
     return s;
 }
 
