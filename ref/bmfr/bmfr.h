@@ -42,10 +42,11 @@ struct BmfrParams {
     float noise_amount = 0.01f;            ///< stochastic regularisation amplitude
     float pivot_epsilon = 1e-7f;           ///< |R_ii| below this: weight 0 (counted)
     float taa_alpha = 0.2f;                ///< TAA: 0.2 new + 0.8 history
-    /// Keep the directly seen emission out of the fit (our choice, docs/bmfr.md): demodulate
-    /// radiance - emission and add the emission back when remodulating. Without an emission
-    /// buffer (or with bmfr_emission=include) the radiance is demodulated whole, as SPEC §9.
-    bool separate_emission = true;
+    /// Keep the directly seen emission out of the fit (bmfr_emission=separate, our extension,
+    /// docs/bmfr.md): demodulate radiance - emission and add the emission back when
+    /// remodulating. Off by default, and without an emission buffer: the radiance is demodulated
+    /// whole, as SPEC §9.
+    bool separate_emission = false;
 };
 
 inline constexpr int bmfr_block_size = 32;  ///< block edge in pixels

@@ -15,9 +15,10 @@ std::vector<ParamSpec> bmfr_param_specs() {
              "units squared)"},
             {"bmfr_normal_limit_squared", "0.25",
              "BMFR reprojection: a history tap is kept when |n' - n|^2 is below this"},
-            {"bmfr_emission", "separate",
-             "'separate': the emission seen directly is kept out of the fit and added back when "
-             "remodulating; 'include': the whole radiance is demodulated (SPEC §9 literally)"}};
+            {"bmfr_emission", "include",
+             "'include': the whole radiance is demodulated (SPEC §9); 'separate': the emission "
+             "seen directly is kept out of the fit and added back when remodulating (our "
+             "extension: no smear around visible lights)"}};
 }
 
 BmfrSettings parse_bmfr_params(const Params& params) {
