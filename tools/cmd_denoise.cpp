@@ -106,10 +106,17 @@ Input read_input(const std::string& dir) {
     } else if (fs::exists(manifest)) {
         in.cameras_file = manifest;
         const nlohmann::json j = read_json(manifest);
-        if (!j.contains("case") || !j.contains("frames") || !j["frames"].is_array())
-            throw Error(manifest + ": not a fovref bundle manifest");
-        in.width = j["case"].value("width", 0);
-        in.height = j["case"].value("height", 0);
+        if (!j.is_object() || !j.contains("case") || !j["case"].is_object() ||
+            !j.contains("frames") || !j["frames"].is_array() || !j["case"].contains("width") ||
+            !j["case"]["width"].is_number_integer() || !j["case"].contains("height") ||
+            !j["case"]["height"].is_number_integer())
+            throw Error(manifest +
+                        ": not a fovref bundle manifest (case.width, case.height, "
+                        "frames)");
+        in.width = j["case"]["width"].get<int>();
+        in.height = j["case"]["height"].get<int>();
+        if (in.width < 1 || in.height < 1 || in.width > 16384 || in.height > 16384)
+            throw Error(manifest + ": width and height must lie in 1..16384");
         for (std::size_t f = 0; f < j["frames"].size(); ++f)
             in.cameras.push_back(frame_matrix(j["frames"][f],
                                               manifest + ": frames[" + std::to_string(f) + "]",

@@ -96,6 +96,9 @@ contains "frames[0].view_projection: expected 16 numbers" "the error names the k
 echo '{"width": 64,' >"$TMP/ext/cameras.json"
 expect 2 "a JSON syntax error" -- "$FOVREF" denoise bmfr "$TMP/ext" "$TMP/bad3"
 contains "cameras.json: JSON syntax error" "the error names the file"
+mkdir -p "$TMP/badman" && echo '{"case": 3, "frames": []}' >"$TMP/badman/manifest.json"
+expect 2 "a manifest that is not a bundle's" -- "$FOVREF" denoise bmfr "$TMP/badman" "$TMP/bad3b"
+contains "not a fovref bundle manifest" "the error names the file"
 expect 2 "an unknown parameter" -- "$FOVREF" denoise bmfr "$TMP/seq" "$TMP/bad4" --param nope=1
 contains "nope" "the error names the parameter"
 expect 2 "bmfr_storage without denoise=bmfr" -- "$FOVREF" render --mode pathtrace \
