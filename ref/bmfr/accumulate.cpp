@@ -68,6 +68,20 @@ bool blend_accepted(const Image& image, const BmfrTaps& taps, unsigned mask, flo
     return true;
 }
 
+// Phase I's reprojection of world point p (BmfrSpace): the previous frame's pixel index, or on
+// a Visual-Polar buffer (u - 1/2, t) through the previous screen and map; false when behind.
+bool reproject(const BmfrHistory& history, const BmfrSpace& space, int width, int height,
+               glm::vec3 p, glm::vec2& q) {
+    if (!space.map) return bmfr_project(history.view_projection, width, height, p, q);
+    const VisualPolarMap& previous = *history.map;
+    glm::vec2 s;
+    if (!bmfr_project(history.view_projection, previous.screen_width, previous.screen_height, p, s))
+        return false;
+    const glm::vec2 ut = vp_forward_angle(previous, s + glm::vec2(0.5f));
+    q = {ut.x - 0.5f, ut.y};
+    return std::isfinite(q.x) && std::isfinite(q.y);
+}
+
 }  // namespace
 
 ViewProjection view_projection(const Camera& camera, int width, int height) {
@@ -114,6 +128,32 @@ BmfrTaps bmfr_taps(glm::vec2 q) {
     return t;
 }
 
+BmfrTaps bmfr_vp_taps(const VisualPolarMap& map, glm::vec2 q) {
+    BmfrTaps t;
+    q = glm::clamp(q, glm::vec2(-1e6f), glm::vec2(1e6f));
+    const float fx0 = std::floor(q.x);
+    const float fx = q.x - fx0;
+    const int x0 = static_cast<int>(fx0);
+    for (int side = 0; side < 2; ++side) {
+        const int c = x0 + side;
+        const float wx = side == 0 ? 1.0f - fx : fx;
+        int y0 = -1, y1 = -1;
+        float fy = 0.0f;
+        if (c >= 0 && c < map.width) {
+            const int rows = vp_column_rows(map, c);
+            const float v = q.y * static_cast<float>(rows) - 0.5f;
+            const float fv0 = std::floor(v);
+            fy = v - fv0;
+            const int m = static_cast<int>(fv0) % rows;
+            y0 = m < 0 ? m + rows : m;
+            y1 = y0 + 1 == rows ? 0 : y0 + 1;
+        }
+        t.x[side] = c, t.y[side] = y0, t.w[side] = wx * (1.0f - fy);
+        t.x[side + 2] = c, t.y[side + 2] = y1, t.w[side + 2] = wx * fy;
+    }
+    return t;
+}
+
 Image bmfr_demodulate(const BmfrParams& params, const Image& radiance, const Image& albedo,
                       const Image& emission, BmfrStats& stats) {
     check_shape(albedo, radiance.width, radiance.height, 3, "albedo");
@@ -132,7 +172,8 @@ Image bmfr_demodulate(const BmfrParams& params, const Image& radiance, const Ima
 
 BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& illumination,
                                        const Image& world_position, const Image& normal,
-                                       const BmfrHistory& history, BmfrStats& stats) {
+                                       const BmfrHistory& history, BmfrStats& stats,
+                                       const BmfrSpace& space) {
     const int width = illumination.width, height = illumination.height;
     check_shape(world_position, width, height, 3, "world_position");
     check_shape(normal, width, height, 3, "normal");
@@ -142,7 +183,12 @@ BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& il
         check_shape(history.normal, width, height, 3, "normal history");
         check_shape(history.accumulated_noisy, width, height, 3, "accumulated_noisy history");
         check_shape(history.spp, width, height, 1, "spp history");
+        if (space.map) {
+            FOVREF_CHECK(history.map.has_value(), "bmfr: the history has no Visual-Polar map");
+            check_shape(history.valid_texels, width, height, 1, "valid history");
+        }
     }
+    if (space.map) FOVREF_CHECK(space.valid, "bmfr: Visual-Polar space without a valid mask");
     BmfrAccumulation out;
     out.accumulated = Image(width, height, 3);
     out.spp = Image(width, height, 1);
@@ -155,17 +201,21 @@ BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& il
             unsigned mask = 0;
             float h[3] = {0, 0, 0}, h_spp = 0.0f;
             bool has_history = false;
-            if (has_previous) {
+            const bool data = !space.map || space.valid->at(x, y) != 0.0f;
+            if (!data) q = bmfr_behind_camera;
+            if (has_previous && data) {
                 const glm::vec3 p = finite_or_zero(load3(world_position, x, y), stats);
                 const glm::vec3 n = finite_or_zero(load3(normal, x, y), stats);
-                if (!bmfr_project(history.view_projection, width, height, p, q)) {
+                if (!reproject(history, space, width, height, p, q)) {
                     q = bmfr_behind_camera;
                     ++stats.history_off_screen;
                 } else {
-                    const BmfrTaps taps = bmfr_taps(q);
+                    const BmfrTaps taps = space.map ? bmfr_vp_taps(*space.map, q) : bmfr_taps(q);
                     // Test the taps
                     for (int k = 0; k < 4; ++k) {
                         if (!inside(taps.x[k], taps.y[k], width, height)) continue;
+                        if (space.map && history.valid_texels.at(taps.x[k], taps.y[k]) == 0.0f)
+                            continue;
                         if (!(distance_squared(load3(history.world_position, taps.x[k], taps.y[k]),
                                                p) < params.position_limit_squared))
                             continue;
@@ -214,7 +264,7 @@ BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& il
 
 Image bmfr_accumulate_filtered(const BmfrParams& params, const Image& fitted, const Image& spp,
                                const Image& accept, const Image& previous_pixel,
-                               const Image& history) {
+                               const Image& history, const BmfrSpace& space) {
     const int width = fitted.width, height = fitted.height;
     check_shape(spp, width, height, 1, "spp");
     check_shape(accept, width, height, 1, "accept");
@@ -227,9 +277,9 @@ Image bmfr_accumulate_filtered(const BmfrParams& params, const Image& fitted, co
             float* o = &out.data[out.index(x, y)];
             const float* c = &fitted.data[fitted.index(x, y)];
             float h[3];
+            const glm::vec2 q(previous_pixel.at(x, y, 0), previous_pixel.at(x, y, 1));
             if (!history.empty() && mask != 0 &&
-                blend_accepted(history,
-                               bmfr_taps({previous_pixel.at(x, y, 0), previous_pixel.at(x, y, 1)}),
+                blend_accepted(history, space.map ? bmfr_vp_taps(*space.map, q) : bmfr_taps(q),
                                mask, h)) {
                 const float alpha = std::max(1.0f / spp.at(x, y), params.filtered_alpha_min);
                 for (int ch = 0; ch < 3; ++ch) o[ch] = alpha * c[ch] + (1.0f - alpha) * h[ch];

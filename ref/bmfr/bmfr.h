@@ -17,10 +17,12 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "ref/foveation/visual_polar.h"
 #include "ref/image/image.h"
 #include "ref/scene/camera.h"
 
@@ -75,16 +77,39 @@ ViewProjection view_projection(const Camera& camera, int width, int height);
 bool bmfr_project(const ViewProjection& vp, int width, int height, glm::vec3 world,
                   glm::vec2& pixel);
 
+/// Where BMFR runs (SPEC §9 item 11, Koskela P5 §3.3; docs/bmfr.md "Visual-Polar space"): on the
+/// screen (no map), or on a Visual-Polar buffer (`map`), where
+///   - only texels with valid = 1 carry data (clipped and off-screen texels are never traced);
+///     the others are zero rows of their blocks and give 0 in every phase;
+///   - rows (phi) wrap around: column c's rows are taken modulo its row count n_c; columns
+///     (rho) clamp;
+///   - the reprojection goes through the screen: the previous view-projection gives the previous
+///     screen pixel s, and the previous frame's map gives (u, t) = vp_forward_angle(s + 1/2);
+///     the stored reprojected pixel is q = (u - 1/2, t), t the angle as a fraction of the turn;
+///   - bilinear taps of q (bmfr_vp_taps): columns x0 = floor(q.x) and x0 + 1, each with its own
+///     rows: v_c = t n_c - 1/2, rows floor(v_c) and + 1 modulo n_c;
+///   - blocks (bmfr_grid with a map): cell columns as on the screen (clamped); cell column cx
+///     has the phi height H = the largest n_c of its columns, ceil(H / 32) blocks at rows
+///     32 cy + offset.y + (0 .. 31) modulo H (the staircase of P5 Fig. 4b).
+struct BmfrSpace {
+    std::optional<VisualPolarMap> map;      ///< this frame's map; none: screen space
+    const Image* valid = nullptr;           ///< the frame's traced texels (Visual-Polar)
+    const Image* previous_valid = nullptr;  ///< the previous frame's (the TAA's history taps)
+    bool visual_polar() const { return map.has_value(); }
+};
+
 /// What a frame hands on to the next one (all W x H).
 struct BmfrHistory {
     bool valid = false;
-    ViewProjection view_projection;  ///< the previous frame's camera
-    Image world_position;            ///< 3
-    Image normal;                    ///< 3
-    Image accumulated_noisy;         ///< 3: phase I's output
-    Image spp;                       ///< 1: phase I's sample counts (1 .. 255)
-    Image accumulated_filtered;      ///< 3: phase III's output
-    Image taa;                       ///< 3: the TAA output (display space)
+    ViewProjection view_projection;     ///< the previous frame's camera
+    std::optional<VisualPolarMap> map;  ///< Visual-Polar: the previous frame's map
+    Image valid_texels;                 ///< Visual-Polar: its traced texels (1 channel)
+    Image world_position;               ///< 3
+    Image normal;                       ///< 3
+    Image accumulated_noisy;            ///< 3: phase I's output
+    Image spp;                          ///< 1: phase I's sample counts (1 .. 255)
+    Image accumulated_filtered;         ///< 3: phase III's output
+    Image taa;                          ///< 3: the TAA output (display space)
 };
 
 /// Counters of one frame (their names in the run's statistics in brackets).
@@ -133,6 +158,12 @@ struct BmfrTaps {
 };
 BmfrTaps bmfr_taps(glm::vec2 q);
 
+/// The taps of a reprojected point q = (u - 1/2, t) in a Visual-Polar buffer (BmfrSpace): column
+/// x0 = floor(q.x) with fx = q.x - x0, and x0 + 1; column c's rows y_c = floor(t n_c - 1/2) and
+/// y_c + 1, both modulo n_c, fy_c the fraction; weights (1 - fx)(1 - fy_a), fx (1 - fy_b),
+/// (1 - fx) fy_a, fx fy_b (a = x0, b = x0 + 1). A column outside [0, w) gives y = -1 (outside).
+BmfrTaps bmfr_vp_taps(const VisualPolarMap& map, glm::vec2 q);
+
 /// Phase I (the authors' accumulate_noisy_data). Per pixel: project its world position with the
 /// previous view-projection; tap k is accepted when it is inside the image,
 /// |P_k - P|^2 < position_limit_squared and |n_k - n|^2 < normal_limit_squared (strict); the
@@ -143,7 +174,8 @@ BmfrTaps bmfr_taps(glm::vec2 q);
 /// normal is taken as 0 (counted).
 BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& illumination,
                                        const Image& world_position, const Image& normal,
-                                       const BmfrHistory& history, BmfrStats& stats);
+                                       const BmfrHistory& history, BmfrStats& stats,
+                                       const BmfrSpace& space = {});
 
 // ---- phase II -------------------------------------------------------------------------------
 
@@ -153,18 +185,32 @@ void bmfr_features(glm::vec3 normal, glm::vec3 world, float t[bmfr_feature_count
 
 /// The block grid of frame `frame` on a W x H image: (ceil(W/32) + 1) x (ceil(H/32) + 1) cells;
 /// cell (i, j) covers pixels (32 i - 16 + o.x .. +31, 32 j - 16 + o.y .. +31), o the offset.
+/// With a Visual-Polar map (BmfrSpace): cells_y = ceil(h / 32), cell column cx holds
+/// cells_in_column(cx) = ceil(H_cx / 32) blocks, block (cx, cy) row r covers texel
+/// (clamp(32 cx - 16 + o.x + r mod 32, 0, w - 1), (32 cy + o.y + r div 32) mod H_cx), and a
+/// texel row at or beyond its column's n_c is no data.
 struct BmfrGrid {
     int width = 0, height = 0;     ///< the image
     int cells_x = 0, cells_y = 0;  ///< the grid
     glm::ivec2 offset{0};
+    std::vector<int> column_rows;  ///< Visual-Polar: n_c per image column (empty: the screen)
+    std::vector<int> cell_rows;    ///< Visual-Polar: H per cell column
+    bool visual_polar() const { return !column_rows.empty(); }
     glm::ivec2 origin(int cell_x, int cell_y) const {
         return {cell_x * bmfr_block_size - bmfr_block_size / 2 + offset.x,
-                cell_y * bmfr_block_size - bmfr_block_size / 2 + offset.y};
+                visual_polar() ? cell_y * bmfr_block_size + offset.y
+                               : cell_y * bmfr_block_size - bmfr_block_size / 2 + offset.y};
     }
     /// The cell that covers pixel (x, y).
     glm::ivec2 cell_of(int x, int y) const;
+    /// The blocks of cell column cx (cells_y on the screen).
+    int cells_in_column(int cell_x) const;
+    /// The texel (x, y) behind row `row` of block (cell_x, cell_y): mirrored on the screen; false
+    /// for a Visual-Polar row beyond its column's n_c (no data).
+    bool source(int cell_x, int cell_y, int row, int& x, int& y) const;
 };
-BmfrGrid bmfr_grid(int width, int height, int frame);
+/// `map`: the Visual-Polar grid of that buffer (width, height must be the map's).
+BmfrGrid bmfr_grid(int width, int height, int frame, const VisualPolarMap* map = nullptr);
 
 /// Mirrors a coordinate into [0, size): -1 -> 0, size -> size - 1, reflecting again as often
 /// as needed (images narrower than a block).
@@ -198,9 +244,11 @@ struct BmfrBlockMatrix {
 /// values ((v - min) / (max - min) when max - min > 1, else v - min) and stored again; then the
 /// noise 0.01 2 (r - 0.5) added in float to features 1..9, r = wang_hash(s) / 4294967295.0f,
 /// s = pixel_in_block + feature 1024 + frame 13 1024 (`noise` false: none, for tests).
+/// Visual-Polar: rows without data (grid.source false, or `valid` 0) are zero rows, left out of
+/// the ranges and given no noise (a block without any data has ranges 0).
 void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_x, int cell_y,
                        const Image& accumulated, const Image& world_position, const Image& normal,
-                       int frame, bool noise, BmfrBlockMatrix& out);
+                       int frame, bool noise, BmfrBlockMatrix& out, const Image* valid = nullptr);
 
 /// The augmented Householder QR of a gathered block and the back substitution (SPEC §9 item 7),
 /// in place: columns 0..12, pivot row c = min(column, 10); s = sum over rows > c of x^2 and the
@@ -221,13 +269,13 @@ struct BmfrFit {
     Image feature_range;
 };
 BmfrFit bmfr_fit(const BmfrParams& params, const Image& accumulated, const Image& world_position,
-                 const Image& normal, int frame, BmfrStats& stats);
+                 const Image& normal, int frame, BmfrStats& stats, const BmfrSpace& space = {});
 
 /// Phase II's weighted sum: each pixel takes its grid cell's weights and feature ranges,
 /// evaluates sum_{i=0..9} w_i T_i (i ascending, noise-free features, scaled as in the fit), and
 /// clamps each channel at 0 from below (a sum that overflows to infinity gives 0, counted).
 Image bmfr_weighted_sum(const BmfrFit& fit, const Image& world_position, const Image& normal,
-                        BmfrStats& stats);
+                        BmfrStats& stats, const Image* valid = nullptr);
 
 // ---- phase III, remodulation, TAA -----------------------------------------------------------
 
@@ -236,7 +284,7 @@ Image bmfr_weighted_sum(const BmfrFit& fit, const Image& world_position, const I
 /// alpha = max(1 / spp, filtered_alpha_min), out = alpha fit + (1 - alpha) history.
 Image bmfr_accumulate_filtered(const BmfrParams& params, const Image& fitted, const Image& spp,
                                const Image& accept, const Image& previous_pixel,
-                               const Image& history);
+                               const Image& history, const BmfrSpace& space = {});
 
 /// display = clamp((max(albedo, floor) max(0, x) + e)^(1/2.2), 0, 1) per channel, e the emission
 /// (empty: 0).
@@ -252,8 +300,12 @@ Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Ima
 /// outside [-1, W - 1] x [-1, H - 1] (the authors' test; behind the camera included), or when
 /// the taps inside have no weight.
 /// `history` is the previous TAA output (empty: none).
+/// Visual-Polar (BmfrSpace): untraced texels keep their value; the neighbourhood of (x, y) in
+/// column x + dx is row floor(t n_(x+dx)) + dy modulo n_(x+dx) with t = (y + 1/2) / n_x
+/// (traced texels only); the reprojection is on the buffer when floor(q.x) lies in [-1, w - 1];
+/// the history's taps are bmfr_vp_taps on traced texels of the previous frame.
 Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& previous_pixel,
-               const Image& history, BmfrStats& stats);
+               const Image& history, BmfrStats& stats, const BmfrSpace& space = {});
 
 /// The linear value of a display-space output: x^2.2 (the `final` buffer of a denoised frame).
 Image bmfr_linearize(const Image& display);
@@ -275,13 +327,16 @@ struct BmfrFrame {
 /// Runs every phase on one frame and hands on its history (`history` is read, then replaced).
 /// Inputs are W x H: radiance, albedo, normal and world position (3 channels each), and the
 /// directly seen emission (empty: none; used when params.separate_emission).
+/// `space`: the Visual-Polar variant (its map and valid mask; previous_valid is taken from the
+/// history).
 BmfrFrame bmfr_denoise_frame(const BmfrParams& params, const Image& radiance, const Image& albedo,
                              const Image& emission, const Image& normal,
                              const Image& world_position, const ViewProjection& camera, int frame,
-                             BmfrHistory& history, BmfrStats& stats);
+                             BmfrHistory& history, BmfrStats& stats, const BmfrSpace& space = {});
 
 /// The history a denoised frame hands on (its camera, G-buffer and accumulations).
 BmfrHistory bmfr_next_history(const BmfrFrame& frame, const Image& world_position,
-                              const Image& normal, const ViewProjection& camera);
+                              const Image& normal, const ViewProjection& camera,
+                              const BmfrSpace& space = {});
 
 }  // namespace fovref

@@ -4,8 +4,8 @@
 
 namespace fovref {
 
-std::vector<ParamSpec> bmfr_param_specs() {
-    return {{"denoise", "none",
+std::vector<ParamSpec> bmfr_param_specs(const char* denoise_default) {
+    return {{"denoise", denoise_default,
              "'none' (the noisy 1-spp image is the final image) or 'bmfr' (blockwise multi-order "
              "feature regression, Koskela P2; SPEC §9)"},
             {"bmfr_storage", "half",
@@ -21,8 +21,8 @@ std::vector<ParamSpec> bmfr_param_specs() {
              "extension: no smear around visible lights)"}};
 }
 
-BmfrSettings parse_bmfr_params(const Params& params) {
-    const std::vector<ParamSpec> specs = bmfr_param_specs();
+BmfrSettings parse_bmfr_params(const Params& params, const char* denoise_default) {
+    const std::vector<ParamSpec> specs = bmfr_param_specs(denoise_default);
     BmfrSettings s;
     const std::string denoise = params.get_string(specs, "denoise");
     if (denoise == "bmfr")

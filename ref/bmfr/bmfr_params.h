@@ -16,9 +16,10 @@ struct BmfrSettings {
 
 /// denoise, bmfr_storage, bmfr_position_limit_squared, bmfr_normal_limit_squared,
 /// bmfr_emission.
-std::vector<ParamSpec> bmfr_param_specs();
+/// `denoise_default`: the mode's default ("none"; "bmfr" for visual-polar).
+std::vector<ParamSpec> bmfr_param_specs(const char* denoise_default = "none");
 /// Throws fovref::Error naming the parameter; a bmfr_* parameter without denoise=bmfr is an
 /// error (it would change nothing).
-BmfrSettings parse_bmfr_params(const Params& params);
+BmfrSettings parse_bmfr_params(const Params& params, const char* denoise_default = "none");
 
 }  // namespace fovref

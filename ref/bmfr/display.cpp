@@ -25,6 +25,51 @@ glm::vec3 load3(const Image& image, int x, int y) {
     return {p[0], p[1], p[2]};
 }
 
+// The TAA of traced texel (x, y) of a Visual-Polar buffer (bmfr_taa): false when no history tap
+// counts (o keeps the new colour).
+bool vp_taa_pixel(const BmfrParams& params, const Image& display, const Image& ycocg, glm::vec2 q,
+                  const Image& history, const BmfrSpace& space, int x, int y, float* o) {
+    const VisualPolarMap& map = *space.map;
+    const int width = display.width;
+    const float t = (static_cast<float>(y) + 0.5f) / static_cast<float>(vp_column_rows(map, x));
+    glm::vec3 box_min(INFINITY), box_max(-INFINITY), cross_min(INFINITY), cross_max(-INFINITY);
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const int sx = x + dx;
+            if (sx < 0 || sx >= width) continue;
+            const int rows = vp_column_rows(map, sx);
+            const int base = std::min(static_cast<int>(t * static_cast<float>(rows)), rows - 1);
+            const int sy = ((base + dy) % rows + rows) % rows;
+            if (space.valid->at(sx, sy) == 0.0f) continue;
+            const glm::vec3 v = load3(ycocg, sx, sy);
+            box_min = glm::min(box_min, v);
+            box_max = glm::max(box_max, v);
+            if (dx == 0 || dy == 0) {
+                cross_min = glm::min(cross_min, v);
+                cross_max = glm::max(cross_max, v);
+            }
+        }
+    const glm::vec3 lo = (box_min + cross_min) * 0.5f;
+    const glm::vec3 hi = (box_max + cross_max) * 0.5f;
+    const BmfrTaps taps = bmfr_vp_taps(map, q);
+    glm::vec3 h(0.0f);
+    float total = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+        if (taps.x[k] < 0 || taps.y[k] < 0 || taps.x[k] >= width) continue;
+        if (space.previous_valid && space.previous_valid->at(taps.x[k], taps.y[k]) == 0.0f)
+            continue;
+        h += taps.w[k] * load3(history, taps.x[k], taps.y[k]);
+        total += taps.w[k];
+    }
+    if (!(total > 0.0f)) return false;
+    h = h / total;
+    const glm::vec3 current = load3(display, x, y);
+    const glm::vec3 clamped = ycocg_to_rgb(glm::clamp(rgb_to_ycocg(h), lo, hi));
+    const glm::vec3 blended = current * params.taa_alpha + clamped * (1.0f - params.taa_alpha);
+    o[0] = blended.x, o[1] = blended.y, o[2] = blended.z;
+    return true;
+}
+
 }  // namespace
 
 Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Image& albedo,
@@ -47,7 +92,7 @@ Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Ima
 }
 
 Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& previous_pixel,
-               const Image& history, BmfrStats& stats) {
+               const Image& history, BmfrStats& stats, const BmfrSpace& space) {
     const int width = display.width, height = display.height;
     FOVREF_CHECK(previous_pixel.width == width && previous_pixel.height == height &&
                      previous_pixel.channels == 2 &&
@@ -70,6 +115,14 @@ Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& prev
             float* o = &out.data[out.index(x, y)];
             o[0] = current.x, o[1] = current.y, o[2] = current.z;
             if (history.empty()) continue;
+            if (space.map) {
+                if (space.valid->at(x, y) == 0.0f) continue;
+                const glm::vec2 q(previous_pixel.at(x, y, 0), previous_pixel.at(x, y, 1));
+                if (!(q.x >= -1.0f && q.x < static_cast<float>(width))) continue;
+                if (vp_taa_pixel(params, display, ycocg, q, history, space, x, y, o))
+                    ++stats.taa_history_used;
+                continue;
+            }
             const glm::vec2 q(previous_pixel.at(x, y, 0), previous_pixel.at(x, y, 1));
             // Some tap of the reprojected point must be on the screen: floor(q) in [-1, W - 1]
             if (!(q.x >= -1.0f && q.y >= -1.0f && q.x < static_cast<float>(width) &&

@@ -81,7 +81,7 @@ const std::array<glm::ivec2, 16>& bmfr_block_offsets() {
     return offsets;
 }
 
-BmfrGrid bmfr_grid(int width, int height, int frame) {
+BmfrGrid bmfr_grid(int width, int height, int frame, const VisualPolarMap* map) {
     FOVREF_CHECK(width > 0 && height > 0 && frame >= 0, "bmfr_grid: bad size or frame");
     BmfrGrid g;
     g.width = width;
@@ -89,13 +89,56 @@ BmfrGrid bmfr_grid(int width, int height, int frame) {
     g.cells_x = (width + bmfr_block_size - 1) / bmfr_block_size + 1;
     g.cells_y = (height + bmfr_block_size - 1) / bmfr_block_size + 1;
     g.offset = bmfr_block_offsets()[static_cast<std::size_t>(frame % 16)];
+    if (map) {
+        FOVREF_CHECK(map->width == width && map->height == height,
+                     "bmfr_grid: the Visual-Polar map is not the image's size");
+        for (int c = 0; c < width; ++c) g.column_rows.push_back(vp_column_rows(*map, c));
+        // The phi height of each cell column: the largest row count among its columns
+        for (int cx = 0; cx < g.cells_x; ++cx) {
+            int rows = 1;
+            for (int k = 0; k < bmfr_block_size; ++k) {
+                const int c = std::clamp(g.origin(cx, 0).x + k, 0, width - 1);
+                rows = std::max(rows, g.column_rows[static_cast<std::size_t>(c)]);
+            }
+            g.cell_rows.push_back(rows);
+        }
+        g.cells_y = (height + bmfr_block_size - 1) / bmfr_block_size;
+    }
     return g;
 }
 
+namespace {
+
+int wrap(int index, int size) {
+    const int m = index % size;
+    return m < 0 ? m + size : m;
+}
+
+}  // namespace
+
 glm::ivec2 BmfrGrid::cell_of(int x, int y) const {
     // x - origin(0).x = x + 16 - offset.x >= 2 for offsets in [-16, 14]
-    return {(x + bmfr_block_size / 2 - offset.x) / bmfr_block_size,
-            (y + bmfr_block_size / 2 - offset.y) / bmfr_block_size};
+    const int cx = (x + bmfr_block_size / 2 - offset.x) / bmfr_block_size;
+    if (visual_polar())
+        return {cx, wrap(y - offset.y, cell_rows[static_cast<std::size_t>(cx)]) / bmfr_block_size};
+    return {cx, (y + bmfr_block_size / 2 - offset.y) / bmfr_block_size};
+}
+
+int BmfrGrid::cells_in_column(int cell_x) const {
+    if (!visual_polar()) return cells_y;
+    return (cell_rows[static_cast<std::size_t>(cell_x)] + bmfr_block_size - 1) / bmfr_block_size;
+}
+
+bool BmfrGrid::source(int cell_x, int cell_y, int row, int& x, int& y) const {
+    const glm::ivec2 o = origin(cell_x, cell_y);
+    if (!visual_polar()) {
+        x = bmfr_mirror(o.x + row % bmfr_block_size, width);
+        y = bmfr_mirror(o.y + row / bmfr_block_size, height);
+        return true;
+    }
+    x = std::clamp(o.x + row % bmfr_block_size, 0, width - 1);
+    y = wrap(o.y + row / bmfr_block_size, cell_rows[static_cast<std::size_t>(cell_x)]);
+    return y < column_rows[static_cast<std::size_t>(x)];
 }
 
 int bmfr_mirror(int index, int size) {
@@ -120,18 +163,25 @@ void bmfr_features(glm::vec3 n, glm::vec3 w, float t[bmfr_feature_count]) {
 
 void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_x, int cell_y,
                        const Image& accumulated, const Image& world_position, const Image& normal,
-                       int frame, bool noise, BmfrBlockMatrix& out) {
-    const glm::ivec2 origin = grid.origin(cell_x, cell_y);
+                       int frame, bool noise, BmfrBlockMatrix& out, const Image* valid) {
     float lo[bmfr_scaled_count], hi[bmfr_scaled_count];
     std::fill(lo, lo + bmfr_scaled_count, half_max);
     std::fill(hi, hi + bmfr_scaled_count, -half_max);
+    // Rows without data (Visual-Polar): zero rows, no noise, not in the ranges
+    unsigned char data[bmfr_block_pixels];
+    int data_rows = 0;
     // Gather the raw features and colours (mirrored borders) in the storage precision, and the
     // ranges of features 4..9 over the stored values (the authors store the features in binary16
     // before the fit reads them)
     for (int row = 0; row < bmfr_block_pixels; ++row) {
-        const int x = bmfr_mirror(origin.x + row % bmfr_block_size, grid.width);
-        const int y = bmfr_mirror(origin.y + row / bmfr_block_size, grid.height);
+        int x = 0, y = 0;
         float* a = &out.a[static_cast<std::size_t>(row) * bmfr_matrix_stride];
+        data[row] = grid.source(cell_x, cell_y, row, x, y) && (!valid || valid->at(x, y) != 0.0f);
+        if (!data[row]) {
+            std::fill(a, a + bmfr_matrix_stride, 0.0f);
+            continue;
+        }
+        ++data_rows;
         bmfr_features(load3(normal, x, y), load3(world_position, x, y), a);
         const glm::vec3 c = load3(accumulated, x, y);
         a[10] = clamp_feature(c.x);
@@ -143,12 +193,17 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
             hi[k] = std::max(hi[k], a[bmfr_scaled_first + k]);
         }
     }
+    if (data_rows == 0) {
+        std::fill(lo, lo + bmfr_scaled_count, 0.0f);
+        std::fill(hi, hi + bmfr_scaled_count, 0.0f);
+    }
     std::copy(lo, lo + bmfr_scaled_count, out.feature_min);
     std::copy(hi, hi + bmfr_scaled_count, out.feature_max);
     // Scale features 4..9 (stored again), then add the regularisation noise to features 1..9 in
     // float: the authors add it as the first Householder column reads the values, whose
     // reflection then stores them
     for (int row = 0; row < bmfr_block_pixels; ++row) {
+        if (!data[row]) continue;
         float* a = &out.a[static_cast<std::size_t>(row) * bmfr_matrix_stride];
         for (int k = 0; k < bmfr_scaled_count; ++k)
             a[bmfr_scaled_first + k] =
@@ -222,17 +277,19 @@ BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
 }
 
 BmfrFit bmfr_fit(const BmfrParams& params, const Image& accumulated, const Image& world_position,
-                 const Image& normal, int frame, BmfrStats& stats) {
+                 const Image& normal, int frame, BmfrStats& stats, const BmfrSpace& space) {
     BmfrFit out;
-    out.grid = bmfr_grid(accumulated.width, accumulated.height, frame);
+    out.grid =
+        bmfr_grid(accumulated.width, accumulated.height, frame, space.map ? &*space.map : nullptr);
     const BmfrGrid& g = out.grid;
     out.weights = Image(g.cells_x, g.cells_y, bmfr_weight_count);
     out.feature_range = Image(g.cells_x, g.cells_y, 2 * bmfr_scaled_count);
     BmfrBlockMatrix matrix;
     for (int cy = 0; cy < g.cells_y; ++cy)
         for (int cx = 0; cx < g.cells_x; ++cx) {
+            if (cy >= g.cells_in_column(cx)) continue;  // above a Visual-Polar staircase step
             bmfr_gather_block(params, g, cx, cy, accumulated, world_position, normal, frame, true,
-                              matrix);
+                              matrix, space.valid);
             const BmfrBlockFit fit = bmfr_solve_block(params, matrix);
             float* w = &out.weights.data[out.weights.index(cx, cy)];
             for (int ch = 0; ch < 3; ++ch)
@@ -252,7 +309,7 @@ BmfrFit bmfr_fit(const BmfrParams& params, const Image& accumulated, const Image
 }
 
 Image bmfr_weighted_sum(const BmfrFit& fit, const Image& world_position, const Image& normal,
-                        BmfrStats& stats) {
+                        BmfrStats& stats, const Image* valid) {
     const BmfrGrid& g = fit.grid;
     const auto shaped = [](const Image& i, int w, int h, int c) {
         return i.width == w && i.height == h && i.channels == c;
@@ -266,6 +323,9 @@ Image bmfr_weighted_sum(const BmfrFit& fit, const Image& world_position, const I
     Image out(g.width, g.height, 3);
     for (int y = 0; y < g.height; ++y)
         for (int x = 0; x < g.width; ++x) {
+            if (g.visual_polar() && (y >= g.column_rows[static_cast<std::size_t>(x)] ||
+                                     (valid && valid->at(x, y) == 0.0f)))
+                continue;  // no data: 0
             const glm::ivec2 cell = g.cell_of(x, y);
             const float* w = &fit.weights.data[fit.weights.index(cell.x, cell.y)];
             const float* range = &fit.feature_range.data[fit.feature_range.index(cell.x, cell.y)];

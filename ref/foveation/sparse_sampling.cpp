@@ -1,5 +1,6 @@
 #include "ref/foveation/sparse_sampling.h"
 
+#include <cmath>
 #include <vector>
 
 #include "ref/core/dmath.h"
@@ -26,6 +27,66 @@ glm::vec2 acuity_sample(std::uint32_t frame, std::uint32_t sample, glm::vec2 gaz
     const float e = vp_inverse_cdf(rand_unit(frame, sample, 1));
     const float r = e * pixels_per_degree;
     return gaze + glm::vec2(r * dm::cos(phi), r * dm::sin(phi));
+}
+
+Image linear_falloff_mask(const LinearFalloff& falloff, int width, int height, glm::vec2 gaze,
+                          float distance_px, std::uint32_t frame, std::int64_t& sampled) {
+    FOVREF_CHECK(width > 0 && height > 0 && distance_px > 0.0f,
+                 "linear_falloff_mask: bad size or viewing distance");
+    constexpr float degrees = 57.2957795130823208768f;
+    Image mask(width, height, 1, 0.0f);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const float dx = static_cast<float>(x) + 0.5f - gaze.x;
+            const float dy = static_cast<float>(y) + 0.5f - gaze.y;
+            const float e = dm::atan(std::sqrt(dx * dx + dy * dy) / distance_px) * degrees;
+            const auto pixel = static_cast<std::uint32_t>(y * width + x);
+            if (!linear_falloff_sampled(frame, pixel, linear_falloff_probability(falloff, e)))
+                continue;
+            mask.at(x, y) = 1.0f;
+            ++sampled;
+        }
+    return mask;
+}
+
+std::vector<glm::vec2> acuity_samples(std::uint32_t frame, int count, glm::vec2 gaze,
+                                      float pixels_per_degree) {
+    std::vector<glm::vec2> points;
+    points.reserve(static_cast<std::size_t>(count));
+    for (int k = 0; k < count; ++k)
+        points.push_back(
+            acuity_sample(frame, static_cast<std::uint32_t>(k), gaze, pixels_per_degree));
+    return points;
+}
+
+void splat_samples(const std::vector<glm::vec2>& points, const Image& valid, const Image& colors,
+                   Image& sum, Image& count) {
+    FOVREF_CHECK(valid.width == static_cast<int>(points.size()) && colors.width == valid.width &&
+                     colors.channels == 3 && sum.channels == 3 && count.channels == 1 &&
+                     sum.width == count.width && sum.height == count.height,
+                 "splat_samples: buffers of different shapes");
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        const int i = static_cast<int>(k);
+        if (valid.at(i, 0) == 0.0f) continue;
+        const int x = static_cast<int>(std::floor(points[k].x));
+        const int y = static_cast<int>(std::floor(points[k].y));
+        if (x < 0 || y < 0 || x >= sum.width || y >= sum.height) continue;
+        for (int c = 0; c < 3; ++c) sum.at(x, y, c) += colors.at(i, 0, c);
+        count.at(x, y) += 1.0f;
+    }
+}
+
+Image sample_mean(const Image& sum, const Image& count, Image& weight) {
+    Image out(sum.width, sum.height, 3, 0.0f);
+    weight = Image(sum.width, sum.height, 1, 0.0f);
+    for (int y = 0; y < sum.height; ++y)
+        for (int x = 0; x < sum.width; ++x) {
+            const float n = count.at(x, y);
+            if (!(n > 0.0f)) continue;
+            weight.at(x, y) = 1.0f;
+            for (int c = 0; c < 3; ++c) out.at(x, y, c) = sum.at(x, y, c) / n;
+        }
+    return out;
 }
 
 Image push_pull(const Image& image, const Image& weight) {

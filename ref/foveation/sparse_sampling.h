@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -30,6 +31,25 @@ bool linear_falloff_sampled(std::uint32_t frame, std::uint32_t pixel, float prob
 /// degree; r1, r2 = rand(frame, k, 0), rand(frame, k, 1).
 glm::vec2 acuity_sample(std::uint32_t frame, std::uint32_t sample, glm::vec2 gaze,
                         float pixels_per_degree);
+
+/// The pixels traced in frame `frame` on a W x H screen (1 channel, 1 = traced): pixel (x, y)
+/// with centre c is traced when linear_falloff_sampled(frame, y W + x, L(e)), e = atan(|c - g| /
+/// d_px) in degrees (SPEC §1's display model, dm::atan). `sampled` receives the count.
+Image linear_falloff_mask(const LinearFalloff& falloff, int width, int height, glm::vec2 gaze,
+                          float distance_px, std::uint32_t frame, std::int64_t& sampled);
+
+/// The N acuity samples of frame `frame` (acuity_sample k = 0 .. N - 1).
+std::vector<glm::vec2> acuity_samples(std::uint32_t frame, int count, glm::vec2 gaze,
+                                      float pixels_per_degree);
+
+/// Adds each traced sample's colour (`colors`, N x 1 x 3, `valid` N x 1) to the pixel floor(p)
+/// that holds its point: sum (W x H x 3) += colour, count (W x H x 1) += 1, in sample order.
+void splat_samples(const std::vector<glm::vec2>& points, const Image& valid, const Image& colors,
+                   Image& sum, Image& count);
+
+/// sum / count per pixel, black where count is 0 (the acuity mode's image); `weight` receives
+/// 1 where count > 0.
+Image sample_mean(const Image& sum, const Image& count, Image& weight);
 
 /// Push-pull fill: `weight` (W x H x 1) is > 0 where `image` holds a sample. Pull: level k + 1
 /// pixel = the average of its (up to 4) children that hold data, children in row order; push:

@@ -97,20 +97,50 @@ bool vp_inverse(const VisualPolarMap& m, int i, int j, glm::vec2& screen) {
     return true;
 }
 
-glm::vec2 vp_forward(const VisualPolarMap& m, glm::vec2 p) {
-    const float dx = p.x - m.gaze.x, dy = p.y - m.gaze.y;
-    const float r = std::sqrt(dx * dx + dy * dy);
-    float theta = dm::atan2(dy, dx);
-    if (theta < 0.0f) theta += two_pi;
-    if (r < m.fovea_radius) {
-        const float u = static_cast<float>(m.fovea_columns) * r / m.fovea_radius;
-        const int column = std::min(static_cast<int>(u), m.fovea_columns - 1);
-        return {u, static_cast<float>(vp_column_rows(m, column)) * theta / two_pi};
-    }
+namespace {
+
+// u of a point at distance r from the gaze.
+float vp_column_coordinate(const VisualPolarMap& m, float r) {
+    if (r < m.fovea_radius) return static_cast<float>(m.fovea_columns) * r / m.fovea_radius;
     const float big_u = vp_cdf(r / m.scale);
     const float rho_f = static_cast<float>(m.fovea_columns) / static_cast<float>(m.width);
     const float rho = rho_f + (big_u - vp_u0) * (1.0f - rho_f) / (1.0f - vp_u0);
-    return {static_cast<float>(m.width) * rho, static_cast<float>(m.height) * theta / two_pi};
+    return static_cast<float>(m.width) * rho;
+}
+
+// The distance and the angle theta in [0, 2 pi] of p around the gaze.
+void vp_polar(const VisualPolarMap& m, glm::vec2 p, float& r, float& theta) {
+    const float dx = p.x - m.gaze.x, dy = p.y - m.gaze.y;
+    r = std::sqrt(dx * dx + dy * dy);
+    theta = dm::atan2(dy, dx);
+    if (theta < 0.0f) theta += two_pi;
+}
+
+}  // namespace
+
+glm::vec2 vp_forward(const VisualPolarMap& m, glm::vec2 p) {
+    float r = 0.0f, theta = 0.0f;
+    vp_polar(m, p, r, theta);
+    const float u = vp_column_coordinate(m, r);
+    if (r < m.fovea_radius) {
+        const int column = std::min(static_cast<int>(u), m.fovea_columns - 1);
+        return {u, static_cast<float>(vp_column_rows(m, column)) * theta / two_pi};
+    }
+    return {u, static_cast<float>(m.height) * theta / two_pi};
+}
+
+glm::vec2 vp_forward_angle(const VisualPolarMap& m, glm::vec2 p) {
+    float r = 0.0f, theta = 0.0f;
+    vp_polar(m, p, r, theta);
+    return {vp_column_coordinate(m, r), theta / two_pi};
+}
+
+VpTexel vp_texel_status(const VisualPolarMap& m, int i, int j, glm::vec2& p) {
+    if (!vp_inverse(m, i, j, p)) return VpTexel::clipped;
+    if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < static_cast<float>(m.screen_width) &&
+          p.y < static_cast<float>(m.screen_height)))
+        return VpTexel::off_screen;
+    return VpTexel::traced;
 }
 
 VisualPolarCounts vp_count_texels(const VisualPolarMap& m) {
@@ -119,16 +149,10 @@ VisualPolarCounts vp_count_texels(const VisualPolarMap& m) {
         for (int j = 0; j < m.height; ++j) {
             ++c.texels;
             glm::vec2 p;
-            if (!vp_inverse(m, i, j, p)) {
-                ++c.clipped;
-                continue;
-            }
-            if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < static_cast<float>(m.screen_width) &&
-                  p.y < static_cast<float>(m.screen_height))) {
-                ++c.off_screen;
-                continue;
-            }
-            ++c.traced;
+            const VpTexel status = vp_texel_status(m, i, j, p);
+            ++(status == VpTexel::clipped      ? c.clipped
+               : status == VpTexel::off_screen ? c.off_screen
+                                               : c.traced);
         }
     return c;
 }

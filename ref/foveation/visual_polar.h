@@ -66,6 +66,17 @@ bool vp_inverse(const VisualPolarMap& map, int column, int row, glm::vec2& scree
 /// The continuous buffer coordinates (u, v) of screen point p (texel centres at + 1/2).
 glm::vec2 vp_forward(const VisualPolarMap& map, glm::vec2 p);
 
+/// (u, t) of screen point p: u as vp_forward, t = theta / (2 pi) in [0, 1], the angle as a
+/// fraction of the turn (column c's continuous row is then t n_c; BMFR's reprojection and the
+/// resolve use it where neighbouring fovea columns have different row counts).
+glm::vec2 vp_forward_angle(const VisualPolarMap& map, glm::vec2 p);
+
+/// What texel (i, j) is: clipped (j >= n_i), off screen (its centre's inverse lies outside the
+/// screen [0, W) x [0, H)), or traced; `screen` receives the centre's screen point (unchanged
+/// for a clipped texel).
+enum class VpTexel { clipped, off_screen, traced };
+VpTexel vp_texel_status(const VisualPolarMap& map, int column, int row, glm::vec2& screen);
+
 /// What the texels of a map are: clipped, off screen (the centre's inverse lies outside the
 /// screen: never traced), or traced.
 struct VisualPolarCounts {

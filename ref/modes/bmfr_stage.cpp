@@ -14,12 +14,17 @@ const std::vector<std::string> rgb = {"r", "g", "b"};
 // The history of a frame rendered after frame 0 with nothing rendered before it: the previous
 // frame's dumped buffers.
 BmfrHistory resumed_bmfr_history(const FrameContext& ctx) {
+    const BmfrModeState& s = ctx.mode_state<BmfrModeState>();
     BmfrHistory h;
     h.valid = true;
     h.view_projection =
         view_projection(ctx.previous_camera, ctx.settings->width, ctx.settings->height);
-    h.world_position = resumed_buffer(ctx, "gbuffer_world_position", 3, "BMFR");
-    h.normal = resumed_buffer(ctx, "gbuffer_shading_normal", 3, "BMFR");
+    h.world_position = resumed_buffer(ctx, s.bmfr_gbuffer + "world_position", 3, "BMFR");
+    h.normal = resumed_buffer(ctx, s.bmfr_gbuffer + "shading_normal", 3, "BMFR");
+    if (!s.bmfr_valid.empty()) {
+        h.map = s.bmfr_map(ctx, ctx.frame - 1);
+        h.valid_texels = resumed_buffer(ctx, s.bmfr_valid, 1, "BMFR");
+    }
     h.accumulated_noisy = resumed_buffer(ctx, "bmfr_accumulated_noisy", 3, "BMFR");
     h.spp = resumed_buffer(ctx, "bmfr_spp", 1, "BMFR");
     h.accumulated_filtered = resumed_buffer(ctx, "bmfr_accumulated_filtered", 3, "BMFR");
@@ -46,6 +51,20 @@ BmfrModeState& bmfr_state(FrameContext& ctx) {
 const Image& emission_input(const FrameContext& ctx, const BmfrModeState& s) {
     static const Image none;
     return s.bmfr.params.separate_emission ? ctx.input(s.bmfr_emission) : none;
+}
+
+// Where this frame's BMFR runs: the screen, or the Visual-Polar buffer with its map and masks.
+BmfrSpace frame_space(const FrameContext& ctx, const BmfrModeState& s) {
+    BmfrSpace space;
+    if (s.bmfr_valid.empty()) return space;
+    space.map = s.bmfr_map(ctx, ctx.frame);
+    space.valid = &ctx.input(s.bmfr_valid);
+    if (!s.bmfr_history.valid_texels.empty()) space.previous_valid = &s.bmfr_history.valid_texels;
+    return space;
+}
+
+const Image& gbuffer(const FrameContext& ctx, const BmfrModeState& s, const char* channel) {
+    return ctx.input(s.bmfr_gbuffer + channel);
 }
 
 void add_stats(FrameContext& ctx, const BmfrStats& stats) {
@@ -92,24 +111,28 @@ void bmfr_demodulate_stage(FrameContext& ctx) {
     BmfrModeState& s = bmfr_state(ctx);
     BmfrStats stats;
     Image out = bmfr_demodulate(s.bmfr.params, ctx.input(s.bmfr_radiance),
-                                ctx.input("gbuffer_albedo"), emission_input(ctx, s), stats);
+                                gbuffer(ctx, s, "albedo"), emission_input(ctx, s), stats);
     add_stats(ctx, stats);
     ctx.result->add("bmfr_illumination", BufferKind::color, rgb, std::move(out));
 }
 
 void bmfr_accumulate_noisy_stage(FrameContext& ctx) {
     BmfrModeState& s = bmfr_state(ctx);
-    const Image& world = ctx.input("gbuffer_world_position");
-    const Image& normal = ctx.input("gbuffer_shading_normal");
+    const Image& world = gbuffer(ctx, s, "world_position");
+    const Image& normal = gbuffer(ctx, s, "shading_normal");
+    const BmfrSpace space = frame_space(ctx, s);
     BmfrStats stats;
     BmfrAccumulation a = bmfr_accumulate_noisy(s.bmfr.params, ctx.input("bmfr_illumination"), world,
-                                               normal, s.bmfr_history, stats);
+                                               normal, s.bmfr_history, stats, space);
     add_stats(ctx, stats);
     ctx.note = !s.bmfr_history.valid
                    ? "first frame: no history"
                    : std::to_string(stats.history_accepted) + " pixels with history";
     s.bmfr_next.valid = true;
-    s.bmfr_next.view_projection = view_projection(ctx.camera, world.width, world.height);
+    s.bmfr_next.view_projection =
+        view_projection(ctx.camera, ctx.settings->width, ctx.settings->height);
+    s.bmfr_next.map = space.map;
+    if (space.valid) s.bmfr_next.valid_texels = *space.valid;
     s.bmfr_next.world_position = world;
     s.bmfr_next.normal = normal;
     s.bmfr_next.accumulated_noisy = a.accumulated;
@@ -120,26 +143,32 @@ void bmfr_accumulate_noisy_stage(FrameContext& ctx) {
 void bmfr_fit_stage(FrameContext& ctx) {
     BmfrModeState& s = bmfr_state(ctx);
     BmfrStats stats;
+    const BmfrSpace space = frame_space(ctx, s);
     BmfrFit fit = bmfr_fit(s.bmfr.params, ctx.input("bmfr_accumulated_noisy"),
-                           ctx.input("gbuffer_world_position"), ctx.input("gbuffer_shading_normal"),
-                           ctx.frame, stats);
+                           gbuffer(ctx, s, "world_position"), gbuffer(ctx, s, "shading_normal"),
+                           ctx.frame, stats, space);
     add_stats(ctx, stats);
     ctx.note = std::to_string(fit.grid.cells_x) + "x" + std::to_string(fit.grid.cells_y) +
                " blocks, offset (" + std::to_string(fit.grid.offset.x) + ", " +
                std::to_string(fit.grid.offset.y) + "), " +
-               (s.bmfr.params.storage == BmfrStorage::half ? "binary16" : "binary32") + " storage";
+               (s.bmfr.params.storage == BmfrStorage::half ? "binary16" : "binary32") + " storage" +
+               (space.map ? ", Visual-Polar: " + std::to_string(stats.blocks) +
+                                " blocks below the staircase, rows wrap"
+                          : "");
     add_fit(*ctx.result, std::move(fit.weights), std::move(fit.feature_range));
 }
 
 void bmfr_weighted_sum_stage(FrameContext& ctx) {
-    bmfr_state(ctx);
-    const Image& world = ctx.input("gbuffer_world_position");
+    const BmfrModeState& s = bmfr_state(ctx);
+    const Image& world = gbuffer(ctx, s, "world_position");
+    const BmfrSpace space = frame_space(ctx, s);
     BmfrFit fit;
-    fit.grid = bmfr_grid(world.width, world.height, ctx.frame);
+    fit.grid = bmfr_grid(world.width, world.height, ctx.frame, space.map ? &*space.map : nullptr);
     fit.weights = ctx.input("bmfr_weights");
     fit.feature_range = ctx.input("bmfr_feature_range");
     BmfrStats stats;
-    Image out = bmfr_weighted_sum(fit, world, ctx.input("gbuffer_shading_normal"), stats);
+    Image out =
+        bmfr_weighted_sum(fit, world, gbuffer(ctx, s, "shading_normal"), stats, space.valid);
     add_stats(ctx, stats);
     ctx.result->add("bmfr_fitted", BufferKind::color, rgb, std::move(out));
 }
@@ -148,7 +177,7 @@ void bmfr_accumulate_filtered_stage(FrameContext& ctx) {
     BmfrModeState& s = bmfr_state(ctx);
     Image out = bmfr_accumulate_filtered(
         s.bmfr.params, ctx.input("bmfr_fitted"), ctx.input("bmfr_spp"), ctx.input("bmfr_accept"),
-        ctx.input("bmfr_previous_pixel"), s.bmfr_history.accumulated_filtered);
+        ctx.input("bmfr_previous_pixel"), s.bmfr_history.accumulated_filtered, frame_space(ctx, s));
     s.bmfr_next.accumulated_filtered = out;
     ctx.result->add("bmfr_accumulated_filtered", BufferKind::color, rgb, std::move(out));
 }
@@ -156,7 +185,7 @@ void bmfr_accumulate_filtered_stage(FrameContext& ctx) {
 void bmfr_remodulate_stage(FrameContext& ctx) {
     BmfrModeState& s = bmfr_state(ctx);
     Image out = bmfr_remodulate(s.bmfr.params, ctx.input("bmfr_accumulated_filtered"),
-                                ctx.input("gbuffer_albedo"), emission_input(ctx, s));
+                                gbuffer(ctx, s, "albedo"), emission_input(ctx, s));
     ctx.note = std::string("display space: clamp(x^(1/2.2), 0, 1)") +
                (s.bmfr.params.separate_emission ? ", emission added back" : "");
     ctx.result->add("bmfr_display", BufferKind::scalar, rgb, std::move(out));
@@ -166,7 +195,7 @@ void bmfr_taa_stage(FrameContext& ctx) {
     BmfrModeState& s = bmfr_state(ctx);
     BmfrStats stats;
     Image out = bmfr_taa(s.bmfr.params, ctx.input("bmfr_display"), ctx.input("bmfr_previous_pixel"),
-                         s.bmfr_history.taa, stats);
+                         s.bmfr_history.taa, stats, frame_space(ctx, s));
     add_stats(ctx, stats);
     s.bmfr_next.taa = out;
     ctx.result->add("bmfr_taa", BufferKind::scalar, rgb, std::move(out));
@@ -194,36 +223,46 @@ void add_bmfr_stages(Pipeline& p, BmfrModeState& state, const std::string& radia
     state.bmfr_radiance = radiance;
     state.bmfr_emission = emission;
     state.bmfr_output = output;
-    const std::string world = "gbuffer_world_position", normal = "gbuffer_shading_normal";
-    std::vector<std::string> demodulate_inputs = {radiance, "gbuffer_albedo"};
-    std::vector<std::string> remodulate_inputs = {"bmfr_accumulated_filtered", "gbuffer_albedo"};
+    const std::string world = state.bmfr_gbuffer + "world_position",
+                      normal = state.bmfr_gbuffer + "shading_normal",
+                      albedo = state.bmfr_gbuffer + "albedo";
+    std::vector<std::string> demodulate_inputs = {radiance, albedo};
+    std::vector<std::string> remodulate_inputs = {"bmfr_accumulated_filtered", albedo};
     if (state.bmfr.params.separate_emission) {
         demodulate_inputs.push_back(emission);
         remodulate_inputs.push_back(emission);
     }
+    // Visual-Polar: the stages that address the buffer read its validity mask too
+    const auto with_valid = [&](std::vector<std::string> inputs) {
+        if (!state.bmfr_valid.empty()) inputs.push_back(state.bmfr_valid);
+        return inputs;
+    };
     p.stages.push_back(
         {"bmfr_demodulate", demodulate_inputs, {"bmfr_illumination"}, bmfr_demodulate_stage});
     p.stages.push_back(
         {"bmfr_accumulate_noisy",
-         {"bmfr_illumination", world, normal},
+         with_valid({"bmfr_illumination", world, normal}),
          {"bmfr_accumulated_noisy", "bmfr_spp", "bmfr_accept", "bmfr_previous_pixel"},
          bmfr_accumulate_noisy_stage});
     p.stages.push_back({"bmfr_fit",
-                        {"bmfr_accumulated_noisy", world, normal},
+                        with_valid({"bmfr_accumulated_noisy", world, normal}),
                         {"bmfr_weights", "bmfr_feature_range"},
                         bmfr_fit_stage});
     p.stages.push_back({"bmfr_weighted_sum",
-                        {"bmfr_weights", "bmfr_feature_range", world, normal},
+                        with_valid({"bmfr_weights", "bmfr_feature_range", world, normal}),
                         {"bmfr_fitted"},
                         bmfr_weighted_sum_stage});
-    p.stages.push_back({"bmfr_accumulate_filtered",
-                        {"bmfr_fitted", "bmfr_spp", "bmfr_accept", "bmfr_previous_pixel"},
-                        {"bmfr_accumulated_filtered"},
-                        bmfr_accumulate_filtered_stage});
+    p.stages.push_back(
+        {"bmfr_accumulate_filtered",
+         with_valid({"bmfr_fitted", "bmfr_spp", "bmfr_accept", "bmfr_previous_pixel"}),
+         {"bmfr_accumulated_filtered"},
+         bmfr_accumulate_filtered_stage});
     p.stages.push_back(
         {"bmfr_remodulate", remodulate_inputs, {"bmfr_display"}, bmfr_remodulate_stage});
-    p.stages.push_back(
-        {"bmfr_taa", {"bmfr_display", "bmfr_previous_pixel"}, {"bmfr_taa"}, bmfr_taa_stage});
+    p.stages.push_back({"bmfr_taa",
+                        with_valid({"bmfr_display", "bmfr_previous_pixel"}),
+                        {"bmfr_taa"},
+                        bmfr_taa_stage});
     p.stages.push_back({"bmfr_output", {"bmfr_taa"}, {output}, bmfr_output_stage});
 }
 

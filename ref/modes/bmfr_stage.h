@@ -18,6 +18,7 @@
 // (RenderSettings::state_buffers, `fovref render --resume DIR`).
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "ref/bmfr/bmfr.h"
@@ -31,16 +32,22 @@ namespace fovref {
 /// serves both stages).
 struct BmfrModeState : TaaModeState {
     BmfrSettings bmfr;
-    BmfrHistory bmfr_history;   ///< what the previous frame handed on
-    BmfrHistory bmfr_next;      ///< what this frame hands on (filled by the stages)
-    int bmfr_frame = -1;        ///< the frame bmfr_next belongs to
-    std::string bmfr_radiance;  ///< the noisy radiance buffer (set by add_bmfr_stages)
-    std::string bmfr_emission;  ///< the directly seen emission (kept out of the fit)
-    std::string bmfr_output;    ///< the denoised linear image
+    BmfrHistory bmfr_history;               ///< what the previous frame handed on
+    BmfrHistory bmfr_next;                  ///< what this frame hands on (filled by the stages)
+    int bmfr_frame = -1;                    ///< the frame bmfr_next belongs to
+    std::string bmfr_radiance;              ///< the noisy radiance buffer (set by add_bmfr_stages)
+    std::string bmfr_emission;              ///< the directly seen emission (kept out of the fit)
+    std::string bmfr_output;                ///< the denoised linear image
+    std::string bmfr_gbuffer = "gbuffer_";  ///< the G-buffer's prefix ("vp_gbuffer_")
+    /// Visual-Polar space (SPEC §9 item 11): the validity mask's buffer and the map of a frame;
+    /// empty: screen space.
+    std::string bmfr_valid;
+    std::function<VisualPolarMap(const FrameContext&, int frame)> bmfr_map;
 };
 
 /// Adds the BMFR stages, reading `radiance`, `emission` (bmfr_emission=separate) and the
-/// G-buffer, writing `output`. state.bmfr must be set.
+/// G-buffer (state.bmfr_gbuffer; state.bmfr_valid and bmfr_map for Visual-Polar space), writing
+/// `output`. state.bmfr must be set.
 void add_bmfr_stages(Pipeline& pipeline, BmfrModeState& state, const std::string& radiance,
                      const std::string& emission, const std::string& output);
 

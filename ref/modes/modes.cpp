@@ -9,6 +9,7 @@
 #include "ref/modes/foveated_modes.h"
 #include "ref/modes/taa_stage.h"
 #include "ref/modes/trace_modes.h"
+#include "ref/modes/vp_modes.h"
 #include "ref/temporal/taa_params.h"
 #include "ref/temporal/taa_probe.h"
 #include "ref/trace/basic_params.h"
@@ -136,6 +137,32 @@ std::vector<ModeInfo> make_modes() {
     stereo.pixel_functions = stereo_pixel_functions;
     stereo.explain = explain_stereo_taa;
     stereo.explains_texels = true;
+    ModeInfo vp = mode("visual-polar",
+                       "path tracing in Visual-Polar space: one path per traced texel, BMFR on "
+                       "the buffer (wrap on phi, staircase blocks), phi-mip resolve, blur ramp "
+                       "(Koskela P5)",
+                       visual_polar_pipeline);
+    vp.params = visual_polar_param_specs(true);
+    vp.pixel_functions = visual_polar_pixel_functions;
+    vp.stateless = false;  // BMFR by default
+    ModeInfo vp_basic = mode("visual-polar-basic",
+                             "the basic ray tracer's shading in Visual-Polar space, phi-mip "
+                             "resolve, blur ramp (for comparison with the log-polar modes)",
+                             visual_polar_basic_pipeline);
+    vp_basic.params = visual_polar_param_specs(false);
+    vp_basic.pixel_functions = visual_polar_pixel_functions;
+    ModeInfo falloff = mode("linear-falloff",
+                            "1-spp path tracing of pixels drawn with the linear fall-off "
+                            "probability L(e), push-pull fill, optional BMFR (Weier et al.; "
+                            "Koskela eq. 4.1)",
+                            linear_falloff_pipeline);
+    falloff.params = linear_falloff_param_specs();
+    ModeInfo acuity = mode("acuity",
+                           "N path-traced samples per frame placed by the acuity model's "
+                           "inverse CDF, progressive mean, unsampled pixels black (Koskela P3/P4)",
+                           acuity_pipeline);
+    acuity.params = acuity_param_specs();
+    acuity.stateless = false;  // progressive by default
     return {
         basic,
         ground_truth,
@@ -152,6 +179,10 @@ std::vector<ModeInfo> make_modes() {
         stereo,
         pathtrace,
         reference,
+        vp,
+        vp_basic,
+        falloff,
+        acuity,
         mode("splat",
              "centroid splat of every triangle with headlight shading (a trivial pass that "
              "pins scene, materials, textures and camera path)",

@@ -159,13 +159,16 @@ glm::vec3 pathtrace_pixel(const Scene& scene, const Bvh& bvh, const PathTracePar
 
 Image pathtrace(const Scene& scene, const Bvh& bvh, const PathTraceParams& params,
                 const ShadeInputs& in, const Camera& camera, int frame, PathTraceStats& stats,
-                Image* emission) {
+                Image* emission, const Image* mask) {
+    FOVREF_CHECK(!mask || (mask->width == in.position.width && mask->height == in.position.height),
+                 "pathtrace: the mask does not match the G-buffer");
     FOVREF_CHECK(params.max_bounces >= 1, "path tracing with no secondary ray");
     FOVREF_CHECK(params.rr > 0.0f && params.rr <= 1.0f, "Russian roulette probability");
     Image out(in.position.width, in.position.height, 3, 0.0f);
     if (emission) *emission = Image(out.width, out.height, 3, 0.0f);
     for (int y = 0; y < out.height; ++y)
         for (int x = 0; x < out.width; ++x) {
+            if (mask && mask->at(x, y) == 0.0f) continue;
             glm::vec3 e;
             const glm::vec3 l = pathtrace_pixel(scene, bvh, params, in, camera, frame, x, y, stats,
                                                 emission ? &e : nullptr);

@@ -72,9 +72,11 @@ glm::vec3 pathtrace_pixel(const Scene& scene, const Bvh& bvh, const PathTracePar
                           PathTraceStats& stats, glm::vec3* emission = nullptr);
 
 /// The pass: an RGB image of the G-buffer's size; `emission` (may be null) gets each pixel's
-/// directly seen emission (BMFR keeps it out of the fit, docs/bmfr.md).
+/// directly seen emission (BMFR keeps it out of the fit, docs/bmfr.md). `mask` (may be null):
+/// only pixels where it is not 0 are traced, the others stay black (sparse sampling, untraced
+/// Visual-Polar texels).
 Image pathtrace(const Scene& scene, const Bvh& bvh, const PathTraceParams& params,
                 const ShadeInputs& in, const Camera& camera, int frame, PathTraceStats& stats,
-                Image* emission = nullptr);
+                Image* emission = nullptr, const Image* mask = nullptr);
 
 }  // namespace fovref
