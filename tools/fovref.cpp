@@ -19,6 +19,7 @@
 #include "tools/bench_metrics.h"
 #include "tools/bench_rays.h"
 #include "tools/bench_temporal.h"
+#include "tools/bench_visual_polar.h"
 #include "tools/cli_common.h"
 #include "tools/cmd_denoise.h"
 #include "tools/cmd_density.h"
@@ -61,6 +62,8 @@ const char* const app_footer =
     "without TAA\n"
     "  fovref bench bmfr [--scene S]          path tracer + BMFR phase times; error before/after "
     "denoising\n"
+    "  fovref bench visual-polar [--scene S]  path tracing + BMFR in screen vs Visual-Polar "
+    "space: cost, error\n"
     "  fovref golden list                     the golden cases (golden/cases.json)\n"
     "  fovref golden verify [--case C]        recompute, compare bit-exactly, exit 1 on a "
     "difference\n"
@@ -95,6 +98,7 @@ struct Options {
     BenchFoveationOptions bench_foveation;
     BenchTemporalOptions bench_temporal;
     BenchBmfrOptions bench_bmfr;
+    BenchVisualPolarOptions bench_visual_polar;
     GoldenOptions golden;
     GoldenCasesOptions golden_verify, golden_update;
     GoldenExportOptions golden_export;
@@ -111,8 +115,8 @@ struct Options {
 void share_quiet(Options& o) {
     o.scene_export.quiet = o.render.quiet = o.rays_trace.quiet = o.rays_make.quiet =
         o.bench_rays.quiet = o.density.quiet = o.bench_foveation.quiet = o.bench_temporal.quiet =
-            o.bench_bmfr.quiet = o.golden.quiet = o.probe.quiet = o.evaluate.quiet = o.diff.quiet =
-                o.denoise.quiet = o.quiet;
+            o.bench_bmfr.quiet = o.bench_visual_polar.quiet = o.golden.quiet = o.probe.quiet =
+                o.evaluate.quiet = o.diff.quiet = o.denoise.quiet = o.quiet;
 }
 
 // The commands that do the work (no subcommands of their own), each with its run function.
@@ -197,6 +201,14 @@ void add_bench_commands(CLI::App& app, Options& o, Commands& commands) {
         "denoising against the converged reference on a moving sequence (Koskela P2 style)");
     add_bench_bmfr_options(*bmfr, o.bench_bmfr);
     commands.emplace_back(bmfr, [&o] { return run_bench_bmfr(o.bench_bmfr); });
+    CLI::App* visual_polar = bench->add_subcommand(
+        "visual-polar",
+        "path tracing + BMFR in screen space vs Visual-Polar space (Koskela P5): stage times "
+        "and speed-ups at 1280x1440 and 1280x720, and the errors (RMSE, SSIM, per ring, "
+        "temporal) of both and of linear-falloff against the converged reference");
+    add_bench_visual_polar_options(*visual_polar, o.bench_visual_polar);
+    commands.emplace_back(visual_polar,
+                          [&o] { return run_bench_visual_polar(o.bench_visual_polar); });
 }
 
 void add_golden_commands(CLI::App& app, Options& o, Commands& commands) {

@@ -19,16 +19,21 @@ BmfrHistory resumed_bmfr_history(const FrameContext& ctx) {
     h.valid = true;
     h.view_projection =
         view_projection(ctx.previous_camera, ctx.settings->width, ctx.settings->height);
-    h.world_position = resumed_buffer(ctx, s.bmfr_gbuffer + "world_position", 3, "BMFR");
-    h.normal = resumed_buffer(ctx, s.bmfr_gbuffer + "shading_normal", 3, "BMFR");
+    std::optional<glm::ivec2> size;  // the buffer's (the screen's unless Visual-Polar)
     if (!s.bmfr_valid.empty()) {
         h.map = s.bmfr_map(ctx, ctx.frame - 1);
-        h.valid_texels = resumed_buffer(ctx, s.bmfr_valid, 1, "BMFR");
+        size = glm::ivec2(h.map->width, h.map->height);
+        h.valid_texels = resumed_buffer(ctx, s.bmfr_valid, 1, "BMFR", size);
     }
-    h.accumulated_noisy = resumed_buffer(ctx, "bmfr_accumulated_noisy", 3, "BMFR");
-    h.spp = resumed_buffer(ctx, "bmfr_spp", 1, "BMFR");
-    h.accumulated_filtered = resumed_buffer(ctx, "bmfr_accumulated_filtered", 3, "BMFR");
-    h.taa = resumed_buffer(ctx, "bmfr_taa", 3, "BMFR");
+    const auto get = [&](const std::string& name, int channels) {
+        return resumed_buffer(ctx, name, channels, "BMFR", size);
+    };
+    h.world_position = get(s.bmfr_gbuffer + "world_position", 3);
+    h.normal = get(s.bmfr_gbuffer + "shading_normal", 3);
+    h.accumulated_noisy = get("bmfr_accumulated_noisy", 3);
+    h.spp = get("bmfr_spp", 1);
+    h.accumulated_filtered = get("bmfr_accumulated_filtered", 3);
+    h.taa = get("bmfr_taa", 3);
     return h;
 }
 

@@ -45,8 +45,9 @@ ShadeInputs shade_inputs_of(const FrameContext& ctx, const std::string& prefix) 
 }
 
 const Image& resumed_buffer(const FrameContext& ctx, const std::string& name, int channels,
-                            const std::string& what) {
-    const int width = ctx.settings->width, height = ctx.settings->height;
+                            const std::string& what, std::optional<glm::ivec2> size) {
+    const int width = size ? size->x : ctx.settings->width;
+    const int height = size ? size->y : ctx.settings->height;
     for (const Buffer& b : ctx.settings->state_buffers) {
         if (b.name != name) continue;
         const Image& image = b.image;

@@ -32,9 +32,10 @@ ShadeInputs shade_inputs_of(const FrameContext& context, const std::string& pref
 
 /// Buffer `name` of frame F - 1 for a stage that carries state (`what`: "TAA", "BMFR") into the
 /// first frame F > 0 rendered, from RenderSettings::state_buffers (`fovref render --resume DIR`).
-/// Throws fovref::Error naming --resume when it is missing or not W x H x channels.
+/// Throws fovref::Error naming --resume when it is missing or not W x H x channels (`size`: a
+/// buffer's size other than the screen's, e.g. a Visual-Polar buffer).
 const Image& resumed_buffer(const FrameContext& context, const std::string& name, int channels,
-                            const std::string& what);
+                            const std::string& what, std::optional<glm::ivec2> size = std::nullopt);
 
 /// The stage note of a shading pass: says when no shadow rays were traced.
 std::string shadow_note(const Scene& scene);

@@ -1,0 +1,103 @@
+#include "ref/foveation/blur_ramp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "ref/core/dmath.h"
+#include "ref/core/error.h"
+
+namespace fovref {
+
+namespace {
+
+void check_inputs(const BlurRamp& ramp, const VisualPolarMap& map, const Image& image) {
+    if (!(std::isfinite(ramp.sigma_deg) && ramp.sigma_deg >= 0.0f))
+        throw Error("blur ramp: sigma_deg must be finite and >= 0 (got " +
+                    check_value_text(ramp.sigma_deg) + ")");
+    if (!std::isfinite(ramp.full_deg))
+        throw Error("blur ramp: full_deg must be finite (got " + check_value_text(ramp.full_deg) +
+                    ")");
+    FOVREF_CHECK_EQ(image.width, map.screen_width, "blur ramp image width");
+    FOVREF_CHECK_EQ(image.height, map.screen_height, "blur ramp image height");
+}
+
+/// One pass along x (`vertical` false) or y (true).
+Image blur_pass(const BlurRamp& ramp, const VisualPolarMap& map, const Image& image,
+                bool vertical) {
+    check_inputs(ramp, map, image);
+    const int width = image.width, height = image.height, channels = image.channels;
+    const int extent = vertical ? height : width;
+    Image out = image;
+    std::vector<float> mean(static_cast<std::size_t>(channels));
+    float weights[blur_ramp_max_radius + 1];
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+            const float sigma = blur_ramp_sigma_px(ramp, map, centre);
+            const int radius = blur_ramp_radius(sigma);
+            if (radius == 0) continue;  // copied
+
+            // Gaussian weights w_|d|, d = 0 .. R
+            const float two_sigma2 = 2.0f * sigma * sigma;
+            for (int d = 0; d <= radius; ++d)
+                weights[d] = dm::exp(-static_cast<float>(d * d) / two_sigma2);
+
+            // Weighted running mean over the taps -R .. R, clamped to the border
+            const int position = vertical ? y : x;
+            std::fill(mean.begin(), mean.end(), 0.0f);
+            float weight_sum = 0.0f;
+            for (int d = -radius; d <= radius; ++d) {
+                const float weight = weights[d < 0 ? -d : d];
+                if (weight == 0.0f) continue;
+                weight_sum += weight;
+                const float k = weight / weight_sum;
+                const int tap = std::clamp(position + d, 0, extent - 1);
+                const float* source =
+                    &image.data[vertical ? image.index(x, tap) : image.index(tap, y)];
+                for (int c = 0; c < channels; ++c)
+                    mean[static_cast<std::size_t>(c)] +=
+                        k * (source[c] - mean[static_cast<std::size_t>(c)]);
+            }
+            for (int c = 0; c < channels; ++c) out.at(x, y, c) = mean[static_cast<std::size_t>(c)];
+        }
+    return out;
+}
+
+}  // namespace
+
+float blur_ramp_sigma_px(const BlurRamp& ramp, const VisualPolarMap& map, glm::vec2 p) {
+    const float dx = p.x - map.gaze.x, dy = p.y - map.gaze.y;
+    const float e = std::sqrt(dx * dx + dy * dy) / map.scale;
+    const float fovea_edge = vp_inverse_cdf(vp_u0);
+    float sigma = 0.0f;  // model degrees
+    if (e <= fovea_edge)
+        sigma = 0.0f;
+    else if (e >= ramp.full_deg)
+        sigma = ramp.sigma_deg;
+    else
+        sigma = ramp.sigma_deg * (e - fovea_edge) / (ramp.full_deg - fovea_edge);
+    return sigma * map.scale;
+}
+
+int blur_ramp_radius(float sigma_px) {
+    if (!(sigma_px > 0.0f)) return 0;
+    const float radius = std::ceil(3.0f * sigma_px);
+    return radius >= static_cast<float>(blur_ramp_max_radius) ? blur_ramp_max_radius
+                                                              : static_cast<int>(radius);
+}
+
+Image blur_ramp_horizontal(const BlurRamp& ramp, const VisualPolarMap& map, const Image& image) {
+    return blur_pass(ramp, map, image, false);
+}
+
+Image blur_ramp_vertical(const BlurRamp& ramp, const VisualPolarMap& map, const Image& image) {
+    return blur_pass(ramp, map, image, true);
+}
+
+Image blur_ramp(const BlurRamp& ramp, const VisualPolarMap& map, const Image& image) {
+    return blur_ramp_vertical(ramp, map, blur_ramp_horizontal(ramp, map, image));
+}
+
+}  // namespace fovref
