@@ -29,6 +29,9 @@ Image blur_pass(const BlurRamp& ramp, const VisualPolarMap& map, const Image& im
     check_inputs(ramp, map, image);
     const int width = image.width, height = image.height, channels = image.channels;
     const int extent = vertical ? height : width;
+    // floats from one pixel to the next along the pass
+    const std::ptrdiff_t stride =
+        vertical ? static_cast<std::ptrdiff_t>(width) * channels : channels;
     Image out = image;
     std::vector<float> mean(static_cast<std::size_t>(channels));
     float weights[blur_ramp_max_radius + 1];
@@ -39,26 +42,47 @@ Image blur_pass(const BlurRamp& ramp, const VisualPolarMap& map, const Image& im
             const int radius = blur_ramp_radius(sigma);
             if (radius == 0) continue;  // copied
 
-            // Gaussian weights w_|d|, d = 0 .. R
-            const float two_sigma2 = 2.0f * sigma * sigma;
-            for (int d = 0; d <= radius; ++d)
-                weights[d] = dm::exp(-static_cast<float>(d * d) / two_sigma2);
+            // Gaussian weights w_|d| = a^(d^2), a = exp(-1 / (2 sigma^2)), d = 0 .. R, by the
+            // recurrence w_d = w_(d-1) g_d, g_d = g_(d-1) a^2 (g_1 = a): one exp per pixel
+            const float a = dm::exp(-1.0f / (2.0f * sigma * sigma));
+            const float a2 = a * a;
+            weights[0] = 1.0f;
+            float g = a;
+            for (int d = 1; d <= radius; ++d) {
+                weights[d] = weights[d - 1] * g;
+                g = g * a2;
+            }
+            // Normalised: the sum over the taps -R .. R (from -R up), then each weight / sum
+            float weight_sum = 0.0f;
+            for (int d = -radius; d <= radius; ++d) weight_sum += weights[d < 0 ? -d : d];
+            const float inverse = 1.0f / weight_sum;
+            for (int d = 0; d <= radius; ++d) weights[d] = weights[d] * inverse;
 
-            // Weighted running mean over the taps -R .. R, clamped to the border
+            // The weighted sum over the taps -R .. R, clamped to the border
             const int position = vertical ? y : x;
             std::fill(mean.begin(), mean.end(), 0.0f);
-            float weight_sum = 0.0f;
-            for (int d = -radius; d <= radius; ++d) {
-                const float weight = weights[d < 0 ? -d : d];
-                if (weight == 0.0f) continue;
-                weight_sum += weight;
-                const float k = weight / weight_sum;
-                const int tap = std::clamp(position + d, 0, extent - 1);
-                const float* source =
-                    &image.data[vertical ? image.index(x, tap) : image.index(tap, y)];
-                for (int c = 0; c < channels; ++c)
-                    mean[static_cast<std::size_t>(c)] +=
-                        k * (source[c] - mean[static_cast<std::size_t>(c)]);
+            const float* centre_pixel = &image.data[image.index(x, y)];
+            const bool inside = position - radius >= 0 && position + radius < extent;
+            const auto offset = [&](int d) -> std::ptrdiff_t {
+                return (inside ? d : std::clamp(position + d, 0, extent - 1) - position) * stride;
+            };
+            if (channels == 3) {  // the colour images of the modes: sums kept in registers
+                float m0 = 0.0f, m1 = 0.0f, m2 = 0.0f;
+                for (int d = -radius; d <= radius; ++d) {
+                    const float weight = weights[d < 0 ? -d : d];
+                    const float* source = centre_pixel + offset(d);
+                    m0 += weight * source[0];
+                    m1 += weight * source[1];
+                    m2 += weight * source[2];
+                }
+                mean[0] = m0, mean[1] = m1, mean[2] = m2;
+            } else {
+                for (int d = -radius; d <= radius; ++d) {
+                    const float weight = weights[d < 0 ? -d : d];
+                    const float* source = centre_pixel + offset(d);
+                    for (int c = 0; c < channels; ++c)
+                        mean[static_cast<std::size_t>(c)] += weight * source[c];
+                }
             }
             for (int c = 0; c < channels; ++c) out.at(x, y, c) = mean[static_cast<std::size_t>(c)];
         }

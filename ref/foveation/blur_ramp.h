@@ -16,13 +16,13 @@
 // One pass (blur_ramp_horizontal; blur_ramp_vertical is the same along y), output pixel (x, y):
 //   sigma_px at the output pixel's centre (the same value in both passes);
 //   taps d = -R .. R in that order, source pixel clamp(x + d, 0, W - 1) (clamp to edge);
-//   weight w_d = dm::exp(-(d^2) / (2 sigma_px^2)), with 2 sigma_px^2 = (2 sigma_px) sigma_px
-//     rounded as written, d^2 an exact integer; w_-d = w_d bit for bit; w_0 = 1;
-//   normalised as the weighted running mean over the taps in order (choice: the value
-//     sum(w_d c_d) / sum(w_d) evaluated so that a constant stays exactly that constant, as the
-//     pyramids of mip_resolve.h do): W_k = W_(k-1) + w_k, m_k = m_(k-1) + (w_k / W_k)(c_k -
-//     m_(k-1)), W_0 = m_0 = 0, binary32, per channel; a tap whose weight underflows to 0 is
-//     skipped (it adds nothing, and a first tap of weight 0 would divide 0 by 0).
+//   weights w_d = a^(d^2) for d = 0 .. R, a = dm::exp(-1 / (2 sigma_px^2)) (one exp per pixel;
+//     2 sigma_px^2 rounded as (2 sigma_px) sigma_px), by the recurrence w_0 = 1,
+//     w_d = w_(d-1) g_d with g_1 = a, g_(d+1) = g_d (a a) (relative error below 1e-5 for
+//     R <= 64); w_-d = w_d bit for bit;
+//   normalised: W = sum of w_d over d = -R .. R in that order, each w_d times 1 / W;
+//   out = sum over d = -R .. R (in that order) of w_d c_d, binary32, per channel (a constant
+//     comes back within a few ulps).
 // blur_ramp = blur_ramp_vertical(blur_ramp_horizontal(image)). Any channel count.
 #pragma once
 

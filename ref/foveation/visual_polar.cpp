@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
+#include <vector>
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
@@ -26,11 +27,37 @@ float vp_inverse_cdf(float u) {
     return (((25.09f * u + 0.1680f) * u + 27.61f) * u + 23.87f) * u + 3.232f;
 }
 
+namespace {
+
+// P at the dyadic points k / 4096, k = 0 .. 4096: the first 12 midpoints of the bisection.
+constexpr int cdf_table_bits = 12;
+const std::vector<float>& cdf_table() {
+    static const std::vector<float> table = [] {
+        std::vector<float> t;
+        for (int k = 0; k <= (1 << cdf_table_bits); ++k)
+            t.push_back(
+                vp_inverse_cdf(static_cast<float>(k) / static_cast<float>(1 << cdf_table_bits)));
+        return t;
+    }();
+    return table;
+}
+
+}  // namespace
+
 float vp_cdf(float e) {
     if (!(e > 0.0f)) return 0.0f;
     if (e >= vp_inverse_cdf(1.0f)) return 1.0f;
-    float lo = 0.0f, hi = 1.0f;
-    for (int step = 0; step < 64; ++step) {
+    // The first 12 steps of the bisection below read P at their midpoints (dyadic, exact in
+    // float) from the table: the same comparisons, so the same bracket
+    const std::vector<float>& table = cdf_table();
+    int lo_k = 0, hi_k = 1 << cdf_table_bits;
+    for (int step = 0; step < cdf_table_bits; ++step) {
+        const int mid = (lo_k + hi_k) / 2;
+        (table[static_cast<std::size_t>(mid)] < e ? lo_k : hi_k) = mid;
+    }
+    constexpr float scale = 1.0f / static_cast<float>(1 << cdf_table_bits);
+    float lo = static_cast<float>(lo_k) * scale, hi = static_cast<float>(hi_k) * scale;
+    for (int step = cdf_table_bits; step < 64; ++step) {
         const float mid = 0.5f * (lo + hi);
         if (mid == lo || mid == hi) break;
         (vp_inverse_cdf(mid) < e ? lo : hi) = mid;
@@ -97,16 +124,15 @@ bool vp_inverse(const VisualPolarMap& m, int i, int j, glm::vec2& screen) {
     return true;
 }
 
-namespace {
-
-// u of a point at distance r from the gaze.
-float vp_column_coordinate(const VisualPolarMap& m, float r) {
+float vp_forward_radius(const VisualPolarMap& m, float r) {
     if (r < m.fovea_radius) return static_cast<float>(m.fovea_columns) * r / m.fovea_radius;
     const float big_u = vp_cdf(r / m.scale);
     const float rho_f = static_cast<float>(m.fovea_columns) / static_cast<float>(m.width);
     const float rho = rho_f + (big_u - vp_u0) * (1.0f - rho_f) / (1.0f - vp_u0);
     return static_cast<float>(m.width) * rho;
 }
+
+namespace {
 
 // The distance and the angle theta in [0, 2 pi] of p around the gaze.
 void vp_polar(const VisualPolarMap& m, glm::vec2 p, float& r, float& theta) {
@@ -121,7 +147,7 @@ void vp_polar(const VisualPolarMap& m, glm::vec2 p, float& r, float& theta) {
 glm::vec2 vp_forward(const VisualPolarMap& m, glm::vec2 p) {
     float r = 0.0f, theta = 0.0f;
     vp_polar(m, p, r, theta);
-    const float u = vp_column_coordinate(m, r);
+    const float u = vp_forward_radius(m, r);
     if (r < m.fovea_radius) {
         const int column = std::min(static_cast<int>(u), m.fovea_columns - 1);
         return {u, static_cast<float>(vp_column_rows(m, column)) * theta / two_pi};
@@ -132,7 +158,7 @@ glm::vec2 vp_forward(const VisualPolarMap& m, glm::vec2 p) {
 glm::vec2 vp_forward_angle(const VisualPolarMap& m, glm::vec2 p) {
     float r = 0.0f, theta = 0.0f;
     vp_polar(m, p, r, theta);
-    return {vp_column_coordinate(m, r), theta / two_pi};
+    return {vp_forward_radius(m, r), theta / two_pi};
 }
 
 VpTexel vp_texel_status(const VisualPolarMap& m, int i, int j, glm::vec2& p) {

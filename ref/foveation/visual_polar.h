@@ -33,7 +33,8 @@ float vp_acuity(float eccentricity_deg);
 /// The fitted inverse CDF P(u) in degrees, u in [0, 1].
 float vp_inverse_cdf(float u);
 /// P^-1(e) by bisection on [0, 1] in float (at most 64 steps, until the midpoint equals an
-/// endpoint); 0 for e <= 0 and 1 for e >= P(1).
+/// endpoint); 0 for e <= 0 and 1 for e >= P(1). The first 12 steps compare e with P at dyadic
+/// midpoints k / 4096 read from a table of those values (the same comparisons, faster).
 float vp_cdf(float eccentricity_deg);
 
 /// The Visual-Polar map of one frame: a W x H screen, the gaze, the buffer w x h.
@@ -44,6 +45,7 @@ struct VisualPolarMap {
     int fovea_columns = 0;      ///< i_f
     float scale = 0.0f;         ///< s, pixels per model degree
     float fovea_radius = 0.0f;  ///< s P(u0) in pixels
+    bool operator==(const VisualPolarMap&) const = default;
 };
 
 /// The map for a W x H screen, gaze g and buffer w x h (SPEC §12's preset: w = round(W / 1.5),
@@ -65,6 +67,9 @@ bool vp_inverse(const VisualPolarMap& map, int column, int row, glm::vec2& scree
 
 /// The continuous buffer coordinates (u, v) of screen point p (texel centres at + 1/2).
 glm::vec2 vp_forward(const VisualPolarMap& map, glm::vec2 p);
+
+/// u of a screen point at distance r from the gaze (vp_forward's u without the angle).
+float vp_forward_radius(const VisualPolarMap& map, float r);
 
 /// (u, t) of screen point p: u as vp_forward, t = theta / (2 pi) in [0, 1], the angle as a
 /// fraction of the turn (column c's continuous row is then t n_c; BMFR's reprojection and the

@@ -57,7 +57,7 @@ bool sample_column(const VpMips& mips, int column, float v, float lambda, int ch
     const float f = lambda - static_cast<float>(l0);
     float a[max_channels] = {0, 0, 0, 0}, b[max_channels] = {0, 0, 0, 0};
     const auto sample = [&](int level, float* value) {
-        const float scale = dm::exp2(static_cast<float>(-level));  // exact: a power of two
+        const float scale = 1.0f / static_cast<float>(1 << level);  // exact: 2^-level
         const std::size_t k = static_cast<std::size_t>(level);
         return sample_vp_phi(mips.color[k], mips.valid[k], column, vp_mip_rows(rows0, level),
                              v * scale, value);
@@ -154,19 +154,42 @@ bool sample_vp_phi(const Image& color, const Image& valid, int column, int rows,
     return traced0 || traced1;
 }
 
+void vp_polar_pixel(const VisualPolarMap& map, int x, int y, float& u, float& r, float& theta) {
+    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    const float dx = centre.x - map.gaze.x, dy = centre.y - map.gaze.y;
+    r = std::sqrt(dx * dx + dy * dy);
+    u = vp_forward_radius(map, r);
+    theta = dm::atan2(dy, dx);
+    if (theta < 0.0f) theta += two_pi;
+}
+
+VpForwardTable vp_forward_table(const VisualPolarMap& map) {
+    VpForwardTable t;
+    t.map = map;
+    t.polar = Image(map.screen_width, map.screen_height, 3);
+    for (int y = 0; y < map.screen_height; ++y)
+        for (int x = 0; x < map.screen_width; ++x) {
+            float* p = &t.polar.data[t.polar.index(x, y)];
+            vp_polar_pixel(map, x, y, p[0], p[1], p[2]);
+        }
+    return t;
+}
+
 void resolve_vp_pixel(const VisualPolarMap& map, const VpMips& mips, Image& out, int x, int y,
-                      ResolveStats& stats, float* lambda_out) {
+                      ResolveStats& stats, float* lambda_out, bool mip,
+                      const VpForwardTable* table) {
     const int channels = out.channels;
     float* pixel = &out.at(x, y, 0);
     ++stats.pixels_from_buffer;
-    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
 
-    // Polar coordinates of the pixel centre
-    const float u = vp_forward(map, centre).x;
-    const float dx = centre.x - map.gaze.x, dy = centre.y - map.gaze.y;
-    const float r = std::sqrt(dx * dx + dy * dy);
-    float theta = dm::atan2(dy, dx);
-    if (theta < 0.0f) theta += two_pi;
+    // Polar coordinates of the pixel centre (u: vp_forward's, bit for bit)
+    float u = 0.0f, r = 0.0f, theta = 0.0f;
+    if (table) {
+        const float* p = &table->polar.data[table->polar.index(x, y)];
+        u = p[0], r = p[1], theta = p[2];
+    } else {
+        vp_polar_pixel(map, x, y, u, r, theta);
+    }
 
     // The two columns along rho (clamped to the first and last texel centres)
     const float s = std::clamp(u, 0.5f, static_cast<float>(map.width) - 0.5f) - 0.5f;
@@ -182,7 +205,7 @@ void resolve_vp_pixel(const VisualPolarMap& map, const VpMips& mips, Image& out,
         if (k == 1 && (columns[1] == columns[0] || !(fx > 0.0f))) break;
         const int n = mips.column_rows[static_cast<std::size_t>(columns[k])];
         const float v = static_cast<float>(n) * theta / two_pi;
-        const float lambda = vp_mip_level(n, r);
+        const float lambda = mip ? vp_mip_level(n, r) : 0.0f;
         if (k == 0 && lambda_out) *lambda_out = lambda;
         have[k] = sample_column(mips, columns[k], v, lambda, channels, values[k]);
     }
@@ -199,7 +222,9 @@ void resolve_vp_pixel(const VisualPolarMap& map, const VpMips& mips, Image& out,
     if (!have[0] && !have[1]) ++stats.pixels_untraced_taps;
 }
 
-Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, ResolveStats& stats) {
+Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, ResolveStats& stats,
+                           bool mip, const VpForwardTable* table) {
+    FOVREF_CHECK(!table || table->map == map, "a forward table made for another map");
     FOVREF_CHECK(!mips.color.empty() && mips.color.size() == mips.valid.size(),
                  "an empty or inconsistent visual-polar pyramid");
     FOVREF_CHECK_EQ(mips.color[0].width, map.width, "visual-polar buffer width");
@@ -215,7 +240,8 @@ Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, Resolv
                     "visual-polar pyramid levels");
     Image out(map.screen_width, map.screen_height, mips.color[0].channels, 0.0f);
     for (int y = 0; y < map.screen_height; ++y)
-        for (int x = 0; x < map.screen_width; ++x) resolve_vp_pixel(map, mips, out, x, y, stats);
+        for (int x = 0; x < map.screen_width; ++x)
+            resolve_vp_pixel(map, mips, out, x, y, stats, nullptr, mip, table);
     return out;
 }
 

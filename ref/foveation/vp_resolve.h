@@ -25,7 +25,7 @@
 //   Column i's last level is L_i = ceil(log2(n_i)), the first with one row (vp_mip_last_level).
 //
 // Lookup of screen pixel (x, y) (resolve_vp_pixel), binary32 throughout, two_pi = 2 pi rounded:
-//   c = (x + 1/2, y + 1/2); u = vp_forward(map, c).x; (dx, dy) = c - g;
+//   c = (x + 1/2, y + 1/2); u = vp_forward(map, c).x (vp_forward_radius); (dx, dy) = c - g;
 //   r = max(sqrt(dx^2 + dy^2), 2^-10); theta = dm::atan2(dy, dx), + two_pi if negative.
 //   rho (clamp): s = clamp(u, 1/2, w - 1/2) - 1/2, i0 = floor(s), i1 = min(i0 + 1, w - 1),
 //     fx = s - i0.
@@ -95,12 +95,24 @@ float vp_mip_level(int rows, float radius);
 bool sample_vp_phi(const Image& color, const Image& valid, int column, int rows, float v,
                    float* out);
 
+/// Each screen pixel's polar coordinates as the resolve computes them (u = vp_forward's u, the
+/// distance r from the gaze, theta), kept by a mode while the map stays the same (a static gaze):
+/// the same bits without the bisection and atan2 per pixel. polar: W x H x 3 (u, r, theta).
+struct VpForwardTable {
+    VisualPolarMap map;
+    Image polar;
+};
+VpForwardTable vp_forward_table(const VisualPolarMap& map);
+
 /// Per-pixel work of the Visual-Polar resolve: screen pixel (x, y) of `out` (the screen's size,
 /// the buffer's channel count). `lambda` (optional) receives the level lambda_c of column i0.
+/// `mip` false (`resolve=bilinear`): lambda = 0, level 0 only (bilinear along rho and phi).
 void resolve_vp_pixel(const VisualPolarMap& map, const VpMips& mips, Image& out, int x, int y,
-                      ResolveStats& stats, float* lambda = nullptr);
+                      ResolveStats& stats, float* lambda = nullptr, bool mip = true,
+                      const VpForwardTable* table = nullptr);
 
 /// Pass 2 of the Visual-Polar modes: a W x H image with the buffer's channel count, row by row.
-Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, ResolveStats& stats);
+Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, ResolveStats& stats,
+                           bool mip = true, const VpForwardTable* table = nullptr);
 
 }  // namespace fovref

@@ -1,6 +1,7 @@
 #include "ref/modes/vp_modes.h"
 
 #include <memory>
+#include <optional>
 
 #include "ref/core/error.h"
 #include "ref/foveation/blur_ramp.h"
@@ -29,6 +30,8 @@ struct SparseModeState : BmfrModeState {
     // acuity, progressive: the sums so far
     Image acuity_sum, acuity_count;
     int acuity_frame = -1;
+    /// Pass 2's per-pixel polar coordinates, kept while the map stays the same (a static gaze)
+    std::optional<VpForwardTable> forward;
 };
 
 SparseModeState& sparse_state(FrameContext& ctx) { return ctx.mode_state<SparseModeState>(); }
@@ -125,21 +128,20 @@ void vp_pathtrace_stage(FrameContext& ctx) {
 }
 
 void vp_resolve_stage(FrameContext& ctx) {
-    const SparseModeState& s = sparse_state(ctx);
+    SparseModeState& s = sparse_state(ctx);
     const VisualPolarMap map = frame_vp_map(ctx, ctx.frame);
     const Image& color = ctx.input("vp_color");
     const Image& valid = ctx.input("vp_valid");
-    VpMips mips = build_vp_mips(map, color, valid);
-    if (!s.params.mip_resolve) {  // level 0 only: bilinear along both axes
-        mips.color.resize(1);
-        mips.valid.resize(1);
-    }
+    const VpMips mips = build_vp_mips(map, color, valid);
+    const bool reused = s.forward && s.forward->map == map;
+    if (!reused) s.forward = vp_forward_table(map);
     ResolveStats stats;
-    Image out = resolve_visual_polar(map, mips, stats);
+    Image out = resolve_visual_polar(map, mips, stats, s.params.mip_resolve, &*s.forward);
     ctx.result->counters.add("screen_pixels_untraced_taps", stats.pixels_untraced_taps);
-    ctx.note = s.params.mip_resolve
-                   ? "phi mips, trilinear (" + std::to_string(mips.color.size()) + " levels)"
-                   : "bilinear";
+    ctx.note = (s.params.mip_resolve
+                    ? "phi mips, trilinear (" + std::to_string(mips.color.size()) + " levels)"
+                    : std::string("bilinear")) +
+               (reused ? ", forward map reused" : ", forward map computed");
     ctx.result->add(s.params.blur ? "resolved" : "final", BufferKind::color, rgb, std::move(out));
 }
 

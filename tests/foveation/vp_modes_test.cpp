@@ -11,6 +11,7 @@
 #include <map>
 
 #include "ref/foveation/visual_polar.h"
+#include "ref/foveation/vp_resolve.h"
 #include "ref/metrics/metrics.h"
 #include "ref/modes/modes.h"
 #include "ref/scene/procedural.h"
@@ -210,4 +211,29 @@ TEST_CASE("VP modes: bad parameters are clear errors") {
                          doctest::Contains("fill"), Error);
     CHECK_THROWS_WITH_AS(run("cornell", "visual-polar-basic", 64, 48, 1, {{"denoise", "bmfr"}}),
                          doctest::Contains("denoise"), Error);
+}
+
+TEST_CASE("VP resolve: the forward table kept for a static gaze gives the per-pixel bits") {
+    const VisualPolarMap map = make_visual_polar_map(120, 90, {70.0f, 30.0f}, 80, 60);
+    Image color(80, 60, 3), valid(80, 60, 1);
+    for (int y = 0; y < 60; ++y)
+        for (int x = 0; x < 80; ++x) {
+            for (int c = 0; c < 3; ++c)
+                color.at(x, y, c) = static_cast<float>((x * 7 + y * 13 + c * 5) % 17) / 16.0f;
+            glm::vec2 p;
+            valid.at(x, y) = vp_texel_status(map, x, y, p) == VpTexel::traced ? 1.0f : 0.0f;
+        }
+    const VpMips mips = build_vp_mips(map, color, valid);
+    const VpForwardTable table = vp_forward_table(map);
+    for (bool mip : {true, false}) {
+        ResolveStats a, b;
+        CHECK(same_bits(resolve_visual_polar(map, mips, a, mip),
+                        resolve_visual_polar(map, mips, b, mip, &table)));
+        CHECK(a.pixels_untraced_taps == b.pixels_untraced_taps);
+    }
+    // a table made for another gaze is refused
+    const VpForwardTable other =
+        vp_forward_table(make_visual_polar_map(120, 90, {0.0f, 0.0f}, 80, 60));
+    ResolveStats c;
+    CHECK_THROWS(resolve_visual_polar(map, mips, c, true, &other));
 }
