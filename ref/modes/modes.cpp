@@ -10,6 +10,7 @@
 #include "ref/modes/taa_stage.h"
 #include "ref/modes/trace_modes.h"
 #include "ref/modes/vp_modes.h"
+#include "ref/modes/vp_probe.h"
 #include "ref/temporal/taa_params.h"
 #include "ref/temporal/taa_probe.h"
 #include "ref/trace/basic_params.h"
@@ -145,12 +146,16 @@ std::vector<ModeInfo> make_modes() {
     vp.params = visual_polar_param_specs(true);
     vp.pixel_functions = visual_polar_pixel_functions;
     vp.stateless = false;  // BMFR by default
+    vp.explain = explain_visual_polar;
+    vp.explains_texels = true;
     ModeInfo vp_basic = mode("visual-polar-basic",
                              "the basic ray tracer's shading in Visual-Polar space, phi-mip "
                              "resolve, blur ramp (for comparison with the log-polar modes)",
                              visual_polar_basic_pipeline);
     vp_basic.params = visual_polar_param_specs(false);
     vp_basic.pixel_functions = visual_polar_pixel_functions;
+    vp_basic.explain = explain_visual_polar;
+    vp_basic.explains_texels = true;
     ModeInfo falloff = mode("linear-falloff",
                             "1-spp path tracing of pixels drawn with the linear fall-off "
                             "probability L(e), push-pull fill, optional BMFR (Weier et al.; "
