@@ -145,7 +145,10 @@ std::vector<ModeInfo> make_modes() {
                        visual_polar_pipeline);
     vp.params = visual_polar_param_specs(true);
     vp.pixel_functions = visual_polar_pixel_functions;
-    vp.stateless = false;  // BMFR by default
+    vp.parameters_carry_state = [](const Params& p) {  // BMFR by default
+        const auto it = p.values().find("denoise");
+        return it == p.values().end() || it->second != "none";
+    };
     vp.explain = explain_visual_polar;
     vp.explains_texels = true;
     ModeInfo vp_basic = mode("visual-polar-basic",
@@ -167,7 +170,11 @@ std::vector<ModeInfo> make_modes() {
                            "inverse CDF, progressive mean, unsampled pixels black (Koskela P3/P4)",
                            acuity_pipeline);
     acuity.params = acuity_param_specs();
-    acuity.stateless = false;  // progressive by default
+    acuity.parameters_carry_state = [](const Params& p) {  // progressive by default
+        const auto it = p.values().find("progressive");
+        return it == p.values().end() ||
+               (it->second != "off" && it->second != "false" && it->second != "0");
+    };
     return {
         basic,
         ground_truth,
@@ -213,6 +220,7 @@ bool carries_state(const ModeInfo& mode, const Params& params) {
         const auto it = params.values().find(key);
         return it != params.values().end() && it->second != off;
     };
+    if (mode.parameters_carry_state && mode.parameters_carry_state(params)) return true;
     return !mode.stateless || on("taa", "off") || on("denoise", "none");
 }
 

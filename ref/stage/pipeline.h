@@ -132,6 +132,10 @@ struct ModeInfo {
     /// True when a frame depends on no earlier frame, so frame f can be rendered alone
     /// (RenderSettings::first_frame) with the same bits.
     bool stateless = true;
+    /// When set: whether these parameters make frame f depend on frame f - 1 (then it renders
+    /// alone only with --resume), for a mode whose default carries state (visual-polar's BMFR,
+    /// acuity's progressive mean); null: TAA or BMFR turned on by a parameter decides.
+    bool (*parameters_carry_state)(const Params& params) = nullptr;
     /// True when `--resume DIR` continues the same frame from DIR's buffers of that frame (the
     /// accumulated reference) instead of carrying frame F - 1's state into frame F.
     bool resume_same_frame = false;
