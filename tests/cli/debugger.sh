@@ -1,7 +1,7 @@
-# `fovref probe -- debugger gdb` prints a command line that stops in each pass's per-pixel function
-#at the probed pixel; gdb(batch mode) runs it and must stop in the named function, at that
-#pixel, with a source line.Runs where the binary can be stepped through(-O0 - g : the debug
-#preset, which the test command builds); elsewhere it checks the printed command only.
+# `fovref probe --debugger gdb` prints a command line that stops in each pass's per-pixel function
+# at the probed pixel; gdb (batch mode) runs it and must stop in the named function, at that
+# pixel, with a source line. Runs where the binary can be stepped through (-O0 -g: the debug
+# preset, which the test command builds); elsewhere it checks the printed command only.
 source "$(dirname "$0")/lib.bash"
 
 expect 0 "probe --debugger gdb (raster)" -- "$FOVREF" probe --scene cornell --mode basic --param primary=raster --width 64 --height 36 --pixel 30,20 --debugger gdb
@@ -21,46 +21,28 @@ expect 2 "a mode without per-pixel functions" -- "$FOVREF" probe --scene cornell
 contains "names no per-pixel functions" "clear message"
 expect 2 "an unknown debugger" -- "$FOVREF" probe --scene cornell --mode basic --width 16 --height 9 --pixel 3,4 --debugger windbg
 
-#Run the printed commands in gdb's batch mode where this binary is the one they name.
-if ! grep -q -- "--args $FOVREF " <<<"$RASTER_CMD" && ! grep -q -- "--args $(readlink -f "$FOVREF") " <<<"$RASTER_CMD";
-then echo
-    "SKIPPED: gdb run (this build is not -O0 -g; the debug preset's suite runs it)" finish exit $
-    ? fi if !command - v gdb > / dev / null;
-then echo "FAIL: gdb is not installed (tools/setup.sh installs it)";
-exit 1 fi cd "$TMP" || exit 1
-#- batch ends gdb after the last command; after `run` stops, show where and the pixel.
-    batch() {
-    sed "s/^gdb -q /gdb -q -batch /; s/ -ex run / -ex run $1 /" < < < "$2";
-}
-expect 0 "gdb stops in the rasterizer" --bash - c "$(batch " - ex 'print x' -
-            ex 'print y' " " $RASTER_CMD ")" contains
-                         "Breakpoint 1, fovref::raster_fragment ("
-                         "stops in raster_fragment" contains
-                         "x=30, y=20"
-                         "at the pixel" grep -
-            qE "at [^ ]*ref/raster/rasterizer\.cpp:[0-9]+" < < <
-        "$OUT" ||
-{
-    echo "FAIL: no source line";
-    echo "$OUT" | tail - 5;
-    failures = $((failures + 1));
-}
-checks = $((checks + 1)) contains
-                 "\$1 = 30"
-                 "x is the pixel's" expect 0 "gdb continues to the shading pass" --bash -
-                 c "$(batch " - ex continue - ex 'print x' - ex 'print y' -
-                 ex 'print frame' " " $RAY_CMD ")" contains
-                                  "Breakpoint 1, fovref::raycast_gbuffer_pixel ("
-                                  "first the ray caster" contains
-                                  "Breakpoint 2, fovref::shade_basic_pixel ("
-                                  "then the shading pass" grep -
-                 qE "at [^ ]*ref/trace/shade_basic\.cpp:[0-9]+" < < <
-             "$OUT" ||
-{
-    echo "FAIL: no source line in shade_basic.cpp";
-    echo "$OUT" | tail - 5;
-    failures = $((failures + 1));
-}
-checks = $((checks + 1)) contains
-    "\$3 = 1"
-    "in frame 1" finish
+# Run the printed commands in gdb's batch mode where this binary is the one they name.
+if ! grep -q -- "--args $FOVREF " <<<"$RASTER_CMD" && ! grep -q -- "--args $(readlink -f "$FOVREF") " <<<"$RASTER_CMD"; then
+  echo "SKIPPED: gdb run (this build is not -O0 -g; the debug preset's suite runs it)"
+  finish
+  exit $?
+fi
+if ! command -v gdb >/dev/null; then
+  echo "FAIL: gdb is not installed (tools/setup.sh installs it)"; exit 1
+fi
+cd "$TMP" || exit 1
+# -batch ends gdb after the last command; after `run` stops, show where and the pixel.
+batch() { sed "s/^gdb -q /gdb -q -batch /; s/ -ex run / -ex run $1 /" <<<"$2"; }
+expect 0 "gdb stops in the rasterizer" -- bash -c "$(batch "-ex 'print x' -ex 'print y'" "$RASTER_CMD")"
+contains "Breakpoint 1, fovref::raster_fragment (" "stops in raster_fragment"
+contains "x=30, y=20" "at the pixel"
+grep -qE "at [^ ]*ref/raster/rasterizer\.cpp:[0-9]+" <<<"$OUT" || { echo "FAIL: no source line"; echo "$OUT" | tail -5; failures=$((failures + 1)); }
+checks=$((checks + 1))
+contains "\$1 = 30" "x is the pixel's"
+expect 0 "gdb continues to the shading pass" -- bash -c "$(batch "-ex continue -ex 'print x' -ex 'print y' -ex 'print frame'" "$RAY_CMD")"
+contains "Breakpoint 1, fovref::raycast_gbuffer_pixel (" "first the ray caster"
+contains "Breakpoint 2, fovref::shade_basic_pixel (" "then the shading pass"
+grep -qE "at [^ ]*ref/trace/shade_basic\.cpp:[0-9]+" <<<"$OUT" || { echo "FAIL: no source line in shade_basic.cpp"; echo "$OUT" | tail -5; failures=$((failures + 1)); }
+checks=$((checks + 1))
+contains "\$3 = 1" "in frame 1"
+finish

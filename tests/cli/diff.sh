@@ -1,15 +1,12 @@
-#fovref diff against a perturbed copy of a golden bundle(issue 4) : exit codes, the first failing
-#stage and pixel, tolerances, every input format, corrupt inputs, JSON and the HTML report
-#(rendered in headless Chromium when it is installed).
-source "$(dirname " $0 ")/lib.bash" PY =
-    $(command - v / usr / bin / python3 || command - v python3)
+# fovref diff against a perturbed copy of a golden bundle (issue 4): exit codes, the first failing
+# stage and pixel, tolerances, every input format, corrupt inputs, JSON and the HTML report
+# (rendered in headless Chromium when it is installed).
+source "$(dirname "$0")/lib.bash"
+PY=$(command -v /usr/bin/python3 || command -v python3)
 
-        expect 0 "export a bundle" --"$FOVREF" golden export cornell -
-    basic "$TMP/bundle" - q cp -
-    r
-    "$TMP/bundle"
-    "$TMP/cand" rm -
-    f "$TMP/cand"/*.png "$TMP/cand/manifest.json"
+expect 0 "export a bundle" -- "$FOVREF" golden export cornell-basic "$TMP/bundle" -q
+cp -r "$TMP/bundle" "$TMP/cand"
+rm -f "$TMP/cand"/*.png "$TMP/cand/manifest.json"
 
 expect 0 "identical buffers pass" -- "$FOVREF" diff "$TMP/bundle" "$TMP/cand"
 contains "RESULT: PASS (20 compared, 0 out of tolerance" "identical"

@@ -1,21 +1,15 @@
-#The foveated modes from the command line : render with-- gaze and a gaze track, fovref density
-#(table, CSV, SVG), bench foveation on a small screen, and bad input(exit 2).
-source "$(dirname " $0 ")/lib.bash"
+# The foveated modes from the command line: render with --gaze and a gaze track, fovref density
+# (table, CSV, SVG), bench foveation on a small screen, and bad input (exit 2).
+source "$(dirname "$0")/lib.bash"
 
-    expect 0 "render cfov with --gaze" --"$FOVREF" render-- scene cornell-- mode
-        cfov-- width 64 --height 36 --gaze 20,
-    10 --out "$TMP/cfov" - q check_file
-        "$TMP/cfov/f000_final.pfm"
-        "final" check_file
-        "$TMP/cfov/manifest.json"
-        "manifest"
-#holds DESCRIPTION-- test... : a shell test that must hold.
-        holds() {
-    local what = $1;
-    shift 2 checks = $((checks + 1)) if !"$@";
-    then echo "FAIL: $what";
-    failures = $((failures + 1));
-    fi
+expect 0 "render cfov with --gaze" -- "$FOVREF" render --scene cornell --mode cfov --width 64 --height 36 --gaze 20,10 --out "$TMP/cfov" -q
+check_file "$TMP/cfov/f000_final.pfm" "final"
+check_file "$TMP/cfov/manifest.json" "manifest"
+# holds DESCRIPTION -- test...: a shell test that must hold.
+holds() {
+  local what=$1; shift 2
+  checks=$((checks + 1))
+  if ! "$@"; then echo "FAIL: $what"; failures=$((failures + 1)); fi
 }
 printf 'frame,x,y\n0,10,10\n1,50,20\n' > "$TMP/track.csv"
 expect 0 "render a sequence with a gaze track" -- "$FOVREF" render --scene cornell --mode kfr --width 64 --height 36 --frames 2 --param gaze_track="$TMP/track.csv" --out "$TMP/track" -q
@@ -44,7 +38,7 @@ contains "speed-up" "bench columns"
 contains "w-target" "bench work column"
 contains "    gaze_trace" "bench --stages lists the stages"
 expect 2 "bench foveation: unknown mode" -- "$FOVREF" bench foveation --mode nope --width 16 --height 9
-#probe-- texel I, J, EYE explains one texel of one eye of stereo - lp.
+# probe --texel I,J,EYE explains one texel of one eye of stereo-lp.
 expect 0 "probe a stereo texel" -- "$FOVREF" probe --scene cornell --mode stereo-lp --width 96 --height 54 --texel 10,7,1
 contains "texel (10, 7) of eye 1" "the eye named"
 contains "texel: bit-identical to the rendered buffers" "the texel recomputed"
@@ -53,27 +47,22 @@ contains "needs the eye too" "the eye asked for"
 expect 2 "an eye for a mono mode" -- "$FOVREF" probe --scene cornell --mode cfov --width 64 --height 36 --texel 10,7,0
 contains "an eye applies to stereo-lp only" "the eye refused"
 
-#fovref diff points at a texel for a log - polar buffer(with the eye in stereo) and moves a gaze
-#buffer's pixel to the screen; each printed probe command runs.
+# fovref diff points at a texel for a log-polar buffer (with the eye in stereo) and moves a gaze
+# buffer's pixel to the screen; each printed probe command runs.
 PY=$(command -v /usr/bin/python3 || command -v python3)
-bump() {
-#bump FILE X Y : adds 0.5 to channel 0 of element(X, Y) of a little - endian PFM "$PY" - "$@"
-        << 'PYTHON' import struct,
-        sys path, x,
-        y = sys.argv[1], int(sys.argv[2]),
-                     int(sys.argv[3]) data = bytearray(open(path, "rb").read()) lines =
-                         data.split(b "\n", 3) channels = 3 if lines
-                     [0] == b "PF" else 1 w,
-                      h = map(int, lines[1].split()) at =
-                          len(lines[0]) + len(lines[1]) +
-                          len(lines[2]) +
-                          3 + ((h - 1 - y) * w + x)* channels* 4 value = struct.unpack(
-                              "<f", data
-                              [at:at + 4])[0] +
-                                           0.5 data[at : at +
-                                                        4] =
-                                                        struct.pack("<f", value) open(path, "wb")
-                                                            .write(data) PYTHON
+bump() {  # bump FILE X Y: adds 0.5 to channel 0 of element (X, Y) of a little-endian PFM
+  "$PY" - "$@" <<'PYTHON'
+import struct, sys
+path, x, y = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+data = bytearray(open(path, "rb").read())
+lines = data.split(b"\n", 3)
+channels = 3 if lines[0] == b"PF" else 1
+w, h = map(int, lines[1].split())
+at = len(lines[0]) + len(lines[1]) + len(lines[2]) + 3 + ((h - 1 - y) * w + x) * channels * 4
+value = struct.unpack("<f", data[at:at + 4])[0] + 0.5
+data[at:at + 4] = struct.pack("<f", value)
+open(path, "wb").write(data)
+PYTHON
 }
 expect 0 "export a stereo golden" -- "$FOVREF" golden export cornell-stereo-lp "$TMP/st_gold" -q
 cp -r "$TMP/st_gold" "$TMP/st_cand"
@@ -83,7 +72,7 @@ expect 1 "a stereo texel changed" -- "$FOVREF" diff "$TMP/st_gold" "$TMP/st_cand
 contains "buffer 'lp_color'" "names the buffer"
 contains "--texel 5,9,1" "the texel of eye 1"
 CMD=$(grep -o "explain it: fovref probe.*" <<<"$OUT" | sed 's/^explain it: fovref //')
-#shellcheck disable = SC2086
+# shellcheck disable=SC2086
 expect 0 "the printed stereo probe command runs" -- "$FOVREF" $CMD
 contains "texel (5, 9) of eye 1" "explains that texel"
 expect 0 "export a composite golden" -- "$FOVREF" golden export cornell-cfov "$TMP/cf_gold" -q

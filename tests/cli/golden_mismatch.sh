@@ -1,4 +1,4 @@
-#A golden that differs from this build is reported with its buffer and first differing pixel.
+# A golden that differs from this build is reported with its buffer and first differing pixel.
 source "$(dirname "$0")/lib.bash"
 mkdir -p "$TMP/golden"
 cat > "$TMP/golden/cases.json" <<'JSON'
@@ -13,8 +13,8 @@ expect 0 "verify after update" -- "$FOVREF" golden verify --dir "$TMP/golden"
 expect 0 "update again" -- "$FOVREF" golden update --dir "$TMP/golden"
 contains "updated tiny-rng: unchanged" "update again"
 
-#Pretend another build produced a different value : change the stored file's last float (the
-#top row's last pixel, channel 2: PFM rows are bottom-to-top) and its hash in the manifest.
+# Pretend another build produced a different value: change the stored file's last float (the
+# top row's last pixel, channel 2: PFM rows are bottom-to-top) and its hash in the manifest.
 pfm="$TMP/golden/tiny-rng/f000_rng.pfm"
 size=$(stat -c %s "$pfm")
 printf '\x41' | dd of="$pfm" bs=1 seek=$((size - 1)) conv=notrunc status=none

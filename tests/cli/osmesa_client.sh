@@ -1,11 +1,12 @@
-#A real OpenGL client(tools / clients / osmesa_gbuffer.cpp \
-                      : Mesa's llvmpipe through OSMesa) renders
-#the G - buffer of three procedural scenes with fovref's conventions; `fovref diff --profile
-#gpu - raster-- require...` must pass on it, and fail, naming the right buffer and pixel, when one
-#triangle's id or one depth is perturbed. Also: a misnamed file with --require, a background
-#convention mismatch, and the HTML report checked in headless Chromium(plot axes, states).
-source "$(dirname " $0 ")/lib.bash" PY = $(command - v / usr / bin / python3 || command - v python3)
-    CLIENT = $(dirname "$FOVREF") / osmesa_gbuffer if[!-x "$CLIENT"]; then
+# A real OpenGL client (tools/clients/osmesa_gbuffer.cpp: Mesa's llvmpipe through OSMesa) renders
+# the G-buffer of three procedural scenes with fovref's conventions; `fovref diff --profile
+# gpu-raster --require ...` must pass on it, and fail, naming the right buffer and pixel, when one
+# triangle's id or one depth is perturbed. Also: a misnamed file with --require, a background
+# convention mismatch, and the HTML report checked in headless Chromium (plot axes, states).
+source "$(dirname "$0")/lib.bash"
+PY=$(command -v /usr/bin/python3 || command -v python3)
+CLIENT=$(dirname "$FOVREF")/osmesa_gbuffer
+if [ ! -x "$CLIENT" ]; then
   echo "FAIL: $CLIENT was not built: OSMesa is missing (apt-get install libosmesa6-dev, which"
   echo "      tools/setup.sh does), then reconfigure the build"
   exit 1
@@ -13,12 +14,11 @@ fi
 REQUIRE=gbuffer_primitive_id,gbuffer_material_id,gbuffer_view_depth,gbuffer_hit_distance,gbuffer_world_position,gbuffer_shading_normal,gbuffer_geometric_normal,gbuffer_albedo
 SIZE=(--width 320 --height 180)
 
-#Three scenes : two golden cases, one case with its parameters overridden.
+# Three scenes: two golden cases, one case with its parameters overridden.
 expect 0 "export cornell" -- "$FOVREF" golden export cornell-basic-raster "$TMP/g_cornell" "${SIZE[@]}" --param fill_rule=gl --with-scene -q
 expect 0 "export checker-room" -- "$FOVREF" golden export checker-room-basic-raster "$TMP/g_checker" "${SIZE[@]}" --param fill_rule=gl --with-scene -q
 expect 0 "export glossy-floor" -- "$FOVREF" golden export glossy-floor-basic "$TMP/g_glossy" "${SIZE[@]}" --param primary=raster --param fill_rule=gl --with-scene -q
-for s in cornell checker glossy;
-do
+for s in cornell checker glossy; do
   expect 0 "OpenGL renders $s" -- "$CLIENT" "$TMP/g_$s" "$TMP/o_$s"
   contains "llvmpipe" "$s rendered by llvmpipe"
   expect 0 "gpu-raster diff passes on $s" -- "$FOVREF" diff "$TMP/g_$s" "$TMP/o_$s" --profile gpu-raster --require "$REQUIRE"
@@ -27,7 +27,7 @@ do
 done
 expect 1 "the bit-exact default does not pass a GPU" -- "$FOVREF" diff "$TMP/g_cornell" "$TMP/o_cornell"
 
-#Perturb the candidate : one interior primitive id, then one depth(PFM rows bottom to top).
+# Perturb the candidate: one interior primitive id, then one depth (PFM rows bottom to top).
 "$PY" - "$TMP/g_cornell" "$TMP/o_cornell" "$TMP" <<'PYTHON'
 import struct, sys, shutil
 gold, cand, tmp = sys.argv[1:4]
@@ -44,7 +44,7 @@ def get(f, x, y):
     return struct.unpack("<f", data[at:at + 4])[0], at
 ids = read(gold + "/f000_gbuffer_primitive_id.pfm")
 w, h = ids[2], ids[3]
-#The first pixel(row - major from the centre row) whose 3x3 neighbourhood shows one id.
+# The first pixel (row-major from the centre row) whose 3x3 neighbourhood shows one id.
 def interior(y0):
     for y in range(y0, h - 1):
         for x in range(1, w - 1):
@@ -72,7 +72,7 @@ expect 1 "one depth changed by 1%" -- "$FOVREF" diff "$TMP/g_cornell" "$TMP/p_de
 contains "first failing stage: primary_visibility, buffer 'gbuffer_view_depth', frame 0: 1 pixel(s) out of tolerance" "names the depth buffer"
 contains "first failing pixel ($PX, $PY_)" "names the depth pixel"
 
-#A misnamed file : not compared; --require makes it fail and the report suggests the name.
+# A misnamed file: not compared; --require makes it fail and the report suggests the name.
 cp -r "$TMP/o_cornell" "$TMP/misnamed"
 mv "$TMP/misnamed/f000_gbuffer_view_depth.pfm" "$TMP/misnamed/f000_gbuffer_view_depht.pfm"
 expect 0 "a misnamed file without --require" -- "$FOVREF" diff "$TMP/g_cornell" "$TMP/misnamed" --profile gpu-raster
@@ -86,7 +86,7 @@ contains "the golden has no buffer 'gbuffer_depth'" "unknown required buffer"
 expect 2 "unknown profile" -- "$FOVREF" diff "$TMP/g_cornell" "$TMP/o_cornell" --profile gpu-fast
 contains "unknown profile" "unknown profile"
 
-#Background convention : a depth buffer cleared to + inf instead of 0.
+# Background convention: a depth buffer cleared to +inf instead of 0.
 cp -r "$TMP/o_cornell" "$TMP/inf"
 "$PY" - "$TMP/inf/f000_gbuffer_view_depth.pfm" "$TMP/inf/f000_gbuffer_primitive_id.pfm" <<'PYTHON'
 import struct, sys
@@ -101,10 +101,8 @@ expect 1 "depth cleared to +inf" -- "$FOVREF" diff "$TMP/g_cornell" "$TMP/inf" -
 contains "convention mismatch" "reported as a convention mismatch"
 contains "fovref writes 0 depth" "says fovref's convention"
 
-#The HTML reports in a real browser.
-"$PY" - "$TMP/html_depth/index.html" "$TMP/id.json" <<'PYTHON' || {
-        echo "FAIL: report content";
-        failures = $((failures + 1)); }
+# The HTML reports in a real browser.
+"$PY" - "$TMP/html_depth/index.html" "$TMP/id.json" <<'PYTHON' || { echo "FAIL: report content"; failures=$((failures + 1)); }
 import json, re, sys
 html = open(sys.argv[1]).read()
 plots = re.findall(r"<svg .*?</svg>", html, re.S)

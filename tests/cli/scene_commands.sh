@@ -1,11 +1,7 @@
-#scene list / info / export, good and bad inputs.
+# scene list/info/export, good and bad inputs.
 source "$(dirname "$0")/lib.bash"
 expect 0 "scene list" -- "$FOVREF" scene list
-for s in cornell sphere-grid million checker-room glossy-floor;
-do
-    contains
-        "$s"
-        "scene list"; done
+for s in cornell sphere-grid million checker-room glossy-floor; do contains "$s" "scene list"; done
 
 expect 0 "info cornell" -- "$FOVREF" scene info cornell
 contains "triangles" "info cornell"
@@ -22,10 +18,9 @@ printf '{\n  "camera": {\n    "position": [0, 0, oops]\n  }\n}\n' > "$TMP/bad.js
 expect 2 "malformed scene" -- "$FOVREF" scene info "$TMP/bad.json"
 contains "bad.json:3" "malformed scene names file and line"
 
-#Export round trip : the exported scene has the same triangle count.
-for s in cornell checker-room;
-do
-expect 0 "info $s" -- "$FOVREF" scene info "$s" --json
+# Export round trip: the exported scene has the same triangle count.
+for s in cornell checker-room; do
+  expect 0 "info $s" -- "$FOVREF" scene info "$s" --json
   before=$(grep '"triangles"' <<<"$OUT")
   expect 0 "export $s" -- "$FOVREF" scene export "$s" "$TMP/$s"
   check_file "$TMP/$s/scene.json" "export $s"
