@@ -25,22 +25,20 @@ glm::vec3 load3(const Image& image, int x, int y) {
     return {p[0], p[1], p[2]};
 }
 
-// The TAA of traced texel (x, y) of a Visual-Polar buffer (bmfr_taa): false when no history tap
-// counts (o keeps the new colour).
-bool vp_taa_pixel(const BmfrParams& params, const Image& display, const Image& ycocg, glm::vec2 q,
-                  const Image& history, const BmfrSpace& space, int x, int y, float* o) {
-    const VisualPolarMap& map = *space.map;
-    const int width = display.width;
-    const float t = (static_cast<float>(y) + 0.5f) / static_cast<float>(vp_column_rows(map, x));
+// The authors' TAA of pixel (x, y) (bmfr_taa): the extents in YCoCg of its 3x3 box and 5-tap
+// cross (`neighbour(dx, dy, sx, sy)` gives the pixel at offset (dx, dy), false when there is
+// none), the history blended over the taps that `usable(k)` accepts (weights renormalised),
+// clamped to the average of the two extents, then 0.2 new + 0.8 history into o. False when no
+// tap counts (o keeps the new colour).
+template <class Neighbour, class Usable>
+bool taa_blend(const BmfrParams& params, const Image& display, const Image& ycocg,
+               const Image& history, int x, int y, const BmfrTaps& taps, Neighbour neighbour,
+               Usable usable, float* o) {
     glm::vec3 box_min(INFINITY), box_max(-INFINITY), cross_min(INFINITY), cross_max(-INFINITY);
     for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
-            const int sx = x + dx;
-            if (sx < 0 || sx >= width) continue;
-            const int rows = vp_column_rows(map, sx);
-            const int base = std::min(static_cast<int>(t * static_cast<float>(rows)), rows - 1);
-            const int sy = ((base + dy) % rows + rows) % rows;
-            if (space.valid->at(sx, sy) == 0.0f) continue;
+            int sx = 0, sy = 0;
+            if (!neighbour(dx, dy, sx, sy)) continue;
             const glm::vec3 v = load3(ycocg, sx, sy);
             box_min = glm::min(box_min, v);
             box_max = glm::max(box_max, v);
@@ -51,13 +49,10 @@ bool vp_taa_pixel(const BmfrParams& params, const Image& display, const Image& y
         }
     const glm::vec3 lo = (box_min + cross_min) * 0.5f;
     const glm::vec3 hi = (box_max + cross_max) * 0.5f;
-    const BmfrTaps taps = bmfr_vp_taps(map, q);
     glm::vec3 h(0.0f);
     float total = 0.0f;
     for (int k = 0; k < 4; ++k) {
-        if (taps.x[k] < 0 || taps.y[k] < 0 || taps.x[k] >= width) continue;
-        if (space.previous_valid && space.previous_valid->at(taps.x[k], taps.y[k]) == 0.0f)
-            continue;
+        if (!usable(k)) continue;
         h += taps.w[k] * load3(history, taps.x[k], taps.y[k]);
         total += taps.w[k];
     }
@@ -68,6 +63,31 @@ bool vp_taa_pixel(const BmfrParams& params, const Image& display, const Image& y
     const glm::vec3 blended = current * params.taa_alpha + clamped * (1.0f - params.taa_alpha);
     o[0] = blended.x, o[1] = blended.y, o[2] = blended.z;
     return true;
+}
+
+// The TAA of traced texel (x, y) of a Visual-Polar buffer: neighbours on each column's own rows
+// (wrapping), traced texels only; history taps on texels traced in the previous frame.
+bool vp_taa_pixel(const BmfrParams& params, const Image& display, const Image& ycocg, glm::vec2 q,
+                  const Image& history, const BmfrSpace& space, int x, int y, float* o) {
+    const VisualPolarMap& map = *space.map;
+    const int width = display.width;
+    const float t = (static_cast<float>(y) + 0.5f) / static_cast<float>(vp_column_rows(map, x));
+    const BmfrTaps taps = bmfr_vp_taps(map, q);
+    return taa_blend(
+        params, display, ycocg, history, x, y, taps,
+        [&](int dx, int dy, int& sx, int& sy) {
+            sx = x + dx;
+            if (sx < 0 || sx >= width) return false;
+            const int rows = vp_column_rows(map, sx);
+            const int base = std::min(static_cast<int>(t * static_cast<float>(rows)), rows - 1);
+            sy = ((base + dy) % rows + rows) % rows;
+            return space.valid->at(sx, sy) != 0.0f;
+        },
+        [&](int k) {
+            if (taps.x[k] < 0 || taps.y[k] < 0 || taps.x[k] >= width) return false;
+            return !space.previous_valid || space.previous_valid->at(taps.x[k], taps.y[k]) != 0.0f;
+        },
+        o);
 }
 
 }  // namespace
@@ -128,39 +148,20 @@ Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& prev
             if (!(q.x >= -1.0f && q.y >= -1.0f && q.x < static_cast<float>(width) &&
                   q.y < static_cast<float>(height)))
                 continue;
-            // The neighbourhood's extents in YCoCg: the 3x3 box and the 5-tap cross
-            glm::vec3 box_min(INFINITY), box_max(-INFINITY), cross_min(INFINITY),
-                cross_max(-INFINITY);
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int sx = x + dx, sy = y + dy;
-                    if (sx < 0 || sy < 0 || sx >= width || sy >= height) continue;
-                    const glm::vec3 v = load3(ycocg, sx, sy);
-                    box_min = glm::min(box_min, v);
-                    box_max = glm::max(box_max, v);
-                    if (dx == 0 || dy == 0) {
-                        cross_min = glm::min(cross_min, v);
-                        cross_max = glm::max(cross_max, v);
-                    }
-                }
-            const glm::vec3 lo = (box_min + cross_min) * 0.5f;
-            const glm::vec3 hi = (box_max + cross_max) * 0.5f;
-            // The history, bilinearly over the taps inside the image
+            // The neighbours and the history's bilinear taps inside the image
             const BmfrTaps taps = bmfr_taps(q);
-            glm::vec3 h(0.0f);
-            float total = 0.0f;
-            for (int k = 0; k < 4; ++k) {
-                if (taps.x[k] < 0 || taps.y[k] < 0 || taps.x[k] >= width || taps.y[k] >= height)
-                    continue;
-                h += taps.w[k] * load3(history, taps.x[k], taps.y[k]);
-                total += taps.w[k];
-            }
-            if (!(total > 0.0f)) continue;
-            h = h / total;
-            const glm::vec3 clamped = ycocg_to_rgb(glm::clamp(rgb_to_ycocg(h), lo, hi));
-            const glm::vec3 blended =
-                current * params.taa_alpha + clamped * (1.0f - params.taa_alpha);
-            o[0] = blended.x, o[1] = blended.y, o[2] = blended.z;
+            const bool used = taa_blend(
+                params, display, ycocg, history, x, y, taps,
+                [&](int dx, int dy, int& sx, int& sy) {
+                    sx = x + dx, sy = y + dy;
+                    return sx >= 0 && sy >= 0 && sx < width && sy < height;
+                },
+                [&](int k) {
+                    return taps.x[k] >= 0 && taps.y[k] >= 0 && taps.x[k] < width &&
+                           taps.y[k] < height;
+                },
+                o);
+            if (!used) continue;
             ++stats.taa_history_used;
         }
     return out;
