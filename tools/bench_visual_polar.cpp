@@ -22,7 +22,9 @@
 //          centre (ref/metrics/rings.h, the distance from the scene's display model), means over
 //          the compared frames; the temporal error over all consecutive frames. Each method runs
 //          with its default sample budget (printed: screen W x H, VP texels_traced, linear-falloff
-//          pixels_sampled); P5 compares at equal budget, this bench does not. VP's final image
+//          pixels_sampled), and linear-falloff once more at VP's budget (P5's comparison): P_p
+//          such that the expected count sum L(e) over the pixels (linear in P_p) equals VP's mean
+//          texels_traced. VP's final image
 //          includes its blur ramp, a deliberate loss of peripheral detail the reference lacks.
 #include "tools/bench_visual_polar.h"
 
@@ -39,6 +41,7 @@
 #include <vector>
 
 #include "ref/core/error.h"
+#include "ref/foveation/sparse_sampling.h"
 #include "ref/metrics/metrics.h"
 #include "ref/metrics/rings.h"
 #include "ref/metrics/ssim.h"
@@ -196,7 +199,7 @@ struct Method {
 
 void print_errors(const Scene& scene, const BenchVisualPolarOptions& o, Size size) {
     Progress progress("bench visual-polar (error)", o.quiet);
-    const std::vector<Method> methods = {
+    std::vector<Method> methods = {
         {"screen",
          "screen space + BMFR (pathtrace denoise=bmfr)",
          "pathtrace",
@@ -205,6 +208,12 @@ void print_errors(const Scene& scene, const BenchVisualPolarOptions& o, Size siz
         {"VP", "Visual-Polar + BMFR (visual-polar)", "visual-polar", {}, "texels_traced"},
         {"LF",
          "linear-falloff + BMFR (linear-falloff denoise=bmfr)",
+         "linear-falloff",
+         {{"denoise", "bmfr"}},
+         "pixels_sampled"},
+        // P_p set below so that the expected samples equal VP's (P5: equal sample budgets)
+        {"LF=VP",
+         "linear-falloff + BMFR at VP's budget (falloff_min solved)",
          "linear-falloff",
          {{"denoise", "bmfr"}},
          "pixels_sampled"},
@@ -222,7 +231,26 @@ void print_errors(const Scene& scene, const BenchVisualPolarOptions& o, Size siz
     s.frame_count = o.frames;
     std::vector<std::vector<Image>> finals(m_count);
     std::vector<double> samples(m_count, 0.0);
+    double periphery_probability = 0.0;
     for (std::size_t m = 0; m < m_count; ++m) {
+        if (m == 3) {
+            // E[samples] = A + B P_p (L is linear in P_p): P_p for VP's mean count
+            const float d_px = display_distance_px(scene.display, size.width, size.height,
+                                                   camera_at(scene, 0.0f).vfov_deg);
+            const glm::vec2 centre{static_cast<float>(size.width) * 0.5f,
+                                   static_cast<float>(size.height) * 0.5f};
+            LinearFalloff falloff;
+            falloff.periphery_probability = 0.0f;
+            const double a =
+                linear_falloff_expected(falloff, size.width, size.height, centre, d_px);
+            falloff.periphery_probability = 1.0f;
+            const double b =
+                linear_falloff_expected(falloff, size.width, size.height, centre, d_px) - a;
+            periphery_probability = std::clamp((samples[1] - a) / b, 0.0, 1.0);
+            char value[32];
+            std::snprintf(value, sizeof value, "%.6f", periphery_probability);
+            methods[m].params["falloff_min"] = value;
+        }
         s.params = Params(methods[m].params);
         render_each(&scene, methods[m].mode, s, [&](FrameResult& f) {
             finals[m].push_back(to_display(f.find("final")->image));
@@ -248,16 +276,19 @@ void print_errors(const Scene& scene, const BenchVisualPolarOptions& o, Size siz
         "spp (display space); gaze at the screen centre, display distance %.1f px\n",
         o.scene.c_str(), size.width, size.height, o.frames, o.every, o.reference_spp, distance);
     for (std::size_t m = 0; m < m_count; ++m)
-        std::printf("  %-7s %-54s %9.0f samples/frame (%5.1f%% of WxH)\n", methods[m].label,
+        std::printf("  %-7s %-58s %9.0f samples/frame (%5.1f%% of WxH)\n", methods[m].label,
                     methods[m].name, samples[m], 100.0 * samples[m] / size.pixels());
     std::printf(
-        "  the sample budgets differ (each mode's defaults): VP traces %.2fx and linear-falloff "
-        "%.2fx the samples of screen space, VP %.2fx linear-falloff's; P5 compares at equal "
-        "sample budget, these errors are not\n",
-        samples[1] / samples[0], samples[2] / samples[0], samples[1] / samples[2]);
+        "  budgets: VP traces %.2fx the samples of screen space; linear-falloff with its defaults "
+        "%.2fx; LF=VP is linear-falloff with P_p = %.4f, so that its expected samples equal VP's "
+        "(P5's comparison at equal sample budget): measured %.3fx VP's\n",
+        samples[1] / samples[0], samples[2] / samples[0], periphery_probability,
+        samples[3] / samples[1]);
 
-    std::printf("  %6s %11s %11s %11s %11s %11s %11s %14s\n", "frame", "RMSE screen", "RMSE VP",
-                "RMSE LF", "SSIM screen", "SSIM VP", "SSIM LF", "ref. std. err.");
+    std::printf("  %6s", "frame");
+    for (const char* what : {"RMSE", "SSIM"})
+        for (const Method& m : methods) std::printf(" %5s %-6s", what, m.label);
+    std::printf(" %14s\n", "ref. std. err.");
     std::vector<double> rmse_sum(m_count, 0.0), ssim_sum(m_count, 0.0);
     std::vector<std::vector<double>> ring_sum(
         m_count, std::vector<double>(static_cast<std::size_t>(o.rings)));
@@ -294,31 +325,37 @@ void print_errors(const Scene& scene, const BenchVisualPolarOptions& o, Size siz
                 ring_pixels[k] = ring.pixels;
             }
         }
-        std::printf("  %6d %11.5f %11.5f %11.5f %11.4f %11.4f %11.4f %14.5f\n", f, rmse[0], rmse[1],
-                    rmse[2], ssim_value[0], ssim_value[1], ssim_value[2], standard_error);
+        std::printf("  %6d", f);
+        for (std::size_t m = 0; m < m_count; ++m) std::printf(" %12.5f", rmse[m]);
+        for (std::size_t m = 0; m < m_count; ++m) std::printf(" %12.4f", ssim_value[m]);
+        std::printf(" %14.5f\n", standard_error);
         std::fflush(stdout);
     }
     const double n = static_cast<double>(compared.size());
-    std::printf("  %6s %11.5f %11.5f %11.5f %11.4f %11.4f %11.4f\n", "mean", rmse_sum[0] / n,
-                rmse_sum[1] / n, rmse_sum[2] / n, ssim_sum[0] / n, ssim_sum[1] / n,
-                ssim_sum[2] / n);
+    std::printf("  %6s", "mean");
+    for (std::size_t m = 0; m < m_count; ++m) std::printf(" %12.5f", rmse_sum[m] / n);
+    for (std::size_t m = 0; m < m_count; ++m) std::printf(" %12.4f", ssim_sum[m] / n);
+    std::printf("\n");
 
     std::printf(
         "  RMSE per ring (mean over the compared frames): %d rings of %.2f deg around the gaze, "
         "out to the farthest corner (%.2f deg)\n",
         o.rings, layout.ring_width_deg, layout.outer_deg);
-    std::printf("  %6s %17s %9s %11s %11s %11s\n", "ring", "eccentricity", "pixels", "RMSE screen",
-                "RMSE VP", "RMSE LF");
+    std::printf("  %6s %17s %9s", "ring", "eccentricity", "pixels");
+    for (const Method& m : methods) std::printf("  RMSE %-6s", m.label);
+    std::printf("\n");
     for (int k = 0; k < o.rings; ++k) {
         const auto index = static_cast<std::size_t>(k);
         char range[40];
         std::snprintf(range, sizeof range, "%.1f-%.1f deg", layout.inner(k), layout.outer(k));
-        std::printf("  %6d %17s %9lld %11.5f %11.5f %11.5f\n", k + 1, range,
-                    static_cast<long long>(ring_pixels[index]), ring_sum[0][index] / n,
-                    ring_sum[1][index] / n, ring_sum[2][index] / n);
+        std::printf("  %6d %17s %9lld", k + 1, range, static_cast<long long>(ring_pixels[index]));
+        for (std::size_t m = 0; m < m_count; ++m) std::printf(" %12.5f", ring_sum[m][index] / n);
+        std::printf("\n");
     }
-    std::printf("  temporal error: screen %.5f, VP %.5f, LF %.5f (mean |luma(t) - luma(t-1)|)\n",
-                temporal_error(finals[0]), temporal_error(finals[1]), temporal_error(finals[2]));
+    std::printf("  temporal error (mean |luma(t) - luma(t-1)|):");
+    for (std::size_t m = 0; m < m_count; ++m)
+        std::printf(" %s %.5f%s", methods[m].label, temporal_error(finals[m]),
+                    m + 1 < m_count ? "," : "\n");
     std::fflush(stdout);
     progress.finish();
 }

@@ -29,24 +29,44 @@ glm::vec2 acuity_sample(std::uint32_t frame, std::uint32_t sample, glm::vec2 gaz
     return gaze + glm::vec2(r * dm::cos(phi), r * dm::sin(phi));
 }
 
+namespace {
+
+// L(e) at the centre of pixel (x, y), e = atan(|c - g| / d_px) in degrees.
+float falloff_probability_at(const LinearFalloff& falloff, int x, int y, glm::vec2 gaze,
+                             float distance_px) {
+    constexpr float degrees = 57.2957795130823208768f;
+    const float dx = static_cast<float>(x) + 0.5f - gaze.x;
+    const float dy = static_cast<float>(y) + 0.5f - gaze.y;
+    const float e = dm::atan(std::sqrt(dx * dx + dy * dy) / distance_px) * degrees;
+    return linear_falloff_probability(falloff, e);
+}
+
+}  // namespace
+
 Image linear_falloff_mask(const LinearFalloff& falloff, int width, int height, glm::vec2 gaze,
                           float distance_px, std::uint32_t frame, std::int64_t& sampled) {
     FOVREF_CHECK(width > 0 && height > 0 && distance_px > 0.0f,
                  "linear_falloff_mask: bad size or viewing distance");
-    constexpr float degrees = 57.2957795130823208768f;
     Image mask(width, height, 1, 0.0f);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            const float dx = static_cast<float>(x) + 0.5f - gaze.x;
-            const float dy = static_cast<float>(y) + 0.5f - gaze.y;
-            const float e = dm::atan(std::sqrt(dx * dx + dy * dy) / distance_px) * degrees;
             const auto pixel = static_cast<std::uint32_t>(y * width + x);
-            if (!linear_falloff_sampled(frame, pixel, linear_falloff_probability(falloff, e)))
+            if (!linear_falloff_sampled(frame, pixel,
+                                        falloff_probability_at(falloff, x, y, gaze, distance_px)))
                 continue;
             mask.at(x, y) = 1.0f;
             ++sampled;
         }
     return mask;
+}
+
+double linear_falloff_expected(const LinearFalloff& falloff, int width, int height, glm::vec2 gaze,
+                               float distance_px) {
+    double sum = 0.0;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            sum += falloff_probability_at(falloff, x, y, gaze, distance_px);
+    return sum;
 }
 
 std::vector<glm::vec2> acuity_samples(std::uint32_t frame, int count, glm::vec2 gaze,

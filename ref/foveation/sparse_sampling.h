@@ -38,6 +38,11 @@ glm::vec2 acuity_sample(std::uint32_t frame, std::uint32_t sample, glm::vec2 gaz
 Image linear_falloff_mask(const LinearFalloff& falloff, int width, int height, glm::vec2 gaze,
                           float distance_px, std::uint32_t frame, std::int64_t& sampled);
 
+/// The expected number of pixels linear_falloff_mask traces: sum of L(e) over the pixel
+/// centres (binary64 sum in row order).
+double linear_falloff_expected(const LinearFalloff& falloff, int width, int height, glm::vec2 gaze,
+                               float distance_px);
+
 /// The N acuity samples of frame `frame` (acuity_sample k = 0 .. N - 1).
 std::vector<glm::vec2> acuity_samples(std::uint32_t frame, int count, glm::vec2 gaze,
                                       float pixels_per_degree);
