@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "ref/core/error.h"
+#include "ref/core/limits.h"
 #include "ref/foveation/visual_polar.h"
 
 namespace fovref {
@@ -109,6 +110,9 @@ VisualPolarMap sparse_vp_map(const SparseParams& params, int width, int height, 
     const glm::ivec2 preset = visual_polar_buffer_size(width, height);
     const int w = params.buffer_width > 0 ? params.buffer_width : preset.x;
     const int h = params.buffer_height > 0 ? params.buffer_height : preset.y;
+    check_limit("parameters 'buffer_width' x 'buffer_height': the Visual-Polar buffer",
+                static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h),
+                input_limits().max_image_pixels, "texels", "FOVREF_MAX_IMAGE_PIXELS");
     return make_visual_polar_map(width, height, sparse_gaze(params, width, height, frame), w, h);
 }
 
@@ -118,7 +122,12 @@ float sparse_pixels_per_degree(const Scene& scene, const Camera& camera, int wid
 }
 
 int acuity_samples_per_frame(const SparseParams& params, int width, int height) {
-    if (params.samples > 0) return params.samples;
+    if (params.samples > 0) {
+        check_limit("parameter 'samples'", static_cast<std::uint64_t>(params.samples),
+                    input_limits().max_image_pixels, "samples (texels of the sample G-buffer)",
+                    "FOVREF_MAX_IMAGE_PIXELS");
+        return params.samples;
+    }
     const long long pixels = static_cast<long long>(width) * height;
     return static_cast<int>(std::max(1LL, (pixels + 5) / 10));
 }

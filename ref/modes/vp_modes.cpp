@@ -414,6 +414,7 @@ Pipeline acuity_pipeline(const Scene*, const RenderSettings& settings) {
     state->mode = "acuity";
     state->params = parse_sparse_params(settings.params, state->mode);
     state->path = parse_path(settings.params, acuity_param_specs());
+    acuity_samples_per_frame(state->params, settings.width, settings.height);  // validated now
     Pipeline p;
     p.state = state;
     p.stages.push_back(
