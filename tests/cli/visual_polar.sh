@@ -70,6 +70,9 @@ contains "falloff_periphery_deg" "bad fall-off: message"
 expect 2 "an unknown fill" -- "$FOVREF" render --mode acuity --param fill=grey "${common[@]}" \
   --out "$TMP/bad"
 contains "fill" "bad fill: message"
+FOVREF_MAX_IMAGE_PIXELS=1000 expect 2 "acuity samples above the limit" -- "$FOVREF" render \
+  --mode acuity --param samples=5000 "${common[@]}" --out "$TMP/bad"
+contains "FOVREF_MAX_IMAGE_PIXELS" "samples limit: message"
 checks=$((checks + 1))
 [ ! -e "$TMP/bad" ] || { echo "FAIL: a refused render wrote $TMP/bad"; failures=$((failures + 1)); }
 
