@@ -35,10 +35,11 @@ struct ModeTimes {
 
 const char* stage_group(const std::string& stage) {
     if (stage == "primary_visibility" || stage == "lp_trace" || stage == "gaze_trace" ||
-        stage == "gbuffer_raster" || stage == "lp_sample" || stage == "stereo_trace")
+        stage == "gbuffer_raster" || stage == "lp_sample" || stage == "stereo_trace" ||
+        stage == "vp_trace")
         return "trace";
     if (stage == "shade_direct" || stage == "lp_shade" || stage == "gaze_shade" ||
-        stage == "stereo_shade")
+        stage == "stereo_shade" || stage == "vp_shade")
         return "shade";
     if (stage == "resolve") return "pass2";
     return "filters";
@@ -108,7 +109,9 @@ void add_bench_foveation_options(CLI::App& c, BenchFoveationOptions& o) {
     c.add_option("--repeats", o.repeats, "timed frames per mode (after an untimed first one)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
-    c.add_option("--mode", o.modes, "foveated mode (repeatable; default: the four presets)");
+    c.add_option("--mode", o.modes,
+                 "foveated mode (repeatable; default: fov, kfov, cfov, ckfov, kfr, stereo-lp, "
+                 "visual-polar-basic (as vp-basic) and cfov with the lerp filter)");
     c.add_flag("--stages", o.stages, "also print each stage's own fastest time under its row");
 }
 
@@ -125,6 +128,7 @@ int run_bench_foveation(const BenchFoveationOptions& o) {
     if (o.modes.empty()) {
         for (const std::string m : {"fov", "kfov", "cfov", "ckfov", "kfr", "stereo-lp"})
             rows.push_back({m, m, {}});
+        rows.push_back({"vp-basic", "visual-polar-basic", {}});
         rows.push_back(
             {"cfov+lerp", "cfov", Params(std::map<std::string, std::string>{{"filters", "lerp"}})});
     } else {
