@@ -130,7 +130,10 @@ BmfrTaps bmfr_taps(glm::vec2 q) {
 
 BmfrTaps bmfr_vp_taps(const VisualPolarMap& map, glm::vec2 q) {
     BmfrTaps t;
-    q = glm::clamp(q, glm::vec2(-1e6f), glm::vec2(1e6f));
+    // t is a fraction of the turn: only its fractional part matters (a foreign value far out
+    // must not overflow the row index)
+    q.x = std::clamp(q.x, -1e6f, 1e6f);
+    q.y = std::isfinite(q.y) ? q.y - std::floor(q.y) : 0.0f;
     const float fx0 = std::floor(q.x);
     const float fx = q.x - fx0;
     const int x0 = static_cast<int>(fx0);
@@ -197,7 +200,11 @@ BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& il
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
             const glm::vec3 c = load3(illumination, x, y);
+            // Without history: the texel itself, (x, y) or, Visual-Polar, (x, (y + 1/2) / n_x)
             glm::vec2 q(static_cast<float>(x), static_cast<float>(y));
+            if (space.map)
+                q.y = (static_cast<float>(y) + 0.5f) /
+                      static_cast<float>(vp_column_rows(*space.map, x));
             unsigned mask = 0;
             float h[3] = {0, 0, 0}, h_spp = 0.0f;
             bool has_history = false;

@@ -141,7 +141,8 @@ struct BmfrAccumulation {
     Image accumulated;  ///< 3: alpha current + (1 - alpha) history
     Image spp;          ///< 1: sample count after this frame
     Image accept;       ///< 1: bit k set when tap k was accepted (k as in bmfr_taps)
-    /// 2: the reprojected pixel index; the pixel itself without a previous frame,
+    /// 2: the reprojected pixel index; the pixel itself without a previous frame (Visual-Polar:
+    /// (x, (y + 1/2) / n_x), BmfrSpace),
     /// bmfr_behind_camera when the point is behind the previous camera
     Image previous_pixel;
 };
@@ -162,6 +163,7 @@ BmfrTaps bmfr_taps(glm::vec2 q);
 /// x0 = floor(q.x) with fx = q.x - x0, and x0 + 1; column c's rows y_c = floor(t n_c - 1/2) and
 /// y_c + 1, both modulo n_c, fy_c the fraction; weights (1 - fx)(1 - fy_a), fx (1 - fy_b),
 /// (1 - fx) fy_a, fx fy_b (a = x0, b = x0 + 1). A column outside [0, w) gives y = -1 (outside).
+/// t is taken modulo 1 first (t - floor(t); not finite: 0).
 BmfrTaps bmfr_vp_taps(const VisualPolarMap& map, glm::vec2 q);
 
 /// Phase I (the authors' accumulate_noisy_data). Per pixel: project its world position with the
