@@ -29,8 +29,8 @@ float vp_inverse_cdf(float u) {
 
 namespace {
 
-// P at the dyadic points k / 4096, k = 0 .. 4096: the first 12 midpoints of the bisection.
-constexpr int cdf_table_bits = 12;
+// P at the dyadic points k / 65536, k = 0 .. 65536: the first 16 midpoints of the bisection.
+constexpr int cdf_table_bits = 16;
 const std::vector<float>& cdf_table() {
     static const std::vector<float> table = [] {
         std::vector<float> t;
@@ -47,7 +47,7 @@ const std::vector<float>& cdf_table() {
 float vp_cdf(float e) {
     if (!(e > 0.0f)) return 0.0f;
     if (e >= vp_inverse_cdf(1.0f)) return 1.0f;
-    // The first 12 steps of the bisection below read P at their midpoints (dyadic, exact in
+    // The first 16 steps of the bisection below read P at their midpoints (dyadic, exact in
     // float) from the table: the same comparisons, so the same bracket
     const std::vector<float>& table = cdf_table();
     int lo_k = 0, hi_k = 1 << cdf_table_bits;

@@ -33,8 +33,8 @@ float vp_acuity(float eccentricity_deg);
 /// The fitted inverse CDF P(u) in degrees, u in [0, 1].
 float vp_inverse_cdf(float u);
 /// P^-1(e) by bisection on [0, 1] in float (at most 64 steps, until the midpoint equals an
-/// endpoint); 0 for e <= 0 and 1 for e >= P(1). The first 12 steps compare e with P at dyadic
-/// midpoints k / 4096 read from a table of those values (the same comparisons, faster).
+/// endpoint); 0 for e <= 0 and 1 for e >= P(1). The first 16 steps compare e with P at dyadic
+/// midpoints k / 65536 read from a table of those values (the same comparisons, faster).
 float vp_cdf(float eccentricity_deg);
 
 /// The Visual-Polar map of one frame: a W x H screen, the gaze, the buffer w x h.

@@ -91,3 +91,29 @@ TEST_CASE(
         CHECK(density > 1.0);
     }
 }
+
+TEST_CASE("visual-polar: P^-1 from the table of dyadic midpoints equals the plain bisection") {
+    // The plain bisection on [0, 1] (SPEC §5.3): the table only replaces P at its first 16
+    // midpoints, so every result must have the same bits.
+    const auto plain = [](float e) {
+        if (!(e > 0.0f)) return 0.0f;
+        if (e >= vp_inverse_cdf(1.0f)) return 1.0f;
+        float lo = 0.0f, hi = 1.0f;
+        for (int step = 0; step < 64; ++step) {
+            const float mid = 0.5f * (lo + hi);
+            if (mid == lo || mid == hi) break;
+            (vp_inverse_cdf(mid) < e ? lo : hi) = mid;
+        }
+        return 0.5f * (lo + hi);
+    };
+    int checked = 0;
+    for (float e = 1e-6f; e < 81.0f; e = e * 1.0007f + 1e-7f, ++checked)
+        REQUIRE(vp_cdf(e) == plain(e));
+    // and at the table's own values (ties with the midpoints)
+    for (int k = 0; k <= 65536; k += 7, ++checked) {
+        const float e = vp_inverse_cdf(static_cast<float>(k) / 65536.0f);
+        REQUIRE(vp_cdf(e) == plain(e));
+        REQUIRE(vp_cdf(std::nextafter(e, 0.0f)) == plain(std::nextafter(e, 0.0f)));
+    }
+    CHECK(checked > 20000);
+}
