@@ -79,9 +79,8 @@ std::vector<ParamSpec> foveated_param_specs(const FoveationPreset& preset) {
          "(farthest screen corner from the gaze)"},
         {"gaze_angle", number_text(m.gaze_angle),
          "a_G in radians: the gaze buffer's angular radius (composite foveation); 0: none"},
-        {"gaze", "", "gaze point X,Y in screen pixels (any finite point); empty: the centre"},
-        {"gaze_track", "",
-         "CSV file of 'frame,x,y' lines: the gaze of each frame (held until the next sample)"},
+        gaze_param_specs()[0],
+        gaze_param_specs()[1],
         {"primary", preset.primary,
          "the buffer's G-buffer: 'ray' (a ray per texel) or 'raster' (Meng's deferred variant: "
          "the rasterized full-resolution G-buffer sampled per texel)"},
@@ -118,17 +117,7 @@ FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset
         m.radius = RadiusMode::corners;
     else
         throw Error("parameter 'L': '" + radius + "' is neither 'diagonal' nor 'corners'");
-    const std::vector<float> gaze = params.get_float_list(specs, "gaze");
-    if (gaze.size() == 2)
-        parsed.gaze = glm::vec2(gaze[0], gaze[1]);
-    else if (!gaze.empty())
-        throw Error("parameter 'gaze': expected X,Y (two numbers), got " +
-                    std::to_string(gaze.size()));
-    const std::string track = params.get_string(specs, "gaze_track");
-    if (!track.empty()) {
-        if (parsed.gaze) throw Error("parameters 'gaze' and 'gaze_track' both given: give one");
-        parsed.gaze_track = read_gaze_track(track);
-    }
+    parse_gaze_params(params, specs, parsed.gaze, parsed.gaze_track);
     const std::string filters = params.get_string(specs, "filters");
     std::size_t start = 0;
     while (start < filters.size()) {
@@ -167,9 +156,7 @@ FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset
 }
 
 glm::vec2 gaze_point(const FoveatedParams& params, int width, int height, int frame) {
-    if (!params.gaze_track.empty()) return gaze_at_frame(params.gaze_track, frame);
-    if (params.gaze) return *params.gaze;
-    return {static_cast<float>(width) * 0.5f, static_cast<float>(height) * 0.5f};
+    return gaze_of_frame(params.gaze, params.gaze_track, width, height, frame);
 }
 
 std::string resolve_color_name(const FoveatedParams& params) {

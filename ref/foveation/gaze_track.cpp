@@ -73,4 +73,33 @@ glm::vec2 gaze_at_frame(const std::vector<GazeSample>& track, int frame) {
     return gaze;
 }
 
+std::vector<ParamSpec> gaze_param_specs() {
+    return {{"gaze", "", "gaze point X,Y in screen pixels (any finite point); empty: the centre"},
+            {"gaze_track", "",
+             "CSV file of 'frame,x,y' lines: the gaze of each frame (held until the next "
+             "sample)"}};
+}
+
+void parse_gaze_params(const Params& params, const std::vector<ParamSpec>& specs,
+                       std::optional<glm::vec2>& point, std::vector<GazeSample>& track) {
+    const std::vector<float> gaze = params.get_float_list(specs, "gaze");
+    if (gaze.size() == 2)
+        point = glm::vec2(gaze[0], gaze[1]);
+    else if (!gaze.empty())
+        throw Error("parameter 'gaze': expected X,Y (two numbers), got " +
+                    std::to_string(gaze.size()));
+    const std::string file = params.get_string(specs, "gaze_track");
+    if (!file.empty()) {
+        if (point) throw Error("parameters 'gaze' and 'gaze_track' both given: give one");
+        track = read_gaze_track(file);
+    }
+}
+
+glm::vec2 gaze_of_frame(const std::optional<glm::vec2>& point, const std::vector<GazeSample>& track,
+                        int width, int height, int frame) {
+    if (!track.empty()) return gaze_at_frame(track, frame);
+    if (point) return *point;
+    return {static_cast<float>(width) * 0.5f, static_cast<float>(height) * 0.5f};
+}
+
 }  // namespace fovref

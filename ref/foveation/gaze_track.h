@@ -9,10 +9,13 @@
 // sample use the first.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
+
+#include "ref/stage/params.h"
 
 namespace fovref {
 
@@ -32,5 +35,17 @@ std::vector<GazeSample> read_gaze_track(const std::string& path);
 
 /// The gaze of frame `frame` (see above). `track` must not be empty.
 glm::vec2 gaze_at_frame(const std::vector<GazeSample>& track, int frame);
+
+/// The gaze parameters every foveated mode takes: `gaze=X,Y` (any finite point) and
+/// `gaze_track=FILE` (at most one of them).
+std::vector<ParamSpec> gaze_param_specs();
+/// Parses them into `point` and `track` (from `specs`, which holds gaze_param_specs()); throws
+/// fovref::Error naming the parameter.
+void parse_gaze_params(const Params& params, const std::vector<ParamSpec>& specs,
+                       std::optional<glm::vec2>& point, std::vector<GazeSample>& track);
+/// The gaze of frame `frame` on a W x H screen: the track's, else the point, else the centre
+/// (W/2, H/2).
+glm::vec2 gaze_of_frame(const std::optional<glm::vec2>& point, const std::vector<GazeSample>& track,
+                        int width, int height, int frame);
 
 }  // namespace fovref

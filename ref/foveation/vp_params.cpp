@@ -9,10 +9,7 @@
 namespace fovref {
 
 std::vector<ParamSpec> sparse_param_specs(const std::string& mode) {
-    std::vector<ParamSpec> specs = {
-        {"gaze", "", "gaze point X,Y in screen pixels (any finite point); empty: the centre"},
-        {"gaze_track", "",
-         "CSV file of 'frame,x,y' lines: the gaze of each frame (held until the next sample)"}};
+    std::vector<ParamSpec> specs = gaze_param_specs();
     if (mode == "visual-polar" || mode == "visual-polar-basic") {
         specs.push_back({"buffer_width", "0",
                          "Visual-Polar buffer columns w (rho); 0: round(W / 1.5) (P5's preset)"});
@@ -60,17 +57,7 @@ bool parse_fill(const Params& params, const std::vector<ParamSpec>& specs) {
 SparseParams parse_sparse_params(const Params& params, const std::string& mode) {
     const std::vector<ParamSpec> specs = sparse_param_specs(mode);
     SparseParams p;
-    const std::vector<float> gaze = params.get_float_list(specs, "gaze");
-    if (gaze.size() == 2)
-        p.gaze = glm::vec2(gaze[0], gaze[1]);
-    else if (!gaze.empty())
-        throw Error("parameter 'gaze': expected X,Y (two numbers), got " +
-                    std::to_string(gaze.size()));
-    const std::string track = params.get_string(specs, "gaze_track");
-    if (!track.empty()) {
-        if (p.gaze) throw Error("parameters 'gaze' and 'gaze_track' both given: give one");
-        p.gaze_track = read_gaze_track(track);
-    }
+    parse_gaze_params(params, specs, p.gaze, p.gaze_track);
     if (mode == "visual-polar" || mode == "visual-polar-basic") {
         p.buffer_width = params.get_int(specs, "buffer_width", 0, 16384);
         p.buffer_height = params.get_int(specs, "buffer_height", 0, 16384);
@@ -101,9 +88,7 @@ SparseParams parse_sparse_params(const Params& params, const std::string& mode) 
 }
 
 glm::vec2 sparse_gaze(const SparseParams& params, int width, int height, int frame) {
-    if (!params.gaze_track.empty()) return gaze_at_frame(params.gaze_track, frame);
-    if (params.gaze) return *params.gaze;
-    return {static_cast<float>(width) * 0.5f, static_cast<float>(height) * 0.5f};
+    return gaze_of_frame(params.gaze, params.gaze_track, width, height, frame);
 }
 
 VisualPolarMap sparse_vp_map(const SparseParams& params, int width, int height, int frame) {
