@@ -156,7 +156,7 @@ std::vector<ModeInfo> make_modes() {
                              "resolve, blur ramp (for comparison with the log-polar modes)",
                              visual_polar_basic_pipeline);
     vp_basic.params = visual_polar_param_specs(false);
-    vp_basic.pixel_functions = visual_polar_pixel_functions;
+    vp_basic.pixel_functions = visual_polar_basic_pixel_functions;
     vp_basic.explain = explain_visual_polar;
     vp_basic.explains_texels = true;
     ModeInfo falloff = mode("linear-falloff",

@@ -438,6 +438,13 @@ Pipeline acuity_pipeline(const Scene*, const RenderSettings& settings) {
 
 std::vector<PixelFunction> visual_polar_pixel_functions(const Params&) {
     return {{"vp_trace", "fovref::vp_gbuffer_texel", "x, y: the texel (i, j)"},
+            {"vp_pathtrace", "fovref::pathtrace_pixel", "x, y: the texel (i, j)"},
+            {"resolve", "fovref::resolve_vp_pixel", ""}};
+}
+
+std::vector<PixelFunction> visual_polar_basic_pixel_functions(const Params&) {
+    return {{"vp_trace", "fovref::vp_gbuffer_texel", "x, y: the texel (i, j)"},
+            {"vp_shade", "fovref::shade_basic_pixel", "x, y: the texel (i, j)"},
             {"resolve", "fovref::resolve_vp_pixel", ""}};
 }
 

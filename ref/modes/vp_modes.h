@@ -41,5 +41,6 @@ std::vector<ParamSpec> linear_falloff_param_specs();
 std::vector<ParamSpec> acuity_param_specs();
 
 std::vector<PixelFunction> visual_polar_pixel_functions(const Params& params);
+std::vector<PixelFunction> visual_polar_basic_pixel_functions(const Params& params);
 
 }  // namespace fovref
