@@ -1,5 +1,6 @@
 #include "ref/modes/modes.h"
 
+#include "ref/bmfr/bmfr_params.h"
 #include "ref/core/error.h"
 #include "ref/foveation/foveated_params.h"
 #include "ref/foveation/foveation_probe.h"
@@ -146,8 +147,7 @@ std::vector<ModeInfo> make_modes() {
     vp.params = visual_polar_param_specs(true);
     vp.pixel_functions = visual_polar_pixel_functions;
     vp.parameters_carry_state = [](const Params& p) {  // BMFR by default
-        const auto it = p.values().find("denoise");
-        return it == p.values().end() || it->second != "none";
+        return parse_bmfr_params(p, "bmfr").enabled;
     };
     vp.explain = explain_visual_polar;
     vp.explains_texels = true;
@@ -171,9 +171,7 @@ std::vector<ModeInfo> make_modes() {
                            acuity_pipeline);
     acuity.params = acuity_param_specs();
     acuity.parameters_carry_state = [](const Params& p) {  // progressive by default
-        const auto it = p.values().find("progressive");
-        return it == p.values().end() ||
-               (it->second != "off" && it->second != "false" && it->second != "0");
+        return p.get_bool(acuity_param_specs(), "progressive");
     };
     return {
         basic,
