@@ -104,6 +104,11 @@ float default_distance_px(int height) {
     return 0.5f * static_cast<float>(height) / dm::tan(dm::radians(30.0f));
 }
 
+/// How the pooled FLIP values are accumulated (printed with them; docs/flip.md).
+constexpr const char* flip_pooling_note =
+    "binary64 sums (mean in row-major order; weighted percentiles over the values sorted "
+    "ascending); NVlabs's tool sums in binary32, so its mean can differ in the 5th decimal";
+
 std::string format(double v) {
     if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
     if (std::isnan(v)) return "-";
@@ -241,9 +246,17 @@ void compare_item(const DiffOptions& o, const ToleranceTable& tolerances, float 
                 "depth, 0 attributes and id -1 on background, never inf or NaN (docs/diff.md)";
     if (o.flip && item.kind == "color" && item.golden.channels == 3) {
         // LDR-FLIP on what a viewer sees (SPEC §10), pixels per degree from the display model.
+        // Without a display model (two plain images): NVlabs's default observer, not the 60
+        // degree field of view the error ranges assume (docs/diff.md).
         FlipParams fp;
-        fp.pixels_per_degree = flip_pixels_per_degree(
-            distance_px > 0.0f ? distance_px : default_distance_px(item.golden.height));
+        if (distance_px > 0.0f) {
+            fp.pixels_per_degree = flip_pixels_per_degree(distance_px);
+            item.flip_observer = "display model, viewing distance " + format(distance_px) + " px";
+        } else {
+            item.flip_observer =
+                "NVlabs default observer: 0.7 m from a 0.7 m wide 3840-pixel monitor";
+        }
+        item.flip_ppd = fp.pixels_per_degree;
         item.flip = ldr_flip(to_display(item.golden), to_display(item.candidate), fp);
     }
     item.compared = true;
@@ -333,7 +346,11 @@ json item_json(const DiffItem& item) {
                      {"weighted_median", item.flip->weighted_median},
                      {"first_quartile", item.flip->first_quartile},
                      {"third_quartile", item.flip->third_quartile},
-                     {"max", item.flip->max}};
+                     {"min", item.flip->min},
+                     {"max", item.flip->max},
+                     {"pixels_per_degree", item.flip_ppd},
+                     {"observer", item.flip_observer},
+                     {"pooling", flip_pooling_note}};
     if (!r.rings.empty()) {
         json rings = json::array();
         for (const RingStats& s : r.rings) rings.push_back(ring_json(s));
@@ -390,7 +407,17 @@ void print_summary(const DiffReport& report) {
                     static_cast<long long>(r.failing_pixels),
                     r.nonfinite_mismatches > 0 ? "-" : format(r.psnr).c_str(),
                     r.ssim ? format(*r.ssim).c_str() : "-", masked.c_str());
+        if (item.flip)
+            std::printf(
+                "      LDR-FLIP mean %.6f, weighted median %.6f, quartiles %.6f / %.6f, "
+                "max %.6f; %.4g pixels per degree (%s)\n",
+                item.flip->mean, item.flip->weighted_median, item.flip->first_quartile,
+                item.flip->third_quartile, static_cast<double>(item.flip->max),
+                static_cast<double>(item.flip_ppd), item.flip_observer.c_str());
     }
+    if (std::any_of(report.items.begin(), report.items.end(),
+                    [](const DiffItem& item) { return item.flip.has_value(); }))
+        std::printf("LDR-FLIP pooling: %s\n", flip_pooling_note);
     for (std::size_t k = 0; k < report.ignored.size(); ++k)
         std::printf("ignored: %s (matches no golden buffer%s)\n", report.ignored[k].c_str(),
                     report.ignored_hint[k].empty()
@@ -507,11 +534,13 @@ void add_diff_options(CLI::App& c, DiffOptions& o) {
         ->check(CLI::Range(1e-6, 1.0))
         ->capture_default_str();
     c.add_flag("--flip", o.flip,
-               "also LDR-FLIP (NVlabs v1.x) of colour buffers, in display space (slow: seconds "
-               "per megapixel)");
+               "also LDR-FLIP (NVlabs v1.x) of colour buffers, in display space (about 0.25 s "
+               "per 1280x720 pair); pixels per degree from the display model, else NVlabs's "
+               "default observer (67.02)");
     c.add_option("--distance-px", o.distance_px,
                  "viewing distance in pixels (default: the bundle's display model, else a 60 "
-                 "degree vertical field of view)")
+                 "degree vertical field of view for the error ranges and NVlabs's default "
+                 "observer for --flip)")
         ->check(CLI::Range(1e-3, 1e9));
 }
 

@@ -341,7 +341,8 @@ std::string figures_html(const DiffItem& item) {
              ", weighted median " + fmt(item.flip->weighted_median, "%.6f") + ", quartiles " +
              fmt(item.flip->first_quartile, "%.6f") + " / " +
              fmt(item.flip->third_quartile, "%.6f") + ", max " + fmt(item.flip->max, "%.6f") +
-             "</p>\n<div class=\"shots\"><figure>" +
+             "; " + fmt(item.flip_ppd, "%.4g") + " pixels per degree (" +
+             html_escape(item.flip_observer) + ")</p>\n<div class=\"shots\"><figure>" +
              img_tag(heatmap(item.flip->error_map, HeatmapSettings{1.0f, true, nullptr}),
                      "FLIP map " + item.name) +
              "<figcaption>FLIP error map (scale 0 .. 1)</figcaption></figure></div>\n";

@@ -36,6 +36,8 @@ struct DiffItem {
     Image golden, candidate;          ///< kept for the HTML report
     std::optional<RingLayout> rings;  ///< for image-like buffers
     std::optional<FlipResult> flip;   ///< --flip, colour buffers: LDR-FLIP in display space
+    float flip_ppd = 0.0f;            ///< the pixels per degree FLIP used
+    std::string flip_observer;        ///< where they came from (display model or default)
 };
 
 struct DiffReport {

@@ -18,6 +18,8 @@
 #include <cstdint>
 #include <limits>
 
+#include <immintrin.h>
+
 namespace fovref::dm {
 namespace {
 
@@ -491,12 +493,16 @@ float log2(float x) {
     return static_cast<float>(l.hi);
 }
 
-float pow(float x, float y) { return static_cast<float>(pow_d(x, y)); }
+namespace {
 
-float pow_fast(float xf, float yf) {
+/// x^y in plain binary64 with short series, for finite normal x > 0 (x != 1) and finite y with
+/// y ln x in [t_min, t_max]. False for other inputs.
+/// Relative error below 2^-41 (docs/determinism.md): ln of the mantissa by the atanh series to
+/// s^17 (first omitted term below 2^-51 absolute), t = y ln x to about |t| 2^-50 absolute,
+/// e^r by Taylor to r^10 (r^11/11! < 2^-42 relative for |r| <= ln2/2), Horner roundings 2^-52.
+bool pow_series(float xf, float yf, double t_min, double t_max, double& out) {
     const u32 xb = bits_of(xf);
-    // finite positive normal x and finite y only; the rest (and 1^y) as pow
-    if (xb - 0x00800000u >= 0x7f000000u || float_not_finite(yf) || xf == 1.0f) return pow(xf, yf);
+    if (xb - 0x00800000u >= 0x7f000000u || float_not_finite(yf) || xf == 1.0f) return false;
     // x = m 2^e, m in [sqrt(1/2), sqrt(2))
     int e = static_cast<int>(xb >> 23) - 127;
     double m = static_cast<double>(float_of((xb & 0x007fffffu) | 0x3f800000u));  // [1, 2)
@@ -504,8 +510,7 @@ float pow_fast(float xf, float yf) {
         m = m * 0.5;
         e += 1;
     }
-    // ln m = 2 atanh(s), s = (m - 1) / (m + 1), |s| <= 0.1716: terms up to s^17 (the first
-    // omitted term is below 2^-47 |ln m|: far below a float ulp after the exponentiation)
+    // ln m = 2 atanh(s), s = (m - 1) / (m + 1), |s| <= 0.1716
     const double s = (m - 1.0) / (m + 1.0);
     const double z = s * s;
     double q = 2.0 / 17.0;
@@ -520,8 +525,8 @@ float pow_fast(float xf, float yf) {
     // t = y ln x = y (e ln 2 + ln m)
     const double ln_x = static_cast<double>(e) * (kLn2Hi + kLn2Lo) + ln_m;
     const double t = static_cast<double>(yf) * ln_x;
-    if (t > 88.8 || t < -103.5) return pow(xf, yf);  // overflow or deep subnormal: pow decides
-    // e^t = 2^k e^r, r = t - k ln 2 in [-ln2/2, ln2/2]: Taylor to r^10 (r^11/11! < 2^-42)
+    if (!(t >= t_min && t <= t_max)) return false;
+    // e^t = 2^k e^r, r = t - k ln 2 in [-ln2/2, ln2/2]
     const double kd = nearest_int(t * kInvLn2);
     const double r = (t - kd * kLn2Hi) - kd * kLn2Lo;
     double p = 1.0 / 3628800.0;
@@ -535,7 +540,113 @@ float pow_fast(float xf, float yf) {
     p = 0.5 + r * p;
     p = 1.0 + r * p;
     p = 1.0 + r * p;
-    return static_cast<float>(scale_pow2(p, static_cast<int>(kd)));
+    out = scale_pow2(p, static_cast<int>(kd));
+    return true;
+}
+
+}  // namespace
+
+// The series value is within 2^-41 of x^y and pow_d within 2^-50; when the series value lies
+// more than 2^-38 from every rounding boundary both round to the same float, so the fast path
+// returns exactly what static_cast<float>(pow_d(x, y)) would. The rest (about 1 input in 8192,
+// and the special and out-of-range cases) takes pow_d.
+float pow(float x, float y) {
+    double p;
+    // t in [-87, 88]: the result is a normal float's magnitude
+    if (pow_series(x, y, -87.0, 88.0, p) && detail::rounds_like_truth(p))
+        return static_cast<float>(p);
+    return static_cast<float>(pow_d(x, y));
+}
+
+float pow_fast(float xf, float yf) {
+    double p;
+    // beyond t = 88.8 (overflow) or below -103.5 (deep subnormal) pow_d decides
+    if (pow_series(xf, yf, -103.5, 88.8, p)) return static_cast<float>(p);
+    return static_cast<float>(pow_d(xf, yf));
+}
+
+PowFixed::PowFixed(float y) : y_(y), tabled_(y >= -4.0f && y <= 4.0f) {
+    if (!tabled_) return;  // every call goes to pow
+    const double yd = y;
+    c1_ = yd;
+    c2_ = c1_ * (yd - 1.0) / 2.0;
+    c3_ = c2_ * (yd - 2.0) / 3.0;
+    c4_ = c3_ * (yd - 3.0) / 4.0;
+    for (int e = 0; e < 256; ++e) scale_[e] = pow_d(2.0, static_cast<double>(e - 127) * yd);
+    for (int j = 0; j < 1024; ++j) {
+        const double c = 1.0 + static_cast<double>(2 * j + 1) * 0x1p-11;
+        base_[j] = pow_d(c, yd);
+        inv_[j] = 1.0 / c;
+    }
+}
+
+// PowFixed::apply's AVX2 kernel, four lanes at a time: each lane does the binary64 operations of
+// operator() in the same order (no FMA), so it computes the same value p; a lane whose x is not a
+// finite normal > 0 or whose p fails detail::rounds_like_truth is redone by operator() (which then
+// takes pow). Returns the number of elements done.
+__attribute__((target("avx2"))) std::size_t PowFixed::apply_avx2(const float* x, float* out,
+                                                                 std::size_t n) const {
+    const __m256d one = _mm256_set1_pd(1.0), step = _mm256_set1_pd(0x1p-11);
+    const __m256d c1 = _mm256_set1_pd(c1_), c2 = _mm256_set1_pd(c2_), c3 = _mm256_set1_pd(c3_),
+                  c4 = _mm256_set1_pd(c4_);
+    const __m128i mantissa = _mm_set1_epi32(0x007fffff), one_bits = _mm_set1_epi32(0x3f800000);
+    const __m128i ten_bits = _mm_set1_epi32(1023), eight_bits = _mm_set1_epi32(255);
+    const __m128i unit = _mm_set1_epi32(1);
+    const __m256d low_limit = _mm256_set1_pd(0x1p-126), high_limit = _mm256_set1_pd(0x1p128);
+    const __m256i low_bits = _mm256_set1_epi64x((1ll << 29) - 1);
+    const __m256i near_start = _mm256_set1_epi64x((1ll << 28) - (1ll << 15));
+    const __m256i near_span = _mm256_set1_epi64x((1ll << 16) + 1), zero64 = _mm256_setzero_si256();
+    const __m128i min_normal = _mm_set1_epi32(0x00800000), sign = _mm_set1_epi32(INT32_MIN);
+    const __m128i normal_limit = _mm_set1_epi32(static_cast<int>(0x7f000000u ^ 0x80000000u));
+    // masked gathers with a zero source (the plain one trips g++ 12's uninitialised warning)
+    std::size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        const __m128i xb = _mm_loadu_si128(reinterpret_cast<const __m128i*>(x + i));
+        const __m128i j = _mm_and_si128(_mm_srli_epi32(xb, 13), ten_bits);
+        const __m128i e = _mm_and_si128(_mm_srli_epi32(xb, 23), eight_bits);  // sign: see below
+        const __m256d m =
+            _mm256_cvtps_pd(_mm_castsi128_ps(_mm_or_si128(_mm_and_si128(xb, mantissa), one_bits)));
+        const __m256d odd = _mm256_cvtepi32_pd(_mm_add_epi32(_mm_add_epi32(j, j), unit));
+        const __m256d c = _mm256_add_pd(one, _mm256_mul_pd(odd, step));
+        const int j0 = _mm_extract_epi32(j, 0), j1 = _mm_extract_epi32(j, 1),
+                  j2 = _mm_extract_epi32(j, 2), j3 = _mm_extract_epi32(j, 3);
+        const int e0 = _mm_extract_epi32(e, 0), e1 = _mm_extract_epi32(e, 1),
+                  e2 = _mm_extract_epi32(e, 2), e3 = _mm_extract_epi32(e, 3);
+        const __m256d d = _mm256_mul_pd(_mm256_sub_pd(m, c),
+                                        _mm256_set_pd(inv_[j3], inv_[j2], inv_[j1], inv_[j0]));
+        __m256d series = _mm256_add_pd(c3, _mm256_mul_pd(d, c4));
+        series = _mm256_add_pd(c2, _mm256_mul_pd(d, series));
+        series = _mm256_add_pd(c1, _mm256_mul_pd(d, series));
+        series = _mm256_add_pd(one, _mm256_mul_pd(d, series));
+        const __m256d p = _mm256_mul_pd(
+            _mm256_mul_pd(_mm256_set_pd(scale_[e3], scale_[e2], scale_[e1], scale_[e0]),
+                          _mm256_set_pd(base_[j3], base_[j2], base_[j1], base_[j0])),
+            series);
+        // detail::rounds_like_truth on four lanes: p in [2^-126, 2^128) and the low 29 bits
+        // outside [2^28 - 2^15, 2^28 + 2^15]; and x a finite normal > 0 (unsigned compare by
+        // flipping the sign bit).
+        const __m256d in_range = _mm256_and_pd(_mm256_cmp_pd(p, low_limit, _CMP_GE_OQ),
+                                               _mm256_cmp_pd(p, high_limit, _CMP_LT_OQ));
+        const __m256i t =
+            _mm256_sub_epi64(_mm256_and_si256(_mm256_castpd_si256(p), low_bits), near_start);
+        const __m256i near =
+            _mm256_andnot_si256(_mm256_cmpgt_epi64(zero64, t), _mm256_cmpgt_epi64(near_span, t));
+        const __m128i normal =
+            _mm_cmplt_epi32(_mm_xor_si128(_mm_sub_epi32(xb, min_normal), sign), normal_limit);
+        const int good = _mm256_movemask_pd(_mm256_andnot_pd(_mm256_castsi256_pd(near), in_range)) &
+                         _mm_movemask_ps(_mm_castsi128_ps(normal));
+        _mm_storeu_ps(out + i, _mm256_cvtpd_ps(p));
+        if (good != 15)
+            for (std::size_t k = 0; k < 4; ++k)
+                if (!(good & (1 << k))) out[i + k] = (*this)(x[i + k]);
+    }
+    return i;
+}
+
+void PowFixed::apply(const float* x, float* out, std::size_t n) const {
+    static const bool has_avx2 = __builtin_cpu_supports("avx2") != 0;
+    const std::size_t done = tabled_ && has_avx2 ? apply_avx2(x, out, n) : 0;
+    for (std::size_t i = done; i < n; ++i) out[i] = (*this)(x[i]);
 }
 
 float sin(float x) {

@@ -5,20 +5,59 @@
 #include <limits>
 #include <string>
 
+#include <emmintrin.h>
+
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
 #include "ref/image/image_io.h"
+#include "ref/image/srgb.h"
 
 namespace fovref {
 
 Image to_display(const Image& linear) {
     Image out(linear.width, linear.height, linear.channels);
-    for (std::size_t i = 0; i < linear.data.size(); ++i) {
-        const float v = linear.data[i];
-        // NaN fails both comparisons and ends at 0.
-        const float clamped = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
-        // srgb_encode(1) rounds to 1 - 1 ulp in binary32: white stays exactly 1.
-        out.data[i] = clamped == 1.0f ? 1.0f : std::min(srgb_encode(clamped), 1.0f);
+    const dm::PowFixed& power = srgb_encode_power();
+    // In blocks: the values on the power segment of the curve, (0.0031308, 1), go through
+    // PowFixed::apply (vectorised; the same bits as srgb_encode); the others get 0.5 there and
+    // their own segment below. Four values per SSE instruction; per lane the same operations as
+    //   v <= 0.0031308 or NaN: v > 0 ? 12.92 v : +0;   v >= 1: 1 (srgb_encode(1) rounds to
+    //   1 - 1 ulp in binary32: white stays exactly 1);   else min(1.055 v^(1/2.4) - 0.055, 1).
+    constexpr std::size_t block = 1024;
+    alignas(16) float argument[block], powered[block];
+    const __m128 knee = _mm_set1_ps(0.0031308f), one = _mm_set1_ps(1.0f), half = _mm_set1_ps(0.5f);
+    const __m128 slope = _mm_set1_ps(12.92f), zero = _mm_setzero_ps();
+    const __m128 scale = _mm_set1_ps(1.055f), offset = _mm_set1_ps(0.055f);
+    const auto select = [](__m128 mask, __m128 a, __m128 b) {
+        return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+    };
+    for (std::size_t start = 0; start < linear.data.size(); start += block) {
+        const std::size_t n = std::min(block, linear.data.size() - start);
+        const float* v = linear.data.data() + start;
+        float* o = out.data.data() + start;
+        std::size_t i = 0;
+        for (; i + 4 <= n; i += 4) {
+            const __m128 x = _mm_loadu_ps(v + i);
+            const __m128 mid = _mm_and_ps(_mm_cmpgt_ps(x, knee), _mm_cmplt_ps(x, one));
+            _mm_store_ps(argument + i, select(mid, x, half));
+        }
+        for (; i < n; ++i) argument[i] = v[i] > 0.0031308f && v[i] < 1.0f ? v[i] : 0.5f;
+        power.apply(argument, powered, n);
+        for (i = 0; i + 4 <= n; i += 4) {
+            const __m128 x = _mm_loadu_ps(v + i);
+            const __m128 linear_part = _mm_and_ps(_mm_cmpgt_ps(x, zero), _mm_mul_ps(slope, x));
+            const __m128 curve =
+                _mm_min_ps(_mm_sub_ps(_mm_mul_ps(scale, _mm_load_ps(powered + i)), offset), one);
+            _mm_storeu_ps(o + i, select(_mm_cmpngt_ps(x, knee), linear_part,
+                                        select(_mm_cmpge_ps(x, one), one, curve)));
+        }
+        for (; i < n; ++i) {
+            if (!(v[i] > 0.0031308f))
+                o[i] = v[i] > 0.0f ? 12.92f * v[i] : 0.0f;
+            else if (v[i] >= 1.0f)
+                o[i] = 1.0f;
+            else
+                o[i] = std::min(srgb_encode_from_power(powered[i]), 1.0f);
+        }
     }
     return out;
 }

@@ -130,6 +130,25 @@ checks=$((checks + 1))
 if ! grep -q 'id="first-failing"' "$TMP/html/index.html" || ! grep -q 'gbuffer_albedo' "$TMP/html/index.html"; then
   echo "FAIL: HTML content"; failures=$((failures + 1))
 fi
+# --flip: the bundle's display model gives the pixels per degree; two plain images use NVlabs's
+# default observer (67.02 ppd, not the 60 degree field of view of the error ranges); both say so,
+# and say how the pooled values are summed.
+expect 1 "--flip on a bundle" -- "$FOVREF" diff "$TMP/bundle" "$TMP/cand" --flip --json "$TMP/flip.json"
+contains "pixels per degree (display model, viewing distance" "bundle: display model"
+contains "LDR-FLIP pooling: binary64 sums" "pooling stated"
+expect 1 "--flip on two plain files" -- "$FOVREF" diff "$TMP/bundle/f000_final.pfm" "$TMP/cand/f000_final.pfm" --flip --json "$TMP/flip2.json"
+contains "67.02 pixels per degree (NVlabs default observer" "plain images: NVlabs default observer"
+"$PY" - "$TMP/flip2.json" <<'PYTHON' || { echo "FAIL: FLIP JSON"; failures=$((failures + 1)); }
+import json, sys
+r = json.load(open(sys.argv[1]))
+items = [i for i in r["buffers"] if "flip" in i]
+assert items, "no flip entry"
+f = items[0]["flip"]
+assert abs(f["pixels_per_degree"] - 67.0206451) < 1e-5, f
+assert "NVlabs default observer" in f["observer"] and "binary64" in f["pooling"], f
+assert 0 < f["mean"] <= f["max"] <= 1, f
+PYTHON
+
 CHROMIUM=$(command -v chromium || command -v chromium-browser || true)
 if [ -n "$CHROMIUM" ]; then
   expect 0 "headless Chromium renders the report" -- timeout 120 "$CHROMIUM" --headless --no-sandbox --disable-gpu --user-data-dir="$TMP/chrome" --dump-dom "file://$TMP/html/index.html"

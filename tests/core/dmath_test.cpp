@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -356,6 +357,117 @@ TEST_CASE("dmath accuracy: pow_fast (positive bases)") {
     CHECK(dm::pow_fast(1.0f, 2.2f) == 1.0f);
     CHECK(dm::pow_fast(4.0f, 0.5f) == 2.0f);
     CHECK(dm::pow_fast(2.0f, 10.0f) == 1024.0f);
+}
+
+// dm::pow's fast path (binary64 series, kept only when it is far from a binary32 rounding
+// boundary) must give exactly static_cast<float>(pow_d(x, y)), the definition of dm::pow: on
+// random pairs over the whole domain, and on exact binary32 midpoints (x = 1 + k 2^-12 squared is
+// 1 + k 2^-11 + k^2 2^-24, a midpoint for odd k), where only the fallback can decide.
+TEST_CASE("dmath pow: the fast path gives pow_d's bits") {
+    const auto reference = [](float x, float y) { return static_cast<float>(dm::pow_d(x, y)); };
+    std::uint32_t mismatches = 0;
+    for (std::uint32_t i = 0; i < kFloatInputs; ++i) {
+        const Draw d{116, i};
+        float x, y;
+        switch (i % 4) {
+            case 0: x = d.finite_bits(0), y = static_cast<float>(d.uniform(-8.0, 8.0, 1)); break;
+            case 1: x = static_cast<float>(d.uniform(0.0, 1.0, 0)), y = d.finite_bits(1); break;
+            case 2:
+                x = d.log_uniform(-20, 20, 0), y = static_cast<float>(d.uniform(-4.0, 4.0, 1));
+                break;
+            default: x = d.finite_bits(0), y = d.finite_bits(1); break;
+        }
+        const float ours = dm::pow(x, y), ref = reference(x, y);
+        if (std::bit_cast<std::uint32_t>(ours) != std::bit_cast<std::uint32_t>(ref) &&
+            !(std::isnan(ours) && std::isnan(ref))) {
+            if (++mismatches <= 5)
+                MESSAGE("pow(" << x << ", " << y << ") = " << ours << ", pow_d " << ref);
+        }
+    }
+    CHECK(mismatches == 0);
+    int midpoints = 0;
+    for (int k = 1; k < 2048; k += 2) {
+        const float x = 1.0f + static_cast<float>(k) * 0x1p-12f;
+        const double square = static_cast<double>(x) * static_cast<double>(x);
+        if (static_cast<double>(static_cast<float>(square)) != square) ++midpoints;
+        CHECK(dm::pow(x, 2.0f) == reference(x, 2.0f));
+    }
+    CHECK(midpoints > 500);  // the family really sits on rounding boundaries
+}
+
+// dm::PowFixed(y)(x) == dm::pow(x, y) bit for bit: the sRGB exponents and FLIP's on every 7th
+// float of their working ranges (every float with FOVREF_EXHAUSTIVE=1 in the environment), random
+// exponents in [-4, 4] on random bit patterns, the exact midpoints above, and the special inputs
+// (which go to pow).
+TEST_CASE("dmath PowFixed: the same bits as pow") {
+    const auto same = [](float a, float b) {
+        return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b) ||
+               (std::isnan(a) && std::isnan(b));
+    };
+    struct Range {
+        float y, lo, hi;
+    };
+    for (const Range& r : {Range{1.0f / 2.4f, 0.0031308f, 1.0f}, Range{2.4f, 0.05213f, 1.0f},
+                           Range{1.0f / 3.0f, 0.008856f, 1.0f}, Range{0.7f, 1e-6f, 400.0f},
+                           Range{0.5f, 1e-6f, 4.0f}}) {
+        const dm::PowFixed power(r.y);
+        std::uint32_t mismatches = 0, tried = 0;
+        const std::uint32_t end = std::bit_cast<std::uint32_t>(r.hi);
+        const std::uint32_t stride = std::getenv("FOVREF_EXHAUSTIVE") ? 1 : 7;
+        for (std::uint32_t b = std::bit_cast<std::uint32_t>(r.lo); b <= end; b += stride, ++tried) {
+            const float x = std::bit_cast<float>(b);
+            if (!same(power(x), dm::pow(x, r.y)) && ++mismatches <= 5)
+                MESSAGE("PowFixed(" << r.y << ")(" << x << ") differs from pow");
+        }
+        INFO("y = " << r.y << ", " << tried << " inputs");
+        CHECK(mismatches == 0);
+        CHECK(tried > 100000);
+    }
+    std::uint32_t mismatches = 0;
+    for (std::uint32_t i = 0; i < 4096; ++i) {
+        const Draw e{117, i};
+        const float y = static_cast<float>(e.uniform(-4.0, 4.0, 0));
+        const dm::PowFixed power(y);
+        for (std::uint32_t k = 0; k < 64; ++k) {
+            const Draw d{118, i * 64 + k};
+            const float x = k % 2 == 0 ? d.finite_bits(0) : static_cast<float>(d.unit(0));
+            if (!same(power(x), dm::pow(x, y))) ++mismatches;
+        }
+    }
+    CHECK(mismatches == 0);
+    // apply (AVX2 where the CPU has it) == operator() element by element, on lengths that are
+    // not multiples of four and with special values in every lane position.
+    for (float y : {1.0f / 2.4f, 2.4f, 1.0f / 3.0f, -3.5f, 9.0f}) {
+        const dm::PowFixed power(y);
+        std::vector<float> x;
+        for (std::uint32_t i = 0; i < 20000; ++i) {
+            const Draw d{119, i};
+            x.push_back(i % 3 == 0 ? d.finite_bits(0) : static_cast<float>(d.unit(0)));
+        }
+        std::size_t at = 0;  // each special five times in a row: every lane position
+        for (float special : {0.0f, -0.0f, -1.0f, 1.0f, 0x1p-140f, kFInf, kFNaN, 3e38f, 1e-38f})
+            for (std::size_t k = 0; k < 5; ++k) x[at++] = special;
+        for (std::size_t n : {std::size_t{0}, std::size_t{3}, std::size_t{1001}, x.size()}) {
+            std::vector<float> out(n);
+            power.apply(x.data(), out.data(), n);
+            std::size_t differ = 0;
+            for (std::size_t i = 0; i < n; ++i) differ += same(out[i], power(x[i])) ? 0 : 1;
+            INFO("y = " << y << ", n = " << n);
+            CHECK(differ == 0);
+        }
+    }
+    const dm::PowFixed square(2.0f);
+    for (int k = 1; k < 2048; k += 2) {
+        const float x = 1.0f + static_cast<float>(k) * 0x1p-12f;
+        CHECK(square(x) == dm::pow(x, 2.0f));
+    }
+    for (float y : {1.0f / 2.4f, 2.4f, -3.5f, 0.0f, 9.0f, kFNaN}) {
+        const dm::PowFixed power(y);
+        CHECK(same(power.exponent(), y));
+        for (float x : {0.0f, -0.0f, -2.0f, 1.0f, 0x1p-140f, 0x1p-126f, 3e38f, kFInf, -kFInf, kFNaN,
+                        0.5f, 2.0f})
+            CHECK(same(power(x), dm::pow(x, y)));
+    }
 }
 
 TEST_CASE("dmath accuracy: sin, cos, tan over all finite floats") {
