@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include <unistd.h>
+
 #include "ref/core/error.h"
 #include "ref/golden/bundle.h"
 #include "ref/image/image_io.h"
@@ -129,6 +131,9 @@ void add_evaluate_options(CLI::App& c, EvaluateOptions& o) {
                  "evaluate already rendered frames: a directory with f000_final.pfm/.exr/.png, "
                  "... (e.g. a GPU implementation's output; repeatable)");
     c.add_option("--reference", o.reference_mode, "the reference mode")->capture_default_str();
+    c.add_option("--reference-dir", o.reference_dir,
+                 "read the reference frames from DIR when it holds them for these settings, "
+                 "else render them and store them there (f000_final.pfm, ..., reference.json)");
     c.add_option("--param", o.params, "key=value for every mode that has the parameter");
     c.add_option("--width", o.width, "screen width")
         ->check(CLI::Range(11, 16384))
@@ -226,18 +231,91 @@ void set_up_rings(Evaluation& e) {
     e.layout = ring_layout(o.width, o.height, e.gaze, e.distance, ring_settings);
 }
 
+// What a stored reference (--reference-dir) must match: the scene (and its file's contents), the
+// reference mode, the screen, the camera-path times, the evaluated frames and the version.
+json reference_key(const Evaluation& e) {
+    const EvaluateOptions& o = e.options;
+    json key = {{"scene", o.scene},           {"reference", o.reference_mode},
+                {"width", o.width},           {"height", o.height},
+                {"time_start", o.time_start}, {"time_step", o.time_step},
+                {"frames", e.evaluated},      {"fovref_version", fovref_version()}};
+    if (fs::is_regular_file(o.scene)) {
+        const std::string text = read_file(o.scene);
+        key["scene_sha256"] = sha256_hex(text.data(), text.size());
+    }
+    return key;
+}
+
+std::string reference_frame_file(const std::string& dir, int frame) {
+    char name[32];
+    std::snprintf(name, sizeof name, "f%03d_final.pfm", frame);
+    return (fs::path(dir) / name).string();
+}
+
+// Reads the stored reference frames (linear binary32) when the directory holds them for these
+// settings; false when there is no reference.json; throws when it holds another reference.
+bool read_stored_reference(const std::string& dir, const json& key, std::vector<Image>& frames,
+                           const std::vector<int>& evaluated) {
+    const fs::path key_file = fs::path(dir) / "reference.json";
+    if (!fs::exists(key_file)) return false;
+    json stored;
+    try {
+        stored = json::parse(read_file(key_file.string()));
+    } catch (const json::exception& err) {
+        throw Error(key_file.string() + ": not a reference key (" + err.what() + ")");
+    }
+    if (stored != key)
+        throw Error(dir + ": holds a reference for other settings (" + stored.dump() +
+                    "), this run needs " + key.dump() + "; give another --reference-dir");
+    for (int frame : evaluated) frames.push_back(read_image(reference_frame_file(dir, frame)));
+    return true;
+}
+
+// Stores the reference frames: written into a temporary directory next to `dir`, which is then
+// renamed, so that a concurrent job sees the whole reference or none; if another job stored it
+// first, its copy (the same bits) is kept.
+void store_reference(const std::string& dir, const json& key, const std::vector<Image>& frames,
+                     const std::vector<int>& evaluated) {
+    const fs::path target(dir);
+    if (target.has_parent_path()) fs::create_directories(target.parent_path());
+    const fs::path temporary =
+        target.string() + ".tmp-" + std::to_string(static_cast<long long>(::getpid()));
+    fs::remove_all(temporary);
+    fs::create_directories(temporary);
+    for (std::size_t i = 0; i < frames.size(); ++i)
+        write_pfm(reference_frame_file(temporary.string(), evaluated[i]), frames[i]);
+    write_file_atomic((temporary / "reference.json").string(), key.dump(1) + "\n");
+    std::error_code error;
+    fs::rename(temporary, target, error);
+    if (error) {
+        fs::remove_all(temporary);
+        if (!fs::exists(target / "reference.json"))
+            throw Error(dir + ": cannot store the reference (" + error.message() + ")");
+    }
+}
+
 // The reference at the evaluated frames (one frame each: the reference mode keeps no state
-// between frames, and its frame number seeds rand() exactly as in a full sequence).
+// between frames, and its frame number seeds rand() exactly as in a full sequence), from
+// --reference-dir when it holds them.
 void render_reference(Evaluation& e, Progress& progress, double total) {
+    const std::string& dir = e.options.reference_dir;
+    const json key = dir.empty() ? json() : reference_key(e);
+    std::vector<Image> linear;
+    if (dir.empty() || !read_stored_reference(dir, key, linear, e.evaluated)) {
+        for (std::size_t i = 0; i < e.evaluated.size(); ++i) {
+            RenderSettings s = e.base;
+            s.first_frame = e.evaluated[i];
+            s.progress = [&](double f) {
+                progress.update((static_cast<double>(i) + f) /
+                                static_cast<double>(e.evaluated.size()) / total);
+            };
+            for (const FrameResult& f : render(&e.scene, e.options.reference_mode, s))
+                linear.push_back(final_image(f));
+        }
+        if (!dir.empty()) store_reference(dir, key, linear, e.evaluated);
+    }
     for (std::size_t i = 0; i < e.evaluated.size(); ++i) {
-        RenderSettings s = e.base;
-        s.first_frame = e.evaluated[i];
-        s.progress = [&](double f) {
-            progress.update((static_cast<double>(i) + f) / static_cast<double>(e.evaluated.size()) /
-                            total);
-        };
-        for (const FrameResult& f : render(&e.scene, e.options.reference_mode, s))
-            e.reference[e.evaluated[i]] = e.space(final_image(f));
+        e.reference[e.evaluated[i]] = e.space(linear[i]);
         // The temporal error is measured in display space, also with --linear.
         const Image& reference = e.reference[e.evaluated[i]];
         e.reference_display.push_back(e.options.linear ? to_display(reference) : reference);

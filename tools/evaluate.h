@@ -28,6 +28,9 @@ struct EvaluateOptions {
     bool linear = false;  ///< compare stored values instead of display space (SPEC §10)
     bool flip = false;    ///< also LDR-FLIP per evaluated frame (slow: seconds per megapixel)
     std::string out_dir;
+    /// Read the reference frames from this directory when it holds them for these settings,
+    /// else render them and store them there (shared by the jobs of a sweep).
+    std::string reference_dir;
     bool quiet = false;
 };
 
