@@ -570,4 +570,15 @@ int run_evaluate(const EvaluateOptions& o) {
     return 0;
 }
 
+void store_evaluation_reference(const EvaluateOptions& o) {
+    if (o.reference_dir.empty()) throw Error("store_evaluation_reference: no reference directory");
+    const Scene scene = load_scene(o.scene);
+    Evaluation e(o, scene);
+    set_up_rings(e);
+    for (int f = 0; f < o.frames; f += o.every) e.evaluated.push_back(f);
+    Progress progress("reference", o.quiet);
+    render_reference(e, progress, 1.0);
+    progress.finish();
+}
+
 }  // namespace fovref

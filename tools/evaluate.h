@@ -39,4 +39,8 @@ void add_evaluate_options(CLI::App& command, EvaluateOptions& options);
 /// Throws fovref::Error for usage and input errors. Returns 0.
 int run_evaluate(const EvaluateOptions& options);
 
+/// Only the reference frames of `options` into options.reference_dir (rendered unless the
+/// directory already holds them): a sweep's reference job. Throws fovref::Error.
+void store_evaluation_reference(const EvaluateOptions& options);
+
 }  // namespace fovref

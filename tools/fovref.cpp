@@ -32,6 +32,7 @@
 #include "tools/cmd_scene.h"
 #include "tools/diff.h"
 #include "tools/evaluate.h"
+#include "tools/sweep.h"
 
 using namespace fovref;
 
@@ -74,6 +75,8 @@ const char* const app_footer =
     "                                         explain one pixel stage by stage\n"
     "  fovref evaluate --scene S --mode M[,M2] [--frames N --every K] --out DIR\n"
     "                                         ring errors against the ground truth\n"
+    "  fovref sweep plan FILE OUT | run OUT [--jobs N] | merge OUT | export OUT --format F\n"
+    "                                         run time against error over a grid\n"
     "  fovref diff GOLDEN CANDIDATE [--tolerance N:abs=X] [--json F] [--html DIR]\n"
     "                                         compare a GPU's buffers with a golden bundle\n"
     "  fovref gain [--fov-deg W[,H] --max-cpd C] [--json]\n"
@@ -108,6 +111,7 @@ struct Options {
     GainOptions gain;
     DensityOptions density;
     DenoiseOptions denoise;
+    SweepOptions sweep;
 };
 
 // -q applies to every command that prints progress or lines (bench metrics prints its figures
@@ -116,7 +120,7 @@ void share_quiet(Options& o) {
     o.scene_export.quiet = o.render.quiet = o.rays_trace.quiet = o.rays_make.quiet =
         o.bench_rays.quiet = o.density.quiet = o.bench_foveation.quiet = o.bench_temporal.quiet =
             o.bench_bmfr.quiet = o.bench_visual_polar.quiet = o.golden.quiet = o.probe.quiet =
-                o.evaluate.quiet = o.diff.quiet = o.denoise.quiet = o.quiet;
+                o.evaluate.quiet = o.diff.quiet = o.denoise.quiet = o.sweep.quiet = o.quiet;
 }
 
 // The commands that do the work (no subcommands of their own), each with its run function.
@@ -283,6 +287,36 @@ void add_denoise_commands(CLI::App& app, Options& o, Commands& commands) {
     commands.emplace_back(bmfr, [&o] { return run_denoise(o.denoise); });
 }
 
+// sweep: run time against error over a grid of configurations (docs/sweeps.md).
+void add_sweep_commands(CLI::App& app, Options& o, Commands& commands) {
+    CLI::App* sweep = add_group(
+        app, "sweep",
+        "run time against error over a grid of scenes, modes, parameters, resolutions and gazes: "
+        "plan, run (here, GNU parallel, Slurm or Kubernetes), merge");
+    CLI::App* plan = sweep->add_subcommand(
+        "plan", "expand a sweep file into jobs (OUT/plan.json), each one fovref evaluate run");
+    add_sweep_plan_options(*plan, o.sweep);
+    CLI::App* job = sweep->add_subcommand(
+        "job", "run one job of a plan; skipped when its result is there for the same inputs");
+    add_sweep_job_options(*job, o.sweep);
+    CLI::App* run = sweep->add_subcommand(
+        "run", "run every job as a separate single-threaded process, references first");
+    add_sweep_run_options(*run, o.sweep);
+    CLI::App* merge = sweep->add_subcommand(
+        "merge", "collect the results into OUT/results.csv and OUT/results.json");
+    add_sweep_merge_options(*merge, o.sweep);
+    CLI::App* exporter = sweep->add_subcommand(
+        "export",
+        "write job lists and scripts for GNU parallel, a Slurm array or a Kubernetes "
+        "Indexed Job");
+    add_sweep_export_options(*exporter, o.sweep);
+    commands.emplace_back(plan, [&o] { return run_sweep_plan(o.sweep); });
+    commands.emplace_back(job, [&o] { return run_sweep_job(o.sweep); });
+    commands.emplace_back(run, [&o] { return run_sweep_run(o.sweep); });
+    commands.emplace_back(merge, [&o] { return run_sweep_merge(o.sweep); });
+    commands.emplace_back(exporter, [&o] { return run_sweep_export(o.sweep); });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -305,6 +339,7 @@ int main(int argc, char** argv) {
     add_check_commands(app, o, commands);
     add_analysis_commands(app, o, commands);
     add_denoise_commands(app, o, commands);
+    add_sweep_commands(app, o, commands);
 
     try {
         app.parse(argc, argv);

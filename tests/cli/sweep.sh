@@ -1,0 +1,125 @@
+# fovref sweep (issue 17): plan a small sweep, run it locally, merge; rerun skips finished jobs and
+# redoes a removed one; the same sweep through GNU parallel merges to the same results (timing
+# columns aside); the Slurm and Kubernetes exports; bad sweep files are refused with file, line
+# and JSON pointer, and nothing is written.
+source "$(dirname "$0")/lib.bash"
+PY=$(command -v /usr/bin/python3 || command -v python3)
+
+cat > "$TMP/sweep.json" <<'JSON'
+{
+  "scenes": ["cornell"],
+  "resolutions": ["48x27"],
+  "frames": 2,
+  "configurations": [
+    {"mode": "basic"},
+    {"mode": "fov", "grid": {"sigma": [1.4, 1.8]}, "params": {"alpha": 1}}
+  ]
+}
+JSON
+expect 0 "plan" -- "$FOVREF" sweep plan "$TMP/sweep.json" "$TMP/a"
+contains "1 reference job(s) and 3 evaluation job(s)" "jobs counted"
+check_file "$TMP/a/plan.json" "plan.json"
+expect 0 "plan again: the same ids" -- "$FOVREF" sweep plan "$TMP/sweep.json" "$TMP/a2"
+checks=$((checks + 1))
+if ! cmp -s <(grep '"id"' "$TMP/a/plan.json") <(grep '"id"' "$TMP/a2/plan.json"); then
+  echo "FAIL: job ids are not stable"; failures=$((failures + 1))
+fi
+
+expect 0 "run with 2 processes" -- "$FOVREF" sweep run "$TMP/a" --jobs 2
+contains "[4/4] ok" "every job ran"
+expect 0 "merge" -- "$FOVREF" sweep merge "$TMP/a"
+contains "3 result(s), 0 missing" "merged"
+check_file "$TMP/a/results.csv" "results.csv"
+check_file "$TMP/a/results.json" "results.json"
+"$PY" - "$TMP/a" <<'PYTHON' || { echo "FAIL: results content"; failures=$((failures + 1)); }
+import csv, json, sys
+rows = list(csv.DictReader(open(sys.argv[1] + "/results.csv")))
+assert len(rows) == 3, rows
+modes = sorted((r["mode"], r["params"]) for r in rows)
+assert modes == [("basic", ""), ("fov", "alpha=1 sigma=1.4"), ("fov", "alpha=1 sigma=1.8")], modes
+for r in rows:
+    assert r["status"] == "done", r
+    assert 5 < float(r["psnr"]) < 80 and 0 < float(r["ssim"]) <= 1, r
+    assert float(r["rays_traced_per_frame"]) > 0 and float(r["seconds_per_frame"]) > 0, r
+basic = [r for r in rows if r["mode"] == "basic"][0]
+fov = [r for r in rows if r["mode"] == "fov"]
+# the foveated configurations trace fewer rays than basic, and more with the smaller sigma
+assert all(float(f["rays_traced_per_frame"]) < float(basic["rays_traced_per_frame"]) for f in fov)
+s14 = [f for f in fov if "1.4" in f["params"]][0]; s18 = [f for f in fov if "1.8" in f["params"]][0]
+assert float(s14["rays_traced_per_frame"]) > float(s18["rays_traced_per_frame"])
+j = json.load(open(sys.argv[1] + "/results.json"))
+assert len(j["results"][0]["ring_psnr"]) == 20 and j["results"][0]["command"].startswith("fovref evaluate")
+PYTHON
+
+# Resumable: a rerun skips every finished job (their results stay untouched); a removed result
+# is recomputed, the others are not.
+touch -d "2000-01-01" "$TMP/a/results"/*/job.json
+first=$(ls "$TMP/a/results" | head -1)
+rm -rf "$TMP/a/results/$first"
+expect 0 "rerun" -- "$FOVREF" sweep run "$TMP/a" --jobs 2
+checks=$((checks + 1))
+stale=$(find "$TMP/a/results" -name job.json -newermt "2001-01-01" | wc -l)
+if [ "$stale" -ne 1 ] || [ ! -f "$TMP/a/results/$first/job.json" ]; then
+  echo "FAIL: rerun recomputed $stale job(s), expected only the removed one"; failures=$((failures + 1))
+fi
+expect 0 "one job alone" -- "$FOVREF" sweep job "$TMP/a" 1
+contains "is done (skipped)" "finished job skipped"
+expect 2 "index out of range" -- "$FOVREF" sweep job "$TMP/a" 99
+contains "index 99 is not in the plan" "names the index"
+
+# The same sweep through GNU parallel (the export's job lists), then merged: the same results.
+expect 0 "plan b" -- "$FOVREF" sweep plan "$TMP/sweep.json" "$TMP/b"
+expect 0 "export parallel" -- "$FOVREF" sweep export "$TMP/b" --format parallel --fovref "$FOVREF"
+check_file "$TMP/b/export/jobs.txt" "jobs.txt"
+if command -v parallel >/dev/null; then
+  expect 0 "GNU parallel runs the exported lists" -- sh "$TMP/b/export/run-parallel.sh"
+  check_file "$TMP/b/export/jobs.log" "parallel's joblog"
+  expect 0 "merge b" -- "$FOVREF" sweep merge "$TMP/b"
+  checks=$((checks + 1))
+  if ! cmp -s <(cut -d, -f1-14 "$TMP/a/results.csv") <(cut -d, -f1-14 "$TMP/b/results.csv"); then
+    echo "FAIL: GNU parallel's results differ from sweep run's"; diff <(cut -d, -f1-14 "$TMP/a/results.csv") <(cut -d, -f1-14 "$TMP/b/results.csv") | head
+    failures=$((failures + 1))
+  fi
+else
+  echo "SKIPPED: GNU parallel run (not installed: apt-get install parallel)"
+fi
+expect 0 "export slurm" -- "$FOVREF" sweep export "$TMP/b" --format slurm
+check_file "$TMP/b/export/jobs.sbatch" "Slurm script"
+checks=$((checks + 1))
+grep -q -- "--array=0-2" "$TMP/b/export/jobs.sbatch" && grep -q 'SLURM_ARRAY_TASK_ID + 1' "$TMP/b/export/jobs.sbatch" \
+  && grep -q -- "--dependency=afterok" "$TMP/b/export/submit-slurm.sh" || { echo "FAIL: Slurm array script"; failures=$((failures + 1)); }
+expect 0 "export k8s" -- "$FOVREF" sweep export "$TMP/b" --format k8s --image registry/fovref:1
+checks=$((checks + 1))
+grep -q "completionMode: Indexed" "$TMP/b/export/k8s-jobs.yaml" && grep -q "completions: 3" "$TMP/b/export/k8s-jobs.yaml" \
+  && grep -q 'JOB_COMPLETION_INDEX + 1' "$TMP/b/export/k8s-jobs.yaml" && grep -q "image: registry/fovref:1" "$TMP/b/export/k8s-jobs.yaml" \
+  || { echo "FAIL: Kubernetes Indexed Job manifest"; failures=$((failures + 1)); }
+if "$PY" -c "import yaml" 2>/dev/null; then
+  expect 0 "the manifest is YAML" -- "$PY" -c "import sys, yaml; d = yaml.safe_load(open(sys.argv[1])); assert d['spec']['completionMode'] == 'Indexed'" "$TMP/b/export/k8s-jobs.yaml"
+fi
+expect 2 "unknown export format" -- "$FOVREF" sweep export "$TMP/b" --format pbs
+
+# Bad sweep files: a clear message with the file, the line and the JSON pointer; no plan written.
+bad() {  # bad NAME JSON EXPECTED-TEXT
+  printf '%s\n' "$2" > "$TMP/$1.json"
+  expect 2 "bad sweep file: $1" -- "$FOVREF" sweep plan "$TMP/$1.json" "$TMP/bad-$1"
+  contains "$3" "$1: message"
+  checks=$((checks + 1))
+  if [ -e "$TMP/bad-$1/plan.json" ]; then echo "FAIL: $1: a plan was written"; failures=$((failures + 1)); fi
+}
+bad missing-scenes '{"configurations": [{"mode": "basic"}]}' "'scenes' is required"
+bad unknown-mode '{"scenes": ["cornell"],
+ "configurations": [{"mode": "bsaic"}]}' "unknown-mode.json:2: /configurations/0/mode: unknown mode"
+bad unknown-param '{"scenes": ["cornell"], "configurations": [{"mode": "fov",
+  "grid": {"sigmaa": [1]}}]}' "/configurations/0/grid/sigmaa: mode 'fov' has no parameter 'sigmaa'"
+bad empty-grid '{"scenes": ["cornell"], "configurations": [{"mode": "fov", "grid": {"sigma": []}}]}' "expected a non-empty array of values"
+bad resolution '{"scenes": ["cornell"], "resolutions": ["64by36"], "configurations": [{"mode": "basic"}]}' "a resolution is WxH"
+bad scene '{"scenes": ["no-such-scene"], "configurations": [{"mode": "basic"}]}' "/scenes/0"
+bad unknown-key '{"scenes": ["cornell"], "configurations": [{"mode": "basic"}], "frame": 3}' "/frame: unknown key"
+bad syntax '{"scenes": ["cornell"],, }' "JSON syntax error"
+bad value '{"scenes": ["cornell"], "configurations": [{"mode": "fov", "params": {"sigma": "1:2"}}]}' "may not be empty or hold"
+bad repeat '{"scenes": ["cornell"], "configurations": [{"mode": "fov", "grid": {"sigma": [1.5, 1.5]}}]}' "two configurations give the same job"
+expect 2 "missing sweep file" -- "$FOVREF" sweep plan "$TMP/nope.json" "$TMP/nope"
+contains "nope.json" "names the file"
+expect 2 "run without a plan" -- "$FOVREF" sweep run "$TMP/nothing"
+contains "sweep plan FILE" "says what to do"
+finish
