@@ -1,6 +1,7 @@
 #include "tools/evaluate.h"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -143,6 +144,11 @@ void add_evaluate_options(CLI::App& c, EvaluateOptions& o) {
         ->capture_default_str();
     c.add_option("--frames", o.frames, "frames along the camera path")
         ->check(CLI::Range(1, 100000))
+        ->capture_default_str();
+    c.add_option("--repeats", o.repeats,
+                 "render each mode N times: stage times are the medians (the images must be the "
+                 "same bits every time)")
+        ->check(CLI::Range(1, 1000))
         ->capture_default_str();
     c.add_option("--every", o.every, "evaluate every k-th frame (Lund §5.3.4)")
         ->check(CLI::Range(1, 100000))
@@ -326,7 +332,7 @@ void render_reference(Evaluation& e, Progress& progress, double total) {
 // errors, a row of frames.csv (with the render's counters and stage time when it has them), the
 // frame for the temporal error and its squared-error map.
 void evaluate_frame(const Evaluation& e, Candidate& c, int frame, const Image& image,
-                    const Counters* counters, double seconds) {
+                    const Counters* counters, const std::map<std::string, double>* stage_times) {
     const EvaluateOptions& o = e.options;
     if (frame % o.every != 0) return;
     const Image& ref = e.reference.at(frame);
@@ -358,7 +364,17 @@ void evaluate_frame(const Evaluation& e, Candidate& c, int frame, const Image& i
         // TAA's decisions (ghosting and flicker compared between settings).
         for (const auto& [name, value] : counters->values)
             if (name.rfind("taa_", 0) == 0 && name != "taa_jitter_index") row[name] = value;
+        double seconds = 0.0;
+        json times = json::object();
+        for (const auto& [name, t] : *stage_times) {
+            seconds += t;
+            times[name] = t;
+        }
         row["stage_seconds"] = seconds;
+        row["stage_times"] = times;
+        json all = json::object();  // every counter of the render, the work skipped included
+        for (const auto& [name, value] : counters->values) all[name] = value;
+        row["counters"] = all;
     }
     c.frame_rows.push_back(row);
     c.display_frames.push_back(o.linear ? to_display(test) : test);
@@ -376,16 +392,39 @@ void evaluate_candidate(const Evaluation& e, Candidate& c, std::size_t index, Pr
         RenderSettings s = e.base;
         s.frame_count = e.options.frames;
         s.params = c.params;
+        // --repeats: the extra renders first, for their stage times and their images' hashes.
+        std::map<int, std::map<std::string, std::vector<double>>> times;
+        std::map<int, std::string> hashes;
+        for (int r = 1; r < e.options.repeats; ++r)
+            render_each(&e.scene, c.mode, s, [&](FrameResult& f) {
+                for (const StageRun& run : f.stages)
+                    if (run.ran) times[f.frame][run.name].push_back(run.seconds);
+                const std::string hash = canonical_sha256(final_image(f));
+                if (!hashes.emplace(f.frame, hash).second && hashes[f.frame] != hash)
+                    throw Error(c.label + ": frame " + std::to_string(f.frame) +
+                                " differs between repeats (not deterministic)");
+            });
         s.progress = done;
         render_each(&e.scene, c.mode, s, [&](FrameResult& f) {
-            double seconds = 0;
-            for (const StageRun& run : f.stages) seconds += run.seconds;
-            evaluate_frame(e, c, f.frame, final_image(f), &f.counters, seconds);
+            if (!hashes.empty() && hashes.at(f.frame) != canonical_sha256(final_image(f)))
+                throw Error(c.label + ": frame " + std::to_string(f.frame) +
+                            " differs between repeats (not deterministic)");
+            std::map<std::string, double> medians;
+            for (const StageRun& run : f.stages) {
+                if (!run.ran) continue;
+                std::vector<double> t = times[f.frame][run.name];
+                t.push_back(run.seconds);
+                std::sort(t.begin(), t.end());
+                medians[run.name] = t.size() % 2 == 1
+                                        ? t[t.size() / 2]
+                                        : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]);
+            }
+            evaluate_frame(e, c, f.frame, final_image(f), &f.counters, &medians);
         });
     } else {
         for (std::size_t i = 0; i < e.evaluated.size(); ++i) {
             evaluate_frame(e, c, e.evaluated[i], read_frame(c.directory, e.evaluated[i]), nullptr,
-                           0);
+                           nullptr);
             done(static_cast<double>(i + 1) / static_cast<double>(e.evaluated.size()));
         }
     }
@@ -401,6 +440,7 @@ json summary_json(const Evaluation& e) {
     summary["width"] = o.width;
     summary["height"] = o.height;
     summary["frames"] = o.frames;
+    summary["repeats"] = o.repeats;
     summary["evaluated_frames"] = e.evaluated;
     summary["space"] = o.linear ? "linear" : "display";
     summary["ring_layout"] = {{"gaze", {e.gaze.x, e.gaze.y}},

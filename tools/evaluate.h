@@ -21,6 +21,9 @@ struct EvaluateOptions {
     std::string reference_mode = "ground-truth";
     std::vector<std::string> params;  ///< key=value, applied to every mode that knows the key
     int width = 320, height = 180, frames = 20, every = 1;
+    /// Renders of each mode: stage times are the median over them (the images of every repeat
+    /// must be the same bits, checked).
+    int repeats = 1;
     float time_start = 0.0f, time_step = 1.0f / 30;
     std::string gaze;  ///< X,Y pixels; default the centre
     int rings = 20;

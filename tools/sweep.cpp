@@ -45,13 +45,13 @@ public:
         if (!doc_.is_object()) fail("", "a sweep file is a JSON object (docs/sweeps.md)");
         static const char* known[] = {"scenes", "configurations", "resolutions", "gazes",
                                       "frames", "every",          "reference",   "flip",
-                                      "rings",  "time_start",     "time_step"};
+                                      "rings",  "time_start",     "time_step",   "repeats"};
         for (const auto& [key, value] : doc_.items())
             if (std::find_if(std::begin(known), std::end(known),
                              [&](const char* k) { return key == k; }) == std::end(known))
                 fail("/" + key,
                      "unknown key (known: scenes, configurations, resolutions, gazes, "
-                     "frames, every, reference, flip, rings, time_start, time_step)");
+                     "frames, every, reference, flip, rings, time_start, time_step, repeats)");
     }
 
     [[noreturn]] void fail(const std::string& pointer, const std::string& message) const {
@@ -225,6 +225,7 @@ EvaluateOptions job_options(const std::string& out, const json& job) {
         if (job["gaze"] != "centre") o.gaze = job["gaze"].get<std::string>();
         o.rings = job["rings"].get<int>();
         o.flip = job["flip"].get<bool>();
+        o.repeats = job["repeats"].get<int>();
         o.out_dir = (fs::path(out) / "results" / job["id"].get<std::string>()).string();
     }
     return o;
@@ -239,6 +240,7 @@ std::string evaluate_command(const EvaluateOptions& o) {
     if (!o.gaze.empty()) c += " --gaze " + o.gaze;
     if (!o.modes.empty()) c += " --rings " + std::to_string(o.rings);
     if (o.flip) c += " --flip";
+    if (o.repeats > 1) c += " --repeats " + std::to_string(o.repeats);
     c += " --reference " + o.reference_mode + " --reference-dir " + o.reference_dir;
     if (!o.out_dir.empty()) c += " --out " + o.out_dir;
     return c;
@@ -382,6 +384,7 @@ int run_sweep_plan(const SweepOptions& o) {
     const int frames = file.integer("frames", 4, 1, 100000);
     const int every = file.integer("every", 1, 1, 100000);
     const int rings = file.integer("rings", 20, 1, 1000);
+    const int repeats = file.integer("repeats", 3, 1, 1000);
     const bool flip = file.boolean("flip", false);
     const double time_start = file.number("time_start", 0.0);
     const double time_step = file.number("time_step", 1.0 / 30.0);
@@ -441,6 +444,7 @@ int run_sweep_plan(const SweepOptions& o) {
                         config["gaze"] = gaze;
                         config["rings"] = rings;
                         config["flip"] = flip;
+                        config["repeats"] = repeats;
                         json job = config;
                         job["kind"] = "evaluate";
                         job["id"] = mode + "-" + short_hash(config.dump());
@@ -554,7 +558,8 @@ int run_sweep_merge(const SweepOptions& o) {
     json rows = json::array();
     std::string csv =
         "id,scene,mode,params,width,height,gaze,frames,every,status,psnr,ssim,flip_mean,"
-        "temporal_error,seconds_per_frame,rays_traced_per_frame,pixels_shaded_per_frame\n";
+        "temporal_error,seconds_per_frame,rays_traced_per_frame,pixels_shaded_per_frame,"
+        "stage_seconds\n";
     int missing = 0;
     for (const json& job : plan["jobs"]) {
         if (job["kind"] != "evaluate") continue;
@@ -583,7 +588,7 @@ int run_sweep_merge(const SweepOptions& o) {
             ++missing;
             row["status"] = "missing";
             rows.push_back(row);
-            csv += line + "missing,,,,,,,\n";
+            csv += line + "missing,,,,,,,,\n";
             continue;
         }
         const fs::path summary_file = dir / "summary.json";
@@ -608,6 +613,29 @@ int run_sweep_merge(const SweepOptions& o) {
         row["seconds_per_frame"] = median(seconds);
         row["rays_traced_per_frame"] = rays;
         row["pixels_shaded_per_frame"] = shaded;
+        // per stage: the median over the evaluated frames (each already the median of the
+        // repeats); counters: the mean per evaluated frame
+        std::map<std::string, std::vector<double>> stage_samples;
+        std::map<std::string, double> counter_sums;
+        for (const json& f : frames) {
+            if (f.contains("stage_times"))
+                for (const auto& [name, t] : f["stage_times"].items())
+                    stage_samples[name].push_back(t.get<double>());
+            if (f.contains("counters"))
+                for (const auto& [name, v] : f["counters"].items())
+                    counter_sums[name] += v.get<double>();
+        }
+        json stage_seconds = json::object(), counters = json::object();
+        std::string stage_text;
+        for (const auto& [name, samples] : stage_samples) {
+            stage_seconds[name] = median(samples);
+            stage_text +=
+                (stage_text.empty() ? "" : " ") + name + "=" + number_text(median(samples));
+        }
+        for (const auto& [name, sum] : counter_sums)
+            counters[name] = sum / static_cast<double>(std::max<std::size_t>(frames.size(), 1));
+        row["stage_seconds"] = stage_seconds;
+        row["counters_per_frame"] = counters;
         json ring_psnr = json::array(), ring_rmse = json::array();
         for (const json& ring : candidate["rings"]) {
             ring_psnr.push_back(ring["psnr"]);
@@ -621,7 +649,7 @@ int run_sweep_merge(const SweepOptions& o) {
                (has_flip ? number_text(flip_mean) : std::string()) + "," +
                number_text(row["temporal_error"].get<double>()) + "," +
                number_text(median(seconds)) + "," + number_text(rays) + "," + number_text(shaded) +
-               "\n";
+               "," + csv_field(stage_text) + "\n";
     }
     write_file_atomic((fs::path(o.out) / "results.csv").string(), csv);
     write_file_atomic((fs::path(o.out) / "results.json").string(),

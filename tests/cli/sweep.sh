@@ -10,6 +10,7 @@ cat > "$TMP/sweep.json" <<'JSON'
   "scenes": ["cornell"],
   "resolutions": ["48x27"],
   "frames": 2,
+  "repeats": 2,
   "configurations": [
     {"mode": "basic"},
     {"mode": "fov", "grid": {"sigma": [1.4, 1.8]}, "params": {"alpha": 1}}
@@ -41,6 +42,9 @@ for r in rows:
     assert r["status"] == "done", r
     assert 5 < float(r["psnr"]) < 80 and 0 < float(r["ssim"]) <= 1, r
     assert float(r["rays_traced_per_frame"]) > 0 and float(r["seconds_per_frame"]) > 0, r
+    stages = dict(kv.split("=") for kv in r["stage_seconds"].split())
+    assert stages and all(float(v) >= 0 for v in stages.values()), r
+    assert ("lp_trace" in stages) == (r["mode"] == "fov"), r
 basic = [r for r in rows if r["mode"] == "basic"][0]
 fov = [r for r in rows if r["mode"] == "fov"]
 # the foveated configurations trace fewer rays than basic, and more with the smaller sigma
@@ -48,7 +52,11 @@ assert all(float(f["rays_traced_per_frame"]) < float(basic["rays_traced_per_fram
 s14 = [f for f in fov if "1.4" in f["params"]][0]; s18 = [f for f in fov if "1.8" in f["params"]][0]
 assert float(s14["rays_traced_per_frame"]) > float(s18["rays_traced_per_frame"])
 j = json.load(open(sys.argv[1] + "/results.json"))
-assert len(j["results"][0]["ring_psnr"]) == 20 and j["results"][0]["command"].startswith("fovref evaluate")
+first = j["results"][0]
+assert len(first["ring_psnr"]) == 20 and first["command"].startswith("fovref evaluate"), first
+assert "--repeats 2" in first["command"] and first["counters_per_frame"]["pixels_shaded"] > 0, first
+fov_counters = [r["counters_per_frame"] for r in j["results"] if r["mode"] == "fov"][0]
+assert fov_counters["texels_off_screen"] > 0, fov_counters  # work skipped is reported
 PYTHON
 
 # Resumable: a rerun skips every finished job (their results stay untouched); a removed result
