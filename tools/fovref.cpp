@@ -75,7 +75,8 @@ const char* const app_footer =
     "                                         explain one pixel stage by stage\n"
     "  fovref evaluate --scene S --mode M[,M2] [--frames N --every K] --out DIR\n"
     "                                         ring errors against the ground truth\n"
-    "  fovref sweep plan FILE OUT | run OUT [--jobs N] | merge OUT | export OUT --format F\n"
+    "  fovref sweep plan FILE OUT | run OUT [--jobs N] | merge OUT | report OUT --html DIR\n"
+    "               | export OUT --format parallel|slurm|k8s\n"
     "                                         run time against error over a grid\n"
     "  fovref diff GOLDEN CANDIDATE [--tolerance N:abs=X] [--json F] [--html DIR]\n"
     "                                         compare a GPU's buffers with a golden bundle\n"
@@ -310,6 +311,12 @@ void add_sweep_commands(CLI::App& app, Options& o, Commands& commands) {
         "write job lists and scripts for GNU parallel, a Slurm array or a Kubernetes "
         "Indexed Job");
     add_sweep_export_options(*exporter, o.sweep);
+    CLI::App* report = sweep->add_subcommand(
+        "report",
+        "an HTML page (and SVG/PNG plots) of the merged results: Pareto fronts of time "
+        "and rays against error per scene, ring-error curves, dominated configurations");
+    add_sweep_report_options(*report, o.sweep);
+    commands.emplace_back(report, [&o] { return run_sweep_report(o.sweep); });
     commands.emplace_back(plan, [&o] { return run_sweep_plan(o.sweep); });
     commands.emplace_back(job, [&o] { return run_sweep_job(o.sweep); });
     commands.emplace_back(run, [&o] { return run_sweep_run(o.sweep); });

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "ref/core/dmath.h"
+
 namespace fovref {
 
 namespace {
@@ -80,6 +82,41 @@ Axis nice_axis(double lo, double hi, int target_ticks) {
     return axis;
 }
 
+// A logarithmic axis over [lo, hi] (both > 0): its ends are powers of ten; the ticks are the
+// powers of ten between them, plus 2 and 5 times each when the axis spans at most two decades.
+// lo and hi of the result are log10 of the ends (the plot maps log10 of the values).
+Axis log_axis(double lo, double hi) {
+    Axis axis;
+    double low = 1.0;
+    int e_low = 0;
+    while (low > lo) low /= 10.0, --e_low;
+    while (low * 10.0 <= lo) low *= 10.0, ++e_low;
+    double high = low;
+    int e_high = e_low;
+    while (high < hi) high *= 10.0, ++e_high;
+    if (e_high == e_low) high *= 10.0, ++e_high;
+    const bool fine = e_high - e_low <= 2;
+    for (double decade = low; decade <= high * 1.0000001; decade *= 10.0)
+        for (const double m : {1.0, 2.0, 5.0}) {
+            if (m != 1.0 && !fine) continue;
+            const double t = decade * m;
+            if (t > high * 1.0000001) break;
+            axis.ticks.push_back(t);
+            char text[32];
+            std::snprintf(text, sizeof text, "%g", t);
+            axis.labels.push_back(text);
+        }
+    axis.lo = static_cast<double>(e_low);
+    axis.hi = static_cast<double>(e_high);
+    return axis;
+}
+
+bool use_log(PlotScale scale, double lo, double hi) {
+    if (scale == PlotScale::log) return lo > 0.0;
+    if (scale == PlotScale::automatic) return lo > 0.0 && hi >= 100.0 * lo;
+    return false;
+}
+
 // The plotted ranges over finite values, widened where they are empty or a point, and whether
 // some y is infinite.
 struct Ranges {
@@ -87,11 +124,20 @@ struct Ranges {
     bool has_inf = false;
 };
 
+// A point is drawn when x is finite (and > 0 on a log x axis) and y is not NaN (and > 0 on a log
+// y axis).
+bool drawn(const PlotSpec& spec, double x, double y) {
+    if (!std::isfinite(x) || std::isnan(y)) return false;
+    if (spec.x_scale == PlotScale::log && x <= 0.0) return false;
+    if (spec.y_scale == PlotScale::log && y <= 0.0) return false;
+    return true;
+}
+
 Ranges data_ranges(const PlotSpec& spec) {
     Ranges r;
     for (const PlotSeries& s : spec.series)
         for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
-            if (!std::isfinite(s.x[i])) continue;
+            if (!drawn(spec, s.x[i], s.y[i])) continue;
             r.x0 = std::min(r.x0, s.x[i]);
             r.x1 = std::max(r.x1, s.x[i]);
             if (std::isinf(s.y[i])) r.has_inf = true;
@@ -108,12 +154,17 @@ Ranges data_ranges(const PlotSpec& spec) {
 // The axes and where the plot area lies in the picture: values map to pixels with px and py.
 struct Frame {
     Axis xa, ya;
+    bool log_x = false, log_y = false;
     double left = 0, top = 0, w = 0, h = 0, plot_w = 0, plot_h = 0;
 
-    double px(double x) const { return left + (x - xa.lo) / (xa.hi - xa.lo) * plot_w; }
+    double px(double x) const {
+        const double v = log_x ? dm::log10_d(x) : x;
+        return left + (v - xa.lo) / (xa.hi - xa.lo) * plot_w;
+    }
     double py(double y) const {
         if (std::isinf(y)) return y > 0 ? top : top + plot_h;
-        return top + (ya.hi - y) / (ya.hi - ya.lo) * plot_h;
+        const double v = log_y ? dm::log10_d(y) : y;
+        return top + (ya.hi - v) / (ya.hi - ya.lo) * plot_h;
     }
 };
 
@@ -129,14 +180,20 @@ Frame plot_frame(const PlotSpec& spec, const Ranges& r) {
         y1 = mid + half;
     }
     Frame f;
-    f.xa = nice_axis(r.x0, r.x1, 4);
-    f.ya = nice_axis(y0, y1, 4);
-    if (nonnegative && f.ya.lo < 0.0) f.ya.lo = 0.0;
+    f.log_x = use_log(spec.x_scale, r.x0, r.x1);
+    f.log_y = use_log(spec.y_scale, r.y0, r.y1);
+    f.xa = f.log_x ? log_axis(r.x0, r.x1) : nice_axis(r.x0, r.x1, 4);
+    f.ya = f.log_y ? log_axis(r.y0, r.y1) : nice_axis(y0, y1, 4);
+    if (!f.log_y && nonnegative && f.ya.lo < 0.0) f.ya.lo = 0.0;
 
     // The left margin fits the longest y label (11 px sans-serif: ~6.5 px per character).
     std::size_t longest = 0;
     for (const std::string& label : f.ya.labels) longest = std::max(longest, label.size());
-    const double left = 30 + 6.5 * static_cast<double>(longest), right = 16, top = 26,
+    // The right margin fits half of the last x label, which is centred on the right edge.
+    const double last_x =
+        f.xa.labels.empty() ? 0.0 : static_cast<double>(f.xa.labels.back().size());
+    const double left = 30 + 6.5 * static_cast<double>(longest),
+                 right = std::max(16.0, 3.25 * last_x + 4.0), top = 26,
                  bottom = 40 + 14.0 * static_cast<double>((spec.series.size() + 2) / 3);
     const double w = spec.width + std::max(0.0, left - 58), h = spec.height + bottom - 40;
     f.left = left;
@@ -185,7 +242,7 @@ std::string axes_svg(const PlotSpec& spec, const Frame& f, bool has_inf) {
 }
 
 // Series k: a polyline broken at NaN, a dot per point, and its legend entry.
-std::string series_svg(const PlotSeries& s, std::size_t k, const Frame& f) {
+std::string series_svg(const PlotSpec& spec, const PlotSeries& s, std::size_t k, const Frame& f) {
     const std::string colour = colours[k % (sizeof colours / sizeof colours[0])];
     std::string svg, points;
     auto flush = [&] {
@@ -195,22 +252,30 @@ std::string series_svg(const PlotSeries& s, std::size_t k, const Frame& f) {
         points.clear();
     };
     for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
-        if (std::isnan(s.y[i]) || !std::isfinite(s.x[i])) {
+        if (!drawn(spec, s.x[i], s.y[i])) {
             flush();
             continue;
         }
         const std::string p = coordinate(f.px(s.x[i])) + "," + coordinate(f.py(s.y[i]));
-        points += (points.empty() ? "" : " ") + p;
+        if (s.line) points += (points.empty() ? "" : " ") + p;
+        const std::string tip =
+            i < s.tips.size() ? "<title>" + html_escape(s.tips[i]) + "</title>" : std::string();
         svg += "<circle cx=\"" + coordinate(f.px(s.x[i])) + "\" cy=\"" + coordinate(f.py(s.y[i])) +
-               "\" r=\"2\" fill=\"" + colour + "\"/>\n";
+               "\" r=\"" + coordinate(s.radius) + "\" fill=\"" + colour + "\"" +
+               (tip.empty() ? "/>\n" : ">" + tip + "</circle>\n");
     }
     flush();
     const double lx = f.left + static_cast<double>(k % 3) * (f.plot_w / 3);
     const double ly = f.top + f.plot_h + 40 + 14.0 * static_cast<double>(k / 3);
-    svg += "<line x1=\"" + coordinate(lx) + "\" y1=\"" + coordinate(ly - 4) + "\" x2=\"" +
-           coordinate(lx + 16) + "\" y2=\"" + coordinate(ly - 4) + "\" stroke=\"" + colour +
-           "\" stroke-width=\"2\"/>\n<text x=\"" + coordinate(lx + 20) + "\" y=\"" +
-           coordinate(ly) + "\">" + html_escape(s.name) + "</text>\n";
+    if (s.line)
+        svg += "<line x1=\"" + coordinate(lx) + "\" y1=\"" + coordinate(ly - 4) + "\" x2=\"" +
+               coordinate(lx + 16) + "\" y2=\"" + coordinate(ly - 4) + "\" stroke=\"" + colour +
+               "\" stroke-width=\"2\"/>\n";
+    else  // a scatter's legend is its dot
+        svg += "<circle cx=\"" + coordinate(lx + 8) + "\" cy=\"" + coordinate(ly - 4) + "\" r=\"" +
+               coordinate(s.radius) + "\" fill=\"" + colour + "\"/>\n";
+    svg += "<text x=\"" + coordinate(lx + 20) + "\" y=\"" + coordinate(ly) + "\">" +
+           html_escape(s.name) + "</text>\n";
     return svg;
 }
 
@@ -240,7 +305,8 @@ std::string svg_line_plot(const PlotSpec& spec) {
                       "\" font-family=\"sans-serif\" font-size=\"11\">\n";
     svg += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
     svg += axes_svg(spec, f, ranges.has_inf);
-    for (std::size_t k = 0; k < spec.series.size(); ++k) svg += series_svg(spec.series[k], k, f);
+    for (std::size_t k = 0; k < spec.series.size(); ++k)
+        svg += series_svg(spec, spec.series[k], k, f);
     svg += "</svg>\n";
     return svg;
 }

@@ -46,12 +46,14 @@ public:
         static const char* known[] = {"scenes", "configurations", "resolutions", "gazes",
                                       "frames", "every",          "reference",   "flip",
                                       "rings",  "time_start",     "time_step",   "repeats"};
-        for (const auto& [key, value] : doc_.items())
-            if (std::find_if(std::begin(known), std::end(known),
-                             [&](const char* k) { return key == k; }) == std::end(known))
-                fail("/" + key,
-                     "unknown key (known: scenes, configurations, resolutions, gazes, "
-                     "frames, every, reference, flip, rings, time_start, time_step, repeats)");
+        for (const auto& item : doc_.items()) {
+            bool is_known = false;
+            for (const char* k : known) is_known = is_known || item.key() == k;
+            if (!is_known)
+                fail("/" + item.key(),
+                     "unknown key (known: scenes, configurations, resolutions, gazes, frames, "
+                     "every, reference, flip, rings, time_start, time_step, repeats)");
+        }
     }
 
     [[noreturn]] void fail(const std::string& pointer, const std::string& message) const {
@@ -636,13 +638,18 @@ int run_sweep_merge(const SweepOptions& o) {
             counters[name] = sum / static_cast<double>(std::max<std::size_t>(frames.size(), 1));
         row["stage_seconds"] = stage_seconds;
         row["counters_per_frame"] = counters;
-        json ring_psnr = json::array(), ring_rmse = json::array();
+        json ring_psnr = json::array(), ring_rmse = json::array(), ring_ssim = json::array(),
+             ring_deg = json::array();
         for (const json& ring : candidate["rings"]) {
             ring_psnr.push_back(ring["psnr"]);
             ring_rmse.push_back(ring["rmse"]);
+            ring_ssim.push_back(ring["ssim"]);
+            ring_deg.push_back(ring["outer_deg"]);
         }
+        row["ring_outer_deg"] = ring_deg;
         row["ring_psnr"] = ring_psnr;
         row["ring_rmse"] = ring_rmse;
+        row["ring_ssim"] = ring_ssim;
         row["command"] = job["command"];
         rows.push_back(row);
         csv += line + "done," + number_text(psnr) + "," + number_text(ssim) + "," +

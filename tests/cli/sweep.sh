@@ -59,6 +59,47 @@ fov_counters = [r["counters_per_frame"] for r in j["results"] if r["mode"] == "f
 assert fov_counters["texels_off_screen"] > 0, fov_counters  # work skipped is reported
 PYTHON
 
+# The report: one group, three configurations; the front is computed from the merged numbers
+# (checked here independently), every plot as SVG (and PNG with rsvg-convert); Chromium renders it.
+expect 0 "report" -- "$FOVREF" sweep report "$TMP/a" --html "$TMP/report"
+check_file "$TMP/report/index.html" "report page"
+"$PY" - "$TMP/a" "$TMP/report" <<'PYTHON' || { echo "FAIL: report content"; failures=$((failures + 1)); }
+import json, re, sys, os
+rows = json.load(open(sys.argv[1] + "/results.json"))["results"]
+page = open(sys.argv[2] + "/index.html").read()
+# independent Pareto front on (ms per frame, PSNR)
+pts = [(r["seconds_per_frame"], r["psnr"], r["mode"] + "".join(" %s=%s" % kv for kv in sorted(r["params"].items()))) for r in rows]
+front = sorted(l for (t, q, l) in pts if not any((t2 <= t and q2 >= q and (t2 < t or q2 > q)) for (t2, q2, _) in pts))
+table = page.split('<table class="configurations">')[1].split("</table>")[0]
+marked = sorted(re.sub("<[^>]+>", "", "<td" + row.split("<td", 1)[1].split("</td>")[0]) for row in table.split("<tr")[2:] if 'class="front"' in row)
+assert marked == front, (marked, front)
+# the rays front is deterministic (rays and PSNR are the same bits on every run)
+rpts = [(r["rays_traced_per_frame"], r["psnr"], l) for r, (_, _, l) in zip(rows, pts)]
+rfront = sorted(l for (t, q, l) in rpts if not any((t2 <= t and q2 >= q and (t2 < t or q2 > q)) for (t2, q2, _) in rpts))
+cells = lambda row: [re.sub("<[^>]+>", "", c) for c in ("<td" + row.split("<td", 1)[1]).split("</td>")]
+rmarked = sorted(cells(row)[0] for row in table.split("<tr")[2:] if cells(row)[8] == "yes")
+assert rmarked == rfront, (rmarked, rfront)
+assert page.count("<svg") == 3 and 'id="report-ready">3 plots, 3 configurations, %d on the time front' % len(front) in page
+for name in os.listdir(sys.argv[2] + "/plots"):
+    assert name.endswith((".svg", ".png")), name
+svgs = [n for n in os.listdir(sys.argv[2] + "/plots") if n.endswith(".svg")]
+assert len(svgs) == 3, svgs
+PYTHON
+if command -v rsvg-convert >/dev/null; then
+  checks=$((checks + 1))
+  [ "$(ls "$TMP/report/plots"/*.png | wc -l)" -eq 3 ] || { echo "FAIL: PNG export"; failures=$((failures + 1)); }
+fi
+CHROMIUM=$(command -v chromium || command -v chromium-browser || true)
+if [ -n "$CHROMIUM" ]; then
+  expect 0 "headless Chromium renders the report" -- timeout 120 "$CHROMIUM" --headless --no-sandbox --disable-gpu --user-data-dir="$TMP/chrome" --dump-dom "file://$TMP/report/index.html"
+  contains 'id="report-ready">3 plots, 3 configurations' "Chromium loaded the page"
+  contains "Pareto front" "Chromium parsed the plots"
+else
+  echo "SKIPPED: headless Chromium check (chromium is not installed: apt-get install chromium)"
+fi
+expect 2 "report without results" -- "$FOVREF" sweep report "$TMP/a2" --html "$TMP/r2"
+contains "run \`fovref sweep merge" "says to merge first"
+
 # Resumable: a rerun skips every finished job (their results stay untouched); a removed result
 # is recomputed, the others are not.
 touch -d "2000-01-01" "$TMP/a/results"/*/job.json
