@@ -32,6 +32,7 @@
 #include "tools/cmd_scene.h"
 #include "tools/diff.h"
 #include "tools/evaluate.h"
+#include "tools/stress.h"
 #include "tools/sweep.h"
 
 using namespace fovref;
@@ -77,6 +78,7 @@ const char* const app_footer =
     "                                         ring errors against the ground truth\n"
     "  fovref sweep plan FILE OUT | run OUT [--jobs N] | merge OUT | report OUT --html DIR\n"
     "               | export OUT --format parallel|slurm|k8s\n"
+    "  fovref stress [--fast] [--case G]      numerical stress suite\n"
     "                                         run time against error over a grid\n"
     "  fovref diff GOLDEN CANDIDATE [--tolerance N:abs=X] [--json F] [--html DIR]\n"
     "                                         compare a GPU's buffers with a golden bundle\n"
@@ -113,6 +115,7 @@ struct Options {
     DensityOptions density;
     DenoiseOptions denoise;
     SweepOptions sweep;
+    StressOptions stress;
 };
 
 // -q applies to every command that prints progress or lines (bench metrics prints its figures
@@ -121,7 +124,8 @@ void share_quiet(Options& o) {
     o.scene_export.quiet = o.render.quiet = o.rays_trace.quiet = o.rays_make.quiet =
         o.bench_rays.quiet = o.density.quiet = o.bench_foveation.quiet = o.bench_temporal.quiet =
             o.bench_bmfr.quiet = o.bench_visual_polar.quiet = o.golden.quiet = o.probe.quiet =
-                o.evaluate.quiet = o.diff.quiet = o.denoise.quiet = o.sweep.quiet = o.quiet;
+                o.evaluate.quiet = o.diff.quiet = o.denoise.quiet = o.sweep.quiet = o.stress.quiet =
+                    o.quiet;
 }
 
 // The commands that do the work (no subcommands of their own), each with its run function.
@@ -347,6 +351,13 @@ int main(int argc, char** argv) {
     add_analysis_commands(app, o, commands);
     add_denoise_commands(app, o, commands);
     add_sweep_commands(app, o, commands);
+    CLI::App* stress = app.add_subcommand(
+        "stress",
+        "the numerical stress suite: extreme fields of view, screen sizes, gazes, parameters, "
+        "scene scales and positions, non-finite inputs; per case finite, deterministic, error "
+        "against binary64 (docs/stress.md); exit 1 when a case fails");
+    add_stress_options(*stress, o.stress);
+    commands.emplace_back(stress, [&o] { return run_stress(o.stress); });
 
     try {
         app.parse(argc, argv);
