@@ -1,6 +1,7 @@
 #include "tools/cli_common.h"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <iostream>
 
 #include "ref/core/error.h"
@@ -42,6 +43,13 @@ std::optional<Scene> command_scene(const CaseOptions& o, const std::string& comm
     if (!find_mode(o.mode).needs_scene) return std::nullopt;
     if (o.scene.empty()) throw Error(command + ": mode '" + o.mode + "' needs --scene");
     return load_scene(o.scene);
+}
+
+double median_of(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 }  // namespace fovref

@@ -22,6 +22,9 @@ constexpr int exit_ok = 0, exit_check_failed = 1, exit_usage = 2;
 /// Prints `line` and a newline on stdout unless `quiet` (-q).
 void say(bool quiet, const std::string& line);
 
+/// The median (the mean of the two middle values for an even count; 0 for none).
+double median_of(std::vector<double> values);
+
 /// The options `fovref render` and `fovref probe` share: the case they render.
 struct CaseOptions {
     std::string scene;                ///< procedural scene name or scene file ("": none)

@@ -22,6 +22,7 @@
 #include "ref/metrics/ssim.h"
 #include "ref/modes/modes.h"
 #include "ref/scene/scene_file.h"
+#include "tools/cli_common.h"
 #include "tools/progress.h"
 #include "tools/report_json.h"
 #include "tools/svg_plot.h"
@@ -414,10 +415,7 @@ void evaluate_candidate(const Evaluation& e, Candidate& c, std::size_t index, Pr
                 if (!run.ran) continue;
                 std::vector<double> t = times[f.frame][run.name];
                 t.push_back(run.seconds);
-                std::sort(t.begin(), t.end());
-                medians[run.name] = t.size() % 2 == 1
-                                        ? t[t.size() / 2]
-                                        : 0.5 * (t[t.size() / 2 - 1] + t[t.size() / 2]);
+                medians[run.name] = median_of(t);
             }
             evaluate_frame(e, c, f.frame, final_image(f), &f.counters, &medians);
         });

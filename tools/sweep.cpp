@@ -21,6 +21,7 @@
 #include "ref/image/image_io.h"
 #include "ref/modes/modes.h"
 #include "ref/scene/scene_file.h"
+#include "tools/cli_common.h"
 #include "tools/evaluate.h"
 
 extern char** environ;
@@ -305,13 +306,6 @@ std::vector<int> run_processes(const std::string& self, const std::string& out,
         std::fflush(stdout);
     }
     return failed;
-}
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 double mean_of(const json& frames, const char* key, bool& present) {
@@ -612,7 +606,7 @@ int run_sweep_merge(const SweepOptions& o) {
         row["ssim"] = ssim;
         if (has_flip) row["flip_mean"] = flip_mean;
         row["temporal_error"] = candidate.value("temporal_error", 0.0);
-        row["seconds_per_frame"] = median(seconds);
+        row["seconds_per_frame"] = median_of(seconds);
         row["rays_traced_per_frame"] = rays;
         row["pixels_shaded_per_frame"] = shaded;
         // per stage: the median over the evaluated frames (each already the median of the
@@ -630,9 +624,9 @@ int run_sweep_merge(const SweepOptions& o) {
         json stage_seconds = json::object(), counters = json::object();
         std::string stage_text;
         for (const auto& [name, samples] : stage_samples) {
-            stage_seconds[name] = median(samples);
+            stage_seconds[name] = median_of(samples);
             stage_text +=
-                (stage_text.empty() ? "" : " ") + name + "=" + number_text(median(samples));
+                (stage_text.empty() ? "" : " ") + name + "=" + number_text(median_of(samples));
         }
         for (const auto& [name, sum] : counter_sums)
             counters[name] = sum / static_cast<double>(std::max<std::size_t>(frames.size(), 1));
@@ -655,8 +649,8 @@ int run_sweep_merge(const SweepOptions& o) {
         csv += line + "done," + number_text(psnr) + "," + number_text(ssim) + "," +
                (has_flip ? number_text(flip_mean) : std::string()) + "," +
                number_text(row["temporal_error"].get<double>()) + "," +
-               number_text(median(seconds)) + "," + number_text(rays) + "," + number_text(shaded) +
-               "," + csv_field(stage_text) + "\n";
+               number_text(median_of(seconds)) + "," + number_text(rays) + "," +
+               number_text(shaded) + "," + csv_field(stage_text) + "\n";
     }
     write_file_atomic((fs::path(o.out) / "results.csv").string(), csv);
     write_file_atomic((fs::path(o.out) / "results.json").string(),
