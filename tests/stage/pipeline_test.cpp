@@ -5,7 +5,9 @@
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
 #include "ref/core_passes/core_passes.h"
+#include "ref/image/image.h"
 #include "ref/modes/modes.h"
+#include "ref/scene/scene_file.h"
 
 using namespace fovref;
 
@@ -240,4 +242,36 @@ TEST_CASE("render reports progress through stages and frames, ending at 1") {
     REQUIRE(reports.size() >= 3);
     for (std::size_t k = 1; k < reports.size(); ++k) CHECK(reports[k] >= reports[k - 1]);
     CHECK(reports.back() == 1.0);
+}
+
+// Skipping stages nobody consumed (SPEC: no stage whose output nobody asked for) changes no bit:
+// every mode, rendered for its final outputs only and with every buffer requested, gives the
+// same final buffers over three frames (modes with state carry it through the skipped stages'
+// absence), and the final-only render does skip stages where the mode has any to skip.
+TEST_CASE("pipeline: skipping unconsumed stages leaves the final buffers bit-identical") {
+    const Scene scene = load_scene("cornell");
+    int modes_with_skips = 0;
+    for (const ModeInfo& mode : render_modes()) {
+        RenderSettings s;
+        s.width = 24;
+        s.height = 14;
+        s.frame_count = 3;
+        const Scene* scene_or_null = mode.needs_scene ? &scene : nullptr;
+        const std::vector<FrameResult> final_only = render(scene_or_null, mode.name, s);
+        s.requested = {"all"};
+        const std::vector<FrameResult> everything = render(scene_or_null, mode.name, s);
+        REQUIRE(final_only.size() == everything.size());
+        bool skipped = false;
+        for (std::size_t f = 0; f < final_only.size(); ++f) {
+            for (const StageRun& run : final_only[f].stages) skipped = skipped || !run.ran;
+            for (const Buffer& b : final_only[f].buffers) {
+                const Buffer* same = everything[f].find(b.name);
+                INFO("mode " << mode.name << ", frame " << f << ", buffer " << b.name);
+                REQUIRE(same != nullptr);
+                CHECK(canonical_sha256(same->image) == canonical_sha256(b.image));
+            }
+        }
+        modes_with_skips += skipped ? 1 : 0;
+    }
+    CHECK(modes_with_skips >= 5);
 }
