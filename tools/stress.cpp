@@ -535,6 +535,79 @@ void bmfr_blocks(std::vector<Row>& rows, bool) {
     }
 }
 
+/// NaN and +Inf written into every 37th value of each buffer a stage hands on (through the
+/// render's after_stage hook), for every mode, over two frames (modes with state carry the
+/// second frame's history through it): the final image must stay finite (SPEC §0: non-finite
+/// values are replaced, never propagated). The final image itself is not corrupted (that would
+/// only test the corruption).
+void injected_buffers(std::vector<Row>& rows, bool fast) {
+    const Scene scene = load_scene("cornell");
+    std::vector<std::string> modes = {"basic",          "fov",
+                                      "kfov",           "cfov",
+                                      "ckfov",          "kfr",
+                                      "stereo-lp",      "pathtrace",
+                                      "visual-polar",   "visual-polar-basic",
+                                      "linear-falloff", "acuity"};
+    if (fast) modes = {"basic", "fov", "kfr", "visual-polar"};
+    for (const std::string& mode : modes) {
+        RenderSettings s;
+        s.width = 32;
+        s.height = 18;
+        s.frame_count = 2;
+        std::vector<std::pair<std::string, std::string>> params;
+        if (mode == "basic" || mode == "fov" || mode == "kfr") params = {{"taa", "depth"}};
+        for (const auto& [k, v] : params) s.params.set(k, v);
+        // What the stages hand on: every buffer of a full render but the final image.
+        const std::vector<std::string> finals = {"final"};
+        RenderSettings all = s;
+        all.requested = {"all"};
+        std::vector<std::pair<std::string, std::string>> targets;  // (stage, buffer)
+        const std::vector<FrameResult> full = render(&scene, mode, all);
+        for (const Buffer& b : full.front().buffers)
+            if (std::find(finals.begin(), finals.end(), b.name) == finals.end())
+                targets.emplace_back(b.stage, b.name);
+        for (const float bad :
+             {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+            Row r{"injected NaN/Inf", mode + ": " + (std::isnan(bad) ? "NaN" : "+Inf") +
+                                          " in each of " + std::to_string(targets.size()) +
+                                          " handed-on buffers"};
+            r.determinism_checked = false;
+            std::string broken;
+            for (const auto& [stage, name] : targets) {
+                RenderSettings corrupt = s;
+                corrupt.requested = {"all"};
+                corrupt.after_stage = [&, target_stage = stage, target = name](
+                                          const std::string& ran, FrameResult& result) {
+                    if (ran != target_stage) return;
+                    for (Buffer& b : result.buffers)
+                        if (b.name == target)
+                            for (std::size_t i = 0; i < b.image.data.size(); i += 37)
+                                b.image.data[i] = bad;
+                };
+                try {
+                    for (const FrameResult& f : render(&scene, mode, corrupt))
+                        for (const std::string& final_name : finals) {
+                            const Buffer* b = f.find(final_name);
+                            if (b && !all_finite(b->image)) {
+                                ++r.violations;
+                                if (broken.size() < 200)
+                                    broken += (broken.empty() ? "" : ", ") + name + " -> " +
+                                              final_name + " (frame " + std::to_string(f.frame) +
+                                              ")";
+                            }
+                        }
+                } catch (const std::exception& e) {  // Error, or worse (bad_alloc)
+                    ++r.violations;
+                    if (broken.size() < 300)
+                        broken += (broken.empty() ? "" : ", ") + name + ": " + e.what();
+                }
+            }
+            r.note = broken.empty() ? "finals finite" : "not finite: " + broken;
+            rows.push_back(r);
+        }
+    }
+}
+
 struct Group {
     const char* name;
     void (*run)(std::vector<Row>&, bool fast);
@@ -547,7 +620,8 @@ const Group groups[] = {{"camera rays", camera_rays},
                         {"log-polar round trip", log_polar_round_trip},
                         {"parameter limits", parameter_limits},
                         {"scene scale and position", scene_scale},
-                        {"non-finite inputs", nonfinite_inputs}};
+                        {"non-finite inputs", nonfinite_inputs},
+                        {"injected NaN/Inf", injected_buffers}};
 
 }  // namespace
 

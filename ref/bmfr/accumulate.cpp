@@ -59,6 +59,10 @@ bool blend_accepted(const Image& image, const BmfrTaps& taps, unsigned mask, flo
     for (int c = 0; c < image.channels; ++c) out[c] = 0.0f;
     for (int k = 0; k < 4; ++k) {
         if ((mask & (1u << k)) == 0) continue;
+        // phase I accepts only taps on the image; a corrupted mask or coordinate (a foreign
+        // buffer) must not read outside it
+        if (taps.x[k] < 0 || taps.y[k] < 0 || taps.x[k] >= image.width || taps.y[k] >= image.height)
+            continue;
         const float* p = &image.data[image.index(taps.x[k], taps.y[k])];
         for (int c = 0; c < image.channels; ++c) out[c] += taps.w[k] * p[c];
         total += taps.w[k];
@@ -117,7 +121,9 @@ bool bmfr_project(const ViewProjection& vp, int width, int height, glm::vec3 p, 
 BmfrTaps bmfr_taps(glm::vec2 q) {
     BmfrTaps t;
     // far off the image all taps are outside anyway; the clamp keeps the int conversion defined
-    q = glm::clamp(q, glm::vec2(-1e6f), glm::vec2(1e6f));
+    // (NaN goes far off too)
+    q.x = std::isfinite(q.x) ? std::clamp(q.x, -1e6f, 1e6f) : -1e6f;
+    q.y = std::isfinite(q.y) ? std::clamp(q.y, -1e6f, 1e6f) : -1e6f;
     const float fx0 = std::floor(q.x), fy0 = std::floor(q.y);
     const float fx = q.x - fx0, fy = q.y - fy0;
     const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
@@ -132,7 +138,7 @@ BmfrTaps bmfr_vp_taps(const VisualPolarMap& map, glm::vec2 q) {
     BmfrTaps t;
     // t is a fraction of the turn: only its fractional part matters (a foreign value far out
     // must not overflow the row index)
-    q.x = std::clamp(q.x, -1e6f, 1e6f);
+    q.x = std::isfinite(q.x) ? std::clamp(q.x, -1e6f, 1e6f) : -1e6f;
     q.y = std::isfinite(q.y) ? q.y - std::floor(q.y) : 0.0f;
     const float fx0 = std::floor(q.x);
     const float fx = q.x - fx0;
@@ -280,7 +286,9 @@ Image bmfr_accumulate_filtered(const BmfrParams& params, const Image& fitted, co
     Image out(width, height, 3);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            const auto mask = static_cast<unsigned>(accept.at(x, y));
+            // the accepted-tap bits 0 .. 15 (anything else, e.g. from a corrupted buffer: none)
+            const float bits = accept.at(x, y);
+            const unsigned mask = bits >= 0.0f && bits < 16.0f ? static_cast<unsigned>(bits) : 0u;
             float* o = &out.data[out.index(x, y)];
             const float* c = &fitted.data[fitted.index(x, y)];
             float h[3];

@@ -103,14 +103,18 @@ Image ray_position_counts(int width, int height, const Image& lp_valid, const Im
     for (int j = 0; j < lp_valid.height; ++j)
         for (int i = 0; i < lp_valid.width; ++i) {
             if (lp_valid.at(i, j) == 0.0f) continue;
-            const int x = static_cast<int>(std::floor(screen_points.at(i, j, 0)));
-            const int y = static_cast<int>(std::floor(screen_points.at(i, j, 1)));
-            counts.at(x, y) += 1.0f;  // a traced texel's point is on screen
+            // A traced texel's point is on screen; a point that is not (or not finite: a
+            // corrupted buffer) is not counted rather than written out of bounds.
+            const float px = screen_points.at(i, j, 0), py = screen_points.at(i, j, 1);
+            if (!(px >= 0.0f && px < static_cast<float>(width) && py >= 0.0f &&
+                  py < static_cast<float>(height)))
+                continue;
+            counts.at(static_cast<int>(px), static_cast<int>(py)) += 1.0f;
         }
     if (gaze_valid)
         for (int j = 0; j < gaze_valid->height; ++j)
             for (int i = 0; i < gaze_valid->width; ++i)
-                counts.at(gaze.x0 + i, gaze.y0 + j) += gaze_valid->at(i, j);
+                if (gaze_valid->at(i, j) != 0.0f) counts.at(gaze.x0 + i, gaze.y0 + j) += 1.0f;
     return counts;
 }
 

@@ -9,8 +9,23 @@
 namespace fovref {
 
 const Image& FrameContext::input(const std::string& name) const {
-    const Buffer* buffer = result->find(name);
+    Buffer* buffer = nullptr;
+    for (Buffer& b : result->buffers)
+        if (b.name == name) {
+            buffer = &b;
+            break;
+        }
     FOVREF_CHECK(buffer != nullptr, "stage input '" + name + "' was not produced");
+    if (std::find(checked_inputs.begin(), checked_inputs.end(), name) == checked_inputs.end()) {
+        checked_inputs.push_back(name);
+        std::int64_t replaced = 0;
+        for (float& v : buffer->image.data)
+            if (!std::isfinite(v)) {
+                v = 0.0f;
+                ++replaced;
+            }
+        if (replaced > 0) result->counters.add("nonfinite_stage_inputs", replaced);
+    }
     return buffer->image;
 }
 
@@ -70,6 +85,7 @@ FrameResult Pipeline::run_frame(FrameContext& context,
     result.time = context.time;
     context.result = &result;
     context.state = state.get();
+    context.checked_inputs.clear();
     const std::vector<bool> needed = plan(requested);
     const auto stage_count = static_cast<double>(stages.size());
     const std::function<void(double)> frame_progress = context.stage_progress;
@@ -93,6 +109,8 @@ FrameResult Pipeline::run_frame(FrameContext& context,
                              "stage '" + stages[k].name + "' did not produce '" + output + "'");
             for (Buffer& buffer : result.buffers)
                 if (buffer.stage.empty()) buffer.stage = stages[k].name;
+            if (context.settings && context.settings->after_stage)
+                context.settings->after_stage(stages[k].name, result);
         }
         result.stages.push_back(run);
         if (frame_progress) frame_progress(static_cast<double>(k + 1) / stage_count);

@@ -35,6 +35,10 @@ struct RenderSettings {
     /// The buffers of frame first_frame - 1 (a dump), for a mode that carries state from frame to
     /// frame (TAA) and resumes at first_frame > 0; empty: none given.
     std::vector<Buffer> state_buffers;
+    /// A test hook, empty in normal use: called after each stage that ran, with the stage's name
+    /// and the frame's buffers so far, which it may alter (the stress suite injects NaN and Inf
+    /// into a stage's outputs to check that the stages consuming them stay finite).
+    std::function<void(const std::string& stage, FrameResult& result)> after_stage;
 };
 
 /// A mode's state for one render, shared by its stages: typed parameters parsed once, caches
@@ -60,7 +64,13 @@ struct FrameContext {
     std::function<void(double)> stage_progress;
     ModeState* state = nullptr;  ///< the pipeline's state (null for a mode without state)
 
+    /// A buffer an earlier stage of this frame produced. The first read of each buffer in a
+    /// frame replaces its NaN and infinite values by 0 and adds their number to the frame's
+    /// counter `nonfinite_stage_inputs` (SPEC §0: a stage never propagates NaN/Inf; none occurs
+    /// from finite inputs, so the counter appears only when something upstream went wrong).
     const Image& input(const std::string& name) const;
+    /// The names input() has checked in this frame (reset by Pipeline::run_frame).
+    mutable std::vector<std::string> checked_inputs;
     /// For long stages: report progress through the current stage (e.g. after each row).
     void report(double fraction_of_stage) const {
         if (stage_progress) stage_progress(fraction_of_stage);

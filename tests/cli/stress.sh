@@ -12,7 +12,7 @@ import json, sys
 rows = json.load(open(sys.argv[1]))["rows"]
 groups = {r["group"] for r in rows}
 for g in ["camera rays", "tiny screens", "grazing rays", "bmfr blocks", "log-polar round trip",
-          "parameter limits", "scene scale and position", "non-finite inputs"]:
+          "parameter limits", "scene scale and position", "non-finite inputs", "injected NaN/Inf"]:
     assert g in groups, g
 assert len(rows) > 60, len(rows)
 for r in rows:

@@ -76,6 +76,38 @@ TEST_CASE("pipeline: only stages whose outputs are consumed run; the others are 
     CHECK_THROWS_WITH_AS(p.run_frame(ctx, {"nope"}), doctest::Contains("'nope'"), Error);
 }
 
+// SPEC §0: a stage that receives NaN/Inf replaces it by 0, counts it and never propagates it.
+// The pipeline does it where every stage reads its inputs (FrameContext::input): here make_a's
+// output is corrupted after it ran (the after_stage hook), a_to_b reads zeros, and the frame
+// counts the replaced values once however often the buffer is read.
+TEST_CASE("pipeline: non-finite stage inputs are replaced by 0 and counted, once per frame") {
+    int runs[3] = {0, 0, 0};
+    Pipeline p = toy_pipeline(runs);
+    RenderSettings settings;
+    settings.after_stage = [](const std::string& stage, FrameResult& result) {
+        if (stage != "make_a") return;
+        for (Buffer& b : result.buffers)
+            if (b.name == "a") {
+                b.image.data[0] = std::nanf("");
+                b.image.data[3] = -INFINITY;
+            }
+    };
+    FrameContext ctx;
+    ctx.settings = &settings;
+    const FrameResult r = p.run_frame(ctx, {"all"});
+    REQUIRE(r.find("b") != nullptr);
+    const std::vector<float> b = r.find("b")->image.data;
+    CHECK(b == std::vector<float>{0.0f, 2.0f, 2.0f, 0.0f});
+    CHECK(r.counters.get("nonfinite_stage_inputs") == 2);
+    // a clean frame has no such counter
+    settings.after_stage = nullptr;
+    CHECK(p.run_frame(ctx, {"all"}).counters.get("nonfinite_stage_inputs") == 0);
+    bool listed = false;
+    for (const auto& [name, value] : p.run_frame(ctx, {"all"}).counters.values)
+        listed = listed || name == "nonfinite_stage_inputs";
+    CHECK_FALSE(listed);
+}
+
 TEST_CASE("render: settings and parameters are validated with the setting's name") {
     RenderSettings s;
     s.width = 0;
