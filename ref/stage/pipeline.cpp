@@ -4,9 +4,31 @@
 #include <chrono>
 #include <cmath>
 
+#include <emmintrin.h>
+
 #include "ref/core/error.h"
 
 namespace fovref {
+
+namespace {
+
+/// Whether any value is NaN or infinite (all exponent bits set), four per SSE2 instruction: a
+/// memory-speed scan (about 2 ms for a 1280x720 G-buffer of 14 channels), since every stage
+/// input is checked once per frame.
+bool any_nonfinite(const float* values, std::size_t n) {
+    const __m128i exponent = _mm_set1_epi32(0x7f800000);
+    __m128i found = _mm_setzero_si128();
+    std::size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(values + i));
+        found = _mm_or_si128(found, _mm_cmpeq_epi32(_mm_and_si128(v, exponent), exponent));
+    }
+    bool any = _mm_movemask_epi8(found) != 0;
+    for (; i < n; ++i) any = any || !std::isfinite(values[i]);
+    return any;
+}
+
+}  // namespace
 
 const Image& FrameContext::input(const std::string& name) const {
     Buffer* buffer = nullptr;
@@ -18,13 +40,16 @@ const Image& FrameContext::input(const std::string& name) const {
     FOVREF_CHECK(buffer != nullptr, "stage input '" + name + "' was not produced");
     if (std::find(checked_inputs.begin(), checked_inputs.end(), name) == checked_inputs.end()) {
         checked_inputs.push_back(name);
-        std::int64_t replaced = 0;
-        for (float& v : buffer->image.data)
-            if (!std::isfinite(v)) {
-                v = 0.0f;
-                ++replaced;
-            }
-        if (replaced > 0) result->counters.add("nonfinite_stage_inputs", replaced);
+        std::vector<float>& data = buffer->image.data;
+        if (any_nonfinite(data.data(), data.size())) {
+            std::int64_t replaced = 0;
+            for (float& v : data)
+                if (!std::isfinite(v)) {
+                    v = 0.0f;
+                    ++replaced;
+                }
+            result->counters.add("nonfinite_stage_inputs", replaced);
+        }
     }
     return buffer->image;
 }
