@@ -395,7 +395,7 @@ int run_sweep_plan(const SweepOptions& o) {
         file.fail("/reference", e.what());
     }
     for (std::size_t i = 0; i < scenes.size(); ++i) try {
-            if (!fs::is_regular_file(scenes[i])) load_scene(scenes[i]);
+            load_scene(scenes[i]);  // a name or a file: it must load now, not in every job
         } catch (const Error& e) {
             file.fail(json_pointer_element("/scenes", i), e.what());
         }
