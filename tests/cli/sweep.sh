@@ -84,6 +84,33 @@ for name in os.listdir(sys.argv[2] + "/plots"):
     assert name.endswith((".svg", ".png")), name
 svgs = [n for n in os.listdir(sys.argv[2] + "/plots") if n.endswith(".svg")]
 assert len(svgs) == 3, svgs
+# the shared plotting module: ticks at round numbers (steps of 1, 2 or 5 times a power of ten on
+# a linear axis, 1-2-5 or powers of ten on a log one), the last x label inside the picture, the
+# y axis label left of every y tick label
+def round_step(a, b):
+    d = abs(b - a)
+    e = 10.0 ** __import__("math").floor(__import__("math").log10(d))
+    return any(abs(d - m * e) <= 1e-6 * d for m in (1, 2, 5, 10))
+for name in svgs:
+    svg = open(sys.argv[2] + "/plots/" + name).read()
+    width = float(re.search(r'<svg[^>]* width="([0-9.]+)"', svg).group(1))
+    for axis in ("x", "y"):
+        ticks = re.findall(r'class="tick-%s" x="([0-9.]+)"[^>]*>([^<]*)<' % axis, svg)
+        values = [float(t) for _, t in ticks]
+        assert len(values) >= 2, (name, axis, values)
+        log = all(v > 0 for v in values) and any(values[i + 1] / values[i] >= 2 - 1e-9 for i in range(len(values) - 1)) and not all(round_step(values[i], values[i + 1]) for i in range(len(values) - 1))
+        for i in range(len(values) - 1):
+            if log:
+                r = values[i + 1] / values[i]
+                assert any(abs(r - q) < 1e-6 for q in (2, 2.5, 10)), (name, axis, values)
+            else:
+                assert round_step(values[i], values[i + 1]), (name, axis, values)
+        if axis == "x":
+            x, text = float(ticks[-1][0]), ticks[-1][1]
+            assert x + 3.25 * len(text) <= width + 0.5, (name, x, text, width)
+        else:
+            leftmost = min(float(x) - 6.5 * len(t) for x, t in ticks)
+            assert leftmost >= 18, (name, leftmost)  # the rotated axis label is centred at x = 12
 PYTHON
 if command -v rsvg-convert >/dev/null; then
   checks=$((checks + 1))
@@ -97,6 +124,31 @@ if [ -n "$CHROMIUM" ]; then
 else
   echo "SKIPPED: headless Chromium check (chromium is not installed: apt-get install chromium)"
 fi
+# A synthetic result set whose times span four decades: the time axis turns logarithmic, with
+# ticks at powers of ten; the front is the fast-and-bad, slow-and-good staircase.
+mkdir -p "$TMP/synthetic"
+"$PY" - "$TMP/synthetic/results.json" <<'PYTHON'
+import json, sys
+rows = []
+for i, (s, q) in enumerate([(0.0004, 20.0), (0.003, 25.0), (0.02, 24.0), (0.3, 31.0), (2.5, 30.0)]):
+    rows.append({"id": "m-%d" % i, "scene": "cornell", "mode": "m%d" % i, "params": {}, "width": 64,
+                 "height": 36, "gaze": "centre", "frames": 1, "every": 1, "status": "done",
+                 "psnr": q, "ssim": 0.5, "temporal_error": 0.01, "seconds_per_frame": s,
+                 "rays_traced_per_frame": 1000.0 * (i + 1), "pixels_shaded_per_frame": 10.0,
+                 "ring_outer_deg": [1, 2], "ring_psnr": [q, q], "ring_rmse": [0.1, 0.1],
+                 "ring_ssim": [0.5, 0.5], "counters_per_frame": {}})
+json.dump({"results": rows}, open(sys.argv[1], "w"))
+PYTHON
+expect 0 "report on synthetic results" -- "$FOVREF" sweep report "$TMP/synthetic" --html "$TMP/synthetic/html"
+contains "3 on the time front" "front of the staircase"
+"$PY" - "$TMP/synthetic/html/plots" <<'PYTHON' || { echo "FAIL: log time axis"; failures=$((failures + 1)); }
+import os, re, sys
+name = [n for n in os.listdir(sys.argv[1]) if n.endswith("-time.svg")][0]
+svg = open(sys.argv[1] + "/" + name).read()
+ticks = [float(t) for t in re.findall(r'class="tick-x"[^>]*>([^<]*)<', svg)]
+assert ticks == [0.1, 1, 10, 100, 1000, 10000], ticks  # ms, powers of ten
+PYTHON
+
 expect 2 "report without results" -- "$FOVREF" sweep report "$TMP/a2" --html "$TMP/r2"
 contains "run \`fovref sweep merge" "says to merge first"
 
