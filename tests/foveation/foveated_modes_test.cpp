@@ -7,12 +7,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 
 #include "ref/bvh/bvh.h"
 #include "ref/foveation/foveated_params.h"
 #include "ref/foveation/foveated_trace.h"
 #include "ref/foveation/gaussian_lerp.h"
 #include "ref/foveation/resolve.h"
+#include "ref/foveation/visual_polar.h"
 #include "ref/modes/modes.h"
 #include "ref/raster/gbuffer.h"
 #include "ref/scene/camera.h"
@@ -334,36 +336,43 @@ TEST_CASE("Gaussian lerp: the blend amount and a filtered pixel by hand") {
 
 // No rays for texels that map off screen (SPEC §5) is a rule, not an output-neutral skip: a
 // pixel near the border has bilinear taps on such texels, and the resolve renormalises over the
-// traced ones. Tracing them anyway (written into the buffer right after lp_trace, through the
-// render's after_stage hook, exactly as lp_trace writes a texel) changes the final image only in
-// pixels near the screen border, and leaves the interior bit-identical. docs/foveation.md.
-TEST_CASE("fov: tracing the off-screen texels too changes only pixels near the screen border") {
-    const Scene scene = make_procedural_scene("checker-room");
+// traced ones. Tracing them anyway (written into the buffer right after the trace stage, through
+// the render's after_stage hook, exactly as the trace writes a texel) changes the final image
+// only in pixels near the screen border, and leaves the interior bit-identical.
+// docs/foveation.md, docs/visual-polar.md.
+struct OffScreenTexels {
+    int traced = 0;    ///< texels traced in addition
+    int differ = 0;    ///< final pixels that changed
+    int farthest = 0;  ///< the largest distance of a changed pixel from the screen border
+};
+
+/// Renders `mode` as it is and with its off-screen texels traced too: `point(i, j, p)` gives
+/// texel (i, j)'s screen point and whether the rule left it untraced for being off screen.
+OffScreenTexels trace_off_screen_too(
+    const Scene& scene, const std::string& mode, const std::string& trace_stage,
+    const std::string& prefix, const std::string& valid_name,
+    const std::function<bool(const FrameResult&, int, int, glm::vec2&)>& point) {
     RenderSettings s;
     s.width = 160;
     s.height = 90;
     s.requested = {"all"};
-    const std::vector<FrameResult> rule = render(&scene, "fov", s);
+    const std::vector<FrameResult> rule = render(&scene, mode, s);
     const Camera camera = camera_at(scene, 0.0f);
     const float tan_half = tan_half_vfov(camera);
     const Bvh bvh = build_bvh(scene.positions);
-    int traced_extra = 0;
+    OffScreenTexels out;
     s.after_stage = [&](const std::string& stage, FrameResult& result) {
-        if (stage != "lp_trace") return;
+        if (stage != trace_stage) return;
         Image* valid = nullptr;
-        const Image* points = nullptr;
-        for (Buffer& b : result.buffers) {
-            if (b.name == "lp_valid") valid = &b.image;
-            if (b.name == "lp_screen_point") points = &b.image;
-        }
+        for (Buffer& b : result.buffers)
+            if (b.name == valid_name) valid = &b.image;
         REQUIRE(valid != nullptr);
-        REQUIRE(points != nullptr);
         GBuffer extra(valid->width, valid->height);
         Image traced(valid->width, valid->height, 1, 0.0f);
         for (int j = 0; j < valid->height; ++j)
             for (int i = 0; i < valid->width; ++i) {
-                const glm::vec2 p{points->at(i, j, 0), points->at(i, j, 1)};
-                if (valid->at(i, j) != 0.0f || !std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+                glm::vec2 p{0.0f};
+                if (valid->at(i, j) != 0.0f || !point(result, i, j, p)) continue;
                 TraceStats stats;
                 const Hit hit = trace_closest(
                     bvh, primary_ray(camera, tan_half, s.width, s.height, p.x, p.y), stats);
@@ -372,10 +381,10 @@ TEST_CASE("fov: tracing the off-screen texels too changes only pixels near the s
                                      tan_half, hit.primitive, hit.u, hit.v);
                 traced.at(i, j) = 1.0f;
                 valid->at(i, j) = 1.0f;
-                ++traced_extra;
+                ++out.traced;
             }
         FrameResult named;
-        add_gbuffer(named, std::move(extra), "lp_gbuffer_");
+        add_gbuffer(named, std::move(extra), prefix);
         for (const Buffer& e : named.buffers)
             for (Buffer& b : result.buffers)
                 if (b.name == e.name)
@@ -385,23 +394,48 @@ TEST_CASE("fov: tracing the off-screen texels too changes only pixels near the s
                                 for (int c = 0; c < b.image.channels; ++c)
                                     b.image.at(i, j, c) = e.image.at(i, j, c);
     };
-    const std::vector<FrameResult> traced_all = render(&scene, "fov", s);
-    CHECK(traced_extra > 100);
+    const std::vector<FrameResult> traced_too = render(&scene, mode, s);
     const Image& a = rule.front().find("final")->image;
-    const Image& b = traced_all.front().find("final")->image;
-    int differ = 0, farthest = 0;
+    const Image& b = traced_too.front().find("final")->image;
     for (int y = 0; y < a.height; ++y)
         for (int x = 0; x < a.width; ++x) {
             bool same = true;
             for (int c = 0; c < 3; ++c) same = same && a.at(x, y, c) == b.at(x, y, c);
             if (same) continue;
-            ++differ;
+            ++out.differ;
             const int border =
                 std::min(std::min(x, a.width - 1 - x), std::min(y, a.height - 1 - y));
-            farthest = std::max(farthest, border);
+            out.farthest = std::max(out.farthest, border);
         }
-    MESSAGE("tracing " << traced_extra << " off-screen texels changes " << differ
-                       << " pixels, all within " << farthest << " px of the border");
-    CHECK(differ > 0);     // the rule matters at the border
-    CHECK(farthest <= 3);  // measured: 804 of 14 400 pixels change, all within 3 px of the border
+    MESSAGE(mode << ": tracing " << out.traced << " off-screen texels changes " << out.differ
+                 << " pixels, all within " << out.farthest << " px of the border");
+    return out;
+}
+
+TEST_CASE(
+    "fov and visual-polar-basic: tracing the off-screen texels too changes only border pixels") {
+    const Scene scene = make_procedural_scene("checker-room");
+    const OffScreenTexels lp =
+        trace_off_screen_too(scene, "fov", "lp_trace", "lp_gbuffer_", "lp_valid",
+                             [](const FrameResult& r, int i, int j, glm::vec2& p) {
+                                 const Image& points = r.find("lp_screen_point")->image;
+                                 p = {points.at(i, j, 0), points.at(i, j, 1)};
+                                 return std::isfinite(p.x) && std::isfinite(p.y);
+                             });
+    CHECK(lp.traced > 100);
+    CHECK(lp.differ > 0);     // the rule matters at the border
+    CHECK(lp.farthest <= 3);  // measured: 804 of 14 400 pixels, within 3 px
+    const VisualPolarMap map =
+        make_visual_polar_map(160, 90, {80.0f, 45.0f}, visual_polar_buffer_size(160, 90).x,
+                              visual_polar_buffer_size(160, 90).y);
+    const OffScreenTexels vp = trace_off_screen_too(
+        scene, "visual-polar-basic", "vp_trace", "vp_gbuffer_", "vp_valid",
+        [&map](const FrameResult&, int i, int j, glm::vec2& p) {
+            return vp_texel_status(map, i, j, p) == VpTexel::off_screen;  // clipped: no point
+        });
+    CHECK(vp.traced > 100);
+    CHECK(vp.differ > 0);
+    // measured: 2 369 of 14 400 pixels, within 8 px (texels are larger there, and the phi mips
+    // and the blur ramp reach further than a bilinear tap)
+    CHECK(vp.farthest <= 8);
 }
