@@ -6,12 +6,18 @@
 #include <filesystem>
 #include <fstream>
 
+#include "ref/bvh/bvh.h"
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
+#include "ref/image/image.h"
+#include "ref/modes/modes.h"
+#include "ref/scene/camera.h"
+#include "ref/scene/procedural.h"
 #include "ref/trace/direct_light.h"
 #include "ref/trace/ground_truth.h"
 #include "ref/trace/raycast_gbuffer.h"
 #include "ref/trace/rays_file.h"
+#include "ref/trace/shade_basic.h"
 
 using namespace fovref;
 namespace fs = std::filesystem;
@@ -291,4 +297,35 @@ TEST_CASE("direct light: vertex normals opposite to the winding still light the 
     ShadingStats stats;
     const glm::vec3 l = shade_direct(scene, &bvh, s, {0, 1, 0}, 0, 0, 0, stats);
     CHECK(l.x == doctest::Approx(0.5 / 3.14159265358979).epsilon(1e-6));
+}
+
+// No shadow rays without lights (SPEC: skip what the scene does not need): without lights the
+// shading pass gets no BVH at all, and the image is the same bits as shading with the BVH at
+// hand; neither traces a shadow ray, and the mode reports none.
+TEST_CASE(
+    "trace: without lights, shading without a BVH is bit-identical and traces no shadow ray") {
+    Scene scene = make_procedural_scene("cornell");
+    scene.lights.clear();  // the emissive triangles still glow; nothing to sample
+    const Bvh bvh = build_bvh(scene.positions);
+    const Camera camera = camera_at(scene, 0.0f);
+    RaycastStats raycast;
+    const GBuffer g = raycast_gbuffer(scene, bvh, camera, camera, 64, 36, raycast);
+    const ShadeInputs in{g.world_position, g.shading_normal, g.geometric_normal,
+                         g.albedo,         g.material_id,    g.primitive_id};
+    ShadingStats without, with;
+    const Image a = shade_basic(scene, nullptr, in, camera, 0, without);
+    const Image b = shade_basic(scene, &bvh, in, camera, 0, with);
+    CHECK(canonical_sha256(a) == canonical_sha256(b));
+    CHECK(without.shadow_trace.rays == 0);
+    CHECK(with.shadow_trace.rays == 0);
+    CHECK(without.shaded > 1000);
+    double sum = 0.0;
+    for (float v : a.data) sum += v;
+    CHECK(sum > 0.0);  // the lamp itself is seen
+    RenderSettings s;
+    s.width = 64;
+    s.height = 36;
+    const FrameResult f = render(&scene, "basic", s).front();
+    CHECK(f.counters.get("rays_shadow") == 0);
+    CHECK(canonical_sha256(f.find("final")->image) == canonical_sha256(a));
 }
