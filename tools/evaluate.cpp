@@ -41,7 +41,8 @@ struct Candidate {
     std::string mode;  ///< "" for a directory of frames
     std::string directory;
     Params params;
-    std::vector<std::vector<RingStats>> rings;  ///< per evaluated frame
+    std::vector<std::vector<RingStats>> rings;   ///< per evaluated frame
+    std::vector<std::vector<double>> ring_flip;  ///< --flip: per evaluated frame, each ring's mean
     std::vector<json> frame_rows;
     std::vector<Image> display_frames;  ///< evaluated frames, for the temporal error
     Image last_error;                   ///< squared-error map of the last evaluated frame
@@ -353,6 +354,7 @@ void evaluate_frame(const Evaluation& e, Candidate& c, int frame, const Image& i
         const FlipResult flip =
             o.linear ? ldr_flip(to_display(ref), to_display(test), fp) : ldr_flip(ref, test, fp);
         row["flip_mean"] = flip.mean;
+        c.ring_flip.push_back(ring_means(flip.error_map, e.layout));
     }
     if (counters) {
         std::int64_t rays = 0;
@@ -523,6 +525,15 @@ void write_outputs(const Evaluation& e, const std::vector<Candidate>& candidates
         json jc;
         jc["label"] = c.label;
         jc["temporal_error"] = temporal_error(c.display_frames);
+        if (!c.ring_flip.empty()) {  // each ring's mean FLIP, averaged over the frames
+            json flip_rings = json::array();
+            for (std::size_t k = 0; k < c.ring_flip.front().size(); ++k) {
+                double sum = 0.0;
+                for (const std::vector<double>& frame : c.ring_flip) sum += frame[k];
+                flip_rings.push_back(number_json(sum / static_cast<double>(c.ring_flip.size())));
+            }
+            jc["ring_flip_mean"] = flip_rings;
+        }
         jc["rings"] = json::array();
         PlotSeries s{c.label, {}, {}}, p{c.label, {}, {}}, r{c.label, {}, {}};
         for (const RingStats& ring : mean) {

@@ -644,6 +644,7 @@ int run_sweep_merge(const SweepOptions& o) {
         row["ring_psnr"] = ring_psnr;
         row["ring_rmse"] = ring_rmse;
         row["ring_ssim"] = ring_ssim;
+        if (candidate.contains("ring_flip_mean")) row["ring_flip"] = candidate["ring_flip_mean"];
         row["command"] = job["command"];
         rows.push_back(row);
         csv += line + "done," + number_text(psnr) + "," + number_text(ssim) + "," +

@@ -65,6 +65,27 @@ RingLayout ring_layout(int width, int height, glm::vec2 gaze, float distance_px,
     return layout;
 }
 
+std::vector<double> ring_means(const Image& map, const RingLayout& layout) {
+    if (map.channels != 1 || map.width != layout.width || map.height != layout.height)
+        throw Error("ring means: the map is " + std::to_string(map.width) + "x" +
+                    std::to_string(map.height) + "x" + std::to_string(map.channels) +
+                    ", the ring layout " + std::to_string(layout.width) + "x" +
+                    std::to_string(layout.height) + "x1");
+    const auto n = static_cast<std::size_t>(layout.count);
+    std::vector<double> sum(n, 0.0);
+    std::vector<std::int64_t> count(n, 0);
+    for (std::size_t p = 0; p < map.data.size(); ++p) {
+        const int k = layout.ring[p];
+        if (k < 0) continue;
+        sum[static_cast<std::size_t>(k)] += map.data[p];
+        ++count[static_cast<std::size_t>(k)];
+    }
+    for (std::size_t k = 0; k < n; ++k)
+        sum[k] = count[k] > 0 ? sum[k] / static_cast<double>(count[k])
+                              : std::numeric_limits<double>::quiet_NaN();
+    return sum;
+}
+
 std::vector<RingStats> ring_errors(const Image& a, const Image& b, const RingLayout& layout,
                                    const SsimMap* ssim) {
     check_same_shape(a, b, "ring errors");

@@ -51,6 +51,11 @@ float eccentricity_deg(glm::vec2 p, glm::vec2 gaze, float distance_px);
 /// or -1 when e >= N w or e is not finite.
 int ring_of(float eccentricity, float ring_width, int count);
 
+/// The mean of a 1-channel per-pixel map (e.g. LDR-FLIP's error map) over each ring's pixels,
+/// summed in binary64 in row-major order; NaN for a ring without pixels. Throws fovref::Error
+/// when the map is not 1-channel or not the layout's size.
+std::vector<double> ring_means(const Image& map, const RingLayout& layout);
+
 /// Throws fovref::Error naming the setting when N is not in 1..1000, max_range not in (0, 1],
 /// the distance not finite and > 0, or the gaze not finite.
 RingLayout ring_layout(int width, int height, glm::vec2 gaze, float distance_px,

@@ -11,6 +11,7 @@ cat > "$TMP/sweep.json" <<'JSON'
   "resolutions": ["48x27"],
   "frames": 2,
   "repeats": 2,
+  "flip": true,
   "configurations": [
     {"mode": "basic"},
     {"mode": "fov", "grid": {"sigma": [1.4, 1.8]}, "params": {"alpha": 1}}
@@ -55,6 +56,8 @@ j = json.load(open(sys.argv[1] + "/results.json"))
 first = j["results"][0]
 assert len(first["ring_psnr"]) == 20 and first["command"].startswith("fovref evaluate"), first
 assert "--repeats 2" in first["command"] and first["counters_per_frame"]["pixels_shaded"] > 0, first
+assert len(first["ring_flip"]) == 20 and all(0 <= v <= 1 for v in first["ring_flip"] if v is not None), first
+assert 0 < float(rows[0]["flip_mean"]) < 1, rows[0]
 fov_counters = [r["counters_per_frame"] for r in j["results"] if r["mode"] == "fov"][0]
 assert fov_counters["texels_off_screen"] > 0, fov_counters  # work skipped is reported
 PYTHON

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "ref/core/error.h"
 #include "ref/metrics/heatmap.h"
 #include "ref/metrics/metrics.h"
 #include "ref/metrics/rings.h"
@@ -167,4 +168,36 @@ TEST_CASE("id_mismatch_image: rings that survive downscaling, interior on top of
     CHECK(fovref::test::contains(
         fovref::test::error_message([&] { id_mismatch_image(background, Image(8, 8, 1)); }),
         "same size"));
+}
+
+// ring_means (per-ring FLIP in evaluate and sweeps): a constant map gives the constant in every
+// ring; the pixel-weighted mean of the ring means is the mean over the covered pixels, recounted
+// here pixel by pixel from the layout; a ring without pixels is NaN; a wrong shape is an error.
+TEST_CASE("rings: per-ring means of a map") {
+    const RingLayout layout = ring_layout(64, 36, {20.0f, 18.0f}, 60.0f);
+    const RingLayout sparse = ring_layout(8, 6, {4.0f, 3.0f}, 100.0f, RingSettings{200, 1.0f});
+    for (double m : ring_means(Image(64, 36, 1, 0.25f), layout)) CHECK(m == 0.25);
+    Image map(64, 36, 1);
+    for (std::size_t i = 0; i < map.data.size(); ++i)
+        map.data[i] = static_cast<float>((i * 7919) % 1000) / 1000.0f;
+    const std::vector<double> means = ring_means(map, layout);
+    std::vector<double> count(means.size(), 0.0);
+    double total = 0.0, covered = 0.0;
+    for (std::size_t p = 0; p < map.data.size(); ++p)
+        if (layout.ring[p] >= 0) {
+            count[static_cast<std::size_t>(layout.ring[p])] += 1.0;
+            total += map.data[p];
+            covered += 1.0;
+        }
+    double weighted = 0.0;
+    for (std::size_t k = 0; k < means.size(); ++k)
+        if (count[k] > 0) weighted += means[k] * count[k];
+    CHECK(std::fabs(weighted / covered - total / covered) < 1e-12);
+    bool some_empty = false;
+    const std::vector<double> sparse_means = ring_means(Image(8, 6, 1, 1.0f), sparse);
+    for (std::size_t k = 0; k < sparse_means.size(); ++k)
+        some_empty = some_empty || std::isnan(sparse_means[k]);
+    CHECK(some_empty);  // 200 rings over 48 pixels
+    CHECK_THROWS_AS(ring_means(Image(64, 36, 3, 0.0f), layout), Error);
+    CHECK_THROWS_AS(ring_means(Image(32, 36, 1, 0.0f), layout), Error);
 }
