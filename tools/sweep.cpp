@@ -605,7 +605,11 @@ int run_sweep_merge(const SweepOptions& o) {
         row["psnr"] = psnr;
         row["ssim"] = ssim;
         if (has_flip) row["flip_mean"] = flip_mean;
-        row["temporal_error"] = candidate.value("temporal_error", 0.0);
+        // null (not finite) in summary.json stays null here
+        row["temporal_error"] =
+            candidate.contains("temporal_error") && candidate["temporal_error"].is_number()
+                ? json(candidate["temporal_error"].get<double>())
+                : json();
         row["seconds_per_frame"] = median_of(seconds);
         row["rays_traced_per_frame"] = rays;
         row["pixels_shaded_per_frame"] = shaded;
@@ -649,8 +653,9 @@ int run_sweep_merge(const SweepOptions& o) {
         rows.push_back(row);
         csv += line + "done," + number_text(psnr) + "," + number_text(ssim) + "," +
                (has_flip ? number_text(flip_mean) : std::string()) + "," +
-               number_text(row["temporal_error"].get<double>()) + "," +
-               number_text(median_of(seconds)) + "," + number_text(rays) + "," +
+               (row["temporal_error"].is_number() ? number_text(row["temporal_error"].get<double>())
+                                                  : std::string()) +
+               "," + number_text(median_of(seconds)) + "," + number_text(rays) + "," +
                number_text(shaded) + "," + csv_field(stage_text) + "\n";
     }
     write_file_atomic((fs::path(o.out) / "results.csv").string(), csv);
