@@ -7,8 +7,10 @@
 // rsvg-convert (Debian librsvg2-bin) is installed, as NAME.png for slides.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
