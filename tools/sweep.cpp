@@ -505,7 +505,13 @@ int run_sweep_job(const SweepOptions& o) {
     fs::remove_all(temporary);
     options.out_dir = temporary.string();
     const auto start = std::chrono::steady_clock::now();
-    run_evaluate(options);
+    try {
+        run_evaluate(options);
+    } catch (...) {  // nothing half-written stays behind
+        std::error_code ignored;
+        fs::remove_all(temporary, ignored);
+        throw;
+    }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     json done = {{"id", job["id"]},           {"index", o.job},

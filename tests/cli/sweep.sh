@@ -171,6 +171,24 @@ contains "is done (skipped)" "finished job skipped"
 expect 2 "index out of range" -- "$FOVREF" sweep job "$TMP/a" 99
 contains "index 99 is not in the plan" "names the index"
 
+# A failing job: the shared reference directory holds another reference (edited by hand). The
+# run names the failed jobs and how to rerun one alone, exits 1, and leaves no partial result.
+expect 0 "plan c" -- "$FOVREF" sweep plan "$TMP/sweep.json" "$TMP/c"
+expect 0 "reference job" -- "$FOVREF" sweep job "$TMP/c" 0
+"$PY" - "$TMP/c"/references/*/reference.json <<'PYTHON'
+import json, sys
+key = json.load(open(sys.argv[1])); key["width"] = 1; json.dump(key, open(sys.argv[1], "w"))
+PYTHON
+expect 1 "run with a broken reference" -- "$FOVREF" sweep run "$TMP/c" --jobs 2
+contains "FAILED" "names the failures"
+contains "rerun one alone to see why: fovref sweep job" "says how to see why"
+expect 2 "the job alone says why" -- "$FOVREF" sweep job "$TMP/c" 1
+contains "holds a reference for other settings" "the reason"
+checks=$((checks + 1))
+if [ -n "$(ls "$TMP/c/results" 2>/dev/null)" ]; then
+  echo "FAIL: failed jobs left something in results/: $(ls "$TMP/c/results")"; failures=$((failures + 1))
+fi
+
 # The same sweep through GNU parallel (the export's job lists), then merged: the same results.
 expect 0 "plan b" -- "$FOVREF" sweep plan "$TMP/sweep.json" "$TMP/b"
 expect 0 "export parallel" -- "$FOVREF" sweep export "$TMP/b" --format parallel --fovref "$FOVREF"
