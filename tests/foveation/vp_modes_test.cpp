@@ -15,38 +15,21 @@
 #include "ref/metrics/metrics.h"
 #include "ref/modes/modes.h"
 #include "ref/scene/procedural.h"
+#include "tests/stage/mode_test_util.h"
 
 using namespace fovref;
 
 namespace {
 
-const Scene& scene_named(const std::string& name) {
-    static std::map<std::string, Scene> scenes;
-    auto it = scenes.find(name);
-    if (it == scenes.end()) it = scenes.emplace(name, make_procedural_scene(name)).first;
-    return it->second;
-}
+using test::buffer;
+using test::scene_named;
 
 std::vector<FrameResult> run(const std::string& scene, const std::string& mode, int width,
                              int height, int frames, std::map<std::string, std::string> params,
                              float time_step = 1.0f / 30, int first_frame = 0,
                              std::vector<Buffer> state = {}) {
-    RenderSettings s;
-    s.width = width;
-    s.height = height;
-    s.frame_count = frames;
-    s.first_frame = first_frame;
-    s.time_step = time_step;
-    s.params = Params(std::move(params));
-    s.requested = {"all"};
-    s.state_buffers = std::move(state);
-    return render(&scene_named(scene), mode, s);
-}
-
-const Image& buffer(const FrameResult& f, const std::string& name) {
-    const Buffer* b = f.find(name);
-    REQUIRE_MESSAGE(b != nullptr, name);
-    return b->image;
+    return test::render_all(scene, mode, width, height, frames, std::move(params), time_step,
+                            first_frame, std::move(state));
 }
 
 std::int64_t counter(const FrameResult& f, const std::string& name) {
@@ -56,10 +39,7 @@ std::int64_t counter(const FrameResult& f, const std::string& name) {
     return 0;
 }
 
-bool same_bits(const Image& a, const Image& b) {
-    return a.same_shape(b) &&
-           std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)) == 0;
-}
+using test::same_bits;
 
 }  // namespace
 
