@@ -21,6 +21,7 @@
 #include "ref/metrics/ssim.h"
 #include "ref/modes/modes.h"
 #include "ref/scene/scene_file.h"
+#include "tools/cli_common.h"
 #include "tools/progress.h"
 
 namespace fovref {
@@ -145,7 +146,10 @@ void print_errors(const Scene& scene, const BenchBmfrOptions& o, Progress& progr
 }  // namespace
 
 void add_bench_bmfr_options(CLI::App& c, BenchBmfrOptions& o) {
-    c.add_option("--scene", o.scene, "procedural scene or scene file")->capture_default_str();
+    c.add_option("--scene", o.scene,
+                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
+        ->capture_default_str();
+    add_scene_load_options(c);
     c.add_option("--width", o.width, "screen width of the cost part")
         ->check(CLI::Range(16, 16384))
         ->capture_default_str();
@@ -181,7 +185,7 @@ int run_bench_bmfr(const BenchBmfrOptions& o) {
     if (o.every > o.frames)
         throw Error("--every " + std::to_string(o.every) + " is more than --frames " +
                     std::to_string(o.frames) + ": no frame would be compared");
-    const Scene scene = load_scene(o.scene);
+    const Scene scene = load_cli_scene(o.scene);
     std::printf("fovref bench bmfr: path tracing + BMFR (SPEC §8-9), one thread\n");
     Progress progress("bench bmfr", o.quiet);
     if (!o.skip_cost) print_cost(scene, o, progress);

@@ -30,6 +30,7 @@
 #include "ref/trace/raycast_gbuffer.h"
 #include "ref/trace/rays_file.h"
 #include "tools/bench_embree.h"
+#include "tools/cli_common.h"
 
 namespace fovref {
 
@@ -275,7 +276,7 @@ void bench_gbuffer_passes(const Scene& scene, const Bvh& bvh, const std::string&
 // and shadow rays (from the primary hits).
 void bench_scene(const std::string& name, const BenchRaysOptions& options,
                  [[maybe_unused]] std::string& explanations) {
-    const Scene scene = make_procedural_scene(name);
+    const Scene scene = load_cli_scene(name);
 
     // Build: the fastest of the repeats (a build is deterministic, so any copy is the tree).
     Bvh bvh;
@@ -345,7 +346,10 @@ void print_footer(const BenchRaysOptions& options, const std::string& explanatio
 }  // namespace
 
 void add_bench_rays_options(CLI::App& c, BenchRaysOptions& o) {
-    c.add_option("--scene", o.scenes, "procedural scene (repeatable; default: all)");
+    c.add_option("--scene", o.scenes,
+                 "procedural scene, scene file or model file (.obj, .gltf, .glb) (repeatable; "
+                 "default: every procedural scene)");
+    add_scene_load_options(c);
     c.add_option("--width", o.width, "primary rays: screen width")
         ->check(CLI::Range(1, 16384))
         ->capture_default_str();
@@ -371,7 +375,7 @@ int run_bench_rays(const BenchRaysOptions& options) {
     if (scenes.empty())
         for (const ProceduralSceneInfo& info : procedural_scenes()) scenes.push_back(info.name);
     for (const std::string& name : scenes)
-        if (!is_procedural_scene(name)) make_procedural_scene(name);  // throws, listing the names
+        if (!is_procedural_scene(name)) load_cli_scene(name);  // a file must load before the table
 
     print_header(options);
     std::string explanations;  // --explain: printed after the table

@@ -27,6 +27,7 @@
 #include "ref/modes/modes.h"
 #include "ref/scene/procedural.h"
 #include "ref/scene/scene_file.h"
+#include "tools/cli_common.h"
 #include "tools/progress.h"
 
 namespace fovref {
@@ -217,7 +218,10 @@ void print_errors(const Scene& scene, const BenchTemporalOptions& o, Progress& p
 }  // namespace
 
 void add_bench_temporal_options(CLI::App& c, BenchTemporalOptions& o) {
-    c.add_option("--scene", o.scene, "procedural scene or scene file")->capture_default_str();
+    c.add_option("--scene", o.scene,
+                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
+        ->capture_default_str();
+    add_scene_load_options(c);
     c.add_option("--width", o.width, "screen width of the cost part")
         ->check(CLI::Range(16, 16384))
         ->capture_default_str();
@@ -247,7 +251,7 @@ int run_bench_temporal(const BenchTemporalOptions& o) {
     // Steady state, as a renderer that keeps its buffers (see bench foveation).
     mallopt(M_MMAP_THRESHOLD, 1 << 30);
     mallopt(M_TRIM_THRESHOLD, 1 << 30);
-    const Scene scene = load_scene(o.scene);
+    const Scene scene = load_cli_scene(o.scene);
     std::printf("fovref bench temporal: TAA (SPEC §7) cost and error, one thread\n");
     Progress progress("bench temporal", o.quiet);
     if (!o.skip_cost) print_cost(scene, o, progress);

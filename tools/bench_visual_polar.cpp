@@ -49,6 +49,7 @@
 #include "ref/scene/camera.h"
 #include "ref/scene/scene.h"
 #include "ref/scene/scene_file.h"
+#include "tools/cli_common.h"
 #include "tools/progress.h"
 
 namespace fovref {
@@ -372,7 +373,10 @@ Size parse_size(const std::string& text, const std::string& option) {
 }  // namespace
 
 void add_bench_visual_polar_options(CLI::App& c, BenchVisualPolarOptions& o) {
-    c.add_option("--scene", o.scene, "procedural scene or scene file")->capture_default_str();
+    c.add_option("--scene", o.scene,
+                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
+        ->capture_default_str();
+    add_scene_load_options(c);
     c.add_option("--width", o.width,
                  "screen width of the cost part (with --height: this one size instead of "
                  "1280x1440 and 1280x720)")
@@ -412,7 +416,7 @@ int run_bench_visual_polar(const BenchVisualPolarOptions& o) {
     const Size error_size = parse_size(o.error_size, "--error-size");
     const std::vector<Size> sizes = o.width > 0 ? std::vector<Size>{{o.width, o.height}}
                                                 : std::vector<Size>{{1280, 1440}, {1280, 720}};
-    const Scene scene = load_scene(o.scene);
+    const Scene scene = load_cli_scene(o.scene);
     std::printf(
         "fovref bench visual-polar: path tracing + BMFR in screen space vs Visual-Polar space "
         "(Koskela P5), one thread\n");

@@ -42,7 +42,46 @@ void add_gaze_option(CLI::App& c, CaseOptions& o) {
 std::optional<Scene> command_scene(const CaseOptions& o, const std::string& command) {
     if (!find_mode(o.mode).needs_scene) return std::nullopt;
     if (o.scene.empty()) throw Error(command + ": mode '" + o.mode + "' needs --scene");
-    return load_scene(o.scene);
+    return load_cli_scene(o.scene);
+}
+
+SceneLoadOptions& cli_scene_options() {
+    static SceneLoadOptions options;
+    return options;
+}
+
+void add_scene_load_options(CLI::App& c, bool with_camera) {
+    SceneLoadOptions& o = cli_scene_options();
+    c.add_flag("--strict-obj", o.strict_obj,
+               "OBJ quirks (an undefined material, a missing MTL file or texture, blanks in "
+               "material names, backslashes in paths) are errors instead of warnings "
+               "(docs/obj-quirks.md)");
+    if (with_camera)
+        c.add_option("--camera", o.camera_file,
+                     "JSON camera file ({\"camera\": {...}} or the camera object, as in a scene "
+                     "file) replacing the scene's camera (docs/model-files.md)")
+            ->check(CLI::ExistingFile);
+}
+
+Scene load_cli_scene(const std::string& name_or_path, bool report) {
+    Scene scene = load_scene(name_or_path, cli_scene_options());
+    const SceneLoadStats& stats = scene.load_stats;
+    if (!report || (stats.warnings.empty() && stats.defaulted.empty() && stats.unsupported.empty()))
+        return scene;
+    // One summary line on stderr, then the first few warnings; `scene info` lists them all.
+    std::string summary = "fovref: scene " + name_or_path + ":";
+    if (!stats.warnings.empty())
+        summary += " " + std::to_string(stats.warnings.size()) + " warnings;";
+    if (!stats.unsupported.empty())
+        summary += " " + std::to_string(stats.unsupported.size()) + " unsupported features;";
+    for (const std::string& d : stats.defaulted)
+        summary += " " + d.substr(0, d.find(':')) + " defaulted;";
+    summary.back() = ' ';
+    std::cerr << summary << "(fovref scene info " << name_or_path << " lists them)\n";
+    constexpr std::size_t shown = 3;
+    for (std::size_t k = 0; k < stats.warnings.size() && k < shown; ++k)
+        std::cerr << "fovref: warning: " << stats.warnings[k] << "\n";
+    return scene;
 }
 
 double median_of(std::vector<double> values) {

@@ -8,6 +8,7 @@
 
 #include "ref/golden/bundle.h"
 #include "ref/scene/scene.h"
+#include "ref/scene/scene_file.h"
 
 namespace CLI {
 class App;
@@ -24,6 +25,18 @@ void say(bool quiet, const std::string& line);
 
 /// The median (the mean of the two middle values for an even count; 0 for none).
 double median_of(std::vector<double> values);
+
+/// How this run of fovref reads scenes: --strict-obj and --camera of the command that runs.
+SceneLoadOptions& cli_scene_options();
+
+/// Registers --strict-obj and (unless `with_camera` is false: `rays` has a --camera flag of its
+/// own) --camera FILE on a command that takes a scene; they set cli_scene_options().
+void add_scene_load_options(CLI::App& command, bool with_camera = true);
+
+/// load_scene with cli_scene_options(): what every command uses for its --scene. With `report`,
+/// a scene with load warnings, unsupported features or defaults gets one summary line on
+/// stderr and its first three warnings (`scene info` lists them all).
+Scene load_cli_scene(const std::string& name_or_path, bool report = true);
 
 /// The options `fovref render` and `fovref probe` share: the case they render.
 struct CaseOptions {

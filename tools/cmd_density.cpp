@@ -21,6 +21,7 @@ void add_density_options(CLI::App& c, DensityOptions& o) {
     c.add_option("mode", o.mode, "a log-polar mode: fov, kfov, cfov, ckfov, kfr")->required();
     c.add_option("--scene", o.scene, "scene whose camera and display model give d_px")
         ->capture_default_str();
+    add_scene_load_options(c);
     c.add_option("--width", o.width, "screen width")->capture_default_str();
     c.add_option("--height", o.height, "screen height")->capture_default_str();
     c.add_option("--param", o.params, "mode parameter key=value (repeatable)");
@@ -43,7 +44,7 @@ int run_density(const DensityOptions& o) {
     settings.height = o.height;
     validate_settings(settings);
     const FoveatedParams params = parse_foveated_params(run.params, preset);
-    const Scene scene = load_scene(o.scene);
+    const Scene scene = load_cli_scene(o.scene);
     const Camera camera = camera_at(scene, 0.0f);
     const LogPolarMap map = foveated_map(params, scene, camera, o.width, o.height, 0);
     RingSettings ring_settings;

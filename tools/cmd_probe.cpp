@@ -11,6 +11,7 @@
 #include "ref/core/error.h"
 #include "ref/modes/modes.h"
 #include "ref/stage/probe.h"
+#include "tools/cli_common.h"
 #include "tools/progress.h"
 
 #ifndef FOVREF_SOURCE_DIR
@@ -104,7 +105,9 @@ void print_debugger_section(const ProbeOptions& o, const GoldenCase& run,
 }  // namespace
 
 void add_probe_options(CLI::App& c, ProbeOptions& o) {
-    c.add_option("--scene", o.scene, "procedural scene name or scene file");
+    c.add_option("--scene", o.scene,
+                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)");
+    add_scene_load_options(c);
     c.add_option("--mode", o.mode, "render mode (see `fovref modes`)")->required();
     c.add_option("--width", o.width, "screen width in pixels")->capture_default_str();
     c.add_option("--height", o.height, "screen height in pixels")->capture_default_str();

@@ -14,7 +14,10 @@
 namespace fovref {
 
 void add_rays_trace_options(CLI::App& c, RaysTraceOptions& o) {
-    c.add_option("SCENE", o.scene, "procedural scene name or scene file")->required();
+    c.add_option("SCENE", o.scene,
+                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
+        ->required();
+    add_scene_load_options(c, /*with_camera=*/false);
     c.add_option("RAYS", o.rays_path, "ray file: 8 x binary32 per ray (docs/rays.md)")->required();
     c.add_option("HITS", o.hits_path, "output: 16-byte hit records, or 4-byte occlusion flags")
         ->required();
@@ -22,7 +25,10 @@ void add_rays_trace_options(CLI::App& c, RaysTraceOptions& o) {
 }
 
 void add_rays_make_options(CLI::App& c, RaysMakeOptions& o) {
-    c.add_option("SCENE", o.scene, "procedural scene name or scene file")->required();
+    c.add_option("SCENE", o.scene,
+                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
+        ->required();
+    add_scene_load_options(c, /*with_camera=*/false);
     c.add_option("RAYS", o.rays_path, "output ray file")->required();
     c.add_flag("--camera", o.camera, "primary rays through every pixel centre");
     c.add_option("--width", o.width, "with --camera")->capture_default_str();
@@ -37,7 +43,7 @@ void add_rays_make_options(CLI::App& c, RaysMakeOptions& o) {
 }
 
 int run_rays_trace(const RaysTraceOptions& o) {
-    const Scene scene = load_scene(o.scene);
+    const Scene scene = load_cli_scene(o.scene);
     const std::vector<Ray> rays = read_rays(o.rays_path);
     Progress progress("rays trace", o.quiet);
     const Bvh bvh = build_bvh(scene.positions);
@@ -71,7 +77,7 @@ int run_rays_trace(const RaysTraceOptions& o) {
 }
 
 int run_rays_make(const RaysMakeOptions& o) {
-    const Scene scene = load_scene(o.scene);
+    const Scene scene = load_cli_scene(o.scene);
     std::vector<Ray> rays;
     if (o.camera == (o.random_count > 0))
         throw Error(

@@ -9,6 +9,7 @@
 #include "ref/core/error.h"
 #include "ref/image/image_io.h"
 #include "ref/modes/modes.h"
+#include "tools/cli_common.h"
 #include "tools/progress.h"
 
 namespace fovref {
@@ -94,7 +95,9 @@ std::vector<Buffer> resume_buffers(const std::string& directory, const GoldenCas
 }  // namespace
 
 void add_render_options(CLI::App& c, RenderOptions& o) {
-    c.add_option("--scene", o.scene, "procedural scene name or scene file");
+    c.add_option("--scene", o.scene,
+                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)");
+    add_scene_load_options(c);
     c.add_option("--mode", o.mode, "render mode (see `fovref modes`)")->capture_default_str();
     c.add_option("--width", o.width, "screen width in pixels")->capture_default_str();
     c.add_option("--height", o.height, "screen height in pixels")->capture_default_str();

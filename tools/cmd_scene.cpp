@@ -56,8 +56,13 @@ nlohmann::json scene_info_json(const Scene& scene, const Bounds& bounds, const L
     j["presets"] = nlohmann::json::array();
     for (const auto& [name, text] : scene.presets) j["presets"].push_back(name);
     j["dropped"] = {{"zero_area_triangles", scene.load_stats.zero_area_triangles_dropped}};
+    j["ignored"] = {{"points", scene.load_stats.points_ignored},
+                    {"lines", scene.load_stats.lines_ignored}};
     j["repaired"] = {{"polygons_triangulated", scene.load_stats.polygons_triangulated},
+                     {"concave_polygons", scene.load_stats.concave_polygons},
                      {"normals_generated", scene.load_stats.normals_generated}};
+    j["defaulted"] = scene.load_stats.defaulted;
+    j["unsupported"] = scene.load_stats.unsupported;
     j["warnings"] = scene.load_stats.warnings;
     return j;
 }
@@ -115,27 +120,42 @@ void print_scene_info(const Scene& scene, const Bounds& bounds, const LightCount
     std::printf("presets    %s\n", presets.empty() ? "none" : presets.c_str());
     std::printf("dropped    %lld zero-area triangles\n",
                 static_cast<long long>(scene.load_stats.zero_area_triangles_dropped));
-    std::printf("repaired   %lld polygons triangulated, %lld triangles without normals\n",
-                static_cast<long long>(scene.load_stats.polygons_triangulated),
-                static_cast<long long>(scene.load_stats.normals_generated));
-    for (const std::string& w : scene.load_stats.warnings)
-        std::printf("warning    %s\n", w.c_str());
+    const SceneLoadStats& stats = scene.load_stats;
+    if (stats.points_ignored > 0 || stats.lines_ignored > 0)
+        std::printf("ignored    %lld points, %lld lines (triangles only)\n",
+                    static_cast<long long>(stats.points_ignored),
+                    static_cast<long long>(stats.lines_ignored));
+    std::printf(
+        "repaired   %lld polygons triangulated (%lld concave, ear-clipped), %lld "
+        "triangles without normals\n",
+        static_cast<long long>(stats.polygons_triangulated),
+        static_cast<long long>(stats.concave_polygons),
+        static_cast<long long>(stats.normals_generated));
+    for (const std::string& d : stats.defaulted) std::printf("defaulted  %s\n", d.c_str());
+    for (const std::string& u : stats.unsupported) std::printf("unsupported %s\n", u.c_str());
+    for (const std::string& w : stats.warnings) std::printf("warning    %s\n", w.c_str());
 }
 
 }  // namespace
 
 void add_scene_info_options(CLI::App& c, SceneInfoOptions& o) {
-    c.add_option("SCENE", o.scene, "procedural scene name or scene file/directory")->required();
+    c.add_option("SCENE", o.scene,
+                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
+        ->required();
+    add_scene_load_options(c);
     c.add_flag("--json", o.json, "machine-readable output");
 }
 
 void add_scene_export_options(CLI::App& c, SceneExportOptions& o) {
-    c.add_option("SCENE", o.scene, "procedural scene name or scene file")->required();
+    c.add_option("SCENE", o.scene,
+                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
+        ->required();
+    add_scene_load_options(c);
     c.add_option("DIR", o.directory, "output directory (created)")->required();
 }
 
 int run_scene_info(const SceneInfoOptions& o) {
-    const Scene scene = load_scene(o.scene);
+    const Scene scene = load_cli_scene(o.scene, /*report=*/false);
     const Bounds bounds = scene_bounds(scene);
     const LightCounts lights = count_lights(scene);
     if (o.json)
@@ -146,7 +166,7 @@ int run_scene_info(const SceneInfoOptions& o) {
 }
 
 int run_scene_export(const SceneExportOptions& o) {
-    const Scene scene = load_scene(o.scene);
+    const Scene scene = load_cli_scene(o.scene);
     export_scene(scene, o.directory);
     say(o.quiet, "exported " + scene.name + " (" + std::to_string(scene.triangle_count()) +
                      " triangles) to " + o.directory + "/scene.json");

@@ -125,7 +125,10 @@ std::vector<RingStats> average_rings(const std::vector<std::vector<RingStats>>& 
 }  // namespace
 
 void add_evaluate_options(CLI::App& c, EvaluateOptions& o) {
-    c.add_option("--scene", o.scene, "procedural scene name or scene file")->required();
+    c.add_option("--scene", o.scene,
+                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
+        ->required();
+    add_scene_load_options(c);
     c.add_option("--mode", o.modes,
                  "mode to evaluate, optionally with parameters: basic or basic:primary=raster "
                  "(repeatable, or comma-separated)")
@@ -599,7 +602,7 @@ void print_rings(const Evaluation& e, const std::vector<Candidate>& candidates) 
 int run_evaluate(const EvaluateOptions& o) {
     if (o.modes.empty() && o.frame_dirs.empty())
         throw Error("evaluate: give --mode and/or --frames-dir");
-    const Scene scene = load_scene(o.scene);
+    const Scene scene = load_cli_scene(o.scene);
     std::vector<Candidate> candidates = make_candidates(o);
     const ModeInfo& reference_mode = find_mode(o.reference_mode);
     (void)reference_mode;
@@ -621,7 +624,7 @@ int run_evaluate(const EvaluateOptions& o) {
 
 void store_evaluation_reference(const EvaluateOptions& o) {
     if (o.reference_dir.empty()) throw Error("store_evaluation_reference: no reference directory");
-    const Scene scene = load_scene(o.scene);
+    const Scene scene = load_cli_scene(o.scene);
     Evaluation e(o, scene);
     set_up_rings(e);
     for (int f = 0; f < o.frames; f += o.every) e.evaluated.push_back(f);

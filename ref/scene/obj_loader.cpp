@@ -1,14 +1,18 @@
-// OBJ + MTL meshes (SPEC §2): faces, groups and material names by tinyobjloader, every number
-// by our own pre-scan.
+// OBJ + MTL meshes (SPEC §2): faces and texture names by tinyobjloader, every number, material
+// name and usemtl by our own pre-scan.
 //
 // tinyobjloader reports few problems and almost never with a line: it reads a malformed number
 // as 0, "nan" as 0, and an out-of-range face index as an error without context. So before
 // handing the text to it, a validating pre-scan walks the OBJ (and every MTL it names)
 // statement by statement: numbers must parse completely and be finite binary32, face indices
-// must be in range (1-based or negative-relative, as OBJ defines them), named MTL files and
-// textures must exist, usemtl must name a material defined earlier. Each failure is thrown as
-// fovref::Error "file:line: message". The pre-scan also records the line of every face, which
-// is how a zero-area triangle's warning names its line.
+// must be in range (1-based or negative-relative, as OBJ defines them). Each failure is thrown as
+// fovref::Error "file:line: message". The pre-scan also records the line of every face (which
+// is how a zero-area triangle's warning names its line) and the material each face uses.
+//
+// Quirks of real-world files (docs/obj-quirks.md): an undefined material, a missing MTL file or
+// texture, material names with blanks, backslashes in paths, and a few more are accepted with a
+// warning in load_stats.warnings; with `strict` (--strict-obj) they are errors as before. A
+// UTF-16 file or one with NUL bytes is always an error.
 //
 // Numbers: the pre-scan parses each one with std::from_chars<float>, i.e. correctly rounded
 // straight to binary32, and keeps the v, vt, vn and MTL Kd/Ks/Ke/Ns/Pr values. These are the
@@ -17,16 +21,22 @@
 // binary32 rounding boundary ("1.00000005960464477539062500001") can come out one ulp away from
 // the correctly rounded float that any other careful reader (a GPU tool) gets, and libm is not
 // allowed to feed a golden (SPEC §0). tinyobjloader's vertex/normal/texcoord indices count
-// v/vn/vt statements in file order, exactly as the pre-scan stores them (checked by comparing
+// v/vt/vn statements in file order, exactly as the pre-scan stores them (checked by comparing
 // the counts), so they index the pre-scan's arrays directly.
 //
-// Geometry: tinyobjloader gives the faces (triangulate = false: we fan-triangulate ourselves,
-// polygon (v0, v1, ..., vn-1) -> (v0, vk, vk+1) for k = 1 .. n-2, in order), so the triangle
-// order is the face order of the file. Each triangle is transformed to world space, dropped if
-// its area is zero or not finite (counted), and given geometric normals where the file has none
-// (counted) and uv (0,0) where it has no texture coordinates.
+// Materials: tinyobjloader reads each MTL text (tinyobj::LoadMtl) only for its map_Kd file name
+// and options; its materials pair with the pre-scan's by position. The OBJ text it parses has its
+// mtllib and usemtl statements commented out: which material a face uses is the pre-scan's
+// (usemtl names may contain blanks, which tinyobjloader cuts at the first blank).
+//
+// Geometry: tinyobjloader gives the faces (triangulate = false: polygon_split triangulates them,
+// a fan for convex polygons, ear clipping for concave ones), so the triangle order is the face
+// order of the file. Each triangle is transformed to world space, dropped if its area is zero or
+// not finite (counted), and given geometric normals where the file has none (counted) and uv
+// (0,0) where it has no texture coordinates.
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -39,6 +49,7 @@
 #include "ref/core/error.h"
 #include "ref/image/image_io.h"
 #include "ref/scene/obj_loader.h"
+#include "ref/scene/polygon.h"
 #include "ref/scene/scene_file.h"
 
 namespace fovref {
@@ -151,12 +162,84 @@ std::size_t parse_numbers(const std::vector<std::string_view>& tokens, std::size
     return count;
 }
 
+// --- Quirks -------------------------------------------------------------------------------------
+
+// Where a file's quirks go: with `strict`, a quirk is the error it always was; otherwise it is a
+// warning ("file:line: message") and loading goes on.
+struct QuirkLog {
+    bool strict = false;
+    std::vector<std::string>* warnings = nullptr;
+
+    void quirk(const std::string& file, int line, const std::string& strict_message,
+               const std::string& warning) const {
+        if (strict) throw file_error(file, line, strict_message);
+        warnings->push_back(file_error(file, line, warning).what());
+    }
+};
+
+// The text of a statement after its keyword, blanks at both ends dropped ("" when none).
+std::string_view rest_of_statement(const std::vector<std::string_view>& tokens) {
+    if (tokens.size() < 2) return {};
+    const char* begin = tokens[1].data();
+    const char* end = tokens.back().data() + tokens.back().size();
+    return {begin, static_cast<std::size_t>(end - begin)};
+}
+
+// A file name as written, with Windows separators turned into '/' (a quirk when there were any).
+std::string portable_path(std::string_view name, const QuirkLog& log, const std::string& file,
+                          int line, const char* what) {
+    std::string path(name);
+    if (path.find('\\') == std::string::npos) return path;
+    std::string fixed = path;
+    for (char& c : fixed)
+        if (c == '\\') c = '/';
+    log.quirk(file, line, std::string(what) + " '" + path + "' uses '\\' as a path separator",
+              std::string(what) + " '" + path + "' uses '\\' as a path separator; read as '" +
+                  fixed + "'");
+    return fixed;
+}
+
+// Bytes a text file must not hold: UTF-16/32 (a byte-order mark, or NUL bytes) is an error that
+// says so; a UTF-8 byte-order mark is blanked (three spaces). Lone-CR line breaks and a missing
+// final line break are read as they are, with a warning.
+std::string checked_text(std::string text, const std::string& path,
+                         std::vector<std::string>& warnings) {
+    const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+    if (text.size() >= 2 &&
+        ((byte(0) == 0xFF && byte(1) == 0xFE) || (byte(0) == 0xFE && byte(1) == 0xFF)))
+        throw Error(path + ": the file is UTF-16 text (byte-order mark " +
+                    std::string(byte(0) == 0xFF ? "FF FE" : "FE FF") +
+                    "); save it as UTF-8 or ASCII");
+    const std::size_t nul = text.find('\0');
+    if (nul != std::string::npos) {
+        int line = 1;
+        for (std::size_t i = 0; i < nul; ++i) line += text[i] == '\n' ? 1 : 0;
+        throw file_error(path, line,
+                         "NUL byte at offset " + std::to_string(nul) +
+                             ": the file is binary, or UTF-16/UTF-32 text (save it as UTF-8 or "
+                             "ASCII)");
+    }
+    if (text.size() >= 3 && byte(0) == 0xEF && byte(1) == 0xBB && byte(2) == 0xBF)
+        text.replace(0, 3, "   ");
+    bool lone_cr = false;
+    for (std::size_t i = 0; i < text.size() && !lone_cr; ++i)
+        lone_cr = text[i] == '\r' && (i + 1 == text.size() || text[i + 1] != '\n');
+    if (lone_cr)
+        warnings.push_back(path + ": lines end in a lone CR (classic Mac OS); read as line breaks");
+    if (!text.empty() && text.back() != '\n' && text.back() != '\r')
+        warnings.push_back(path +
+                           ": the last line has no line break (is the file cut short?); read as "
+                           "written");
+    return text;
+}
+
 // --- MTL pre-scan ----------------------------------------------------------------------------
 
 // What the pre-scan learns about one material: where it is defined and its numbers, correctly
 // rounded (see the top of the file). Absent values keep tinyobjloader's defaults (Kd, Ks, Ke 0,
 // Ns 1, Pr 0); a repeated statement overrides the earlier one, as in tinyobjloader.
 struct MtlMaterialInfo {
+    std::string name;
     std::string file;  ///< the MTL file that defines it
     int line = 0;      ///< its newmtl line
     glm::vec3 kd{0.0f};
@@ -168,29 +251,44 @@ struct MtlMaterialInfo {
     bool has_pr = false;
     bool has_ns = false;
     int map_kd_line = 0;
+    bool duplicate = false;  ///< a second newmtl of an earlier name (ignored, with a warning)
 };
 
 struct MtlScan {
-    std::map<std::string, MtlMaterialInfo> materials;
-    std::map<std::string, std::string> texts;  ///< mtllib name as written -> file contents
+    std::vector<MtlMaterialInfo> materials;  ///< every newmtl, in mtllib then file order
+    std::map<std::string, int> by_name;      ///< name -> first definition in `materials`
+    std::vector<std::string> texts;          ///< the MTL files' text, in mtllib order
+    std::set<std::string> paths;             ///< MTL files read (each is read once)
 };
 
-void scan_mtl(const std::string& mtl_path, const std::string& text, MtlScan& scan) {
+void scan_mtl(const std::string& mtl_path, const std::string& text, MtlScan& scan,
+              const QuirkLog& log) {
     MtlMaterialInfo* current = nullptr;
     for_each_statement(text, [&](int line, const std::vector<std::string_view>& tokens) {
         const std::string_view keyword = tokens[0];
         if (keyword == "newmtl") {
-            if (tokens.size() != 2)
-                throw file_error(mtl_path, line, "newmtl needs one material name without blanks");
-            std::string name(tokens[1]);
-            auto [it, inserted] = scan.materials.emplace(name, MtlMaterialInfo{});
-            if (!inserted)
-                throw file_error(mtl_path, line,
-                                 "material '" + name + "' is already defined at " +
-                                     location(it->second.file, it->second.line));
-            it->second.file = mtl_path;
-            it->second.line = line;
-            current = &it->second;
+            if (tokens.size() < 2) throw file_error(mtl_path, line, "newmtl needs a material name");
+            const std::string name(rest_of_statement(tokens));
+            if (tokens.size() > 2)
+                log.quirk(mtl_path, line, "newmtl needs one material name without blanks",
+                          "material name '" + name + "' contains blanks (accepted as written)");
+            MtlMaterialInfo info;
+            info.name = name;
+            info.file = mtl_path;
+            info.line = line;
+            auto [it, inserted] =
+                scan.by_name.emplace(name, static_cast<int>(scan.materials.size()));
+            if (!inserted) {
+                const MtlMaterialInfo& first = scan.materials[static_cast<std::size_t>(it->second)];
+                log.quirk(mtl_path, line,
+                          "material '" + name + "' is already defined at " +
+                              location(first.file, first.line),
+                          "material '" + name + "' is defined again (first at " +
+                              location(first.file, first.line) + "); this definition is ignored");
+                info.duplicate = true;
+            }
+            scan.materials.push_back(info);
+            current = &scan.materials.back();
             return;
         }
         const bool used = keyword == "Kd" || keyword == "Ks" || keyword == "Ke" ||
@@ -241,10 +339,13 @@ void scan_mtl(const std::string& mtl_path, const std::string& text, MtlScan& sca
 // "v" statement (its x y z; w or a vertex colour are checked and dropped), of normals the i-th
 // "vn", of texcoords the i-th "vt" (u and v; v = 0 when absent, w dropped, as tinyobjloader).
 struct ObjScan {
-    std::vector<int> face_lines;  ///< line of each f statement, in file order
+    std::vector<int> face_lines;      ///< line of each f statement, in file order
+    std::vector<int> face_materials;  ///< index into mtl.materials of each face; -1 = default
     std::vector<glm::vec3> positions;
     std::vector<glm::vec3> normals;
     std::vector<glm::vec2> texcoords;
+    std::int64_t points = 0;  ///< vertex indices of "p" statements
+    std::int64_t lines = 0;   ///< "l" statements
     MtlScan mtl;
 };
 
@@ -286,9 +387,68 @@ void check_corner(std::string_view corner, const ObjScan& scan, const std::strin
     }
 }
 
-ObjScan scan_obj(const std::string& obj_path, const std::string& text) {
+// Reads the MTL file `name` (as an mtllib statement of obj_path's line wrote it) into scan.mtl;
+// returns false when there is no such file.
+bool read_mtllib(const std::string& obj_path, int line, const std::string& name, ObjScan& scan,
+                 const QuirkLog& log) {
+    const std::string mtl_path = join_path(directory_of(obj_path), name);
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(mtl_path, ec)) return false;
+    if (!scan.mtl.paths.insert(mtl_path).second) return true;  // each file is read once
+    std::string mtl_text;
+    try {
+        mtl_text = read_file(mtl_path);
+    } catch (const Error& e) {
+        throw file_error(obj_path, line, e.what());
+    }
+    mtl_text = checked_text(std::move(mtl_text), mtl_path, *log.warnings);
+    scan_mtl(mtl_path, mtl_text, scan.mtl, log);
+    scan.mtl.texts.push_back(std::move(mtl_text));
+    return true;
+}
+
+// mtllib: one file name; with quirks, a name with blanks, or else several names.
+void scan_mtllib(const std::string& obj_path, int line, const std::vector<std::string_view>& tokens,
+                 ObjScan& scan, const QuirkLog& log) {
+    if (tokens.size() < 2) throw file_error(obj_path, line, "mtllib needs a file name");
+    if (tokens.size() > 2 && log.strict)
+        throw file_error(obj_path, line,
+                         "mtllib needs exactly one file name (use one mtllib per file)");
+    const std::string whole =
+        portable_path(rest_of_statement(tokens), log, obj_path, line, "MTL file");
+    if (read_mtllib(obj_path, line, whole, scan, log)) {
+        if (tokens.size() > 2)
+            log.warnings->push_back(location(obj_path, line) + ": MTL file name '" + whole +
+                                    "' contains blanks (accepted as written)");
+        return;
+    }
+    std::vector<std::string> names{whole};
+    if (tokens.size() > 2) {  // several files, as tinyobjloader reads mtllib
+        names.clear();
+        for (std::size_t k = 1; k < tokens.size(); ++k)
+            names.push_back(portable_path(tokens[k], QuirkLog{false, log.warnings}, obj_path, line,
+                                          "MTL file"));
+    }
+    for (const std::string& name : names) {
+        if (read_mtllib(obj_path, line, name, scan, log)) continue;
+        const std::string looked = join_path(directory_of(obj_path), name);
+        log.quirk(obj_path, line, "MTL file '" + name + "' not found (looked for " + looked + ")",
+                  "MTL file '" + name + "' not found (looked for " + looked +
+                      "); faces that use its materials get the default material");
+    }
+}
+
+// The material of the faces after a usemtl: resolved when the scan ends (see scan_obj).
+struct PendingUsemtl {
+    std::string name;
+    int line = 0;
+    bool defined_before = false;
+};
+
+ObjScan scan_obj(const std::string& obj_path, const std::string& text, const QuirkLog& log) {
     ObjScan scan;
-    const std::string directory = directory_of(obj_path);
+    std::vector<PendingUsemtl> usemtls;  // every usemtl, in file order
+    std::vector<int> face_usemtl;        // per face: index into usemtls, -1 = none yet
     for_each_statement(text, [&](int line, const std::vector<std::string_view>& tokens) {
         const std::string_view keyword = tokens[0];
         std::array<float, 7> values{};
@@ -316,32 +476,19 @@ ObjScan scan_obj(const std::string& obj_path, const std::string& text) {
             for (std::size_t k = 1; k < tokens.size(); ++k)
                 check_corner(tokens[k], scan, obj_path, line);
             scan.face_lines.push_back(line);
+            face_usemtl.push_back(static_cast<int>(usemtls.size()) - 1);
         } else if (keyword == "mtllib") {
-            if (tokens.size() != 2)
-                throw file_error(obj_path, line,
-                                 "mtllib needs exactly one file name (use one mtllib per file)");
-            const std::string name(tokens[1]);
-            if (scan.mtl.texts.count(name) != 0) return;  // tinyobjloader reads each file once
-            const std::string mtl_path = join_path(directory, name);
-            std::error_code ec;
-            if (!std::filesystem::is_regular_file(mtl_path, ec))
-                throw file_error(obj_path, line,
-                                 "MTL file '" + name + "' not found (looked for " + mtl_path + ")");
-            std::string mtl_text;
-            try {
-                mtl_text = read_file(mtl_path);
-            } catch (const Error& e) {
-                throw file_error(obj_path, line, e.what());
-            }
-            scan_mtl(mtl_path, mtl_text, scan.mtl);
-            scan.mtl.texts.emplace(name, std::move(mtl_text));
+            scan_mtllib(obj_path, line, tokens, scan, log);
         } else if (keyword == "usemtl") {
-            if (tokens.size() != 2)
+            if (tokens.size() != 2 && log.strict)
                 throw file_error(obj_path, line, "usemtl needs one material name without blanks");
-            if (scan.mtl.materials.count(std::string(tokens[1])) == 0)
-                throw file_error(obj_path, line,
-                                 "material '" + std::string(tokens[1]) +
-                                     "' is not defined by an mtllib before this line");
+            const std::string name(rest_of_statement(tokens));
+            const bool defined = scan.mtl.by_name.count(name) != 0;
+            if (!defined && log.strict)
+                throw file_error(
+                    obj_path, line,
+                    "material '" + name + "' is not defined by an mtllib before this line");
+            usemtls.push_back({name, line, defined});
         } else if (keyword == "l" || keyword == "p") {
             // Lines and points carry no triangles, but tinyobjloader stops on a bad index in
             // them with a message of its own: check them here, with file and line.
@@ -352,45 +499,139 @@ ObjScan scan_obj(const std::string& obj_path, const std::string& text) {
                         " or more vertex indices");
             for (std::size_t k = 1; k < tokens.size(); ++k)
                 check_corner(tokens[k], scan, obj_path, line);
+            if (keyword == "l")
+                ++scan.lines;
+            else
+                scan.points += static_cast<std::int64_t>(tokens.size() - 1);
         }
         // Other statements (o, g, s, vp, ...) are left to tinyobjloader, which ignores them for
         // triangle meshes.
     });
+
+    // Materials of the faces: a usemtl names a material of any MTL file the OBJ reads (strict:
+    // of one read before its line); an undefined one gives its faces the default material, with
+    // one warning per name.
+    std::vector<int> usemtl_material(usemtls.size(), -1);
+    std::set<std::string> reported;
+    for (std::size_t u = 0; u < usemtls.size(); ++u) {
+        auto it = scan.mtl.by_name.find(usemtls[u].name);
+        if (it != scan.mtl.by_name.end()) {
+            usemtl_material[u] = it->second;
+        } else if (reported.insert(usemtls[u].name).second) {
+            log.warnings->push_back(location(obj_path, usemtls[u].line) + ": material '" +
+                                    usemtls[u].name +
+                                    "' is not defined by any MTL file; its faces get the default "
+                                    "material");
+        }
+    }
+    for (int u : face_usemtl) scan.face_materials.push_back(u < 0 ? -1 : usemtl_material[u]);
     return scan;
 }
 
-// tinyobjloader reads MTL files through this: it gets the text the pre-scan already read and
-// checked, so both see the same bytes.
-class PrescannedMaterialReader : public tinyobj::MaterialReader {
-public:
-    explicit PrescannedMaterialReader(const MtlScan& scan) : scan_(scan) {}
-    bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
-                    std::map<std::string, int>* material_map, std::string* warn,
-                    std::string* err) override {
-        auto it = scan_.texts.find(name);
-        if (it == scan_.texts.end()) return false;
-        std::istringstream stream(it->second);
-        tinyobj::LoadMtl(material_map, materials, &stream, warn, err);
-        return true;
+// The text tinyobjloader parses: line breaks as "\n" (the pre-scan's lines, so tinyobjloader's
+// line numbers agree), and for an OBJ, its mtllib and usemtl statements commented out (the
+// pre-scan resolves materials).
+std::string tinyobj_text(const std::string& text, bool is_obj) {
+    std::string out;
+    out.reserve(text.size());
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        if (text[i] == '\r') {
+            out.push_back('\n');
+            if (i + 1 < text.size() && text[i + 1] == '\n') ++i;
+        } else {
+            out.push_back(text[i]);
+        }
     }
-
-private:
-    const MtlScan& scan_;
-};
+    if (!is_obj) return out;
+    std::size_t pos = 0;
+    while (pos < out.size()) {
+        std::size_t start = pos;
+        while (start < out.size() && (out[start] == ' ' || out[start] == '\t')) ++start;
+        if (out.compare(start, 6, "usemtl") == 0 || out.compare(start, 6, "mtllib") == 0)
+            out[start] = '#';
+        pos = out.find('\n', pos);
+        if (pos == std::string::npos) break;
+        ++pos;
+    }
+    return out;
+}
 
 // --- Materials --------------------------------------------------------------------------------
 
-// Numbers from the pre-scan (info), names and the texture file from tinyobjloader (source).
+// The file a texture name refers to, relative to the MTL file's directory: as written; with
+// quirks, '\' read as '/' and, where no file has that name, the one file of the directory whose
+// name differs only in letter case (a name written on a case-insensitive file system). "" when
+// there is none (the caller reports it).
+std::string find_texture(const std::string& directory, const std::string& name, const QuirkLog& log,
+                         const std::string& mtl_path, int line) {
+    std::error_code ec;
+    const std::string as_written = join_path(directory, name);
+    if (std::filesystem::is_regular_file(as_written, ec)) return as_written;
+    const std::string portable = portable_path(name, log, mtl_path, line, "texture path");
+    const std::string path = join_path(directory, portable);
+    if (std::filesystem::is_regular_file(path, ec)) return path;
+    if (log.strict) return "";
+    const std::filesystem::path wanted(path);
+    const std::filesystem::path folder =
+        wanted.has_parent_path() ? wanted.parent_path() : std::filesystem::path(".");
+    auto lower = [](std::string text) {
+        for (char& c : text)
+            if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+        return text;
+    };
+    const std::string wanted_name = lower(wanted.filename().string());
+    std::vector<std::string> matches;  // sorted below: directory order is not deterministic
+    for (std::filesystem::directory_iterator it(folder, ec), end; !ec && it != end;
+         it.increment(ec))
+        if (lower(it->path().filename().string()) == wanted_name && it->is_regular_file(ec))
+            matches.push_back(it->path().string());
+    std::sort(matches.begin(), matches.end());
+    if (matches.size() != 1) return "";
+    log.warnings->push_back(location(mtl_path, line) + ": texture '" + portable +
+                            "' not found; using '" +
+                            std::filesystem::path(matches[0]).filename().string() +
+                            "', whose name differs only in letter case");
+    return matches[0];
+}
+
+// Numbers from the pre-scan (info), the texture file name from tinyobjloader (source). A texture
+// that cannot be found or read is a quirk: the material is drawn without it.
 Material convert_material(Scene& scene, const tinyobj::material_t& source,
-                          const MtlMaterialInfo& info, TextureCache& cache) {
+                          const MtlMaterialInfo& info, TextureCache& cache, const QuirkLog& log) {
     Material material;
-    material.name = source.name;
+    material.name = info.name;
+    std::string texture_name = source.diffuse_texname;
+    while (!texture_name.empty() && (texture_name.back() == ' ' || texture_name.back() == '\t'))
+        texture_name.pop_back();
+    int texture = -1;
+    if (!texture_name.empty()) {
+        const std::string where = location(info.file, info.map_kd_line);
+        const std::string directory = directory_of(info.file);
+        const std::string path =
+            find_texture(directory, texture_name, log, info.file, info.map_kd_line);
+        if (path.empty()) {
+            const std::string looked = join_path(directory, texture_name);
+            log.quirk(info.file, info.map_kd_line,
+                      "texture '" + texture_name + "' not found (looked for " + looked + ")",
+                      "texture '" + texture_name + "' not found (looked for " + looked +
+                          "); material '" + info.name + "' is drawn without it");
+        } else {
+            try {
+                texture = load_texture_file(scene, path, texture_name, cache, where);
+            } catch (const Error& e) {
+                if (log.strict) throw;
+                log.warnings->push_back(std::string(e.what()) + "; material '" + info.name +
+                                        "' is drawn without it");
+            }
+        }
+    }
     // Kd absent: white under a texture (the texture is the albedo), else Material's default 0.8.
     if (info.has_kd) {
         material.albedo = info.kd;
     } else {
-        material.albedo = glm::vec3(source.diffuse_texname.empty() ? 0.8f : 1.0f);
+        material.albedo = glm::vec3(texture >= 0 ? 1.0f : 0.8f);
     }
+    material.texture = texture;
     material.emission = info.ke;
     material.specular = info.ks;
     // Roughness: Pr when given, else from Ns, else 1 (the roughest).
@@ -399,10 +640,6 @@ Material convert_material(Scene& scene, const tinyobj::material_t& source,
     } else if (info.has_ns) {
         material.roughness = ns_to_roughness(info.ns);
     }
-    if (!source.diffuse_texname.empty())
-        material.texture =
-            load_texture_file(scene, join_path(directory_of(info.file), source.diffuse_texname),
-                              source.diffuse_texname, cache, location(info.file, info.map_kd_line));
     return material;
 }
 
@@ -458,43 +695,51 @@ TinyObjMesh parse_with_tinyobj(const std::string& obj_path, const std::string& t
                                const ObjScan& scan) {
     TinyObjMesh mesh;
     std::string err;
-    std::istringstream stream(text);
-    PrescannedMaterialReader material_reader(scan.mtl);
+    std::istringstream stream(tinyobj_text(text, /*is_obj=*/true));
     if (!tinyobj::LoadObj(&mesh.attrib, &mesh.shapes, &mesh.materials, &mesh.warn, &err, &stream,
-                          &material_reader, /*triangulate=*/false,
+                          /*readMatFn=*/nullptr, /*triangulate=*/false,
                           /*default_vcols_fallback=*/false))
         throw Error(obj_path + ": " + tinyobj_message(err));
+    // The MTL texts, in the order the pre-scan read them: tinyobjloader's materials then pair
+    // with the pre-scan's by position.
+    for (const std::string& mtl_text : scan.mtl.texts) {
+        std::istringstream mtl_stream(tinyobj_text(mtl_text, /*is_obj=*/false));
+        std::map<std::string, int> material_map;
+        std::string mtl_warn, mtl_err;
+        tinyobj::LoadMtl(&material_map, &mesh.materials, &mtl_stream, &mtl_warn, &mtl_err);
+    }
     const tinyobj::attrib_t& attrib = mesh.attrib;
     std::size_t face_count = 0;
     for (const tinyobj::shape_t& shape : mesh.shapes)
         face_count += shape.mesh.num_face_vertices.size();
     if (attrib.vertices.size() != 3 * scan.positions.size() ||
         attrib.texcoords.size() != 2 * scan.texcoords.size() ||
-        attrib.normals.size() != 3 * scan.normals.size() || face_count != scan.face_lines.size())
+        attrib.normals.size() != 3 * scan.normals.size() || face_count != scan.face_lines.size() ||
+        mesh.materials.size() != scan.mtl.materials.size())
         throw Error(
             obj_path + ": tinyobjloader read " + std::to_string(attrib.vertices.size() / 3) +
             " v, " + std::to_string(attrib.texcoords.size() / 2) + " vt, " +
-            std::to_string(attrib.normals.size() / 3) + " vn and " + std::to_string(face_count) +
-            " faces, the pre-scan " + std::to_string(scan.positions.size()) + ", " +
-            std::to_string(scan.texcoords.size()) + ", " + std::to_string(scan.normals.size()) +
-            " and " + std::to_string(scan.face_lines.size()));
+            std::to_string(attrib.normals.size() / 3) + " vn, " + std::to_string(face_count) +
+            " faces and " + std::to_string(mesh.materials.size()) + " materials, the pre-scan " +
+            std::to_string(scan.positions.size()) + ", " + std::to_string(scan.texcoords.size()) +
+            ", " + std::to_string(scan.normals.size()) + ", " +
+            std::to_string(scan.face_lines.size()) + " and " +
+            std::to_string(scan.mtl.materials.size()));
     return mesh;
 }
 
-// Adds every material of the MTL files to the scene, in file order; returns the scene's index
-// of each of tinyobjloader's materials.
-std::vector<int> intern_mtl_materials(Scene& scene, const std::string& obj_path,
+// Adds every material of the MTL files to the scene, in file order (a repeated definition is
+// skipped); returns the scene's index of each of the pre-scan's materials.
+std::vector<int> intern_mtl_materials(Scene& scene,
                                       const std::vector<tinyobj::material_t>& source_materials,
-                                      const MtlScan& mtl, TextureCache& cache) {
-    std::vector<int> material_index(source_materials.size());
-    for (std::size_t m = 0; m < source_materials.size(); ++m) {
-        auto info = mtl.materials.find(source_materials[m].name);
-        if (info == mtl.materials.end())
-            throw Error(obj_path + ": tinyobjloader read a material '" + source_materials[m].name +
-                        "' that the pre-scan did not see");
-        Material material = convert_material(scene, source_materials[m], info->second, cache);
-        material_index[m] =
-            intern_material(scene, material, location(info->second.file, info->second.line));
+                                      const MtlScan& mtl, TextureCache& cache,
+                                      const QuirkLog& log) {
+    std::vector<int> material_index(mtl.materials.size(), -1);
+    for (std::size_t m = 0; m < mtl.materials.size(); ++m) {
+        const MtlMaterialInfo& info = mtl.materials[m];
+        if (info.duplicate) continue;
+        Material material = convert_material(scene, source_materials[m], info, cache, log);
+        material_index[m] = intern_material(scene, material, location(info.file, info.line));
     }
     return material_index;
 }
@@ -572,41 +817,66 @@ bool finish_normals(WorldTriangle& t, float double_area) {
     return generated;
 }
 
-// Appends the faces' triangles to the scene in face order, each face fan-triangulated, with
-// the material its usemtl gave it ("default", added on first use, where none). Zero-area (or
-// non-finite) triangles are dropped, counted and the first max_zero_area_warnings of them
-// listed; returns how many were dropped.
+// The material of faces without one (no usemtl, or an undefined one): "default" (Material's
+// defaults), or "default-2", "default-3", ... when an MTL file defines a different "default".
+int default_material(Scene& scene, const std::string& defined_at) {
+    Material fallback;
+    for (int k = 1;; ++k) {
+        fallback.name = k == 1 ? "default" : "default-" + std::to_string(k);
+        bool taken = false;
+        for (const Material& m : scene.materials)
+            taken = taken || (m.name == fallback.name && !(m == fallback));
+        if (!taken) return intern_material(scene, fallback, defined_at);
+    }
+}
+
+// Appends the faces' triangles to the scene in face order, each face split by
+// triangulate_polygon, with the material its usemtl gave it (default_material where none).
+// Zero-area (or non-finite) triangles are dropped, counted and the first max_zero_area_warnings
+// of them listed; returns how many were dropped.
 std::int64_t add_obj_triangles(Scene& scene, const std::string& obj_path,
                                const std::vector<tinyobj::shape_t>& shapes, const ObjScan& scan,
                                const std::vector<int>& material_index,
                                const ObjectToWorld& to_world) {
     SceneLoadStats& stats = scene.load_stats;
-    int default_material = -1;
+    int fallback = -1;
     std::int64_t dropped_here = 0;
+    std::int64_t not_simple = 0;
     std::size_t face = 0;
+    std::vector<glm::vec3> polygon;
     for (const tinyobj::shape_t& shape : shapes) {
         std::size_t offset = 0;
         for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f, ++face) {
             const std::size_t corners = shape.mesh.num_face_vertices[f];
             const int line = scan.face_lines[face];
-            const int source_material = shape.mesh.material_ids[f];
-            int material = -1;
-            if (source_material >= 0 &&
-                static_cast<std::size_t>(source_material) < material_index.size()) {
-                material = material_index[source_material];
-            } else {
-                if (default_material < 0) {
-                    Material fallback;
-                    fallback.name = "default";
-                    default_material = intern_material(scene, fallback, location(obj_path, line));
-                }
-                material = default_material;
+            const int source_material = scan.face_materials[face];
+            int material = source_material >= 0
+                               ? material_index[static_cast<std::size_t>(source_material)]
+                               : -1;
+            if (material < 0) {
+                if (fallback < 0) fallback = default_material(scene, location(obj_path, line));
+                material = fallback;
             }
+            // Triangulated in object space: the transform does not change which corners form
+            // the triangles.
+            polygon.clear();
+            for (std::size_t k = 0; k < corners; ++k)
+                polygon.push_back(element(
+                    scan.positions, shape.mesh.indices[offset + k].vertex_index, obj_path, line));
+            PolygonSplit split = PolygonSplit::triangle;
+            const std::vector<std::array<int, 3>> triangles = triangulate_polygon(polygon, &split);
             if (corners > 3) ++stats.polygons_triangulated;
-            for (std::size_t k = 1; k + 1 < corners; ++k) {
-                tinyobj::index_t index[3] = {shape.mesh.indices[offset],
-                                             shape.mesh.indices[offset + k],
-                                             shape.mesh.indices[offset + k + 1]};
+            if (split == PolygonSplit::ear_clipped || split == PolygonSplit::not_simple)
+                ++stats.concave_polygons;
+            if (split == PolygonSplit::not_simple && ++not_simple <= max_zero_area_warnings)
+                stats.warnings.push_back(location(obj_path, line) +
+                                         ": polygon is not simple (its edges cross); ear clipping "
+                                         "stopped and the rest was fanned");
+            for (const std::array<int, 3>& corner : triangles) {
+                tinyobj::index_t index[3] = {
+                    shape.mesh.indices[offset + static_cast<std::size_t>(corner[0])],
+                    shape.mesh.indices[offset + static_cast<std::size_t>(corner[1])],
+                    shape.mesh.indices[offset + static_cast<std::size_t>(corner[2])]};
                 if (to_world.mirror) std::swap(index[1], index[2]);
                 WorldTriangle t = world_triangle(index, scan, to_world, obj_path, line);
                 // Zero-area (or non-finite) triangles are dropped: they are never hit (SPEC §2).
@@ -630,45 +900,58 @@ std::int64_t add_obj_triangles(Scene& scene, const std::string& obj_path,
             offset += corners;
         }
     }
+    if (not_simple > max_zero_area_warnings)
+        stats.warnings.push_back(obj_path + ": " + std::to_string(not_simple) +
+                                 " polygons are not simple (the first " +
+                                 std::to_string(max_zero_area_warnings) + " are listed)");
     return dropped_here;
 }
 
 }  // namespace
 
 void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& transform,
-                   TextureCache& cache, const std::string& referenced_at) {
+                   TextureCache& cache, const std::string& referenced_at, bool strict) {
     // Read and pre-scan.
     std::error_code ec;
     if (!std::filesystem::is_regular_file(obj_path, ec))
         throw Error((referenced_at.empty() ? obj_path : referenced_at) + ": OBJ file '" + obj_path +
                     "' not found");
-    const std::string text = read_file(obj_path);
-    const ObjScan scan = scan_obj(obj_path, text);
+    SceneLoadStats& stats = scene.load_stats;
+    const QuirkLog log{strict, &stats.warnings};
+    const std::string text = checked_text(read_file(obj_path), obj_path, stats.warnings);
+    const ObjScan scan = scan_obj(obj_path, text, log);
 
     const TinyObjMesh mesh = parse_with_tinyobj(obj_path, text, scan);
-    // Materials: every material of the MTL files, in file order; faces without usemtl get
-    // "default".
+    // Materials: every material of the MTL files, in file order; faces without one get the
+    // default material.
     const std::vector<int> material_index =
-        intern_mtl_materials(scene, obj_path, mesh.materials, scan.mtl, cache);
+        intern_mtl_materials(scene, mesh.materials, scan.mtl, cache, log);
     const ObjectToWorld to_world =
         object_to_world(transform, referenced_at.empty() ? obj_path : referenced_at);
     const std::int64_t dropped_here =
         add_obj_triangles(scene, obj_path, mesh.shapes, scan, material_index, to_world);
 
-    SceneLoadStats& stats = scene.load_stats;
     if (dropped_here > max_zero_area_warnings)
         stats.warnings.push_back(obj_path + ": " + std::to_string(dropped_here) +
                                  " zero-area triangles dropped (the first " +
                                  std::to_string(max_zero_area_warnings) + " are listed)");
+    if (scan.points > 0 || scan.lines > 0) {
+        stats.points_ignored += scan.points;
+        stats.lines_ignored += scan.lines;
+        stats.warnings.push_back(obj_path + ": " + std::to_string(scan.points) +
+                                 " points (p) and " + std::to_string(scan.lines) +
+                                 " lines (l) ignored: fovref renders triangles only");
+    }
     // tinyobjloader's own warnings, one per line.
     std::istringstream warnings(mesh.warn);
     for (std::string line; std::getline(warnings, line);)
         if (!line.empty()) stats.warnings.push_back(obj_path + ": " + line);
 }
 
-void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& transform) {
+void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& transform,
+                   const SceneLoadOptions& options) {
     TextureCache cache;
-    load_obj_into(scene, obj_path, transform, cache, "");
+    load_obj_into(scene, obj_path, transform, cache, "", options.strict_obj);
 }
 
 }  // namespace fovref

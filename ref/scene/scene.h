@@ -53,8 +53,16 @@ const char* light_type_name(Light::Type type);
 struct SceneLoadStats {
     std::int64_t zero_area_triangles_dropped = 0;
     std::int64_t polygons_triangulated = 0;
+    std::int64_t concave_polygons = 0;   ///< of those, split by ear clipping instead of a fan
     std::int64_t normals_generated = 0;  ///< triangles that had no vertex normals
+    std::int64_t points_ignored = 0;     ///< OBJ "p" / glTF point primitives (not rendered)
+    std::int64_t lines_ignored = 0;      ///< OBJ "l" / glTF line primitives (not rendered)
     std::vector<std::string> warnings;   ///< file:line: message
+    /// What a bare model file did not give and the loader chose (camera, light), or what the
+    /// command line replaced (--camera): "camera: ...", "light: ...".
+    std::vector<std::string> defaulted;
+    /// Features of the file the loader does not represent, and what it did instead (glTF).
+    std::vector<std::string> unsupported;
     bool operator==(const SceneLoadStats&) const = default;
 };
 

@@ -14,6 +14,7 @@
 #include "ref/core/error.h"
 #include "ref/core/json_locator.h"
 #include "ref/image/image_io.h"
+#include "ref/scene/gltf_loader.h"
 #include "ref/scene/obj_loader.h"
 #include "ref/scene/scene_file.h"
 
@@ -213,24 +214,38 @@ glm::mat4 read_transform(const SceneJson& doc, const json& value, const std::str
 }
 
 void read_meshes(const SceneJson& doc, const json& meshes, const std::string& directory,
-                 Scene& scene, TextureCache& cache) {
+                 Scene& scene, TextureCache& cache, const SceneLoadOptions& options) {
     const std::string pointer = "/meshes";
     if (!meshes.is_array()) doc.fail(pointer, "expected an array of meshes");
     for (std::size_t i = 0; i < meshes.size(); ++i) {
         const std::string mesh_pointer = json_pointer_element(pointer, i);
         const json& mesh = meshes[i];
-        doc.expect_keys(mesh, mesh_pointer, {"obj", "transform"});
-        const std::string obj_pointer = json_pointer_member(mesh_pointer, "obj");
-        const std::string obj = doc.string(doc.required(mesh, mesh_pointer, "obj"), obj_pointer);
+        doc.expect_keys(mesh, mesh_pointer, {"obj", "gltf", "transform"});
+        if (mesh.contains("obj") == mesh.contains("gltf"))
+            doc.fail(mesh_pointer, "give exactly one of \"obj\", \"gltf\"");
+        const char* kind = mesh.contains("obj") ? "obj" : "gltf";
+        const std::string file_pointer = json_pointer_member(mesh_pointer, kind);
+        const std::string file = doc.string(mesh[kind], file_pointer);
         glm::mat4 transform(1.0f);
         if (mesh.contains("transform"))
             transform = read_transform(doc, mesh["transform"],
                                        json_pointer_member(mesh_pointer, "transform"));
-        const std::string path = resolve(directory, obj);
+        const std::string path = resolve(directory, file);
         std::error_code ec;
         if (!std::filesystem::is_regular_file(path, ec))
-            doc.fail(obj_pointer, "OBJ file '" + obj + "' not found (looked for " + path + ")");
-        load_obj_into(scene, path, transform, cache, doc.where(obj_pointer));
+            doc.fail(file_pointer, std::string(mesh.contains("obj") ? "OBJ" : "glTF") + " file '" +
+                                       file + "' not found (looked for " + path + ")");
+        if (mesh.contains("obj")) {
+            load_obj_into(scene, path, transform, cache, doc.where(file_pointer),
+                          options.strict_obj);
+        } else {
+            // The scene file's camera and lights are the scene's: the glTF file's camera is not
+            // used, its unsupported features are listed.
+            const GltfContents contents =
+                load_gltf_into(scene, path, transform, cache, doc.where(file_pointer));
+            for (const std::string& feature : contents.unsupported)
+                scene.load_stats.unsupported.push_back(feature);
+        }
     }
 }
 
@@ -336,8 +351,8 @@ float read_vfov(const SceneJson& doc, const json& value, const std::string& poin
     return vfov;
 }
 
-void read_camera(const SceneJson& doc, const json& value, Scene& scene) {
-    const std::string pointer = "/camera";
+void read_camera(const SceneJson& doc, const json& value, const std::string& pointer,
+                 Scene& scene) {
     doc.expect_keys(value, pointer,
                     {"position", "look_at", "up", "quaternion", "basis", "vfov_deg"});
     auto member = [&](const char* key) { return json_pointer_member(pointer, key); };
@@ -476,7 +491,7 @@ void read_presets(const SceneJson& doc, const json& value, Scene& scene) {
 
 }  // namespace
 
-Scene load_scene_file(const std::string& path) {
+Scene load_scene_file(const std::string& path, const SceneLoadOptions& options) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": scene file not found");
     const std::string text = read_file(path);
@@ -502,17 +517,34 @@ Scene load_scene_file(const std::string& path) {
 
     const std::string directory = file_path.parent_path().string();
     TextureCache cache;
-    if (document.contains("meshes")) read_meshes(doc, document["meshes"], directory, scene, cache);
+    if (document.contains("meshes"))
+        read_meshes(doc, document["meshes"], directory, scene, cache, options);
     if (document.contains("materials"))
         read_material_overrides(doc, document["materials"], directory, scene, cache);
     if (document.contains("lights")) read_lights(doc, document["lights"], scene);
-    read_camera(doc, doc.required(document, "", "camera"), scene);
+    read_camera(doc, doc.required(document, "", "camera"), "/camera", scene);
     if (document.contains("camera_path")) read_camera_path(doc, document["camera_path"], scene);
     if (document.contains("display")) read_display(doc, document["display"], scene);
     if (document.contains("presets")) read_presets(doc, document["presets"], scene);
 
     finalize_scene(scene);
     return scene;
+}
+
+Camera load_camera_file(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": camera file not found");
+    const std::string text = read_file(path);
+    const json document = parse_json_document<json>(text, path);
+    const SceneJson doc(path, text);
+    doc.expect_object(document, "");
+    Scene scene;
+    // {"camera": {...}} (a scene file, say) or the camera object itself.
+    if (document.contains("camera"))
+        read_camera(doc, document["camera"], "/camera", scene);
+    else
+        read_camera(doc, document, "", scene);
+    return scene.camera;
 }
 
 }  // namespace fovref

@@ -1,0 +1,32 @@
+// Polygon triangulation for OBJ faces (docs/obj-quirks.md, "Polygons"): a fan where the polygon
+// is convex, deterministic ear clipping where it is not.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace fovref {
+
+/// How triangulate_polygon split a polygon.
+enum class PolygonSplit {
+    triangle,     ///< 3 corners: the polygon itself
+    fan,          ///< convex (or flat): (0, k, k+1) for k = 1 .. n-2, as before ear clipping
+    ear_clipped,  ///< concave: ear clipping
+    not_simple    ///< ear clipping found no ear (self-intersecting); the rest was fanned
+};
+
+/// Splits the polygon p[0 .. n) (n >= 3, corners in order) into n - 2 triangles of corner
+/// indices, each wound like the polygon. The polygon is projected onto the coordinate plane
+/// that its Newell normal is most perpendicular to (ties: x before y before z), in binary64.
+/// When every corner turns the same way (no turn against the Newell normal), the result is the
+/// fan (0, k, k+1). Otherwise ears are clipped: repeatedly, the first remaining corner c in
+/// polygon order whose triangle (previous, c, next) turns with the normal and contains no other
+/// remaining corner (on its edges counts as inside) is cut off as (previous, c, next). Should no
+/// corner qualify (a self-intersecting polygon), the remaining corners are fanned from the
+/// first of them.
+std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<glm::vec3>& p,
+                                                    PolygonSplit* split = nullptr);
+
+}  // namespace fovref
