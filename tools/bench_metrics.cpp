@@ -20,10 +20,7 @@
 #include "ref/metrics/rings.h"
 #include "ref/metrics/ssim.h"
 #include "tools/bench_util.h"
-
-#ifndef FOVREF_SOURCE_DIR
-#define FOVREF_SOURCE_DIR "."
-#endif
+#include "tools/cli_common.h"
 
 namespace fs = std::filesystem;
 
@@ -53,7 +50,7 @@ void synthetic_pair(int w, int h, Image& a, Image& b) {
 // "value seconds" from tools/skimage_ssim.py; false when python3/scikit-image is missing.
 bool skimage_ssim(const std::string& a_path, const std::string& b_path, int repeats, double& value,
                   double& seconds) {
-    const std::string script = std::string(FOVREF_SOURCE_DIR) + "/tools/skimage_ssim.py";
+    const std::string script = data_directory() + "/tools/skimage_ssim.py";
     for (const char* python : {"/usr/bin/python3", "python3"}) {
         const std::string command = std::string(python) + " " + script + " " + a_path + " " +
                                     b_path + " " + std::to_string(repeats) + " 2>/dev/null";

@@ -2,11 +2,20 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 
 #include "ref/core/error.h"
 #include "ref/modes/modes.h"
+#include "ref/scene/procedural.h"
 #include "ref/scene/scene_file.h"
+
+#ifndef FOVREF_SOURCE_DIR
+#define FOVREF_SOURCE_DIR "."
+#endif
+#ifndef FOVREF_DATA_FROM_BIN
+#define FOVREF_DATA_FROM_BIN "../share/fovref"
+#endif
 
 namespace fovref {
 
@@ -63,8 +72,26 @@ void add_scene_load_options(CLI::App& c, bool with_camera) {
             ->check(CLI::ExistingFile);
 }
 
+std::string data_directory() {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path executable = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        const fs::path installed =
+            (executable.parent_path() / FOVREF_DATA_FROM_BIN).lexically_normal();
+        if (fs::is_regular_file(installed / "golden" / "cases.json", ec)) return installed.string();
+    }
+    return FOVREF_SOURCE_DIR;
+}
+
 Scene load_cli_scene(const std::string& name_or_path, bool report) {
-    Scene scene = load_scene(name_or_path, cli_scene_options());
+    namespace fs = std::filesystem;
+    std::string path = name_or_path;
+    std::error_code ec;
+    if (!is_procedural_scene(path) && fs::path(path).is_relative() && !fs::exists(path, ec) &&
+        fs::exists(fs::path(data_directory()) / path, ec))
+        path = (fs::path(data_directory()) / path).string();
+    Scene scene = load_scene(path, cli_scene_options());
     const SceneLoadStats& stats = scene.load_stats;
     if (!report || (stats.warnings.empty() && stats.defaulted.empty() && stats.unsupported.empty()))
         return scene;

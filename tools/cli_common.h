@@ -26,6 +26,11 @@ void say(bool quiet, const std::string& line);
 /// The median (the mean of the two middle values for an even count; 0 for none).
 double median_of(std::vector<double> values);
 
+/// fovref's data directory (golden/, scenes/, tools/*.py): <the executable's directory>/
+/// ../share/fovref when that holds golden/cases.json (an installed fovref, docs/install.md), else
+/// the source tree the binary was built from.
+std::string data_directory();
+
 /// How this run of fovref reads scenes: --strict-obj and --camera of the command that runs.
 SceneLoadOptions& cli_scene_options();
 
@@ -33,7 +38,9 @@ SceneLoadOptions& cli_scene_options();
 /// own) --camera FILE on a command that takes a scene; they set cli_scene_options().
 void add_scene_load_options(CLI::App& command, bool with_camera = true);
 
-/// load_scene with cli_scene_options(): what every command uses for its --scene. With `report`,
+/// load_scene with cli_scene_options(): what every command uses for its --scene. A relative path
+/// that names nothing in the working directory is looked up in data_directory() (so
+/// `--scene scenes/textured-room` works from anywhere). With `report`,
 /// a scene with load warnings, unsupported features or defaults gets one summary line on
 /// stderr and its first three warnings (`scene info` lists them all).
 Scene load_cli_scene(const std::string& name_or_path, bool report = true);

@@ -11,10 +11,6 @@
 #include "tools/cli_common.h"
 #include "tools/progress.h"
 
-#ifndef FOVREF_SOURCE_DIR
-#define FOVREF_SOURCE_DIR "."
-#endif
-
 namespace fs = std::filesystem;
 
 namespace fovref {
@@ -29,7 +25,7 @@ constexpr int golden_max_width = 320, golden_max_height = 180;
 std::string golden_directory(const GoldenOptions& o) {
     fs::path dir = !o.dir.empty()                    ? fs::path(o.dir)
                    : fs::exists("golden/cases.json") ? fs::path("golden")
-                                                     : fs::path(FOVREF_SOURCE_DIR) / "golden";
+                                                     : fs::path(data_directory()) / "golden";
     dir = fs::absolute(dir).lexically_normal();
     if (dir.filename().empty()) dir = dir.parent_path();
     return dir.string();

@@ -159,7 +159,9 @@ int run_scene_info(const SceneInfoOptions& o) {
     const Bounds bounds = scene_bounds(scene);
     const LightCounts lights = count_lights(scene);
     if (o.json)
-        std::cout << scene_info_json(scene, bounds, lights).dump(2) << "\n";
+        std::cout << scene_info_json(scene, bounds, lights)
+                         .dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
+                  << "\n";
     else
         print_scene_info(scene, bounds, lights);
     return exit_ok;

@@ -333,7 +333,9 @@ void add_sweep_commands(CLI::App& app, Options& o, Commands& commands) {
 int main(int argc, char** argv) {
     Options o;
     CLI::App app{app_description};
-    app.set_version_flag("--version", "fovref " + fovref_version());
+    app.set_version_flag("--version", std::function<std::string()>([] {
+                             return "fovref " + fovref_version() + "\ndata   " + data_directory();
+                         }));
     app.add_flag("-q,--quiet", o.quiet, "print only errors and failures, no progress bar");
     app.require_subcommand(1);
     app.fallthrough();  // global options (--quiet) may follow a subcommand

@@ -61,10 +61,13 @@ Scene load_model_file(const std::string& path, const SceneLoadOptions& options) 
     }
     SceneLoadStats& stats = scene.load_stats;
     if (scene.triangle_count() == 0)
-        throw Error(path + ": no triangles to render (" + std::to_string(stats.points_ignored) +
-                    " points, " + std::to_string(stats.lines_ignored) + " lines and " +
-                    std::to_string(stats.zero_area_triangles_dropped) +
-                    " zero-area triangles ignored)");
+        throw Error(path + ": no triangles to render: " +
+                    (stats.zero_area_triangles_dropped > 0
+                         ? "all " + std::to_string(stats.zero_area_triangles_dropped) +
+                               " triangles have zero area"
+                         : std::string("the file has no faces")) +
+                    " (" + std::to_string(stats.points_ignored) + " points and " +
+                    std::to_string(stats.lines_ignored) + " lines ignored)");
 
     // The bounding sphere of the triangles: centre c, radius r (half the bounds' diagonal).
     const Bounds bounds = scene_bounds(scene);

@@ -1,5 +1,5 @@
-// OBJ + MTL meshes (SPEC §2): faces and texture names by tinyobjloader, every number, material
-// name and usemtl by our own pre-scan.
+// OBJ + MTL meshes (SPEC §2): texture names by tinyobjloader, every number, face, material name
+// and usemtl by our own pre-scan, checked against tinyobjloader's reading.
 //
 // tinyobjloader reports few problems and almost never with a line: it reads a malformed number
 // as 0, "nan" as 0, and an out-of-range face index as an error without context. So before
@@ -24,16 +24,18 @@
 // v/vt/vn statements in file order, exactly as the pre-scan stores them (checked by comparing
 // the counts), so they index the pre-scan's arrays directly.
 //
-// Materials: tinyobjloader reads each MTL text (tinyobj::LoadMtl) only for its map_Kd file name
-// and options; its materials pair with the pre-scan's by position. The OBJ text it parses has its
+// Materials: the pre-scan reads the MTL files; tinyobjloader's ParseTextureNameAndOption splits a
+// map_Kd statement into its options and the file name. The OBJ text tinyobjloader parses has its
 // mtllib and usemtl statements commented out: which material a face uses is the pre-scan's
 // (usemtl names may contain blanks, which tinyobjloader cuts at the first blank).
 //
-// Geometry: tinyobjloader gives the faces (triangulate = false: polygon_split triangulates them,
-// a fan for convex polygons, ear clipping for concave ones), so the triangle order is the face
-// order of the file. Each triangle is transformed to world space, dropped if its area is zero or
-// not finite (counted), and given geometric normals where the file has none (counted) and uv
-// (0,0) where it has no texture coordinates.
+// Faces: the pre-scan's (every corner already checked and resolved), which tinyobjloader's must
+// equal corner for corner (tinyobjloader keeps a face's corner count in an unsigned char, so the
+// pre-scan's faces are the ones used: faces of more than 255 corners exist in real files).
+// triangulate_polygon splits each (a fan for convex polygons, ear clipping for concave ones), so
+// the triangle order is the face order of the file. Each triangle is transformed to world space,
+// dropped if its area is zero or not finite (counted), and given geometric normals where the file
+// has none (counted) and uv (0,0) where it has no texture coordinates.
 #include <tiny_obj_loader.h>
 
 #include <algorithm>
@@ -120,11 +122,31 @@ void for_each_statement(const std::string& text, Fn&& fn) {
     }
 }
 
+// --- Quirks -------------------------------------------------------------------------------------
+
+// Where a file's quirks go: with `strict`, a quirk is the error it always was; otherwise it is a
+// warning ("file:line: message") and loading goes on.
+struct QuirkLog {
+    bool strict = false;
+    std::vector<std::string>* warnings = nullptr;
+    int* malformed_numbers = nullptr;  ///< numbers read from their valid start (first few listed)
+
+    void quirk(const std::string& file, int line, const std::string& strict_message,
+               const std::string& warning) const {
+        if (strict) throw file_error(file, line, strict_message);
+        warnings->push_back(file_error(file, line, warning).what());
+    }
+};
+
 // --- Numbers ------------------------------------------------------------------------------------
 
 // Parses a whole token as a finite binary32 number (correctly rounded, std::from_chars), or
 // throws "file:line: ..." saying what is wrong with it.
-float parse_number(std::string_view token, const std::string& file, int line, const char* what) {
+// With quirks (`log` not strict), a token that starts with a number and goes on with other
+// characters ("3.1+e2") is read as that number, with a warning, as C's strtod and most OBJ readers
+// read it.
+float parse_number(std::string_view token, const std::string& file, int line, const char* what,
+                   const QuirkLog* log) {
     std::string_view digits = token;
     if (digits.size() > 1 && digits[0] == '+') digits.remove_prefix(1);
     float value = 0.0f;
@@ -133,7 +155,16 @@ float parse_number(std::string_view token, const std::string& file, int line, co
         throw file_error(file, line,
                          std::string(what) + ": number '" + std::string(token) +
                              "' is outside the binary32 range");
-    if (ec != std::errc() || end != digits.data() + digits.size())
+    const bool prefix_only = ec == std::errc() && end != digits.data() + digits.size();
+    if (prefix_only && log != nullptr && !log->strict && std::isfinite(value)) {
+        const std::string read(digits.data(), static_cast<std::size_t>(end - digits.data()));
+        if (++*log->malformed_numbers <= max_zero_area_warnings)
+            log->warnings->push_back(location(file, line) + ": " + what + ": malformed number '" +
+                                     std::string(token) + "' read as " + read +
+                                     " (its valid start)");
+        return value;
+    }
+    if (ec != std::errc() || prefix_only)
         throw file_error(file, line,
                          std::string(what) + ": malformed number '" + std::string(token) + "'");
     if (!std::isfinite(value))
@@ -147,7 +178,7 @@ float parse_number(std::string_view token, const std::string& file, int line, co
 // values[0 .. count) and returns count; throws "file:line: ..." on a wrong count or bad number.
 std::size_t parse_numbers(const std::vector<std::string_view>& tokens, std::size_t min_count,
                           std::size_t max_count, const std::string& file, int line,
-                          std::array<float, 7>& values) {
+                          std::array<float, 7>& values, const QuirkLog& log) {
     const std::size_t count = tokens.size() - 1;
     if (count < min_count || count > max_count) {
         std::string expected = min_count == max_count
@@ -158,24 +189,9 @@ std::size_t parse_numbers(const std::vector<std::string_view>& tokens, std::size
                              std::to_string(count));
     }
     for (std::size_t k = 1; k < tokens.size(); ++k)
-        values[k - 1] = parse_number(tokens[k], file, line, std::string(tokens[0]).c_str());
+        values[k - 1] = parse_number(tokens[k], file, line, std::string(tokens[0]).c_str(), &log);
     return count;
 }
-
-// --- Quirks -------------------------------------------------------------------------------------
-
-// Where a file's quirks go: with `strict`, a quirk is the error it always was; otherwise it is a
-// warning ("file:line: message") and loading goes on.
-struct QuirkLog {
-    bool strict = false;
-    std::vector<std::string>* warnings = nullptr;
-
-    void quirk(const std::string& file, int line, const std::string& strict_message,
-               const std::string& warning) const {
-        if (strict) throw file_error(file, line, strict_message);
-        warnings->push_back(file_error(file, line, warning).what());
-    }
-};
 
 // The text of a statement after its keyword, blanks at both ends dropped ("" when none).
 std::string_view rest_of_statement(const std::vector<std::string_view>& tokens) {
@@ -233,6 +249,38 @@ std::string checked_text(std::string text, const std::string& path,
     return text;
 }
 
+// `text` as UTF-8: itself when it is valid UTF-8, else read as Latin-1 (every byte one code
+// point, which is what 8-bit MTL files from Windows tools mostly hold), so that names stay
+// printable and JSON-writable.
+std::string utf8_name(const std::string& text) {
+    std::size_t i = 0;
+    bool valid = true;
+    while (i < text.size() && valid) {
+        const auto byte = static_cast<unsigned char>(text[i]);
+        const std::size_t length = byte < 0x80           ? 1
+                                   : (byte >> 5) == 0x6  ? 2
+                                   : (byte >> 4) == 0xE  ? 3
+                                   : (byte >> 3) == 0x1E ? 4
+                                                         : 0;
+        valid = length > 0 && i + length <= text.size();
+        for (std::size_t k = 1; valid && k < length; ++k)
+            valid = (static_cast<unsigned char>(text[i + k]) >> 6) == 0x2;
+        i += length;
+    }
+    if (valid) return text;
+    std::string utf8;
+    for (const char c : text) {
+        const auto byte = static_cast<unsigned char>(c);
+        if (byte < 0x80) {
+            utf8.push_back(c);
+        } else {
+            utf8.push_back(static_cast<char>(0xC0 | (byte >> 6)));
+            utf8.push_back(static_cast<char>(0x80 | (byte & 0x3F)));
+        }
+    }
+    return utf8;
+}
+
 // --- MTL pre-scan ----------------------------------------------------------------------------
 
 // What the pre-scan learns about one material: where it is defined and its numbers, correctly
@@ -250,6 +298,7 @@ struct MtlMaterialInfo {
     bool has_kd = false;
     bool has_pr = false;
     bool has_ns = false;
+    std::string map_kd;  ///< map_Kd's file name as written ("" = none)
     int map_kd_line = 0;
     bool duplicate = false;  ///< a second newmtl of an earlier name (ignored, with a warning)
 };
@@ -257,8 +306,8 @@ struct MtlMaterialInfo {
 struct MtlScan {
     std::vector<MtlMaterialInfo> materials;  ///< every newmtl, in mtllib then file order
     std::map<std::string, int> by_name;      ///< name -> first definition in `materials`
-    std::vector<std::string> texts;          ///< the MTL files' text, in mtllib order
     std::set<std::string> paths;             ///< MTL files read (each is read once)
+    MtlMaterialInfo ignored;                 ///< where a nameless newmtl's statements go
 };
 
 void scan_mtl(const std::string& mtl_path, const std::string& text, MtlScan& scan,
@@ -267,7 +316,14 @@ void scan_mtl(const std::string& mtl_path, const std::string& text, MtlScan& sca
     for_each_statement(text, [&](int line, const std::vector<std::string_view>& tokens) {
         const std::string_view keyword = tokens[0];
         if (keyword == "newmtl") {
-            if (tokens.size() < 2) throw file_error(mtl_path, line, "newmtl needs a material name");
+            if (tokens.size() < 2) {
+                // tinyobjloader keeps no material without a name either, so the two agree.
+                log.quirk(mtl_path, line, "newmtl needs a material name",
+                          "newmtl without a name: its statements up to the next newmtl are "
+                          "ignored");
+                current = &scan.ignored;
+                return;
+            }
             const std::string name(rest_of_statement(tokens));
             if (tokens.size() > 2)
                 log.quirk(mtl_path, line, "newmtl needs one material name without blanks",
@@ -298,12 +354,21 @@ void scan_mtl(const std::string& mtl_path, const std::string& text, MtlScan& sca
             throw file_error(mtl_path, line, "'" + std::string(keyword) + "' before any newmtl");
         if (keyword == "map_Kd") {
             if (tokens.size() < 2) throw file_error(mtl_path, line, "map_Kd needs a file name");
+            // Options (-s 1 1 1, -bm 0.5, ...) then the file name, which may contain blanks:
+            // tinyobjloader's reading of the statement.
+            const std::string rest(rest_of_statement(tokens));
+            tinyobj::texture_option_t options;
+            std::string name;
+            if (!tinyobj::ParseTextureNameAndOption(&name, &options, rest.c_str()) || name.empty())
+                throw file_error(mtl_path, line, "map_Kd needs a file name");
+            while (!name.empty() && (name.back() == ' ' || name.back() == '\t')) name.pop_back();
+            current->map_kd = name;
             current->map_kd_line = line;
             return;
         }
         std::array<float, 7> values{};
         if (keyword == "Ns" || keyword == "Pr") {
-            parse_numbers(tokens, 1, 1, mtl_path, line, values);
+            parse_numbers(tokens, 1, 1, mtl_path, line, values, log);
             const float value = values[0];
             if (keyword == "Pr" && !(value >= 0.0f && value <= 1.0f))
                 throw file_error(mtl_path, line, "Pr (roughness) must be in [0, 1]");
@@ -318,8 +383,13 @@ void scan_mtl(const std::string& mtl_path, const std::string& text, MtlScan& sca
             }
             return;
         }
-        parse_numbers(tokens, 3, 3, mtl_path, line, values);
-        const glm::vec3 colour(values[0], values[1], values[2]);
+        // r g b, or one value for all three (as the MTL format defines it).
+        const std::size_t count = parse_numbers(tokens, 1, 3, mtl_path, line, values, log);
+        if (count == 2)
+            throw file_error(mtl_path, line,
+                             "'" + std::string(keyword) + "' needs 1 or 3 numbers, got 2");
+        const glm::vec3 colour =
+            count == 1 ? glm::vec3(values[0]) : glm::vec3(values[0], values[1], values[2]);
         if (colour.x < 0.0f || colour.y < 0.0f || colour.z < 0.0f)
             throw file_error(mtl_path, line, std::string(keyword) + " values must be >= 0");
         if (keyword == "Kd") {
@@ -338,9 +408,16 @@ void scan_mtl(const std::string& mtl_path, const std::string& text, MtlScan& sca
 // The OBJ's numbers, correctly rounded, in statement order: element i of positions is the i-th
 // "v" statement (its x y z; w or a vertex colour are checked and dropped), of normals the i-th
 // "vn", of texcoords the i-th "vt" (u and v; v = 0 when absent, w dropped, as tinyobjloader).
+/// One face corner: 0-based indices into ObjScan's positions, texcoords, normals (-1: none).
+struct ObjCorner {
+    int vertex = -1, texcoord = -1, normal = -1;
+};
+
 struct ObjScan {
-    std::vector<int> face_lines;      ///< line of each f statement, in file order
-    std::vector<int> face_materials;  ///< index into mtl.materials of each face; -1 = default
+    std::vector<ObjCorner> corners;        ///< every face's corners, face after face
+    std::vector<std::size_t> face_starts;  ///< index of each face's first corner in `corners`
+    std::vector<int> face_lines;           ///< line of each f statement, in file order
+    std::vector<int> face_materials;       ///< index into mtl.materials of each face; -1 = default
     std::vector<glm::vec3> positions;
     std::vector<glm::vec3> normals;
     std::vector<glm::vec2> texcoords;
@@ -350,8 +427,10 @@ struct ObjScan {
 };
 
 // One face corner "v", "v/t", "v//n" or "v/t/n"; checks each index against the count of
-// elements defined so far (negative indices count back from the last one, OBJ's relative form).
-void check_corner(std::string_view corner, const ObjScan& scan, const std::string& file, int line) {
+// elements defined so far (negative indices count back from the last one, OBJ's relative form)
+// and returns them 0-based.
+ObjCorner check_corner(std::string_view corner, const ObjScan& scan, const std::string& file,
+                       int line) {
     std::string_view parts[3];
     int part_count = 0;
     std::size_t start = 0;
@@ -367,6 +446,7 @@ void check_corner(std::string_view corner, const ObjScan& scan, const std::strin
     const char* kinds[3] = {"vertex", "texture coordinate", "normal"};
     const std::size_t counts[3] = {scan.positions.size(), scan.texcoords.size(),
                                    scan.normals.size()};
+    int resolved_index[3] = {-1, -1, -1};
     for (int k = 0; k < part_count; ++k) {
         if (parts[k].empty()) {
             if (k == 1 && part_count == 3) continue;  // v//n
@@ -384,7 +464,9 @@ void check_corner(std::string_view corner, const ObjScan& scan, const std::strin
             throw file_error(file, line,
                              std::string(kinds[k]) + " index " + std::to_string(index) +
                                  " out of range (" + std::to_string(count) + " defined so far)");
+        resolved_index[k] = static_cast<int>(resolved - 1);
     }
+    return {resolved_index[0], resolved_index[1], resolved_index[2]};
 }
 
 // Reads the MTL file `name` (as an mtllib statement of obj_path's line wrote it) into scan.mtl;
@@ -403,7 +485,6 @@ bool read_mtllib(const std::string& obj_path, int line, const std::string& name,
     }
     mtl_text = checked_text(std::move(mtl_text), mtl_path, *log.warnings);
     scan_mtl(mtl_path, mtl_text, scan.mtl, log);
-    scan.mtl.texts.push_back(std::move(mtl_text));
     return true;
 }
 
@@ -426,8 +507,9 @@ void scan_mtllib(const std::string& obj_path, int line, const std::vector<std::s
     if (tokens.size() > 2) {  // several files, as tinyobjloader reads mtllib
         names.clear();
         for (std::size_t k = 1; k < tokens.size(); ++k)
-            names.push_back(portable_path(tokens[k], QuirkLog{false, log.warnings}, obj_path, line,
-                                          "MTL file"));
+            names.push_back(portable_path(tokens[k],
+                                          QuirkLog{false, log.warnings, log.malformed_numbers},
+                                          obj_path, line, "MTL file"));
     }
     for (const std::string& name : names) {
         if (read_mtllib(obj_path, line, name, scan, log)) continue;
@@ -443,6 +525,7 @@ struct PendingUsemtl {
     std::string name;
     int line = 0;
     bool defined_before = false;
+    bool no_name = false;  ///< "usemtl" alone: the default material, already warned about
 };
 
 ObjScan scan_obj(const std::string& obj_path, const std::string& text, const QuirkLog& log) {
@@ -454,14 +537,14 @@ ObjScan scan_obj(const std::string& obj_path, const std::string& text, const Qui
         std::array<float, 7> values{};
         if (keyword == "v") {
             // x y z, optionally w or r g b (vertex colour), as tinyobjloader reads them.
-            parse_numbers(tokens, 3, 7, obj_path, line, values);
+            parse_numbers(tokens, 3, 7, obj_path, line, values, log);
             scan.positions.emplace_back(values[0], values[1], values[2]);
         } else if (keyword == "vn") {
-            parse_numbers(tokens, 3, 3, obj_path, line, values);
+            parse_numbers(tokens, 3, 3, obj_path, line, values, log);
             scan.normals.emplace_back(values[0], values[1], values[2]);
         } else if (keyword == "vt") {
             // u, optionally v (default 0) and w (dropped).
-            const std::size_t count = parse_numbers(tokens, 1, 3, obj_path, line, values);
+            const std::size_t count = parse_numbers(tokens, 1, 3, obj_path, line, values, log);
             scan.texcoords.emplace_back(values[0], count >= 2 ? values[1] : 0.0f);
         } else if (keyword == "f") {
             const std::size_t corners = tokens.size() - 1;
@@ -469,12 +552,9 @@ ObjScan scan_obj(const std::string& obj_path, const std::string& text, const Qui
                 throw file_error(
                     obj_path, line,
                     "a face needs at least 3 vertices, got " + std::to_string(corners));
-            // tinyobjloader stores a face's vertex count in an unsigned char.
-            if (corners > 255)
-                throw file_error(obj_path, line,
-                                 "faces with more than 255 vertices are not supported");
+            scan.face_starts.push_back(scan.corners.size());
             for (std::size_t k = 1; k < tokens.size(); ++k)
-                check_corner(tokens[k], scan, obj_path, line);
+                scan.corners.push_back(check_corner(tokens[k], scan, obj_path, line));
             scan.face_lines.push_back(line);
             face_usemtl.push_back(static_cast<int>(usemtls.size()) - 1);
         } else if (keyword == "mtllib") {
@@ -482,6 +562,12 @@ ObjScan scan_obj(const std::string& obj_path, const std::string& text, const Qui
         } else if (keyword == "usemtl") {
             if (tokens.size() != 2 && log.strict)
                 throw file_error(obj_path, line, "usemtl needs one material name without blanks");
+            if (tokens.size() < 2) {  // the default material from here on
+                log.warnings->push_back(location(obj_path, line) +
+                                        ": usemtl without a material name: the default material");
+                usemtls.push_back({"", line, false, true});
+                return;
+            }
             const std::string name(rest_of_statement(tokens));
             const bool defined = scan.mtl.by_name.count(name) != 0;
             if (!defined && log.strict)
@@ -514,6 +600,7 @@ ObjScan scan_obj(const std::string& obj_path, const std::string& text, const Qui
     std::vector<int> usemtl_material(usemtls.size(), -1);
     std::set<std::string> reported;
     for (std::size_t u = 0; u < usemtls.size(); ++u) {
+        if (usemtls[u].no_name) continue;
         auto it = scan.mtl.by_name.find(usemtls[u].name);
         if (it != scan.mtl.by_name.end()) {
             usemtl_material[u] = it->second;
@@ -528,10 +615,10 @@ ObjScan scan_obj(const std::string& obj_path, const std::string& text, const Qui
     return scan;
 }
 
-// The text tinyobjloader parses: line breaks as "\n" (the pre-scan's lines, so tinyobjloader's
-// line numbers agree), and for an OBJ, its mtllib and usemtl statements commented out (the
+// The OBJ text tinyobjloader parses: line breaks as "\n" (the pre-scan's lines, so
+// tinyobjloader's line numbers agree), its mtllib and usemtl statements commented out (the
 // pre-scan resolves materials).
-std::string tinyobj_text(const std::string& text, bool is_obj) {
+std::string tinyobj_text(const std::string& text) {
     std::string out;
     out.reserve(text.size());
     for (std::size_t i = 0; i < text.size(); ++i) {
@@ -542,7 +629,6 @@ std::string tinyobj_text(const std::string& text, bool is_obj) {
             out.push_back(text[i]);
         }
     }
-    if (!is_obj) return out;
     std::size_t pos = 0;
     while (pos < out.size()) {
         std::size_t start = pos;
@@ -594,15 +680,16 @@ std::string find_texture(const std::string& directory, const std::string& name, 
     return matches[0];
 }
 
-// Numbers from the pre-scan (info), the texture file name from tinyobjloader (source). A texture
-// that cannot be found or read is a quirk: the material is drawn without it.
-Material convert_material(Scene& scene, const tinyobj::material_t& source,
-                          const MtlMaterialInfo& info, TextureCache& cache, const QuirkLog& log) {
+// A material from the pre-scan's reading of its MTL statements. A texture that cannot be found or
+// read is a quirk: the material is drawn without it.
+Material convert_material(Scene& scene, const MtlMaterialInfo& info, TextureCache& cache,
+                          const QuirkLog& log) {
     Material material;
-    material.name = info.name;
-    std::string texture_name = source.diffuse_texname;
-    while (!texture_name.empty() && (texture_name.back() == ' ' || texture_name.back() == '\t'))
-        texture_name.pop_back();
+    material.name = utf8_name(info.name);
+    if (material.name != info.name)
+        log.warnings->push_back(location(info.file, info.line) + ": material name '" +
+                                material.name + "' is not UTF-8; read as Latin-1");
+    const std::string& texture_name = info.map_kd;
     int texture = -1;
     if (!texture_name.empty()) {
         const std::string where = location(info.file, info.map_kd_line);
@@ -617,7 +704,11 @@ Material convert_material(Scene& scene, const tinyobj::material_t& source,
                           "); material '" + info.name + "' is drawn without it");
         } else {
             try {
-                texture = load_texture_file(scene, path, texture_name, cache, where);
+                // Named as written, with '/' for '\\' (the name the exporter derives its file
+                // name from).
+                std::string name = utf8_name(texture_name);
+                std::replace(name.begin(), name.end(), '\\', '/');
+                texture = load_texture_file(scene, path, name, cache, where);
             } catch (const Error& e) {
                 if (log.strict) throw;
                 log.warnings->push_back(std::string(e.what()) + "; material '" + info.name +
@@ -695,50 +786,52 @@ TinyObjMesh parse_with_tinyobj(const std::string& obj_path, const std::string& t
                                const ObjScan& scan) {
     TinyObjMesh mesh;
     std::string err;
-    std::istringstream stream(tinyobj_text(text, /*is_obj=*/true));
+    std::istringstream stream(tinyobj_text(text));
     if (!tinyobj::LoadObj(&mesh.attrib, &mesh.shapes, &mesh.materials, &mesh.warn, &err, &stream,
                           /*readMatFn=*/nullptr, /*triangulate=*/false,
                           /*default_vcols_fallback=*/false))
         throw Error(obj_path + ": " + tinyobj_message(err));
-    // The MTL texts, in the order the pre-scan read them: tinyobjloader's materials then pair
-    // with the pre-scan's by position.
-    for (const std::string& mtl_text : scan.mtl.texts) {
-        std::istringstream mtl_stream(tinyobj_text(mtl_text, /*is_obj=*/false));
-        std::map<std::string, int> material_map;
-        std::string mtl_warn, mtl_err;
-        tinyobj::LoadMtl(&material_map, &mesh.materials, &mtl_stream, &mtl_warn, &mtl_err);
-    }
+    // tinyobjloader read the same statements: the same v, vt, vn counts, materials, and the
+    // same face corners (its per-face corner counts are unsigned char, so only the flat list of
+    // corners is compared).
     const tinyobj::attrib_t& attrib = mesh.attrib;
-    std::size_t face_count = 0;
-    for (const tinyobj::shape_t& shape : mesh.shapes)
-        face_count += shape.mesh.num_face_vertices.size();
+    std::size_t corner_count = 0;
+    bool same_corners = true;
+    for (const tinyobj::shape_t& shape : mesh.shapes) {
+        for (const tinyobj::index_t& index : shape.mesh.indices) {
+            if (corner_count < scan.corners.size()) {
+                const ObjCorner& ours = scan.corners[corner_count];
+                same_corners = same_corners && index.vertex_index == ours.vertex &&
+                               index.texcoord_index == ours.texcoord &&
+                               index.normal_index == ours.normal;
+            }
+            ++corner_count;
+        }
+    }
     if (attrib.vertices.size() != 3 * scan.positions.size() ||
         attrib.texcoords.size() != 2 * scan.texcoords.size() ||
-        attrib.normals.size() != 3 * scan.normals.size() || face_count != scan.face_lines.size() ||
-        mesh.materials.size() != scan.mtl.materials.size())
+        attrib.normals.size() != 3 * scan.normals.size() || corner_count != scan.corners.size() ||
+        !same_corners)
         throw Error(
             obj_path + ": tinyobjloader read " + std::to_string(attrib.vertices.size() / 3) +
             " v, " + std::to_string(attrib.texcoords.size() / 2) + " vt, " +
-            std::to_string(attrib.normals.size() / 3) + " vn, " + std::to_string(face_count) +
-            " faces and " + std::to_string(mesh.materials.size()) + " materials, the pre-scan " +
-            std::to_string(scan.positions.size()) + ", " + std::to_string(scan.texcoords.size()) +
-            ", " + std::to_string(scan.normals.size()) + ", " +
-            std::to_string(scan.face_lines.size()) + " and " +
-            std::to_string(scan.mtl.materials.size()));
+            std::to_string(attrib.normals.size() / 3) + " vn, " + std::to_string(corner_count) +
+            " face corners" + (same_corners ? "" : " (some of them different)") +
+            ", the pre-scan " + std::to_string(scan.positions.size()) + ", " +
+            std::to_string(scan.texcoords.size()) + ", " + std::to_string(scan.normals.size()) +
+            " and " + std::to_string(scan.corners.size()));
     return mesh;
 }
 
 // Adds every material of the MTL files to the scene, in file order (a repeated definition is
 // skipped); returns the scene's index of each of the pre-scan's materials.
-std::vector<int> intern_mtl_materials(Scene& scene,
-                                      const std::vector<tinyobj::material_t>& source_materials,
-                                      const MtlScan& mtl, TextureCache& cache,
+std::vector<int> intern_mtl_materials(Scene& scene, const MtlScan& mtl, TextureCache& cache,
                                       const QuirkLog& log) {
     std::vector<int> material_index(mtl.materials.size(), -1);
     for (std::size_t m = 0; m < mtl.materials.size(); ++m) {
         const MtlMaterialInfo& info = mtl.materials[m];
         if (info.duplicate) continue;
-        Material material = convert_material(scene, source_materials[m], info, cache, log);
+        Material material = convert_material(scene, info, cache, log);
         material_index[m] = intern_material(scene, material, location(info.file, info.line));
     }
     return material_index;
@@ -779,20 +872,20 @@ struct WorldTriangle {
 
 // Triangle (index[0], index[1], index[2]) from the pre-scan's arrays, in world space; uv (0,0)
 // where a corner has no texture coordinates.
-WorldTriangle world_triangle(const tinyobj::index_t (&index)[3], const ObjScan& scan,
+WorldTriangle world_triangle(const ObjCorner (&index)[3], const ObjScan& scan,
                              const ObjectToWorld& to_world, const std::string& obj_path, int line) {
     WorldTriangle t{};
     for (int c = 0; c < 3; ++c) {
-        t.position[c] = element(scan.positions, index[c].vertex_index, obj_path, line);
+        t.position[c] = element(scan.positions, index[c].vertex, obj_path, line);
         if (!to_world.identity)
             t.position[c] = glm::vec3(to_world.transform * glm::vec4(t.position[c], 1.0f));
-        t.has_normal[c] = index[c].normal_index >= 0;
+        t.has_normal[c] = index[c].normal >= 0;
         if (t.has_normal[c]) {
-            t.normal[c] = element(scan.normals, index[c].normal_index, obj_path, line);
+            t.normal[c] = element(scan.normals, index[c].normal, obj_path, line);
             if (!to_world.identity) t.normal[c] = to_world.normal_matrix * t.normal[c];
         }
-        t.uv[c] = index[c].texcoord_index >= 0
-                      ? element(scan.texcoords, index[c].texcoord_index, obj_path, line)
+        t.uv[c] = index[c].texcoord >= 0
+                      ? element(scan.texcoords, index[c].texcoord, obj_path, line)
                       : glm::vec2(0.0f);
     }
     return t;
@@ -834,75 +927,72 @@ int default_material(Scene& scene, const std::string& defined_at) {
 // triangulate_polygon, with the material its usemtl gave it (default_material where none).
 // Zero-area (or non-finite) triangles are dropped, counted and the first max_zero_area_warnings
 // of them listed; returns how many were dropped.
-std::int64_t add_obj_triangles(Scene& scene, const std::string& obj_path,
-                               const std::vector<tinyobj::shape_t>& shapes, const ObjScan& scan,
+std::int64_t add_obj_triangles(Scene& scene, const std::string& obj_path, const ObjScan& scan,
                                const std::vector<int>& material_index,
                                const ObjectToWorld& to_world) {
     SceneLoadStats& stats = scene.load_stats;
     int fallback = -1;
     std::int64_t dropped_here = 0;
     std::int64_t not_simple = 0;
-    std::size_t face = 0;
     std::vector<glm::vec3> polygon;
-    for (const tinyobj::shape_t& shape : shapes) {
-        std::size_t offset = 0;
-        for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f, ++face) {
-            const std::size_t corners = shape.mesh.num_face_vertices[f];
-            const int line = scan.face_lines[face];
-            const int source_material = scan.face_materials[face];
-            int material = source_material >= 0
-                               ? material_index[static_cast<std::size_t>(source_material)]
-                               : -1;
-            if (material < 0) {
-                if (fallback < 0) fallback = default_material(scene, location(obj_path, line));
-                material = fallback;
+    for (std::size_t face = 0; face < scan.face_starts.size(); ++face) {
+        const std::size_t first = scan.face_starts[face];
+        const std::size_t corners = (face + 1 < scan.face_starts.size() ? scan.face_starts[face + 1]
+                                                                        : scan.corners.size()) -
+                                    first;
+        const int line = scan.face_lines[face];
+        const int source_material = scan.face_materials[face];
+        int material =
+            source_material >= 0 ? material_index[static_cast<std::size_t>(source_material)] : -1;
+        if (material < 0) {
+            if (fallback < 0) fallback = default_material(scene, location(obj_path, line));
+            material = fallback;
+        }
+        // Triangulated in object space: the transform does not change which corners form
+        // the triangles.
+        polygon.clear();
+        for (std::size_t k = 0; k < corners; ++k)
+            polygon.push_back(
+                element(scan.positions, scan.corners[first + k].vertex, obj_path, line));
+        PolygonSplit split = PolygonSplit::triangle;
+        const std::vector<std::array<int, 3>> triangles = triangulate_polygon(polygon, &split);
+        if (corners > 3) ++stats.polygons_triangulated;
+        if (split == PolygonSplit::ear_clipped || split == PolygonSplit::not_simple)
+            ++stats.concave_polygons;
+        if (split == PolygonSplit::not_simple && ++not_simple <= max_zero_area_warnings)
+            stats.warnings.push_back(location(obj_path, line) +
+                                     ": concave polygon that ear clipping cannot split (its "
+                                     "edges cross, or it has more than " +
+                                     std::to_string(max_ear_clipping_corners) +
+                                     " corners); fanned instead");
+        for (const std::array<int, 3>& corner : triangles) {
+            ObjCorner index[3] = {scan.corners[first + static_cast<std::size_t>(corner[0])],
+                                  scan.corners[first + static_cast<std::size_t>(corner[1])],
+                                  scan.corners[first + static_cast<std::size_t>(corner[2])]};
+            if (to_world.mirror) std::swap(index[1], index[2]);
+            WorldTriangle t = world_triangle(index, scan, to_world, obj_path, line);
+            // Zero-area (or non-finite) triangles are dropped: they are never hit (SPEC §2).
+            const float double_area =
+                triangle_double_area(t.position[0], t.position[1], t.position[2]);
+            if (!(double_area > 0.0f) || !std::isfinite(double_area)) {
+                ++stats.zero_area_triangles_dropped;
+                if (++dropped_here <= max_zero_area_warnings)
+                    stats.warnings.push_back(location(obj_path, line) +
+                                             ": zero-area triangle dropped");
+                continue;
             }
-            // Triangulated in object space: the transform does not change which corners form
-            // the triangles.
-            polygon.clear();
-            for (std::size_t k = 0; k < corners; ++k)
-                polygon.push_back(element(
-                    scan.positions, shape.mesh.indices[offset + k].vertex_index, obj_path, line));
-            PolygonSplit split = PolygonSplit::triangle;
-            const std::vector<std::array<int, 3>> triangles = triangulate_polygon(polygon, &split);
-            if (corners > 3) ++stats.polygons_triangulated;
-            if (split == PolygonSplit::ear_clipped || split == PolygonSplit::not_simple)
-                ++stats.concave_polygons;
-            if (split == PolygonSplit::not_simple && ++not_simple <= max_zero_area_warnings)
-                stats.warnings.push_back(location(obj_path, line) +
-                                         ": polygon is not simple (its edges cross); ear clipping "
-                                         "stopped and the rest was fanned");
-            for (const std::array<int, 3>& corner : triangles) {
-                tinyobj::index_t index[3] = {
-                    shape.mesh.indices[offset + static_cast<std::size_t>(corner[0])],
-                    shape.mesh.indices[offset + static_cast<std::size_t>(corner[1])],
-                    shape.mesh.indices[offset + static_cast<std::size_t>(corner[2])]};
-                if (to_world.mirror) std::swap(index[1], index[2]);
-                WorldTriangle t = world_triangle(index, scan, to_world, obj_path, line);
-                // Zero-area (or non-finite) triangles are dropped: they are never hit (SPEC §2).
-                const float double_area =
-                    triangle_double_area(t.position[0], t.position[1], t.position[2]);
-                if (!(double_area > 0.0f) || !std::isfinite(double_area)) {
-                    ++stats.zero_area_triangles_dropped;
-                    if (++dropped_here <= max_zero_area_warnings)
-                        stats.warnings.push_back(location(obj_path, line) +
-                                                 ": zero-area triangle dropped");
-                    continue;
-                }
-                if (finish_normals(t, double_area)) ++stats.normals_generated;
-                for (int c = 0; c < 3; ++c) {
-                    scene.positions.push_back(t.position[c]);
-                    scene.normals.push_back(t.normal[c]);
-                    scene.uvs.push_back(t.uv[c]);
-                }
-                scene.material_ids.push_back(material);
+            if (finish_normals(t, double_area)) ++stats.normals_generated;
+            for (int c = 0; c < 3; ++c) {
+                scene.positions.push_back(t.position[c]);
+                scene.normals.push_back(t.normal[c]);
+                scene.uvs.push_back(t.uv[c]);
             }
-            offset += corners;
+            scene.material_ids.push_back(material);
         }
     }
     if (not_simple > max_zero_area_warnings)
         stats.warnings.push_back(obj_path + ": " + std::to_string(not_simple) +
-                                 " polygons are not simple (the first " +
+                                 " concave polygons were fanned (the first " +
                                  std::to_string(max_zero_area_warnings) + " are listed)");
     return dropped_here;
 }
@@ -917,23 +1007,27 @@ void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& t
         throw Error((referenced_at.empty() ? obj_path : referenced_at) + ": OBJ file '" + obj_path +
                     "' not found");
     SceneLoadStats& stats = scene.load_stats;
-    const QuirkLog log{strict, &stats.warnings};
+    int malformed_numbers = 0;
+    const QuirkLog log{strict, &stats.warnings, &malformed_numbers};
     const std::string text = checked_text(read_file(obj_path), obj_path, stats.warnings);
     const ObjScan scan = scan_obj(obj_path, text, log);
 
     const TinyObjMesh mesh = parse_with_tinyobj(obj_path, text, scan);
     // Materials: every material of the MTL files, in file order; faces without one get the
     // default material.
-    const std::vector<int> material_index =
-        intern_mtl_materials(scene, mesh.materials, scan.mtl, cache, log);
+    const std::vector<int> material_index = intern_mtl_materials(scene, scan.mtl, cache, log);
     const ObjectToWorld to_world =
         object_to_world(transform, referenced_at.empty() ? obj_path : referenced_at);
     const std::int64_t dropped_here =
-        add_obj_triangles(scene, obj_path, mesh.shapes, scan, material_index, to_world);
+        add_obj_triangles(scene, obj_path, scan, material_index, to_world);
 
     if (dropped_here > max_zero_area_warnings)
         stats.warnings.push_back(obj_path + ": " + std::to_string(dropped_here) +
                                  " zero-area triangles dropped (the first " +
+                                 std::to_string(max_zero_area_warnings) + " are listed)");
+    if (malformed_numbers > max_zero_area_warnings)
+        stats.warnings.push_back(obj_path + ": " + std::to_string(malformed_numbers) +
+                                 " malformed numbers read from their valid start (the first " +
                                  std::to_string(max_zero_area_warnings) + " are listed)");
     if (scan.points > 0 || scan.lines > 0) {
         stats.points_ignored += scan.points;

@@ -15,6 +15,8 @@ double turn(Point2 a, Point2 b, Point2 c) {
     return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
 }
 
+bool same(Point2 a, Point2 b) { return a.x == b.x && a.y == b.y; }
+
 // Whether q lies inside or on the counter-clockwise triangle (a, b, c).
 bool inside_or_on(Point2 q, Point2 a, Point2 b, Point2 c) {
     return turn(a, b, q) >= 0.0 && turn(b, c, q) >= 0.0 && turn(c, a, q) >= 0.0;
@@ -70,6 +72,7 @@ std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<glm::vec3>
         convex = turn(q[static_cast<std::size_t>((k + n - 1) % n)], q[static_cast<std::size_t>(k)],
                       q[static_cast<std::size_t>((k + 1) % n)]) >= 0.0;
     if (convex) return result(PolygonSplit::fan, fan(corners));
+    if (n > max_ear_clipping_corners) return result(PolygonSplit::not_simple, fan(corners));
 
     std::vector<std::array<int, 3>> triangles;
     while (corners.size() > 3) {
@@ -84,7 +87,11 @@ std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<glm::vec3>
             for (std::size_t j = 0; j < m && empty; ++j) {
                 const int other = corners[j];
                 if (other == a || other == b || other == c) continue;
-                empty = !inside_or_on(q[static_cast<std::size_t>(other)], qa, qb, qc);
+                // A corner at the same place as one of the ear's (a polygon that touches itself
+                // there, as where a hole is joined to the outline) does not block the ear.
+                const Point2 qo = q[static_cast<std::size_t>(other)];
+                if (same(qo, qa) || same(qo, qb) || same(qo, qc)) continue;
+                empty = !inside_or_on(qo, qa, qb, qc);
             }
             if (!empty) continue;
             triangles.push_back({a, b, c});

@@ -9,12 +9,17 @@
 
 namespace fovref {
 
+/// Concave polygons with more corners than this are fanned (PolygonSplit::not_simple): ear
+/// clipping costs up to n^3 / 6 point tests, and a bound keeps any file's load time bounded.
+constexpr int max_ear_clipping_corners = 1024;
+
 /// How triangulate_polygon split a polygon.
 enum class PolygonSplit {
     triangle,     ///< 3 corners: the polygon itself
     fan,          ///< convex (or flat): (0, k, k+1) for k = 1 .. n-2, as before ear clipping
     ear_clipped,  ///< concave: ear clipping
-    not_simple    ///< ear clipping found no ear (self-intersecting); the rest was fanned
+    not_simple    ///< concave, but no ear was found (self-intersecting) or the polygon has more
+                  ///< than max_ear_clipping_corners corners: (the rest) fanned
 };
 
 /// Splits the polygon p[0 .. n) (n >= 3, corners in order) into n - 2 triangles of corner
@@ -23,9 +28,10 @@ enum class PolygonSplit {
 /// When every corner turns the same way (no turn against the Newell normal), the result is the
 /// fan (0, k, k+1). Otherwise ears are clipped: repeatedly, the first remaining corner c in
 /// polygon order whose triangle (previous, c, next) turns with the normal and contains no other
-/// remaining corner (on its edges counts as inside) is cut off as (previous, c, next). Should no
+/// remaining corner (on its edges counts as inside; a corner at the same place as one of its three
+/// does not count) is cut off as (previous, c, next). Should no
 /// corner qualify (a self-intersecting polygon), the remaining corners are fanned from the
-/// first of them.
+/// first of them; a concave polygon of more than max_ear_clipping_corners corners is fanned whole.
 std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<glm::vec3>& p,
                                                     PolygonSplit* split = nullptr);
 

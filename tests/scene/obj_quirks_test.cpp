@@ -207,7 +207,8 @@ TEST_CASE(
     CHECK(contains(warning_with(scene, "ignored"),
                    "points-and-lines.obj: 3 points (p) and 2 lines (l) ignored"));
     CHECK(contains(error_message([&] { load_model_file(corpus + "only-lines.obj"); }),
-                   "only-lines.obj: no triangles to render (0 points, 1 lines"));
+                   "only-lines.obj: no triangles to render: the file has no faces (0 points and 1 "
+                   "lines ignored)"));
 }
 
 TEST_CASE("OBJ quirks: duplicate materials, a clashing 'default', several mtllib files, case") {
