@@ -17,6 +17,7 @@
 #include "ref/core/error.h"
 #include "ref/modes/modes.h"
 #include "ref/scene/procedural.h"
+#include "tools/cli_common.h"
 #include "tools/progress.h"
 
 namespace fovref {
@@ -99,7 +100,10 @@ struct Row {
 }  // namespace
 
 void add_bench_foveation_options(CLI::App& c, BenchFoveationOptions& o) {
-    c.add_option("--scene", o.scenes, "procedural scene (repeatable; default: all)");
+    c.add_option("--scene", o.scenes,
+                 "procedural scene, scene file or model file (.obj, .gltf, .glb) (repeatable; "
+                 "default: every procedural scene)");
+    add_scene_load_options(c);
     c.add_option("--width", o.width, "screen width")
         ->check(CLI::Range(1, 16384))
         ->capture_default_str();
@@ -124,6 +128,8 @@ int run_bench_foveation(const BenchFoveationOptions& o) {
     std::vector<std::string> scenes = o.scenes;
     if (scenes.empty())
         for (const ProceduralSceneInfo& info : procedural_scenes()) scenes.push_back(info.name);
+    for (const std::string& name : scenes)
+        if (!is_procedural_scene(name)) load_cli_scene(name);  // a file must load before the table
     std::vector<Row> rows = {{"basic", "basic", {}}};
     if (o.modes.empty()) {
         for (const std::string m : {"fov", "kfov", "cfov", "ckfov", "kfr", "stereo-lp"})
@@ -153,7 +159,7 @@ int run_bench_foveation(const BenchFoveationOptions& o) {
     const double step = 1.0 / static_cast<double>(scenes.size() * rows.size());
     double done = 0.0;
     for (const std::string& name : scenes) {
-        const Scene scene = make_procedural_scene(name);
+        const Scene scene = load_cli_scene(name, /*report=*/false);
         std::printf("\n%s\n", name.c_str());
         std::printf("  %-10s %-10s %8s %8s %7s %9s %9s %9s %9s %9s %8s %7s %8s %9s\n", "mode",
                     "buffer", "dispatch", "traced", "work", "trace ms", "shade ms", "pass2 ms",

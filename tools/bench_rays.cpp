@@ -276,7 +276,7 @@ void bench_gbuffer_passes(const Scene& scene, const Bvh& bvh, const std::string&
 // and shadow rays (from the primary hits).
 void bench_scene(const std::string& name, const BenchRaysOptions& options,
                  [[maybe_unused]] std::string& explanations) {
-    const Scene scene = load_cli_scene(name);
+    const Scene scene = load_cli_scene(name, /*report=*/false);
 
     // Build: the fastest of the repeats (a build is deterministic, so any copy is the tree).
     Bvh bvh;

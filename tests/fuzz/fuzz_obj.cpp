@@ -1,6 +1,8 @@
-// libFuzzer target: OBJ + MTL (load_scene_file of a fixed scene.json naming mesh.obj). The input
-// is the OBJ text, then optionally the line "#--mtl--" and the text of mesh.mtl (which the OBJ
-// may name with "mtllib mesh.mtl"); tex.pfm exists for map_Kd. tests/fuzz/fuzz_util.h.
+// libFuzzer target: OBJ + MTL, read three ways: load_scene_file of a fixed scene.json naming
+// mesh.obj, and mesh.obj as a bare model file (load_model_file: default camera and light) with the
+// quirks of docs/obj-quirks.md accepted and with --strict-obj. The input is the OBJ text, then
+// optionally the line "#--mtl--" and the text of mesh.mtl (which the OBJ may name with
+// "mtllib mesh.mtl"); tex.pfm exists for map_Kd. tests/fuzz/fuzz_util.h.
 #include "ref/scene/scene_file.h"
 #include "tests/fuzz/fuzz_util.h"
 
@@ -25,5 +27,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                                         : input.substr(split + separator.size()));
     fovref::fuzz::expect_error_or_success(
         [&] { fovref::load_scene_file((fovref::fuzz::scratch() / "scene.json").string()); });
+    const std::string obj = (fovref::fuzz::scratch() / "mesh.obj").string();
+    fovref::fuzz::expect_error_or_success([&] { fovref::load_model_file(obj); });
+    fovref::SceneLoadOptions strict;
+    strict.strict_obj = true;
+    fovref::fuzz::expect_error_or_success([&] { fovref::load_model_file(obj, strict); });
     return 0;
 }

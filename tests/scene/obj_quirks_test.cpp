@@ -391,3 +391,72 @@ TEST_CASE("model files: an emissive material is the light; --camera replaces the
     const Scene procedural = load_scene("cornell", options);
     CHECK(procedural.camera.position == glm::vec3(0, 0, 9));
 }
+
+TEST_CASE(
+    "OBJ quirks: nameless materials, one-value colours, malformed numbers, Latin-1, long faces") {
+    TempDir dir("obj-quirks-real");
+    SUBCASE("newmtl and usemtl without a name (Blender's empty_mat.obj)") {
+        write_bytes(dir.file("e.mtl"), "newmtl \nKd 0.1 0.2 0.3\nKs 0\n");
+        write_bytes(dir.file("e.obj"),
+                    "mtllib e.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl \nf 1 2 3\n");
+        const Scene scene = load_model_file(dir.file("e.obj"));
+        CHECK(scene.materials.size() == 1);
+        CHECK(scene.materials[0].name == "default");
+        CHECK(contains(warning_with(scene, "newmtl without a name"), "e.mtl:1:"));
+        CHECK(contains(warning_with(scene, "usemtl without"), "e.obj:5:"));
+        CHECK(contains(error_message([&] { load_model_file(dir.file("e.obj"), strict_options()); }),
+                       "e.mtl:1: newmtl needs a material name"));
+    }
+    SUBCASE("Kd with one value is grey (the MTL format's rule); two values are an error") {
+        write_bytes(dir.file("g.mtl"), "newmtl grey\nKd 0.25\nKs 0.5\n");
+        write_bytes(dir.file("g.obj"),
+                    "mtllib g.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl grey\nf 1 2 3\n");
+        const Scene scene = load_model_file(dir.file("g.obj"));
+        CHECK(scene.materials[0].albedo == glm::vec3(0.25f));
+        CHECK(scene.materials[0].specular == glm::vec3(0.5f));
+        write_bytes(dir.file("g.mtl"), "newmtl grey\nKd 0.25 0.5\n");
+        CHECK(contains(error_message([&] { load_model_file(dir.file("g.obj")); }),
+                       "g.mtl:2: 'Kd' needs 1 or 3 numbers, got 2"));
+    }
+    SUBCASE("a malformed number is read from its valid start, with a warning (strict: an error)") {
+        write_bytes(dir.file("n.obj"), "v 0 0 0\nv 1 0 0\nv 0 3.1+e2 0\nf 1 2 3\n");
+        const Scene scene = load_model_file(dir.file("n.obj"));
+        CHECK(scene.positions[2] == glm::vec3(0.0f, 3.1f, 0.0f));
+        CHECK(contains(warning_with(scene, "malformed number"),
+                       "n.obj:3: v: malformed number '3.1+e2' read as 3.1 (its valid start)"));
+        CHECK(contains(error_message([&] { load_model_file(dir.file("n.obj"), strict_options()); }),
+                       "n.obj:3: v: malformed number '3.1+e2'"));
+        // Nothing valid at the start, or NaN: an error either way.
+        write_bytes(dir.file("n.obj"), "v 0 0 0\nv 1 0 0\nv 0 x1 0\nf 1 2 3\n");
+        CHECK(contains(error_message([&] { load_model_file(dir.file("n.obj")); }),
+                       "n.obj:3: v: malformed number 'x1'"));
+        write_bytes(dir.file("n.obj"), "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n");
+        CHECK(contains(error_message([&] { load_model_file(dir.file("n.obj")); }),
+                       "NaN or infinite"));
+    }
+    SUBCASE("a material name that is not UTF-8 is read as Latin-1") {
+        write_bytes(dir.file("l.mtl"), "newmtl K\xF6rper\nKd 1 0 0\n");
+        write_bytes(dir.file("l.obj"),
+                    "mtllib l.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl K\xF6rper\nf 1 2 3\n");
+        const Scene scene = load_model_file(dir.file("l.obj"));
+        CHECK(scene.materials[0].name == "K\xC3\xB6rper");
+        CHECK(scene.materials[0].albedo == glm::vec3(1, 0, 0));
+        CHECK(contains(warning_with(scene, "Latin-1"), "l.mtl:1: material name"));
+    }
+    SUBCASE("a face of 300 corners (more than tinyobjloader's unsigned char counts)") {
+        std::string obj;
+        const int n = 300;
+        // A convex polygon: the fan, n - 2 triangles, every one counter-clockwise.
+        for (int k = 0; k < n; ++k) {
+            const float t = static_cast<float>(k) / n;
+            obj += "v " + std::to_string(t) + " " + std::to_string(t * t) + " 0\n";
+        }
+        obj += "f";
+        for (int k = n; k >= 1; --k) obj += " " + std::to_string(k);
+        obj += "\n";
+        write_bytes(dir.file("long.obj"), obj);
+        const Scene scene = load_model_file(dir.file("long.obj"));
+        CHECK(scene.triangle_count() + scene.load_stats.zero_area_triangles_dropped == n - 2);
+        CHECK(scene.load_stats.polygons_triangulated == 1);
+    }
+}
