@@ -9,7 +9,7 @@ packages=(
   libglm-dev libstb-dev libtinyobjloader-dev libtinygltf-dev doctest-dev nlohmann-json3-dev libcli11-dev
   libopenexr-dev libssl-dev zlib1g-dev libembree-dev
   libosmesa6-dev gdb
-  python3 python3-skimage chromium parallel librsvg2-bin
+  python3 python3-skimage chromium parallel librsvg2-bin assimp-utils
 )
 sudo=""
 if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
