@@ -460,3 +460,78 @@ TEST_CASE(
         CHECK(scene.load_stats.polygons_triangulated == 1);
     }
 }
+
+namespace {
+
+std::string base64(const std::string& bytes) {
+    static const char* alphabet =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    std::size_t i = 0;
+    for (; i + 2 < bytes.size(); i += 3) {
+        const unsigned v = (static_cast<unsigned char>(bytes[i]) << 16) |
+                           (static_cast<unsigned char>(bytes[i + 1]) << 8) |
+                           static_cast<unsigned char>(bytes[i + 2]);
+        for (int k = 3; k >= 0; --k) out += alphabet[(v >> (6 * k)) & 63];
+    }
+    if (i < bytes.size()) {
+        unsigned v = static_cast<unsigned char>(bytes[i]) << 16;
+        if (i + 1 < bytes.size()) v |= static_cast<unsigned char>(bytes[i + 1]) << 8;
+        out += alphabet[(v >> 18) & 63];
+        out += alphabet[(v >> 12) & 63];
+        out += i + 1 < bytes.size() ? alphabet[(v >> 6) & 63] : '=';
+        out += '=';
+    }
+    return out;
+}
+
+// A glTF file of one triangle (0,0,0) (1,0,0) (0,1,0) in a node translated by `offset`, with an
+// emissive material when `emissive`.
+std::string triangle_gltf(float offset_x, bool emissive) {
+    const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const std::string bytes(reinterpret_cast<const char*>(positions), sizeof positions);
+    return std::string(R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+ "nodes": [{"mesh": 0, "translation": [)") +
+           std::to_string(offset_x) + R"(, 0, 0]}],
+ "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+ "materials": [{"name": "lamp", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0},
+   "emissiveFactor": [)" +
+           (emissive ? "1, 1, 1" : "0, 0, 0") + R"(]}],
+ "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,)" +
+           base64(bytes) + R"("}],
+ "bufferViews": [{"buffer": 0, "byteLength": 36}],
+ "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+   "min": [0, 0, 0], "max": [1, 1, 0]}]})";
+}
+
+}  // namespace
+
+TEST_CASE("model files: a scene file names glTF meshes as it names OBJ meshes; a bare .gltf") {
+    TempDir dir("model-gltf");
+    write_bytes(dir.file("tri.gltf"), triangle_gltf(2.0f, false));
+    write_bytes(dir.file("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    write_bytes(dir.file("scene.json"), R"({"version": 1,
+  "meshes": [{"obj": "tri.obj"}, {"gltf": "tri.gltf", "transform": {"translate": [0, 0, 5]}}],
+  "camera": {"position": [0, 0, 9], "look_at": [0, 0, 0], "vfov_deg": 45}})");
+    const Scene scene = load_scene(dir.file("scene.json"));
+    REQUIRE(scene.triangle_count() == 2);
+    CHECK(scene.positions[3] == glm::vec3(2, 0, 5));  // the node's, then the instance's transform
+    CHECK(scene.positions[4] == glm::vec3(3, 0, 5));
+    CHECK(scene.materials[static_cast<std::size_t>(material_of(scene, 1))].albedo ==
+          glm::vec3(0.5f));
+    CHECK(scene.camera.position == glm::vec3(0, 0, 9));  // the scene file's camera
+    // Both keys, or neither, is an error naming the line.
+    write_bytes(dir.file("both.json"), R"({"version": 1,
+  "meshes": [{"obj": "tri.obj", "gltf": "tri.gltf"}],
+  "camera": {"position": [0, 0, 9], "look_at": [0, 0, 0], "vfov_deg": 45}})");
+    CHECK(contains(error_message([&] { load_scene(dir.file("both.json")); }),
+                   "both.json:2: /meshes/0: give exactly one of \"obj\", \"gltf\""));
+
+    // A bare glTF file: its emissive triangle is the light, so no default light.
+    write_bytes(dir.file("lamp.gltf"), triangle_gltf(0.0f, true));
+    const Scene lamp = load_scene(dir.file("lamp.gltf"));
+    REQUIRE(lamp.lights.size() == 1);
+    CHECK(lamp.lights[0].type == Light::Type::triangle);
+    REQUIRE(lamp.load_stats.defaulted.size() == 1);
+    CHECK(contains(lamp.load_stats.defaulted[0], "camera: at"));
+}
