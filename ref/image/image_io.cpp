@@ -763,8 +763,36 @@ void append_to_string(void* context, void* data, int size) {
 
 }  // namespace
 
-Image read_png(const std::string& path, bool srgb_decode_colour) {
-    const std::string bytes = read_file(path);
+namespace {
+
+/// Stored 8-bit value / 255 (correctly rounded division), colour channels optionally
+/// sRGB-decoded through a 256-entry table of the same function (alpha stays linear).
+Image image_from_8bit(const stbi_uc* src, int width, int height, int channels,
+                      bool srgb_decode_colour) {
+    std::array<float, 256> linear, decoded;
+    for (int k = 0; k < 256; ++k) {
+        linear[k] = static_cast<float>(k) / 255.0f;
+        decoded[k] = srgb_decode(linear[k]);
+    }
+    Image image(width, height, channels);
+    const std::size_t count = image.data.size();
+    for (std::size_t i = 0; i < count; ++i) {
+        const bool colour = is_colour_channel(static_cast<int>(i % channels), channels);
+        image.data[i] = srgb_decode_colour && colour ? decoded[src[i]] : linear[src[i]];
+    }
+    return image;
+}
+
+void check_decoded_shape(const std::string& path, const char* format, int width, int height,
+                         int channels) {
+    if (width <= 0 || height <= 0 || channels < 1 || channels > 4)
+        throw io_error(path, std::string(format) + " decoder returned an unusable shape " +
+                                 shape_text(static_cast<std::uint64_t>(std::max(width, 0)),
+                                            static_cast<std::uint64_t>(std::max(height, 0)),
+                                            static_cast<std::uint64_t>(std::max(channels, 0))));
+}
+
+Image decode_png_bytes(const std::string& bytes, const std::string& path, bool srgb_decode_colour) {
     check_png_header(path, bytes);
     check_png_data(path, bytes);
     if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
@@ -781,36 +809,84 @@ Image read_png(const std::string& path, bool srgb_decode_colour) {
                     : static_cast<void*>(
                           stbi_load_from_memory(buffer, length, &width, &height, &channels, 0)));
     if (!pixels) throw io_error(path, "cannot decode PNG: " + stb_reason());
-    if (width <= 0 || height <= 0 || channels < 1 || channels > 4)
-        throw io_error(path, "PNG decoder returned an unusable shape " +
-                                 shape_text(static_cast<std::uint64_t>(std::max(width, 0)),
-                                            static_cast<std::uint64_t>(std::max(height, 0)),
-                                            static_cast<std::uint64_t>(std::max(channels, 0))));
+    check_decoded_shape(path, "PNG", width, height, channels);
 
     // Stored value / 255 (or / 65535), correctly rounded division; colour channels optionally
     // sRGB-decoded. 8-bit values go through a 256-entry table of the same function.
+    if (!sixteen_bit)
+        return image_from_8bit(static_cast<const stbi_uc*>(pixels.get()), width, height, channels,
+                               srgb_decode_colour);
     Image image(width, height, channels);
     const std::size_t count = image.data.size();
-    if (sixteen_bit) {
-        const auto* src = static_cast<const std::uint16_t*>(pixels.get());
-        for (std::size_t i = 0; i < count; ++i) {
-            const float value = static_cast<float>(src[i]) / 65535.0f;
-            const bool colour = is_colour_channel(static_cast<int>(i % channels), channels);
-            image.data[i] = srgb_decode_colour && colour ? srgb_decode(value) : value;
-        }
-    } else {
-        std::array<float, 256> linear, decoded;
-        for (int k = 0; k < 256; ++k) {
-            linear[k] = static_cast<float>(k) / 255.0f;
-            decoded[k] = srgb_decode(linear[k]);
-        }
-        const auto* src = static_cast<const stbi_uc*>(pixels.get());
-        for (std::size_t i = 0; i < count; ++i) {
-            const bool colour = is_colour_channel(static_cast<int>(i % channels), channels);
-            image.data[i] = srgb_decode_colour && colour ? decoded[src[i]] : linear[src[i]];
-        }
+    const auto* src = static_cast<const std::uint16_t*>(pixels.get());
+    for (std::size_t i = 0; i < count; ++i) {
+        const float value = static_cast<float>(src[i]) / 65535.0f;
+        const bool colour = is_colour_channel(static_cast<int>(i % channels), channels);
+        image.data[i] = srgb_decode_colour && colour ? srgb_decode(value) : value;
     }
     return image;
+}
+
+/// JPEG (FF D8 FF) or BMP ("BM"), 8 bits per channel, by stb_image. The caller has checked the
+/// magic bytes, so stb_image's format probing cannot pick another decoder (in particular not
+/// its Radiance HDR reader, which converts with libm's pow). The header's size is checked
+/// before stb_image allocates: against the pixel limit, and against what the file can hold
+/// (1024 pixels per byte of file; a baseline JPEG needs at least 2 bits per 8x8 block and
+/// component, i.e. at most 256 pixels per byte; an uncompressed BMP at least 1 bit per pixel).
+Image decode_stb_8bit(const std::string& bytes, const std::string& path, const char* format,
+                      bool srgb_decode_colour) {
+    if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+        throw io_error(path, std::string(format) + " file too large for the reader (" +
+                                 std::to_string(bytes.size()) + " bytes)");
+    const auto* buffer = reinterpret_cast<const stbi_uc*>(bytes.data());
+    const int length = static_cast<int>(bytes.size());
+    int width = 0, height = 0, channels = 0;
+    if (stbi_info_from_memory(buffer, length, &width, &height, &channels) == 0)
+        throw io_error(path, std::string("cannot decode ") + format + ": " + stb_reason());
+    check_decoded_shape(path, format, width, height, channels);
+    const std::uint64_t pixels_claimed =
+        static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height);
+    check_limit(path + ": " + format + " header says " + std::to_string(width) + "x" +
+                    std::to_string(height),
+                pixels_claimed, input_limits().max_image_pixels, "pixels",
+                "FOVREF_MAX_IMAGE_PIXELS");
+    if (pixels_claimed > 1024 * static_cast<std::uint64_t>(bytes.size()) + 65536)
+        throw io_error(path, std::string(format) + " header says " + std::to_string(width) + "x" +
+                                 std::to_string(height) + " pixels, more than a " +
+                                 std::to_string(bytes.size()) + "-byte file can hold");
+    std::unique_ptr<void, StbFree> pixels(
+        stbi_load_from_memory(buffer, length, &width, &height, &channels, 0));
+    if (!pixels) throw io_error(path, std::string("cannot decode ") + format + ": " + stb_reason());
+    check_decoded_shape(path, format, width, height, channels);
+    return image_from_8bit(static_cast<const stbi_uc*>(pixels.get()), width, height, channels,
+                           srgb_decode_colour);
+}
+
+bool starts_with_bytes(const std::string& bytes, const char* magic, std::size_t length) {
+    return bytes.size() >= length && std::memcmp(bytes.data(), magic, length) == 0;
+}
+
+}  // namespace
+
+Image read_png(const std::string& path, bool srgb_decode_colour) {
+    return decode_png_bytes(read_file(path), path, srgb_decode_colour);
+}
+
+std::string image_format_of_bytes(const std::string& bytes) {
+    if (starts_with_bytes(bytes, reinterpret_cast<const char*>(png_signature), 8)) return "png";
+    if (starts_with_bytes(bytes, "\xFF\xD8\xFF", 3)) return "jpeg";
+    if (starts_with_bytes(bytes, "BM", 2)) return "bmp";
+    return "";
+}
+
+Image decode_image_bytes(const std::string& bytes, const std::string& name,
+                         bool srgb_decode_colour) {
+    const std::string format = image_format_of_bytes(bytes);
+    if (format == "png") return decode_png_bytes(bytes, name, srgb_decode_colour);
+    if (format == "jpeg") return decode_stb_8bit(bytes, name, "JPEG", srgb_decode_colour);
+    if (format == "bmp") return decode_stb_8bit(bytes, name, "BMP", srgb_decode_colour);
+    if (bytes.empty()) throw io_error(name, "empty image data (expected PNG, JPEG or BMP)");
+    throw io_error(name, "not a PNG, JPEG or BMP image: first bytes " + quoted(bytes.substr(0, 8)));
 }
 
 void write_png(const std::string& path, const Image& image) {

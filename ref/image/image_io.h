@@ -31,6 +31,20 @@ std::string encode_png(const Image& image, const std::string& path = "<png>");
 /// decoded from sRGB to linear; otherwise the stored value / 255 (or / 65535) is returned.
 Image read_png(const std::string& path, bool srgb_decode = true);
 
+/// An image file held in memory (a texture embedded in a glTF file, or a file already read),
+/// decoded by its first bytes, not by a name: PNG (89 50 4E 47 ...; exactly as read_png, with
+/// the same checks), JPEG (FF D8 FF; baseline or progressive, 8 bits, stb_image's integer
+/// decoder) or BMP ("BM"; stb_image). Channels as stored (grey, grey+alpha, RGB, RGBA); values
+/// are stored / 255 (or / 65535 for 16-bit PNG); with `srgb_decode` the colour channels are
+/// decoded from sRGB to linear (srgb.h; alpha stays linear). `name` names the image in errors.
+/// Throws fovref::Error for anything else, a corrupt image, or a header whose size exceeds
+/// FOVREF_MAX_IMAGE_PIXELS or what the data can hold.
+Image decode_image_bytes(const std::string& bytes, const std::string& name,
+                         bool srgb_decode = true);
+
+/// "png", "jpeg" or "bmp" by the magic bytes decode_image_bytes reads; "" for anything else.
+std::string image_format_of_bytes(const std::string& bytes);
+
 /// EXR: written as 32-bit float channels (R,G,B / Y / R,G,B,A, or C0..Cn for other counts),
 /// lossless (ZIP). Read: any pixel type converted to float; Y, RGB, RGBA or C0..Cn layouts.
 Image read_exr(const std::string& path);

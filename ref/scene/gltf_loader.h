@@ -15,16 +15,18 @@ namespace fovref {
 /// What a glTF file holds beyond its triangles: its first camera (world space, after `transform`)
 /// and what the loader could not represent.
 struct GltfContents {
-    std::optional<Camera> camera;          ///< the first camera of the default scene's nodes
-    int point_lights = 0;                  ///< KHR_lights_punctual point lights appended
-    std::vector<std::string> unsupported;  ///< "file: feature (what was done instead)", sorted
+    std::optional<Camera> camera;  ///< the first perspective camera of the default scene's nodes
+    int point_lights = 0;          ///< KHR_lights_punctual point lights appended
+    /// "file: feature (what was done instead): where, ...", one line per feature, sorted
+    std::vector<std::string> unsupported;
 };
 
 /// Loads the triangles of the glTF file's default scene (scene 0 when none is named) into
 /// `scene`, each node's mesh with its node transform and then `transform` applied; appends its
 /// materials (interned by name), base-colour textures and KHR_lights_punctual point lights.
 /// Throws fovref::Error "file: message" (prefixed by `referenced_at` for a missing file) on any
-/// invalid input. Does not call finalize_scene.
+/// invalid input. Does not call finalize_scene, and does not write scene.camera. Triangle
+/// order: nodes depth-first (children in the order listed), then primitives, then indices.
 GltfContents load_gltf_into(Scene& scene, const std::string& gltf_path, const glm::mat4& transform,
                             TextureCache& cache, const std::string& referenced_at);
 

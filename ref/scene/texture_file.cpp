@@ -25,36 +25,11 @@ Image to_rgb(const Image& image, const std::string& where) {
     return rgb;
 }
 
-}  // namespace
-
-int load_texture_file(Scene& scene, const std::string& path, const std::string& name,
-                      TextureCache& cache, const std::string& referenced_at) {
-    const std::string where = referenced_at.empty() ? path : referenced_at;
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        throw Error(where + ": texture '" + name + "' not found (looked for " + path + ")");
-    const std::string key = std::filesystem::weakly_canonical(path, ec).string();
-    auto cached = cache.find(key);
-    if (cached != cache.end()) return cached->second;
-
-    // Read: 8-bit PNG is sRGB-encoded; PFM (what export_scene writes) and EXR hold linear floats.
-    Texture texture;
-    texture.name = name;
-    const std::string ext = lower_extension(path);
-    try {
-        if (ext == ".png") {
-            texture.image = read_png(path, /*srgb_decode=*/true);
-        } else if (ext == ".pfm") {
-            texture.image = read_pfm(path);
-        } else if (ext == ".exr") {
-            texture.image = read_exr(path);
-        } else {
-            throw Error(path + ": unsupported texture format '" + ext +
-                        "' (use .png, .pfm or .exr)");
-        }
-    } catch (const Error& e) {
-        throw Error(where + ": cannot read texture '" + name + "': " + e.what());
-    }
+// The shared tail of load_texture_file and load_texture_bytes: to RGB, every value finite,
+// reuse of an equal texture, the scene's texture pixel limit; records `key` in the cache.
+int add_texture(Scene& scene, Texture texture, const std::string& key, TextureCache& cache,
+                const std::string& where) {
+    const std::string& name = texture.name;
     texture.image = to_rgb(texture.image, where);
     if (texture.image.empty()) throw Error(where + ": texture '" + name + "' is empty");
     for (std::size_t i = 0; i < texture.image.data.size(); ++i)
@@ -87,6 +62,57 @@ int load_texture_file(Scene& scene, const std::string& path, const std::string& 
     }
     cache[key] = index;
     return index;
+}
+
+}  // namespace
+
+int load_texture_file(Scene& scene, const std::string& path, const std::string& name,
+                      TextureCache& cache, const std::string& referenced_at) {
+    const std::string where = referenced_at.empty() ? path : referenced_at;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw Error(where + ": texture '" + name + "' not found (looked for " + path + ")");
+    const std::string key = std::filesystem::weakly_canonical(path, ec).string();
+    auto cached = cache.find(key);
+    if (cached != cache.end()) return cached->second;
+
+    // Read: 8-bit PNG, JPEG and BMP are sRGB-encoded; PFM (what export_scene writes) and EXR
+    // hold linear floats. A .jpg/.jpeg/.bmp file is decoded by its magic bytes
+    // (decode_image_bytes), so a PNG saved under a .jpg name still loads.
+    Texture texture;
+    texture.name = name;
+    const std::string ext = lower_extension(path);
+    try {
+        if (ext == ".png") {
+            texture.image = read_png(path, /*srgb_decode=*/true);
+        } else if (ext == ".jpg" || ext == ".jpeg" || ext == ".bmp") {
+            texture.image = decode_image_bytes(read_file(path), path, /*srgb_decode=*/true);
+        } else if (ext == ".pfm") {
+            texture.image = read_pfm(path);
+        } else if (ext == ".exr") {
+            texture.image = read_exr(path);
+        } else {
+            throw Error(path + ": unsupported texture format '" + ext +
+                        "' (use .png, .jpg, .jpeg, .bmp, .pfm or .exr)");
+        }
+    } catch (const Error& e) {
+        throw Error(where + ": cannot read texture '" + name + "': " + e.what());
+    }
+    return add_texture(scene, std::move(texture), key, cache, where);
+}
+
+int load_texture_bytes(Scene& scene, const std::string& bytes, const std::string& name,
+                       const std::string& key, TextureCache& cache, const std::string& where) {
+    auto cached = cache.find(key);
+    if (cached != cache.end()) return cached->second;
+    Texture texture;
+    texture.name = name;
+    try {
+        texture.image = decode_image_bytes(bytes, name, /*srgb_decode=*/true);
+    } catch (const Error& e) {
+        throw Error(where + ": cannot read texture '" + name + "': " + e.what());
+    }
+    return add_texture(scene, std::move(texture), key, cache, where);
 }
 
 }  // namespace fovref

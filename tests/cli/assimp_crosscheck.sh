@@ -1,6 +1,6 @@
-# fovref's OBJ reading against a reader nobody here wrote: the Open Asset Import Library's command
-# line tool (Debian: assimp-utils). For each OBJ of the quirk corpus, and for random concave
-# polygons, assimp triangulates (`assimp export -tri`) and fovref loads and exports; both must
+# fovref's OBJ and glTF reading against a reader nobody here wrote: the Open Asset Import Library's
+# command line tool (Debian: assimp-utils). For each OBJ of the quirk corpus, random concave
+# polygons and a glTF node tree, assimp triangulates (`assimp export -tri`) and fovref loads and exports; both must
 # give the same number of triangles (fovref's plus the zero-area ones it drops) and the same total
 # area (the sum of |triangle areas|, relative difference < 1e-5), so the triangles cover the same
 # surface: ear clipping, quirks, materials aside. Skipped when assimp is not installed.
@@ -39,7 +39,7 @@ EOF
 
 crosscheck() {  # OBJ
   local obj=$1 name
-  name=$(basename "$obj" .obj)
+  name=$(basename "$obj"); name=${name%.*}
   checks=$((checks + 1))
   if ! assimp export "$obj" "$TMP/$name-assimp.obj" -tri >/dev/null 2>&1; then
     echo "skipped $name: assimp does not open it"
@@ -88,4 +88,62 @@ for trial in range(12):
         f.write("f " + " ".join(str(k + 1) for k in range(n)) + "\n")
 EOF
 for k in $(seq 0 11); do crosscheck "$TMP/star$k.obj"; done
+
+# glTF: a node tree with TRS (a non-trivial quaternion, non-uniform scale), a matrix and a mirror,
+# indexed triangles (unsigned short), a strip and a fan. Beyond count and area, the triangles must
+# be the same, corner for corner (as sets, rounded to 1e-4): the node transforms and the strip
+# and fan conventions agree with assimp's.
+python3 - "$TMP/nodes.gltf" <<'EOF'
+import base64, json, math, struct, sys
+positions = [
+    [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)],
+    [(0, 0, 0), (0, 1, 0), (1, 0, 0.2), (1, 1, 0), (2, 0, 0), (2, 1, 0.3)],
+    [(0, 0, 0), (1, 0, 0), (0.7, 0.7, 0.1), (0, 1, 0), (-0.7, 0.7, 0), (-1, 0, 0.2)],
+]
+buffer, views, accessors = b"", [], []
+def view(data):
+    global buffer
+    views.append({"buffer": 0, "byteOffset": len(buffer), "byteLength": len(data)})
+    buffer += data + b"\0" * (-len(data) % 4)
+    return len(views) - 1
+for p in positions:
+    accessors.append({"bufferView": view(b"".join(struct.pack("<3f", *q) for q in p)),
+                      "componentType": 5126, "count": len(p), "type": "VEC3",
+                      "min": [min(q[i] for q in p) for i in range(3)],
+                      "max": [max(q[i] for q in p) for i in range(3)]})
+accessors.append({"bufferView": view(struct.pack("<6H", 0, 1, 2, 0, 2, 3)),
+                  "componentType": 5123, "count": 6, "type": "SCALAR"})
+c, s = math.cos(0.3), math.sin(0.3)
+gltf = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "translation": [1, 2, 3], "children": [1],
+                   "rotation": [0, math.sin(0.35), 0, math.cos(0.35)], "scale": [2, 1, 1.5]},
+                  {"mesh": 1, "matrix": [1, 0, 0, 0, 0, c, s, 0, 0, -s, c, 0, 0, 0.5, -1, 1],
+                   "children": [2]},
+                  {"mesh": 2, "translation": [-2, 0, 0], "scale": [-1, 1, 1]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 3}]},
+                   {"primitives": [{"attributes": {"POSITION": 1}, "mode": 5}]},
+                   {"primitives": [{"attributes": {"POSITION": 2}, "mode": 6}]}],
+        "buffers": [{"byteLength": len(buffer), "uri": "data:application/octet-stream;base64,"
+                     + base64.b64encode(buffer).decode()}],
+        "bufferViews": views, "accessors": accessors}
+json.dump(gltf, open(sys.argv[1], "w"))
+EOF
+crosscheck "$TMP/nodes.gltf"
+corners() {  # OBJ: its triangles as sorted corner sets, rounded
+  python3 - "$1" <<'EOF'
+import sys
+v, tris = [], []
+for line in open(sys.argv[1]):
+    t = line.split()
+    if t and t[0] == "v":
+        v.append(tuple(round(float(x), 4) + 0.0 for x in t[1:4]))
+    elif t and t[0] == "f":
+        tris.append(tuple(sorted(v[int(c.split("/")[0]) - 1] for c in t[1:])))
+print(sorted(tris))
+EOF
+}
+checks=$((checks + 1))
+if [ "$(corners "$TMP/nodes-assimp.obj")" != "$(corners "$TMP/nodes-fovref/scene.obj")" ]; then
+  echo "FAIL: nodes.gltf: fovref's triangles are not assimp's"; failures=$((failures + 1))
+fi
 finish
