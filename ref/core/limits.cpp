@@ -28,6 +28,7 @@ InputLimits read_limits() {
     from_environment("FOVREF_MAX_IMAGE_PIXELS", limits.max_image_pixels);
     from_environment("FOVREF_MAX_SCENE_PIXELS", limits.max_scene_texture_pixels);
     from_environment("FOVREF_MAX_RAYS", limits.max_rays);
+    from_environment("FOVREF_MAX_SCENE_TRIANGLES", limits.max_scene_triangles);
     return limits;
 }
 

@@ -20,6 +20,9 @@ struct InputLimits {
     std::uint64_t max_scene_texture_pixels = std::uint64_t{1} << 28;
     /// Rays in one ray file. FOVREF_MAX_RAYS; default 2^27 (4 GiB of rays).
     std::uint64_t max_rays = std::uint64_t{1} << 27;
+    /// Triangles of one scene loaded from files (OBJ, glTF: a small file can instance a mesh
+    /// many times). FOVREF_MAX_SCENE_TRIANGLES; default 2^26 (about 6.4 GiB of triangle data).
+    std::uint64_t max_scene_triangles = std::uint64_t{1} << 26;
 };
 
 /// The limits in force: the defaults above, each replaced by its environment variable when that

@@ -21,6 +21,7 @@
 // Numbers in the JSON are read by nlohmann::json as binary64 (strtod, correctly rounded) and
 // rounded once more to binary32 here; binary data (positions, normals, uv) is binary32 as stored.
 #include "ref/scene/gltf_loader.h"
+#include "ref/scene/mesh_builder.h"
 
 #include <tiny_gltf.h>
 
@@ -46,8 +47,7 @@ namespace {
 static_assert(std::endian::native == std::endian::little,
               "glTF binary data is little-endian; the reader copies it as it is");
 
-constexpr int max_zero_area_warnings = 5;
-// As obj_loader.cpp: normals whose squared length is within this of 1 are kept as written.
+// A quaternion whose squared length is within this of 1 is used as written.
 constexpr float unit_length_tolerance = 1e-6f;
 // 180 / pi rounded to binary32 (a constant multiply, no libm).
 constexpr float degrees_per_radian = 57.2957795130823208768f;
@@ -748,40 +748,6 @@ glm::mat4 local_matrix(const Loader& loader, const tinygltf::Node& node, const s
     return m;
 }
 
-// As obj_loader.cpp's ObjectToWorld: positions by M, normals by the inverse transpose, corners
-// 1 and 2 swapped under a mirroring M (det < 0).
-struct ObjectToWorld {
-    bool identity = true;
-    glm::mat4 transform{1.0f};
-    glm::mat3 normal_matrix{1.0f};
-    bool mirror = false;
-};
-
-struct WorldTriangle {
-    glm::vec3 position[3];
-    glm::vec3 normal[3];
-    glm::vec2 uv[3];
-    bool has_normal[3];
-};
-
-// obj_loader.cpp's rule: normals as written when unit length, normalised otherwise, the
-// geometric normal where missing or zero. Returns whether any corner got the geometric normal.
-bool finish_normals(WorldTriangle& t, float double_area) {
-    const glm::vec3 geometric =
-        glm::cross(t.position[1] - t.position[0], t.position[2] - t.position[0]) / double_area;
-    bool generated = false;
-    for (int c = 0; c < 3; ++c) {
-        float length2 = t.has_normal[c] ? glm::dot(t.normal[c], t.normal[c]) : 0.0f;
-        if (!(length2 > 0.0f) || !std::isfinite(length2)) {
-            t.normal[c] = geometric;
-            generated = true;
-        } else if (std::fabs(length2 - 1.0f) > unit_length_tolerance) {
-            t.normal[c] = t.normal[c] / std::sqrt(length2);
-        }
-    }
-    return generated;
-}
-
 int primitive_material(Loader& loader, int material, const std::string& where) {
     if (material >= 0) {
         if (static_cast<std::size_t>(material) >= loader.material_index.size())
@@ -885,35 +851,20 @@ void add_primitive(Loader& loader, const tinygltf::Primitive& primitive, const s
         WorldTriangle tri{};
         for (int c = 0; c < 3; ++c) {
             const std::size_t v = indexed ? indices[corner[c]] : corner[c];
-            tri.position[c] =
-                glm::vec3(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]);
-            if (!to_world.identity)
-                tri.position[c] = glm::vec3(to_world.transform * glm::vec4(tri.position[c], 1.0f));
+            tri.position[c] = to_world.point(
+                glm::vec3(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]));
             tri.has_normal[c] = !normals.empty();
-            if (tri.has_normal[c]) {
-                tri.normal[c] = glm::vec3(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]);
-                if (!to_world.identity) tri.normal[c] = to_world.normal_matrix * tri.normal[c];
-            }
+            if (tri.has_normal[c])
+                tri.normal[c] = to_world.normal(
+                    glm::vec3(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]));
             // glTF's v runs down the image, fovref's (OBJ's) up: v' = 1 - v.
             tri.uv[c] =
                 uvs.empty() ? glm::vec2(0.0f) : glm::vec2(uvs[2 * v], 1.0f - uvs[2 * v + 1]);
         }
-        const float double_area =
-            triangle_double_area(tri.position[0], tri.position[1], tri.position[2]);
-        if (!(double_area > 0.0f) || !std::isfinite(double_area)) {
-            ++stats.zero_area_triangles_dropped;
-            if (++loader.dropped_here <= max_zero_area_warnings)
-                stats.warnings.push_back(loader.path + ": " + where + ": triangle " +
-                                         std::to_string(t) + ": zero-area triangle dropped");
-            continue;
-        }
-        if (finish_normals(tri, double_area)) ++stats.normals_generated;
-        for (int c = 0; c < 3; ++c) {
-            loader.scene.positions.push_back(tri.position[c]);
-            loader.scene.normals.push_back(tri.normal[c]);
-            loader.scene.uvs.push_back(tri.uv[c]);
-        }
-        loader.scene.material_ids.push_back(material);
+        if (!append_triangle(loader.scene, tri, material, loader.path) &&
+            ++loader.dropped_here <= max_listed_warnings)
+            stats.warnings.push_back(loader.path + ": " + where + ": triangle " +
+                                     std::to_string(t) + ": zero-area triangle dropped");
     }
 }
 
@@ -1063,21 +1014,16 @@ void add_mesh(Loader& loader, int mesh_index, const glm::mat4& world, const std:
         throw loader.error(where, "mesh " + std::to_string(mesh_index) +
                                       " does not exist (the file has " +
                                       std::to_string(model.meshes.size()) + ")");
-    ObjectToWorld to_world;
-    to_world.identity = world == glm::mat4(1.0f);
-    to_world.transform = world;
-    const glm::mat3 linear(world);
-    const float determinant = glm::determinant(linear);
-    if (!std::isfinite(determinant)) throw loader.error(where, "the world transform is not finite");
+    const TransformCheck check = object_to_world(world);
+    if (!check.finite) throw loader.error(where, "the world transform is not finite");
     const tinygltf::Mesh& mesh = model.meshes[static_cast<std::size_t>(mesh_index)];
-    if (!(std::fabs(determinant) > 0.0f)) {
+    if (check.singular) {
         loader.scene.load_stats.warnings.push_back(
             loader.path + ": " + where + ": mesh " + std::to_string(mesh_index) +
             " skipped: its world transform is singular (a zero scale)");
         return;
     }
-    to_world.normal_matrix = glm::transpose(glm::inverse(linear));
-    to_world.mirror = determinant < 0.0f;
+    const ObjectToWorld& to_world = check.to_world;
     if (!mesh.weights.empty()) loader.note("morph target weights (base mesh used)", where);
     for (std::size_t p = 0; p < mesh.primitives.size(); ++p)
         add_primitive(loader, mesh.primitives[p],
@@ -1209,15 +1155,10 @@ GltfContents load_gltf_into(Scene& scene, const std::string& gltf_path, const gl
         loader.note("animations (the nodes' static transforms used)", "animations");
 
     convert_materials(loader);
-    const std::int64_t dropped_before = scene.load_stats.zero_area_triangles_dropped;
     walk_nodes(loader, transform);
 
     SceneLoadStats& stats = scene.load_stats;
-    if (loader.dropped_here > max_zero_area_warnings)
-        stats.warnings.push_back(gltf_path + ": " + std::to_string(loader.dropped_here) +
-                                 " zero-area triangles dropped (the first " +
-                                 std::to_string(max_zero_area_warnings) + " are listed)");
-    (void)dropped_before;
+    note_dropped_total(scene, gltf_path, loader.dropped_here);
     static const char* mode_names[4] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
     for (const auto& [mode, count] : loader.ignored_modes) {
         // Counted like OBJ's p and l statements (scene info's "ignored" line).

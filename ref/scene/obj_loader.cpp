@@ -50,6 +50,7 @@
 
 #include "ref/core/error.h"
 #include "ref/image/image_io.h"
+#include "ref/scene/mesh_builder.h"
 #include "ref/scene/obj_loader.h"
 #include "ref/scene/polygon.h"
 #include "ref/scene/scene_file.h"
@@ -57,12 +58,6 @@
 namespace fovref {
 
 namespace {
-
-constexpr int max_zero_area_warnings = 5;
-// Normals whose squared length is within this of 1 are kept as written (so an exported scene
-// reloads bit-exactly); others are normalised. Float normalisation leaves |n|^2 - 1 within a
-// few ulp (~2e-7), well inside it.
-constexpr float unit_length_tolerance = 1e-6f;
 
 std::string location(const std::string& file, int line) {
     return file + ":" + std::to_string(line);
@@ -158,7 +153,7 @@ float parse_number(std::string_view token, const std::string& file, int line, co
     const bool prefix_only = ec == std::errc() && end != digits.data() + digits.size();
     if (prefix_only && log != nullptr && !log->strict && std::isfinite(value)) {
         const std::string read(digits.data(), static_cast<std::size_t>(end - digits.data()));
-        if (++*log->malformed_numbers <= max_zero_area_warnings)
+        if (++*log->malformed_numbers <= max_listed_warnings)
             log->warnings->push_back(location(file, line) + ": " + what + ": malformed number '" +
                                      std::string(token) + "' read as " + read +
                                      " (its valid start)");
@@ -837,38 +832,14 @@ std::vector<int> intern_mtl_materials(Scene& scene, const MtlScan& mtl, TextureC
     return material_index;
 }
 
-// Object-to-world transform: positions by M, normals by the inverse transpose; a mirroring
-// transform (det < 0) swaps corners 1 and 2 to keep the winding (and the geometric normal)
-// facing the same way relative to the surface.
-struct ObjectToWorld {
-    bool identity = true;
-    glm::mat4 transform{1.0f};
-    glm::mat3 normal_matrix{1.0f};
-    bool mirror = false;
-};
-
-// The object-to-world transform of `transform`; throws "<where>: ..." when it is singular or
-// not finite.
-ObjectToWorld object_to_world(const glm::mat4& transform, const std::string& where) {
-    ObjectToWorld to_world;
-    to_world.identity = transform == glm::mat4(1.0f);
-    to_world.transform = transform;
-    const glm::mat3 linear(transform);
-    const float determinant = glm::determinant(linear);
-    if (!(std::fabs(determinant) > 0.0f) || !std::isfinite(determinant))
+// The object-to-world transform of an instance transform; throws "<where>: ..." when it is
+// singular or not finite.
+ObjectToWorld instance_to_world(const glm::mat4& transform, const std::string& where) {
+    const TransformCheck check = object_to_world(transform);
+    if (check.singular || !check.finite)
         throw Error(where + ": the instance transform is singular or not finite");
-    to_world.normal_matrix = glm::transpose(glm::inverse(linear));
-    to_world.mirror = determinant < 0.0f;
-    return to_world;
+    return check.to_world;
 }
-
-// A triangle's corners in world space; normal[c] is set only where has_normal[c].
-struct WorldTriangle {
-    glm::vec3 position[3];
-    glm::vec3 normal[3];
-    glm::vec2 uv[3];
-    bool has_normal[3];
-};
 
 // Triangle (index[0], index[1], index[2]) from the pre-scan's arrays, in world space; uv (0,0)
 // where a corner has no texture coordinates.
@@ -876,38 +847,15 @@ WorldTriangle world_triangle(const ObjCorner (&index)[3], const ObjScan& scan,
                              const ObjectToWorld& to_world, const std::string& obj_path, int line) {
     WorldTriangle t{};
     for (int c = 0; c < 3; ++c) {
-        t.position[c] = element(scan.positions, index[c].vertex, obj_path, line);
-        if (!to_world.identity)
-            t.position[c] = glm::vec3(to_world.transform * glm::vec4(t.position[c], 1.0f));
+        t.position[c] = to_world.point(element(scan.positions, index[c].vertex, obj_path, line));
         t.has_normal[c] = index[c].normal >= 0;
-        if (t.has_normal[c]) {
-            t.normal[c] = element(scan.normals, index[c].normal, obj_path, line);
-            if (!to_world.identity) t.normal[c] = to_world.normal_matrix * t.normal[c];
-        }
+        if (t.has_normal[c])
+            t.normal[c] = to_world.normal(element(scan.normals, index[c].normal, obj_path, line));
         t.uv[c] = index[c].texcoord >= 0
                       ? element(scan.texcoords, index[c].texcoord, obj_path, line)
                       : glm::vec2(0.0f);
     }
     return t;
-}
-
-// Gives the triangle its final normals: as written when unit length, normalised otherwise, the
-// geometric normal cross(p1 - p0, p2 - p0) / |...| (|...| = double_area) where missing or zero.
-// Returns whether any corner got the geometric normal.
-bool finish_normals(WorldTriangle& t, float double_area) {
-    const glm::vec3 geometric =
-        glm::cross(t.position[1] - t.position[0], t.position[2] - t.position[0]) / double_area;
-    bool generated = false;
-    for (int c = 0; c < 3; ++c) {
-        float length2 = t.has_normal[c] ? glm::dot(t.normal[c], t.normal[c]) : 0.0f;
-        if (!(length2 > 0.0f) || !std::isfinite(length2)) {
-            t.normal[c] = geometric;
-            generated = true;
-        } else if (std::fabs(length2 - 1.0f) > unit_length_tolerance) {
-            t.normal[c] = t.normal[c] / std::sqrt(length2);
-        }
-    }
-    return generated;
 }
 
 // The material of faces without one (no usemtl, or an undefined one): "default" (Material's
@@ -925,7 +873,7 @@ int default_material(Scene& scene, const std::string& defined_at) {
 
 // Appends the faces' triangles to the scene in face order, each face split by
 // triangulate_polygon, with the material its usemtl gave it (default_material where none).
-// Zero-area (or non-finite) triangles are dropped, counted and the first max_zero_area_warnings
+// Zero-area (or non-finite) triangles are dropped, counted and the first max_listed_warnings
 // of them listed; returns how many were dropped.
 std::int64_t add_obj_triangles(Scene& scene, const std::string& obj_path, const ObjScan& scan,
                                const std::vector<int>& material_index,
@@ -959,7 +907,7 @@ std::int64_t add_obj_triangles(Scene& scene, const std::string& obj_path, const 
         if (corners > 3) ++stats.polygons_triangulated;
         if (split == PolygonSplit::ear_clipped || split == PolygonSplit::not_simple)
             ++stats.concave_polygons;
-        if (split == PolygonSplit::not_simple && ++not_simple <= max_zero_area_warnings)
+        if (split == PolygonSplit::not_simple && ++not_simple <= max_listed_warnings)
             stats.warnings.push_back(location(obj_path, line) +
                                      ": concave polygon that ear clipping cannot split (its "
                                      "edges cross, or it has more than " +
@@ -971,29 +919,15 @@ std::int64_t add_obj_triangles(Scene& scene, const std::string& obj_path, const 
                                   scan.corners[first + static_cast<std::size_t>(corner[2])]};
             if (to_world.mirror) std::swap(index[1], index[2]);
             WorldTriangle t = world_triangle(index, scan, to_world, obj_path, line);
-            // Zero-area (or non-finite) triangles are dropped: they are never hit (SPEC §2).
-            const float double_area =
-                triangle_double_area(t.position[0], t.position[1], t.position[2]);
-            if (!(double_area > 0.0f) || !std::isfinite(double_area)) {
-                ++stats.zero_area_triangles_dropped;
-                if (++dropped_here <= max_zero_area_warnings)
-                    stats.warnings.push_back(location(obj_path, line) +
-                                             ": zero-area triangle dropped");
-                continue;
-            }
-            if (finish_normals(t, double_area)) ++stats.normals_generated;
-            for (int c = 0; c < 3; ++c) {
-                scene.positions.push_back(t.position[c]);
-                scene.normals.push_back(t.normal[c]);
-                scene.uvs.push_back(t.uv[c]);
-            }
-            scene.material_ids.push_back(material);
+            if (!append_triangle(scene, t, material, obj_path) &&
+                ++dropped_here <= max_listed_warnings)
+                stats.warnings.push_back(location(obj_path, line) + ": zero-area triangle dropped");
         }
     }
-    if (not_simple > max_zero_area_warnings)
+    if (not_simple > max_listed_warnings)
         stats.warnings.push_back(obj_path + ": " + std::to_string(not_simple) +
                                  " concave polygons were fanned (the first " +
-                                 std::to_string(max_zero_area_warnings) + " are listed)");
+                                 std::to_string(max_listed_warnings) + " are listed)");
     return dropped_here;
 }
 
@@ -1017,18 +951,15 @@ void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& t
     // default material.
     const std::vector<int> material_index = intern_mtl_materials(scene, scan.mtl, cache, log);
     const ObjectToWorld to_world =
-        object_to_world(transform, referenced_at.empty() ? obj_path : referenced_at);
+        instance_to_world(transform, referenced_at.empty() ? obj_path : referenced_at);
     const std::int64_t dropped_here =
         add_obj_triangles(scene, obj_path, scan, material_index, to_world);
 
-    if (dropped_here > max_zero_area_warnings)
-        stats.warnings.push_back(obj_path + ": " + std::to_string(dropped_here) +
-                                 " zero-area triangles dropped (the first " +
-                                 std::to_string(max_zero_area_warnings) + " are listed)");
-    if (malformed_numbers > max_zero_area_warnings)
+    note_dropped_total(scene, obj_path, dropped_here);
+    if (malformed_numbers > max_listed_warnings)
         stats.warnings.push_back(obj_path + ": " + std::to_string(malformed_numbers) +
                                  " malformed numbers read from their valid start (the first " +
-                                 std::to_string(max_zero_area_warnings) + " are listed)");
+                                 std::to_string(max_listed_warnings) + " are listed)");
     if (scan.points > 0 || scan.lines > 0) {
         stats.points_ignored += scan.points;
         stats.lines_ignored += scan.lines;
