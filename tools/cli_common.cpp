@@ -102,7 +102,8 @@ Scene load_cli_scene(const std::string& name_or_path, bool report) {
     if (!stats.unsupported.empty())
         summary += " " + std::to_string(stats.unsupported.size()) + " unsupported features;";
     for (const std::string& d : stats.defaulted)
-        summary += " " + d.substr(0, d.find(':')) + " defaulted;";
+        summary += " " + d.substr(0, d.find(':')) +
+                   (d.find("(--camera)") != std::string::npos ? " from --camera;" : " defaulted;");
     summary.back() = ' ';
     std::cerr << summary << "(fovref scene info " << name_or_path << " lists them)\n";
     constexpr std::size_t shown = 3;

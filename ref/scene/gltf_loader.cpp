@@ -9,13 +9,14 @@
 // led to read out of bounds, the input is checked before it gets there:
 //  - the .glb container (tinygltf 2.7 accepts a BIN chunk that ends up to 8 bytes past the
 //    file) is validated here first;
-//  - image bytes from a bufferView (tinygltf 2.7 passes &buffer[byteOffset] unchecked) are never
-//    read through tinygltf's pointer: the image callback keeps only data: URI bytes, and
-//    bufferView images are cut out of the buffer here, bounds-checked; external image files are
-//    read here (percent-decoded relative to the .gltf), so their lookup is ours too.
-//  - file access goes through our callbacks: only files under the .gltf's directory (tinygltf
-//    would also try the current directory), read by read_file with its size limit, never
-//    written.
+//  - image bytes from a bufferView (tinygltf 2.7 forms &buffer[byteOffset] unchecked before it
+//    calls the image callback: the pointer is formed out of range for a bad byteOffset, though
+//    never read) are never read through tinygltf's pointer: the image callback keeps only data:
+//    URI bytes, and bufferView images are cut out of the buffer here, bounds-checked; external
+//    image files are read here (percent-decoded relative to the .gltf), so their lookup is ours.
+//  - file access goes through our callbacks: paths relative to the .gltf's directory only
+//    (tinygltf would also try the current directory), read by read_file with its size limit,
+//    never written.
 // tinygltf's own std::exception (e.g. std::vector::at on an empty data: URI) becomes an Error.
 //
 // Numbers in the JSON are read by nlohmann::json as binary64 (strtod, correctly rounded) and
@@ -146,15 +147,18 @@ void check_json_depth(const std::string& path, const char* text, std::size_t siz
     }
 }
 
-// File access for tinygltf: files under `directory` only (no search in the current directory),
-// read with read_file's limits, nothing written.
+// File access for tinygltf: paths that tinygltf joined to the .gltf's `directory` only (its
+// fallback search of the current directory is refused; "../" in a URI is allowed, as for OBJ
+// paths), read with read_file's limits, nothing written.
 struct FsContext {
     std::string directory;  ///< absolute, without a trailing '/'
 };
 
 bool fs_file_exists(const std::string& path, void* user) {
     const auto* context = static_cast<const FsContext*>(user);
-    if (path.compare(0, context->directory.size() + 1, context->directory + "/") != 0) return false;
+    const std::string prefix =
+        context->directory.back() == '/' ? context->directory : context->directory + "/";
+    if (path.compare(0, prefix.size(), prefix) != 0) return false;
     std::error_code ec;
     return std::filesystem::is_regular_file(path, ec);
 }
@@ -674,7 +678,7 @@ void convert_materials(Loader& loader) {
         if (!source.doubleSided)
             loader.note("doubleSided false (rendered two-sided, as every fovref surface)", where);
         loader.material_index[m] =
-            intern_material(loader.scene, material, loader.path + ": " + where);
+            intern_material(loader.scene, material, loader.path + ": " + where, loader.cache);
     }
     // The default material's name, should a primitive need it.
     std::string default_name = "gltf-default";
@@ -761,7 +765,7 @@ int primitive_material(Loader& loader, int material, const std::string& where) {
         loader.default_material = intern_material(
             loader.scene,
             pbr_material(loader.default_name, glm::vec3(1.0f), 1.0f, 1.0f, glm::vec3(0.0f)),
-            loader.path + ": " + where);
+            loader.path + ": " + where, loader.cache);
     }
     return loader.default_material;
 }

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "ref/core/error.h"
+#include "ref/core/vec.h"
 #include "ref/image/image_io.h"
 #include "ref/scene/gltf_loader.h"
 #include "ref/scene/obj_loader.h"
@@ -49,7 +50,7 @@ Scene load_model_file(const std::string& path, const SceneLoadOptions& options) 
     if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": model file not found");
     Scene scene;
     scene.source = path;
-    scene.name = std::filesystem::path(path).stem().string();
+    scene.name = utf8_or_latin1(std::filesystem::path(path).stem().string());
     TextureCache cache;
     std::optional<Camera> file_camera;
     if (lower_extension(path) == ".obj") {
@@ -83,7 +84,14 @@ Scene load_model_file(const std::string& path, const SceneLoadOptions& options) 
     } else if (file_camera) {
         scene.camera = *file_camera;
     } else {
-        scene.camera = look_at(eye, centre, glm::vec3(0.0f, 1.0f, 0.0f), default_vfov_deg);
+        // A model far from the origin for its size (or beyond binary32) cannot be framed so.
+        try {
+            if (!is_finite(centre) || !std::isfinite(radius) || !is_finite(eye))
+                throw Error("its bounds are not finite in binary32");
+            scene.camera = look_at(eye, centre, glm::vec3(0.0f, 1.0f, 0.0f), default_vfov_deg);
+        } catch (const Error& e) {
+            throw Error(path + ": cannot place the default camera (give --camera): " + e.what());
+        }
         stats.defaulted.push_back("camera: at " + vec3_text(eye) + " looking down -Z at the " +
                                   "bounding sphere's centre " + vec3_text(centre) +
                                   ", vfov 60 deg, distance 2r = " + number_text(distance) +
@@ -99,6 +107,9 @@ Scene load_model_file(const std::string& path, const SceneLoadOptions& options) 
         light.type = Light::Type::point;
         light.position = scene.camera.position;
         light.intensity = glm::vec3(pi_f * d_used * d_used);
+        if (!is_finite(light.intensity))
+            throw Error(path + ": cannot place the default light: its intensity pi d^2 (d = " +
+                        number_text(d_used) + ") is not finite in binary32");
         scene.lights.push_back(light);
         stats.defaulted.push_back("light: point light at the camera " + vec3_text(light.position) +
                                   ", intensity pi d^2 = " + number_text(light.intensity.x) +

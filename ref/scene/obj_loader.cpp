@@ -223,8 +223,10 @@ std::string checked_text(std::string text, const std::string& path,
                     "); save it as UTF-8 or ASCII");
     const std::size_t nul = text.find('\0');
     if (nul != std::string::npos) {
+        // Lines counted as for_each_statement counts them: "\n", "\r\n" or a lone "\r".
         int line = 1;
-        for (std::size_t i = 0; i < nul; ++i) line += text[i] == '\n' ? 1 : 0;
+        for (std::size_t i = 0; i < nul; ++i)
+            line += text[i] == '\r' || (text[i] == '\n' && (i == 0 || text[i - 1] != '\r')) ? 1 : 0;
         throw file_error(path, line,
                          "NUL byte at offset " + std::to_string(nul) +
                              ": the file is binary, or UTF-16/UTF-32 text (save it as UTF-8 or "
@@ -242,38 +244,6 @@ std::string checked_text(std::string text, const std::string& path,
                            ": the last line has no line break (is the file cut short?); read as "
                            "written");
     return text;
-}
-
-// `text` as UTF-8: itself when it is valid UTF-8, else read as Latin-1 (every byte one code
-// point, which is what 8-bit MTL files from Windows tools mostly hold), so that names stay
-// printable and JSON-writable.
-std::string utf8_name(const std::string& text) {
-    std::size_t i = 0;
-    bool valid = true;
-    while (i < text.size() && valid) {
-        const auto byte = static_cast<unsigned char>(text[i]);
-        const std::size_t length = byte < 0x80           ? 1
-                                   : (byte >> 5) == 0x6  ? 2
-                                   : (byte >> 4) == 0xE  ? 3
-                                   : (byte >> 3) == 0x1E ? 4
-                                                         : 0;
-        valid = length > 0 && i + length <= text.size();
-        for (std::size_t k = 1; valid && k < length; ++k)
-            valid = (static_cast<unsigned char>(text[i + k]) >> 6) == 0x2;
-        i += length;
-    }
-    if (valid) return text;
-    std::string utf8;
-    for (const char c : text) {
-        const auto byte = static_cast<unsigned char>(c);
-        if (byte < 0x80) {
-            utf8.push_back(c);
-        } else {
-            utf8.push_back(static_cast<char>(0xC0 | (byte >> 6)));
-            utf8.push_back(static_cast<char>(0x80 | (byte & 0x3F)));
-        }
-    }
-    return utf8;
 }
 
 // --- MTL pre-scan ----------------------------------------------------------------------------
@@ -500,6 +470,9 @@ void scan_mtllib(const std::string& obj_path, int line, const std::vector<std::s
     }
     std::vector<std::string> names{whole};
     if (tokens.size() > 2) {  // several files, as tinyobjloader reads mtllib
+        log.warnings->push_back(location(obj_path, line) + ": mtllib names " +
+                                std::to_string(tokens.size() - 1) + " files (no file is named '" +
+                                whole + "'); each is read");
         names.clear();
         for (std::size_t k = 1; k < tokens.size(); ++k)
             names.push_back(portable_path(tokens[k],
@@ -644,7 +617,7 @@ std::string tinyobj_text(const std::string& text) {
 // name differs only in letter case (a name written on a case-insensitive file system). "" when
 // there is none (the caller reports it).
 std::string find_texture(const std::string& directory, const std::string& name, const QuirkLog& log,
-                         const std::string& mtl_path, int line) {
+                         const std::string& mtl_path, int line, TextureCache& cache) {
     std::error_code ec;
     const std::string as_written = join_path(directory, name);
     if (std::filesystem::is_regular_file(as_written, ec)) return as_written;
@@ -661,12 +634,21 @@ std::string find_texture(const std::string& directory, const std::string& name, 
         return text;
     };
     const std::string wanted_name = lower(wanted.filename().string());
-    std::vector<std::string> matches;  // sorted below: directory order is not deterministic
-    for (std::filesystem::directory_iterator it(folder, ec), end; !ec && it != end;
-         it.increment(ec))
-        if (lower(it->path().filename().string()) == wanted_name && it->is_regular_file(ec))
-            matches.push_back(it->path().string());
-    std::sort(matches.begin(), matches.end());
+    // The directory's regular files, listed once per scene load and sorted (directory order is
+    // not deterministic).
+    auto listed = cache.directory_files.find(folder.string());
+    if (listed == cache.directory_files.end()) {
+        std::vector<std::string> files;
+        for (std::filesystem::directory_iterator it(folder, ec), end; !ec && it != end;
+             it.increment(ec))
+            if (it->is_regular_file(ec)) files.push_back(it->path().string());
+        std::sort(files.begin(), files.end());
+        listed = cache.directory_files.emplace(folder.string(), std::move(files)).first;
+    }
+    std::vector<std::string> matches;
+    for (const std::string& file : listed->second)
+        if (lower(std::filesystem::path(file).filename().string()) == wanted_name)
+            matches.push_back(file);
     if (matches.size() != 1) return "";
     log.warnings->push_back(location(mtl_path, line) + ": texture '" + portable +
                             "' not found; using '" +
@@ -680,7 +662,7 @@ std::string find_texture(const std::string& directory, const std::string& name, 
 Material convert_material(Scene& scene, const MtlMaterialInfo& info, TextureCache& cache,
                           const QuirkLog& log) {
     Material material;
-    material.name = utf8_name(info.name);
+    material.name = utf8_or_latin1(info.name);
     if (material.name != info.name)
         log.warnings->push_back(location(info.file, info.line) + ": material name '" +
                                 material.name + "' is not UTF-8; read as Latin-1");
@@ -690,9 +672,11 @@ Material convert_material(Scene& scene, const MtlMaterialInfo& info, TextureCach
         const std::string where = location(info.file, info.map_kd_line);
         const std::string directory = directory_of(info.file);
         const std::string path =
-            find_texture(directory, texture_name, log, info.file, info.map_kd_line);
+            find_texture(directory, texture_name, log, info.file, info.map_kd_line, cache);
         if (path.empty()) {
-            const std::string looked = join_path(directory, texture_name);
+            std::string tried = texture_name;  // the '/' form is the one last tried
+            std::replace(tried.begin(), tried.end(), '\\', '/');
+            const std::string looked = join_path(directory, tried);
             log.quirk(info.file, info.map_kd_line,
                       "texture '" + texture_name + "' not found (looked for " + looked + ")",
                       "texture '" + texture_name + "' not found (looked for " + looked +
@@ -701,7 +685,7 @@ Material convert_material(Scene& scene, const MtlMaterialInfo& info, TextureCach
             try {
                 // Named as written, with '/' for '\\' (the name the exporter derives its file
                 // name from).
-                std::string name = utf8_name(texture_name);
+                std::string name = utf8_or_latin1(texture_name);
                 std::replace(name.begin(), name.end(), '\\', '/');
                 texture = load_texture_file(scene, path, name, cache, where);
             } catch (const Error& e) {
@@ -743,15 +727,66 @@ T element(const std::vector<T>& values, int index, const std::string& file, int 
 
 }  // namespace
 
+std::string utf8_or_latin1(const std::string& text) {
+    // Valid UTF-8 (RFC 3629): no overlong forms, no surrogates, nothing above U+10FFFF.
+    const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+    bool valid = true;
+    for (std::size_t i = 0; i < text.size() && valid;) {
+        const unsigned char b = byte(i);
+        std::size_t length = 0;
+        unsigned char low = 0x80, high = 0xBF;  // the second byte's range
+        if (b < 0x80) {
+            length = 1;
+        } else if (b >= 0xC2 && b <= 0xDF) {
+            length = 2;
+        } else if (b >= 0xE0 && b <= 0xEF) {
+            length = 3;
+            if (b == 0xE0) low = 0xA0;
+            if (b == 0xED) high = 0x9F;
+        } else if (b >= 0xF0 && b <= 0xF4) {
+            length = 4;
+            if (b == 0xF0) low = 0x90;
+            if (b == 0xF4) high = 0x8F;
+        }
+        valid = length > 0 && i + length <= text.size();
+        for (std::size_t k = 1; valid && k < length; ++k) {
+            const unsigned char c = byte(i + k);
+            valid = k == 1 ? (c >= low && c <= high) : (c >= 0x80 && c <= 0xBF);
+        }
+        i += length;
+    }
+    if (valid) return text;
+    std::string utf8;
+    for (const char c : text) {
+        const auto b = static_cast<unsigned char>(c);
+        if (b < 0x80) {
+            utf8.push_back(c);
+        } else {
+            utf8.push_back(static_cast<char>(0xC0 | (b >> 6)));
+            utf8.push_back(static_cast<char>(0x80 | (b & 0x3F)));
+        }
+    }
+    return utf8;
+}
+
 float ns_to_roughness(float ns) {
     const float alpha = std::sqrt(2.0f / (std::max(ns, 0.0f) + 2.0f));
     return std::sqrt(alpha);
 }
 
-int intern_material(Scene& scene, const Material& material, const std::string& defined_at) {
-    for (std::size_t m = 0; m < scene.materials.size(); ++m) {
-        if (scene.materials[m].name != material.name) continue;
-        if (scene.materials[m] == material) return static_cast<int>(m);
+int find_material(const Scene& scene, const std::string& name, TextureCache& cache) {
+    for (; cache.materials_indexed < scene.materials.size(); ++cache.materials_indexed)
+        cache.material_by_name.emplace(scene.materials[cache.materials_indexed].name,
+                                       static_cast<int>(cache.materials_indexed));
+    auto it = cache.material_by_name.find(name);
+    return it == cache.material_by_name.end() ? -1 : it->second;
+}
+
+int intern_material(Scene& scene, const Material& material, const std::string& defined_at,
+                    TextureCache& cache) {
+    const int found = find_material(scene, material.name, cache);
+    if (found >= 0) {
+        if (scene.materials[static_cast<std::size_t>(found)] == material) return found;
         throw Error(defined_at + ": material '" + material.name +
                     "' differs from an earlier material of the same name (material names must "
                     "be unique in a scene)");
@@ -827,7 +862,7 @@ std::vector<int> intern_mtl_materials(Scene& scene, const MtlScan& mtl, TextureC
         const MtlMaterialInfo& info = mtl.materials[m];
         if (info.duplicate) continue;
         Material material = convert_material(scene, info, cache, log);
-        material_index[m] = intern_material(scene, material, location(info.file, info.line));
+        material_index[m] = intern_material(scene, material, location(info.file, info.line), cache);
     }
     return material_index;
 }
@@ -860,14 +895,13 @@ WorldTriangle world_triangle(const ObjCorner (&index)[3], const ObjScan& scan,
 
 // The material of faces without one (no usemtl, or an undefined one): "default" (Material's
 // defaults), or "default-2", "default-3", ... when an MTL file defines a different "default".
-int default_material(Scene& scene, const std::string& defined_at) {
+int default_material(Scene& scene, const std::string& defined_at, TextureCache& cache) {
     Material fallback;
     for (int k = 1;; ++k) {
         fallback.name = k == 1 ? "default" : "default-" + std::to_string(k);
-        bool taken = false;
-        for (const Material& m : scene.materials)
-            taken = taken || (m.name == fallback.name && !(m == fallback));
-        if (!taken) return intern_material(scene, fallback, defined_at);
+        const int found = find_material(scene, fallback.name, cache);
+        if (found < 0 || scene.materials[static_cast<std::size_t>(found)] == fallback)
+            return intern_material(scene, fallback, defined_at, cache);
     }
 }
 
@@ -875,13 +909,14 @@ int default_material(Scene& scene, const std::string& defined_at) {
 // triangulate_polygon, with the material its usemtl gave it (default_material where none).
 // Zero-area (or non-finite) triangles are dropped, counted and the first max_listed_warnings
 // of them listed; returns how many were dropped.
-std::int64_t add_obj_triangles(Scene& scene, const std::string& obj_path, const ObjScan& scan,
-                               const std::vector<int>& material_index,
+std::int64_t add_obj_triangles(Scene& scene, TextureCache& cache, const std::string& obj_path,
+                               const ObjScan& scan, const std::vector<int>& material_index,
                                const ObjectToWorld& to_world) {
     SceneLoadStats& stats = scene.load_stats;
     int fallback = -1;
     std::int64_t dropped_here = 0;
     std::int64_t not_simple = 0;
+    std::int64_t ear_budget = ear_clipping_budget;
     std::vector<glm::vec3> polygon;
     for (std::size_t face = 0; face < scan.face_starts.size(); ++face) {
         const std::size_t first = scan.face_starts[face];
@@ -893,7 +928,7 @@ std::int64_t add_obj_triangles(Scene& scene, const std::string& obj_path, const 
         int material =
             source_material >= 0 ? material_index[static_cast<std::size_t>(source_material)] : -1;
         if (material < 0) {
-            if (fallback < 0) fallback = default_material(scene, location(obj_path, line));
+            if (fallback < 0) fallback = default_material(scene, location(obj_path, line), cache);
             material = fallback;
         }
         // Triangulated in object space: the transform does not change which corners form
@@ -903,16 +938,18 @@ std::int64_t add_obj_triangles(Scene& scene, const std::string& obj_path, const 
             polygon.push_back(
                 element(scan.positions, scan.corners[first + k].vertex, obj_path, line));
         PolygonSplit split = PolygonSplit::triangle;
-        const std::vector<std::array<int, 3>> triangles = triangulate_polygon(polygon, &split);
+        const std::vector<std::array<int, 3>> triangles =
+            triangulate_polygon(polygon, &split, &ear_budget);
         if (corners > 3) ++stats.polygons_triangulated;
         if (split == PolygonSplit::ear_clipped || split == PolygonSplit::not_simple)
             ++stats.concave_polygons;
         if (split == PolygonSplit::not_simple && ++not_simple <= max_listed_warnings)
             stats.warnings.push_back(location(obj_path, line) +
                                      ": concave polygon that ear clipping cannot split (its "
-                                     "edges cross, or it has more than " +
+                                     "edges cross, it has more than " +
                                      std::to_string(max_ear_clipping_corners) +
-                                     " corners); fanned instead");
+                                     " corners, or the file's ear-clipping budget is spent); "
+                                     "fanned instead");
         for (const std::array<int, 3>& corner : triangles) {
             ObjCorner index[3] = {scan.corners[first + static_cast<std::size_t>(corner[0])],
                                   scan.corners[first + static_cast<std::size_t>(corner[1])],
@@ -953,7 +990,7 @@ void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& t
     const ObjectToWorld to_world =
         instance_to_world(transform, referenced_at.empty() ? obj_path : referenced_at);
     const std::int64_t dropped_here =
-        add_obj_triangles(scene, obj_path, scan, material_index, to_world);
+        add_obj_triangles(scene, cache, obj_path, scan, material_index, to_world);
 
     note_dropped_total(scene, obj_path, dropped_here);
     if (malformed_numbers > max_listed_warnings)

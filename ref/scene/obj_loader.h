@@ -4,14 +4,22 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "ref/scene/scene.h"
 
 namespace fovref {
 
-/// Textures already loaded during one scene load: resolved file path -> Scene::textures index,
-/// so that an OBJ instanced twice, or two MTLs naming the same file, share one texture.
-using TextureCache = std::map<std::string, int>;
+/// What one scene load remembers. As a map: textures already loaded, resolved file path ->
+/// Scene::textures index, so that an OBJ instanced twice, or two MTLs naming the same file, share
+/// one texture. Besides: the scene's material names (intern_material's index, so that interning
+/// M materials costs M log M, not M^2) and directory listings (the case-insensitive texture
+/// lookup of docs/obj-quirks.md lists each directory once).
+struct TextureCache : std::map<std::string, int> {
+    std::map<std::string, int> material_by_name;  ///< Scene::materials name -> index
+    std::size_t materials_indexed = 0;            ///< scene.materials[0 .. this) are indexed
+    std::map<std::string, std::vector<std::string>> directory_files;  ///< directory -> files
+};
 
 /// Load a texture file into scene.textures (or reuse it) and return its index. PNG is decoded
 /// from sRGB to linear; PFM and EXR are linear already and are taken as stored. Grey is
@@ -29,7 +37,16 @@ void load_obj_into(Scene& scene, const std::string& obj_path, const glm::mat4& t
 /// Append `material` to scene.materials, or return the index of an earlier material with the
 /// same name when it is equal; a same-named material with other values is an error (names are
 /// what JSON overrides and the exporter's MTL refer to, so they must be unambiguous).
-int intern_material(Scene& scene, const Material& material, const std::string& defined_at);
+int intern_material(Scene& scene, const Material& material, const std::string& defined_at,
+                    TextureCache& cache);
+
+/// `text` as UTF-8: itself when it is valid UTF-8 (RFC 3629), else read as Latin-1 (every byte
+/// one code point: what 8-bit MTL files from Windows tools mostly hold), so that names stay
+/// printable and JSON-writable.
+std::string utf8_or_latin1(const std::string& text);
+
+/// The index of the scene's material named `name`, or -1 (through cache.material_by_name).
+int find_material(const Scene& scene, const std::string& name, TextureCache& cache);
 
 /// A texture from an image file's bytes already in memory (a glTF data: URI or bufferView
 /// image), decoded by decode_image_bytes (PNG, JPEG, BMP by their magic bytes; sRGB to linear),

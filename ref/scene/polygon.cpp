@@ -32,7 +32,7 @@ std::vector<std::array<int, 3>> fan(const std::vector<int>& corners) {
 }  // namespace
 
 std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<glm::vec3>& p,
-                                                    PolygonSplit* split) {
+                                                    PolygonSplit* split, std::int64_t* budget) {
     const int n = static_cast<int>(p.size());
     std::vector<int> corners(static_cast<std::size_t>(n));
     for (int k = 0; k < n; ++k) corners[static_cast<std::size_t>(k)] = k;
@@ -83,6 +83,10 @@ std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<glm::vec3>
             const Point2 qa = q[static_cast<std::size_t>(a)], qb = q[static_cast<std::size_t>(b)],
                          qc = q[static_cast<std::size_t>(c)];
             if (!(turn(qa, qb, qc) > 0.0)) continue;  // reflex or flat corner: not an ear
+            if (budget != nullptr && (*budget -= static_cast<std::int64_t>(m)) < 0) {
+                for (const std::array<int, 3>& t : fan(corners)) triangles.push_back(t);
+                return result(PolygonSplit::not_simple, triangles);
+            }
             bool empty = true;
             for (std::size_t j = 0; j < m && empty; ++j) {
                 const int other = corners[j];

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -10,8 +11,13 @@
 namespace fovref {
 
 /// Concave polygons with more corners than this are fanned (PolygonSplit::not_simple): ear
-/// clipping costs up to n^3 / 6 point tests, and a bound keeps any file's load time bounded.
+/// clipping costs up to n^3 / 6 point tests.
 constexpr int max_ear_clipping_corners = 1024;
+
+/// Point tests ear clipping may spend on one file (a loader passes a budget of this many to
+/// triangulate_polygon for all of a file's faces): with the per-face bound above, it bounds a
+/// file's load time whatever its faces (about a second).
+constexpr std::int64_t ear_clipping_budget = std::int64_t{1} << 28;
 
 /// How triangulate_polygon split a polygon.
 enum class PolygonSplit {
@@ -32,7 +38,11 @@ enum class PolygonSplit {
 /// does not count) is cut off as (previous, c, next). Should no
 /// corner qualify (a self-intersecting polygon), the remaining corners are fanned from the
 /// first of them; a concave polygon of more than max_ear_clipping_corners corners is fanned whole.
+/// `budget`, when given, is the number of point tests ear clipping may still spend; it is
+/// decreased by what this polygon spends, and a polygon that would overdraw it is fanned
+/// (PolygonSplit::not_simple).
 std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<glm::vec3>& p,
-                                                    PolygonSplit* split = nullptr);
+                                                    PolygonSplit* split = nullptr,
+                                                    std::int64_t* budget = nullptr);
 
 }  // namespace fovref

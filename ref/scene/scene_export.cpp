@@ -283,7 +283,9 @@ void export_scene(const Scene& scene, const std::string& directory) {
                       mtl_text(scene, material_names, texture_files));
     write_file_atomic((root / "scene.obj").string(), obj_text(scene, material_names, directory));
     write_file_atomic((root / "scene.json").string(),
-                      compact_number_arrays(scene_json(scene).dump(2)) + "\n");
+                      compact_number_arrays(scene_json(scene).dump(
+                          2, ' ', false, nlohmann::json::error_handler_t::replace)) +
+                          "\n");
 }
 
 }  // namespace fovref

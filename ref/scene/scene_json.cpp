@@ -509,9 +509,9 @@ Scene load_scene_file(const std::string& path, const SceneLoadOptions& options) 
     Scene scene;
     scene.source = path;
     const std::filesystem::path file_path(path);
-    scene.name = file_path.stem().string();
+    scene.name = utf8_or_latin1(file_path.stem().string());
     if (scene.name == "scene" && file_path.has_parent_path())
-        scene.name = file_path.parent_path().filename().string();
+        scene.name = utf8_or_latin1(file_path.parent_path().filename().string());
     if (document.contains("name")) scene.name = doc.string(document["name"], "/name");
     if (document.contains("description")) doc.string(document["description"], "/description");
 

@@ -37,12 +37,16 @@ print(count, repr(area))
 EOF
 }
 
-crosscheck() {  # OBJ
+crosscheck() {  # FILE [must-open]: with must-open, assimp failing to open FILE is a failure
   local obj=$1 name
   name=$(basename "$obj"); name=${name%.*}
   checks=$((checks + 1))
   if ! assimp export "$obj" "$TMP/$name-assimp.obj" -tri >/dev/null 2>&1; then
-    echo "skipped $name: assimp does not open it"
+    if [ "${2:-}" = must-open ]; then
+      echo "FAIL: $name: assimp does not open it"; failures=$((failures + 1))
+    else
+      echo "skipped $name: assimp does not open it"
+    fi
     return
   fi
   if ! "$FOVREF" scene export "$obj" "$TMP/$name-fovref" >/dev/null 2>&1; then
@@ -87,7 +91,7 @@ for trial in range(12):
             f.write("v %.6f %.6f %.6f\n" % tuple(p))
         f.write("f " + " ".join(str(k + 1) for k in range(n)) + "\n")
 EOF
-for k in $(seq 0 11); do crosscheck "$TMP/star$k.obj"; done
+for k in $(seq 0 11); do crosscheck "$TMP/star$k.obj" must-open; done
 
 # glTF: a node tree with TRS (a non-trivial quaternion, non-uniform scale), a matrix and a mirror,
 # indexed triangles (unsigned short), a strip and a fan. Beyond count and area, the triangles must
@@ -128,7 +132,7 @@ gltf = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
         "bufferViews": views, "accessors": accessors}
 json.dump(gltf, open(sys.argv[1], "w"))
 EOF
-crosscheck "$TMP/nodes.gltf"
+crosscheck "$TMP/nodes.gltf" must-open
 corners() {  # OBJ: its triangles as sorted corner sets, rounded
   python3 - "$1" <<'EOF'
 import sys

@@ -243,6 +243,7 @@ TEST_CASE("OBJ quirks: duplicate materials, a clashing 'default', several mtllib
         CHECK(scene.materials[material_of(scene, 0)].name == "b");
         CHECK(scene.materials[material_of(scene, 1)].name == "c");
         CHECK(contains(warning_with(scene, "my model.mtl"), "two.obj:2: MTL file name"));
+        CHECK(contains(warning_with(scene, "mtllib names 2 files"), "two.obj:1: "));
         CHECK(
             contains(error_message([&] { load_model_file(dir.file("two.obj"), strict_options()); }),
                      "two.obj:1: mtllib needs exactly one file name"));
@@ -330,10 +331,12 @@ TEST_CASE("triangulate_polygon: random star-shaped polygons give n-2 triangles c
         for (const auto& t : triangles) {
             const glm::dvec3 a(polygon[t[0]]), b(polygon[t[1]]), c(polygon[t[2]]);
             const double area = 0.5 * glm::cross(b - a, c - a).z;
-            CHECK(area >= 0.0);
+            CHECK(area > 0.0);  // every triangle wound like the polygon, none degenerate
             sum += area;
             for (int k : t) ++uses[static_cast<std::size_t>(k)];
         }
+        // All positive, so the sum is the area covered, counting overlaps twice: equal to the
+        // polygon's, they do not overlap (a fan over a concave star would).
         CHECK(std::fabs(sum - polygon_area) <= 1e-9 * polygon_area);
         for (int u : uses) CHECK(u >= 1);
     }
@@ -456,8 +459,14 @@ TEST_CASE(
         obj += "\n";
         write_bytes(dir.file("long.obj"), obj);
         const Scene scene = load_model_file(dir.file("long.obj"));
-        CHECK(scene.triangle_count() + scene.load_stats.zero_area_triangles_dropped == n - 2);
+        CHECK(scene.triangle_count() == n - 2);
+        CHECK(scene.load_stats.zero_area_triangles_dropped == 0);
         CHECK(scene.load_stats.polygons_triangulated == 1);
+        CHECK(scene.load_stats.concave_polygons == 0);  // convex: the fan
+        // The fan of the file's order, every triangle wound the same way.
+        const double first = signed_area_z(scene, 0);
+        for (std::size_t t = 0; t < scene.triangle_count(); ++t)
+            CHECK(signed_area_z(scene, t) * first > 0.0);
     }
 }
 
@@ -534,4 +543,39 @@ TEST_CASE("model files: a scene file names glTF meshes as it names OBJ meshes; a
     CHECK(lamp.lights[0].type == Light::Type::triangle);
     REQUIRE(lamp.load_stats.defaulted.size() == 1);
     CHECK(contains(lamp.load_stats.defaulted[0], "camera: at"));
+}
+
+TEST_CASE("model files: what cannot be framed or named is an error or repaired, never a crash") {
+    TempDir dir("model-edges");
+    // Far from the origin for its size: the default camera 2r away is the centre in binary32.
+    write_bytes(dir.file("far.obj"), "v 0 0 1e8\nv 1 0 1e8\nv 0 1 1e8\nf 1 2 3\n");
+    CHECK(contains(error_message([&] { load_model_file(dir.file("far.obj")); }),
+                   "far.obj: cannot place the default camera (give --camera): "));
+    // ... which --camera solves.
+    write_bytes(dir.file("camera.json"),
+                R"({"position": [0, 0, 100000010], "look_at": [0, 0, 1e8], "vfov_deg": 40})");
+    SceneLoadOptions options;
+    options.camera_file = dir.file("camera.json");
+    CHECK(load_model_file(dir.file("far.obj"), options).triangle_count() == 1);
+    // A file name that is not UTF-8 gives a UTF-8 scene name (read as Latin-1).
+    write_bytes(dir.file("K\xF6rper.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    CHECK(load_model_file(dir.file("K\xF6rper.obj")).name == "K\xC3\xB6rper");
+    // A NUL byte after lone-CR lines is named on its line as the statements count lines.
+    write_bytes(dir.file("cr-nul.obj"), std::string("v 0 0 0\rv 1 0 0\r\0", 17));
+    CHECK(contains(error_message([&] { load_model_file(dir.file("cr-nul.obj")); }),
+                   "cr-nul.obj:3: NUL byte"));
+}
+
+TEST_CASE("triangulate_polygon: the ear-clipping budget is spent per point test, then a fan") {
+    const std::vector<glm::vec3> dart = {{0, 0, 0}, {2, 1, 0}, {4, 0, 0}, {2, 3, 0}};
+    PolygonSplit split = PolygonSplit::triangle;
+    std::int64_t budget = 100;
+    CHECK(triangulate_polygon(dart, &split, &budget).size() == 2);
+    CHECK(split == PolygonSplit::ear_clipped);
+    CHECK(budget == 96);  // one candidate ear, tested against the 4 corners
+    budget = 3;
+    const auto fanned = triangulate_polygon(dart, &split, &budget);
+    CHECK(split == PolygonSplit::not_simple);
+    REQUIRE(fanned.size() == 2);
+    CHECK(fanned[0] == std::array<int, 3>{0, 1, 2});
 }

@@ -531,6 +531,16 @@ TEST_CASE("scene file errors: OBJ and MTL problems name their file and line") {
         dir.write("mesh.mtl", "newmtl stone\nKd 1 1 1\nnewmtl stone\n");
         check_obj("mtllib mesh.mtl\n" + v3 + "f 1 2 3\n", "mesh.mtl:3:", "already defined at");
     }
+    SUBCASE("errors that are no quirk stay errors without --strict-obj") {
+        dir.write("mesh.obj", v3 + "f 1 2 4\n");
+        check_scene_error(scene, "mesh.obj:4:", "vertex index 4 out of range");
+        dir.write("mesh.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
+        check_scene_error(scene, "mesh.obj:3:", "NaN or infinite");
+        dir.write("mesh.obj", v3 + "f 1 2\n");
+        check_scene_error(scene, "mesh.obj:4:", "at least 3 vertices");
+        dir.write("mesh.obj", "v 0 0 0\nv 1 x2 0\nv 0 1 0\nf 1 2 3\n");
+        check_scene_error(scene, "mesh.obj:2:", "malformed number 'x2'");
+    }
     SUBCASE("CRLF line endings count lines like LF") {
         check_obj("v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 4\r\n", "mesh.obj:4:", "out of range");
     }
