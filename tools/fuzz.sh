@@ -94,6 +94,8 @@ make_seeds() {
   glb_json="$glb_json$(printf '%*s' "$glb_pad" '')"
   { printf 'glTF'; printf "$(le32 2)$(le32 $((12 + 8 + ${#glb_json} + 8 + 44)))$(le32 ${#glb_json})JSON"; printf '%s' "$glb_json"
     printf "$(le32 44)BIN\\x00"; printf "$tri"; printf '\x00\x00'; } > "$s/fuzz_gltf/triangle.glb"
+  # The shipped glTF (node tree, strip, fan, embedded PNG, camera, lights; data: URI buffer).
+  cp scenes/model-files/nodes.gltf "$s/fuzz_gltf/nodes.gltf"
   # Gaze tracks.
   printf 'frame,x,y\n# eye tracker, 120 Hz\n0,640,360\n3,612.5,340.25\n10,-20,1e3\n' > "$s/fuzz_gaze_track/track.csv"
 }
