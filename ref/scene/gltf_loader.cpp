@@ -244,6 +244,16 @@ struct Loader {
     }
 };
 
+// Throws "<file>: <where>: <what> <index> does not exist (the file has <count>)" unless
+// 0 <= index < count: the check of every index into one of the file's arrays.
+void check_exists(const Loader& loader, int index, std::size_t count, const char* what,
+                  const std::string& where) {
+    if (index < 0 || static_cast<std::size_t>(index) >= count)
+        throw loader.error(where, std::string(what) + " " + std::to_string(index) +
+                                      " does not exist (the file has " + std::to_string(count) +
+                                      ")");
+}
+
 // ---- Numbers from the JSON --------------------------------------------------------------------
 
 float json_float(const Loader& loader, double value, const std::string& where, const char* what) {
@@ -327,16 +337,10 @@ struct ViewBytes {
 
 ViewBytes view_bytes(const Loader& loader, int view_index, const std::string& where) {
     const tinygltf::Model& model = loader.model;
-    if (view_index < 0 || static_cast<std::size_t>(view_index) >= model.bufferViews.size())
-        throw loader.error(where, "bufferView " + std::to_string(view_index) +
-                                      " does not exist (the file has " +
-                                      std::to_string(model.bufferViews.size()) + ")");
+    check_exists(loader, view_index, model.bufferViews.size(), "bufferView", where);
     const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(view_index)];
     const std::string view_where = where + ": bufferView " + std::to_string(view_index);
-    if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size())
-        throw loader.error(view_where, "buffer " + std::to_string(view.buffer) +
-                                           " does not exist (the file has " +
-                                           std::to_string(model.buffers.size()) + ")");
+    check_exists(loader, view.buffer, model.buffers.size(), "buffer", view_where);
     const std::vector<unsigned char>& data =
         model.buffers[static_cast<std::size_t>(view.buffer)].data;
     if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset)
@@ -529,10 +533,7 @@ int base_color_texture(Loader& loader, const tinygltf::TextureInfo& info,
         loader.note("texture without a source image (no texture)", texture_where);
         return -1;
     }
-    if (static_cast<std::size_t>(texture.source) >= model.images.size())
-        throw loader.error(texture_where, "source image " + std::to_string(texture.source) +
-                                              " does not exist (the file has " +
-                                              std::to_string(model.images.size()) + ")");
+    check_exists(loader, texture.source, model.images.size(), "source image", texture_where);
     const std::size_t image_index = static_cast<std::size_t>(texture.source);
     const tinygltf::Image& image = model.images[image_index];
     const std::string image_where = at_index("images", image_index);
@@ -754,10 +755,7 @@ glm::mat4 local_matrix(const Loader& loader, const tinygltf::Node& node, const s
 
 int primitive_material(Loader& loader, int material, const std::string& where) {
     if (material >= 0) {
-        if (static_cast<std::size_t>(material) >= loader.material_index.size())
-            throw loader.error(where, "material " + std::to_string(material) +
-                                          " does not exist (the file has " +
-                                          std::to_string(loader.material_index.size()) + ")");
+        check_exists(loader, material, loader.material_index.size(), "material", where);
         return loader.material_index[static_cast<std::size_t>(material)];
     }
     if (loader.default_material < 0) {
@@ -888,10 +886,7 @@ int extension_index(const Loader& loader, const tinygltf::Value& value, const ch
 void add_camera(Loader& loader, const tinygltf::Node& node, const glm::mat4& world,
                 const std::string& where) {
     const tinygltf::Model& model = loader.model;
-    if (node.camera < 0 || static_cast<std::size_t>(node.camera) >= model.cameras.size())
-        throw loader.error(where, "camera " + std::to_string(node.camera) +
-                                      " does not exist (the file has " +
-                                      std::to_string(model.cameras.size()) + ")");
+    check_exists(loader, node.camera, model.cameras.size(), "camera", where);
     const tinygltf::Camera& source = model.cameras[static_cast<std::size_t>(node.camera)];
     const std::string camera_where = at_index("cameras", static_cast<std::size_t>(node.camera));
     if (source.type != "perspective") {
@@ -1003,9 +998,7 @@ std::vector<int> root_nodes(Loader& loader) {
         return roots;
     }
     const int scene = model.defaultScene < 0 ? 0 : model.defaultScene;
-    if (static_cast<std::size_t>(scene) >= model.scenes.size())
-        throw loader.error("", "scene " + std::to_string(scene) + " does not exist (the file has " +
-                                   std::to_string(model.scenes.size()) + ")");
+    check_exists(loader, scene, model.scenes.size(), "scene", "");
     if (model.scenes.size() > 1)
         loader.note("scenes other than the default (not loaded)",
                     "scene " + std::to_string(scene) + " loaded");
@@ -1014,10 +1007,7 @@ std::vector<int> root_nodes(Loader& loader) {
 
 void add_mesh(Loader& loader, int mesh_index, const glm::mat4& world, const std::string& where) {
     const tinygltf::Model& model = loader.model;
-    if (mesh_index < 0 || static_cast<std::size_t>(mesh_index) >= model.meshes.size())
-        throw loader.error(where, "mesh " + std::to_string(mesh_index) +
-                                      " does not exist (the file has " +
-                                      std::to_string(model.meshes.size()) + ")");
+    check_exists(loader, mesh_index, model.meshes.size(), "mesh", where);
     const TransformCheck check = object_to_world(world);
     if (!check.finite) throw loader.error(where, "the world transform is not finite");
     const tinygltf::Mesh& mesh = model.meshes[static_cast<std::size_t>(mesh_index)];
@@ -1047,10 +1037,7 @@ void walk_nodes(Loader& loader, const glm::mat4& transform) {
     while (!stack.empty()) {
         const auto [index, parent] = stack.back();
         stack.pop_back();
-        if (index < 0 || static_cast<std::size_t>(index) >= model.nodes.size())
-            throw loader.error("", "node " + std::to_string(index) +
-                                       " does not exist (the file has " +
-                                       std::to_string(model.nodes.size()) + ")");
+        check_exists(loader, index, model.nodes.size(), "node", "");
         const std::string where = at_index("nodes", static_cast<std::size_t>(index));
         if (visited[static_cast<std::size_t>(index)])
             throw loader.error(where, "is reached twice (the nodes must form a tree)");
