@@ -30,11 +30,18 @@ struct TempDir {
     TempDir(const TempDir&) = delete;
     TempDir& operator=(const TempDir&) = delete;
     std::string file(const std::string& name) const { return (path / name).string(); }
+    /// Writes `bytes` to file(name) and returns that path.
+    std::string write(const std::string& name, const std::string& bytes) const;
 };
 
 inline void write_bytes(const std::string& path, const std::string& bytes) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+inline std::string TempDir::write(const std::string& name, const std::string& bytes) const {
+    write_bytes(file(name), bytes);
+    return file(name);
 }
 
 /// splitmix64 (Steele et al. 2014): a fixed, platform-independent stream for test data.

@@ -12,9 +12,11 @@
 #include "ref/core/error.h"
 #include "ref/scene/polygon.h"
 #include "ref/scene/scene_file.h"
-#include "tests/image/image_test_util.h"
+#include "tests/scene/scene_test_util.h"
 
 using namespace fovref;
+using fovref::test::base64;
+using fovref::test::contains;
 using fovref::test::error_message;
 using fovref::test::TempDir;
 using fovref::test::write_bytes;
@@ -22,10 +24,6 @@ using fovref::test::write_bytes;
 namespace {
 
 const std::string corpus = std::string(FOVREF_SOURCE_DIR) + "/tests/scene/obj-quirks/";
-
-bool contains(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
 
 // The one warning that contains `part` (fails when none does).
 std::string warning_with(const Scene& scene, const std::string& part) {
@@ -471,28 +469,6 @@ TEST_CASE(
 }
 
 namespace {
-
-std::string base64(const std::string& bytes) {
-    static const char* alphabet =
-        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    std::size_t i = 0;
-    for (; i + 2 < bytes.size(); i += 3) {
-        const unsigned v = (static_cast<unsigned char>(bytes[i]) << 16) |
-                           (static_cast<unsigned char>(bytes[i + 1]) << 8) |
-                           static_cast<unsigned char>(bytes[i + 2]);
-        for (int k = 3; k >= 0; --k) out += alphabet[(v >> (6 * k)) & 63];
-    }
-    if (i < bytes.size()) {
-        unsigned v = static_cast<unsigned char>(bytes[i]) << 16;
-        if (i + 1 < bytes.size()) v |= static_cast<unsigned char>(bytes[i + 1]) << 8;
-        out += alphabet[(v >> 18) & 63];
-        out += alphabet[(v >> 12) & 63];
-        out += i + 1 < bytes.size() ? alphabet[(v >> 6) & 63] : '=';
-        out += '=';
-    }
-    return out;
-}
 
 // A glTF file of one triangle (0,0,0) (1,0,0) (0,1,0) in a node translated by `offset`, with an
 // emissive material when `emissive`.

@@ -21,47 +21,17 @@
 #include "ref/image/image_io.h"
 #include "ref/scene/procedural.h"
 #include "ref/scene/scene_file.h"
+#include "tests/scene/scene_test_util.h"
 
 using namespace fovref;
+using fovref::test::contains;
+using fovref::test::error_of;
+using fovref::test::TempDir;
 namespace fs = std::filesystem;
 
 namespace {
 
 const std::string room_scene = std::string(FOVREF_SOURCE_DIR) + "/scenes/textured-room/scene.json";
-
-// A fresh directory per test case (ctest may run test cases in parallel processes).
-struct TempDir {
-    fs::path path;
-    explicit TempDir(const std::string& name) {
-        path = fs::temp_directory_path() /
-               ("fovref_scene_test_" + name + "_" + std::to_string(::getpid()));
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-    std::string write(const std::string& name, const std::string& text) const {
-        std::ofstream(file(name), std::ios::binary) << text;
-        return file(name);
-    }
-};
-
-// The message of the fovref::Error that `f` throws, or "" when it throws none.
-std::string error_of(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
-
-bool contains(const std::string& text, const std::string& part) {
-    return text.find(part) != std::string::npos;
-}
 
 // Expect load_scene_file(scene) to throw, naming `location` ("file:line:") and `detail`.
 void check_scene_error(const std::string& scene, const std::string& location,
