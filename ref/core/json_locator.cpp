@@ -46,7 +46,7 @@ Error json_syntax_error(const std::string& file, int line, int column, const std
                  ": JSON syntax error: " + message);
 }
 
-void check_json_nesting(const std::string& text, const std::string& file, int max_depth) {
+void check_json_nesting(std::string_view text, const std::string& file, int max_depth) {
     int depth = 0, line = 1;
     bool in_string = false;
     for (std::size_t i = 0; i < text.size(); ++i) {
@@ -61,8 +61,8 @@ void check_json_nesting(const std::string& text, const std::string& file, int ma
             in_string = true;
         } else if (c == '[' || c == '{') {
             if (++depth > max_depth)
-                throw file_error(file, line,
-                                 "JSON nested deeper than " + std::to_string(max_depth));
+                throw file_error(
+                    file, line, "JSON nested deeper than " + std::to_string(max_depth) + " levels");
         } else if (c == ']' || c == '}') {
             --depth;
         }

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <map>
 #include <string>
+#include <string_view>
 
 #include "ref/core/error.h"
 
@@ -65,7 +66,7 @@ void json_line_column(const std::string& text, std::size_t offset, int& line, in
 /// Throws fovref::Error naming `file` and the line when arrays and objects in `text` nest deeper
 /// than `max_depth` (strings skipped, escapes honoured). Every JSON reader calls it before
 /// parsing, so hostile nesting is refused in linear time and constant stack.
-void check_json_nesting(const std::string& text, const std::string& file,
+void check_json_nesting(std::string_view text, const std::string& file,
                         int max_depth = JsonLocator::max_depth);
 
 /// check_json_nesting, then Json::parse (nlohmann::json or ordered_json), with a syntax error

@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "ref/core/error.h"
+#include "ref/core/json_locator.h"
 #include "ref/core/limits.h"
 #include "ref/image/image_io.h"
 
@@ -124,28 +125,6 @@ std::size_t check_glb(const std::string& path, const std::string& bytes) {
 // the text): JSON nested deeper than this is refused before it is parsed, so that a hostile
 // file cannot exhaust the stack.
 constexpr int max_json_depth = 64;
-
-void check_json_depth(const std::string& path, const char* text, std::size_t size) {
-    int depth = 0;
-    bool in_string = false;
-    for (std::size_t i = 0; i < size; ++i) {
-        const char c = text[i];
-        if (in_string) {
-            if (c == '\\')
-                ++i;
-            else if (c == '"')
-                in_string = false;
-        } else if (c == '"') {
-            in_string = true;
-        } else if (c == '[' || c == '{') {
-            if (++depth > max_json_depth)
-                throw Error(path + ": JSON nested deeper than " + std::to_string(max_json_depth) +
-                            " levels (at byte " + std::to_string(i) + ")");
-        } else if (c == ']' || c == '}') {
-            --depth;
-        }
-    }
-}
 
 // File access for tinygltf: paths that tinygltf joined to the .gltf's `directory` only (its
 // fallback search of the current directory is refused; "../" in a URI is allowed, as for OBJ
@@ -1087,14 +1066,15 @@ void parse_file(Loader& loader, const std::string& bytes) {
     try {
         if (binary) {
             const std::size_t length = check_glb(loader.path, bytes);
-            check_json_depth(loader.path, bytes.data() + 20, load_u32_le(bytes, 12));
+            check_json_nesting(std::string_view(bytes).substr(20, load_u32_le(bytes, 12)),
+                               loader.path, max_json_depth);
             ok = gltf.LoadBinaryFromMemory(&loader.model, &err, &warn,
                                            reinterpret_cast<const unsigned char*>(bytes.data()),
                                            static_cast<unsigned int>(length), fs_context.directory);
         } else {
             if (bytes.size() > 0xFFFFFFFFu)
                 throw loader.error("", "too large for tinygltf (4 GiB at most)");
-            check_json_depth(loader.path, bytes.data(), bytes.size());
+            check_json_nesting(bytes, loader.path, max_json_depth);
             ok = gltf.LoadASCIIFromString(&loader.model, &err, &warn, bytes.data(),
                                           static_cast<unsigned int>(bytes.size()),
                                           fs_context.directory);
