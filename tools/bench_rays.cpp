@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -274,10 +275,8 @@ void bench_gbuffer_passes(const Scene& scene, const Bvh& bvh, const std::string&
 
 // The rows of one procedural scene: BVH build, the G-buffer passes, then primary, incoherent
 // and shadow rays (from the primary hits).
-void bench_scene(const std::string& name, const BenchRaysOptions& options,
+void bench_scene(const std::string& name, const Scene& scene, const BenchRaysOptions& options,
                  [[maybe_unused]] std::string& explanations) {
-    const Scene scene = load_cli_scene(name, /*report=*/false);
-
     // Build: the fastest of the repeats (a build is deterministic, so any copy is the tree).
     Bvh bvh;
     Row build{name, "build", scene.triangle_count()};
@@ -374,12 +373,20 @@ int run_bench_rays(const BenchRaysOptions& options) {
     std::vector<std::string> scenes = options.scenes;
     if (scenes.empty())
         for (const ProceduralSceneInfo& info : procedural_scenes()) scenes.push_back(info.name);
+    std::map<std::string, Scene> files;  // the scene files, loaded once
     for (const std::string& name : scenes)
-        if (!is_procedural_scene(name)) load_cli_scene(name);  // a file must load before the table
+        if (!is_procedural_scene(name))
+            files.emplace(name, load_cli_scene(name));  // a file must load before the table
 
     print_header(options);
     std::string explanations;  // --explain: printed after the table
-    for (const std::string& name : scenes) bench_scene(name, options, explanations);
+    for (const std::string& name : scenes) {
+        // Procedural scenes are made here, one at a time; the files were loaded above.
+        auto file = files.find(name);
+        if (file == files.end()) file = files.emplace(name, load_cli_scene(name, false)).first;
+        bench_scene(name, file->second, options, explanations);
+        files.erase(file);
+    }
     print_footer(options, explanations);
     return 0;
 }
