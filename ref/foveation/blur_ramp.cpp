@@ -12,21 +12,21 @@ namespace fovref {
 
 namespace {
 
-void check_inputs(const BlurRamp& ramp, const VisualPolarMap& map, const Image& image) {
+void check_inputs(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image) {
     if (!(std::isfinite(ramp.sigma_deg) && ramp.sigma_deg >= 0.0f))
         throw Error("blur ramp: sigma_deg must be finite and >= 0 (got " +
                     check_value_text(ramp.sigma_deg) + ")");
     if (!std::isfinite(ramp.full_deg))
         throw Error("blur ramp: full_deg must be finite (got " + check_value_text(ramp.full_deg) +
                     ")");
-    FOVREF_CHECK_EQ(image.width, map.screen_width, "blur ramp image width");
-    FOVREF_CHECK_EQ(image.height, map.screen_height, "blur ramp image height");
+    FOVREF_CHECK_EQ(image.width, geometry.screen_width, "blur ramp image width");
+    FOVREF_CHECK_EQ(image.height, geometry.screen_height, "blur ramp image height");
 }
 
 /// One pass along x (`vertical` false) or y (true).
-Image blur_pass(const BlurRamp& ramp, const VisualPolarMap& map, const Image& image,
+Image blur_pass(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
                 bool vertical) {
-    check_inputs(ramp, map, image);
+    check_inputs(ramp, geometry, image);
     const int width = image.width, height = image.height, channels = image.channels;
     const int extent = vertical ? height : width;
     // floats from one pixel to the next along the pass
@@ -38,7 +38,7 @@ Image blur_pass(const BlurRamp& ramp, const VisualPolarMap& map, const Image& im
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
             const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
-            const float sigma = blur_ramp_sigma_px(ramp, map, centre);
+            const float sigma = blur_ramp_sigma_px(ramp, geometry, centre);
             const int radius = blur_ramp_radius(sigma);
             if (radius == 0) continue;  // copied
 
@@ -91,10 +91,10 @@ Image blur_pass(const BlurRamp& ramp, const VisualPolarMap& map, const Image& im
 
 }  // namespace
 
-float blur_ramp_sigma_px(const BlurRamp& ramp, const VisualPolarMap& map, glm::vec2 p) {
-    const float dx = p.x - map.gaze.x, dy = p.y - map.gaze.y;
-    const float e = std::sqrt(dx * dx + dy * dy) / map.scale;
-    const float fovea_edge = vp_inverse_cdf(vp_u0);
+float blur_ramp_sigma_px(const BlurRamp& ramp, const BlurRampGeometry& geometry, glm::vec2 p) {
+    const float dx = p.x - geometry.gaze.x, dy = p.y - geometry.gaze.y;
+    const float e = std::sqrt(dx * dx + dy * dy) / geometry.scale;
+    const float fovea_edge = geometry.fovea_deg;
     float sigma = 0.0f;  // model degrees
     if (e <= fovea_edge)
         sigma = 0.0f;
@@ -102,7 +102,7 @@ float blur_ramp_sigma_px(const BlurRamp& ramp, const VisualPolarMap& map, glm::v
         sigma = ramp.sigma_deg;
     else
         sigma = ramp.sigma_deg * (e - fovea_edge) / (ramp.full_deg - fovea_edge);
-    return sigma * map.scale;
+    return sigma * geometry.scale;
 }
 
 int blur_ramp_radius(float sigma_px) {
@@ -112,16 +112,18 @@ int blur_ramp_radius(float sigma_px) {
                                                               : static_cast<int>(radius);
 }
 
-Image blur_ramp_horizontal(const BlurRamp& ramp, const VisualPolarMap& map, const Image& image) {
-    return blur_pass(ramp, map, image, false);
+Image blur_ramp_horizontal(const BlurRamp& ramp, const BlurRampGeometry& geometry,
+                           const Image& image) {
+    return blur_pass(ramp, geometry, image, false);
 }
 
-Image blur_ramp_vertical(const BlurRamp& ramp, const VisualPolarMap& map, const Image& image) {
-    return blur_pass(ramp, map, image, true);
+Image blur_ramp_vertical(const BlurRamp& ramp, const BlurRampGeometry& geometry,
+                         const Image& image) {
+    return blur_pass(ramp, geometry, image, true);
 }
 
-Image blur_ramp(const BlurRamp& ramp, const VisualPolarMap& map, const Image& image) {
-    return blur_ramp_vertical(ramp, map, blur_ramp_horizontal(ramp, map, image));
+Image blur_ramp(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image) {
+    return blur_ramp_vertical(ramp, geometry, blur_ramp_horizontal(ramp, geometry, image));
 }
 
 }  // namespace fovref

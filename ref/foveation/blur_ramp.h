@@ -3,8 +3,9 @@
 // periphery. Two separable passes, horizontal then vertical, with a per-pixel sigma.
 //
 // Sigma (blur_ramp_sigma_px), binary32, at a screen point p (a pixel centre (x + 1/2, y + 1/2)):
-//   e = sqrt(dx^2 + dy^2) / s, (dx, dy) = p - g, s = map.scale (pixels per model degree);
-//   e_f = vp_inverse_cdf(vp_u0) = P(u0) (= 5.79 model degrees: the fovea edge);
+//   e = sqrt(dx^2 + dy^2) / s, (dx, dy) = p - g, s = geometry.scale (pixels per model degree);
+//   e_f = geometry.fovea_deg (the Visual-Polar map's P(u0) = 5.79 model degrees: the fovea
+//   edge; blur_ramp_geometry in ref/foveation/visual_polar.h);
 //   sigma(e) = 0 for e <= e_f;
 //            = sigma_deg * (e - e_f) / (full_deg - e_f) for e_f < e < full_deg;
 //            = sigma_deg for e >= full_deg (choice: constant beyond, SPEC);
@@ -28,7 +29,6 @@
 
 #include <glm/glm.hpp>
 
-#include "ref/foveation/visual_polar.h"
 #include "ref/image/image.h"
 
 namespace fovref {
@@ -40,20 +40,31 @@ struct BlurRamp {
     bool operator==(const BlurRamp&) const = default;
 };
 
+/// Where the ramp is measured from, on a W x H screen: the gaze, the screen's pixels per model
+/// degree and the fovea edge in model degrees (the Visual-Polar map's, blur_ramp_geometry).
+struct BlurRampGeometry {
+    int screen_width = 0, screen_height = 0;
+    glm::vec2 gaze{0.0f};
+    float scale = 1.0f;      ///< s, pixels per model degree
+    float fovea_deg = 0.0f;  ///< e_f, model degrees
+};
+
 inline constexpr int blur_ramp_max_radius = 64;  ///< cap on the kernel radius, pixels
 
 /// sigma_px at screen point p (see above); 0 inside the fovea.
-float blur_ramp_sigma_px(const BlurRamp& ramp, const VisualPolarMap& map, glm::vec2 p);
+float blur_ramp_sigma_px(const BlurRamp& ramp, const BlurRampGeometry& geometry, glm::vec2 p);
 
 /// The kernel radius for sigma_px: min(ceil(3 sigma_px), blur_ramp_max_radius); 0 when
 /// sigma_px <= 0.
 int blur_ramp_radius(float sigma_px);
 
-/// The horizontal pass on a W x H image (the map's screen size), any channel count.
-Image blur_ramp_horizontal(const BlurRamp& ramp, const VisualPolarMap& map, const Image& image);
-/// The vertical pass on a W x H image (the map's screen size), any channel count.
-Image blur_ramp_vertical(const BlurRamp& ramp, const VisualPolarMap& map, const Image& image);
+/// The horizontal pass on a W x H image (the geometry's screen size), any channel count.
+Image blur_ramp_horizontal(const BlurRamp& ramp, const BlurRampGeometry& geometry,
+                           const Image& image);
+/// The vertical pass on a W x H image (the geometry's screen size), any channel count.
+Image blur_ramp_vertical(const BlurRamp& ramp, const BlurRampGeometry& geometry,
+                         const Image& image);
 /// Both passes: horizontal, then vertical.
-Image blur_ramp(const BlurRamp& ramp, const VisualPolarMap& map, const Image& image);
+Image blur_ramp(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image);
 
 }  // namespace fovref

@@ -6,21 +6,6 @@
 
 namespace fovref {
 
-namespace {
-
-constexpr float two_pi = 6.28318530717958647692f;
-
-}  // namespace
-
-TexelsPerPixel texels_per_pixel(const LogPolarMap& map, float r) {
-    const float rho = dm::log(1.0f + r) / map.log_radius_max;
-    TexelsPerPixel s;
-    s.radial = static_cast<float>(map.width) * kernel_derivative(map.kernel, rho) /
-               ((1.0f + r) * map.log_radius_max * std::max(1.0f - map.composite, 0x1p-24f));
-    s.angular = static_cast<float>(map.height) / (two_pi * r);
-    return s;
-}
-
 float relative_acuity(float e) {
     if (e <= 5.79f) return 1.0f;
     const float d = 0.3f * e + 1.0f;

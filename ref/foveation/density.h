@@ -3,9 +3,8 @@
 // error ring, next to the visual acuity (Koskela's model) for comparison. `fovref density`
 // prints and plots it; the mip resolve's level uses the same texels per pixel.
 //
-//   texels per pixel at distance r from the gaze (texels_per_pixel):
-//     radial   s_u = w K'(rho) / ((1 + r) L (1 - G)),  rho = ln(1 + r) / L   (du/dr)
-//     angular  s_v = h / (2 pi r)                                            (dv per pixel)
+//   texels per pixel at distance r from the gaze: texels_per_pixel of the map
+//     (ref/foveation/log_polar.h, the map's Jacobian);
 //   rays per pixel on each axis = s (Lund reports 1/s, the pixels between adjacent rays, as his
 //   "resolution"); inside the gaze circle both are 1 (one ray per pixel).
 //   ring k's middle: e = (inner + outer) / 2 degrees, r = d_px tan(e) pixels (dm::tan).
@@ -20,14 +19,6 @@
 #include "ref/metrics/rings.h"
 
 namespace fovref {
-
-struct TexelsPerPixel {
-    float radial = 0.0f;
-    float angular = 0.0f;
-};
-
-/// Buffer texels per screen pixel at distance r (> 0) from the gaze, outside the gaze circle.
-TexelsPerPixel texels_per_pixel(const LogPolarMap& map, float r);
 
 /// Koskela's relative visual acuity at eccentricity e (degrees).
 float relative_acuity(float eccentricity_deg);

@@ -144,6 +144,15 @@ LpInverseTable lp_inverse_table(const LogPolarMap& map, Offset2 jitter, glm::vec
     return table;
 }
 
+TexelsPerPixel texels_per_pixel(const LogPolarMap& map, float r) {
+    const float rho = dm::log(1.0f + r) / map.log_radius_max;
+    TexelsPerPixel s;
+    s.radial = static_cast<float>(map.width) * kernel_derivative(map.kernel, rho) /
+               ((1.0f + r) * map.log_radius_max * std::max(1.0f - map.composite, 0x1p-24f));
+    s.angular = static_cast<float>(map.height) / (two_pi * r);
+    return s;
+}
+
 TexelStatus lp_texel_status(const LogPolarMap& map, const LpInverseTable& table, int i, int j,
                             glm::vec2& screen_point) {
     const float r = table.radius[static_cast<std::size_t>(i)];

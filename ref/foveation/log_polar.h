@@ -105,6 +105,17 @@ glm::vec2 lp_forward(const LogPolarMap& map, glm::vec2 p);
 /// Inverse map: the screen point of buffer coordinates (u, v).
 glm::vec2 lp_inverse(const LogPolarMap& map, glm::vec2 uv);
 
+/// Buffer texels per screen pixel at distance r (> 0) from the gaze, outside the gaze circle: the
+/// map's Jacobian along the radius and along the circle (Lund §5.2 `mid_range_res`, SPEC §5.6),
+/// what the mip resolve's level and `fovref density` read:
+///   radial   s_u = w K'(rho) / ((1 + r) L (1 - G)),  rho = ln(1 + r) / L   (du/dr)
+///   angular  s_v = h / (2 pi r)                                            (dv per pixel)
+struct TexelsPerPixel {
+    float radial = 0.0f;
+    float angular = 0.0f;
+};
+TexelsPerPixel texels_per_pixel(const LogPolarMap& map, float r);
+
 /// The inverse map at the texel centres, factored: the radius depends on the column only, the
 /// angle on the row only. lp_inverse(map, (i + 1/2, j + 1/2)) is
 /// (g.x + radius[i] cos_theta[j], g.y + radius[i] sin_theta[j]) with the very same operations, so

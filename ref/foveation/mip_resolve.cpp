@@ -5,7 +5,6 @@
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
-#include "ref/foveation/density.h"
 
 namespace fovref {
 

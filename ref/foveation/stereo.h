@@ -18,14 +18,14 @@
 //                          eye-local centre c; with barrel distortion its source s (below),
 //                          black when s leaves the eye's image; then eye e's bilinear (or mip)
 //                          lookup at s in its half of the buffer
-//   barrel (Gupta §3):     q = (c - eye centre) / (W/4) (the eye's half-width is 1);
-//                          s = eye centre + (W/4) q (1 + k1 |q|^2 + k2 |q|^4)
+//   barrel (Gupta §3):     barrel_source (ref/foveation/barrel.h)
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <vector>
 
+#include "ref/foveation/barrel.h"
 #include "ref/foveation/foveated_params.h"
 #include "ref/foveation/foveated_trace.h"
 #include "ref/foveation/resolve.h"
@@ -77,9 +77,6 @@ MaskedGBuffer trace_stereo_gbuffer(const std::array<LogPolarMap, 2>& maps, const
 Image shade_stereo(const Scene& scene, const Bvh* bvh, const ShadeInputs& inputs,
                    const std::array<Camera, 2>& cameras, int eye_buffer_width, int frame,
                    ShadingStats& stats);
-
-/// The barrel distortion's source point for eye-local point c of a W/2 x H eye.
-glm::vec2 barrel_source(glm::vec2 c, int eye_width, int height, float k1, float k2);
 
 /// Pass 2 counters, plus the pixels whose barrel source left the eye's image.
 struct StereoResolveStats {

@@ -183,4 +183,8 @@ VisualPolarCounts vp_count_texels(const VisualPolarMap& m) {
     return c;
 }
 
+BlurRampGeometry blur_ramp_geometry(const VisualPolarMap& map) {
+    return {map.screen_width, map.screen_height, map.gaze, map.scale, vp_inverse_cdf(vp_u0)};
+}
+
 }  // namespace fovref

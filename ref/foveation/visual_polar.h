@@ -24,6 +24,8 @@
 
 #include <glm/glm.hpp>
 
+#include "ref/foveation/blur_ramp.h"
+
 namespace fovref {
 
 inline constexpr float vp_u0 = 0.0965f;  ///< the fitted CDF's branch point (P4 eq. 7)
@@ -88,5 +90,9 @@ struct VisualPolarCounts {
     long long texels = 0, clipped = 0, off_screen = 0, traced = 0;
 };
 VisualPolarCounts vp_count_texels(const VisualPolarMap& map);
+
+/// Where the P5 blur ramp (ref/foveation/blur_ramp.h) is measured from on this map's screen: its
+/// gaze, its scale s and the fovea edge P(u0) (= vp_inverse_cdf(vp_u0), 5.79 model degrees).
+BlurRampGeometry blur_ramp_geometry(const VisualPolarMap& map);
 
 }  // namespace fovref

@@ -21,6 +21,7 @@
 #include "ref/foveation/blur_ramp.h"
 #include "ref/foveation/gaze_track.h"
 #include "ref/foveation/sparse_sampling.h"
+#include "ref/foveation/visual_polar.h"
 #include "ref/scene/scene.h"
 #include "ref/stage/params.h"
 

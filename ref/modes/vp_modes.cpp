@@ -149,14 +149,16 @@ void blur_horizontal_stage(FrameContext& ctx) {
     const SparseModeState& s = sparse_state(ctx);
     ctx.result->add(
         "blur_horizontal", BufferKind::color, rgb,
-        blur_ramp_horizontal(s.params.ramp, frame_vp_map(ctx, ctx.frame), ctx.input("resolved")));
+        blur_ramp_horizontal(s.params.ramp, blur_ramp_geometry(frame_vp_map(ctx, ctx.frame)),
+                             ctx.input("resolved")));
 }
 
 void blur_vertical_stage(FrameContext& ctx) {
     const SparseModeState& s = sparse_state(ctx);
-    ctx.result->add("final", BufferKind::color, rgb,
-                    blur_ramp_vertical(s.params.ramp, frame_vp_map(ctx, ctx.frame),
-                                       ctx.input("blur_horizontal")));
+    ctx.result->add(
+        "final", BufferKind::color, rgb,
+        blur_ramp_vertical(s.params.ramp, blur_ramp_geometry(frame_vp_map(ctx, ctx.frame)),
+                           ctx.input("blur_horizontal")));
 }
 
 PathTraceParams parse_path(const Params& params, const std::vector<ParamSpec>& specs) {

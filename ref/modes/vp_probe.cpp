@@ -139,7 +139,7 @@ void explain_visual_polar(const ProbeContext& c, ProbeReport& report) {
     report.sections.push_back(s);
     if (params.blur) {
         ProbeSection b{"blur_horizontal", "the P5 blur ramp (two separable passes)", {}};
-        const float sigma = blur_ramp_sigma_px(params.ramp, m, centre);
+        const float sigma = blur_ramp_sigma_px(params.ramp, blur_ramp_geometry(m), centre);
         b.add("sigma", probe_float(sigma) + " px = " + probe_float(sigma / m.scale) +
                            " model degrees (0 up to the fovea edge e_f = " +
                            probe_float(vp_inverse_cdf(vp_u0)) + ", rising to " +

@@ -470,7 +470,8 @@ TEST_CASE(
     const float e_f = vp_inverse_cdf(vp_u0);
     CHECK(e_f == doctest::Approx(5.79).epsilon(1e-3));
     const auto at_degrees = [&](double e) {
-        return blur_ramp_sigma_px(ramp, map, map.gaze + glm::vec2(static_cast<float>(e * s), 0.0f));
+        return blur_ramp_sigma_px(ramp, blur_ramp_geometry(map),
+                                  map.gaze + glm::vec2(static_cast<float>(e * s), 0.0f));
     };
     CHECK(at_degrees(0.0) == 0.0f);
     CHECK(at_degrees(e_f * 0.999) == 0.0f);
@@ -517,12 +518,12 @@ TEST_CASE("VP blur: pixels inside the fovea (sigma = 0) are unchanged bit for bi
     // 256 x 256, gaze (40, 60): s = 3.65 px/degree, fovea radius 21 px, sigma up to 2.06 px
     const VisualPolarMap map = make_visual_polar_map(256, 256, {40.0f, 60.0f}, 171, 171);
     const Image image = random_image(256, 256, 3, 1);
-    const Image out = blur_ramp(BlurRamp{}, map, image);
+    const Image out = blur_ramp(BlurRamp{}, blur_ramp_geometry(map), image);
     long long fovea = 0, changed = 0, blurred = 0;
     for (int y = 0; y < 256; ++y)
         for (int x = 0; x < 256; ++x) {
             const glm::vec2 c = pixel_centre(x, y);
-            const float sigma = blur_ramp_sigma_px(BlurRamp{}, map, c);
+            const float sigma = blur_ramp_sigma_px(BlurRamp{}, blur_ramp_geometry(map), c);
             const double r = gaze_distance_d(map, c);
             if (r < 0.999 * map.fovea_radius) REQUIRE(sigma == 0.0f);
             if (r > 1.001 * map.fovea_radius) REQUIRE(sigma > 0.0f);
@@ -551,14 +552,16 @@ TEST_CASE(
     const int radius = blur_ramp_radius(sigma);
     REQUIRE(radius == 7);
     for (int d = -radius; d <= radius; ++d) {
-        REQUIRE(blur_ramp_sigma_px(ramp, map, pixel_centre(x0 + d, y0)) == sigma);
-        REQUIRE(blur_ramp_sigma_px(ramp, map, pixel_centre(x0, y0 + d)) == sigma);
+        REQUIRE(blur_ramp_sigma_px(ramp, blur_ramp_geometry(map), pixel_centre(x0 + d, y0)) ==
+                sigma);
+        REQUIRE(blur_ramp_sigma_px(ramp, blur_ramp_geometry(map), pixel_centre(x0, y0 + d)) ==
+                sigma);
     }
     Image impulse(256, 256, 1, 0.0f);
     impulse.at(x0, y0) = 1.0f;
 
     SUBCASE("horizontal pass") {
-        const Image out = blur_ramp_horizontal(ramp, map, impulse);
+        const Image out = blur_ramp_horizontal(ramp, blur_ramp_geometry(map), impulse);
         double row_sum = 0.0, elsewhere = 0.0;
         for (int y = 0; y < 256; ++y)
             for (int x = 0; x < 256; ++x) (y == y0 ? row_sum : elsewhere) += out.at(x, y);
@@ -577,12 +580,12 @@ TEST_CASE(
         CHECK(out.at(x0 + radius + 1, y0) == 0.0f);
     }
     SUBCASE("both passes") {
-        const Image out = blur_ramp(ramp, map, impulse);
+        const Image out = blur_ramp(ramp, blur_ramp_geometry(map), impulse);
         double sum = 0.0;
         for (const float value : out.data) sum += value;
         CHECK(sum == doctest::Approx(1.0).epsilon(1e-5));
         // separable: the 2-D response is the product of the 1-D ones
-        const Image h = blur_ramp_horizontal(ramp, map, impulse);
+        const Image h = blur_ramp_horizontal(ramp, blur_ramp_geometry(map), impulse);
         // (the vertical kernel at offset 2 is h(x0 + 2, y0): the same sigma, the same weights)
         for (int d = -radius; d <= radius; ++d)
             CHECK(out.at(x0 + d, y0 + 2) ==
@@ -597,7 +600,7 @@ TEST_CASE("VP blur: a constant image stays constant (normalised weights)") {
         // sum of (w_d / W) c over at most 129 taps, twice: within 2 * 129 ulp of c; measured
         // a few ulp
         for (const BlurRamp& ramp : {BlurRamp{}, BlurRamp{2.0f, 20.0f}}) {
-            const Image out = blur_ramp(ramp, map, image);
+            const Image out = blur_ramp(ramp, blur_ramp_geometry(map), image);
             float worst = 0.0f;
             for (float v : out.data) worst = std::max(worst, std::fabs(v - 0.37f));
             CHECK(worst <= 258.0f * 0.37f * 5.96e-8f);
@@ -613,7 +616,8 @@ TEST_CASE(
         Image image = random_image(200, 160, 1, 2);
         for (int y = 0; y < 160; ++y)
             for (int x = 100; x < 200; ++x) image.at(x, y) = image.at(199 - x, 159 - y);
-        const Image out = blur_ramp(BlurRamp{2.0f, 20.0f}, map, image);  // sigma up to 3.9 px
+        const Image out =
+            blur_ramp(BlurRamp{2.0f, 20.0f}, blur_ramp_geometry(map), image);  // sigma up to 3.9 px
         double worst = 0.0;
         for (int y = 0; y < 160; ++y)
             for (int x = 0; x < 200; ++x)
@@ -628,11 +632,14 @@ TEST_CASE(
         const VisualPolarMap map = make_visual_polar_map(128, 128, {30.0f, 30.0f}, 85, 85);
         const Image image = random_image(128, 128, 2, 3);
         const BlurRamp ramp{1.5f, 20.0f};
-        const Image vertical = blur_ramp_vertical(ramp, map, image);
-        CHECK(bit_equal(vertical, transposed(blur_ramp_horizontal(ramp, map, transposed(image)))));
+        const Image vertical = blur_ramp_vertical(ramp, blur_ramp_geometry(map), image);
+        CHECK(bit_equal(vertical, transposed(blur_ramp_horizontal(ramp, blur_ramp_geometry(map),
+                                                                  transposed(image)))));
         CHECK(!bit_equal(vertical, image));
         // and the two passes in order
-        CHECK(bit_equal(blur_ramp(ramp, map, image),
-                        blur_ramp_vertical(ramp, map, blur_ramp_horizontal(ramp, map, image))));
+        CHECK(bit_equal(
+            blur_ramp(ramp, blur_ramp_geometry(map), image),
+            blur_ramp_vertical(ramp, blur_ramp_geometry(map),
+                               blur_ramp_horizontal(ramp, blur_ramp_geometry(map), image))));
     }
 }
