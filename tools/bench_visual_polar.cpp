@@ -41,7 +41,6 @@
 #include <vector>
 
 #include "ref/core/error.h"
-#include "ref/foveation/sparse_sampling.h"
 #include "ref/metrics/metrics.h"
 #include "ref/metrics/rings.h"
 #include "ref/metrics/ssim.h"
@@ -49,6 +48,7 @@
 #include "ref/scene/camera.h"
 #include "ref/scene/scene.h"
 #include "ref/scene/scene_file.h"
+#include "ref/visual_polar/sparse_sampling.h"
 #include "tools/cli_common.h"
 #include "tools/progress.h"
 

@@ -4,10 +4,10 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "ref/analysis/density.h"
 #include "ref/core/error.h"
-#include "ref/foveation/density.h"
-#include "ref/foveation/foveated_params.h"
 #include "ref/image/image_io.h"
+#include "ref/log_polar/params.h"
 #include "ref/modes/modes.h"
 #include "ref/scene/scene_file.h"
 #include "tools/svg_plot.h"

@@ -1,7 +1,7 @@
 // `fovref density MODE` (issue 13, point 6; Lund §5.2 `mid_range_res`, SPEC §5.6): the radial and
 // angular rays per pixel of a log-polar mode at the middle of each error ring, with Koskela's
 // relative visual acuity for comparison, as a table, CSV and an SVG plot
-// (ref/foveation/density.h). docs/foveation.md, "Density".
+// (ref/analysis/density.h). docs/foveation.md, "Density".
 #pragma once
 
 #include <string>

@@ -6,8 +6,8 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "ref/analysis/gain.h"
 #include "ref/core/error.h"
-#include "ref/foveation/gain.h"
 #include "tools/cli_common.h"
 
 namespace fovref {

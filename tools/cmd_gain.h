@@ -1,5 +1,5 @@
 // `fovref gain`: the theoretical gain of foveated rendering for a display (SPEC §5.6, Koskela P1
-// §4; ref/foveation/gain.h): with no FOV given, P1's three headline cases next to the figures the
+// §4; ref/analysis/gain.h): with no FOV given, P1's three headline cases next to the figures the
 // sources quote; with --fov-deg, one FOV and display. docs/gain.md.
 #pragma once
 

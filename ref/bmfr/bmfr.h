@@ -22,9 +22,9 @@
 
 #include <glm/glm.hpp>
 
-#include "ref/foveation/visual_polar.h"
 #include "ref/image/image.h"
 #include "ref/scene/camera.h"
+#include "ref/visual_polar/map.h"
 
 namespace fovref {
 

@@ -12,4 +12,11 @@ inline bool is_finite(glm::vec3 v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
+/// The distance r = |p - g| from the gaze point g in binary32: sqrt(x' x' + y' y'). The one
+/// distance every foveated pass uses (the gaze circle's test, the forward map, the filters' ramps).
+inline float gaze_distance(glm::vec2 gaze, glm::vec2 p) {
+    const float dx = p.x - gaze.x, dy = p.y - gaze.y;
+    return std::sqrt(dx * dx + dy * dy);
+}
+
 }  // namespace fovref

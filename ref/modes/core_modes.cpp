@@ -1,6 +1,6 @@
 #include "ref/modes/core_modes.h"
 
-#include "ref/core_passes/core_passes.h"
+#include "ref/building_blocks/building_blocks.h"
 
 namespace fovref {
 

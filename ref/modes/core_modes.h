@@ -1,5 +1,5 @@
-// Modes that exercise ref/core and ref/scene alone (the passes in ref/core_passes): camera-rays,
-// rng, halton, splat, geometry. Each stage is a named function wiring one pass.
+// Modes that exercise ref/core and ref/scene alone (the passes in ref/building_blocks):
+// camera-rays, rng, halton, splat, geometry. Each stage is a named function wiring one pass.
 #pragma once
 
 #include "ref/stage/pipeline.h"

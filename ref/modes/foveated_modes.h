@@ -33,7 +33,7 @@
 #include <string>
 #include <vector>
 
-#include "ref/foveation/log_polar.h"
+#include "ref/log_polar/map.h"
 #include "ref/stage/pipeline.h"
 
 namespace fovref {
@@ -46,7 +46,7 @@ Pipeline kfov_pipeline(const Scene* scene, const RenderSettings& settings);
 Pipeline cfov_pipeline(const Scene* scene, const RenderSettings& settings);
 Pipeline ckfov_pipeline(const Scene* scene, const RenderSettings& settings);
 Pipeline kfr_pipeline(const Scene* scene, const RenderSettings& settings);
-/// Gupta's stereo-lp: both eyes side by side (ref/foveation/stereo.h).
+/// Gupta's stereo-lp: both eyes side by side (ref/log_polar/stereo.h).
 Pipeline stereo_pipeline(const Scene* scene, const RenderSettings& settings);
 std::vector<PixelFunction> stereo_pixel_functions(const Params& params);
 

@@ -2,10 +2,10 @@
 
 #include "ref/bmfr/bmfr_params.h"
 #include "ref/core/error.h"
-#include "ref/foveation/foveated_params.h"
-#include "ref/foveation/foveation_probe.h"
-#include "ref/foveation/stereo.h"
 #include "ref/image/image.h"
+#include "ref/log_polar/params.h"
+#include "ref/log_polar/probe.h"
+#include "ref/log_polar/stereo.h"
 #include "ref/modes/core_modes.h"
 #include "ref/modes/foveated_modes.h"
 #include "ref/modes/taa_stage.h"

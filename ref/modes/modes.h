@@ -1,5 +1,5 @@
 // The registry of render modes: the one place that knows every mode. Each mode is a pipeline of
-// stages wired from the passes below it (ref/core_passes, ref/raster, ref/trace; later
+// stages wired from the passes below it (ref/building_blocks, ref/raster, ref/trace; later
 // foveation, temporal, bmfr); the stage framework (ref/stage) knows none of them.
 #pragma once
 

@@ -4,16 +4,16 @@
 #include <optional>
 
 #include "ref/core/error.h"
-#include "ref/foveation/blur_ramp.h"
-#include "ref/foveation/sparse_sampling.h"
-#include "ref/foveation/vp_params.h"
-#include "ref/foveation/vp_resolve.h"
-#include "ref/foveation/vp_trace.h"
+#include "ref/filters/blur_ramp.h"
 #include "ref/modes/bmfr_stage.h"
 #include "ref/modes/mode_common.h"
 #include "ref/raster/gbuffer.h"
 #include "ref/raster/rasterizer.h"
 #include "ref/trace/pathtrace.h"
+#include "ref/visual_polar/params.h"
+#include "ref/visual_polar/resolve.h"
+#include "ref/visual_polar/sparse_sampling.h"
+#include "ref/visual_polar/trace.h"
 
 namespace fovref {
 

@@ -4,10 +4,10 @@
 
 #include "ref/bmfr/bmfr.h"
 #include "ref/core/error.h"
-#include "ref/foveation/blur_ramp.h"
-#include "ref/foveation/vp_params.h"
-#include "ref/foveation/vp_resolve.h"
+#include "ref/filters/blur_ramp.h"
 #include "ref/trace/trace_probe.h"
+#include "ref/visual_polar/params.h"
+#include "ref/visual_polar/resolve.h"
 
 namespace fovref {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "ref/core/error.h"
-#include "ref/foveation/foveated_trace.h"
+#include "ref/log_polar/trace.h"
 
 namespace fovref {
 

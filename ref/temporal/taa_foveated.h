@@ -18,7 +18,7 @@
 //           a GPU's buffer-space min/max pass would, and read by the pixels.
 #pragma once
 
-#include "ref/foveation/resolve.h"
+#include "ref/log_polar/resolve.h"
 
 namespace fovref {
 

@@ -10,7 +10,7 @@
 
 #include "ref/bmfr/bmfr.h"
 #include "ref/core/rng.h"
-#include "ref/foveation/vp_trace.h"
+#include "ref/visual_polar/trace.h"
 
 using namespace fovref;
 

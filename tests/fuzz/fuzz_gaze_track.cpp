@@ -1,6 +1,6 @@
 // libFuzzer target: gaze track files of the foveated modes (read_gaze_track, the CSV of
-// ref/foveation/gaze_track.h). tests/fuzz/fuzz_util.h.
-#include "ref/foveation/gaze_track.h"
+// ref/gaze/gaze_track.h). tests/fuzz/fuzz_util.h.
+#include "ref/gaze/gaze_track.h"
 #include "tests/fuzz/fuzz_util.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

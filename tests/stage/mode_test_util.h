@@ -1,4 +1,4 @@
-// Helpers shared by the tests that render whole modes (tests/foveation/vp_modes_test.cpp,
+// Helpers shared by the tests that render whole modes (tests/visual_polar/modes_test.cpp,
 // tests/temporal/taa_modes_test.cpp): procedural scenes built once, a render of every buffer of a
 // sequence, a buffer looked up by name, bit-for-bit equality of images.
 #pragma once

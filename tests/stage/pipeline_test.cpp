@@ -2,9 +2,9 @@
 
 #include <cmath>
 
+#include "ref/building_blocks/building_blocks.h"
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
-#include "ref/core_passes/core_passes.h"
 #include "ref/image/image.h"
 #include "ref/modes/modes.h"
 #include "ref/scene/scene_file.h"

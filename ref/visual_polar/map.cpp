@@ -1,0 +1,190 @@
+#include "ref/visual_polar/map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
+#include <vector>
+
+#include "ref/core/dmath.h"
+#include "ref/core/error.h"
+
+namespace fovref {
+
+namespace {
+
+constexpr float two_pi = 6.28318530717958647692f;
+
+}  // namespace
+
+float vp_acuity(float e) {
+    if (e <= 5.79f) return 1.0f;
+    const float d = 0.3f * e + 1.0f;
+    return 7.49f / (d * d);
+}
+
+float vp_inverse_cdf(float u) {
+    if (u <= vp_u0) return 18.64f * std::sqrt(std::max(u, 0.0f));
+    return (((25.09f * u + 0.1680f) * u + 27.61f) * u + 23.87f) * u + 3.232f;
+}
+
+namespace {
+
+// P at the dyadic points k / 65536, k = 0 .. 65536: the first 16 midpoints of the bisection.
+constexpr int cdf_table_bits = 16;
+const std::vector<float>& cdf_table() {
+    static const std::vector<float> table = [] {
+        std::vector<float> t;
+        for (int k = 0; k <= (1 << cdf_table_bits); ++k)
+            t.push_back(
+                vp_inverse_cdf(static_cast<float>(k) / static_cast<float>(1 << cdf_table_bits)));
+        return t;
+    }();
+    return table;
+}
+
+}  // namespace
+
+float vp_cdf(float e) {
+    if (!(e > 0.0f)) return 0.0f;
+    if (e >= vp_inverse_cdf(1.0f)) return 1.0f;
+    // The first 16 steps of the bisection below read P at their midpoints (dyadic, exact in
+    // float) from the table: the same comparisons, so the same bracket
+    const std::vector<float>& table = cdf_table();
+    int lo_k = 0, hi_k = 1 << cdf_table_bits;
+    for (int step = 0; step < cdf_table_bits; ++step) {
+        const int mid = (lo_k + hi_k) / 2;
+        (table[static_cast<std::size_t>(mid)] < e ? lo_k : hi_k) = mid;
+    }
+    constexpr float scale = 1.0f / static_cast<float>(1 << cdf_table_bits);
+    float lo = static_cast<float>(lo_k) * scale, hi = static_cast<float>(hi_k) * scale;
+    for (int step = cdf_table_bits; step < 64; ++step) {
+        const float mid = 0.5f * (lo + hi);
+        if (mid == lo || mid == hi) break;
+        (vp_inverse_cdf(mid) < e ? lo : hi) = mid;
+    }
+    return 0.5f * (lo + hi);
+}
+
+glm::ivec2 visual_polar_buffer_size(int screen_width, int screen_height) {
+    return {static_cast<int>(std::lround(screen_width / 1.5)),
+            static_cast<int>(std::lround(screen_height / 1.5))};
+}
+
+VisualPolarMap make_visual_polar_map(int screen_width, int screen_height, glm::vec2 gaze, int width,
+                                     int height) {
+    if (screen_width < 1 || screen_height < 1 || width < 2 || height < 1)
+        throw Error("visual-polar: the screen must be at least 1x1 and the buffer 2x1 (got " +
+                    std::to_string(width) + "x" + std::to_string(height) + ")");
+    if (!std::isfinite(gaze.x) || !std::isfinite(gaze.y))
+        throw Error("visual-polar: the gaze is not finite");
+    VisualPolarMap m;
+    m.screen_width = screen_width;
+    m.screen_height = screen_height;
+    m.gaze = gaze;
+    m.width = width;
+    m.height = height;
+    m.fovea_columns = std::clamp(static_cast<int>(std::lround(0.24 * width)), 1, width - 1);
+    // R: the farthest corner from the gaze
+    float r2 = 0.0f;
+    for (const glm::vec2& corner :
+         {glm::vec2(0.0f), glm::vec2(static_cast<float>(screen_width), 0.0f),
+          glm::vec2(0.0f, static_cast<float>(screen_height)),
+          glm::vec2(static_cast<float>(screen_width), static_cast<float>(screen_height))}) {
+        const glm::vec2 d = corner - gaze;
+        r2 = std::max(r2, d.x * d.x + d.y * d.y);
+    }
+    m.scale = std::sqrt(r2) / vp_inverse_cdf(1.0f);
+    m.fovea_radius = m.scale * vp_inverse_cdf(vp_u0);
+    return m;
+}
+
+int vp_column_rows(const VisualPolarMap& m, int i) {
+    if (i >= m.fovea_columns) return m.height;
+    const float t = static_cast<float>(m.height) * (static_cast<float>(i) + 0.5f) /
+                        static_cast<float>(m.fovea_columns) -
+                    0.5f;
+    return std::clamp(static_cast<int>(std::ceil(t)), 1, m.height);
+}
+
+float vp_column_radius(const VisualPolarMap& m, int i) {
+    const float centre = static_cast<float>(i) + 0.5f;
+    if (i < m.fovea_columns) return m.fovea_radius * centre / static_cast<float>(m.fovea_columns);
+    const float rho = centre / static_cast<float>(m.width);
+    const float rho_f = static_cast<float>(m.fovea_columns) / static_cast<float>(m.width);
+    const float u = vp_u0 + (rho - rho_f) * (1.0f - vp_u0) / (1.0f - rho_f);
+    return m.scale * vp_inverse_cdf(u);
+}
+
+bool vp_inverse(const VisualPolarMap& m, int i, int j, glm::vec2& screen) {
+    const int rows = vp_column_rows(m, i);
+    if (j >= rows) return false;
+    const float theta = two_pi * (static_cast<float>(j) + 0.5f) / static_cast<float>(rows);
+    const float r = vp_column_radius(m, i);
+    screen = m.gaze + glm::vec2(r * dm::cos(theta), r * dm::sin(theta));
+    return true;
+}
+
+float vp_forward_radius(const VisualPolarMap& m, float r) {
+    if (r < m.fovea_radius) return static_cast<float>(m.fovea_columns) * r / m.fovea_radius;
+    const float big_u = vp_cdf(r / m.scale);
+    const float rho_f = static_cast<float>(m.fovea_columns) / static_cast<float>(m.width);
+    const float rho = rho_f + (big_u - vp_u0) * (1.0f - rho_f) / (1.0f - vp_u0);
+    return static_cast<float>(m.width) * rho;
+}
+
+namespace {
+
+// The distance and the angle theta in [0, 2 pi] of p around the gaze.
+void vp_polar(const VisualPolarMap& m, glm::vec2 p, float& r, float& theta) {
+    const float dx = p.x - m.gaze.x, dy = p.y - m.gaze.y;
+    r = std::sqrt(dx * dx + dy * dy);
+    theta = dm::atan2(dy, dx);
+    if (theta < 0.0f) theta += two_pi;
+}
+
+}  // namespace
+
+glm::vec2 vp_forward(const VisualPolarMap& m, glm::vec2 p) {
+    float r = 0.0f, theta = 0.0f;
+    vp_polar(m, p, r, theta);
+    const float u = vp_forward_radius(m, r);
+    if (r < m.fovea_radius) {
+        const int column = std::min(static_cast<int>(u), m.fovea_columns - 1);
+        return {u, static_cast<float>(vp_column_rows(m, column)) * theta / two_pi};
+    }
+    return {u, static_cast<float>(m.height) * theta / two_pi};
+}
+
+glm::vec2 vp_forward_angle(const VisualPolarMap& m, glm::vec2 p) {
+    float r = 0.0f, theta = 0.0f;
+    vp_polar(m, p, r, theta);
+    return {vp_forward_radius(m, r), theta / two_pi};
+}
+
+VpTexel vp_texel_status(const VisualPolarMap& m, int i, int j, glm::vec2& p) {
+    if (!vp_inverse(m, i, j, p)) return VpTexel::clipped;
+    if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < static_cast<float>(m.screen_width) &&
+          p.y < static_cast<float>(m.screen_height)))
+        return VpTexel::off_screen;
+    return VpTexel::traced;
+}
+
+VisualPolarCounts vp_count_texels(const VisualPolarMap& m) {
+    VisualPolarCounts c;
+    for (int i = 0; i < m.width; ++i)
+        for (int j = 0; j < m.height; ++j) {
+            ++c.texels;
+            glm::vec2 p;
+            const VpTexel status = vp_texel_status(m, i, j, p);
+            ++(status == VpTexel::clipped      ? c.clipped
+               : status == VpTexel::off_screen ? c.off_screen
+                                               : c.traced);
+        }
+    return c;
+}
+
+BlurRampGeometry blur_ramp_geometry(const VisualPolarMap& map) {
+    return {map.screen_width, map.screen_height, map.gaze, map.scale, vp_inverse_cdf(vp_u0)};
+}
+
+}  // namespace fovref

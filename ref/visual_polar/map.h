@@ -1,0 +1,98 @@
+// Visual-Polar space (Koskela P5 §3.2; SPEC §5.3; docs/visual-polar.md): a buffer whose columns
+// follow the eye's acuity fall-off with eccentricity and whose rows are angles around the gaze.
+//
+// Acuity model (Koskela P3/P4): m(e) = 1 for e <= 5.79 degrees, 7.49 / (0.3 e + 1)^2 beyond.
+// Its fitted inverse CDF (P4 eq. 7; normative for the inverse map):
+//   P(u) = 25.09 u^4 + 0.1680 u^3 + 27.61 u^2 + 23.87 u + 3.232   for u > u0 = 0.0965
+//   P(u) = 18.64 sqrt(u)                                          for u <= u0     (degrees)
+//
+// Buffer w x h: column i (the radius rho), row j (the angle phi). s = R / P(1) pixels per model
+// degree, R the largest gaze-to-corner distance (the farthest corner is the last column).
+//   fovea, i < i_f = round(0.24 w): r_i = s P(u0) (i + 1/2) / i_f (linear);
+//     n_i = clamp(ceil(h (i + 1/2) / i_f - 1/2), 1, h) rows (the triangular clip), theta_j =
+//     2 pi (j + 1/2) / n_i for j < n_i; rows j >= n_i are clipped (never traced, no data)
+//   periphery, i >= i_f: U = u0 + (rho - rho_f)(1 - u0) / (1 - rho_f), rho = (i + 1/2) / w,
+//     rho_f = i_f / w; r = s P(U); theta_j = 2 pi (j + 1/2) / h
+//   forward (screen -> buffer, continuous): r < s P(u0): u = i_f r / (s P(u0)),
+//     v = n(floor(u)) theta / (2 pi); else U = P^-1(r / s) by bisection, u = w (rho_f + (U - u0)
+//     (1 - rho_f) / (1 - u0)), v = h theta / (2 pi); theta = atan2(y', x') (+ 2 pi if < 0)
+//
+// Per-point arithmetic is binary32 with the deterministic functions of ref/core/dmath.h.
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "ref/filters/blur_ramp.h"
+
+namespace fovref {
+
+inline constexpr float vp_u0 = 0.0965f;  ///< the fitted CDF's branch point (P4 eq. 7)
+
+/// The acuity model's relative sampling density m(e), e in degrees.
+float vp_acuity(float eccentricity_deg);
+/// The fitted inverse CDF P(u) in degrees, u in [0, 1].
+float vp_inverse_cdf(float u);
+/// P^-1(e) by bisection on [0, 1] in float (at most 64 steps, until the midpoint equals an
+/// endpoint); 0 for e <= 0 and 1 for e >= P(1). The first 16 steps compare e with P at dyadic
+/// midpoints k / 65536 read from a table of those values (the same comparisons, faster).
+float vp_cdf(float eccentricity_deg);
+
+/// The Visual-Polar map of one frame: a W x H screen, the gaze, the buffer w x h.
+struct VisualPolarMap {
+    int screen_width = 0, screen_height = 0;
+    glm::vec2 gaze{0.0f};
+    int width = 0, height = 0;  ///< w (columns, rho), h (rows, phi)
+    int fovea_columns = 0;      ///< i_f
+    float scale = 0.0f;         ///< s, pixels per model degree
+    float fovea_radius = 0.0f;  ///< s P(u0) in pixels
+    bool operator==(const VisualPolarMap&) const = default;
+};
+
+/// The map for a W x H screen, gaze g and buffer w x h (SPEC §12's preset: w = round(W / 1.5),
+/// h = round(H / 1.5)); i_f = round(0.24 w). Throws fovref::Error for a bad size.
+VisualPolarMap make_visual_polar_map(int screen_width, int screen_height, glm::vec2 gaze, int width,
+                                     int height);
+
+/// The preset's buffer size: round(W / 1.5) x round(H / 1.5).
+glm::ivec2 visual_polar_buffer_size(int screen_width, int screen_height);
+
+/// Rows of column i that carry data: n_i in the fovea, h in the periphery.
+int vp_column_rows(const VisualPolarMap& map, int column);
+
+/// The screen radius of column i's texel centres.
+float vp_column_radius(const VisualPolarMap& map, int column);
+
+/// The screen point of texel (i, j)'s centre; false when the texel is clipped (j >= n_i).
+bool vp_inverse(const VisualPolarMap& map, int column, int row, glm::vec2& screen);
+
+/// The continuous buffer coordinates (u, v) of screen point p (texel centres at + 1/2).
+glm::vec2 vp_forward(const VisualPolarMap& map, glm::vec2 p);
+
+/// u of a screen point at distance r from the gaze (vp_forward's u without the angle).
+float vp_forward_radius(const VisualPolarMap& map, float r);
+
+/// (u, t) of screen point p: u as vp_forward, t = theta / (2 pi) in [0, 1], the angle as a
+/// fraction of the turn (column c's continuous row is then t n_c; BMFR's reprojection and the
+/// resolve use it where neighbouring fovea columns have different row counts).
+glm::vec2 vp_forward_angle(const VisualPolarMap& map, glm::vec2 p);
+
+/// What texel (i, j) is: clipped (j >= n_i), off screen (its centre's inverse lies outside the
+/// screen [0, W) x [0, H)), or traced; `screen` receives the centre's screen point (unchanged
+/// for a clipped texel).
+enum class VpTexel { clipped, off_screen, traced };
+VpTexel vp_texel_status(const VisualPolarMap& map, int column, int row, glm::vec2& screen);
+
+/// What the texels of a map are: clipped, off screen (the centre's inverse lies outside the
+/// screen: never traced), or traced.
+struct VisualPolarCounts {
+    long long texels = 0, clipped = 0, off_screen = 0, traced = 0;
+};
+VisualPolarCounts vp_count_texels(const VisualPolarMap& map);
+
+/// Where the P5 blur ramp (ref/filters/blur_ramp.h) is measured from on this map's screen: its
+/// gaze, its scale s and the fovea edge P(u0) (= vp_inverse_cdf(vp_u0), 5.79 model degrees).
+BlurRampGeometry blur_ramp_geometry(const VisualPolarMap& map);
+
+}  // namespace fovref

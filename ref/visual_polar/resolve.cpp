@@ -1,0 +1,248 @@
+#include "ref/visual_polar/resolve.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "ref/core/dmath.h"
+#include "ref/core/error.h"
+
+namespace fovref {
+
+namespace {
+
+constexpr float two_pi = 6.28318530717958647692f;
+constexpr int max_channels = 4;  // the per-pixel scratch arrays below
+
+float lerp(float a, float b, float t) { return a + t * (b - a); }
+
+/// Level k + 1 of the pyramid from level k (`rows_k[i]`: column i's rows at level k).
+void downsample_phi(const Image& color, const Image& valid, const std::vector<int>& rows_k,
+                    Image& color_out, Image& valid_out) {
+    const int w = color.width, channels = color.channels;
+    const int h_out = (color.height + 1) / 2;
+    color_out = Image(w, h_out, channels, 0.0f);
+    valid_out = Image(w, h_out, 1, 0.0f);
+    for (int i = 0; i < w; ++i) {
+        const int n = rows_k[static_cast<std::size_t>(i)];
+        // A column of one row: carried down unchanged.
+        if (n == 1) {
+            valid_out.at(i, 0) = valid.at(i, 0) != 0.0f ? 1.0f : 0.0f;
+            if (valid_out.at(i, 0) != 0.0f)
+                for (int c = 0; c < channels; ++c) color_out.at(i, 0, c) = color.at(i, 0, c);
+            continue;
+        }
+        for (int j = 0; j < (n + 1) / 2; ++j) {
+            // Rows 2j and (2j + 1) mod n, as a running mean over the traced ones.
+            const int taps[2] = {2 * j, (2 * j + 1) % n};
+            float* mean = &color_out.at(i, j, 0);
+            int count = 0;
+            for (const int row : taps) {
+                if (valid.at(i, row) == 0.0f) continue;
+                ++count;
+                for (int c = 0; c < channels; ++c)
+                    mean[c] += (color.at(i, row, c) - mean[c]) / static_cast<float>(count);
+            }
+            if (count > 0) valid_out.at(i, j) = 1.0f;
+        }
+    }
+}
+
+/// The value of one column for a pixel: levels floor(lambda) and floor(lambda) + 1 lerped.
+bool sample_column(const VpMips& mips, int column, float v, float lambda, int channels,
+                   float* out) {
+    const int rows0 = mips.column_rows[static_cast<std::size_t>(column)];
+    const int last = vp_mip_last_level(rows0);
+    const int l0 = static_cast<int>(std::floor(lambda));
+    const int l1 = std::min(l0 + 1, last);
+    const float f = lambda - static_cast<float>(l0);
+    float a[max_channels] = {0, 0, 0, 0}, b[max_channels] = {0, 0, 0, 0};
+    const auto sample = [&](int level, float* value) {
+        const float scale = 1.0f / static_cast<float>(1 << level);  // exact: 2^-level
+        const std::size_t k = static_cast<std::size_t>(level);
+        return sample_vp_phi(mips.color[k], mips.valid[k], column, vp_mip_rows(rows0, level),
+                             v * scale, value);
+    };
+    const bool have_a = sample(l0, a);
+    const bool have_b = l1 != l0 && f > 0.0f && sample(l1, b);
+    for (int c = 0; c < channels; ++c) {
+        if (have_a && have_b)
+            out[c] = lerp(a[c], b[c], f);
+        else if (have_a)
+            out[c] = a[c];
+        else
+            out[c] = b[c];
+    }
+    return have_a || have_b;
+}
+
+}  // namespace
+
+int vp_mip_rows(int rows, int level) {
+    for (int k = 0; k < level; ++k) rows = (rows + 1) / 2;
+    return rows;
+}
+
+int vp_mip_last_level(int rows) {
+    int level = 0;
+    for (; rows > 1; ++level) rows = (rows + 1) / 2;
+    return level;
+}
+
+int vp_mip_column_rows(const VpMips& mips, int column, int level) {
+    return vp_mip_rows(mips.column_rows[static_cast<std::size_t>(column)], level);
+}
+
+VpMips build_vp_mips(const VisualPolarMap& map, const Image& color, const Image& valid) {
+    FOVREF_CHECK_EQ(color.width, map.width, "visual-polar buffer width");
+    FOVREF_CHECK_EQ(color.height, map.height, "visual-polar buffer height");
+    FOVREF_CHECK_EQ(valid.width, map.width, "validity mask width");
+    FOVREF_CHECK_EQ(valid.height, map.height, "validity mask height");
+    FOVREF_CHECK_EQ(valid.channels, 1, "validity mask channels");
+    FOVREF_CHECK(color.channels >= 1 && color.channels <= max_channels,
+                 "a visual-polar pyramid of 1 to 4 channels");
+    VpMips mips;
+    mips.column_rows.resize(static_cast<std::size_t>(map.width));
+    int max_rows = 1;
+    for (int i = 0; i < map.width; ++i) {
+        mips.column_rows[static_cast<std::size_t>(i)] = vp_column_rows(map, i);
+        max_rows = std::max(max_rows, vp_column_rows(map, i));
+    }
+    mips.color.push_back(color);
+    mips.valid.push_back(valid);
+    std::vector<int> rows_k = mips.column_rows;
+    for (int level = 0; level < vp_mip_last_level(max_rows); ++level) {
+        Image color_next, valid_next;
+        downsample_phi(mips.color.back(), mips.valid.back(), rows_k, color_next, valid_next);
+        mips.color.push_back(std::move(color_next));
+        mips.valid.push_back(std::move(valid_next));
+        for (int& n : rows_k) n = (n + 1) / 2;
+    }
+    return mips;
+}
+
+float vp_mip_level(int rows, float radius) {
+    const float r = std::max(radius, 0x1p-10f);
+    const float lambda = dm::log2(static_cast<float>(rows) / (two_pi * r));
+    return std::clamp(lambda, 0.0f, static_cast<float>(vp_mip_last_level(rows)));
+}
+
+bool sample_vp_phi(const Image& color, const Image& valid, int column, int rows, float v,
+                   float* out) {
+    const int channels = color.channels;
+    // v lies in [0, rows] for the lookups of resolve_vp_pixel; anything within one turn of
+    // that is wrapped the same way, anything else is a caller's bug.
+    FOVREF_CHECK(v >= -static_cast<float>(rows) && v <= 2.0f * static_cast<float>(rows),
+                 "a phi lookup outside the column's angular range");
+    const float t = v - 0.5f;
+    const float j0f = std::floor(t);
+    const float fv = t - j0f;
+    int j0 = static_cast<int>(j0f) % rows;
+    if (j0 < 0) j0 += rows;
+    const int j1 = j0 + 1 == rows ? 0 : j0 + 1;
+    const bool traced0 = valid.at(column, j0) != 0.0f;               // weight 1 - fv > 0
+    const bool traced1 = fv > 0.0f && valid.at(column, j1) != 0.0f;  // weight fv
+    for (int c = 0; c < channels; ++c) {
+        if (traced0 && traced1)
+            out[c] = lerp(color.at(column, j0, c), color.at(column, j1, c), fv);
+        else if (traced0)
+            out[c] = color.at(column, j0, c);
+        else if (traced1)
+            out[c] = color.at(column, j1, c);
+        else
+            out[c] = 0.0f;
+    }
+    return traced0 || traced1;
+}
+
+void vp_polar_pixel(const VisualPolarMap& map, int x, int y, float& u, float& r, float& theta) {
+    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    const float dx = centre.x - map.gaze.x, dy = centre.y - map.gaze.y;
+    r = std::sqrt(dx * dx + dy * dy);
+    u = vp_forward_radius(map, r);
+    theta = dm::atan2(dy, dx);
+    if (theta < 0.0f) theta += two_pi;
+}
+
+VpForwardTable vp_forward_table(const VisualPolarMap& map) {
+    VpForwardTable t;
+    t.map = map;
+    t.polar = Image(map.screen_width, map.screen_height, 3);
+    for (int y = 0; y < map.screen_height; ++y)
+        for (int x = 0; x < map.screen_width; ++x) {
+            float* p = &t.polar.data[t.polar.index(x, y)];
+            vp_polar_pixel(map, x, y, p[0], p[1], p[2]);
+        }
+    return t;
+}
+
+void resolve_vp_pixel(const VisualPolarMap& map, const VpMips& mips, Image& out, int x, int y,
+                      ResolveStats& stats, float* lambda_out, bool mip,
+                      const VpForwardTable* table) {
+    const int channels = out.channels;
+    float* pixel = &out.at(x, y, 0);
+    ++stats.pixels_from_buffer;
+
+    // Polar coordinates of the pixel centre (u: vp_forward's, bit for bit)
+    float u = 0.0f, r = 0.0f, theta = 0.0f;
+    if (table) {
+        const float* p = &table->polar.data[table->polar.index(x, y)];
+        u = p[0], r = p[1], theta = p[2];
+    } else {
+        vp_polar_pixel(map, x, y, u, r, theta);
+    }
+
+    // The two columns along rho (clamped to the first and last texel centres)
+    const float s = std::clamp(u, 0.5f, static_cast<float>(map.width) - 0.5f) - 0.5f;
+    const float i0f = std::floor(s);
+    const int columns[2] = {static_cast<int>(i0f),
+                            std::min(static_cast<int>(i0f) + 1, map.width - 1)};
+    const float fx = s - i0f;
+
+    // Each column at the pixel's angle on its own rows, at its own phi level
+    float values[2][max_channels] = {{0, 0, 0, 0}, {0, 0, 0, 0}};
+    bool have[2] = {false, false};
+    for (int k = 0; k < 2; ++k) {
+        if (k == 1 && (columns[1] == columns[0] || !(fx > 0.0f))) break;
+        const int n = mips.column_rows[static_cast<std::size_t>(columns[k])];
+        const float v = static_cast<float>(n) * theta / two_pi;
+        const float lambda = mip ? vp_mip_level(n, r) : 0.0f;
+        if (k == 0 && lambda_out) *lambda_out = lambda;
+        have[k] = sample_column(mips, columns[k], v, lambda, channels, values[k]);
+    }
+
+    // Lerp of the columns over those with a value
+    for (int c = 0; c < channels; ++c) {
+        if (have[0] && have[1])
+            pixel[c] = lerp(values[0][c], values[1][c], fx);
+        else if (have[0])
+            pixel[c] = values[0][c];
+        else
+            pixel[c] = values[1][c];
+    }
+    if (!have[0] && !have[1]) ++stats.pixels_untraced_taps;
+}
+
+Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, ResolveStats& stats,
+                           bool mip, const VpForwardTable* table) {
+    FOVREF_CHECK(!table || table->map == map, "a forward table made for another map");
+    FOVREF_CHECK(!mips.color.empty() && mips.color.size() == mips.valid.size(),
+                 "an empty or inconsistent visual-polar pyramid");
+    FOVREF_CHECK_EQ(mips.color[0].width, map.width, "visual-polar buffer width");
+    FOVREF_CHECK_EQ(mips.color[0].height, map.height, "visual-polar buffer height");
+    FOVREF_CHECK_EQ(mips.column_rows.size(), static_cast<std::size_t>(map.width),
+                    "visual-polar pyramid columns");
+    for (int i = 0; i < map.width; ++i)
+        FOVREF_CHECK_EQ(mips.column_rows[static_cast<std::size_t>(i)], vp_column_rows(map, i),
+                        "a pyramid built for another map");
+    int max_rows = 1;
+    for (const int n : mips.column_rows) max_rows = std::max(max_rows, n);
+    FOVREF_CHECK_EQ(mips.color.size(), static_cast<std::size_t>(vp_mip_last_level(max_rows) + 1),
+                    "visual-polar pyramid levels");
+    Image out(map.screen_width, map.screen_height, mips.color[0].channels, 0.0f);
+    for (int y = 0; y < map.screen_height; ++y)
+        for (int x = 0; x < map.screen_width; ++x)
+            resolve_vp_pixel(map, mips, out, x, y, stats, nullptr, mip, table);
+    return out;
+}
+
+}  // namespace fovref

@@ -1,0 +1,49 @@
+// Ray generation in Visual-Polar space and at scattered screen points (Koskela P5 §3.2, P3/P4;
+// SPEC §5.3, §5.5): the G-buffers the Visual-Polar and acuity modes shade.
+//
+//   trace_vp_gbuffer: for each texel (i, j) of the w x h Visual-Polar buffer, row by row:
+//     vp_gbuffer_texel(x = i, y = j):
+//       vp_texel_status: clipped (j >= n_i) or off screen -> no ray, no data, valid 0, counted
+//       else the primary ray through the centre's screen point p (SPEC §1), closest hit, the
+//       texel written by write_gbuffer_sample (motion relative to p), valid 1
+//   trace_point_gbuffer: an N x 1 G-buffer, texel k the primary ray through screen point k
+//     (points off the screen [0, W) x [0, H) are not traced: valid 0, counted off screen)
+//
+// A texel that is not traced carries the G-buffer's background values (primitive id -1) and 0 in
+// the validity mask; only the mask tells it from a traced miss.
+#pragma once
+
+#include <vector>
+
+#include "ref/log_polar/trace.h"
+#include "ref/visual_polar/map.h"
+
+namespace fovref {
+
+/// What the Visual-Polar and point passes did (they add to it).
+struct VpTraceStats {
+    RaycastStats rays;
+    std::int64_t texels_traced = 0;
+    std::int64_t texels_clipped = 0;
+    std::int64_t texels_off_screen = 0;
+};
+
+/// Per-texel work of trace_vp_gbuffer for texel (x, y) = (i, j); `screen_points` (2 channels)
+/// receives the centre's screen point (0, 0 for a clipped texel).
+VpTexel vp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const VisualPolarMap& map,
+                         const Scene& scene, const Bvh& bvh, const Camera& camera, float tan_half,
+                         const Camera& previous_camera, float previous_tan_half, int x, int y,
+                         VpTraceStats& stats);
+
+/// The Visual-Polar buffer's G-buffer (map.width x map.height) and its texels' screen points.
+MaskedGBuffer trace_vp_gbuffer(const VisualPolarMap& map, const Scene& scene, const Bvh& bvh,
+                               const Camera& camera, const Camera& previous_camera,
+                               Image& screen_points, VpTraceStats& stats);
+
+/// A G-buffer of points.size() x 1 texels on a W x H screen: texel k holds the closest hit of
+/// the primary ray through points[k].
+MaskedGBuffer trace_point_gbuffer(const std::vector<glm::vec2>& points, int width, int height,
+                                  const Scene& scene, const Bvh& bvh, const Camera& camera,
+                                  const Camera& previous_camera, VpTraceStats& stats);
+
+}  // namespace fovref
