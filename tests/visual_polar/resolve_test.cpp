@@ -43,10 +43,6 @@ Image unclipped_mask(const VisualPolarMap& map) {
     return valid;
 }
 
-glm::vec2 pixel_centre(int x, int y) {
-    return {static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
-}
-
 double gaze_distance_d(const VisualPolarMap& map, glm::vec2 p) {
     return std::hypot(static_cast<double>(p.x) - map.gaze.x, static_cast<double>(p.y) - map.gaze.y);
 }
