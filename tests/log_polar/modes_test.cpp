@@ -1,4 +1,4 @@
-// The foveated modes end to end (ref/modes/foveated_modes.h) and pass 2 and the filters on
+// The foveated modes end to end (ref/modes/log_polar.h) and pass 2 and the filters on
 // hand-computed cases (ref/log_polar/resolve.h, gaussian_lerp.h): counters against direct
 // counts, the composite gaze pixels against the basic ray tracer bit for bit, a constant buffer
 // through pass 2, degenerate screens and parameters.

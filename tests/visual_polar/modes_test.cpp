@@ -1,4 +1,4 @@
-// The Visual-Polar and sparse modes (ref/modes/vp_modes.h; SPEC §5.3-5.5, §9 item 11): their
+// The Visual-Polar and sparse modes (ref/modes/visual_polar.h; SPEC §5.3-5.5, §9 item 11): their
 // counters agree with the map; a Visual-Polar buffer much finer than the screen resolves to
 // nearly the basic ray tracer's image (an independent path: other rays, the resolve); linear
 // fall-off sampling every pixel is the path tracer bit for bit, with and without BMFR; acuity

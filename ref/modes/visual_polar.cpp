@@ -1,4 +1,4 @@
-#include "ref/modes/vp_modes.h"
+#include "ref/modes/visual_polar.h"
 
 #include <memory>
 #include <optional>

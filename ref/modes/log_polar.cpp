@@ -1,4 +1,4 @@
-#include "ref/modes/foveated_modes.h"
+#include "ref/modes/log_polar.h"
 
 #include <array>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "ref/modes/trace_modes.h"
+#include "ref/modes/ray_tracing.h"
 
 #include <memory>
 

@@ -1,4 +1,4 @@
-#include "ref/modes/core_modes.h"
+#include "ref/modes/building_blocks.h"
 
 #include "ref/building_blocks/building_blocks.h"
 
