@@ -8,10 +8,10 @@
 
 #include "ref/bmfr/bmfr.h"
 #include "ref/bmfr/bmfr_params.h"
+#include "ref/bmfr/stages.h"
 #include "ref/core/error.h"
 #include "ref/golden/bundle.h"
 #include "ref/image/image_io.h"
-#include "ref/modes/bmfr_stage.h"
 #include "tools/progress.h"
 
 namespace fovref {

@@ -12,8 +12,8 @@
 //                            lp_gbuffer_texel with eye e's map and camera on the W/2 x H
 //                            sub-screen; lp_screen_point holds the point on the full screen
 //                            (x + e W/2)
-//   shade_stereo:          the basic shading of every texel with its eye's camera; rand()'s
-//                          pixel index is y 2w + x
+//   shade_stereo:          (ref/trace/shade_basic.h) the basic shading of every texel with its
+//                          eye's camera; rand()'s pixel index is y 2w + x
 //   resolve_stereo:        for each screen pixel (x, y), row by row: eye e = x / (W/2); the
 //                          eye-local centre c; with barrel distortion its source s (below),
 //                          black when s leaves the eye's image; then eye e's bilinear (or mip)
@@ -72,11 +72,6 @@ MaskedGBuffer trace_stereo_gbuffer(const std::array<LogPolarMap, 2>& maps, const
                                    const Bvh& bvh, const std::array<Camera, 2>& cameras,
                                    const std::array<Camera, 2>& previous, Image& screen_points,
                                    FoveatedTraceStats& stats, Offset2 jitter = {});
-
-/// The basic shading of the side-by-side buffer, each texel with its eye's camera.
-Image shade_stereo(const Scene& scene, const Bvh* bvh, const ShadeInputs& inputs,
-                   const std::array<Camera, 2>& cameras, int eye_buffer_width, int frame,
-                   ShadingStats& stats);
 
 /// Pass 2 counters, plus the pixels whose barrel source left the eye's image.
 struct StereoResolveStats {

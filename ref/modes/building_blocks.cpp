@@ -1,104 +1,72 @@
 #include "ref/modes/building_blocks.h"
 
-#include "ref/building_blocks/building_blocks.h"
+#include "ref/building_blocks/stages.h"
 
 namespace fovref {
 
 namespace {
-const std::vector<std::string> rgb = {"r", "g", "b"};
-const std::vector<std::string> xyz = {"x", "y", "z"};
-}  // namespace
 
-void camera_rays_stage(FrameContext& ctx) {
-    ctx.result->add("ray_dir", BufferKind::vector, xyz,
-                    camera_rays(ctx.camera, ctx.settings->width, ctx.settings->height));
-}
-
-void rng_stage(FrameContext& ctx) {
-    ctx.result->add("rng", BufferKind::scalar, {"d0", "d1", "d2"},
-                    rng_image(static_cast<std::uint32_t>(ctx.frame), ctx.settings->width,
-                              ctx.settings->height));
-}
-
-void halton_points_stage(FrameContext& ctx) {
-    ctx.result->add("halton_points", BufferKind::scalar, {"x", "y"}, halton_image(false));
-}
-
-void halton_offsets_stage(FrameContext& ctx) {
-    ctx.result->add("halton_offsets", BufferKind::scalar, {"x", "y"}, halton_image(true));
-}
-
-void centroid_splat_stage(FrameContext& ctx) {
-    SplatBuffers s =
-        centroid_splat(*ctx.scene, ctx.camera, ctx.settings->width, ctx.settings->height);
-    ctx.result->counters.add("centroids_splatted", s.splatted);
-    ctx.result->counters.add("centroids_behind", s.behind);
-    ctx.result->counters.add("centroids_off_screen", s.off_screen);
-    ctx.result->add("splat_depth", BufferKind::depth, {"z"}, std::move(s.depth));
-    ctx.result->add("splat_primitive", BufferKind::id, {"id"}, std::move(s.primitive));
-    ctx.result->add("splat_normal", BufferKind::vector, xyz, std::move(s.normal));
-    ctx.result->add("splat_albedo", BufferKind::color, rgb, std::move(s.albedo));
-}
-
-void headlight_shade_stage(FrameContext& ctx) {
-    ctx.result->add("final", BufferKind::color, rgb,
-                    headlight_shade(ctx.input("splat_albedo"), ctx.input("splat_normal"),
-                                    ctx.input("splat_primitive"), ctx.camera));
-}
-
-void scene_geometry_stage(FrameContext& ctx) {
-    GeometryBuffers g = scene_geometry(*ctx.scene);
-    ctx.result->counters.add("triangles", static_cast<std::int64_t>(ctx.scene->triangle_count()));
-    ctx.result->add("tri_positions", BufferKind::scalar, xyz, std::move(g.positions));
-    ctx.result->add("tri_normals", BufferKind::vector, xyz, std::move(g.normals));
-    ctx.result->add("tri_uvs", BufferKind::scalar, {"u", "v"}, std::move(g.uvs));
-    ctx.result->add("tri_material", BufferKind::id, {"id"}, std::move(g.material_ids));
+Pipeline splat_pipeline(const Scene*, const RenderSettings&) {
+    Pipeline p;
+    p.add(centroid_splat_stage_def()).add(headlight_shade_stage_def());
+    p.final_outputs = {"final"};
+    return p;
 }
 
 Pipeline camera_rays_pipeline(const Scene*, const RenderSettings&) {
     Pipeline p;
-    p.stages.push_back({"camera_rays", {}, {"ray_dir"}, camera_rays_stage});
+    p.add(camera_rays_stage_def());
     p.final_outputs = {"ray_dir"};
+    return p;
+}
+
+Pipeline geometry_pipeline(const Scene*, const RenderSettings&) {
+    Pipeline p;
+    p.add(scene_geometry_stage_def());
+    p.final_outputs = {"tri_positions", "tri_normals", "tri_uvs", "tri_material"};
     return p;
 }
 
 Pipeline rng_pipeline(const Scene*, const RenderSettings&) {
     Pipeline p;
-    p.stages.push_back({"rng", {}, {"rng"}, rng_stage});
+    p.add(rng_stage_def());
     p.final_outputs = {"rng"};
     return p;
 }
 
 Pipeline halton_pipeline(const Scene*, const RenderSettings&) {
     Pipeline p;
-    p.stages.push_back({"halton_points", {}, {"halton_points"}, halton_points_stage});
-    p.stages.push_back({"halton_offsets", {}, {"halton_offsets"}, halton_offsets_stage});
+    p.add(halton_points_stage_def()).add(halton_offsets_stage_def());
     p.final_outputs = {"halton_offsets"};
     return p;
 }
 
-Pipeline splat_pipeline(const Scene*, const RenderSettings&) {
-    Pipeline p;
-    p.stages.push_back({"centroid_splat",
-                        {},
-                        {"splat_depth", "splat_primitive", "splat_normal", "splat_albedo"},
-                        centroid_splat_stage});
-    p.stages.push_back({"headlight_shade",
-                        {"splat_albedo", "splat_normal", "splat_primitive"},
-                        {"final"},
-                        headlight_shade_stage});
-    p.final_outputs = {"final"};
-    return p;
+ModeInfo mode(std::string name, std::string description,
+              Pipeline (*build)(const Scene*, const RenderSettings&), bool needs_scene = true) {
+    ModeInfo m;
+    m.name = std::move(name);
+    m.description = std::move(description);
+    m.build = build;
+    m.needs_scene = needs_scene;
+    return m;
 }
 
-Pipeline geometry_pipeline(const Scene*, const RenderSettings&) {
-    Pipeline p;
-    p.stages.push_back({"scene_geometry",
-                        {},
-                        {"tri_positions", "tri_normals", "tri_uvs", "tri_material"},
-                        scene_geometry_stage});
-    p.final_outputs = {"tri_positions", "tri_normals", "tri_uvs", "tri_material"};
-    return p;
+}  // namespace
+
+std::vector<ModeInfo> building_block_modes() {
+    return {
+        mode("splat",
+             "centroid splat of every triangle with headlight shading (a trivial pass that pins "
+             "scene, materials, textures and camera path)",
+             splat_pipeline),
+        mode("camera-rays", "primary ray direction through every pixel centre (SPEC §1)",
+             camera_rays_pipeline),
+        mode("geometry", "the scene's triangles, normals, uvs and material ids as buffers",
+             geometry_pipeline),
+        mode("rng", "rand(frame, pixel, d) for d = 0..2 (SPEC §0)", rng_pipeline, false),
+        mode("halton", "the 16 Halton(2,3) points, raw and scaled (Lund eq. 3.11)", halton_pipeline,
+             false),
+    };
 }
 
 }  // namespace fovref

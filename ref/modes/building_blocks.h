@@ -1,24 +1,19 @@
-// Modes that exercise ref/core and ref/scene alone (the passes in ref/building_blocks):
-// camera-rays, rng, halton, splat, geometry. Each stage is a named function wiring one pass.
+// The modes that exercise ref/core and ref/scene alone, wired from the building-block passes
+// (ref/building_blocks/stages.h), in the order `fovref modes` lists them:
+//
+//   splat        centroid_splat -> headlight_shade -> final
+//   camera-rays  camera_rays -> ray_dir
+//   geometry     scene_geometry -> tri_positions, tri_normals, tri_uvs, tri_material
+//   rng          rng -> rng                              (no scene)
+//   halton       halton_points, halton_offsets            (no scene)
 #pragma once
+
+#include <vector>
 
 #include "ref/stage/pipeline.h"
 
 namespace fovref {
 
-Pipeline camera_rays_pipeline(const Scene* scene, const RenderSettings& settings);
-Pipeline rng_pipeline(const Scene* scene, const RenderSettings& settings);
-Pipeline halton_pipeline(const Scene* scene, const RenderSettings& settings);
-Pipeline splat_pipeline(const Scene* scene, const RenderSettings& settings);
-Pipeline geometry_pipeline(const Scene* scene, const RenderSettings& settings);
-
-// The stages.
-void camera_rays_stage(FrameContext& context);
-void rng_stage(FrameContext& context);
-void halton_points_stage(FrameContext& context);
-void halton_offsets_stage(FrameContext& context);
-void centroid_splat_stage(FrameContext& context);
-void headlight_shade_stage(FrameContext& context);
-void scene_geometry_stage(FrameContext& context);
+std::vector<ModeInfo> building_block_modes();
 
 }  // namespace fovref

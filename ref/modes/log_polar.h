@@ -1,6 +1,7 @@
-// The log-polar foveated ray tracers as render modes (Lund §3.3, Table 5.1; SPEC §5.1-5.2, §6,
-// §12): fov, kfov, cfov, ckfov, kfr. This file only wires the passes of ref/foveation and
-// ref/trace:
+// The log-polar foveated ray tracers as render modes (Lund §3.3, Table 5.1; Meng 2018; Gupta
+// 2019; SPEC §5.1-5.2, §6, §12): fov, kfov, cfov, ckfov, kfr (presets of ref/log_polar/params.h)
+// and stereo-lp, wired from the stages of ref/log_polar, ref/trace, ref/filters, ref/raster and
+// ref/temporal:
 //
 // clang-format off
 //   lp_trace      one ray per log-polar texel through its inverse-mapped screen point
@@ -17,59 +18,28 @@
 //                   buffer outside -> final (resolved when TAA or a screen-space filter follows)
 //   taa_source    (taa on) the texel pass 2 sampled: its view depth and (clamp-buffer) its
 //                   3x3 box in the buffer -> taa_view_depth, taa_bounds (docs/temporal.md)
-//   taa           (taa on) TAA (ref/modes/taa_stage.h) -> taa_color (final when last), taa_age
+//   taa           (taa on) TAA -> taa_color (final when last), taa_age
 //   gaussian_lerp (filters=lerp) Lund §3.5                          -> final (or lerp_filtered)
 //   post_aa       (filters=post_aa) Meng eq. 2.14                    -> final
 //   ray_positions (for --dump) rays per screen pixel (Lund Fig. 3.3) -> ray_positions
+//
+//   stereo-lp:    stereo_trace -> stereo_shade (each eye's camera) -> resolve [-> taa_source
+//                   -> taa, per eye] -> final; ray_positions
 // clang-format on
 //
-// Counters of every frame (names read by scripts): buffer_width, buffer_height, texels_traced,
-// texels_off_screen, gaze_radius_px (rounded to an integer), gaze_pixels_traced, gaze_window_x0
-// and gaze_window_y0 (the screen pixel of the gaze buffer's pixel (0, 0)), rays_primary
-// (= texels_traced + gaze_pixels_traced), screen_pixels_untraced_taps, plus the tracing and
-// shading counters of the basic ray tracer.
+// Buffers: lp_* are buffer texels (stereo: both eyes side by side), gaze_* a window of the
+// screen, the rest screen images.
 #pragma once
 
 #include <string>
-#include <vector>
 
-#include "ref/log_polar/map.h"
 #include "ref/stage/pipeline.h"
 
 namespace fovref {
 
-/// The pipeline of the log-polar mode named `preset` (fov, kfov, cfov or ckfov).
-Pipeline foveated_pipeline(const std::string& preset, const Scene* scene,
-                           const RenderSettings& settings);
-Pipeline fov_pipeline(const Scene* scene, const RenderSettings& settings);
-Pipeline kfov_pipeline(const Scene* scene, const RenderSettings& settings);
-Pipeline cfov_pipeline(const Scene* scene, const RenderSettings& settings);
-Pipeline ckfov_pipeline(const Scene* scene, const RenderSettings& settings);
-Pipeline kfr_pipeline(const Scene* scene, const RenderSettings& settings);
+/// The mode of the log-polar preset `preset` (fov, kfov, cfov, ckfov or kfr).
+ModeInfo foveated_mode(const std::string& preset, const std::string& what);
 /// Gupta's stereo-lp: both eyes side by side (ref/log_polar/stereo.h).
-Pipeline stereo_pipeline(const Scene* scene, const RenderSettings& settings);
-std::vector<PixelFunction> stereo_pixel_functions(const Params& params);
-
-std::vector<PixelFunction> foveated_pixel_functions(const Params& params);
-
-/// The log-polar map of frame `context` (the screen, the gaze and the mode's parameters).
-LogPolarMap frame_log_polar_map(const FrameContext& context);
-
-// The stages (each a named function, so a debugger can break on it).
-void lp_trace_stage(FrameContext& context);
-void gaze_trace_stage(FrameContext& context);
-void lp_shade_stage(FrameContext& context);
-void gaze_shade_stage(FrameContext& context);
-void resolve_stage(FrameContext& context);
-void gaussian_lerp_stage(FrameContext& context);
-void gbuffer_raster_stage(FrameContext& context);
-void lp_sample_stage(FrameContext& context);
-void internal_aa_stage(FrameContext& context);
-void post_aa_stage(FrameContext& context);
-void stereo_trace_stage(FrameContext& context);
-void stereo_shade_stage(FrameContext& context);
-void stereo_resolve_stage(FrameContext& context);
-void stereo_ray_positions_stage(FrameContext& context);
-void ray_positions_stage(FrameContext& context);
+ModeInfo stereo_mode();
 
 }  // namespace fovref

@@ -1,6 +1,9 @@
-// The registry of render modes: the one place that knows every mode. Each mode is a pipeline of
-// stages wired from the passes below it (ref/building_blocks, ref/raster, ref/trace; later
-// foveation, temporal, bmfr); the stage framework (ref/stage) knows none of them.
+// The registry of render modes: the one place that knows every mode, a plain list of the modes
+// each family file describes (ray_tracing.h, log_polar.h, visual_polar.h, building_blocks.h:
+// its stages, parameters, presets and buffer spaces). Each mode is a pipeline of stages wired
+// from the stage folders below (ref/raster, ref/trace, ref/log_polar, ref/visual_polar,
+// ref/filters, ref/temporal, ref/bmfr, ref/building_blocks); the stage framework (ref/stage)
+// knows none of them.
 #pragma once
 
 #include <functional>

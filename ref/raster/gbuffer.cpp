@@ -57,17 +57,53 @@ std::vector<std::string> gbuffer_names(const std::string& prefix) {
             prefix + "material_id",    prefix + "primitive_id",     prefix + "motion"};
 }
 
-void add_gbuffer(FrameResult& result, GBuffer g, const std::string& prefix) {
+namespace {
+
+// Each channel with its name, kind and channel names, in SPEC §4 order: what add_gbuffer and
+// output_gbuffer write.
+template <class Add>
+void each_channel(GBuffer& g, const Add& add) {
     const std::vector<std::string> xyz = {"x", "y", "z"};
-    result.add(prefix + "view_depth", BufferKind::depth, {"z"}, std::move(g.view_depth));
-    result.add(prefix + "hit_distance", BufferKind::depth, {"t"}, std::move(g.hit_distance));
-    result.add(prefix + "world_position", BufferKind::scalar, xyz, std::move(g.world_position));
-    result.add(prefix + "shading_normal", BufferKind::vector, xyz, std::move(g.shading_normal));
-    result.add(prefix + "geometric_normal", BufferKind::vector, xyz, std::move(g.geometric_normal));
-    result.add(prefix + "albedo", BufferKind::color, {"r", "g", "b"}, std::move(g.albedo));
-    result.add(prefix + "material_id", BufferKind::id, {"id"}, std::move(g.material_id));
-    result.add(prefix + "primitive_id", BufferKind::id, {"id"}, std::move(g.primitive_id));
-    result.add(prefix + "motion", BufferKind::vector, {"dx", "dy"}, std::move(g.motion));
+    add("view_depth", BufferKind::depth, std::vector<std::string>{"z"}, g.view_depth);
+    add("hit_distance", BufferKind::depth, std::vector<std::string>{"t"}, g.hit_distance);
+    add("world_position", BufferKind::scalar, xyz, g.world_position);
+    add("shading_normal", BufferKind::vector, xyz, g.shading_normal);
+    add("geometric_normal", BufferKind::vector, xyz, g.geometric_normal);
+    add("albedo", BufferKind::color, std::vector<std::string>{"r", "g", "b"}, g.albedo);
+    add("material_id", BufferKind::id, std::vector<std::string>{"id"}, g.material_id);
+    add("primitive_id", BufferKind::id, std::vector<std::string>{"id"}, g.primitive_id);
+    add("motion", BufferKind::vector, std::vector<std::string>{"dx", "dy"}, g.motion);
+}
+
+const char* const shading_channels[] = {"world_position", "shading_normal", "geometric_normal",
+                                        "albedo",         "material_id",    "primitive_id"};
+
+}  // namespace
+
+void add_gbuffer(FrameResult& result, GBuffer g, const std::string& prefix) {
+    each_channel(
+        g, [&](const char* name, BufferKind kind, std::vector<std::string> channels, Image& image) {
+            result.add(prefix + name, kind, std::move(channels), std::move(image));
+        });
+}
+
+std::vector<Port> gbuffer_ports(const std::string& prefix) {
+    std::vector<Port> ports;
+    for (const std::string& name : gbuffer_names("")) ports.emplace_back(name, prefix + name);
+    return ports;
+}
+
+std::vector<Port> shading_ports(const std::string& prefix) {
+    std::vector<Port> ports;
+    for (const char* name : shading_channels) ports.emplace_back(name, prefix + name);
+    return ports;
+}
+
+void output_gbuffer(const FrameContext& ctx, GBuffer g) {
+    each_channel(
+        g, [&](const char* name, BufferKind kind, std::vector<std::string> channels, Image& image) {
+            ctx.output(name, kind, std::move(channels), std::move(image));
+        });
 }
 
 }  // namespace fovref

@@ -11,6 +11,7 @@
 #include "ref/image/image.h"
 #include "ref/scene/scene.h"
 #include "ref/stage/frame.h"
+#include "ref/stage/pipeline.h"
 
 namespace fovref {
 
@@ -63,5 +64,14 @@ bool write_gbuffer_sample(GBuffer& gbuffer, int x, int y, glm::vec2 screen_point
 /// The G-buffer's buffer names in SPEC §4 order, with a prefix ("gbuffer_" by default).
 void add_gbuffer(FrameResult& result, GBuffer gbuffer, const std::string& prefix = "gbuffer_");
 std::vector<std::string> gbuffer_names(const std::string& prefix = "gbuffer_");
+
+/// A G-buffer as a stage's ports: slot = the channel's name ("view_depth", ...), buffer =
+/// prefix + the name, in SPEC §4 order.
+std::vector<Port> gbuffer_ports(const std::string& prefix = "gbuffer_");
+/// The G-buffer view the shading passes read (world_position, shading_normal, geometric_normal,
+/// albedo, material_id, primitive_id) as ports: slot = channel, buffer = prefix + channel.
+std::vector<Port> shading_ports(const std::string& prefix = "gbuffer_");
+/// Writes every channel of `gbuffer` to the running stage's output slot of the same name.
+void output_gbuffer(const FrameContext& context, GBuffer gbuffer);
 
 }  // namespace fovref

@@ -30,7 +30,28 @@ bool any_nonfinite(const float* values, std::size_t n) {
 
 }  // namespace
 
-const Image& FrameContext::input(const std::string& name) const {
+namespace {
+
+// The port of `stage` named `slot`, or null.
+const Port* find_port(const std::vector<Port>& ports, const std::string& slot) {
+    for (const Port& port : ports)
+        if (port.slot == slot) return &port;
+    return nullptr;
+}
+
+// The frame's buffer wired to input `slot` of the running stage.
+const std::string& input_buffer(const FrameContext& ctx, const std::string& slot) {
+    FOVREF_CHECK(ctx.stage != nullptr, "stage input '" + slot + "' read outside a stage");
+    const Port* port = find_port(ctx.stage->inputs, slot);
+    FOVREF_CHECK(port != nullptr,
+                 "stage '" + ctx.stage->name + "' reads '" + slot + "', which it does not declare");
+    return port->buffer;
+}
+
+}  // namespace
+
+const Image& FrameContext::input(const std::string& slot) const {
+    const std::string& name = input_buffer(*this, slot);
     Buffer* buffer = nullptr;
     for (Buffer& b : result->buffers)
         if (b.name == name) {
@@ -54,24 +75,66 @@ const Image& FrameContext::input(const std::string& name) const {
     return buffer->image;
 }
 
+bool FrameContext::has_input(const std::string& slot) const {
+    return stage != nullptr && find_port(stage->inputs, slot) != nullptr;
+}
+
+Buffer& FrameContext::output(const std::string& slot, BufferKind kind,
+                             std::vector<std::string> channel_names, Image image) const {
+    FOVREF_CHECK(stage != nullptr, "stage output '" + slot + "' written outside a stage");
+    const Port* port = find_port(stage->outputs, slot);
+    FOVREF_CHECK(port != nullptr,
+                 "stage '" + stage->name + "' writes '" + slot + "', which it does not declare");
+    return result->add(port->buffer, kind, std::move(channel_names), std::move(image));
+}
+
+const std::string& FrameContext::buffer_of(const std::string& slot) const {
+    FOVREF_CHECK(stage != nullptr, "port '" + slot + "' asked for outside a stage");
+    if (const Port* port = find_port(stage->outputs, slot)) return port->buffer;
+    return input_buffer(*this, slot);
+}
+
+const Image& FrameContext::resumed(const std::string& name, int channels, const std::string& what,
+                                   std::optional<glm::ivec2> size) const {
+    const int width = size ? size->x : settings->width;
+    const int height = size ? size->y : settings->height;
+    for (const Buffer& b : settings->state_buffers) {
+        if (b.name != name) continue;
+        const Image& image = b.image;
+        if (image.width != width || image.height != height || image.channels != channels)
+            throw Error("--resume: buffer '" + name + "' is " + std::to_string(image.width) + "x" +
+                        std::to_string(image.height) + "x" + std::to_string(image.channels) +
+                        ", the frame needs " + std::to_string(width) + "x" +
+                        std::to_string(height) + "x" + std::to_string(channels));
+        return image;
+    }
+    throw Error("frame " + std::to_string(frame) + ": " + what + " carries state from frame " +
+                std::to_string(frame - 1) + ", and buffer '" + name +
+                "' of that frame was not given: render from frame 0, or resume from a --dump of "
+                "frame " +
+                std::to_string(frame - 1) + " (`fovref render --resume DIR`)");
+}
+
 std::vector<std::string> Pipeline::all_outputs() const {
     std::vector<std::string> names;
     for (const StageDef& stage : stages)
-        for (const std::string& output : stage.outputs) names.push_back(output);
+        for (const Port& output : stage.outputs) names.push_back(output.buffer);
     return names;
 }
 
 void Pipeline::validate(const std::string& mode) const {
     std::vector<std::string> produced;
     for (const StageDef& stage : stages) {
-        for (const std::string& input : stage.inputs)
-            FOVREF_CHECK(std::find(produced.begin(), produced.end(), input) != produced.end(),
-                         "mode '" + mode + "': stage '" + stage.name + "' reads '" + input +
-                             "' before any stage produces it");
-        for (const std::string& output : stage.outputs) {
-            FOVREF_CHECK(std::find(produced.begin(), produced.end(), output) == produced.end(),
-                         "mode '" + mode + "': buffer '" + output + "' is produced twice");
-            produced.push_back(output);
+        for (const Port& input : stage.inputs)
+            FOVREF_CHECK(
+                std::find(produced.begin(), produced.end(), input.buffer) != produced.end(),
+                "mode '" + mode + "': stage '" + stage.name + "' reads '" + input.buffer +
+                    "' before any stage produces it");
+        for (const Port& output : stage.outputs) {
+            FOVREF_CHECK(
+                std::find(produced.begin(), produced.end(), output.buffer) == produced.end(),
+                "mode '" + mode + "': buffer '" + output.buffer + "' is produced twice");
+            produced.push_back(output.buffer);
         }
     }
     for (const std::string& output : final_outputs)
@@ -95,10 +158,11 @@ std::vector<bool> Pipeline::plan(const std::vector<std::string>& requested) cons
     if (!everything)
         for (std::size_t k = stages.size(); k-- > 0;) {
             const StageDef& stage = stages[k];
-            for (const std::string& output : stage.outputs)
-                if (std::find(wanted.begin(), wanted.end(), output) != wanted.end())
+            for (const Port& output : stage.outputs)
+                if (std::find(wanted.begin(), wanted.end(), output.buffer) != wanted.end())
                     needed[k] = true;
-            if (needed[k]) wanted.insert(wanted.end(), stage.inputs.begin(), stage.inputs.end());
+            if (needed[k])
+                for (const Port& input : stage.inputs) wanted.push_back(input.buffer);
         }
     return needed;
 }
@@ -109,7 +173,6 @@ FrameResult Pipeline::run_frame(FrameContext& context,
     result.frame = context.frame;
     result.time = context.time;
     context.result = &result;
-    context.state = state.get();
     context.checked_inputs.clear();
     const std::vector<bool> needed = plan(requested);
     const auto stage_count = static_cast<double>(stages.size());
@@ -125,13 +188,16 @@ FrameResult Pipeline::run_frame(FrameContext& context,
                     frame_progress((static_cast<double>(k) + f) / stage_count);
                 };
             const auto start = std::chrono::steady_clock::now();
+            context.stage = &stages[k];
             stages[k].run(context);
+            context.stage = nullptr;
             run.seconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             run.note = context.note;
-            for (const std::string& output : stages[k].outputs)
-                FOVREF_CHECK(result.find(output) != nullptr,
-                             "stage '" + stages[k].name + "' did not produce '" + output + "'");
+            for (const Port& output : stages[k].outputs)
+                FOVREF_CHECK(
+                    result.find(output.buffer) != nullptr,
+                    "stage '" + stages[k].name + "' did not produce '" + output.buffer + "'");
             for (Buffer& buffer : result.buffers)
                 if (buffer.stage.empty()) buffer.stage = stages[k].name;
             if (context.settings && context.settings->after_stage)
@@ -211,6 +277,12 @@ std::vector<FrameResult> render(const Scene* scene, const ModeInfo& mode,
     render_each(scene, mode, settings,
                 [&frames](FrameResult& f) { frames.push_back(std::move(f)); });
     return frames;
+}
+
+BufferSpace buffer_space(const ModeInfo& mode, const std::string& name) {
+    for (const BufferFamily& family : mode.buffer_families)
+        if (name.rfind(family.prefix, 0) == 0) return family.space;
+    return BufferSpace::screen;
 }
 
 }  // namespace fovref

@@ -7,6 +7,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,14 +42,33 @@ struct RenderSettings {
     std::function<void(const std::string& stage, FrameResult& result)> after_stage;
 };
 
-/// A mode's state for one render, shared by its stages: typed parameters parsed once, caches
-/// built on first use (the BVH), state carried from frame to frame (TAA history). Each mode
-/// derives its own; a stage reads it through FrameContext::mode_state<T>().
-struct ModeState {
-    virtual ~ModeState() = default;
+/// A stage's own state: its configuration (parameters parsed once when the mode is built, the
+/// per-frame values it needs from its mode, such as the frame's gaze) and what it carries from
+/// frame to frame (TAA's history). Each stage declares its own struct derived from this and
+/// reads it as FrameContext::state<T>(); the stages of one pass family may share one object
+/// (BMFR's eight phases share its history), and stages share caches by holding the same object
+/// (the BVH, pass 2's forward table). A mode composes these; it has no state of its own.
+struct StageState {
+    virtual ~StageState() = default;
 };
 
-/// What a stage sees: the scene, the settings, this frame's cameras and the frame's buffers.
+/// One buffer a stage reads or writes, as the stage declares it (Falcor's reflect()): `slot` is
+/// the stage's own name for it, the one its function asks for (`context.input("color")`), and
+/// `buffer` the frame's buffer the mode wires it to ("resolved", "lp_color", ...). A plain name
+/// is both.
+struct Port {
+    std::string slot;
+    std::string buffer;
+    Port(const char* name) : slot(name), buffer(name) {}  // NOLINT: a plain name is a port
+    Port(std::string name) : slot(name), buffer(std::move(name)) {}  // NOLINT
+    Port(std::string slot_name, std::string buffer_name)
+        : slot(std::move(slot_name)), buffer(std::move(buffer_name)) {}
+};
+
+struct StageDef;
+
+/// What a stage sees: the scene, the settings, this frame's cameras, its own declaration and
+/// state, and the frame's buffers, which it reads and writes through its declared ports.
 struct FrameContext {
     const Scene* scene = nullptr;  ///< null for modes that need no scene
     const RenderSettings* settings = nullptr;
@@ -62,26 +82,39 @@ struct FrameContext {
     std::string note;  ///< set by a stage to explain what it did or skipped
     /// Set by the pipeline: reports the fraction of the current stage done (0..1).
     std::function<void(double)> stage_progress;
-    ModeState* state = nullptr;  ///< the pipeline's state (null for a mode without state)
+    const StageDef* stage = nullptr;  ///< the stage running (set by Pipeline::run_frame)
 
-    /// A buffer an earlier stage of this frame produced. The first read of each buffer in a
-    /// frame replaces its NaN and infinite values by 0 and adds their number to the frame's
-    /// counter `nonfinite_stage_inputs` (SPEC §0: a stage never propagates NaN/Inf; none occurs
-    /// from finite inputs, so the counter appears only when something upstream went wrong).
-    const Image& input(const std::string& name) const;
+    /// The buffer wired to input `slot` of the running stage, produced by an earlier stage of
+    /// this frame. The first read of each buffer in a frame replaces its NaN and infinite values
+    /// by 0 and adds their number to the frame's counter `nonfinite_stage_inputs` (SPEC §0: a
+    /// stage never propagates NaN/Inf; none occurs from finite inputs, so the counter appears
+    /// only when something upstream went wrong). Throws when the stage declared no such slot.
+    const Image& input(const std::string& slot) const;
+    /// True when the running stage declares input `slot` (an input the wiring may leave out,
+    /// e.g. the gaze buffer of a mode without one).
+    bool has_input(const std::string& slot) const;
+    /// Adds `image` as the buffer wired to output `slot` of the running stage.
+    Buffer& output(const std::string& slot, BufferKind kind, std::vector<std::string> channel_names,
+                   Image image) const;
+    /// The frame buffer wired to input or output `slot` of the running stage (for messages and
+    /// for the previous frame's buffers of a resumed render).
+    const std::string& buffer_of(const std::string& slot) const;
     /// The names input() has checked in this frame (reset by Pipeline::run_frame).
     mutable std::vector<std::string> checked_inputs;
     /// For long stages: report progress through the current stage (e.g. after each row).
     void report(double fraction_of_stage) const {
         if (stage_progress) stage_progress(fraction_of_stage);
     }
-    /// The mode's state as its own type; throws when the pipeline carries none of that type.
+    /// The running stage's state as its own type; throws when it has none of that type.
     template <class T>
-    T& mode_state() const {
-        T* typed = dynamic_cast<T*>(state);
-        FOVREF_CHECK(typed != nullptr, "stage run without its mode's state");
-        return *typed;
-    }
+    T& state() const;
+    /// Buffer `name` of frame F - 1 for a stage that carries state (`what`: "TAA", "BMFR") into
+    /// the first frame F > 0 rendered, from RenderSettings::state_buffers (`fovref render
+    /// --resume DIR`). Throws fovref::Error naming --resume when it is missing or not
+    /// W x H x channels (`size`: a buffer's size other than the screen's, e.g. a Visual-Polar
+    /// buffer).
+    const Image& resumed(const std::string& name, int channels, const std::string& what,
+                         std::optional<glm::ivec2> size = std::nullopt) const;
 };
 
 /// A stage's body: a plain named function (so `break fovref::<stage>` works in a debugger and
@@ -89,18 +122,41 @@ struct FrameContext {
 /// context, calls the pass, and adds the pass's outputs and counters to the frame.
 using StageFunction = void (*)(FrameContext& context);
 
+/// One stage: its name, the buffers it reads and writes (its ports, wired by the mode), its
+/// function and its state.
 struct StageDef {
     std::string name;
-    std::vector<std::string> inputs;
-    std::vector<std::string> outputs;
+    std::vector<Port> inputs;
+    std::vector<Port> outputs;
     StageFunction run = nullptr;
+    std::shared_ptr<StageState> state;  ///< may be null (a stage without configuration)
+
+    StageDef(std::string stage_name, std::vector<Port> input_ports, std::vector<Port> output_ports,
+             StageFunction function, std::shared_ptr<StageState> stage_state = nullptr)
+        : name(std::move(stage_name)),
+          inputs(std::move(input_ports)),
+          outputs(std::move(output_ports)),
+          run(function),
+          state(std::move(stage_state)) {}
 };
+
+template <class T>
+T& FrameContext::state() const {
+    T* typed = stage ? dynamic_cast<T*>(stage->state.get()) : nullptr;
+    FOVREF_CHECK(typed != nullptr,
+                 "stage '" + (stage ? stage->name : std::string("?")) + "' run without its state");
+    return *typed;
+}
 
 struct Pipeline {
     std::vector<StageDef> stages;            ///< in execution order
     std::vector<std::string> final_outputs;  ///< what a plain render writes
-    std::shared_ptr<ModeState> state;        ///< handed to every stage; may be null
 
+    /// Appends a stage (the wiring reads as a list of stages).
+    Pipeline& add(StageDef stage) {
+        stages.push_back(std::move(stage));
+        return *this;
+    }
     /// Every buffer name the stages produce, in pipeline order.
     std::vector<std::string> all_outputs() const;
     /// Throws when an output is produced twice or an input is not produced by an earlier stage.
@@ -123,14 +179,33 @@ struct PixelFunction {
     std::string note;      ///< e.g. "once per triangle covering the pixel"
 };
 
+/// How the pixels of a buffer relate to the screen (a mode describes its buffers that are not
+/// screen images): what `fovref diff` offers as the probe of a differing pixel and how reports
+/// summarise a buffer.
+enum class BufferSpace {
+    screen,         ///< W x H: pixel (x, y) is screen pixel (x, y) (`probe --pixel X,Y`)
+    texel,          ///< a foveation buffer: pixel (x, y) is texel (x, y) (`probe --texel X,Y`)
+    stereo_texel,   ///< both eyes' buffers side by side, `buffer_width` columns each: pixel (x, y)
+                    ///< is texel (x - e w, y) of eye e (`probe --texel I,J,EYE`)
+    screen_window,  ///< a window of the screen whose pixel (0, 0) is screen pixel
+                    ///< (gaze_window_x0, gaze_window_y0) (the frame's counters)
+    samples,        ///< a list of samples (N x 1), not an image of the screen
+};
+
+/// The buffers whose names start with `prefix` are in `space`.
+struct BufferFamily {
+    std::string prefix;
+    BufferSpace space = BufferSpace::screen;
+};
+
 struct ModeInfo {
     std::string name;
     std::string description;
     bool needs_scene = true;
     std::vector<ParamSpec> params;
     /// Builds the pipeline for a scene (null when !needs_scene) and validated settings; its
-    /// state (Pipeline::state) may carry data from frame to frame (TAA history, ...).
-    Pipeline (*build)(const Scene* scene, const RenderSettings& settings) = nullptr;
+    /// stages' states may carry data from frame to frame (TAA history, ...).
+    std::function<Pipeline(const Scene* scene, const RenderSettings& settings)> build;
     /// Explains one pixel of a rendered frame for `fovref probe` (ref/stage/probe.h); may be
     /// null (the probe then lists the buffers' values only).
     void (*explain)(const ProbeContext& context, ProbeReport& report) = nullptr;
@@ -149,7 +224,14 @@ struct ModeInfo {
     /// True when `--resume DIR` continues the same frame from DIR's buffers of that frame (the
     /// accumulated reference) instead of carrying frame F - 1's state into frame F.
     bool resume_same_frame = false;
+    /// The mode's buffers that are not screen images (every other buffer is W x H screen space),
+    /// e.g. {"lp_", texel}, {"gaze_", screen_window}.
+    std::vector<BufferFamily> buffer_families;
 };
+
+/// The space of buffer `name` of `mode` (the first family whose prefix it starts with; screen
+/// when none).
+BufferSpace buffer_space(const ModeInfo& mode, const std::string& name);
 
 /// Renders frames 0..frame_count-1 of `mode`, handing each frame to `on_frame` as soon as it is
 /// done (so long runs need not keep every frame in memory). Validates the settings, parameters

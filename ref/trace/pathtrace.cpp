@@ -179,4 +179,14 @@ Image pathtrace(const Scene& scene, const Bvh& bvh, const PathTraceParams& param
     return out;
 }
 
+PathTraceParams parse_path_params(const Params& params, const std::vector<ParamSpec>& specs,
+                                  bool rr_needs_bounces) {
+    PathTraceParams path;
+    path.max_bounces = params.get_int(specs, "max_bounces", 1, 64);
+    path.rr = params.get_float(specs, "rr", 0.01f, 1.0f);
+    if (rr_needs_bounces && path.max_bounces == 1 && params.given("rr"))
+        throw Error("parameter 'rr' applies from the second bounce on: add max_bounces=2 or more");
+    return path;
+}
+
 }  // namespace fovref

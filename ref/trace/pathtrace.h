@@ -30,6 +30,7 @@
 #include "ref/bvh/bvh.h"
 #include "ref/scene/scene.h"
 #include "ref/scene/surface.h"
+#include "ref/stage/params.h"
 #include "ref/trace/direct_light.h"
 #include "ref/trace/shade_basic.h"
 
@@ -39,6 +40,12 @@ struct PathTraceParams {
     int max_bounces = 1;  ///< secondary rays per path (1: the sources' four-ray configuration)
     float rr = 0.8f;      ///< Russian-roulette continuation probability (max_bounces > 1)
 };
+
+/// max_bounces and rr from a mode's parameters (`specs` holds them); throws fovref::Error naming
+/// the parameter, and (with `rr_needs_bounces`) when rr is given but max_bounces is 1, where it
+/// changes nothing.
+PathTraceParams parse_path_params(const Params& params, const std::vector<ParamSpec>& specs,
+                                  bool rr_needs_bounces = true);
 
 struct PathTraceStats {
     ShadingStats shading;  ///< NEE: shadow rays and their traversal, light samples skipped

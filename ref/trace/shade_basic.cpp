@@ -53,4 +53,18 @@ Image shade_basic(const Scene& scene, const Bvh* bvh, const ShadeInputs& in, con
     return out;
 }
 
+Image shade_stereo(const Scene& scene, const Bvh* bvh, const ShadeInputs& inputs,
+                   const std::array<Camera, 2>& cameras, int eye_buffer_width, int frame,
+                   ShadingStats& stats) {
+    const int width = inputs.position.width, height = inputs.position.height;
+    Image out(width, height, 3, 0.0f);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const Camera& camera = cameras[static_cast<std::size_t>(x / eye_buffer_width)];
+            const glm::vec3 l = shade_basic_pixel(scene, bvh, inputs, camera, frame, x, y, stats);
+            for (int c = 0; c < 3; ++c) out.at(x, y, c) = l[c];
+        }
+    return out;
+}
+
 }  // namespace fovref

@@ -9,6 +9,8 @@
 //                  the screen (the gaze buffer), the screen pixel's index (y0 + y) W + x0 + x
 #pragma once
 
+#include <array>
+
 #include "ref/bvh/bvh.h"
 #include "ref/image/image.h"
 #include "ref/raster/gbuffer.h"
@@ -53,5 +55,11 @@ glm::vec3 shade_basic_pixel(const Scene& scene, const Bvh* bvh, const ShadeInput
 /// The pass: an RGB image of the G-buffer's size. `bvh` may be null only without lights.
 Image shade_basic(const Scene& scene, const Bvh* bvh, const ShadeInputs& in, const Camera& camera,
                   int frame, ShadingStats& stats);
+
+/// The basic shading of the side-by-side buffer of a stereo frame (Gupta's stereo-lp: both eyes'
+/// buffers side by side, eye_buffer_width columns each), each texel with its eye's camera.
+Image shade_stereo(const Scene& scene, const Bvh* bvh, const ShadeInputs& inputs,
+                   const std::array<Camera, 2>& cameras, int eye_buffer_width, int frame,
+                   ShadingStats& stats);
 
 }  // namespace fovref

@@ -13,25 +13,26 @@ using namespace fovref;
 
 namespace {
 
-// A three-stage toy pipeline: a -> b, and an independent c. Its state counts the stage runs.
-struct ToyState : ModeState {
+// A three-stage toy pipeline: a -> b, and an independent c. The stages share a state that counts
+// their runs.
+struct ToyState : StageState {
     int* runs = nullptr;
 };
 
 void make_a(FrameContext& ctx) {
-    ++ctx.mode_state<ToyState>().runs[0];
+    ++ctx.state<ToyState>().runs[0];
     ctx.result->add("a", BufferKind::scalar, {"v"}, Image(2, 2, 1, 1.0f));
 }
 
 void a_to_b(FrameContext& ctx) {
-    ++ctx.mode_state<ToyState>().runs[1];
+    ++ctx.state<ToyState>().runs[1];
     Image b = ctx.input("a");
     for (float& v : b.data) v *= 2.0f;
     ctx.result->add("b", BufferKind::scalar, {"v"}, b);
 }
 
 void make_c(FrameContext& ctx) {
-    ++ctx.mode_state<ToyState>().runs[2];
+    ++ctx.state<ToyState>().runs[2];
     ctx.note = "made c";
     ctx.result->add("c", BufferKind::scalar, {"v"}, Image(1, 1, 1, 3.0f));
 }
@@ -40,10 +41,9 @@ Pipeline toy_pipeline(int* runs) {
     auto state = std::make_shared<ToyState>();
     state->runs = runs;
     Pipeline p;
-    p.state = state;
-    p.stages.push_back({"make_a", {}, {"a"}, make_a});
-    p.stages.push_back({"a_to_b", {"a"}, {"b"}, a_to_b});
-    p.stages.push_back({"make_c", {}, {"c"}, make_c});
+    p.stages.push_back({"make_a", {}, {"a"}, make_a, state});
+    p.stages.push_back({"a_to_b", {"a"}, {"b"}, a_to_b, state});
+    p.stages.push_back({"make_c", {}, {"c"}, make_c, state});
     p.final_outputs = {"b"};
     return p;
 }

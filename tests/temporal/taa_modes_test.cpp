@@ -1,4 +1,4 @@
-// TAA in the modes (ref/modes/taa_stage.h, SPEC §6-7): sequences of basic, cfov, kfr, ckfov and
+// TAA in the modes (ref/temporal/stages.h, SPEC §6-7): sequences of basic, cfov, kfr, ckfov and
 // stereo-lp with each TAA variant. A static camera converges to the mean of its 16 jittered frames;
 // a moving camera turns the jitter off; the first frame is the current frame; resuming from the
 // previous frame's buffers gives the bits of the whole sequence; a disocclusion is rejected where

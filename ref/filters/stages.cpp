@@ -1,0 +1,106 @@
+#include "ref/filters/stages.h"
+
+#include <memory>
+#include <utility>
+
+#include "ref/filters/gaussian_lerp.h"
+#include "ref/filters/internal_aa.h"
+#include "ref/filters/post_aa.h"
+
+namespace fovref {
+
+namespace {
+
+const std::vector<std::string> rgb = {"r", "g", "b"};
+
+struct LerpState : StageState {
+    FrameGaze gaze;
+};
+
+struct PostAaState : StageState {
+    std::function<PostAaGeometry(const FrameContext&)> geometry;
+};
+
+struct BlurState : StageState {
+    BlurRamp ramp;
+    FrameBlurGeometry geometry;
+};
+
+std::shared_ptr<BlurState> blur_state(const BlurRamp& ramp, FrameBlurGeometry geometry) {
+    auto state = std::make_shared<BlurState>();
+    state->ramp = ramp;
+    state->geometry = std::move(geometry);
+    return state;
+}
+
+}  // namespace
+
+void internal_aa_stage(FrameContext& ctx) {
+    ctx.output("output", BufferKind::color, rgb,
+               internal_aa(ctx.input("color"), ctx.input("valid")));
+}
+
+StageDef internal_aa_stage_def(const std::string& color, const std::string& valid,
+                               const std::string& output) {
+    return {"internal_aa",
+            {{"color", color}, {"valid", valid}},
+            {{"output", output}},
+            internal_aa_stage,
+            nullptr};
+}
+
+void gaussian_lerp_stage(FrameContext& ctx) {
+    const glm::vec2 gaze = ctx.state<LerpState>().gaze(ctx);
+    ctx.output("output", BufferKind::color, rgb, gaussian_lerp(ctx.input("input"), gaze));
+}
+
+StageDef gaussian_lerp_stage_def(const std::string& input, const std::string& output,
+                                 FrameGaze gaze) {
+    auto state = std::make_shared<LerpState>();
+    state->gaze = std::move(gaze);
+    return {"gaussian_lerp", {{"input", input}}, {{"output", output}}, gaussian_lerp_stage, state};
+}
+
+void post_aa_stage(FrameContext& ctx) {
+    const PostAaGeometry g = ctx.state<PostAaState>().geometry(ctx);
+    ctx.output("output", BufferKind::color, rgb, post_aa(ctx.input("input"), g.gaze, g.radius_max));
+}
+
+StageDef post_aa_stage_def(const std::string& input, const std::string& output,
+                           std::function<PostAaGeometry(const FrameContext&)> geometry) {
+    auto state = std::make_shared<PostAaState>();
+    state->geometry = std::move(geometry);
+    return {"post_aa", {{"input", input}}, {{"output", output}}, post_aa_stage, state};
+}
+
+void blur_horizontal_stage(FrameContext& ctx) {
+    const BlurState& state = ctx.state<BlurState>();
+    ctx.output("output", BufferKind::color, rgb,
+               blur_ramp_horizontal(state.ramp, state.geometry(ctx), ctx.input("input")));
+}
+
+StageDef blur_horizontal_stage_def(const BlurRamp& ramp, const std::string& input,
+                                   const std::string& output, FrameBlurGeometry geometry) {
+    return {"blur_horizontal",
+            {{"input", input}},
+            {{"output", output}},
+            blur_horizontal_stage,
+            blur_state(ramp, std::move(geometry))};
+}
+
+void blur_vertical_stage(FrameContext& ctx) {
+    const BlurState& state = ctx.state<BlurState>();
+    ctx.output("output", BufferKind::color, rgb,
+               blur_ramp_vertical(state.ramp, state.geometry(ctx), ctx.input("input")));
+}
+
+StageDef blur_vertical_stage_def(const BlurRamp& ramp, const std::string& input,
+                                 const std::string& output, FrameBlurGeometry geometry) {
+    return {"blur_vertical",
+            {{"input", input}},
+            {{"output", output}},
+            blur_vertical_stage,
+            blur_state(ramp, std::move(geometry))};
+}
+
+}  // namespace fovref

@@ -1,0 +1,305 @@
+#include "ref/log_polar/stages.h"
+
+#include <cmath>
+#include <cstdio>
+#include <utility>
+
+#include "ref/log_polar/deferred_sample.h"
+#include "ref/log_polar/mip_resolve.h"
+#include "ref/log_polar/trace.h"
+
+namespace fovref {
+
+namespace {
+
+struct LogPolarState : StageState {
+    LogPolarStage shared;
+};
+
+struct StereoState : StageState {
+    StereoStage shared;
+};
+
+std::shared_ptr<LogPolarState> lp_state(const LogPolarStage& shared) {
+    auto state = std::make_shared<LogPolarState>();
+    state->shared = shared;
+    return state;
+}
+
+std::shared_ptr<StereoState> stereo_state(const StereoStage& shared) {
+    auto state = std::make_shared<StereoState>();
+    state->shared = shared;
+    return state;
+}
+
+Offset2 frame_jitter(const FrameContext& ctx, const FrameJitter& jitter) {
+    return jitter ? jitter(ctx) : Offset2{};
+}
+
+// A buffer's G-buffer, mask and screen points: what lp_trace, lp_sample and stereo_trace write.
+std::vector<Port> buffer_outputs() {
+    std::vector<Port> ports = gbuffer_ports("lp_gbuffer_");
+    ports.emplace_back("valid", "lp_valid");
+    ports.emplace_back("screen_point", "lp_screen_point");
+    return ports;
+}
+
+void output_buffer(const FrameContext& ctx, MaskedGBuffer lp, Image screen_points) {
+    output_gbuffer(ctx, std::move(lp.gbuffer));
+    ctx.output("valid", BufferKind::id, {"valid"}, std::move(lp.valid));
+    ctx.output("screen_point", BufferKind::scalar, {"x", "y"}, std::move(screen_points));
+}
+
+// The buffer counters every log-polar frame reports (names read by scripts).
+void add_buffer_counters(FrameContext& ctx, const LogPolarMap& map,
+                         const FoveatedTraceStats& stats) {
+    Counters& counters = ctx.result->counters;
+    counters.add("buffer_width", map.width);
+    counters.add("buffer_height", map.height);
+    counters.add("texels_traced", stats.texels_traced);
+    counters.add("texels_off_screen", stats.texels_off_screen);
+    if (stats.texels_inside_gaze > 0) counters.add("texels_inside_gaze", stats.texels_inside_gaze);
+}
+
+// ", jittered to (x, y) in each texel" (nothing without jitter).
+std::string jitter_note(Offset2 jitter, const char* unit) {
+    if (jitter == Offset2{}) return "";
+    char text[96];
+    std::snprintf(text, sizeof text, ", jittered to (%.9g, %.9g) in each %s",
+                  static_cast<double>(jitter.x), static_cast<double>(jitter.y), unit);
+    return text;
+}
+
+// "gaze (x, y), w x h texels, K = x^a": the buffer stage's note.
+std::string map_note(const LogPolarMap& map) {
+    char gaze[64];
+    std::snprintf(gaze, sizeof gaze, "gaze (%.9g, %.9g), ", static_cast<double>(map.gaze.x),
+                  static_cast<double>(map.gaze.y));
+    return gaze + std::to_string(map.width) + "x" + std::to_string(map.height) +
+           " texels, K = " + kernel_text(map.kernel);
+}
+
+// The screen G-buffer lp_sample reads, from its gbuffer_* inputs.
+ScreenGBuffer screen_gbuffer(const FrameContext& ctx) {
+    return {ctx.input("view_depth"),     ctx.input("hit_distance"),     ctx.input("world_position"),
+            ctx.input("shading_normal"), ctx.input("geometric_normal"), ctx.input("albedo"),
+            ctx.input("material_id"),    ctx.input("primitive_id"),     ctx.input("motion")};
+}
+
+}  // namespace
+
+LogPolarMap LogPolarFrames::map(const FrameContext& ctx) const {
+    return foveated_map(params, *ctx.scene, ctx.camera, ctx.settings->width, ctx.settings->height,
+                        ctx.frame);
+}
+
+const ForwardTable& LogPolarFrames::forward_table(const LogPolarMap& map, int mip_levels,
+                                                  bool* reused) {
+    const bool same = forward && forward->map == map && forward->mip_levels == mip_levels;
+    if (!same) forward = fovref::forward_table(map, mip_levels);
+    if (reused) *reused = same;
+    return *forward;
+}
+
+std::function<ScreenWindow(const FrameContext&)> gaze_window_of(
+    std::shared_ptr<LogPolarFrames> frames) {
+    return [frames](const FrameContext& ctx) { return gaze_window(frames->map(ctx)); };
+}
+
+std::function<glm::vec2(const FrameContext&)> gaze_of(std::shared_ptr<LogPolarFrames> frames) {
+    return [frames](const FrameContext& ctx) { return frames->map(ctx).gaze; };
+}
+
+void lp_trace_stage(FrameContext& ctx) {
+    const LogPolarStage& s = ctx.state<LogPolarState>().shared;
+    const LogPolarMap map = s.frames->map(ctx);
+    Counters& counters = ctx.result->counters;
+    FoveatedTraceStats stats;
+    Image screen_points;
+    const Offset2 jitter = frame_jitter(ctx, s.jitter);
+    MaskedGBuffer lp =
+        trace_lp_gbuffer(map, *ctx.scene, s.bvh->get(*ctx.scene, counters), ctx.camera,
+                         ctx.previous_camera, screen_points, stats, jitter);
+    add_buffer_counters(ctx, map, stats);
+    add_trace_counters(counters, "primary", stats.rays.primary);
+    ctx.note = map_note(map) + ", " + std::to_string(stats.texels_traced) + " traced" +
+               jitter_note(jitter, "texel");
+    output_buffer(ctx, std::move(lp), std::move(screen_points));
+}
+
+StageDef lp_trace_stage_def(const LogPolarStage& shared) {
+    return {"lp_trace", {}, buffer_outputs(), lp_trace_stage, lp_state(shared)};
+}
+
+void lp_sample_stage(FrameContext& ctx) {
+    const LogPolarStage& s = ctx.state<LogPolarState>().shared;
+    const LogPolarMap map = s.frames->map(ctx);
+    FoveatedTraceStats stats;
+    Image screen_points;
+    // Meng's TAA jitter comes after the inverse transform: o - (1/2, 1/2) screen pixels.
+    const Offset2 jitter = frame_jitter(ctx, s.jitter);
+    MaskedGBuffer lp = sample_lp_gbuffer(map, screen_gbuffer(ctx), screen_points, stats,
+                                         {jitter.x - 0.5f, jitter.y - 0.5f});
+    add_buffer_counters(ctx, map, stats);
+    ctx.note =
+        map_note(map) + ", " + std::to_string(stats.texels_traced) +
+        " sampled from the rasterized G-buffer" +
+        (jitter == Offset2{} ? std::string()
+                             : ", screen points offset by (" + std::to_string(jitter.x - 0.5f) +
+                                   ", " + std::to_string(jitter.y - 0.5f) + ") px");
+    output_buffer(ctx, std::move(lp), std::move(screen_points));
+}
+
+StageDef lp_sample_stage_def(const LogPolarStage& shared) {
+    return {"lp_sample", gbuffer_ports(), buffer_outputs(), lp_sample_stage, lp_state(shared)};
+}
+
+void gaze_trace_stage(FrameContext& ctx) {
+    const LogPolarStage& s = ctx.state<LogPolarState>().shared;
+    const LogPolarMap map = s.frames->map(ctx);
+    Counters& counters = ctx.result->counters;
+    FoveatedTraceStats stats;
+    const Offset2 jitter = frame_jitter(ctx, s.jitter);
+    MaskedGBuffer gaze = trace_gaze_gbuffer(map, *ctx.scene, s.bvh->get(*ctx.scene, counters),
+                                            ctx.camera, ctx.previous_camera, stats, jitter);
+    counters.add("gaze_radius_px", static_cast<std::int64_t>(std::round(map.gaze_radius)));
+    counters.add("gaze_pixels_traced", stats.gaze_pixels_traced);
+    // Where the gaze buffer lies on the screen (its size is the buffers' size).
+    const ScreenWindow window = gaze_window(map);
+    counters.add("gaze_window_x0", window.x0);
+    counters.add("gaze_window_y0", window.y0);
+    add_trace_counters(counters, "primary", stats.rays.primary);
+    ctx.note = "r_G = " + std::to_string(map.gaze_radius) + " px, " +
+               std::to_string(stats.gaze_pixels_traced) + " pixels traced" +
+               jitter_note(jitter, "pixel");
+    output_gbuffer(ctx, std::move(gaze.gbuffer));
+    ctx.output("valid", BufferKind::id, {"valid"}, std::move(gaze.valid));
+}
+
+StageDef gaze_trace_stage_def(const LogPolarStage& shared) {
+    std::vector<Port> outputs = gbuffer_ports("gaze_gbuffer_");
+    outputs.emplace_back("valid", "gaze_valid");
+    return {"gaze_trace", {}, outputs, gaze_trace_stage, lp_state(shared)};
+}
+
+void resolve_stage(FrameContext& ctx) {
+    const LogPolarStage& s = ctx.state<LogPolarState>().shared;
+    LogPolarFrames& frames = *s.frames;
+    const LogPolarMap map = frames.map(ctx);
+    const GazeInput gaze = gaze_input(map, map.has_gaze_buffer() ? &ctx.input("gaze") : nullptr);
+    const Image& color = ctx.input("color");
+    const Image& valid = ctx.input("valid");
+    ResolveStats stats;
+    std::vector<MipLevel> mips;
+    const bool mip = frames.params.mip_resolve;
+    if (mip) mips = build_lp_mips(color, valid);
+    bool reused = false;
+    const ForwardTable& table = frames.forward_table(map, static_cast<int>(mips.size()), &reused);
+    Image out = mip ? resolve_log_polar_mip(map, mips, gaze, stats, &table)
+                    : resolve_log_polar(map, {color, valid, gaze}, stats, &table);
+    ctx.result->counters.add("screen_pixels_untraced_taps", stats.pixels_untraced_taps);
+    ctx.note = std::string(mip ? "mip" : "bilinear") +
+               (reused ? ", forward map reused" : ", forward map computed") + ": " +
+               std::to_string(stats.pixels_from_gaze) + " pixels from the gaze buffer, " +
+               std::to_string(stats.pixels_from_buffer) + " from the log-polar buffer";
+    ctx.output("output", BufferKind::color, {"r", "g", "b"}, std::move(out));
+}
+
+StageDef resolve_stage_def(const LogPolarStage& shared, std::string color, std::string output) {
+    std::vector<Port> inputs = {{"color", std::move(color)}, {"valid", "lp_valid"}};
+    if (shared.frames->params.map.gaze_angle > 0.0f) inputs.emplace_back("gaze", "gaze_color");
+    return {"resolve", inputs, {{"output", std::move(output)}}, resolve_stage, lp_state(shared)};
+}
+
+void ray_positions_stage(FrameContext& ctx) {
+    const LogPolarMap map = ctx.state<LogPolarState>().shared.frames->map(ctx);
+    const Image* gaze_valid = map.has_gaze_buffer() ? &ctx.input("gaze_valid") : nullptr;
+    ctx.output("rays", BufferKind::scalar, {"rays"},
+               ray_position_counts(map.screen_width, map.screen_height, ctx.input("valid"),
+                                   ctx.input("screen_point"), gaze_valid, gaze_window(map)));
+}
+
+StageDef ray_positions_stage_def(const LogPolarStage& shared) {
+    std::vector<Port> inputs = {{"valid", "lp_valid"}, {"screen_point", "lp_screen_point"}};
+    if (shared.frames->params.map.gaze_angle > 0.0f) inputs.emplace_back("gaze_valid");
+    return {"ray_positions",
+            inputs,
+            {{"rays", "ray_positions"}},
+            ray_positions_stage,
+            lp_state(shared)};
+}
+
+// ---- stereo ----------------------------------------------------------------------------------
+
+std::array<LogPolarMap, 2> StereoFrames::maps(const FrameContext& ctx) const {
+    return stereo_maps(params, *ctx.scene, ctx.camera, ctx.settings->width, ctx.settings->height,
+                       ctx.frame);
+}
+
+std::array<Camera, 2> StereoFrames::cameras(const FrameContext& ctx, bool previous) const {
+    const Camera& camera = previous ? ctx.previous_camera : ctx.camera;
+    return {eye_camera(camera, 0, params.ipd), eye_camera(camera, 1, params.ipd)};
+}
+
+void stereo_trace_stage(FrameContext& ctx) {
+    const StereoStage& s = ctx.state<StereoState>().shared;
+    const std::array<LogPolarMap, 2> maps = s.frames->maps(ctx);
+    Counters& counters = ctx.result->counters;
+    FoveatedTraceStats stats;
+    Image screen_points;
+    const Offset2 jitter = frame_jitter(ctx, s.jitter);
+    MaskedGBuffer lp = trace_stereo_gbuffer(maps, *ctx.scene, s.bvh->get(*ctx.scene, counters),
+                                            s.frames->cameras(ctx), s.frames->cameras(ctx, true),
+                                            screen_points, stats, jitter);
+    add_buffer_counters(ctx, maps[0], stats);
+    counters.add("eyes", 2);
+    add_trace_counters(counters, "primary", stats.rays.primary);
+    ctx.note = "eye 0: " + map_note(maps[0]) + "; eye 1: " + map_note(maps[1]) + "; " +
+               std::to_string(stats.texels_traced) + " traced" + jitter_note(jitter, "texel");
+    output_buffer(ctx, std::move(lp), std::move(screen_points));
+}
+
+StageDef stereo_trace_stage_def(const StereoStage& shared) {
+    return {"stereo_trace", {}, buffer_outputs(), stereo_trace_stage, stereo_state(shared)};
+}
+
+void stereo_resolve_stage(FrameContext& ctx) {
+    StereoFrames& frames = *ctx.state<StereoState>().shared.frames;
+    const StereoParams& params = frames.params;
+    const std::array<LogPolarMap, 2> maps = frames.maps(ctx);
+    const bool reused = frames.forward && frames.forward->made_for(params, maps);
+    if (!reused) frames.forward = stereo_forward_table(params, maps);
+    StereoResolveStats stats;
+    Image out = resolve_stereo(params, maps, ctx.input("color"), ctx.input("valid"), stats,
+                               &*frames.forward);
+    ctx.result->counters.add("screen_pixels_untraced_taps", stats.resolve.pixels_untraced_taps);
+    if (params.barrel)
+        ctx.result->counters.add("screen_pixels_outside_lens", stats.pixels_outside_lens);
+    ctx.note = std::string(params.barrel ? "bilinear, barrel distortion" : "bilinear") +
+               (reused ? ", lookups reused" : ", lookups computed");
+    ctx.output("output", BufferKind::color, {"r", "g", "b"}, std::move(out));
+}
+
+StageDef stereo_resolve_stage_def(const StereoStage& shared, std::string output) {
+    return {"resolve",
+            {{"color", "lp_color"}, {"valid", "lp_valid"}},
+            {{"output", std::move(output)}},
+            stereo_resolve_stage,
+            stereo_state(shared)};
+}
+
+void stereo_ray_positions_stage(FrameContext& ctx) {
+    ctx.output("rays", BufferKind::scalar, {"rays"},
+               ray_position_counts(ctx.settings->width, ctx.settings->height, ctx.input("valid"),
+                                   ctx.input("screen_point"), nullptr));
+}
+
+StageDef stereo_ray_positions_stage_def(const StereoStage& shared) {
+    return {"ray_positions",
+            {{"valid", "lp_valid"}, {"screen_point", "lp_screen_point"}},
+            {{"rays", "ray_positions"}},
+            stereo_ray_positions_stage,
+            stereo_state(shared)};
+}
+
+}  // namespace fovref

@@ -1,0 +1,40 @@
+#include "ref/raster/stages.h"
+
+#include <memory>
+
+#include "ref/raster/gbuffer.h"
+
+namespace fovref {
+
+namespace {
+
+struct RasterizeState : StageState {
+    RasterSettings settings;
+};
+
+}  // namespace
+
+void add_raster_counters(Counters& counters, const RasterStats& stats) {
+    counters.add("raster_triangles_rasterized", stats.triangles_rasterized);
+    counters.add("raster_fragments_written", stats.fragments_written);
+    if (stats.fragments_without_plane_hit > 0)
+        counters.add("raster_fragments_without_plane_hit", stats.fragments_without_plane_hit);
+}
+
+void rasterize_stage(FrameContext& ctx) {
+    const RasterSettings& settings = ctx.state<RasterizeState>().settings;
+    RasterStats stats;
+    GBuffer g = rasterize_gbuffer(*ctx.scene, ctx.camera, ctx.previous_camera, ctx.settings->width,
+                                  ctx.settings->height, stats, settings);
+    add_raster_counters(ctx.result->counters, stats);
+    ctx.note = std::string("rasterized, fill rule ") + fill_rule_name(settings.fill_rule);
+    output_gbuffer(ctx, std::move(g));
+}
+
+StageDef rasterize_stage_def(std::string name, RasterSettings settings) {
+    auto state = std::make_shared<RasterizeState>();
+    state->settings = settings;
+    return {std::move(name), {}, gbuffer_ports(), rasterize_stage, state};
+}
+
+}  // namespace fovref

@@ -1,0 +1,28 @@
+// The rasterizer as a stage (SPEC §4; docs/raster.md): the one rasterize stage of every mode that
+// rasterizes its primary visibility (basic with primary=raster, pathtrace, linear-falloff, and
+// kfr's full-resolution G-buffer).
+//
+//   rasterize   (nothing)  ->  gbuffer_* (view_depth ... motion, SPEC §4 order; ports named by
+//                              channel, wired to gbuffer_ + channel)
+//
+// Counters: raster_triangles_rasterized, raster_fragments_written, and
+// raster_fragments_without_plane_hit when not 0.
+#pragma once
+
+#include <string>
+
+#include "ref/raster/rasterizer.h"
+#include "ref/stage/pipeline.h"
+
+namespace fovref {
+
+/// The stage named `name` (modes call it "primary_visibility", kfr "gbuffer_raster") that
+/// rasterizes the frame's G-buffer with `settings`.
+StageDef rasterize_stage_def(std::string name, RasterSettings settings);
+
+/// The stage's body: rasterize_gbuffer (ref/raster/rasterizer.h) of the frame's camera.
+void rasterize_stage(FrameContext& context);
+
+void add_raster_counters(Counters& counters, const RasterStats& stats);
+
+}  // namespace fovref
