@@ -2,11 +2,12 @@
 
 #include <memory>
 
+#include "ref/bmfr/probe.h"
 #include "ref/bmfr/stages.h"
 #include "ref/filters/stages.h"
-#include "ref/modes/vp_probe.h"
 #include "ref/raster/stages.h"
 #include "ref/trace/stages.h"
+#include "ref/visual_polar/probe.h"
 #include "ref/visual_polar/stages.h"
 
 namespace fovref {
@@ -151,6 +152,19 @@ std::vector<PixelFunction> visual_polar_basic_pixel_functions(const Params&) {
             {"resolve", "fovref::resolve_vp_pixel", ""}};
 }
 
+// visual-polar's probe: the Visual-Polar explanation and, for a traced texel of a frame BMFR
+// denoised, the block that denoised it.
+void explain_visual_polar_bmfr(const ProbeContext& c, ProbeReport& report) {
+    explain_visual_polar(c, report);
+    if (!c.texel || !c.frame->find("bmfr_weights")) return;
+    const SparseParams params = parse_sparse_params(c.settings->params, report.mode);
+    const VisualPolarMap m =
+        sparse_vp_map(params, c.settings->width, c.settings->height, c.frame->frame);
+    glm::vec2 point{0.0f};
+    if (vp_texel_status(m, c.texel->x, c.texel->y, point) == VpTexel::traced)
+        explain_bmfr_block(c, m, c.texel->x, c.texel->y, report);
+}
+
 ModeInfo sparse_mode(std::string name, std::string description) {
     ModeInfo m;
     m.name = std::move(name);
@@ -171,7 +185,7 @@ ModeInfo visual_polar_mode() {
     m.parameters_carry_state = [](const Params& p) {  // BMFR by default
         return parse_bmfr_params(p, "bmfr").enabled;
     };
-    m.explain = explain_visual_polar;
+    m.explain = explain_visual_polar_bmfr;
     m.explains_texels = true;
     m.buffer_families = {{"vp_", BufferSpace::texel}};
     return m;

@@ -1,8 +1,7 @@
-#include "ref/modes/vp_probe.h"
+#include "ref/visual_polar/probe.h"
 
 #include <cmath>
 
-#include "ref/bmfr/bmfr.h"
 #include "ref/core/error.h"
 #include "ref/filters/blur_ramp.h"
 #include "ref/trace/trace_probe.h"
@@ -60,27 +59,6 @@ void explain_texel(const ProbeContext& c, const VisualPolarMap& m, int i, int j,
     const Buffer* valid = c.frame->find("vp_valid");
     if (valid) s.add("vp_valid", probe_float(valid->image.at(i, j)));
     report.sections.push_back(s);
-    // The block that denoised it
-    if (c.frame->find("bmfr_weights") && status == VpTexel::traced) {
-        ProbeSection b{"bmfr_fit", "the BMFR block of this texel (staircase grid, rows wrap)", {}};
-        const BmfrGrid g = bmfr_grid(m.width, m.height, c.frame->frame, &m);
-        const glm::ivec2 cell = g.cell_of(i, j);
-        const glm::ivec2 o = g.origin(cell.x, cell.y);
-        b.add("cell", "(" + std::to_string(cell.x) + ", " + std::to_string(cell.y) + ") of " +
-                          std::to_string(g.cells_x) + " block columns");
-        b.add("block column",
-              "phi height H = " + std::to_string(g.cell_rows[static_cast<std::size_t>(cell.x)]) +
-                  " rows, " + std::to_string(g.cells_in_column(cell.x)) + " blocks");
-        b.add("origin", "(" + std::to_string(o.x) + ", " + std::to_string(o.y) +
-                            "): columns clamped to [0, w - 1], rows modulo H; offset (" +
-                            std::to_string(g.offset.x) + ", " + std::to_string(g.offset.y) + ")");
-        const Image& w = c.frame->find("bmfr_weights")->image;
-        std::string red;
-        for (int k = 0; k < bmfr_feature_count; ++k)
-            red += (k ? ", " : "") + probe_float(w.at(cell.x, cell.y, k));
-        b.add("red weights", red);
-        report.sections.push_back(b);
-    }
     report.buffer_texel = glm::ivec2(i, j);
 }
 
