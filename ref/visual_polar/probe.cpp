@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "ref/core/error.h"
+#include "ref/core/vec.h"
 #include "ref/filters/blur_ramp.h"
 #include "ref/trace/trace_probe.h"
 #include "ref/visual_polar/params.h"
@@ -81,9 +82,8 @@ void explain_visual_polar(const ProbeContext& c, ProbeReport& report) {
     }
     // [resolve]
     ProbeSection s{"resolve", "pass 2 (docs/visual-polar.md, \"Resolve\")", {}};
-    const glm::vec2 centre{static_cast<float>(c.x) + 0.5f, static_cast<float>(c.y) + 0.5f};
-    const float dx = centre.x - m.gaze.x, dy = centre.y - m.gaze.y;
-    const float r = std::sqrt(dx * dx + dy * dy);
+    const glm::vec2 centre = pixel_centre(c.x, c.y);
+    const float r = gaze_distance(m.gaze, centre);
     const glm::vec2 ut = vp_forward_angle(m, centre);
     s.add("distance", "r = " + probe_float(r) + " px, e = r / s = " + probe_float(r / m.scale) +
                           " model degrees");
