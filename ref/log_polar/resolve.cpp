@@ -175,4 +175,20 @@ Image resolve_log_polar(const LogPolarMap& map, const ResolveInputs& in, Resolve
     return out;
 }
 
+std::vector<glm::ivec2> resolve_pixel_taps(const LogPolarMap& map, int x, int y, bool& from_gaze) {
+    const glm::vec2 centre = pixel_centre(x, y);
+    from_gaze = inside_gaze_circle(map, centre);
+    if (from_gaze) {
+        const ScreenWindow window = gaze_window(map);
+        return {{x - window.x0, y - window.y0}};
+    }
+    const BilinearLookup l =
+        lp_bilinear_taps(Image(map.width, map.height, 1, 1.0f), lp_forward(map, centre));
+    std::vector<glm::ivec2> taps;
+    for (const glm::ivec2& tap : {glm::ivec2(l.i0, l.j0), glm::ivec2(l.i1, l.j0),
+                                  glm::ivec2(l.i0, l.j1), glm::ivec2(l.i1, l.j1)})
+        if (std::find(taps.begin(), taps.end(), tap) == taps.end()) taps.push_back(tap);
+    return taps;
+}
+
 }  // namespace fovref

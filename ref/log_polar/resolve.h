@@ -101,4 +101,11 @@ void resolve_pixel(const LogPolarMap& map, const ResolveInputs& in, Image& out, 
 Image resolve_log_polar(const LogPolarMap& map, const ResolveInputs& in, ResolveStats& stats,
                         const ForwardTable* table = nullptr);
 
+/// The texels pass 2 reads for screen pixel (x, y), traced or not (a mip resolve's level 0): with
+/// a gaze buffer and the centre inside the gaze circle, that buffer's pixel (x - x0, y - y0)
+/// (`from_gaze` true); otherwise the taps (i0, j0), (i1, j0), (i0, j1), (i1, j1) of the
+/// forward-mapped centre's bilinear lookup, each once. What a GPU developer looks at when a pixel
+/// differs: the buffer texels it came from.
+std::vector<glm::ivec2> resolve_pixel_taps(const LogPolarMap& map, int x, int y, bool& from_gaze);
+
 }  // namespace fovref

@@ -1,5 +1,6 @@
 #include "ref/log_polar/stereo.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "ref/core/error.h"
@@ -206,6 +207,22 @@ Image resolve_stereo(const StereoParams& params, const std::array<LogPolarMap, 2
         for (int x = 0; x < out.width; ++x)
             resolve_stereo_pixel(params, maps, colors, masks, out, x, y, stats, table);
     return out;
+}
+
+std::vector<glm::ivec2> stereo_pixel_taps(const StereoParams& params,
+                                          const std::array<LogPolarMap, 2>& maps, int x, int y) {
+    glm::vec2 uv{0.0f};
+    if (!stereo_lookup(params, maps, x, y, uv)) return {};
+    const int eye = x / maps[0].screen_width;
+    const LogPolarMap& map = maps[static_cast<std::size_t>(eye)];
+    const BilinearLookup l = lp_bilinear_taps(Image(map.width, map.height, 1, 1.0f), uv);
+    std::vector<glm::ivec2> taps;
+    for (const glm::ivec2& tap : {glm::ivec2(l.i0, l.j0), glm::ivec2(l.i1, l.j0),
+                                  glm::ivec2(l.i0, l.j1), glm::ivec2(l.i1, l.j1)}) {
+        const glm::ivec2 texel{eye * map.width + tap.x, tap.y};
+        if (std::find(taps.begin(), taps.end(), texel) == taps.end()) taps.push_back(texel);
+    }
+    return taps;
 }
 
 }  // namespace fovref

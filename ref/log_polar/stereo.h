@@ -114,4 +114,10 @@ Image resolve_stereo(const StereoParams& params, const std::array<LogPolarMap, 2
                      const Image& color, const Image& valid, StereoResolveStats& stats,
                      const StereoForwardTable* table = nullptr);
 
+/// The texels of the side-by-side buffer (eye e's texel (i, j) is column e w + i) that pass 2
+/// reads for screen pixel (x, y): the four taps of its eye's bilinear lookup, each once; none when
+/// the barrel source leaves the eye's image.
+std::vector<glm::ivec2> stereo_pixel_taps(const StereoParams& params,
+                                          const std::array<LogPolarMap, 2>& maps, int x, int y);
+
 }  // namespace fovref

@@ -140,6 +140,38 @@ std::vector<PixelFunction> stereo_pixel_functions(const Params& params) {
     return functions;
 }
 
+// The frame's camera (the camera path at the frame's time).
+Camera frame_camera(const Scene& scene, const RenderSettings& settings, int frame) {
+    return camera_at(scene, settings.time_start + static_cast<float>(frame) * settings.time_step);
+}
+
+std::vector<TexelRead> foveated_pixel_texels(const std::string& preset, const Scene& scene,
+                                             const RenderSettings& settings, int frame, int x,
+                                             int y) {
+    const FoveatedParams params =
+        parse_foveated_params(settings.params, find_foveation_preset(preset));
+    const LogPolarMap map = foveated_map(params, scene, frame_camera(scene, settings, frame),
+                                         settings.width, settings.height, frame);
+    bool from_gaze = false;
+    std::vector<TexelRead> reads;
+    for (const glm::ivec2& texel : resolve_pixel_taps(map, x, y, from_gaze))
+        reads.push_back({from_gaze ? "gaze_" : "lp_", texel});
+    return reads;
+}
+
+std::vector<TexelRead> stereo_pixel_texels(const Scene& scene, const RenderSettings& settings,
+                                           int frame, int x, int y) {
+    const StereoParams params = parse_stereo_params(settings.params);
+    std::vector<TexelRead> reads;
+    for (const glm::ivec2& texel :
+         stereo_pixel_taps(params,
+                           stereo_maps(params, scene, frame_camera(scene, settings, frame),
+                                       settings.width, settings.height, frame),
+                           x, y))
+        reads.push_back({"lp_", texel});
+    return reads;
+}
+
 }  // namespace
 
 ModeInfo foveated_mode(const std::string& preset_name, const std::string& what) {
@@ -156,6 +188,10 @@ ModeInfo foveated_mode(const std::string& preset_name, const std::string& what) 
     m.explains_texels = true;
     m.pixel_functions = foveated_pixel_functions;
     m.buffer_families = {{"lp_", BufferSpace::texel}, {"gaze_", BufferSpace::screen_window}};
+    m.pixel_texels = [preset_name](const Scene& scene, const RenderSettings& settings, int frame,
+                                   int x, int y) {
+        return foveated_pixel_texels(preset_name, scene, settings, frame, x, y);
+    };
     return m;
 }
 
@@ -172,6 +208,7 @@ ModeInfo stereo_mode() {
     m.explains_texels = true;
     m.pixel_functions = stereo_pixel_functions;
     m.buffer_families = {{"lp_", BufferSpace::stereo_texel}};
+    m.pixel_texels = stereo_pixel_texels;
     return m;
 }
 

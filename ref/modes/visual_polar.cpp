@@ -165,6 +165,15 @@ void explain_visual_polar_bmfr(const ProbeContext& c, ProbeReport& report) {
         explain_bmfr_block(c, m, c.texel->x, c.texel->y, report);
 }
 
+std::vector<TexelRead> vp_pixel_texels(const Scene&, const RenderSettings& settings, int frame,
+                                       int x, int y, const std::string& mode) {
+    const VisualPolarMap map = sparse_vp_map(parse_sparse_params(settings.params, mode),
+                                             settings.width, settings.height, frame);
+    std::vector<TexelRead> reads;
+    for (const glm::ivec2& texel : vp_resolve_taps(map, x, y)) reads.push_back({"vp_", texel});
+    return reads;
+}
+
 ModeInfo sparse_mode(std::string name, std::string description) {
     ModeInfo m;
     m.name = std::move(name);
@@ -188,6 +197,9 @@ ModeInfo visual_polar_mode() {
     m.explain = explain_visual_polar_bmfr;
     m.explains_texels = true;
     m.buffer_families = {{"vp_", BufferSpace::texel}};
+    m.pixel_texels = [](const Scene& scene, const RenderSettings& s, int frame, int x, int y) {
+        return vp_pixel_texels(scene, s, frame, x, y, "visual-polar");
+    };
     return m;
 }
 
@@ -201,6 +213,9 @@ ModeInfo visual_polar_basic_mode() {
     m.explain = explain_visual_polar;
     m.explains_texels = true;
     m.buffer_families = {{"vp_", BufferSpace::texel}};
+    m.pixel_texels = [](const Scene& scene, const RenderSettings& s, int frame, int x, int y) {
+        return vp_pixel_texels(scene, s, frame, x, y, "visual-polar-basic");
+    };
     return m;
 }
 

@@ -198,6 +198,14 @@ struct BufferFamily {
     BufferSpace space = BufferSpace::screen;
 };
 
+/// A texel pass 2 reads for a screen pixel: its buffer family (the prefix of a BufferFamily, e.g.
+/// "lp_") and the texel.
+struct TexelRead {
+    std::string family;
+    glm::ivec2 texel{0};
+    bool operator==(const TexelRead&) const = default;
+};
+
 struct ModeInfo {
     std::string name;
     std::string description;
@@ -227,6 +235,12 @@ struct ModeInfo {
     /// The mode's buffers that are not screen images (every other buffer is W x H screen space),
     /// e.g. {"lp_", texel}, {"gaze_", screen_window}.
     std::vector<BufferFamily> buffer_families;
+    /// How screen pixel (x, y) of frame `frame` maps to the buffer texels pass 2 reads for it
+    /// (traced or not; a mip resolve's level 0); empty for a mode whose screen pixels read only
+    /// screen images.
+    std::function<std::vector<TexelRead>(const Scene& scene, const RenderSettings& settings,
+                                         int frame, int x, int y)>
+        pixel_texels;
 };
 
 /// The space of buffer `name` of `mode` (the first family whose prefix it starts with; screen

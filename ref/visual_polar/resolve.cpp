@@ -245,4 +245,27 @@ Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, Resolv
     return out;
 }
 
+std::vector<glm::ivec2> vp_resolve_taps(const VisualPolarMap& map, int x, int y) {
+    float u = 0.0f, r = 0.0f, theta = 0.0f;
+    vp_polar_pixel(map, x, y, u, r, theta);
+    const float s = std::clamp(u, 0.5f, static_cast<float>(map.width) - 0.5f) - 0.5f;
+    const float i0f = std::floor(s);
+    const int columns[2] = {static_cast<int>(i0f),
+                            std::min(static_cast<int>(i0f) + 1, map.width - 1)};
+    const float fx = s - i0f;
+    std::vector<glm::ivec2> taps;
+    for (int k = 0; k < 2; ++k) {
+        if (k == 1 && (columns[1] == columns[0] || !(fx > 0.0f))) break;
+        // the rows sample_vp_phi reads on this column's own rows
+        const int rows = vp_column_rows(map, columns[k]);
+        const float t = static_cast<float>(rows) * theta / two_pi - 0.5f;
+        const float j0f = std::floor(t);
+        int j0 = static_cast<int>(j0f) % rows;
+        if (j0 < 0) j0 += rows;
+        taps.emplace_back(columns[k], j0);
+        if (t - j0f > 0.0f) taps.emplace_back(columns[k], j0 + 1 == rows ? 0 : j0 + 1);
+    }
+    return taps;
+}
+
 }  // namespace fovref

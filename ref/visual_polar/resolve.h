@@ -115,4 +115,13 @@ void resolve_vp_pixel(const VisualPolarMap& map, const VpMips& mips, Image& out,
 Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, ResolveStats& stats,
                            bool mip = true, const VpForwardTable* table = nullptr);
 
+/// The polar coordinates of screen pixel (x, y)'s centre as the resolve computes them: u
+/// (vp_forward's), the distance r from the gaze and theta.
+void vp_polar_pixel(const VisualPolarMap& map, int x, int y, float& u, float& r, float& theta);
+
+/// The texels pass 2 reads at level 0 for screen pixel (x, y), traced or not: the one or two
+/// columns along rho (the second only with a non-zero weight), and in each the one or two rows
+/// along phi at the pixel's angle on that column's own rows.
+std::vector<glm::ivec2> vp_resolve_taps(const VisualPolarMap& map, int x, int y);
+
 }  // namespace fovref
