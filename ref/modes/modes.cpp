@@ -5,6 +5,7 @@
 #include "ref/modes/building_blocks.h"
 #include "ref/modes/log_polar.h"
 #include "ref/modes/ray_tracing.h"
+#include "ref/modes/sparse_sampling.h"
 #include "ref/modes/visual_polar.h"
 
 namespace fovref {

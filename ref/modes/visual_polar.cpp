@@ -5,7 +5,6 @@
 #include "ref/bmfr/probe.h"
 #include "ref/bmfr/stages.h"
 #include "ref/filters/stages.h"
-#include "ref/raster/stages.h"
 #include "ref/trace/stages.h"
 #include "ref/visual_polar/probe.h"
 #include "ref/visual_polar/stages.h"
@@ -14,40 +13,12 @@ namespace fovref {
 
 namespace {
 
-std::vector<ParamSpec> path_specs() {
-    return {{"max_bounces", "1",
-             "secondary rays per path: 1 = the sources' four rays per sample (primary, two "
-             "shadow rays, one secondary); more with Russian roulette"},
-            {"rr", "0.8", "Russian-roulette continuation probability from the second bounce on"}};
-}
-
-std::vector<ParamSpec> concat(std::vector<ParamSpec> a, const std::vector<ParamSpec>& b) {
-    for (const ParamSpec& spec : b) a.push_back(spec);
-    return a;
-}
-
 std::vector<ParamSpec> visual_polar_param_specs(bool path_traced) {
     std::vector<ParamSpec> specs =
         sparse_param_specs(path_traced ? "visual-polar" : "visual-polar-basic");
-    if (path_traced) specs = concat(concat(specs, path_specs()), bmfr_param_specs("bmfr"));
+    if (path_traced)
+        specs = concat_specs(concat_specs(specs, path_param_specs()), bmfr_param_specs("bmfr"));
     return specs;
-}
-
-std::vector<ParamSpec> linear_falloff_param_specs() {
-    std::vector<ParamSpec> specs = concat(sparse_param_specs("linear-falloff"), path_specs());
-    specs.push_back({"fill_rule", "d3d", "rasterizer fill rule of the primary visibility"});
-    return concat(specs, bmfr_param_specs());
-}
-
-std::vector<ParamSpec> acuity_param_specs() {
-    return concat(sparse_param_specs("acuity"), path_specs());
-}
-
-std::shared_ptr<SparseFrames> sparse_frames(const RenderSettings& settings,
-                                            const std::string& mode) {
-    auto frames = std::make_shared<SparseFrames>();
-    frames->params = parse_sparse_params(settings.params, mode);
-    return frames;
 }
 
 // ---- visual-polar, visual-polar-basic --------------------------------------------------------
@@ -75,7 +46,7 @@ void add_vp_path_tracing(Pipeline& p, const RenderSettings& settings,
 
 Pipeline vp_pipeline(const RenderSettings& settings, bool path_traced) {
     std::shared_ptr<SparseFrames> frames =
-        sparse_frames(settings, path_traced ? "visual-polar" : "visual-polar-basic");
+        sparse_frames(settings.params, path_traced ? "visual-polar" : "visual-polar-basic");
     // Validate the map now (buffer size, gaze), not in the first stage
     sparse_vp_map(frames->params, settings.width, settings.height, 0);
     auto bvh = std::make_shared<BvhCache>();
@@ -92,50 +63,6 @@ Pipeline vp_pipeline(const RenderSettings& settings, bool path_traced) {
                                         blur_geometry_of(frames)))
             .add(blur_vertical_stage_def(params.ramp, "blur_horizontal", "final",
                                          blur_geometry_of(frames)));
-    p.final_outputs = {"final"};
-    return p;
-}
-
-// ---- linear fall-off ------------------------------------------------------------------------
-
-Pipeline linear_falloff_pipeline(const Scene*, const RenderSettings& settings) {
-    std::shared_ptr<SparseFrames> frames = sparse_frames(settings, "linear-falloff");
-    const std::vector<ParamSpec> specs = linear_falloff_param_specs();
-    PathTraceStage trace;
-    trace.mask = "sample_mask";
-    trace.radiance = "sparse_radiance";
-    trace.path = parse_path_params(settings.params, specs);
-    trace.bvh = std::make_shared<BvhCache>();
-    RasterSettings raster;
-    raster.fill_rule =
-        parse_fill_rule(settings.params.get_string(specs, "fill_rule"), "parameter 'fill_rule'");
-    const BmfrSettings bmfr = parse_bmfr_params(settings.params);
-    const bool separate = bmfr.enabled && bmfr.params.separate_emission;
-    if (separate) trace.emission = "sparse_emission";
-    Pipeline p;
-    p.add(rasterize_stage_def("primary_visibility", raster)).add(falloff_mask_stage_def(frames));
-    p.add(pathtrace_stage_def(trace));
-    p.add(fill_stage_def(frames, bmfr.enabled ? "filled" : "final", separate));
-    if (bmfr.enabled) add_bmfr_stages(p, {bmfr, "filled", "filled_emission", "final"});
-    p.final_outputs = {"final"};
-    return p;
-}
-
-// ---- acuity ---------------------------------------------------------------------------------
-
-Pipeline acuity_pipeline(const Scene*, const RenderSettings& settings) {
-    std::shared_ptr<SparseFrames> frames = sparse_frames(settings, "acuity");
-    PathTraceStage trace;
-    trace.name = "acuity_shade";
-    trace.gbuffer = "acuity_gbuffer_";
-    trace.mask = "acuity_valid";
-    trace.radiance = "acuity_radiance";
-    trace.path = parse_path_params(settings.params, acuity_param_specs());
-    trace.bvh = std::make_shared<BvhCache>();
-    acuity_samples_per_frame(frames->params, settings.width, settings.height);  // validated now
-    Pipeline p;
-    p.add(acuity_trace_stage_def(frames, trace.bvh)).add(pathtrace_stage_def(trace));
-    p.add(acuity_accumulate_stage_def(frames)).add(acuity_resolve_stage_def(frames));
     p.final_outputs = {"final"};
     return p;
 }
@@ -216,33 +143,6 @@ ModeInfo visual_polar_basic_mode() {
     m.pixel_texels = [](const Scene& scene, const RenderSettings& s, int frame, int x, int y) {
         return vp_pixel_texels(scene, s, frame, x, y, "visual-polar-basic");
     };
-    return m;
-}
-
-ModeInfo linear_falloff_mode() {
-    ModeInfo m = sparse_mode("linear-falloff",
-                             "1-spp path tracing of pixels drawn with the linear fall-off "
-                             "probability L(e), push-pull fill, optional BMFR (Weier et al.; "
-                             "Koskela eq. 4.1)");
-    m.params = linear_falloff_param_specs();
-    m.build = linear_falloff_pipeline;
-    return m;
-}
-
-ModeInfo acuity_mode() {
-    ModeInfo m = sparse_mode("acuity",
-                             "N path-traced samples per frame placed by the acuity model's "
-                             "inverse CDF, progressive mean, unsampled pixels black (Koskela "
-                             "P3/P4)");
-    m.params = acuity_param_specs();
-    m.build = acuity_pipeline;
-    m.parameters_carry_state = [](const Params& p) {  // progressive by default
-        return p.get_bool(acuity_param_specs(), "progressive");
-    };
-    m.buffer_families = {{"acuity_gbuffer_", BufferSpace::samples},
-                         {"acuity_valid", BufferSpace::samples},
-                         {"acuity_point", BufferSpace::samples},
-                         {"acuity_radiance", BufferSpace::samples}};
     return m;
 }
 

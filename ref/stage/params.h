@@ -14,6 +14,13 @@ struct ParamSpec {
     std::string doc;
 };
 
+/// `a` followed by `b`: a mode's parameter list made of its parts' lists.
+inline std::vector<ParamSpec> concat_specs(std::vector<ParamSpec> a,
+                                           const std::vector<ParamSpec>& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+}
+
 class Params {
 public:
     Params() = default;

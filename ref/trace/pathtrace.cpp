@@ -179,6 +179,13 @@ Image pathtrace(const Scene& scene, const Bvh& bvh, const PathTraceParams& param
     return out;
 }
 
+std::vector<ParamSpec> path_param_specs() {
+    return {{"max_bounces", "1",
+             "secondary rays per path: 1 = the sources' four rays per sample (primary, two "
+             "shadow rays, one secondary); more with Russian roulette"},
+            {"rr", "0.8", "Russian-roulette continuation probability from the second bounce on"}};
+}
+
 PathTraceParams parse_path_params(const Params& params, const std::vector<ParamSpec>& specs,
                                   bool rr_needs_bounces) {
     PathTraceParams path;

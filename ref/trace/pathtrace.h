@@ -41,6 +41,10 @@ struct PathTraceParams {
     float rr = 0.8f;      ///< Russian-roulette continuation probability (max_bounces > 1)
 };
 
+/// The path tracer's parameters max_bounces and rr of the sparse modes (visual-polar,
+/// linear-falloff, acuity: "four rays per sample").
+std::vector<ParamSpec> path_param_specs();
+
 /// max_bounces and rr from a mode's parameters (`specs` holds them); throws fovref::Error naming
 /// the parameter, and (with `rr_needs_bounces`) when rr is given but max_bounces is 1, where it
 /// changes nothing.

@@ -74,6 +74,12 @@ VisualPolarMap SparseFrames::map(const FrameContext& ctx, int frame) const {
     return sparse_vp_map(params, ctx.settings->width, ctx.settings->height, frame);
 }
 
+std::shared_ptr<SparseFrames> sparse_frames(const Params& params, const std::string& mode) {
+    auto frames = std::make_shared<SparseFrames>();
+    frames->params = parse_sparse_params(params, mode);
+    return frames;
+}
+
 std::function<BlurRampGeometry(const FrameContext&)> blur_geometry_of(
     std::shared_ptr<SparseFrames> frames) {
     return [frames](const FrameContext& ctx) {

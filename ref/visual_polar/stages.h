@@ -41,6 +41,9 @@ struct SparseFrames {
     VisualPolarMap map(const FrameContext& context, int frame) const;
 };
 
+/// The shared frames of the sparse mode `mode`, its parameters parsed from `params`.
+std::shared_ptr<SparseFrames> sparse_frames(const Params& params, const std::string& mode);
+
 /// The frame's blur-ramp geometry (the map's gaze and scale; the filters' blur stages).
 std::function<BlurRampGeometry(const FrameContext&)> blur_geometry_of(
     std::shared_ptr<SparseFrames> frames);
