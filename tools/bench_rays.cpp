@@ -268,7 +268,8 @@ void bench_gbuffer_passes(const Scene& scene, const Bvh& bvh, const std::string&
     Row raycast{name, "ray gbuf", raster.rays};
     raycast.ref = best_time(options.repeats, [&] {
         RaycastStats raycast_stats;
-        raycast_gbuffer(scene, bvh, camera, camera, options.width, options.height, raycast_stats);
+        raycast_gbuffer(PrimaryView(scene, bvh, camera, camera), options.width, options.height,
+                        raycast_stats);
     });
     print_row(raycast, have_embree);
 }

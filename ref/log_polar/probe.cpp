@@ -111,8 +111,8 @@ void explain_texel(const ProbeContext& c, const FoveatedParams& params, const Lo
                                    f.find("gbuffer_motion")->image};
         status = deferred_gbuffer_texel(scratch, points, m, table, screen, i, j, stats);
     } else {
-        status = lp_gbuffer_texel(scratch, points, m, table, *c.scene, bvh, c.camera, tan_half,
-                                  c.camera, tan_half, i, j, stats);
+        status = lp_gbuffer_texel(scratch, points, m, table,
+                                  PrimaryView(*c.scene, bvh, c.camera, c.camera), i, j, stats);
     }
     const glm::vec2 p{points.at(i, j, 0), points.at(i, j, 1)};
     trace.add("screen point", point_text(p) + ", r = " + probe_float(gaze_distance(m.gaze, p)) +
@@ -164,8 +164,8 @@ void explain_gaze_pixel(const ProbeContext& c, const LogPolarMap& m, const Bvh& 
     MaskedGBuffer scratch(window.width, window.height);
     FoveatedTraceStats stats;
     const float tan_half = tan_half_vfov(c.camera);
-    gaze_gbuffer_pixel(scratch, window, m, *c.scene, bvh, c.camera, tan_half, c.camera, tan_half,
-                       c.x, c.y, stats, c.jitter);
+    gaze_gbuffer_pixel(scratch, window, m, PrimaryView(*c.scene, bvh, c.camera, c.camera), c.x, c.y,
+                       stats, c.jitter);
     const int i = c.x - window.x0, j = c.y - window.y0;  // in the gaze buffer
     trace.add("gaze buffer", "covers screen pixels x " + std::to_string(window.x0) + ".." +
                                  std::to_string(window.x0 + window.width - 1) + ", y " +
@@ -364,8 +364,8 @@ void explain_stereo_texel(const ProbeContext& c, const std::array<LogPolarMap, 2
                                                   lp_inverse_table(maps[1], c.jitter)};
     // The probe explains the frame as rendered: the previous cameras only change the motion
     // vectors, which the check below leaves out.
-    const TexelStatus status = stereo_gbuffer_texel(scratch, points, maps, tables, *c.scene, bvh,
-                                                    cameras, cameras, x, y, stats);
+    const TexelStatus status = stereo_gbuffer_texel(
+        scratch, points, maps, tables, eye_views(*c.scene, bvh, cameras, cameras), x, y, stats);
     const glm::vec2 full{points.at(x, y, 0), points.at(x, y, 1)};
     const glm::vec2 p{full.x - static_cast<float>(eye * m.screen_width), full.y};
     trace.add("screen point", point_text(p) + " in the eye, " + point_text(full) +

@@ -118,8 +118,7 @@ void lp_trace_stage(FrameContext& ctx) {
     Image screen_points;
     const Offset2 jitter = frame_jitter(ctx, s.jitter);
     MaskedGBuffer lp =
-        trace_lp_gbuffer(map, *ctx.scene, s.bvh->get(*ctx.scene, counters), ctx.camera,
-                         ctx.previous_camera, screen_points, stats, jitter);
+        trace_lp_gbuffer(map, primary_view(ctx, *s.bvh), screen_points, stats, jitter);
     add_buffer_counters(ctx, map, stats);
     add_trace_counters(counters, "primary", stats.rays.primary);
     ctx.note = map_note(map) + ", " + std::to_string(stats.texels_traced) + " traced" +
@@ -160,8 +159,7 @@ void gaze_trace_stage(FrameContext& ctx) {
     Counters& counters = ctx.result->counters;
     FoveatedTraceStats stats;
     const Offset2 jitter = frame_jitter(ctx, s.jitter);
-    MaskedGBuffer gaze = trace_gaze_gbuffer(map, *ctx.scene, s.bvh->get(*ctx.scene, counters),
-                                            ctx.camera, ctx.previous_camera, stats, jitter);
+    MaskedGBuffer gaze = trace_gaze_gbuffer(map, primary_view(ctx, *s.bvh), stats, jitter);
     counters.add("gaze_radius_px", static_cast<std::int64_t>(std::round(map.gaze_radius)));
     counters.add("gaze_pixels_traced", stats.gaze_pixels_traced);
     // Where the gaze buffer lies on the screen (its size is the buffers' size).
@@ -248,9 +246,11 @@ void stereo_trace_stage(FrameContext& ctx) {
     FoveatedTraceStats stats;
     Image screen_points;
     const Offset2 jitter = frame_jitter(ctx, s.jitter);
-    MaskedGBuffer lp = trace_stereo_gbuffer(maps, *ctx.scene, s.bvh->get(*ctx.scene, counters),
-                                            s.frames->cameras(ctx), s.frames->cameras(ctx, true),
-                                            screen_points, stats, jitter);
+    const std::array<Camera, 2> cameras = s.frames->cameras(ctx);
+    const std::array<Camera, 2> previous = s.frames->cameras(ctx, true);
+    MaskedGBuffer lp = trace_stereo_gbuffer(
+        maps, eye_views(*ctx.scene, s.bvh->get(*ctx.scene, counters), cameras, previous),
+        screen_points, stats, jitter);
     add_buffer_counters(ctx, maps[0], stats);
     counters.add("eyes", 2);
     add_trace_counters(counters, "primary", stats.rays.primary);

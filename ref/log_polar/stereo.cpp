@@ -81,11 +81,17 @@ std::array<LogPolarMap, 2> stereo_maps(const StereoParams& params, const Scene& 
             foveated_map(params.eye, scene, camera, eye_width, height, frame)};
 }
 
+std::array<PrimaryView, 2> eye_views(const Scene& scene, const Bvh& bvh,
+                                     const std::array<Camera, 2>& cameras,
+                                     const std::array<Camera, 2>& previous) {
+    return {PrimaryView(scene, bvh, cameras[0], previous[0]),
+            PrimaryView(scene, bvh, cameras[1], previous[1])};
+}
+
 TexelStatus stereo_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points,
                                  const std::array<LogPolarMap, 2>& maps,
-                                 const std::array<LpInverseTable, 2>& tables, const Scene& scene,
-                                 const Bvh& bvh, const std::array<Camera, 2>& cameras,
-                                 const std::array<Camera, 2>& previous, int x, int y,
+                                 const std::array<LpInverseTable, 2>& tables,
+                                 const std::array<PrimaryView, 2>& views, int x, int y,
                                  FoveatedTraceStats& stats) {
     const int w = maps[0].width;
     const int eye = x / w, i = x - eye * w;
@@ -100,21 +106,13 @@ TexelStatus stereo_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points,
     }
     ++stats.texels_traced;
     buffer.valid.at(x, y) = 1.0f;
-    const Camera& camera = cameras[static_cast<std::size_t>(eye)];
-    const Ray ray =
-        primary_ray(camera, tan_half_vfov(camera), map.screen_width, map.screen_height, p.x, p.y);
-    const Hit hit = trace_closest(bvh, ray, stats.rays.primary);
-    const Camera& before = previous[static_cast<std::size_t>(eye)];
-    if (hit.hit() &&
-        !write_gbuffer_sample(buffer.gbuffer, x, y, p, map.screen_width, map.screen_height, scene,
-                              camera, before, tan_half_vfov(before), hit.primitive, hit.u, hit.v))
-        ++stats.rays.motion_behind_previous;
+    raycast_sample(buffer.gbuffer, x, y, p, map.screen_width, map.screen_height,
+                   views[static_cast<std::size_t>(eye)], stats.rays);
     return status;
 }
 
-MaskedGBuffer trace_stereo_gbuffer(const std::array<LogPolarMap, 2>& maps, const Scene& scene,
-                                   const Bvh& bvh, const std::array<Camera, 2>& cameras,
-                                   const std::array<Camera, 2>& previous, Image& screen_points,
+MaskedGBuffer trace_stereo_gbuffer(const std::array<LogPolarMap, 2>& maps,
+                                   const std::array<PrimaryView, 2>& views, Image& screen_points,
                                    FoveatedTraceStats& stats, Offset2 jitter) {
     const int w = maps[0].width, h = maps[0].height;
     MaskedGBuffer buffer(2 * w, h);
@@ -123,8 +121,7 @@ MaskedGBuffer trace_stereo_gbuffer(const std::array<LogPolarMap, 2>& maps, const
                                                   lp_inverse_table(maps[1], jitter)};
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < 2 * w; ++x)
-            stereo_gbuffer_texel(buffer, screen_points, maps, tables, scene, bvh, cameras, previous,
-                                 x, y, stats);
+            stereo_gbuffer_texel(buffer, screen_points, maps, tables, views, x, y, stats);
     return buffer;
 }
 

@@ -58,19 +58,22 @@ int stereo_eye_width(int width);
 std::array<LogPolarMap, 2> stereo_maps(const StereoParams& params, const Scene& scene,
                                        const Camera& camera, int width, int height, int frame);
 
+/// The two eyes' primary views (their cameras and previous cameras, which must outlive them).
+std::array<PrimaryView, 2> eye_views(const Scene& scene, const Bvh& bvh,
+                                     const std::array<Camera, 2>& cameras,
+                                     const std::array<Camera, 2>& previous);
+
 /// Per-texel work of trace_stereo_gbuffer.
 TexelStatus stereo_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points,
                                  const std::array<LogPolarMap, 2>& maps,
-                                 const std::array<LpInverseTable, 2>& tables, const Scene& scene,
-                                 const Bvh& bvh, const std::array<Camera, 2>& cameras,
-                                 const std::array<Camera, 2>& previous, int x, int y,
+                                 const std::array<LpInverseTable, 2>& tables,
+                                 const std::array<PrimaryView, 2>& views, int x, int y,
                                  FoveatedTraceStats& stats);
 
 /// Both eyes' G-buffers, side by side (2w x h), and the texels' full-screen points.
 /// `jitter` (TAA): each eye's texels launch at (i + o_x, j + o_y), before the inverse map.
-MaskedGBuffer trace_stereo_gbuffer(const std::array<LogPolarMap, 2>& maps, const Scene& scene,
-                                   const Bvh& bvh, const std::array<Camera, 2>& cameras,
-                                   const std::array<Camera, 2>& previous, Image& screen_points,
+MaskedGBuffer trace_stereo_gbuffer(const std::array<LogPolarMap, 2>& maps,
+                                   const std::array<PrimaryView, 2>& views, Image& screen_points,
                                    FoveatedTraceStats& stats, Offset2 jitter = {});
 
 /// Pass 2 counters, plus the pixels whose barrel source left the eye's image.

@@ -23,33 +23,24 @@ TexelStatus begin_texel(MaskedGBuffer& buffer, Image& screen_points, const LogPo
 }
 
 TexelStatus lp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const LogPolarMap& map,
-                             const LpInverseTable& table, const Scene& scene, const Bvh& bvh,
-                             const Camera& camera, float tan_half, const Camera& previous_camera,
-                             float previous_tan_half, int x, int y, FoveatedTraceStats& stats) {
+                             const LpInverseTable& table, const PrimaryView& view, int x, int y,
+                             FoveatedTraceStats& stats) {
     glm::vec2 p{0.0f};
     const TexelStatus status = begin_texel(buffer, screen_points, map, table, x, y, p, stats);
-    if (status != TexelStatus::traced) return status;
-    const Ray ray = primary_ray(camera, tan_half, map.screen_width, map.screen_height, p.x, p.y);
-    const Hit hit = trace_closest(bvh, ray, stats.rays.primary);
-    if (hit.hit() && !write_gbuffer_sample(buffer.gbuffer, x, y, p, map.screen_width,
-                                           map.screen_height, scene, camera, previous_camera,
-                                           previous_tan_half, hit.primitive, hit.u, hit.v))
-        ++stats.rays.motion_behind_previous;
+    if (status == TexelStatus::traced)
+        raycast_sample(buffer.gbuffer, x, y, p, map.screen_width, map.screen_height, view,
+                       stats.rays);
     return status;
 }
 
-MaskedGBuffer trace_lp_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,
-                               const Camera& camera, const Camera& previous_camera,
+MaskedGBuffer trace_lp_gbuffer(const LogPolarMap& map, const PrimaryView& view,
                                Image& screen_points, FoveatedTraceStats& stats, Offset2 jitter) {
     MaskedGBuffer buffer(map.width, map.height);
     screen_points = Image(map.width, map.height, 2, 0.0f);
-    const float tan_half = tan_half_vfov(camera);
-    const float previous_tan_half = tan_half_vfov(previous_camera);
     const LpInverseTable table = lp_inverse_table(map, jitter);
     for (int y = 0; y < map.height; ++y)
         for (int x = 0; x < map.width; ++x)
-            lp_gbuffer_texel(buffer, screen_points, map, table, scene, bvh, camera, tan_half,
-                             previous_camera, previous_tan_half, x, y, stats);
+            lp_gbuffer_texel(buffer, screen_points, map, table, view, x, y, stats);
     return buffer;
 }
 
@@ -70,30 +61,24 @@ ScreenWindow gaze_window(const LogPolarMap& map) {
 }
 
 bool gaze_gbuffer_pixel(MaskedGBuffer& buffer, const ScreenWindow& window, const LogPolarMap& map,
-                        const Scene& scene, const Bvh& bvh, const Camera& camera, float tan_half,
-                        const Camera& previous_camera, float previous_tan_half, int x, int y,
-                        FoveatedTraceStats& stats, Offset2 jitter) {
+                        const PrimaryView& view, int x, int y, FoveatedTraceStats& stats,
+                        Offset2 jitter) {
     const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
     if (!inside_gaze_circle(map, centre)) return false;
     ++stats.gaze_pixels_traced;
     buffer.valid.at(x - window.x0, y - window.y0) = 1.0f;
-    raycast_window_pixel(buffer.gbuffer, window, scene, bvh, camera, tan_half, previous_camera,
-                         previous_tan_half, x, y, stats.rays, jitter);
+    raycast_window_pixel(buffer.gbuffer, window, view, x, y, stats.rays, jitter);
     return true;
 }
 
-MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,
-                                 const Camera& camera, const Camera& previous_camera,
+MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const PrimaryView& view,
                                  FoveatedTraceStats& stats, Offset2 jitter) {
     const ScreenWindow window = gaze_window(map);
     MaskedGBuffer buffer(window.width, window.height);
     if (!map.has_gaze_buffer()) return buffer;
-    const float tan_half = tan_half_vfov(camera);
-    const float previous_tan_half = tan_half_vfov(previous_camera);
     for (int y = window.y0; y < window.y0 + window.height; ++y)
         for (int x = window.x0; x < window.x0 + window.width; ++x)
-            gaze_gbuffer_pixel(buffer, window, map, scene, bvh, camera, tan_half, previous_camera,
-                               previous_tan_half, x, y, stats, jitter);
+            gaze_gbuffer_pixel(buffer, window, map, view, x, y, stats, jitter);
     return buffer;
 }
 

@@ -52,15 +52,13 @@ TexelStatus begin_texel(MaskedGBuffer& buffer, Image& screen_points, const LogPo
 /// the buffer's size) receives the texel centre's inverse-mapped screen point, traced or not.
 /// Returns the texel's status.
 TexelStatus lp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const LogPolarMap& map,
-                             const LpInverseTable& table, const Scene& scene, const Bvh& bvh,
-                             const Camera& camera, float tan_half, const Camera& previous_camera,
-                             float previous_tan_half, int x, int y, FoveatedTraceStats& stats);
+                             const LpInverseTable& table, const PrimaryView& view, int x, int y,
+                             FoveatedTraceStats& stats);
 
 /// The log-polar buffer's G-buffer (map.width x map.height) and the texels' screen points.
 /// `jitter` (TAA, SPEC §7): each texel's ray launches at (i + o_x, j + o_y) in the buffer, before
 /// the inverse map, instead of the texel centre.
-MaskedGBuffer trace_lp_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,
-                               const Camera& camera, const Camera& previous_camera,
+MaskedGBuffer trace_lp_gbuffer(const LogPolarMap& map, const PrimaryView& view,
                                Image& screen_points, FoveatedTraceStats& stats,
                                Offset2 jitter = {});
 
@@ -74,14 +72,12 @@ ScreenWindow gaze_window(const LogPolarMap& map);
 /// Per-pixel work of trace_gaze_gbuffer: traces screen pixel (x, y) of `window` (its buffer pixel
 /// is (x - x0, y - y0)) when its centre is inside the gaze circle; returns whether it did.
 bool gaze_gbuffer_pixel(MaskedGBuffer& buffer, const ScreenWindow& window, const LogPolarMap& map,
-                        const Scene& scene, const Bvh& bvh, const Camera& camera, float tan_half,
-                        const Camera& previous_camera, float previous_tan_half, int x, int y,
-                        FoveatedTraceStats& stats, Offset2 jitter = {});
+                        const PrimaryView& view, int x, int y, FoveatedTraceStats& stats,
+                        Offset2 jitter = {});
 
 /// The gaze buffer: gaze_window(map)'s size, traced inside the gaze circle only (the circle test
 /// on the pixel centre; with `jitter` the ray goes through (x + o_x, y + o_y), as basic's).
-MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const Scene& scene, const Bvh& bvh,
-                                 const Camera& camera, const Camera& previous_camera,
+MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const PrimaryView& view,
                                  FoveatedTraceStats& stats, Offset2 jitter = {});
 
 /// Where the rays of a foveated frame went (Lund Fig. 3.3): a W x H count of the primary rays

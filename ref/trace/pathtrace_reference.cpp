@@ -37,7 +37,7 @@ void pathtrace_reference(const Scene& scene, const Bvh& bvh, const PathTracePara
     for (int s = first; s < total; ++s) {
         // One sample of every pixel: jittered primary rays, then the paths
         RaycastStats raycast;
-        GBuffer g = raycast_gbuffer(scene, bvh, camera, camera, width, height, raycast,
+        GBuffer g = raycast_gbuffer(PrimaryView(scene, bvh, camera, camera), width, height, raycast,
                                     reference_jitter(s));
         primary += raycast.primary;
         const ShadeInputs in{g.world_position, g.shading_normal, g.geometric_normal,

@@ -103,6 +103,10 @@ void output_reference(FrameContext& ctx, PathReferenceSums sums, int resumed) {
 
 }  // namespace
 
+PrimaryView primary_view(FrameContext& ctx, BvhCache& bvh) {
+    return {*ctx.scene, bvh.get(*ctx.scene, ctx.result->counters), ctx.camera, ctx.previous_camera};
+}
+
 ShadeInputs shade_inputs_of(const FrameContext& ctx) {
     return {ctx.input("world_position"), ctx.input("shading_normal"), ctx.input("geometric_normal"),
             ctx.input("albedo"),         ctx.input("material_id"),    ctx.input("primitive_id")};
@@ -125,12 +129,10 @@ std::string shadow_note(const Scene& scene) {
 
 void raycast_stage(FrameContext& ctx) {
     RaycastState& state = ctx.state<RaycastState>();
-    const Scene& scene = *ctx.scene;
     RaycastStats stats;
     const Offset2 jitter = state.jitter ? state.jitter(ctx) : Offset2{};
-    GBuffer g = raycast_gbuffer(scene, state.bvh->get(scene, ctx.result->counters), ctx.camera,
-                                ctx.previous_camera, ctx.settings->width, ctx.settings->height,
-                                stats, jitter);
+    GBuffer g = raycast_gbuffer(primary_view(ctx, *state.bvh), ctx.settings->width,
+                                ctx.settings->height, stats, jitter);
     add_trace_counters(ctx.result->counters, "primary", stats.primary);
     ctx.note = jitter == Offset2{} ? "ray cast"
                                    : "ray cast, jittered to (" + std::to_string(jitter.x) + ", " +

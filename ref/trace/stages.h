@@ -25,6 +25,7 @@
 #include "ref/raster/gbuffer.h"
 #include "ref/stage/pipeline.h"
 #include "ref/trace/pathtrace.h"
+#include "ref/trace/raycast_gbuffer.h"
 #include "ref/trace/shade_basic.h"
 
 namespace fovref {
@@ -83,6 +84,10 @@ void pathtrace_stage(FrameContext& context);
 StageDef pathtrace_reference_stage_def(PathTraceParams path, int spp,
                                        std::shared_ptr<BvhCache> bvh);
 void pathtrace_reference_stage(FrameContext& context);
+
+/// The frame's primary view: its scene, the render's BVH (built on first use, counted in the
+/// frame), this frame's and the previous frame's cameras.
+PrimaryView primary_view(FrameContext& context, BvhCache& bvh);
 
 /// The shading pass's inputs: the running stage's G-buffer slots (shading_ports).
 ShadeInputs shade_inputs_of(const FrameContext& context);

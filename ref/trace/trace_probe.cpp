@@ -250,7 +250,6 @@ void explain_ray_visibility(const ProbeContext& c, const Bvh& bvh, const Ray& ra
     const Scene& scene = *c.scene;
     const FrameResult& f = *c.frame;
     const int width = c.settings->width, height = c.settings->height;
-    const float tan_half = tan_half_vfov(c.camera);
     ProbeSection vis{"primary_visibility",
                      c.jitter == Offset2{} ? "one ray through the pixel centre (Lund §3.1)"
                                            : "one ray through the pixel at the TAA jitter (" +
@@ -263,8 +262,8 @@ void explain_ray_visibility(const ProbeContext& c, const Bvh& bvh, const Ray& ra
     // The pass's own per-pixel function, into a scratch G-buffer.
     GBuffer scratch(width, height);
     RaycastStats stats;
-    const Hit hit = raycast_gbuffer_pixel(scratch, scene, bvh, c.camera, tan_half, c.camera,
-                                          tan_half, c.x, c.y, stats, c.jitter);
+    const Hit hit = raycast_gbuffer_pixel(scratch, PrimaryView(scene, bvh, c.camera, c.camera), c.x,
+                                          c.y, stats, c.jitter);
     vis.add("traversal", std::to_string(stats.primary.nodes_visited) + " nodes visited, " +
                              std::to_string(stats.primary.triangles_tested) + " triangles tested");
     if (!hit.hit()) {

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <utility>
 
+#include "ref/trace/stages.h"
 #include "ref/visual_polar/sparse_sampling.h"
 #include "ref/visual_polar/trace.h"
 
@@ -93,8 +94,7 @@ void vp_trace_stage(FrameContext& ctx) {
     Counters& counters = ctx.result->counters;
     VpTraceStats stats;
     Image points;
-    MaskedGBuffer vp = trace_vp_gbuffer(map, *ctx.scene, s.bvh->get(*ctx.scene, counters),
-                                        ctx.camera, ctx.previous_camera, points, stats);
+    MaskedGBuffer vp = trace_vp_gbuffer(map, primary_view(ctx, *s.bvh), points, stats);
     counters.add("buffer_width", map.width);
     counters.add("buffer_height", map.height);
     counters.add("fovea_columns", map.fovea_columns);
@@ -201,8 +201,7 @@ void acuity_trace_stage(FrameContext& ctx) {
     Counters& counters = ctx.result->counters;
     VpTraceStats stats;
     MaskedGBuffer g = trace_point_gbuffer(points, ctx.settings->width, ctx.settings->height,
-                                          *ctx.scene, s.bvh->get(*ctx.scene, counters), ctx.camera,
-                                          ctx.previous_camera, stats);
+                                          primary_view(ctx, *s.bvh), stats);
     counters.add("samples", static_cast<std::int64_t>(points.size()));
     counters.add("samples_traced", stats.texels_traced);
     counters.add("samples_off_screen", stats.texels_off_screen);

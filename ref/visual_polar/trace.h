@@ -31,19 +31,15 @@ struct VpTraceStats {
 /// Per-texel work of trace_vp_gbuffer for texel (x, y) = (i, j); `screen_points` (2 channels)
 /// receives the centre's screen point (0, 0 for a clipped texel).
 VpTexel vp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const VisualPolarMap& map,
-                         const Scene& scene, const Bvh& bvh, const Camera& camera, float tan_half,
-                         const Camera& previous_camera, float previous_tan_half, int x, int y,
-                         VpTraceStats& stats);
+                         const PrimaryView& view, int x, int y, VpTraceStats& stats);
 
 /// The Visual-Polar buffer's G-buffer (map.width x map.height) and its texels' screen points.
-MaskedGBuffer trace_vp_gbuffer(const VisualPolarMap& map, const Scene& scene, const Bvh& bvh,
-                               const Camera& camera, const Camera& previous_camera,
+MaskedGBuffer trace_vp_gbuffer(const VisualPolarMap& map, const PrimaryView& view,
                                Image& screen_points, VpTraceStats& stats);
 
 /// A G-buffer of points.size() x 1 texels on a W x H screen: texel k holds the closest hit of
 /// the primary ray through points[k].
 MaskedGBuffer trace_point_gbuffer(const std::vector<glm::vec2>& points, int width, int height,
-                                  const Scene& scene, const Bvh& bvh, const Camera& camera,
-                                  const Camera& previous_camera, VpTraceStats& stats);
+                                  const PrimaryView& view, VpTraceStats& stats);
 
 }  // namespace fovref

@@ -38,15 +38,17 @@ TEST_CASE("stereo: each eye's half is the mono pass with the eye's camera and ma
     CHECK(eyes[1].position.x - eyes[0].position.x == doctest::Approx(0.2).epsilon(1e-6));
     Image points;
     FoveatedTraceStats stats;
-    const MaskedGBuffer both = trace_stereo_gbuffer(maps, scene, bvh, eyes, eyes, points, stats);
+    const MaskedGBuffer both =
+        trace_stereo_gbuffer(maps, eye_views(scene, bvh, eyes, eyes), points, stats);
     const int w = maps[0].width;
     REQUIRE(both.valid.width == 2 * w);
     for (int eye = 0; eye < 2; ++eye) {
         Image mono_points;
         FoveatedTraceStats mono_stats;
+        const Camera& camera_of_eye = eyes[static_cast<std::size_t>(eye)];
         const MaskedGBuffer mono = trace_lp_gbuffer(
-            maps[static_cast<std::size_t>(eye)], scene, bvh, eyes[static_cast<std::size_t>(eye)],
-            eyes[static_cast<std::size_t>(eye)], mono_points, mono_stats);
+            maps[static_cast<std::size_t>(eye)],
+            PrimaryView(scene, bvh, camera_of_eye, camera_of_eye), mono_points, mono_stats);
         for (int j = 0; j < maps[0].height; ++j)
             for (int i = 0; i < w; ++i) {
                 REQUIRE(same_texel(both.valid, eye * w + i, mono.valid, i, j));

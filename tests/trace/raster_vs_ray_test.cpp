@@ -53,8 +53,8 @@ TEST_CASE(
             RasterStats raster_stats;
             RaycastStats trace_stats;
             const GBuffer r = rasterize_gbuffer(scene, camera, camera, width, height, raster_stats);
-            const GBuffer t =
-                raycast_gbuffer(scene, bvh, camera, camera, width, height, trace_stats);
+            const GBuffer t = raycast_gbuffer(PrimaryView(scene, bvh, camera, camera), width,
+                                              height, trace_stats);
             std::int64_t interior = 0, interior_mismatch = 0, edge = 0, edge_mismatch = 0;
             std::int64_t same_primitive = 0, attribute_differences = 0;
             for (int y = 0; y < height; ++y)

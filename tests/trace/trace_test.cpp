@@ -72,7 +72,7 @@ TEST_CASE("direct light: a point light above a Lambertian floor gives albedo/pi 
     Bvh bvh = build_bvh(scene.positions);
     // 3x3 screen: the centre pixel looks straight down at (0, 0, 0), right below the light.
     RaycastStats primary;
-    GBuffer g = raycast_gbuffer(scene, bvh, scene.camera, scene.camera, 3, 3, primary);
+    GBuffer g = raycast_gbuffer(PrimaryView(scene, bvh, scene.camera, scene.camera), 3, 3, primary);
     REQUIRE(g.primitive_id.at(1, 1) >= 0.0f);
     SurfacePoint s;
     for (int c = 0; c < 3; ++c) {
@@ -202,7 +202,7 @@ TEST_CASE("camera ray list: row-major pixel-centre rays that hit what the G-buff
     REQUIRE(rays.size() == 20);
     Bvh bvh = build_bvh(scene.positions);
     RaycastStats stats;
-    GBuffer g = raycast_gbuffer(scene, bvh, scene.camera, scene.camera, 5, 4, stats);
+    GBuffer g = raycast_gbuffer(PrimaryView(scene, bvh, scene.camera, scene.camera), 5, 4, stats);
     for (int k = 0; k < 20; ++k) {
         const Ray& ray = rays[static_cast<std::size_t>(k)];
         const Hit hit = trace_closest(bvh, ray, stats.primary);
@@ -309,7 +309,7 @@ TEST_CASE(
     const Bvh bvh = build_bvh(scene.positions);
     const Camera camera = camera_at(scene, 0.0f);
     RaycastStats raycast;
-    const GBuffer g = raycast_gbuffer(scene, bvh, camera, camera, 64, 36, raycast);
+    const GBuffer g = raycast_gbuffer(PrimaryView(scene, bvh, camera, camera), 64, 36, raycast);
     const ShadeInputs in{g.world_position, g.shading_normal, g.geometric_normal,
                          g.albedo,         g.material_id,    g.primitive_id};
     ShadingStats without, with;
