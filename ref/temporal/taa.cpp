@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ref/core/error.h"
+#include "ref/core/vec.h"
 
 namespace fovref {
 
@@ -167,82 +168,94 @@ TaaConstants taa_constants(const TaaInputs& in, const TaaState& previous) {
     return k;
 }
 
+namespace {
+
+// The history of pixel (x, y) in the previous frame (SPEC §7): with a stationary camera the
+// history at the pixel itself, never rejected; otherwise reprojected by the current depth and
+// sampled bilinearly, with the depth test's verdict in `consistent`. False when there is no
+// history to use (no surface, reprojected off screen, no history tap): the pixel is rejected.
+bool previous_history(const TaaParams& params, const TaaInputs& in, const TaaState& previous,
+                      const TaaConstants& k, int x, int y, TaaPixelRecord& r, bool& consistent) {
+    if (k.stationary) {
+        r.decision = TaaDecision::stationary;
+        r.history = rgb_at(previous.history, x, y);
+        r.age_previous = previous.age.at(x, y);
+        return true;
+    }
+    const float z = in.depth.at(x, y);
+    // A NaN or infinite current depth is no surface, and counted with the non-finite.
+    r.history_nonfinite = !std::isfinite(z);
+    if (!(z > 0.0f && std::isfinite(z)) ||
+        !taa_reproject(k.reprojection, x, y, z, r.previous_point, r.previous_depth) ||
+        sample_history(previous, r.previous_point, r.history, r.history_depth) <= 0.0f) {
+        r.history = glm::vec3(0.0f);
+        r.history_depth = 0.0f;
+        return false;
+    }
+    // p' lies within a pixel of the screen here (sample_history had a tap).
+    const int px = std::clamp(floor_int(r.previous_point.x), 0, in.color.width - 1);
+    const int py = std::clamp(floor_int(r.previous_point.y), 0, in.color.height - 1);
+    r.age_previous = previous.age.at(px, py);
+    consistent = std::fabs(r.previous_depth - r.history_depth) <= params.tau * r.previous_depth;
+    r.decision = TaaDecision::kept;
+    return true;
+}
+
+// Karis's clamp of the history to the box of `in.bounds` (clamp-buffer) or of the current 3x3
+// neighbourhood (clamp-screen); the decision says whether it moved.
+void clamp_history(const TaaInputs& in, int x, int y, TaaPixelRecord& r) {
+    const glm::vec3 unclamped = r.history;
+    if (in.bounds) {
+        const glm::vec3 lo{in.bounds->at(x, y, 0), in.bounds->at(x, y, 1), in.bounds->at(x, y, 2)};
+        const glm::vec3 hi{in.bounds->at(x, y, 3), in.bounds->at(x, y, 4), in.bounds->at(x, y, 5)};
+        r.history = glm::clamp(r.history, lo, hi);
+    } else {
+        r.history = clamp_to_neighbourhood(in.color, x, y, r.history);
+    }
+    // Inside the box the history is kept as it is; outside it is clamped (counted apart).
+    r.decision = r.history == unclamped ? TaaDecision::kept : TaaDecision::clamped;
+}
+
+}  // namespace
+
 TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const TaaState& previous,
                          int x, int y, Image& out, Image& age, const TaaConstants* constants) {
     const TaaConstants k = constants ? *constants : taa_constants(in, previous);
     TaaPixelRecord r;
     const glm::vec3 current = rgb_at(in.color, x, y);
-    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    const glm::vec2 centre = pixel_centre(x, y);
     r.previous_point = centre;
     const auto write = [&](glm::vec3 value, float a) {
         for (int c = 0; c < 3; ++c) out.at(x, y, c) = value[c];
         age.at(x, y) = a;
         r.age = a;
     };
+    const auto reject = [&] {
+        r.decision = TaaDecision::rejected;
+        write(current, 1.0f);
+        return r;
+    };
     if (!previous.valid) {
         r.decision = TaaDecision::first;
         write(current, 1.0f);
         return r;
     }
-    const int width = in.color.width, height = in.color.height;
     bool consistent = true;
-    if (k.stationary) {
-        // Stationary: the history at p, never rejected, nothing reprojected.
-        r.decision = TaaDecision::stationary;
-        r.history = rgb_at(previous.history, x, y);
-        r.age_previous = previous.age.at(x, y);
-    } else {
-        // Reprojection by the current depth.
-        const float z = in.depth.at(x, y);
-        // A NaN or infinite current depth is no surface, and counted with the non-finite.
-        r.history_nonfinite = !std::isfinite(z);
-        if (!(z > 0.0f && std::isfinite(z)) ||
-            !taa_reproject(k.reprojection, x, y, z, r.previous_point, r.previous_depth) ||
-            sample_history(previous, r.previous_point, r.history, r.history_depth) <= 0.0f) {
-            r.history = glm::vec3(0.0f);
-            r.history_depth = 0.0f;
-            r.decision = TaaDecision::rejected;
-            write(current, 1.0f);
-            return r;
-        }
-        // p' lies within a pixel of the screen here (sample_history had a tap).
-        const int px = std::clamp(floor_int(r.previous_point.x), 0, width - 1);
-        const int py = std::clamp(floor_int(r.previous_point.y), 0, height - 1);
-        r.age_previous = previous.age.at(px, py);
-        consistent = std::fabs(r.previous_depth - r.history_depth) <= params.tau * r.previous_depth;
-        r.decision = TaaDecision::kept;
-    }
+    if (!previous_history(params, in, previous, k, x, y, r, consistent)) return reject();
     if (!finite3(r.history) || !std::isfinite(r.age_previous) || !std::isfinite(r.history_depth)) {
         r.history_nonfinite = true;
-        r.decision = TaaDecision::rejected;
-        write(current, 1.0f);
-        return r;
+        return reject();
     }
     float age_new =
         std::min(std::max(r.age_previous, 1.0f) + 1.0f, static_cast<float>(params.age_cap));
     if (params.rejection == TaaRejection::clamp && r.decision != TaaDecision::stationary) {
-        const glm::vec3 unclamped = r.history;
-        if (in.bounds) {
-            const glm::vec3 lo{in.bounds->at(x, y, 0), in.bounds->at(x, y, 1),
-                               in.bounds->at(x, y, 2)};
-            const glm::vec3 hi{in.bounds->at(x, y, 3), in.bounds->at(x, y, 4),
-                               in.bounds->at(x, y, 5)};
-            r.history = glm::clamp(r.history, lo, hi);
-        } else {
-            r.history = clamp_to_neighbourhood(in.color, x, y, r.history);
-        }
-        // Inside the box the history is kept as it is; outside it is clamped (counted apart).
-        r.decision = r.history == unclamped ? TaaDecision::kept : TaaDecision::clamped;
+        clamp_history(in, x, y, r);
     } else if (!consistent) {
-        const glm::vec2 d = centre - in.gaze;
-        if (std::sqrt(d.x * d.x + d.y * d.y) > params.periphery * k.diagonal) {
-            r.decision = TaaDecision::periphery;
-            age_new = 2.0f;
-        } else {
-            r.decision = TaaDecision::rejected;
-            write(current, 1.0f);
-            return r;
-        }
+        // The periphery rule (Lund §3.4.1): far from the gaze an inconsistent history is kept
+        // with age 2 instead of rejected.
+        if (!(gaze_distance(in.gaze, centre) > params.periphery * k.diagonal)) return reject();
+        r.decision = TaaDecision::periphery;
+        age_new = 2.0f;
     }
     const float w = 1.0f / age_new;
     write(r.history * (1.0f - w) + current * w, age_new);
