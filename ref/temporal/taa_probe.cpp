@@ -50,6 +50,82 @@ void add_taps(ProbeSection& s, const Image& history, const Image& depth, glm::ve
     }
 }
 
+// The state the probed frame's TAA read: the previous frame's output, age, depth and camera.
+TaaState previous_state(const ProbeContext& c, const TaaProbeInputs& in) {
+    TaaState previous;
+    if (!c.previous_frame) return previous;
+    previous.valid = true;
+    previous.history = image_of(*c.previous_frame, in.output);
+    previous.age = image_of(*c.previous_frame, "taa_age");
+    previous.depth = image_of(*c.previous_frame, in.depth);
+    previous.camera = c.previous_frame->camera.value_or(c.camera);
+    return previous;
+}
+
+// How the history was found: the camera, the reprojection and its depth test.
+void add_reprojection(ProbeSection& s, const TaaProbeInputs& in, const TaaState& previous,
+                      const TaaPixelRecord& r) {
+    if (!previous.valid) {
+        s.add("history", "none: the first frame");
+        return;
+    }
+    if (r.decision == TaaDecision::stationary) {
+        s.add("camera",
+              "stationary (the pose equals the previous frame's bit for bit): the "
+              "history at the pixel itself, never rejected, nothing reprojected");
+        return;
+    }
+    s.add("camera", "moved: reprojection by the current depth and the previous camera");
+    s.add("reprojected",
+          "p' = (" + probe_float(r.previous_point.x) + ", " + probe_float(r.previous_point.y) +
+              "), view depth z' = " + probe_float(r.previous_depth) + " in the previous camera");
+    if (!(r.previous_depth > 0.0f)) return;
+    const float tau = in.settings.params.tau;
+    add_taps(s, previous.history, previous.depth, r.previous_point);
+    s.add("history depth", "z_h = " + probe_float(r.history_depth) + " (bilinear, on-screen taps)");
+    const float diff = std::fabs(r.previous_depth - r.history_depth);
+    s.add("depth test",
+          "|z' - z_h| = " + probe_float(diff) + (diff <= tau * r.previous_depth ? " <= " : " > ") +
+              "tau z' = " + probe_float(tau * r.previous_depth) +
+              (in.settings.mode == TaaMode::depth ? ""
+                                                  : " (not used: clamping instead of rejection)"));
+}
+
+// The clamp box of pixel (x, y): from the buffer's bounds, or the colour's 3x3 on the screen.
+std::string clamp_box_text(const Image& color, const Image* bounds, const std::string& name, int px,
+                           int py) {
+    glm::vec3 lo, hi;
+    if (bounds) {
+        lo = {bounds->at(px, py, 0), bounds->at(px, py, 1), bounds->at(px, py, 2)};
+        hi = {bounds->at(px, py, 3), bounds->at(px, py, 4), bounds->at(px, py, 5)};
+    } else {
+        lo = hi = rgb(color, px, py);
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int x = std::min(std::max(px + dx, 0), color.width - 1);
+                const int y = std::min(std::max(py + dy, 0), color.height - 1);
+                lo = glm::min(lo, rgb(color, x, y));
+                hi = glm::max(hi, rgb(color, x, y));
+            }
+    }
+    return probe_vec3(lo) + " .. " + probe_vec3(hi) +
+           (bounds ? " (3x3 in the buffer, " + name + ")" : " (3x3 on the screen)");
+}
+
+// The recomputed pixel against the rendered output and age.
+void add_check(ProbeSection& s, const FrameResult& f, const TaaProbeInputs& in, const Image& out,
+               const Image& age, int x, int y, ProbeReport& report) {
+    const glm::vec3 mine = rgb(out, x, y);
+    s.add("value", probe_vec3(mine) + " = history (1 - 1/age) + current / age");
+    const glm::vec3 rendered = rgb(image_of(f, in.output), x, y);
+    const bool same = std::memcmp(&mine, &rendered, sizeof mine) == 0 &&
+                      age.at(x, y) == image_of(f, "taa_age").at(x, y);
+    s.add("check", in.output + " and taa_age: " +
+                       (same ? "bit-identical to the rendered buffers"
+                             : "DIFFER from the rendered buffers " + probe_vec3(rendered)));
+    if (!same) report.consistent = false;
+}
+
 }  // namespace
 
 void explain_taa(const ProbeContext& c, const TaaProbeInputs& in, ProbeReport& report) {
@@ -62,68 +138,20 @@ void explain_taa(const ProbeContext& c, const TaaProbeInputs& in, ProbeReport& r
     const Image& color = image_of(f, in.color);
     const Image& depth = image_of(f, in.depth);
     const Image* bounds = in.bounds.empty() ? nullptr : &image_of(f, in.bounds);
-    TaaState previous;
-    if (c.previous_frame) {
-        previous.valid = true;
-        previous.history = image_of(*c.previous_frame, in.output);
-        previous.age = image_of(*c.previous_frame, "taa_age");
-        previous.depth = image_of(*c.previous_frame, in.depth);
-        previous.camera = c.previous_frame->camera.value_or(c.camera);
-    }
+    const TaaState previous = previous_state(c, in);
     const TaaInputs inputs{color, depth, c.camera, in.gaze, bounds};
     Image out(color.width, color.height, 3, 0.0f), age(color.width, color.height, 1, 0.0f);
     const TaaPixelRecord r = taa_pixel(params, inputs, previous, c.x, c.y, out, age);
-    const glm::vec3 current = rgb(color, c.x, c.y);
-    s.add("current", in.color + " " + probe_vec3(current) + ", view depth " +
+    s.add("current", in.color + " " + probe_vec3(rgb(color, c.x, c.y)) + ", view depth " +
                          probe_float(depth.at(c.x, c.y)) + " (" + in.depth + ")");
-    if (!previous.valid) {
-        s.add("history", "none: the first frame");
-    } else if (r.decision == TaaDecision::stationary) {
-        s.add("camera",
-              "stationary (the pose equals the previous frame's bit for bit): the "
-              "history at the pixel itself, never rejected, nothing reprojected");
-    } else {
-        s.add("camera", "moved: reprojection by the current depth and the previous camera");
-        s.add("reprojected", "p' = (" + probe_float(r.previous_point.x) + ", " +
-                                 probe_float(r.previous_point.y) + "), view depth z' = " +
-                                 probe_float(r.previous_depth) + " in the previous camera");
-        if (r.previous_depth > 0.0f) {
-            add_taps(s, previous.history, previous.depth, r.previous_point);
-            s.add("history depth",
-                  "z_h = " + probe_float(r.history_depth) + " (bilinear, on-screen taps)");
-            const float diff = std::fabs(r.previous_depth - r.history_depth);
-            s.add("depth test", "|z' - z_h| = " + probe_float(diff) +
-                                    (diff <= params.tau * r.previous_depth ? " <= " : " > ") +
-                                    "tau z' = " + probe_float(params.tau * r.previous_depth) +
-                                    (in.settings.mode == TaaMode::depth
-                                         ? ""
-                                         : " (not used: clamping instead of rejection)"));
-        }
-    }
+    add_reprojection(s, in, previous, r);
     const bool clamp_mode =
         in.settings.mode == TaaMode::clamp_screen || in.settings.mode == TaaMode::clamp_buffer;
     if (previous.valid && r.decision != TaaDecision::first) {
         s.add("history", probe_vec3(r.history) +
                              (r.decision == TaaDecision::clamped ? " (after clamping)" : ""));
-        if (clamp_mode && (r.decision == TaaDecision::kept || r.decision == TaaDecision::clamped)) {
-            glm::vec3 lo, hi;
-            if (bounds) {
-                lo = {bounds->at(c.x, c.y, 0), bounds->at(c.x, c.y, 1), bounds->at(c.x, c.y, 2)};
-                hi = {bounds->at(c.x, c.y, 3), bounds->at(c.x, c.y, 4), bounds->at(c.x, c.y, 5)};
-            } else {
-                lo = hi = current;
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        const int x = std::min(std::max(c.x + dx, 0), color.width - 1);
-                        const int y = std::min(std::max(c.y + dy, 0), color.height - 1);
-                        lo = glm::min(lo, rgb(color, x, y));
-                        hi = glm::max(hi, rgb(color, x, y));
-                    }
-            }
-            s.add("clamp box", probe_vec3(lo) + " .. " + probe_vec3(hi) +
-                                   (bounds ? " (3x3 in the buffer, " + in.bounds + ")"
-                                           : " (3x3 on the screen)"));
-        }
+        if (clamp_mode && (r.decision == TaaDecision::kept || r.decision == TaaDecision::clamped))
+            s.add("clamp box", clamp_box_text(color, bounds, in.bounds, c.x, c.y));
         s.add("age", "previous " + probe_float(r.age_previous) + " -> " + probe_float(r.age) +
                          " (cap " + std::to_string(params.age_cap) + ")");
     }
@@ -131,15 +159,7 @@ void explain_taa(const ProbeContext& c, const TaaProbeInputs& in, ProbeReport& r
     s.add("decision", clamp_mode && r.decision == TaaDecision::kept
                           ? "kept (inside the clamp box)"
                           : taa_decision_name(r.decision));
-    const glm::vec3 mine = rgb(out, c.x, c.y);
-    s.add("value", probe_vec3(mine) + " = history (1 - 1/age) + current / age");
-    const glm::vec3 rendered = rgb(image_of(f, in.output), c.x, c.y);
-    const bool same = std::memcmp(&mine, &rendered, sizeof mine) == 0 &&
-                      age.at(c.x, c.y) == image_of(f, "taa_age").at(c.x, c.y);
-    s.add("check", in.output + " and taa_age: " +
-                       (same ? "bit-identical to the rendered buffers"
-                             : "DIFFER from the rendered buffers " + probe_vec3(rendered)));
-    if (!same) report.consistent = false;
+    add_check(s, f, in, out, age, c.x, c.y, report);
     report.sections.push_back(s);
 }
 
