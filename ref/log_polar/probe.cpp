@@ -68,37 +68,22 @@ void explain_map(const LogPolarMap& m, ProbeReport& report) {
     report.sections.push_back(s);
 }
 
-// [lp_trace] and [lp_shade] of texel (i, j): the pass's own per-texel function into a scratch
-// buffer, checked against the rendered one, then the shading pass at the texel.
-void explain_texel(const ProbeContext& c, const FoveatedParams& params, const LogPolarMap& m,
-                   const Bvh& bvh, int i, int j, ProbeReport& report) {
+// Texel (i, j) as the buffer's pass makes it (lp_gbuffer_texel, or deferred_gbuffer_texel for
+// kfr), into a scratch buffer, at the frame's TAA jitter: in the buffer before the inverse map,
+// or (kfr) on the screen after it.
+struct TexelRerun {
+    MaskedGBuffer scratch;
+    Image points;
+    TexelStatus status = TexelStatus::off_screen;
+};
+TexelRerun rerun_texel(const ProbeContext& c, const FoveatedParams& params, const LogPolarMap& m,
+                       const Bvh& bvh, int i, int j) {
     const FrameResult& f = *c.frame;
-    const std::string texel = "texel (" + std::to_string(i) + ", " + std::to_string(j) + ")";
-    ProbeSection trace{
-        params.deferred ? "lp_sample" : "lp_trace",
-        texel + (params.deferred ? ": the rasterized G-buffer's pixel under its centre's "
-                                   "inverse-mapped screen point (Meng's deferred variant)"
-                                 : ": one ray through its centre's inverse-mapped screen point"),
-        {}};
-    const glm::vec2 uv{static_cast<float>(i) + 0.5f, static_cast<float>(j) + 0.5f};
-    trace.add("centre", "(u, v) = " + point_text(uv));
-    const float t = m.composite + (1.0f - m.composite) * (uv.x / static_cast<float>(m.width));
-    const float rho = kernel_inverse(m.kernel, t);
-    trace.add("inverse", "rho = K^-1(G + (1 - G) u / w) = K^-1(" + probe_float(t) +
-                             ") = " + probe_float(rho) + ", theta = 2 pi v / h");
-    MaskedGBuffer scratch(m.width, m.height);
-    Image points(m.width, m.height, 2, 0.0f);
+    TexelRerun r{MaskedGBuffer(m.width, m.height), Image(m.width, m.height, 2, 0.0f)};
     FoveatedTraceStats stats;
-    const float tan_half = tan_half_vfov(c.camera);
-    // TAA jitter: in the buffer before the inverse map, or (kfr) on the screen after it.
     const LpInverseTable table =
         params.deferred ? lp_inverse_table(m, Offset2{}, {c.jitter.x - 0.5f, c.jitter.y - 0.5f})
                         : lp_inverse_table(m, c.jitter);
-    if (!(c.jitter == Offset2{}))
-        trace.add("TAA jitter", "(" + probe_float(c.jitter.x) + ", " + probe_float(c.jitter.y) +
-                                    (params.deferred ? ") in the pixel, after the inverse map"
-                                                     : ") in the texel, before the inverse map"));
-    TexelStatus status = TexelStatus::off_screen;
     if (params.deferred) {
         const ScreenGBuffer screen{f.find("gbuffer_view_depth")->image,
                                    f.find("gbuffer_hit_distance")->image,
@@ -109,51 +94,92 @@ void explain_texel(const ProbeContext& c, const FoveatedParams& params, const Lo
                                    f.find("gbuffer_material_id")->image,
                                    f.find("gbuffer_primitive_id")->image,
                                    f.find("gbuffer_motion")->image};
-        status = deferred_gbuffer_texel(scratch, points, m, table, screen, i, j, stats);
+        r.status = deferred_gbuffer_texel(r.scratch, r.points, m, table, screen, i, j, stats);
     } else {
-        status = lp_gbuffer_texel(scratch, points, m, table,
-                                  PrimaryView(*c.scene, bvh, c.camera, c.camera), i, j, stats);
+        r.status = lp_gbuffer_texel(r.scratch, r.points, m, table,
+                                    PrimaryView(*c.scene, bvh, c.camera, c.camera), i, j, stats);
     }
-    const glm::vec2 p{points.at(i, j, 0), points.at(i, j, 1)};
+    return r;
+}
+
+// [lp_trace] (or [lp_sample]) of texel (i, j): the pass's own per-texel function, checked
+// against the rendered buffer. Returns the texel's status.
+TexelStatus explain_texel_trace(const ProbeContext& c, const FoveatedParams& params,
+                                const LogPolarMap& m, const Bvh& bvh, int i, int j,
+                                ProbeReport& report) {
+    const std::string texel = "texel (" + std::to_string(i) + ", " + std::to_string(j) + ")";
+    ProbeSection trace{
+        params.deferred ? "lp_sample" : "lp_trace",
+        texel + (params.deferred ? ": the rasterized G-buffer's pixel under its centre's "
+                                   "inverse-mapped screen point (Meng's deferred variant)"
+                                 : ": one ray through its centre's inverse-mapped screen point"),
+        {}};
+    const glm::vec2 uv = pixel_centre(i, j);
+    trace.add("centre", "(u, v) = " + point_text(uv));
+    const float t = m.composite + (1.0f - m.composite) * (uv.x / static_cast<float>(m.width));
+    const float rho = kernel_inverse(m.kernel, t);
+    trace.add("inverse", "rho = K^-1(G + (1 - G) u / w) = K^-1(" + probe_float(t) +
+                             ") = " + probe_float(rho) + ", theta = 2 pi v / h");
+    if (!(c.jitter == Offset2{}))
+        trace.add("TAA jitter", "(" + probe_float(c.jitter.x) + ", " + probe_float(c.jitter.y) +
+                                    (params.deferred ? ") in the pixel, after the inverse map"
+                                                     : ") in the texel, before the inverse map"));
+    const TexelRerun r = rerun_texel(c, params, m, bvh, i, j);
+    const glm::vec2 p{r.points.at(i, j, 0), r.points.at(i, j, 1)};
     trace.add("screen point", point_text(p) + ", r = " + probe_float(gaze_distance(m.gaze, p)) +
-                                  " px from the gaze: " + status_text(status));
-    if (status == TexelStatus::traced && params.deferred) {
+                                  " px from the gaze: " + status_text(r.status));
+    if (r.status == TexelStatus::traced && params.deferred) {
         trace.add("sampled pixel", "(" + std::to_string(static_cast<int>(std::floor(p.x))) + ", " +
                                        std::to_string(static_cast<int>(std::floor(p.y))) +
                                        ") of the rasterized G-buffer, every channel copied "
                                        "(`fovref probe --pixel` explains its rasterization)");
-        trace.add("primitive", probe_float(scratch.gbuffer.primitive_id.at(i, j)));
-    } else if (status == TexelStatus::traced) {
-        const Ray ray = primary_ray(c.camera, tan_half, m.screen_width, m.screen_height, p.x, p.y);
+        trace.add("primitive", probe_float(r.scratch.gbuffer.primitive_id.at(i, j)));
+    } else if (r.status == TexelStatus::traced) {
+        const Ray ray = primary_ray(c.camera, tan_half_vfov(c.camera), m.screen_width,
+                                    m.screen_height, p.x, p.y);
         trace.add("primary ray",
                   "origin " + probe_vec3(ray.origin) + ", direction " + probe_vec3(ray.direction));
         explain_hit(c, bvh, ray, trace);
     }
-    const bool same = probe_same_gbuffer(scratch.gbuffer, f, "lp_gbuffer_", i, j) &&
-                      scratch.valid.at(i, j) == f.find("lp_valid")->image.at(i, j);
+    const FrameResult& f = *c.frame;
+    const bool same = probe_same_gbuffer(r.scratch.gbuffer, f, "lp_gbuffer_", i, j) &&
+                      r.scratch.valid.at(i, j) == f.find("lp_valid")->image.at(i, j);
     trace.add("check", std::string("texel: ") + (same ? "bit-identical to the rendered buffers"
                                                       : "DIFFERS from the rendered buffers"));
     if (!same) report.consistent = false;
     report.sections.push_back(trace);
-    if (status != TexelStatus::traced) return;
-    ProbeSection shade{"lp_shade",
-                       "texel (" + std::to_string(i) + ", " + std::to_string(j) +
-                           "): the basic ray tracer's shading (docs/trace.md)",
-                       {}};
-    explain_shade_at(c, bvh, "lp_gbuffer_", "lp_color", i, j, shade, report);
-    report.sections.push_back(shade);
-    if (!params.internal_aa) return;
-    ProbeSection aa{
-        "internal_aa", texel + ": Meng's internal anti-aliasing (docs/foveation.md)", {}};
-    const Image& color = f.find("lp_color")->image;
+    return r.status;
+}
+
+// [internal_aa] of texel (i, j): internal_aa_texel, checked against lp_color_aa.
+void explain_internal_aa_texel(const ProbeContext& c, const LogPolarMap& m, int i, int j,
+                               ProbeReport& report) {
+    const FrameResult& f = *c.frame;
+    ProbeSection aa{"internal_aa",
+                    "texel (" + std::to_string(i) + ", " + std::to_string(j) +
+                        "): Meng's internal anti-aliasing (docs/foveation.md)",
+                    {}};
     Image out(m.width, m.height, 3, 0.0f);
-    internal_aa_texel(color, f.find("lp_valid")->image, out, i, j);
+    internal_aa_texel(f.find("lp_color")->image, f.find("lp_valid")->image, out, i, j);
     aa.add("applies", 2 * i < m.width ? "no: a texel of the inner half (2 i < w), unchanged"
                                       : "yes: the 3x3 Gaussian over its traced neighbours");
     const glm::vec3 mine{out.at(i, j, 0), out.at(i, j, 1), out.at(i, j, 2)};
     aa.add("value", probe_vec3(mine));
     probe_check(report, aa, "lp_color_aa", mine, probe_rgb(f, "lp_color_aa", i, j));
     report.sections.push_back(aa);
+}
+
+// [lp_trace], [lp_shade] and [internal_aa] of texel (i, j).
+void explain_texel(const ProbeContext& c, const FoveatedParams& params, const LogPolarMap& m,
+                   const Bvh& bvh, int i, int j, ProbeReport& report) {
+    if (explain_texel_trace(c, params, m, bvh, i, j, report) != TexelStatus::traced) return;
+    ProbeSection shade{"lp_shade",
+                       "texel (" + std::to_string(i) + ", " + std::to_string(j) +
+                           "): the basic ray tracer's shading (docs/trace.md)",
+                       {}};
+    explain_shade_at(c, bvh, "lp_gbuffer_", "lp_color", i, j, shade, report);
+    report.sections.push_back(shade);
+    if (params.internal_aa) explain_internal_aa_texel(c, m, i, j, report);
 }
 
 // [gaze_trace] and [gaze_shade] of screen pixel (x, y), inside the gaze circle.
