@@ -179,6 +179,107 @@ Image bmfr_demodulate(const BmfrParams& params, const Image& radiance, const Ima
     return out;
 }
 
+namespace {
+
+// The history's buffers must have the frame's size (a resumed render's are checked by name).
+void check_history(const BmfrHistory& history, const BmfrSpace& space, int width, int height) {
+    check_shape(history.world_position, width, height, 3, "world_position history");
+    check_shape(history.normal, width, height, 3, "normal history");
+    check_shape(history.accumulated_noisy, width, height, 3, "accumulated_noisy history");
+    check_shape(history.spp, width, height, 1, "spp history");
+    if (space.map) {
+        FOVREF_CHECK(history.map.has_value(), "bmfr: the history has no Visual-Polar map");
+        check_shape(history.valid_texels, width, height, 1, "valid history");
+    }
+}
+
+// Phase I's accept bits (bit k: tap k) for a pixel at world position p with normal n: a tap is
+// accepted inside the buffer, on a traced texel (Visual-Polar), within both limits (strict).
+unsigned accepted_taps(const BmfrParams& params, const BmfrHistory& history, const BmfrSpace& space,
+                       const BmfrTaps& taps, int width, int height, glm::vec3 p, glm::vec3 n) {
+    unsigned mask = 0;
+    for (int k = 0; k < 4; ++k) {
+        if (!inside(taps.x[k], taps.y[k], width, height)) continue;
+        if (space.map && history.valid_texels.at(taps.x[k], taps.y[k]) == 0.0f) continue;
+        if (!(distance_squared(load3(history.world_position, taps.x[k], taps.y[k]), p) <
+              params.position_limit_squared))
+            continue;
+        if (!(distance_squared(load3(history.normal, taps.x[k], taps.y[k]), n) <
+              params.normal_limit_squared))
+            continue;
+        mask |= 1u << k;
+    }
+    return mask;
+}
+
+// The accepted taps' colours and sample counts blended, the weights renormalised (accumulated in
+// tap order); false when no accepted tap has a weight.
+bool blend_noisy_history(const BmfrHistory& history, const BmfrTaps& taps, unsigned mask, int width,
+                         float h[3], float& h_spp) {
+    float total = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+        if ((mask & (1u << k)) == 0) continue;
+        const std::size_t i =
+            static_cast<std::size_t>(taps.y[k]) * width + static_cast<std::size_t>(taps.x[k]);
+        const float* c_k = &history.accumulated_noisy.data[3 * i];
+        h[0] += taps.w[k] * c_k[0];
+        h[1] += taps.w[k] * c_k[1];
+        h[2] += taps.w[k] * c_k[2];
+        h_spp += taps.w[k] * history.spp.data[i];
+        total += taps.w[k];
+    }
+    if (!(total > 0.0f)) return false;
+    for (int c = 0; c < 3; ++c) h[c] = h[c] / total;
+    h_spp = h_spp / total;
+    return true;
+}
+
+}  // namespace
+
+void bmfr_accumulate_noisy_pixel(const BmfrParams& params, const Image& illumination,
+                                 const Image& world_position, const Image& normal,
+                                 const BmfrHistory& history, bool has_previous,
+                                 const BmfrSpace& space, BmfrAccumulation& out, int x, int y,
+                                 BmfrStats& stats) {
+    const int width = illumination.width, height = illumination.height;
+    const glm::vec3 c = load3(illumination, x, y);
+    // Without history: the texel itself, (x, y) or, Visual-Polar, (x, (y + 1/2) / n_x)
+    glm::vec2 q(static_cast<float>(x), static_cast<float>(y));
+    if (space.map)
+        q.y = (static_cast<float>(y) + 0.5f) / static_cast<float>(vp_column_rows(*space.map, x));
+    unsigned mask = 0;
+    float h[3] = {0, 0, 0}, h_spp = 0.0f;
+    bool has_history = false;
+    const bool data = !space.map || space.valid->at(x, y) != 0.0f;
+    if (!data) q = bmfr_behind_camera;
+    if (has_previous && data) {
+        const glm::vec3 p = finite_or_zero(load3(world_position, x, y), stats);
+        const glm::vec3 n = finite_or_zero(load3(normal, x, y), stats);
+        if (!reproject(history, space, width, height, p, q)) {
+            q = bmfr_behind_camera;
+            ++stats.history_off_screen;
+        } else {
+            const BmfrTaps taps = space.map ? bmfr_vp_taps(*space.map, q) : bmfr_taps(q);
+            mask = accepted_taps(params, history, space, taps, width, height, p, n);
+            has_history = blend_noisy_history(history, taps, mask, width, h, h_spp);
+            ++(has_history ? stats.history_accepted : stats.history_rejected);
+            if (!has_history) mask = 0;
+        }
+    }
+    float* acc = &out.accumulated.data[out.accumulated.index(x, y)];
+    if (has_history) {
+        const float alpha = std::max(1.0f / (h_spp + 1.0f), params.noisy_alpha_min);
+        for (int ch = 0; ch < 3; ++ch) acc[ch] = alpha * c[ch] + (1.0f - alpha) * h[ch];
+        out.spp.at(x, y) = std::min(round_half_even(h_spp) + 1.0f, 255.0f);
+    } else {
+        for (int ch = 0; ch < 3; ++ch) acc[ch] = c[ch];
+        out.spp.at(x, y) = 1.0f;
+    }
+    out.accept.at(x, y) = static_cast<float>(mask);
+    out.previous_pixel.at(x, y, 0) = q.x;
+    out.previous_pixel.at(x, y, 1) = q.y;
+}
+
 BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& illumination,
                                        const Image& world_position, const Image& normal,
                                        const BmfrHistory& history, BmfrStats& stats,
@@ -187,16 +288,7 @@ BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& il
     check_shape(world_position, width, height, 3, "world_position");
     check_shape(normal, width, height, 3, "normal");
     const bool has_previous = history.valid && !history.accumulated_noisy.empty();
-    if (has_previous) {
-        check_shape(history.world_position, width, height, 3, "world_position history");
-        check_shape(history.normal, width, height, 3, "normal history");
-        check_shape(history.accumulated_noisy, width, height, 3, "accumulated_noisy history");
-        check_shape(history.spp, width, height, 1, "spp history");
-        if (space.map) {
-            FOVREF_CHECK(history.map.has_value(), "bmfr: the history has no Visual-Polar map");
-            check_shape(history.valid_texels, width, height, 1, "valid history");
-        }
-    }
+    if (has_previous) check_history(history, space, width, height);
     if (space.map) FOVREF_CHECK(space.valid, "bmfr: Visual-Polar space without a valid mask");
     BmfrAccumulation out;
     out.accumulated = Image(width, height, 3);
@@ -204,74 +296,9 @@ BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& il
     out.accept = Image(width, height, 1);
     out.previous_pixel = Image(width, height, 2);
     for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            const glm::vec3 c = load3(illumination, x, y);
-            // Without history: the texel itself, (x, y) or, Visual-Polar, (x, (y + 1/2) / n_x)
-            glm::vec2 q(static_cast<float>(x), static_cast<float>(y));
-            if (space.map)
-                q.y = (static_cast<float>(y) + 0.5f) /
-                      static_cast<float>(vp_column_rows(*space.map, x));
-            unsigned mask = 0;
-            float h[3] = {0, 0, 0}, h_spp = 0.0f;
-            bool has_history = false;
-            const bool data = !space.map || space.valid->at(x, y) != 0.0f;
-            if (!data) q = bmfr_behind_camera;
-            if (has_previous && data) {
-                const glm::vec3 p = finite_or_zero(load3(world_position, x, y), stats);
-                const glm::vec3 n = finite_or_zero(load3(normal, x, y), stats);
-                if (!reproject(history, space, width, height, p, q)) {
-                    q = bmfr_behind_camera;
-                    ++stats.history_off_screen;
-                } else {
-                    const BmfrTaps taps = space.map ? bmfr_vp_taps(*space.map, q) : bmfr_taps(q);
-                    // Test the taps
-                    for (int k = 0; k < 4; ++k) {
-                        if (!inside(taps.x[k], taps.y[k], width, height)) continue;
-                        if (space.map && history.valid_texels.at(taps.x[k], taps.y[k]) == 0.0f)
-                            continue;
-                        if (!(distance_squared(load3(history.world_position, taps.x[k], taps.y[k]),
-                                               p) < params.position_limit_squared))
-                            continue;
-                        if (!(distance_squared(load3(history.normal, taps.x[k], taps.y[k]), n) <
-                              params.normal_limit_squared))
-                            continue;
-                        mask |= 1u << k;
-                    }
-                    // Blend the accepted taps' colours and counts (weights renormalised)
-                    float total = 0.0f;
-                    for (int k = 0; k < 4; ++k) {
-                        if ((mask & (1u << k)) == 0) continue;
-                        const std::size_t i = static_cast<std::size_t>(taps.y[k]) * width +
-                                              static_cast<std::size_t>(taps.x[k]);
-                        const float* c_k = &history.accumulated_noisy.data[3 * i];
-                        h[0] += taps.w[k] * c_k[0];
-                        h[1] += taps.w[k] * c_k[1];
-                        h[2] += taps.w[k] * c_k[2];
-                        h_spp += taps.w[k] * history.spp.data[i];
-                        total += taps.w[k];
-                    }
-                    has_history = total > 0.0f;
-                    if (has_history) {
-                        for (float& v : h) v = v / total;
-                        h_spp = h_spp / total;
-                    }
-                    ++(has_history ? stats.history_accepted : stats.history_rejected);
-                    if (!has_history) mask = 0;
-                }
-            }
-            float* acc = &out.accumulated.data[out.accumulated.index(x, y)];
-            if (has_history) {
-                const float alpha = std::max(1.0f / (h_spp + 1.0f), params.noisy_alpha_min);
-                for (int ch = 0; ch < 3; ++ch) acc[ch] = alpha * c[ch] + (1.0f - alpha) * h[ch];
-                out.spp.at(x, y) = std::min(round_half_even(h_spp) + 1.0f, 255.0f);
-            } else {
-                for (int ch = 0; ch < 3; ++ch) acc[ch] = c[ch];
-                out.spp.at(x, y) = 1.0f;
-            }
-            out.accept.at(x, y) = static_cast<float>(mask);
-            out.previous_pixel.at(x, y, 0) = q.x;
-            out.previous_pixel.at(x, y, 1) = q.y;
-        }
+        for (int x = 0; x < width; ++x)
+            bmfr_accumulate_noisy_pixel(params, illumination, world_position, normal, history,
+                                        has_previous, space, out, x, y, stats);
     return out;
 }
 

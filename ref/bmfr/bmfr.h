@@ -178,6 +178,13 @@ BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& il
                                        const Image& world_position, const Image& normal,
                                        const BmfrHistory& history, BmfrStats& stats,
                                        const BmfrSpace& space = {});
+/// Per-pixel work of phase I: pixel (x, y) of `out` (whose images have the frame's size);
+/// `has_previous`: the history holds a previous frame.
+void bmfr_accumulate_noisy_pixel(const BmfrParams& params, const Image& illumination,
+                                 const Image& world_position, const Image& normal,
+                                 const BmfrHistory& history, bool has_previous,
+                                 const BmfrSpace& space, BmfrAccumulation& out, int x, int y,
+                                 BmfrStats& stats);
 
 // ---- phase II -------------------------------------------------------------------------------
 
