@@ -103,6 +103,32 @@ inline WatertightRay4 make_watertight_ray4(glm::vec3 origin, glm::vec3 direction
     }
 }
 
+/// The lanes of `zeros` whose U, V or W is exactly 0: all three recomputed in binary64 (scalar,
+/// rare), as the scalar test does.
+FOVREF_FORCE_INLINE void watertight4_edge_fallback(__m128 Ax, __m128 Ay, __m128 Bx, __m128 By,
+                                                   __m128 Cx, __m128 Cy, unsigned zeros, __m128& U,
+                                                   __m128& V, __m128& W) {
+    alignas(16) float ax[4], ay[4], bx[4], by[4], cx[4], cy[4], u[4], v[4], w[4];
+    _mm_store_ps(ax, Ax);
+    _mm_store_ps(ay, Ay);
+    _mm_store_ps(bx, Bx);
+    _mm_store_ps(by, By);
+    _mm_store_ps(cx, Cx);
+    _mm_store_ps(cy, Cy);
+    _mm_store_ps(u, U);
+    _mm_store_ps(v, V);
+    _mm_store_ps(w, W);
+    for (int i = 0; i < 4; ++i) {
+        if (((zeros >> i) & 1u) == 0) continue;
+        u[i] = watertight_edge_fallback(bx[i], by[i], cx[i], cy[i]);
+        v[i] = watertight_edge_fallback(cx[i], cy[i], ax[i], ay[i]);
+        w[i] = watertight_edge_fallback(ax[i], ay[i], bx[i], by[i]);
+    }
+    U = _mm_load_ps(u);
+    V = _mm_load_ps(v);
+    W = _mm_load_ps(w);
+}
+
 /// intersect_watertight on the four triangles of `corners` ([corner][axis][lane], 16-byte
 /// aligned). Returns the mask of the lanes hit (bit i: lane i), their t, u, v in `hits`; lanes
 /// outside `lanes` are never reported. The comments name the steps of the scalar test.
@@ -138,27 +164,7 @@ FOVREF_FORCE_INLINE unsigned intersect_watertight4(const WatertightRay4& ray, co
     const __m128 zero = _mm_setzero_ps();
     const unsigned zeros = static_cast<unsigned>(_mm_movemask_ps(
         _mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(U, zero), _mm_cmpeq_ps(V, zero)), _mm_cmpeq_ps(W, zero))));
-    if ((zeros & lanes) != 0) {
-        alignas(16) float ax[4], ay[4], bx[4], by[4], cx[4], cy[4], u[4], v[4], w[4];
-        _mm_store_ps(ax, Ax);
-        _mm_store_ps(ay, Ay);
-        _mm_store_ps(bx, Bx);
-        _mm_store_ps(by, By);
-        _mm_store_ps(cx, Cx);
-        _mm_store_ps(cy, Cy);
-        _mm_store_ps(u, U);
-        _mm_store_ps(v, V);
-        _mm_store_ps(w, W);
-        for (int i = 0; i < 4; ++i) {
-            if (((zeros >> i) & 1u) == 0) continue;
-            u[i] = watertight_edge_fallback(bx[i], by[i], cx[i], cy[i]);
-            v[i] = watertight_edge_fallback(cx[i], cy[i], ax[i], ay[i]);
-            w[i] = watertight_edge_fallback(ax[i], ay[i], bx[i], by[i]);
-        }
-        U = _mm_load_ps(u);
-        V = _mm_load_ps(v);
-        W = _mm_load_ps(w);
-    }
+    if ((zeros & lanes) != 0) watertight4_edge_fallback(Ax, Ay, Bx, By, Cx, Cy, zeros, U, V, W);
 
     // Edge tests: reject lanes with some of U, V, W negative and some positive.
     const __m128 negative =
