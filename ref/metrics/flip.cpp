@@ -306,87 +306,92 @@ float flip_pixels_per_degree(float viewing_distance_px) {
     return viewing_distance_px * dm::radians(1.0f);
 }
 
+namespace {
+
+// Contrast sensitivity filters. Radius: 3 standard deviations of the widest Gaussian
+// (b = 0.04: sigma = sqrt(b / (2 pi^2)) degrees), in pixels (NVlabs
+// calculateSpatialFilterRadius).
+void csf_filters(float ppd, FlipFilters& f) {
+    const float pi_sq = dm::pi * dm::pi;
+    const float max_b = std::max(std::max(std::max(b1_y, b1_cx), std::max(b1_cz, b2_unused)),
+                                 std::max(b2_unused, b2_cz));
+    f.spatial_radius = static_cast<int>(std::ceil(3.0f * std::sqrt(max_b / (2.0f * pi_sq)) * ppd));
+    const int width = 2 * f.spatial_radius + 1;
+    const float delta_x = 1.0f / ppd;  // degrees per pixel
+    f.y.resize(width);
+    f.cx.resize(width);
+    f.cz1.resize(width);
+    f.cz2.resize(width);
+    float sum_y = 0.0f, sum_cx = 0.0f, sum_cz1 = 0.0f, sum_cz2 = 0.0f;
+    for (int i = 0; i < width; ++i) {
+        const float x = static_cast<float>(i - f.spatial_radius) * delta_x;
+        const float x2 = x * x;
+        f.y[i] = csf_gaussian(x2, a1_y, b1_y);
+        f.cx[i] = csf_gaussian(x2, a1_cx, b1_cx);
+        f.cz1[i] = csf_gaussian_factor(x2, a1_cz, b1_cz);
+        f.cz2[i] = csf_gaussian_factor(x2, a2_cz, b2_cz);
+        sum_y += f.y[i];
+        sum_cx += f.cx[i];
+        sum_cz1 += f.cz1[i];
+        sum_cz2 += f.cz2[i];
+    }
+    // Y, Cx: each 1D filter sums to 1, so the 2D product does. Cz: the 2D filter
+    // cz1 (x) cz1 + cz2 (x) cz2 sums to sum_cz1^2 + sum_cz2^2; one common factor fixes it.
+    const float norm_y = 1.0f / sum_y;
+    const float norm_cx = 1.0f / sum_cx;
+    const float norm_cz = 1.0f / std::sqrt(sum_cz1 * sum_cz1 + sum_cz2 * sum_cz2);
+    for (int i = 0; i < width; ++i) {
+        f.y[i] *= norm_y;
+        f.cx[i] *= norm_cx;
+        f.cz1[i] *= norm_cz;
+        f.cz2[i] *= norm_cz;
+    }
+}
+
+// Feature filters: Gaussian of sigma = w/2 degrees = 0.5 w ppd pixels, radius 3 sigma; the
+// derivatives' positive and negative taps are normalised separately (paper §4.2).
+void feature_filters(float ppd, FlipFilters& f) {
+    const float sigma = 0.5f * flip::w * ppd;
+    f.feature_radius = static_cast<int>(std::ceil(3.0f * sigma));
+    const int width = 2 * f.feature_radius + 1;
+    f.g.resize(width);
+    f.dg.resize(width);
+    f.ddg.resize(width);
+    float g_sum = 0.0f, dg_positive = 0.0f, dg_negative = 0.0f, ddg_positive = 0.0f,
+          ddg_negative = 0.0f;
+    for (int i = 0; i < width; ++i) {
+        const float x = static_cast<float>(i - f.feature_radius);
+        const float g = dm::exp(-(x * x) / (2.0f * sigma * sigma));
+        const float dg = -x * g;
+        const float ddg = (x * x / (sigma * sigma) - 1.0f) * g;
+        g_sum += g;
+        if (dg > 0.0f) {
+            dg_positive += dg;
+        } else {
+            dg_negative -= dg;
+        }
+        if (ddg > 0.0f) {
+            ddg_positive += ddg;
+        } else {
+            ddg_negative -= ddg;
+        }
+        f.g[i] = g;
+        f.dg[i] = dg;
+        f.ddg[i] = ddg;
+    }
+    for (int i = 0; i < width; ++i) {
+        f.g[i] = f.g[i] / std::max(g_sum, tiny_sum);
+        f.dg[i] = f.dg[i] / std::max(f.dg[i] > 0.0f ? dg_positive : dg_negative, tiny_sum);
+        f.ddg[i] = f.ddg[i] / std::max(f.ddg[i] > 0.0f ? ddg_positive : ddg_negative, tiny_sum);
+    }
+}
+
+}  // namespace
+
 FlipFilters flip_filters(float ppd) {
     FlipFilters f;
-
-    // Contrast sensitivity filters. Radius: 3 standard deviations of the widest Gaussian
-    // (b = 0.04: sigma = sqrt(b / (2 pi^2)) degrees), in pixels (NVlabs
-    // calculateSpatialFilterRadius).
-    {
-        const float pi_sq = dm::pi * dm::pi;
-        const float max_b = std::max(std::max(std::max(b1_y, b1_cx), std::max(b1_cz, b2_unused)),
-                                     std::max(b2_unused, b2_cz));
-        f.spatial_radius =
-            static_cast<int>(std::ceil(3.0f * std::sqrt(max_b / (2.0f * pi_sq)) * ppd));
-        const int width = 2 * f.spatial_radius + 1;
-        const float delta_x = 1.0f / ppd;  // degrees per pixel
-        f.y.resize(width);
-        f.cx.resize(width);
-        f.cz1.resize(width);
-        f.cz2.resize(width);
-        float sum_y = 0.0f, sum_cx = 0.0f, sum_cz1 = 0.0f, sum_cz2 = 0.0f;
-        for (int i = 0; i < width; ++i) {
-            const float x = static_cast<float>(i - f.spatial_radius) * delta_x;
-            const float x2 = x * x;
-            f.y[i] = csf_gaussian(x2, a1_y, b1_y);
-            f.cx[i] = csf_gaussian(x2, a1_cx, b1_cx);
-            f.cz1[i] = csf_gaussian_factor(x2, a1_cz, b1_cz);
-            f.cz2[i] = csf_gaussian_factor(x2, a2_cz, b2_cz);
-            sum_y += f.y[i];
-            sum_cx += f.cx[i];
-            sum_cz1 += f.cz1[i];
-            sum_cz2 += f.cz2[i];
-        }
-        // Y, Cx: each 1D filter sums to 1, so the 2D product does. Cz: the 2D filter
-        // cz1 (x) cz1 + cz2 (x) cz2 sums to sum_cz1^2 + sum_cz2^2; one common factor fixes it.
-        const float norm_y = 1.0f / sum_y;
-        const float norm_cx = 1.0f / sum_cx;
-        const float norm_cz = 1.0f / std::sqrt(sum_cz1 * sum_cz1 + sum_cz2 * sum_cz2);
-        for (int i = 0; i < width; ++i) {
-            f.y[i] *= norm_y;
-            f.cx[i] *= norm_cx;
-            f.cz1[i] *= norm_cz;
-            f.cz2[i] *= norm_cz;
-        }
-    }
-
-    // Feature filters: Gaussian of sigma = w/2 degrees = 0.5 w ppd pixels, radius 3 sigma; the
-    // derivatives' positive and negative taps are normalised separately (paper §4.2).
-    {
-        const float sigma = 0.5f * flip::w * ppd;
-        f.feature_radius = static_cast<int>(std::ceil(3.0f * sigma));
-        const int width = 2 * f.feature_radius + 1;
-        f.g.resize(width);
-        f.dg.resize(width);
-        f.ddg.resize(width);
-        float g_sum = 0.0f, dg_positive = 0.0f, dg_negative = 0.0f, ddg_positive = 0.0f,
-              ddg_negative = 0.0f;
-        for (int i = 0; i < width; ++i) {
-            const float x = static_cast<float>(i - f.feature_radius);
-            const float g = dm::exp(-(x * x) / (2.0f * sigma * sigma));
-            const float dg = -x * g;
-            const float ddg = (x * x / (sigma * sigma) - 1.0f) * g;
-            g_sum += g;
-            if (dg > 0.0f) {
-                dg_positive += dg;
-            } else {
-                dg_negative -= dg;
-            }
-            if (ddg > 0.0f) {
-                ddg_positive += ddg;
-            } else {
-                ddg_negative -= ddg;
-            }
-            f.g[i] = g;
-            f.dg[i] = dg;
-            f.ddg[i] = ddg;
-        }
-        for (int i = 0; i < width; ++i) {
-            f.g[i] = f.g[i] / std::max(g_sum, tiny_sum);
-            f.dg[i] = f.dg[i] / std::max(f.dg[i] > 0.0f ? dg_positive : dg_negative, tiny_sum);
-            f.ddg[i] = f.ddg[i] / std::max(f.ddg[i] > 0.0f ? ddg_positive : ddg_negative, tiny_sum);
-        }
-    }
+    csf_filters(ppd, f);
+    feature_filters(ppd, f);
     return f;
 }
 
