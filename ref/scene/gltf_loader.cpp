@@ -765,16 +765,9 @@ void triangle_corners(int mode, std::size_t t, std::size_t (&corner)[3]) {
     }
 }
 
-void add_primitive(Loader& loader, const tinygltf::Primitive& primitive, const std::string& where,
-                   const ObjectToWorld& to_world) {
-    const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
-    if (mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP) {
-        ++loader.ignored_modes[mode];
-        return;
-    }
-    if (mode > TINYGLTF_MODE_TRIANGLE_FAN)
-        throw loader.error(where, "mode " + std::to_string(mode) + " is not a glTF primitive mode");
-    const int material = primitive_material(loader, primitive.material, where);
+// The parts of a primitive fovref does not read, each noted once per primitive.
+void note_ignored_parts(Loader& loader, const tinygltf::Primitive& primitive,
+                        const std::string& where) {
     for (const auto& [name, accessor] : primitive.attributes) {
         (void)accessor;
         if (name != "POSITION" && name != "NORMAL" && name != "TEXCOORD_0")
@@ -785,38 +778,86 @@ void add_primitive(Loader& loader, const tinygltf::Primitive& primitive, const s
         (void)value;
         loader.note("primitive extension " + name + " (ignored)", where);
     }
+}
 
+// A primitive's vertex attributes: positions (required), normals and uvs (when given, one per
+// position).
+struct PrimitiveVertices {
+    std::vector<float> positions, normals, uvs;
+    std::size_t count() const { return positions.size() / 3; }
+};
+
+PrimitiveVertices read_vertices(Loader& loader, const tinygltf::Primitive& primitive,
+                                const std::string& where) {
     const auto attribute = [&](const char* name) {
         auto it = primitive.attributes.find(name);
         return it == primitive.attributes.end() ? -1 : it->second;
     };
     const int position_accessor = attribute("POSITION");
     if (position_accessor < 0) throw loader.error(where, "has no POSITION attribute");
-    const std::vector<float> positions = read_float_attribute(
-        loader, position_accessor, 3, {TINYGLTF_COMPONENT_TYPE_FLOAT}, where, "POSITION");
-    const std::size_t vertex_count = positions.size() / 3;
-    std::vector<float> normals, uvs;
+    PrimitiveVertices v;
+    v.positions = read_float_attribute(loader, position_accessor, 3,
+                                       {TINYGLTF_COMPONENT_TYPE_FLOAT}, where, "POSITION");
     if (attribute("NORMAL") >= 0) {
-        normals = read_float_attribute(loader, attribute("NORMAL"), 3,
-                                       {TINYGLTF_COMPONENT_TYPE_FLOAT}, where, "NORMAL");
-        if (normals.size() != positions.size())
-            throw loader.error(where, "NORMAL has " + std::to_string(normals.size() / 3) +
-                                          " elements, POSITION " + std::to_string(vertex_count));
+        v.normals = read_float_attribute(loader, attribute("NORMAL"), 3,
+                                         {TINYGLTF_COMPONENT_TYPE_FLOAT}, where, "NORMAL");
+        if (v.normals.size() != v.positions.size())
+            throw loader.error(where, "NORMAL has " + std::to_string(v.normals.size() / 3) +
+                                          " elements, POSITION " + std::to_string(v.count()));
     }
     if (attribute("TEXCOORD_0") >= 0) {
-        uvs = read_float_attribute(
+        v.uvs = read_float_attribute(
             loader, attribute("TEXCOORD_0"), 2,
             {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
              TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
             where, "TEXCOORD_0");
-        if (uvs.size() / 2 != vertex_count)
-            throw loader.error(where, "TEXCOORD_0 has " + std::to_string(uvs.size() / 2) +
-                                          " elements, POSITION " + std::to_string(vertex_count));
+        if (v.uvs.size() / 2 != v.count())
+            throw loader.error(where, "TEXCOORD_0 has " + std::to_string(v.uvs.size() / 2) +
+                                          " elements, POSITION " + std::to_string(v.count()));
     }
+    return v;
+}
+
+// Triangle t's corners in the world (vertex v of the primitive: indices[corner], or the corner
+// itself without indices).
+WorldTriangle world_triangle(const PrimitiveVertices& vertices,
+                             const std::vector<std::uint32_t>& indices, int mode, std::size_t t,
+                             const ObjectToWorld& to_world) {
+    std::size_t corner[3];
+    triangle_corners(mode, t, corner);
+    if (to_world.mirror) std::swap(corner[1], corner[2]);
+    const std::vector<float>& p = vertices.positions;
+    const std::vector<float>& n = vertices.normals;
+    const std::vector<float>& uv = vertices.uvs;
+    WorldTriangle tri{};
+    for (int c = 0; c < 3; ++c) {
+        const std::size_t v = indices.empty() ? corner[c] : indices[corner[c]];
+        tri.position[c] = to_world.point(glm::vec3(p[3 * v], p[3 * v + 1], p[3 * v + 2]));
+        tri.has_normal[c] = !n.empty();
+        if (tri.has_normal[c])
+            tri.normal[c] = to_world.normal(glm::vec3(n[3 * v], n[3 * v + 1], n[3 * v + 2]));
+        // glTF's v runs down the image, fovref's (OBJ's) up: v' = 1 - v.
+        tri.uv[c] = uv.empty() ? glm::vec2(0.0f) : glm::vec2(uv[2 * v], 1.0f - uv[2 * v + 1]);
+    }
+    return tri;
+}
+
+void add_primitive(Loader& loader, const tinygltf::Primitive& primitive, const std::string& where,
+                   const ObjectToWorld& to_world) {
+    const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+    if (mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP) {
+        ++loader.ignored_modes[mode];
+        return;
+    }
+    if (mode > TINYGLTF_MODE_TRIANGLE_FAN)
+        throw loader.error(where, "mode " + std::to_string(mode) + " is not a glTF primitive mode");
+    const int material = primitive_material(loader, primitive.material, where);
+    note_ignored_parts(loader, primitive, where);
+    const PrimitiveVertices vertices = read_vertices(loader, primitive, where);
     std::vector<std::uint32_t> indices;
     const bool indexed = primitive.indices >= 0;
-    if (indexed) indices = read_indices(loader, primitive.indices, vertex_count, where);
-    const std::size_t corner_count = indexed ? indices.size() : vertex_count;
+    if (indexed) indices = read_indices(loader, primitive.indices, vertices.count(), where);
+    const std::size_t corner_count = indexed ? indices.size() : vertices.count();
     if (mode == TINYGLTF_MODE_TRIANGLES && corner_count % 3 != 0)
         throw loader.error(where, std::string(indexed ? "index" : "vertex") + " count " +
                                       std::to_string(corner_count) +
@@ -826,22 +867,7 @@ void add_primitive(Loader& loader, const tinygltf::Primitive& primitive, const s
                                                                   : 0;
     SceneLoadStats& stats = loader.scene.load_stats;
     for (std::size_t t = 0; t < triangles; ++t) {
-        std::size_t corner[3];
-        triangle_corners(mode, t, corner);
-        if (to_world.mirror) std::swap(corner[1], corner[2]);
-        WorldTriangle tri{};
-        for (int c = 0; c < 3; ++c) {
-            const std::size_t v = indexed ? indices[corner[c]] : corner[c];
-            tri.position[c] = to_world.point(
-                glm::vec3(positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]));
-            tri.has_normal[c] = !normals.empty();
-            if (tri.has_normal[c])
-                tri.normal[c] = to_world.normal(
-                    glm::vec3(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]));
-            // glTF's v runs down the image, fovref's (OBJ's) up: v' = 1 - v.
-            tri.uv[c] =
-                uvs.empty() ? glm::vec2(0.0f) : glm::vec2(uvs[2 * v], 1.0f - uvs[2 * v + 1]);
-        }
+        WorldTriangle tri = world_triangle(vertices, indices, mode, t, to_world);
         if (!append_triangle(loader.scene, tri, material, loader.path) &&
             ++loader.dropped_here <= max_listed_warnings)
             stats.warnings.push_back(loader.path + ": " + where + ": triangle " +
