@@ -275,41 +275,103 @@ struct MtlScan {
     MtlMaterialInfo ignored;                 ///< where a nameless newmtl's statements go
 };
 
+// newmtl NAME: a new material (or, without a name, a sink for its statements); returns the
+// material the following statements describe.
+MtlMaterialInfo* mtl_newmtl(const std::string& mtl_path, int line,
+                            const std::vector<std::string_view>& tokens, MtlScan& scan,
+                            const QuirkLog& log) {
+    if (tokens.size() < 2) {
+        // tinyobjloader keeps no material without a name either, so the two agree.
+        log.quirk(mtl_path, line, "newmtl needs a material name",
+                  "newmtl without a name: its statements up to the next newmtl are ignored");
+        return &scan.ignored;
+    }
+    const std::string name(rest_of_statement(tokens));
+    if (tokens.size() > 2)
+        log.quirk(mtl_path, line, "newmtl needs one material name without blanks",
+                  "material name '" + name + "' contains blanks (accepted as written)");
+    MtlMaterialInfo info;
+    info.name = name;
+    info.file = mtl_path;
+    info.line = line;
+    auto [it, inserted] = scan.by_name.emplace(name, static_cast<int>(scan.materials.size()));
+    if (!inserted) {
+        const MtlMaterialInfo& first = scan.materials[static_cast<std::size_t>(it->second)];
+        log.quirk(
+            mtl_path, line,
+            "material '" + name + "' is already defined at " + location(first.file, first.line),
+            "material '" + name + "' is defined again (first at " +
+                location(first.file, first.line) + "); this definition is ignored");
+        info.duplicate = true;
+    }
+    scan.materials.push_back(info);
+    return &scan.materials.back();
+}
+
+// map_Kd [options] FILE: options (-s 1 1 1, -bm 0.5, ...) then the file name, which may contain
+// blanks: tinyobjloader's reading of the statement.
+void mtl_map_kd(const std::string& mtl_path, int line, const std::vector<std::string_view>& tokens,
+                MtlMaterialInfo& current) {
+    if (tokens.size() < 2) throw file_error(mtl_path, line, "map_Kd needs a file name");
+    const std::string rest(rest_of_statement(tokens));
+    tinyobj::texture_option_t options;
+    std::string name;
+    if (!tinyobj::ParseTextureNameAndOption(&name, &options, rest.c_str()) || name.empty())
+        throw file_error(mtl_path, line, "map_Kd needs a file name");
+    while (!name.empty() && (name.back() == ' ' || name.back() == '\t')) name.pop_back();
+    current.map_kd = name;
+    current.map_kd_line = line;
+}
+
+// Ns EXPONENT or Pr ROUGHNESS: one number in its range.
+void mtl_scalar(const std::string& mtl_path, int line, const std::vector<std::string_view>& tokens,
+                MtlMaterialInfo& current, const QuirkLog& log) {
+    const std::string_view keyword = tokens[0];
+    std::array<float, 7> values{};
+    parse_numbers(tokens, 1, 1, mtl_path, line, values, log);
+    const float value = values[0];
+    if (keyword == "Pr" && !(value >= 0.0f && value <= 1.0f))
+        throw file_error(mtl_path, line, "Pr (roughness) must be in [0, 1]");
+    if (keyword == "Ns" && !(value >= 0.0f)) throw file_error(mtl_path, line, "Ns must be >= 0");
+    if (keyword == "Pr") {
+        current.pr = value;
+        current.has_pr = true;
+    } else {
+        current.ns = value;
+        current.has_ns = true;
+    }
+}
+
+// Kd, Ks or Ke: r g b, or one value for all three (as the MTL format defines it), each >= 0.
+void mtl_colour(const std::string& mtl_path, int line, const std::vector<std::string_view>& tokens,
+                MtlMaterialInfo& current, const QuirkLog& log) {
+    const std::string_view keyword = tokens[0];
+    std::array<float, 7> values{};
+    const std::size_t count = parse_numbers(tokens, 1, 3, mtl_path, line, values, log);
+    if (count == 2)
+        throw file_error(mtl_path, line,
+                         "'" + std::string(keyword) + "' needs 1 or 3 numbers, got 2");
+    const glm::vec3 colour =
+        count == 1 ? glm::vec3(values[0]) : glm::vec3(values[0], values[1], values[2]);
+    if (colour.x < 0.0f || colour.y < 0.0f || colour.z < 0.0f)
+        throw file_error(mtl_path, line, std::string(keyword) + " values must be >= 0");
+    if (keyword == "Kd") {
+        current.kd = colour;
+        current.has_kd = true;
+    } else if (keyword == "Ks") {
+        current.ks = colour;
+    } else {
+        current.ke = colour;
+    }
+}
+
 void scan_mtl(const std::string& mtl_path, const std::string& text, MtlScan& scan,
               const QuirkLog& log) {
     MtlMaterialInfo* current = nullptr;
     for_each_statement(text, [&](int line, const std::vector<std::string_view>& tokens) {
         const std::string_view keyword = tokens[0];
         if (keyword == "newmtl") {
-            if (tokens.size() < 2) {
-                // tinyobjloader keeps no material without a name either, so the two agree.
-                log.quirk(mtl_path, line, "newmtl needs a material name",
-                          "newmtl without a name: its statements up to the next newmtl are "
-                          "ignored");
-                current = &scan.ignored;
-                return;
-            }
-            const std::string name(rest_of_statement(tokens));
-            if (tokens.size() > 2)
-                log.quirk(mtl_path, line, "newmtl needs one material name without blanks",
-                          "material name '" + name + "' contains blanks (accepted as written)");
-            MtlMaterialInfo info;
-            info.name = name;
-            info.file = mtl_path;
-            info.line = line;
-            auto [it, inserted] =
-                scan.by_name.emplace(name, static_cast<int>(scan.materials.size()));
-            if (!inserted) {
-                const MtlMaterialInfo& first = scan.materials[static_cast<std::size_t>(it->second)];
-                log.quirk(mtl_path, line,
-                          "material '" + name + "' is already defined at " +
-                              location(first.file, first.line),
-                          "material '" + name + "' is defined again (first at " +
-                              location(first.file, first.line) + "); this definition is ignored");
-                info.duplicate = true;
-            }
-            scan.materials.push_back(info);
-            current = &scan.materials.back();
+            current = mtl_newmtl(mtl_path, line, tokens, scan, log);
             return;
         }
         const bool used = keyword == "Kd" || keyword == "Ks" || keyword == "Ke" ||
@@ -317,54 +379,12 @@ void scan_mtl(const std::string& mtl_path, const std::string& text, MtlScan& sca
         if (!used) return;  // other MTL statements (Ka, d, illum, Ni, map_Bump, ...) are ignored
         if (current == nullptr)
             throw file_error(mtl_path, line, "'" + std::string(keyword) + "' before any newmtl");
-        if (keyword == "map_Kd") {
-            if (tokens.size() < 2) throw file_error(mtl_path, line, "map_Kd needs a file name");
-            // Options (-s 1 1 1, -bm 0.5, ...) then the file name, which may contain blanks:
-            // tinyobjloader's reading of the statement.
-            const std::string rest(rest_of_statement(tokens));
-            tinyobj::texture_option_t options;
-            std::string name;
-            if (!tinyobj::ParseTextureNameAndOption(&name, &options, rest.c_str()) || name.empty())
-                throw file_error(mtl_path, line, "map_Kd needs a file name");
-            while (!name.empty() && (name.back() == ' ' || name.back() == '\t')) name.pop_back();
-            current->map_kd = name;
-            current->map_kd_line = line;
-            return;
-        }
-        std::array<float, 7> values{};
-        if (keyword == "Ns" || keyword == "Pr") {
-            parse_numbers(tokens, 1, 1, mtl_path, line, values, log);
-            const float value = values[0];
-            if (keyword == "Pr" && !(value >= 0.0f && value <= 1.0f))
-                throw file_error(mtl_path, line, "Pr (roughness) must be in [0, 1]");
-            if (keyword == "Ns" && !(value >= 0.0f))
-                throw file_error(mtl_path, line, "Ns must be >= 0");
-            if (keyword == "Pr") {
-                current->pr = value;
-                current->has_pr = true;
-            } else {
-                current->ns = value;
-                current->has_ns = true;
-            }
-            return;
-        }
-        // r g b, or one value for all three (as the MTL format defines it).
-        const std::size_t count = parse_numbers(tokens, 1, 3, mtl_path, line, values, log);
-        if (count == 2)
-            throw file_error(mtl_path, line,
-                             "'" + std::string(keyword) + "' needs 1 or 3 numbers, got 2");
-        const glm::vec3 colour =
-            count == 1 ? glm::vec3(values[0]) : glm::vec3(values[0], values[1], values[2]);
-        if (colour.x < 0.0f || colour.y < 0.0f || colour.z < 0.0f)
-            throw file_error(mtl_path, line, std::string(keyword) + " values must be >= 0");
-        if (keyword == "Kd") {
-            current->kd = colour;
-            current->has_kd = true;
-        } else if (keyword == "Ks") {
-            current->ks = colour;
-        } else {
-            current->ke = colour;
-        }
+        if (keyword == "map_Kd")
+            mtl_map_kd(mtl_path, line, tokens, *current);
+        else if (keyword == "Ns" || keyword == "Pr")
+            mtl_scalar(mtl_path, line, tokens, *current, log);
+        else
+            mtl_colour(mtl_path, line, tokens, *current, log);
     });
 }
 
@@ -496,6 +516,78 @@ struct PendingUsemtl {
     bool no_name = false;  ///< "usemtl" alone: the default material, already warned about
 };
 
+// f V1 V2 V3 ...: the face's corners, checked, with the usemtl in force.
+void obj_face(const std::string& obj_path, int line, const std::vector<std::string_view>& tokens,
+              ObjScan& scan, std::vector<int>& face_usemtl, int usemtl) {
+    const std::size_t corners = tokens.size() - 1;
+    if (corners < 3)
+        throw file_error(obj_path, line,
+                         "a face needs at least 3 vertices, got " + std::to_string(corners));
+    scan.face_starts.push_back(scan.corners.size());
+    for (std::size_t k = 1; k < tokens.size(); ++k)
+        scan.corners.push_back(check_corner(tokens[k], scan, obj_path, line));
+    scan.face_lines.push_back(line);
+    face_usemtl.push_back(usemtl);
+}
+
+// usemtl NAME: the material of the faces that follow (without a name: the default material).
+void obj_usemtl(const std::string& obj_path, int line, const std::vector<std::string_view>& tokens,
+                const ObjScan& scan, std::vector<PendingUsemtl>& usemtls, const QuirkLog& log) {
+    if (tokens.size() != 2 && log.strict)
+        throw file_error(obj_path, line, "usemtl needs one material name without blanks");
+    if (tokens.size() < 2) {  // the default material from here on
+        log.warnings->push_back(location(obj_path, line) +
+                                ": usemtl without a material name: the default material");
+        usemtls.push_back({"", line, false, true});
+        return;
+    }
+    const std::string name(rest_of_statement(tokens));
+    const bool defined = scan.mtl.by_name.count(name) != 0;
+    if (!defined && log.strict)
+        throw file_error(obj_path, line,
+                         "material '" + name + "' is not defined by an mtllib before this line");
+    usemtls.push_back({name, line, defined});
+}
+
+// l or p: lines and points carry no triangles, but tinyobjloader stops on a bad index in them
+// with a message of its own: check them here, with file and line.
+void obj_lines_points(const std::string& obj_path, int line,
+                      const std::vector<std::string_view>& tokens, ObjScan& scan) {
+    const bool is_line = tokens[0] == "l";
+    if (tokens.size() < (is_line ? 3u : 2u))
+        throw file_error(obj_path, line,
+                         std::string(is_line ? "a line needs 2" : "a point needs 1") +
+                             " or more vertex indices");
+    for (std::size_t k = 1; k < tokens.size(); ++k) check_corner(tokens[k], scan, obj_path, line);
+    if (is_line)
+        ++scan.lines;
+    else
+        scan.points += static_cast<std::int64_t>(tokens.size() - 1);
+}
+
+// Materials of the faces: a usemtl names a material of any MTL file the OBJ reads (strict: of
+// one read before its line); an undefined one gives its faces the default material, with one
+// warning per name.
+void resolve_face_materials(const std::string& obj_path, const std::vector<PendingUsemtl>& usemtls,
+                            const std::vector<int>& face_usemtl, ObjScan& scan,
+                            const QuirkLog& log) {
+    std::vector<int> usemtl_material(usemtls.size(), -1);
+    std::set<std::string> reported;
+    for (std::size_t u = 0; u < usemtls.size(); ++u) {
+        if (usemtls[u].no_name) continue;
+        auto it = scan.mtl.by_name.find(usemtls[u].name);
+        if (it != scan.mtl.by_name.end()) {
+            usemtl_material[u] = it->second;
+        } else if (reported.insert(usemtls[u].name).second) {
+            log.warnings->push_back(location(obj_path, usemtls[u].line) + ": material '" +
+                                    usemtls[u].name +
+                                    "' is not defined by any MTL file; its faces get the default "
+                                    "material");
+        }
+    }
+    for (int u : face_usemtl) scan.face_materials.push_back(u < 0 ? -1 : usemtl_material[u]);
+}
+
 ObjScan scan_obj(const std::string& obj_path, const std::string& text, const QuirkLog& log) {
     ObjScan scan;
     std::vector<PendingUsemtl> usemtls;  // every usemtl, in file order
@@ -515,71 +607,19 @@ ObjScan scan_obj(const std::string& obj_path, const std::string& text, const Qui
             const std::size_t count = parse_numbers(tokens, 1, 3, obj_path, line, values, log);
             scan.texcoords.emplace_back(values[0], count >= 2 ? values[1] : 0.0f);
         } else if (keyword == "f") {
-            const std::size_t corners = tokens.size() - 1;
-            if (corners < 3)
-                throw file_error(
-                    obj_path, line,
-                    "a face needs at least 3 vertices, got " + std::to_string(corners));
-            scan.face_starts.push_back(scan.corners.size());
-            for (std::size_t k = 1; k < tokens.size(); ++k)
-                scan.corners.push_back(check_corner(tokens[k], scan, obj_path, line));
-            scan.face_lines.push_back(line);
-            face_usemtl.push_back(static_cast<int>(usemtls.size()) - 1);
+            obj_face(obj_path, line, tokens, scan, face_usemtl,
+                     static_cast<int>(usemtls.size()) - 1);
         } else if (keyword == "mtllib") {
             scan_mtllib(obj_path, line, tokens, scan, log);
         } else if (keyword == "usemtl") {
-            if (tokens.size() != 2 && log.strict)
-                throw file_error(obj_path, line, "usemtl needs one material name without blanks");
-            if (tokens.size() < 2) {  // the default material from here on
-                log.warnings->push_back(location(obj_path, line) +
-                                        ": usemtl without a material name: the default material");
-                usemtls.push_back({"", line, false, true});
-                return;
-            }
-            const std::string name(rest_of_statement(tokens));
-            const bool defined = scan.mtl.by_name.count(name) != 0;
-            if (!defined && log.strict)
-                throw file_error(
-                    obj_path, line,
-                    "material '" + name + "' is not defined by an mtllib before this line");
-            usemtls.push_back({name, line, defined});
+            obj_usemtl(obj_path, line, tokens, scan, usemtls, log);
         } else if (keyword == "l" || keyword == "p") {
-            // Lines and points carry no triangles, but tinyobjloader stops on a bad index in
-            // them with a message of its own: check them here, with file and line.
-            if (tokens.size() < (keyword == "l" ? 3u : 2u))
-                throw file_error(
-                    obj_path, line,
-                    std::string(keyword == "l" ? "a line needs 2" : "a point needs 1") +
-                        " or more vertex indices");
-            for (std::size_t k = 1; k < tokens.size(); ++k)
-                check_corner(tokens[k], scan, obj_path, line);
-            if (keyword == "l")
-                ++scan.lines;
-            else
-                scan.points += static_cast<std::int64_t>(tokens.size() - 1);
+            obj_lines_points(obj_path, line, tokens, scan);
         }
         // Other statements (o, g, s, vp, ...) are left to tinyobjloader, which ignores them for
         // triangle meshes.
     });
-
-    // Materials of the faces: a usemtl names a material of any MTL file the OBJ reads (strict:
-    // of one read before its line); an undefined one gives its faces the default material, with
-    // one warning per name.
-    std::vector<int> usemtl_material(usemtls.size(), -1);
-    std::set<std::string> reported;
-    for (std::size_t u = 0; u < usemtls.size(); ++u) {
-        if (usemtls[u].no_name) continue;
-        auto it = scan.mtl.by_name.find(usemtls[u].name);
-        if (it != scan.mtl.by_name.end()) {
-            usemtl_material[u] = it->second;
-        } else if (reported.insert(usemtls[u].name).second) {
-            log.warnings->push_back(location(obj_path, usemtls[u].line) + ": material '" +
-                                    usemtls[u].name +
-                                    "' is not defined by any MTL file; its faces get the default "
-                                    "material");
-        }
-    }
-    for (int u : face_usemtl) scan.face_materials.push_back(u < 0 ? -1 : usemtl_material[u]);
+    resolve_face_materials(obj_path, usemtls, face_usemtl, scan, log);
     return scan;
 }
 
