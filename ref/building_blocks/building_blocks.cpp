@@ -6,6 +6,7 @@
 #include "ref/core/error.h"
 #include "ref/core/halton.h"
 #include "ref/core/rng.h"
+#include "ref/core/vec.h"
 
 namespace fovref {
 
@@ -14,9 +15,9 @@ Image camera_rays(const Camera& camera, int width, int height) {
     const float tan_half = tan_half_vfov(camera);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            glm::vec3 d =
-                primary_ray_direction(camera, tan_half, width, height, static_cast<float>(x) + 0.5f,
-                                      static_cast<float>(y) + 0.5f);
+            const glm::vec2 centre = pixel_centre(x, y);
+            const glm::vec3 d =
+                primary_ray_direction(camera, tan_half, width, height, centre.x, centre.y);
             for (int c = 0; c < 3; ++c) rays.at(x, y, c) = d[c];
         }
     return rays;

@@ -7,6 +7,7 @@
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
+#include "ref/core/vec.h"
 
 namespace fovref {
 
@@ -37,7 +38,7 @@ Image blur_pass(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Im
     float weights[blur_ramp_max_radius + 1];
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+            const glm::vec2 centre = pixel_centre(x, y);
             const float sigma = blur_ramp_sigma_px(ramp, geometry, centre);
             const int radius = blur_ramp_radius(sigma);
             if (radius == 0) continue;  // copied
@@ -92,8 +93,7 @@ Image blur_pass(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Im
 }  // namespace
 
 float blur_ramp_sigma_px(const BlurRamp& ramp, const BlurRampGeometry& geometry, glm::vec2 p) {
-    const float dx = p.x - geometry.gaze.x, dy = p.y - geometry.gaze.y;
-    const float e = std::sqrt(dx * dx + dy * dy) / geometry.scale;
+    const float e = gaze_distance(geometry.gaze, p) / geometry.scale;
     const float fovea_edge = geometry.fovea_deg;
     float sigma = 0.0f;  // model degrees
     if (e <= fovea_edge)

@@ -38,7 +38,7 @@ float gaussian3x3_clamped(const Image& in, int x, int y, int c) {
 
 void gaussian_lerp_pixel(const Image& in, glm::vec2 gaze, const LerpRamp& ramp, Image& out, int x,
                          int y) {
-    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    const glm::vec2 centre = pixel_centre(x, y);
     const float t = gaussian_lerp_amount(ramp, gaze, centre);
     for (int c = 0; c < in.channels; ++c) {
         const float value = in.at(x, y, c);

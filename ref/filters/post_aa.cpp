@@ -48,7 +48,7 @@ void post_aa_row(const Image& in, const std::vector<float>& g, int x, int yy, fl
 
 void post_aa_pixel(const Image& in, glm::vec2 gaze, float radius_max,
                    const std::vector<std::vector<float>>& weights, Image& out, int x, int y) {
-    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    const glm::vec2 centre = pixel_centre(x, y);
     const int eta = post_aa_size(gaze_distance(gaze, centre) / radius_max);
     if (eta == 0) {
         for (int c = 0; c < in.channels; ++c) out.at(x, y, c) = in.at(x, y, c);
@@ -92,7 +92,7 @@ Image post_aa(const Image& in, glm::vec2 gaze, float radius_max) {
     // that reads it: the same operations on the same values, so the same bits.
     for (int y = 0; y < in.height; ++y)
         for (int x = 0; x < width; ++x) {
-            const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+            const glm::vec2 centre = pixel_centre(x, y);
             const int eta = post_aa_size(gaze_distance(gaze, centre) / radius_max);
             if (eta == 0) {
                 for (int c = 0; c < channels; ++c) out.at(x, y, c) = in.at(x, y, c);

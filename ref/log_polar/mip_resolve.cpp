@@ -5,6 +5,7 @@
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
+#include "ref/core/vec.h"
 
 namespace fovref {
 
@@ -58,7 +59,7 @@ void resolve_mip_pixel(const LogPolarMap& map, const std::vector<MipLevel>& mips
     float* pixel = &out.at(x, y, 0);
     if (gaze_pixel(map, gaze, x, y, pixel, out.channels, stats)) return;
     ++stats.pixels_from_buffer;
-    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    const glm::vec2 centre = pixel_centre(x, y);
     const std::size_t k = static_cast<std::size_t>(y) * map.screen_width + x;
     const float lambda =
         table ? table->mip_lambda[k] : mip_level(map, centre, static_cast<int>(mips.size()));

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "ref/bvh/bvh.h"
+#include "ref/core/vec.h"
 #include "ref/filters/gaussian_lerp.h"
 #include "ref/filters/internal_aa.h"
 #include "ref/filters/post_aa.h"
@@ -220,7 +221,7 @@ std::vector<std::pair<int, int>> explain_resolve(const ProbeContext& c,
                                                  const std::string& output, ProbeReport& report) {
     const FrameResult& f = *c.frame;
     ProbeSection s{"resolve", "pass 2 (docs/foveation.md, \"Pass 2\")", {}};
-    const glm::vec2 centre{static_cast<float>(c.x) + 0.5f, static_cast<float>(c.y) + 0.5f};
+    const glm::vec2 centre = pixel_centre(c.x, c.y);
     const float r = gaze_distance(m.gaze, centre);
     s.add("distance", "r = |centre - gaze| = " + probe_float(r) + " px");
     const GazeInput gaze =
@@ -313,7 +314,7 @@ void explain_foveated(const ProbeContext& c, ProbeReport& report) {
     const bool taa = c.frame->find("taa_age") != nullptr;
     const std::vector<std::string> chain = screen_chain(params, taa);
     const std::vector<std::pair<int, int>> taps = explain_resolve(c, params, m, chain[0], report);
-    const glm::vec2 centre{static_cast<float>(c.x) + 0.5f, static_cast<float>(c.y) + 0.5f};
+    const glm::vec2 centre = pixel_centre(c.x, c.y);
     if (inside_gaze_circle(m, centre)) explain_gaze_pixel(c, m, bvh, report);
     for (const auto& [i, j] : taps) explain_texel(c, params, m, bvh, i, j, report);
     std::size_t link = taa ? 1 : 0;  // the TAA section comes from the modes' explainer
@@ -433,8 +434,7 @@ std::vector<std::pair<int, int>> explain_stereo_resolve(const ProbeContext& c,
     const int eye_width = maps[0].screen_width, eye = c.x / eye_width, w = maps[0].width;
     const LogPolarMap& m = maps[static_cast<std::size_t>(eye)];
     ProbeSection s{"resolve", "pass 2 in the eye's half of the buffer (docs/foveation.md)", {}};
-    const glm::vec2 local{static_cast<float>(c.x - eye * eye_width) + 0.5f,
-                          static_cast<float>(c.y) + 0.5f};
+    const glm::vec2 local = pixel_centre(c.x - eye * eye_width, c.y);
     s.add("eye", std::to_string(eye) + ": eye-local centre " + point_text(local));
     glm::vec2 uv{0.0f};
     const bool in_lens = stereo_lookup(params, maps, c.x, c.y, uv);

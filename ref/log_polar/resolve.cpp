@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ref/core/error.h"
+#include "ref/core/vec.h"
 #include "ref/log_polar/mip_resolve.h"
 #include "ref/log_polar/trace.h"
 
@@ -124,7 +125,7 @@ bool gaze_pixel(const LogPolarMap& map, const GazeInput& gaze, int x, int y, flo
     // Outside the window no pixel centre is inside the circle (gaze_window), so only the
     // window's pixels need the distance.
     if (x < w.x0 || y < w.y0 || x >= w.x0 + w.width || y >= w.y0 + w.height) return false;
-    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    const glm::vec2 centre = pixel_centre(x, y);
     if (!inside_gaze_circle(map, centre)) return false;
     ++stats.pixels_from_gaze;
     for (int c = 0; c < channels; ++c)
@@ -141,7 +142,7 @@ ForwardTable forward_table(const LogPolarMap& map, int mip_levels) {
     if (mip_levels > 0) table.mip_lambda.resize(pixels);
     for (int y = 0; y < map.screen_height; ++y)
         for (int x = 0; x < map.screen_width; ++x) {
-            const glm::vec2 c{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+            const glm::vec2 c = pixel_centre(x, y);
             const std::size_t k = static_cast<std::size_t>(y) * map.screen_width + x;
             table.uv[k] = lp_forward(map, c);
             if (mip_levels > 0) table.mip_lambda[k] = mip_level(map, c, mip_levels);
@@ -154,7 +155,7 @@ void resolve_pixel(const LogPolarMap& map, const ResolveInputs& in, Image& out, 
     float* pixel = &out.at(x, y, 0);
     if (gaze_pixel(map, in.gaze, x, y, pixel, out.channels, stats)) return;
     ++stats.pixels_from_buffer;
-    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    const glm::vec2 centre = pixel_centre(x, y);
     const glm::vec2 uv = table ? table->uv[static_cast<std::size_t>(y) * map.screen_width + x]
                                : lp_forward(map, centre);
     if (!sample_lp_bilinear(in.buffer, in.buffer_valid, uv, pixel, lookup))

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ref/core/error.h"
+#include "ref/core/vec.h"
 
 namespace fovref {
 
@@ -129,7 +130,7 @@ bool stereo_lookup(const StereoParams& params, const std::array<LogPolarMap, 2>&
                    glm::vec2& uv) {
     const int eye_width = maps[0].screen_width, height = maps[0].screen_height;
     const int eye = x / eye_width;
-    glm::vec2 c{static_cast<float>(x - eye * eye_width) + 0.5f, static_cast<float>(y) + 0.5f};
+    glm::vec2 c = pixel_centre(x - eye * eye_width, y);
     if (params.barrel) {
         c = barrel_source(c, eye_width, height, params.k1, params.k2);
         if (!on_screen(eye_width, height, c)) return false;

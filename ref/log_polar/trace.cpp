@@ -1,4 +1,5 @@
 #include "ref/log_polar/trace.h"
+#include "ref/core/vec.h"
 
 #include <algorithm>
 #include <cmath>
@@ -63,7 +64,7 @@ ScreenWindow gaze_window(const LogPolarMap& map) {
 bool gaze_gbuffer_pixel(MaskedGBuffer& buffer, const ScreenWindow& window, const LogPolarMap& map,
                         const PrimaryView& view, int x, int y, FoveatedTraceStats& stats,
                         Offset2 jitter) {
-    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    const glm::vec2 centre = pixel_centre(x, y);
     if (!inside_gaze_circle(map, centre)) return false;
     ++stats.gaze_pixels_traced;
     buffer.valid.at(x - window.x0, y - window.y0) = 1.0f;

@@ -6,13 +6,13 @@
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
+#include "ref/core/vec.h"
 #include "ref/metrics/metrics.h"
 
 namespace fovref {
 
 float eccentricity_deg(glm::vec2 p, glm::vec2 gaze, float distance_px) {
-    const float dx = p.x - gaze.x, dy = p.y - gaze.y;
-    return dm::degrees(dm::atan(std::sqrt(dx * dx + dy * dy) / distance_px));
+    return dm::degrees(dm::atan(gaze_distance(gaze, p) / distance_px));
 }
 
 int ring_of(float eccentricity, float ring_width, int count) {
@@ -56,7 +56,7 @@ RingLayout ring_layout(int width, int height, glm::vec2 gaze, float distance_px,
     if (!(layout.ring_width_deg > 0.0f)) return layout;  // gaze-sized screen: nothing to split
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            const glm::vec2 centre(static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
+            const glm::vec2 centre = pixel_centre(x, y);
             layout.ring[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
                         static_cast<std::size_t>(x)] =
                 static_cast<std::int16_t>(ring_of(eccentricity_deg(centre, gaze, distance_px),

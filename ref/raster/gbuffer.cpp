@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "ref/core/vec.h"
 #include "ref/scene/surface.h"
 
 namespace fovref {
@@ -20,7 +21,7 @@ GBuffer::GBuffer(int width, int height)
 bool write_gbuffer_pixel(GBuffer& g, int x, int y, const Scene& scene, const Camera& camera,
                          const Camera& previous_camera, float previous_tan_half,
                          std::int32_t primitive, float u, float v) {
-    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    const glm::vec2 centre = pixel_centre(x, y);
     return write_gbuffer_sample(g, x, y, centre, g.view_depth.width, g.view_depth.height, scene,
                                 camera, previous_camera, previous_tan_half, primitive, u, v);
 }

@@ -322,9 +322,9 @@ bool raster_fragment(const Scene& scene, const RasterFrame& frame, int x, int y,
                      std::int32_t primitive, RasterFragment& fragment) {
     // The pixel's primary ray, exactly as the ray caster builds it (raycast_gbuffer.h,
     // bvh_traverse.cpp: t in (0, inf), the watertight per-ray setup).
-    const glm::vec3 direction =
-        primary_ray_direction(frame.camera, frame.tan_half, frame.width, frame.height,
-                              static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
+    const glm::vec2 centre = pixel_centre(x, y);
+    const glm::vec3 direction = primary_ray_direction(frame.camera, frame.tan_half, frame.width,
+                                                      frame.height, centre.x, centre.y);
     const WatertightRay ray = make_watertight_ray(frame.camera.position, direction, 0.0f,
                                                   std::numeric_limits<float>::max());
     const auto t = static_cast<std::size_t>(primitive);

@@ -87,9 +87,9 @@ TaaReprojection taa_reprojection(const Camera& camera, float tan_half, const Cam
 bool taa_reproject(const TaaReprojection& k, int x, int y, float z, glm::vec2& previous_point,
                    float& previous_depth) {
     const float w = static_cast<float>(k.width), h = static_cast<float>(k.height);
-    const float cx = static_cast<float>(x) + 0.5f, cy = static_cast<float>(y) + 0.5f;
-    const float sx = ((2.0f * cx) / w - 1.0f) * k.sx_scale;
-    const float sy = ((2.0f * cy) / h - 1.0f) * k.sy_scale;
+    const glm::vec2 c = pixel_centre(x, y);
+    const float sx = ((2.0f * c.x) / w - 1.0f) * k.sx_scale;
+    const float sy = ((2.0f * c.y) / h - 1.0f) * k.sy_scale;
     const glm::vec3 d = k.f + sx * k.r - sy * k.u;
     const glm::vec3 q = k.o + z * d;
     previous_depth = q.z;

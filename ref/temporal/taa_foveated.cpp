@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "ref/core/error.h"
+#include "ref/core/vec.h"
 #include "ref/log_polar/trace.h"
 
 namespace fovref {
@@ -10,7 +11,7 @@ namespace fovref {
 TaaSource taa_source(const TaaBufferInputs& in, int x, int y) {
     TaaSource s;
     const LogPolarMap& map = in.map;
-    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    const glm::vec2 centre = pixel_centre(x, y);
     if (in.gaze_valid && inside_gaze_circle(map, centre)) {
         const ScreenWindow window = gaze_window(map);
         s.kind = TaaSource::Kind::gaze;

@@ -9,6 +9,7 @@
 #include "ref/core/error.h"
 #include "ref/core/limits.h"
 #include "ref/core/rng.h"
+#include "ref/core/vec.h"
 #include "ref/image/image_io.h"
 #include "ref/trace/raycast_gbuffer.h"
 
@@ -115,8 +116,8 @@ std::vector<Ray> camera_rays_list(const Camera& camera, int width, int height) {
     const float tan_half = tan_half_vfov(camera);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
-            rays.push_back(primary_ray(camera, tan_half, width, height,
-                                       static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f));
+            const glm::vec2 centre = pixel_centre(x, y);
+            rays.push_back(primary_ray(camera, tan_half, width, height, centre.x, centre.y));
         }
     return rays;
 }

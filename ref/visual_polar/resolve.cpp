@@ -5,6 +5,7 @@
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
+#include "ref/core/vec.h"
 
 namespace fovref {
 
@@ -155,7 +156,7 @@ bool sample_vp_phi(const Image& color, const Image& valid, int column, int rows,
 }
 
 void vp_polar_pixel(const VisualPolarMap& map, int x, int y, float& u, float& r, float& theta) {
-    const glm::vec2 centre{static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    const glm::vec2 centre = pixel_centre(x, y);
     const float dx = centre.x - map.gaze.x, dy = centre.y - map.gaze.y;
     r = std::sqrt(dx * dx + dy * dy);
     u = vp_forward_radius(map, r);

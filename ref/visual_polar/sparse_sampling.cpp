@@ -6,6 +6,7 @@
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
+#include "ref/core/vec.h"
 #include "ref/visual_polar/map.h"
 
 namespace fovref {
@@ -35,9 +36,7 @@ namespace {
 float falloff_probability_at(const LinearFalloff& falloff, int x, int y, glm::vec2 gaze,
                              float distance_px) {
     constexpr float degrees = 57.2957795130823208768f;
-    const float dx = static_cast<float>(x) + 0.5f - gaze.x;
-    const float dy = static_cast<float>(y) + 0.5f - gaze.y;
-    const float e = dm::atan(std::sqrt(dx * dx + dy * dy) / distance_px) * degrees;
+    const float e = dm::atan(gaze_distance(gaze, pixel_centre(x, y)) / distance_px) * degrees;
     return linear_falloff_probability(falloff, e);
 }
 
