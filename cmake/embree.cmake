@@ -1,4 +1,4 @@
-# Optional Embree 3 comparison backend for `fovref bench rays` (tools/bench_embree.cpp). Never used
+# Optional Embree 3 comparison backend for `fovref bench rays` (tools/cli/bench/embree.cpp). Never used
 # by the reference path; the CLI builds without it. Debian: apt-get install libembree-dev.
 find_package(embree 3 CONFIG QUIET)
 if(embree_FOUND)

@@ -12,14 +12,14 @@ endforeach()
 
 # The renderer library must import no libm transcendental (SPEC §0).
 add_test(NAME core.no_libm_transcendentals
-  COMMAND bash ${PROJECT_SOURCE_DIR}/tools/check_no_libm.sh $<TARGET_FILE:fovref>)
+  COMMAND bash ${PROJECT_SOURCE_DIR}/tools/scripts/check_no_libm.sh $<TARGET_FILE:fovref>)
 add_test(NAME core.no_libm_in_cli
-  COMMAND bash ${PROJECT_SOURCE_DIR}/tools/check_no_libm.sh $<TARGET_FILE:fovref_cli>)
+  COMMAND bash ${PROJECT_SOURCE_DIR}/tools/scripts/check_no_libm.sh $<TARGET_FILE:fovref_cli>)
 add_test(NAME core.no_libm_check_self_test
   COMMAND ${CMAKE_COMMAND} -E env CXX=${CMAKE_CXX_COMPILER}
-          bash ${PROJECT_SOURCE_DIR}/tools/check_no_libm.sh --self-test)
+          bash ${PROJECT_SOURCE_DIR}/tools/scripts/check_no_libm.sh --self-test)
 
 # Includes in ref/ point down the pipeline (docs/stage-framework.md, "Layers").
-add_test(NAME core.include_layers COMMAND bash ${PROJECT_SOURCE_DIR}/tools/check_layers.sh)
+add_test(NAME core.include_layers COMMAND bash ${PROJECT_SOURCE_DIR}/tools/scripts/check_layers.sh)
 add_test(NAME core.include_layers_self_test
-  COMMAND bash ${PROJECT_SOURCE_DIR}/tools/check_layers.sh --self-test)
+  COMMAND bash ${PROJECT_SOURCE_DIR}/tools/scripts/check_layers.sh --self-test)

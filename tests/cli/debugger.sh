@@ -28,7 +28,7 @@ if ! grep -q -- "--args $FOVREF " <<<"$RASTER_CMD" && ! grep -q -- "--args $(rea
   exit $?
 fi
 if ! command -v gdb >/dev/null; then
-  echo "FAIL: gdb is not installed (tools/setup.sh installs it)"; exit 1
+  echo "FAIL: gdb is not installed (tools/scripts/setup.sh installs it)"; exit 1
 fi
 cd "$TMP" || exit 1
 # -batch ends gdb after the last command; after `run` stops, show where and the pixel.

@@ -62,14 +62,14 @@ contains "bad-camera.json:" "a bad camera file names its line"
 
 # The contact sheet of the quirk corpus: every file gets a tile; the refused ones say why.
 if command -v rsvg-convert >/dev/null && command -v python3 >/dev/null; then
-  expect 1 "contact sheet" -- python3 "$SRC/tools/contact_sheet.py" "$TMP/sheet.png" "$Q"/*.obj --fovref "$FOVREF" --json "$TMP/sheet.json" --views front,three-quarter
+  expect 1 "contact sheet" -- python3 "$SRC/tools/scripts/contact_sheet.py" "$TMP/sheet.png" "$Q"/*.obj --fovref "$FOVREF" --json "$TMP/sheet.json" --views front,three-quarter
   contains "9 of 11 rendered" "contact sheet: all but UTF-16 and lines-only render"
   check_file "$TMP/sheet.png" "contact sheet PNG"
   expect 0 "contact sheet rows" -- cat "$TMP/sheet.json"
   contains '"status": "refused"' "refused files are listed"
   contains "the file is UTF-16 text" "the refusal's message is kept"
 else
-  echo "skipped: the contact sheet needs python3 and rsvg-convert (tools/setup.sh installs them)"
+  echo "skipped: the contact sheet needs python3 and rsvg-convert (tools/scripts/setup.sh installs them)"
 fi
 
 # The installed tool: data found next to the binary, from any directory.

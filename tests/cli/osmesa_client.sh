@@ -8,7 +8,7 @@ PY=$(command -v /usr/bin/python3 || command -v python3)
 CLIENT=$(dirname "$FOVREF")/osmesa_gbuffer
 if [ ! -x "$CLIENT" ]; then
   echo "FAIL: $CLIENT was not built: OSMesa is missing (apt-get install libosmesa6-dev, which"
-  echo "      tools/setup.sh does), then reconfigure the build"
+  echo "      tools/scripts/setup.sh does), then reconfigure the build"
   exit 1
 fi
 REQUIRE=gbuffer_primitive_id,gbuffer_material_id,gbuffer_view_depth,gbuffer_hit_distance,gbuffer_world_position,gbuffer_shading_normal,gbuffer_geometric_normal,gbuffer_albedo

@@ -1,6 +1,6 @@
-// Shared pieces of the libFuzzer targets (tests/fuzz/fuzz_*.cpp, tools/fuzz.sh). Each target
-// feeds its input to one of fovref's loaders through a file, as a user's file would arrive. The
-// contract it checks: bad input throws fovref::Error (expected, ignored); anything else — a
+// Shared pieces of the libFuzzer targets (tests/fuzz/fuzz_*.cpp, tools/scripts/fuzz.sh). Each
+// target feeds its input to one of fovref's loaders through a file, as a user's file would arrive.
+// The contract it checks: bad input throws fovref::Error (expected, ignored); anything else — a
 // crash, a sanitizer report, another exception type (std::bad_alloc, nlohmann's), a timeout, a
 // leak — is a finding, and libFuzzer saves the input that caused it. Loaders that succeed are run
 // twice and must give the same bits (no uninitialised or nondeterministic reads).

@@ -201,9 +201,9 @@ TEST_CASE("exr: tiled files (OpenEXR's tiled writer, ZIP, HALF) read like scan-l
 }
 
 TEST_CASE("exr: a ZIP chunk that inflates short is refused, never read from undefined memory") {
-    // Found by fuzzing (tools/fuzz.sh): a 528x1 ZIP file whose chunk decompresses to fewer bytes
-    // than its lines need. OpenEXR 3.1's C++ reader filled the rest from an uninitialised buffer
-    // (another image on each read); the core decoder fovref uses checks the size.
+    // Found by fuzzing (tools/scripts/fuzz.sh): a 528x1 ZIP file whose chunk decompresses to fewer
+    // bytes than its lines need. OpenEXR 3.1's C++ reader filled the rest from an uninitialised
+    // buffer (another image on each read); the core decoder fovref uses checks the size.
     const std::string path =
         std::string(FOVREF_SOURCE_DIR) + "/tests/fuzz/regressions/fuzz_exr/zip_chunk_short.exr";
     const std::string message = test::error_message([&] { read_exr(path); });

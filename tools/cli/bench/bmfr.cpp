@@ -1,0 +1,197 @@
+// `fovref bench bmfr`:
+//   cost   renders 1 + repeats frames of `pathtrace --param denoise=bmfr` at W x H along the
+//          scene's camera path (30 frames per second); frame 0 (BVH build, no history) is not
+//          timed; each stage's time is its fastest over the timed frames. BMFR = every bmfr_*
+//          stage except bmfr_output (the linear copy of the result for `final`, not a phase).
+//   error  frames 0 .. N-1 of the moving sequence at the error size; at frames K-1, 2K-1, ...
+//          the noisy image (`radiance`) and the denoised one (`final`) against the reference of
+//          the same frame at S samples per pixel, in display space (clamped, sRGB): RMSE and
+//          SSIM (SPEC §10); the temporal error over all consecutive frames.
+#include "tools/cli/bench/bmfr.h"
+
+#include <malloc.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cstdio>
+#include <map>
+
+#include "ref/core/error.h"
+#include "ref/metrics/metrics.h"
+#include "ref/metrics/ssim.h"
+#include "ref/modes/modes.h"
+#include "ref/scene/scene_file.h"
+#include "tools/cli/common/cli_common.h"
+#include "tools/cli/common/progress.h"
+
+namespace fovref {
+
+namespace {
+
+bool is_bmfr_phase(const std::string& stage) {
+    return stage.rfind("bmfr_", 0) == 0 && stage != "bmfr_output";
+}
+
+void print_cost(const Scene& scene, const BenchBmfrOptions& o, Progress& progress) {
+    std::printf(
+        "\ncost: %s %dx%d, one thread, fastest of %d frames after an untimed first, camera "
+        "moving along the path; target: BMFR <= 300 ms per 720p frame\n",
+        o.scene.c_str(), o.width, o.height, o.repeats);
+    for (const char* storage : {"half", "float"}) {
+        RenderSettings s;
+        s.width = o.width;
+        s.height = o.height;
+        s.frame_count = 1 + o.repeats;
+        s.params = Params(
+            std::map<std::string, std::string>{{"denoise", "bmfr"}, {"bmfr_storage", storage}});
+        s.progress = [&](double f) { progress.update(f); };
+        std::vector<std::string> order;
+        std::map<std::string, double> best;
+        render_each(&scene, "pathtrace", s, [&](FrameResult& f) {
+            if (f.frame == 0) return;
+            for (const StageRun& run : f.stages) {
+                if (!run.ran) continue;
+                if (best.count(run.name) == 0) {
+                    order.push_back(run.name);
+                    best[run.name] = run.seconds;
+                }
+                best[run.name] = std::min(best[run.name], run.seconds);
+            }
+        });
+        progress.clear();
+        double bmfr = 0.0, total = 0.0;
+        std::printf("  bmfr_storage=%s\n", storage);
+        for (const std::string& name : order) {
+            total += best[name];
+            if (is_bmfr_phase(name)) bmfr += best[name];
+            std::printf("    %-28s %9.1f ms\n", name.c_str(), 1e3 * best[name]);
+        }
+        std::printf("    %-28s %9.1f ms  %s\n    %-28s %9.1f ms\n", "BMFR (all phases)", 1e3 * bmfr,
+                    bmfr <= 0.3 ? "meets the target" : "misses the target", "frame", 1e3 * total);
+        std::fflush(stdout);
+    }
+}
+
+void print_errors(const Scene& scene, const BenchBmfrOptions& o, Progress& progress) {
+    RenderSettings s;
+    s.width = o.error_width;
+    s.height = o.error_height;
+    s.frame_count = o.frames;
+    // BMFR as SPEC §9 (the whole radiance demodulated) and with the emission seen directly kept
+    // out of the fit (bmfr_emission=separate)
+    std::vector<Image> noisy, denoised, separate;
+    for (const char* emission : {"include", "separate"}) {
+        s.params = Params(
+            std::map<std::string, std::string>{{"denoise", "bmfr"}, {"bmfr_emission", emission}});
+        const bool first = std::string(emission) == "include";
+        render_each(&scene, "pathtrace", s, [&](FrameResult& f) {
+            if (first) noisy.push_back(to_display(f.find("radiance")->image));
+            (first ? denoised : separate).push_back(to_display(f.find("final")->image));
+            progress.update(0.05 * static_cast<double>(f.frame + 1) / o.frames +
+                            (first ? 0 : 0.05));
+        });
+    }
+    progress.clear();
+    std::printf(
+        "\nerror: %s %dx%d, %d frames moving, every %dth frame against pathtrace-reference at "
+        "%d spp (display space); BMFR as SPEC §9, and BMFR+E with bmfr_emission=separate\n",
+        o.scene.c_str(), o.error_width, o.error_height, o.frames, o.every, o.reference_spp);
+    std::printf("  %6s %11s %11s %11s %11s %11s %11s %14s\n", "frame", "RMSE noisy", "RMSE BMFR",
+                "RMSE BMFR+E", "SSIM noisy", "SSIM BMFR", "SSIM BMFR+E", "ref. std. err.");
+    double sums[6] = {0, 0, 0, 0, 0, 0};
+    int count = 0;
+    std::vector<int> compared;
+    for (int f = o.every - 1; f < o.frames; f += o.every) compared.push_back(f);
+    for (std::size_t i = 0; i < compared.size(); ++i) {
+        const int f = compared[i];
+        RenderSettings r = s;
+        r.first_frame = f;
+        r.frame_count = 1;
+        r.params =
+            Params(std::map<std::string, std::string>{{"spp", std::to_string(o.reference_spp)}});
+        r.progress = [&](double x) {
+            progress.update(0.1 + 0.9 * (static_cast<double>(i) + x) /
+                                      static_cast<double>(compared.size()));
+        };
+        Image reference;
+        double standard_error = 0.0;
+        render_each(&scene, "pathtrace-reference", r, [&](FrameResult& fr) {
+            reference = to_display(fr.find("final")->image);
+            standard_error =
+                1e-9 * static_cast<double>(fr.counters.get("reference_mean_standard_error_e9"));
+        });
+        progress.clear();
+        const auto index = static_cast<std::size_t>(f);
+        const double e[6] = {std::sqrt(mse(reference, noisy[index])),
+                             std::sqrt(mse(reference, denoised[index])),
+                             std::sqrt(mse(reference, separate[index])),
+                             ssim(luma(reference), luma(noisy[index])),
+                             ssim(luma(reference), luma(denoised[index])),
+                             ssim(luma(reference), luma(separate[index]))};
+        for (int k = 0; k < 6; ++k) sums[k] += e[k];
+        ++count;
+        std::printf("  %6d %11.5f %11.5f %11.5f %11.4f %11.4f %11.4f %14.5f\n", f, e[0], e[1], e[2],
+                    e[3], e[4], e[5], standard_error);
+        std::fflush(stdout);
+    }
+    if (count > 0)
+        std::printf("  %6s %11.5f %11.5f %11.5f %11.4f %11.4f %11.4f\n", "mean", sums[0] / count,
+                    sums[1] / count, sums[2] / count, sums[3] / count, sums[4] / count,
+                    sums[5] / count);
+    std::printf(
+        "  temporal error: noisy %.5f, BMFR %.5f, BMFR+E %.5f (mean |luma(t) - luma(t-1)|)\n",
+        temporal_error(noisy), temporal_error(denoised), temporal_error(separate));
+}
+
+}  // namespace
+
+void add_bench_bmfr_options(CLI::App& c, BenchBmfrOptions& o) {
+    c.add_option("--scene", o.scene,
+                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
+        ->capture_default_str();
+    add_scene_load_options(c);
+    c.add_option("--width", o.width, "screen width of the cost part")
+        ->check(CLI::Range(16, 16384))
+        ->capture_default_str();
+    c.add_option("--height", o.height, "screen height of the cost part")
+        ->check(CLI::Range(16, 16384))
+        ->capture_default_str();
+    c.add_option("--repeats", o.repeats, "timed frames (after an untimed first one)")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
+    c.add_option("--error-width", o.error_width, "screen width of the error part")
+        ->check(CLI::Range(16, 16384))
+        ->capture_default_str();
+    c.add_option("--error-height", o.error_height, "screen height of the error part")
+        ->check(CLI::Range(16, 16384))
+        ->capture_default_str();
+    c.add_option("--frames", o.frames, "frames of the error sequence")
+        ->check(CLI::Range(2, 10000))
+        ->capture_default_str();
+    c.add_option("--every", o.every, "compare every K-th frame")
+        ->check(CLI::Range(1, 10000))
+        ->capture_default_str();
+    c.add_option("--reference-spp", o.reference_spp, "samples per pixel of the reference")
+        ->check(CLI::Range(1, 65536))
+        ->capture_default_str();
+    c.add_flag("--no-cost", o.skip_cost, "skip the cost part");
+    c.add_flag("--no-error", o.skip_error, "skip the error part");
+}
+
+int run_bench_bmfr(const BenchBmfrOptions& o) {
+    // Steady state, as a renderer that keeps its buffers (see bench foveation).
+    mallopt(M_MMAP_THRESHOLD, 1 << 30);
+    mallopt(M_TRIM_THRESHOLD, 1 << 30);
+    if (o.every > o.frames)
+        throw Error("--every " + std::to_string(o.every) + " is more than --frames " +
+                    std::to_string(o.frames) + ": no frame would be compared");
+    const Scene scene = load_cli_scene(o.scene);
+    std::printf("fovref bench bmfr: path tracing + BMFR (SPEC §8-9), one thread\n");
+    Progress progress("bench bmfr", o.quiet);
+    if (!o.skip_cost) print_cost(scene, o, progress);
+    if (!o.skip_error) print_errors(scene, o, progress);
+    progress.finish();
+    return 0;
+}
+
+}  // namespace fovref

@@ -1,0 +1,21 @@
+#include "tools/cli/commands/modes.h"
+
+#include <cstdio>
+
+#include "ref/modes/modes.h"
+#include "tools/cli/common/cli_common.h"
+
+namespace fovref {
+
+int run_modes() {
+    for (const ModeInfo& mode : render_modes()) {
+        std::printf("%-12s %s%s\n", mode.name.c_str(), mode.description.c_str(),
+                    mode.needs_scene ? "" : " (no scene needed)");
+        for (const ParamSpec& p : mode.params)
+            std::printf("    --param %s=<%s>  %s\n", p.name.c_str(), p.default_value.c_str(),
+                        p.doc.c_str());
+    }
+    return exit_ok;
+}
+
+}  // namespace fovref

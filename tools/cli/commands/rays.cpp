@@ -1,0 +1,99 @@
+#include "tools/cli/commands/rays.h"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <vector>
+
+#include "ref/bvh/bvh.h"
+#include "ref/core/error.h"
+#include "ref/scene/scene_file.h"
+#include "ref/trace/rays_file.h"
+#include "tools/cli/common/cli_common.h"
+#include "tools/cli/common/progress.h"
+
+namespace fovref {
+
+void add_rays_trace_options(CLI::App& c, RaysTraceOptions& o) {
+    c.add_option("SCENE", o.scene,
+                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
+        ->required();
+    add_scene_load_options(c, /*with_camera=*/false);
+    c.add_option("RAYS", o.rays_path, "ray file: 8 x binary32 per ray (docs/rays.md)")->required();
+    c.add_option("HITS", o.hits_path, "output: 16-byte hit records, or 4-byte occlusion flags")
+        ->required();
+    c.add_flag("--any-hit", o.any_hit, "occlusion queries (shadow rays) instead of closest hits");
+}
+
+void add_rays_make_options(CLI::App& c, RaysMakeOptions& o) {
+    c.add_option("SCENE", o.scene,
+                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
+        ->required();
+    add_scene_load_options(c, /*with_camera=*/false);
+    c.add_option("RAYS", o.rays_path, "output ray file")->required();
+    c.add_flag("--camera", o.camera, "primary rays through every pixel centre");
+    c.add_option("--width", o.width, "with --camera")->capture_default_str();
+    c.add_option("--height", o.height, "with --camera")->capture_default_str();
+    c.add_option("--time", o.time, "camera-path time, with --camera")->capture_default_str();
+    c.add_option("--random", o.random_count,
+                 "N random rays: origins in the scene bounds, uniform "
+                 "directions")
+        ->check(CLI::Range(1u, 100000000u));
+    c.add_option("--seed", o.seed, "seed of the random rays (the rand() frame)")
+        ->capture_default_str();
+}
+
+int run_rays_trace(const RaysTraceOptions& o) {
+    const Scene scene = load_cli_scene(o.scene);
+    const std::vector<Ray> rays = read_rays(o.rays_path);
+    Progress progress("rays trace", o.quiet);
+    const Bvh bvh = build_bvh(scene.positions);
+    TraceStats stats;
+    const std::size_t step = std::max<std::size_t>(1, rays.size() / 100);
+    if (o.any_hit) {
+        std::vector<std::uint32_t> occluded(rays.size());
+        for (std::size_t k = 0; k < rays.size(); ++k) {
+            occluded[k] = trace_any(bvh, rays[k], stats) ? 1u : 0u;
+            if (k % step == 0)
+                progress.update(static_cast<double>(k) / static_cast<double>(rays.size()));
+        }
+        progress.finish();
+        write_occlusion(o.hits_path, occluded);
+    } else {
+        std::vector<Hit> hits(rays.size());
+        for (std::size_t k = 0; k < rays.size(); ++k) {
+            hits[k] = trace_closest(bvh, rays[k], stats);
+            if (k % step == 0)
+                progress.update(static_cast<double>(k) / static_cast<double>(rays.size()));
+        }
+        progress.finish();
+        write_hits(o.hits_path, hits);
+    }
+    say(o.quiet,
+        "traced " + std::to_string(rays.size()) + (o.any_hit ? " occlusion" : " closest-hit") +
+            " rays: " + std::to_string(stats.hits) + " hit, " +
+            std::to_string(stats.nodes_visited) + " nodes visited, " +
+            std::to_string(stats.triangles_tested) + " triangles tested -> " + o.hits_path);
+    return exit_ok;
+}
+
+int run_rays_make(const RaysMakeOptions& o) {
+    const Scene scene = load_cli_scene(o.scene);
+    std::vector<Ray> rays;
+    if (o.camera == (o.random_count > 0))
+        throw Error(
+            "rays make: give exactly one of --camera (with --width/--height) or --random N");
+    if (o.camera) {
+        RenderSettings check;
+        check.width = o.width;
+        check.height = o.height;
+        validate_settings(check);
+        rays = camera_rays_list(camera_at(scene, o.time), o.width, o.height);
+    } else {
+        rays = random_rays(scene, o.random_count, o.seed);
+    }
+    write_rays(o.rays_path, rays);
+    say(o.quiet, "wrote " + std::to_string(rays.size()) + " rays to " + o.rays_path);
+    return exit_ok;
+}
+
+}  // namespace fovref

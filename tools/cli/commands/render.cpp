@@ -1,0 +1,225 @@
+#include "tools/cli/commands/render.h"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <optional>
+
+#include "ref/core/error.h"
+#include "ref/image/image_io.h"
+#include "ref/modes/modes.h"
+#include "tools/cli/common/cli_common.h"
+#include "tools/cli/common/progress.h"
+
+namespace fovref {
+
+namespace {
+
+// "frame F: stage stage (skipped) ..., counter N, ..." as render prints it.
+std::string frame_line(const FrameResult& f) {
+    std::string line = "frame " + std::to_string(f.frame) + ":";
+    for (const StageRun& stage : f.stages)
+        line += " " + stage.name + (stage.ran ? "" : " (skipped)");
+    for (const auto& [k, v] : f.counters.values) line += ", " + k + " " + std::to_string(v);
+    return line;
+}
+
+// --frames N or A..B: sets first_frame for a range.
+int parse_count(const std::string& text, const std::string& what) {
+    std::size_t used = 0;
+    int value = -1;
+    try {
+        value = std::stoi(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != text.size() || text.empty() || !std::isdigit(static_cast<unsigned char>(text[0])))
+        throw Error("--frames " + what + ": '" + text + "' is not a non-negative integer");
+    return value;
+}
+
+void parse_frames(RenderOptions& o) {
+    const std::size_t dots = o.frames.find("..");
+    if (dots == std::string::npos) {
+        parse_count(o.frames, o.frames);
+        return;
+    }
+    const int a = parse_count(o.frames.substr(0, dots), o.frames);
+    const int b = parse_count(o.frames.substr(dots + 2), o.frames);
+    if (b < a) throw Error("--frames " + o.frames + ": the range is empty (B < A)");
+    if (a > 100000 || static_cast<std::int64_t>(b) - a + 1 > 100000)
+        throw Error("--frames " + o.frames +
+                    ": at most 100000 frames, starting at frame 100000 at the latest");
+    if (o.first_frame != 0 && o.first_frame != a)
+        throw Error("--frames " + o.frames + " and --first-frame " + std::to_string(o.first_frame) +
+                    " disagree; give one");
+    o.first_frame = a;
+    o.frames = std::to_string(b - a + 1);
+}
+
+int frame_count(const RenderOptions& o) { return parse_count(o.frames, o.frames); }
+
+// The buffers of frame `frame` in the bundle `directory`, checked to come from the same render.
+// `free_param`: a parameter that may differ between the runs (the reference's spp).
+std::vector<Buffer> resume_buffers(const std::string& directory, const GoldenCase& run, int frame,
+                                   const std::string& free_param = "") {
+    const Manifest manifest = read_manifest(directory);
+    const GoldenCase& c = manifest.golden_case;
+    Params bundle_params = c.params, run_params = run.params;
+    if (!free_param.empty()) {
+        bundle_params.set(free_param, "");
+        run_params.set(free_param, "");
+    }
+    if (c.mode != run.mode || c.scene != run.scene || c.width != run.width ||
+        c.height != run.height || bundle_params != run_params || c.time_start != run.time_start ||
+        c.time_step != run.time_step)
+        throw Error("--resume " + directory +
+                    ": the bundle was rendered with other settings (mode, scene, size, "
+                    "parameters or camera-path times differ)");
+    std::vector<Buffer> buffers;
+    for (const ManifestBuffer& b : manifest.buffers) {
+        if (b.frame != frame || b.file.empty()) continue;
+        Buffer buffer;
+        buffer.name = b.name;
+        buffer.image = read_image(directory + "/" + b.file);
+        buffers.push_back(std::move(buffer));
+    }
+    if (buffers.empty())
+        throw Error("--resume " + directory + ": the bundle holds no buffer of frame " +
+                    std::to_string(frame) + " (dump frames up to " + std::to_string(frame) +
+                    " with --dump)");
+    return buffers;
+}
+
+}  // namespace
+
+void add_render_options(CLI::App& c, RenderOptions& o) {
+    c.add_option("--scene", o.scene,
+                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)");
+    add_scene_load_options(c);
+    c.add_option("--mode", o.mode, "render mode (see `fovref modes`)")->capture_default_str();
+    c.add_option("--width", o.width, "screen width in pixels")->capture_default_str();
+    c.add_option("--height", o.height, "screen height in pixels")->capture_default_str();
+    c.add_option("--frames", o.frames,
+                 "number of frames N, or a range A..B of frame numbers (= --first-frame A, "
+                 "B - A + 1 frames)")
+        ->capture_default_str();
+    c.add_option("--first-frame", o.first_frame,
+                 "number of the first frame (seeds rand() and the Halton index, sets the "
+                 "camera-path time): render frames of a sequence alone, bit-identical to the "
+                 "sequence's; with TAA give --resume")
+        ->check(CLI::Range(0, 100000))
+        ->capture_default_str();
+    c.add_option("--resume", o.resume,
+                 "a --dump (or --out with --output all) bundle that holds frame F - 1 of the same "
+                 "render: the state carried into frame F = the first frame (TAA history, age, "
+                 "depth; BMFR's accumulations); for pathtrace-reference, a bundle of the same "
+                 "frame whose sums the run continues up to spp");
+    c.add_flag("--static-camera", o.static_camera,
+               "keep the camera at the path's start for every frame (= --time-step 0): the "
+               "static-camera sequence");
+    c.add_option("--time-start", o.time_start, "camera-path time of frame 0")
+        ->capture_default_str();
+    c.add_option("--time-step", o.time_step, "camera-path time between frames")
+        ->capture_default_str();
+    c.add_option("--param", o.params, "mode parameter key=value (repeatable)");
+    add_gaze_option(c, o);
+    c.add_option("--primary", o.primary,
+                 "primary visibility for 'basic': ray or raster (= --param primary=...)")
+        ->check(CLI::IsMember({"ray", "raster"}));
+    c.add_option("--output", o.outputs, "buffers to produce (default: the mode's final outputs)")
+        ->delimiter(',');
+    c.add_option("--out", o.out_dir,
+                 "write the final buffers (PFM/EXR + PNG + manifest.json) here");
+    c.add_option("--dump", o.dump_dir,
+                 "write every intermediate buffer (PFM/EXR + PNG preview + manifest.json) here");
+    c.add_flag("--with-scene", o.with_scene,
+               "also write the scene into DIR/scene of --out and --dump (OBJ + MTL + "
+               "textures + scene.json; OBJ triangle k is primitive id k)");
+}
+
+int run_render(const RenderOptions& given) {
+    RenderOptions o = given;
+    parse_frames(o);
+    if (o.out_dir.empty() && o.dump_dir.empty())
+        throw Error("render: give --out DIR and/or --dump DIR");
+    const std::optional<Scene> scene = command_scene(o, "render");
+    GoldenCase run = command_case(o, "render");
+    run.frames = frame_count(o);
+    if (o.static_camera) {
+        if (o.time_step != RenderOptions{}.time_step)
+            throw Error(
+                "--static-camera and --time-step both given: give one (--static-camera is "
+                "--time-step 0)");
+        run.time_step = 0.0f;
+    }
+    if (!o.primary.empty()) run.params.set("primary", o.primary);
+    const bool keep_all = std::find(o.outputs.begin(), o.outputs.end(), "all") != o.outputs.end();
+    // With --dump every buffer is computed; --out keeps the requested (or final) ones.
+    const std::vector<std::string> requested =
+        o.dump_dir.empty() ? o.outputs : std::vector<std::string>{"all"};
+
+    BundleOptions options;
+    options.previews_for_all = true;
+    options.include_timings = true;
+    std::optional<BundleWriter> dump, out;
+    if (!o.dump_dir.empty()) dump.emplace(o.dump_dir, run, options);
+    if (!o.out_dir.empty()) out.emplace(o.out_dir, run, options);
+    if (o.with_scene) {
+        if (!scene) throw Error("render --with-scene: mode '" + o.mode + "' has no scene");
+        if (dump) dump->add_scene(*scene, "scene");
+        if (out) out->add_scene(*scene, "scene");
+    }
+    const std::vector<std::string> wanted =
+        o.outputs.empty() ? find_mode(o.mode)
+                                .build(scene ? &*scene : nullptr, case_settings(run, {}))
+                                .final_outputs
+                          : o.outputs;
+    Progress progress("render " + o.mode, o.quiet);
+    std::vector<std::string> lines;
+    RenderSettings settings = case_settings(run, requested, [&](double f) { progress.update(f); });
+    if (o.first_frame > 0 && !find_mode(o.mode).stateless)
+        throw Error("--first-frame: mode '" + o.mode +
+                    "' carries state from frame to frame; render from frame 0");
+    settings.first_frame = o.first_frame;
+    if (!o.resume.empty() && find_mode(o.mode).resume_same_frame) {
+        // the reference: continue the same frame's sums
+        if (frame_count(o) != 1)
+            throw Error("--resume " + o.resume + ": mode '" + o.mode +
+                        "' continues the accumulation of one frame: render one frame "
+                        "(--frames 1, --first-frame F)");
+        settings.state_buffers = resume_buffers(o.resume, run, o.first_frame, "spp");
+    } else if (!o.resume.empty()) {
+        if (!carries_state(find_mode(o.mode), run.params))
+            throw Error("--resume " + o.resume + ": mode '" + o.mode +
+                        "' carries no state from frame to frame with these parameters (no TAA, "
+                        "no BMFR): render frame F alone with --first-frame F");
+        if (o.first_frame == 0)
+            throw Error("--resume " + o.resume +
+                        ": frame 0 has no previous frame; give "
+                        "--first-frame F (or --frames A..B with A > 0)");
+        settings.state_buffers = resume_buffers(o.resume, run, o.first_frame - 1);
+    }
+    render_each(scene ? &*scene : nullptr, o.mode, settings, [&](FrameResult& f) {
+        lines.push_back(frame_line(f));
+        if (dump) dump->add_frame(f);
+        if (out) {
+            if (!keep_all)
+                std::erase_if(f.buffers, [&](const Buffer& b) {
+                    return std::find(wanted.begin(), wanted.end(), b.name) == wanted.end();
+                });
+            out->add_frame(f);
+        }
+    });
+    progress.finish();
+    if (dump) dump->commit();
+    if (out) out->commit();
+    for (const std::string& line : lines) say(o.quiet, line);
+    const std::string count = std::to_string(run.frames);
+    if (dump) say(o.quiet, "dumped every buffer of " + count + " frame(s) to " + o.dump_dir);
+    if (out) say(o.quiet, "wrote " + count + " frame(s) to " + o.out_dir);
+    return exit_ok;
+}
+
+}  // namespace fovref

@@ -1,0 +1,122 @@
+#include "tools/cli/common/cli_common.h"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+
+#include "ref/core/error.h"
+#include "ref/modes/modes.h"
+#include "ref/scene/procedural.h"
+#include "ref/scene/scene_file.h"
+
+#ifndef FOVREF_SOURCE_DIR
+#define FOVREF_SOURCE_DIR "."
+#endif
+#ifndef FOVREF_DATA_FROM_BIN
+#define FOVREF_DATA_FROM_BIN "../share/fovref"
+#endif
+
+namespace fovref {
+
+void say(bool quiet, const std::string& line) {
+    if (!quiet) std::cout << line << "\n";
+}
+
+GoldenCase command_case(const CaseOptions& o, const std::string& name) {
+    GoldenCase run;
+    run.name = name;
+    run.scene = o.scene;
+    run.mode = o.mode;
+    run.width = o.width;
+    run.height = o.height;
+    run.frames = 1;
+    run.time_start = o.time_start;
+    run.time_step = o.time_step;
+    for (const std::string& p : o.params) run.params.set_from_assignment(p);
+    if (!o.gaze.empty()) {
+        if (run.params.given("gaze"))
+            throw Error(name + ": --gaze and --param gaze=... both given; give one");
+        run.params.set("gaze", o.gaze);
+    }
+    return run;
+}
+
+void add_gaze_option(CLI::App& c, CaseOptions& o) {
+    c.add_option("--gaze", o.gaze,
+                 "gaze point X,Y in screen pixels for the foveated modes (any finite point, off "
+                 "screen too; default the screen centre) (= --param gaze=X,Y)");
+}
+
+std::optional<Scene> command_scene(const CaseOptions& o, const std::string& command) {
+    if (!find_mode(o.mode).needs_scene) return std::nullopt;
+    if (o.scene.empty()) throw Error(command + ": mode '" + o.mode + "' needs --scene");
+    return load_cli_scene(o.scene);
+}
+
+SceneLoadOptions& cli_scene_options() {
+    static SceneLoadOptions options;
+    return options;
+}
+
+void add_scene_load_options(CLI::App& c, bool with_camera) {
+    SceneLoadOptions& o = cli_scene_options();
+    c.add_flag("--strict-obj", o.strict_obj,
+               "OBJ quirks (an undefined material, a missing MTL file or texture, blanks in "
+               "material names, backslashes in paths) are errors instead of warnings "
+               "(docs/obj-quirks.md)");
+    if (with_camera)
+        c.add_option("--camera", o.camera_file,
+                     "JSON camera file ({\"camera\": {...}} or the camera object, as in a scene "
+                     "file) replacing the scene's camera (docs/model-files.md)")
+            ->check(CLI::ExistingFile);
+}
+
+std::string data_directory() {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::path executable = fs::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+        const fs::path installed =
+            (executable.parent_path() / FOVREF_DATA_FROM_BIN).lexically_normal();
+        if (fs::is_regular_file(installed / "golden" / "cases.json", ec)) return installed.string();
+    }
+    return FOVREF_SOURCE_DIR;
+}
+
+Scene load_cli_scene(const std::string& name_or_path, bool report) {
+    namespace fs = std::filesystem;
+    std::string path = name_or_path;
+    std::error_code ec;
+    if (!is_procedural_scene(path) && fs::path(path).is_relative() && !fs::exists(path, ec) &&
+        fs::exists(fs::path(data_directory()) / path, ec))
+        path = (fs::path(data_directory()) / path).string();
+    Scene scene = load_scene(path, cli_scene_options());
+    const SceneLoadStats& stats = scene.load_stats;
+    if (!report || (stats.warnings.empty() && stats.defaulted.empty() && stats.unsupported.empty()))
+        return scene;
+    // One summary line on stderr, then the first few warnings; `scene info` lists them all.
+    std::string summary = "fovref: scene " + name_or_path + ":";
+    if (!stats.warnings.empty())
+        summary += " " + std::to_string(stats.warnings.size()) + " warnings;";
+    if (!stats.unsupported.empty())
+        summary += " " + std::to_string(stats.unsupported.size()) + " unsupported features;";
+    for (const std::string& d : stats.defaulted)
+        summary += " " + d.substr(0, d.find(':')) +
+                   (d.find("(--camera)") != std::string::npos ? " from --camera;" : " defaulted;");
+    summary.back() = ' ';
+    std::cerr << summary << "(fovref scene info " << name_or_path << " lists them)\n";
+    constexpr std::size_t shown = 3;
+    for (std::size_t k = 0; k < stats.warnings.size() && k < shown; ++k)
+        std::cerr << "fovref: warning: " << stats.warnings[k] << "\n";
+    return scene;
+}
+
+double median_of(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+}  // namespace fovref

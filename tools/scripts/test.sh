@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# fovref test command: builds three configurations (the presets of CMakePresets.json) and runs
+# every test in each.
+#   release  build/gcc-O2     g++ -O2            (the default build)
+#   debug    build/clang-O0   clang++ -O0 -g     (the goldens must verify bit-exactly in both;
+#                                                 the debugger test runs here)
+#   asan     build/asan       g++ -O1 -g with AddressSanitizer + UndefinedBehaviorSanitizer
+#   fuzz     build/fuzz       clang++ libFuzzer targets, one per loader, run with a fixed seed and a
+#                             fixed number of executions (tools/scripts/fuzz.sh --ci, about a minute)
+# It also checks formatting with the checked-in .clang-format.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+jobs=${FOVREF_JOBS:-$(nproc)}
+
+configure() {  # preset
+  cmake --preset "$1" >/dev/null
+}
+
+echo "== format check"
+bash tools/scripts/check_format.sh
+bash tools/scripts/check_layers.sh
+
+status=0
+run_suite() {  # dir label
+  echo "== $2: build"
+  cmake --build "$1" -j "$jobs"
+  echo "== $2: tests"
+  if ! ctest --test-dir "$1" --output-on-failure -j "$jobs"; then status=1; fi
+}
+
+configure release
+run_suite build/gcc-O2 "g++ -O2"
+configure debug
+run_suite build/clang-O0 "clang++ -O0 -g"
+configure asan
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  run_suite build/asan "g++ ASan+UBSan"
+
+echo "== fuzz: build"
+configure fuzz
+cmake --build build/fuzz -j "$jobs" --target fuzzers
+echo "== fuzz: run (fixed seed)"
+if ! bash tools/scripts/fuzz.sh --ci; then status=1; fi
+
+if [ $status -ne 0 ]; then echo "test: FAILED"; exit 1; fi
+echo "test: all suites passed"
