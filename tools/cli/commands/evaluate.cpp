@@ -23,6 +23,7 @@
 #include "ref/modes/modes.h"
 #include "ref/scene/scene_file.h"
 #include "tools/cli/common/cli_common.h"
+#include "tools/cli/common/number_text.h"
 #include "tools/cli/common/progress.h"
 #include "tools/cli/report/json_values.h"
 #include "tools/cli/report/svg_plot.h"
@@ -92,13 +93,7 @@ Image read_frame(const std::string& directory, int frame) {
     throw Error(directory + ": no " + stem + ".pfm/.exr/.png for frame " + std::to_string(frame));
 }
 
-std::string csv_number(double v) {
-    if (std::isnan(v)) return "";
-    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-    char text[32];
-    std::snprintf(text, sizeof text, "%.9g", v);
-    return text;
-}
+std::string csv_number(double v) { return number_text(v, "%.9g", ""); }
 
 // Lund §5.3.4: each ring's statistic averaged over the evaluated frames.
 std::vector<RingStats> average_rings(const std::vector<std::vector<RingStats>>& frames) {

@@ -9,6 +9,7 @@
 #include "ref/analysis/gain.h"
 #include "ref/core/error.h"
 #include "tools/cli/common/cli_common.h"
+#include "tools/cli/common/number_text.h"
 
 namespace fovref {
 
@@ -21,17 +22,12 @@ const char* const density_note =
     "sample density is taken proportional to V (c/deg), not to V^2 (samples per deg^2), as in "
     "the sources";
 
-std::string number_text(double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.6g", v);
-    return text;
-}
-
 std::string fov_text(const GainParams& p) {
     if (p.shape == FovShape::disc)
-        return "disc " + number_text(p.width_deg) + " deg diameter (radius " +
-               number_text(p.width_deg / 2.0) + ")";
-    return "ellipse " + number_text(p.width_deg) + " x " + number_text(p.height_deg) + " deg";
+        return "disc " + number_text(p.width_deg, "%.6g") + " deg diameter (radius " +
+               number_text(p.width_deg / 2.0, "%.6g") + ")";
+    return "ellipse " + number_text(p.width_deg, "%.6g") + " x " +
+           number_text(p.height_deg, "%.6g") + " deg";
 }
 
 // The case's parameters and result for --json.
@@ -91,11 +87,13 @@ GainParams params_from_options(const GainOptions& o) {
 void print_one(const GainParams& p, const GainResult& r) {
     std::printf("theoretical gain (Koskela P1 §4): 1 - integral(V dA) / (V_max * area)\n");
     std::printf("FOV        %s, area %s deg^2\n", fov_text(p).c_str(),
-                number_text(r.area_deg2).c_str());
+                number_text(r.area_deg2, "%.6g").c_str());
     std::printf("V_max      %s c/deg (full rate up to e = %s deg)\n",
-                number_text(r.v_max_cpd).c_str(), number_text(r.full_rate_radius_deg).c_str());
+                number_text(r.v_max_cpd, "%.6g").c_str(),
+                number_text(r.full_rate_radius_deg, "%.6g").c_str());
     std::printf("integral   %s of %s c/deg deg^2 (V_max * area)\n",
-                number_text(r.acuity_integral).c_str(), number_text(r.uniform_integral).c_str());
+                number_text(r.acuity_integral, "%.6g").c_str(),
+                number_text(r.uniform_integral, "%.6g").c_str());
     std::printf("gain       %.2f%%\n", 100.0 * r.gain);
     std::printf("model      %s\n", model_line);
     std::printf("note       %s\n", density_note);
@@ -131,9 +129,10 @@ int run_table(const GainOptions& o) {
     for (std::size_t k = 0; k < cases.size(); ++k) {
         char gain[16];
         std::snprintf(gain, sizeof gain, "%.2f%%", 100.0 * results[k].gain);
-        std::printf(
-            "%-18s %-38s %-11s %-7s %s\n", cases[k].name.c_str(), fov_text(cases[k].params).c_str(),
-            (number_text(results[k].v_max_cpd) + " c/deg").c_str(), gain, cases[k].quoted.c_str());
+        std::printf("%-18s %-38s %-11s %-7s %s\n", cases[k].name.c_str(),
+                    fov_text(cases[k].params).c_str(),
+                    (number_text(results[k].v_max_cpd, "%.6g") + " c/deg").c_str(), gain,
+                    cases[k].quoted.c_str());
     }
     std::printf("model: %s\n", model_line);
     std::printf("note: %s\n", density_note);

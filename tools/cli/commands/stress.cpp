@@ -23,6 +23,7 @@
 #include "ref/modes/modes.h"
 #include "ref/scene/camera.h"
 #include "ref/scene/scene_file.h"
+#include "tools/cli/common/number_text.h"
 
 namespace fovref {
 
@@ -94,11 +95,7 @@ const Image& buffer(const FrameResult& f, const std::string& name) {
     return b->image;
 }
 
-std::string number(double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", v);
-    return text;
-}
+std::string number(double v) { return number_text(v, "%g"); }
 
 // ---- Cases --------------------------------------------------------------------------------
 

@@ -23,6 +23,7 @@
 #include "ref/scene/scene_file.h"
 #include "tools/cli/commands/evaluate.h"
 #include "tools/cli/common/cli_common.h"
+#include "tools/cli/common/number_text.h"
 
 extern char** environ;
 
@@ -327,12 +328,6 @@ std::string csv_field(const std::string& text) {
     return q + "\"";
 }
 
-std::string number_text(double v) {
-    char text[40];
-    std::snprintf(text, sizeof text, "%.9g", v);
-    return text;
-}
-
 }  // namespace
 
 // ---- Commands ---------------------------------------------------------------------------------
@@ -635,8 +630,8 @@ int run_sweep_merge(const SweepOptions& o) {
         std::string stage_text;
         for (const auto& [name, samples] : stage_samples) {
             stage_seconds[name] = median_of(samples);
-            stage_text +=
-                (stage_text.empty() ? "" : " ") + name + "=" + number_text(median_of(samples));
+            stage_text += (stage_text.empty() ? "" : " ") + name + "=" +
+                          number_text(median_of(samples), "%.9g");
         }
         for (const auto& [name, sum] : counter_sums)
             counters[name] = sum / static_cast<double>(std::max<std::size_t>(frames.size(), 1));
@@ -657,12 +652,13 @@ int run_sweep_merge(const SweepOptions& o) {
         if (candidate.contains("ring_flip_mean")) row["ring_flip"] = candidate["ring_flip_mean"];
         row["command"] = job["command"];
         rows.push_back(row);
-        csv += line + "done," + number_text(psnr) + "," + number_text(ssim) + "," +
-               (has_flip ? number_text(flip_mean) : std::string()) + "," +
-               (row["temporal_error"].is_number() ? number_text(row["temporal_error"].get<double>())
-                                                  : std::string()) +
-               "," + number_text(median_of(seconds)) + "," + number_text(rays) + "," +
-               number_text(shaded) + "," + csv_field(stage_text) + "\n";
+        csv += line + "done," + number_text(psnr, "%.9g") + "," + number_text(ssim, "%.9g") + "," +
+               (has_flip ? number_text(flip_mean, "%.9g") : std::string()) + "," +
+               (row["temporal_error"].is_number()
+                    ? number_text(row["temporal_error"].get<double>(), "%.9g")
+                    : std::string()) +
+               "," + number_text(median_of(seconds), "%.9g") + "," + number_text(rays, "%.9g") +
+               "," + number_text(shaded, "%.9g") + "," + csv_field(stage_text) + "\n";
     }
     write_file_atomic((fs::path(o.out) / "results.csv").string(), csv);
     write_file_atomic((fs::path(o.out) / "results.json").string(),

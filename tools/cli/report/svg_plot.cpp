@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "ref/core/dmath.h"
+#include "tools/cli/common/number_text.h"
 
 namespace fovref {
 
@@ -14,22 +15,13 @@ namespace {
 constexpr const char* colours[] = {"#0072b2", "#d55e00", "#009e73", "#cc79a7",
                                    "#e69f00", "#56b4e9", "#000000", "#f0e442"};
 
-std::string number(double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.4g", v);
-    return text;
-}
+std::string number(double v) { return number_text(v); }
 
-std::string coordinate(double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.1f", v);
-    return text;
-}
+std::string coordinate(double v) { return number_text(v, "%.1f"); }
 
 std::string format_with(double v, int significant) {
-    char text[48];
-    std::snprintf(text, sizeof text, "%.*g", significant, v);
-    return text;
+    const std::string format = "%." + std::to_string(significant) + "g";
+    return number_text(v, format.c_str());
 }
 
 // Axis ticks: multiples of a "nice" step (1, 2 or 5 times a power of ten) covering [lo, hi],

@@ -24,6 +24,7 @@
 #include "ref/core/json_locator.h"
 #include "ref/image/image_io.h"
 #include "tools/cli/commands/sweep.h"
+#include "tools/cli/common/number_text.h"
 #include "tools/cli/report/svg_plot.h"
 
 extern char** environ;
@@ -93,12 +94,7 @@ std::vector<const Point*> pareto_front(std::vector<Point>& points, double Point:
     return on_front;
 }
 
-std::string fmt(double v, const char* format = "%.4g") {
-    if (std::isnan(v)) return "&ndash;";
-    char text[48];
-    std::snprintf(text, sizeof text, format, v);
-    return text;
-}
+std::string fmt(double v, const char* format = "%.4g") { return number_text(v, format, "&ndash;"); }
 
 /// The plot inline, as DIR/plots/NAME.svg, and as NAME.png when rsvg-convert is available.
 struct PlotWriter {

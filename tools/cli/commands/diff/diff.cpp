@@ -16,6 +16,7 @@
 #include "ref/image/image_io.h"
 #include "ref/metrics/metrics.h"
 #include "tools/cli/commands/diff/report.h"
+#include "tools/cli/common/number_text.h"
 #include "tools/cli/report/json_values.h"
 
 namespace fs = std::filesystem;
@@ -109,14 +110,6 @@ constexpr const char* flip_pooling_note =
     "binary64 sums (mean in row-major order; weighted percentiles over the values sorted "
     "ascending); NVlabs's tool sums in binary32, so its mean can differ in the 5th decimal";
 
-std::string format(double v) {
-    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-    if (std::isnan(v)) return "-";
-    char text[32];
-    std::snprintf(text, sizeof text, "%.4g", v);
-    return text;
-}
-
 std::string values_text(const std::vector<float>& values) {
     std::string out = "(";
     for (std::size_t i = 0; i < values.size(); ++i) {
@@ -159,8 +152,9 @@ std::string probe_command(const Manifest& m, const DiffItem& item, int x, int y)
     if (!c.scene.empty()) command += " --scene " + c.scene;
     command += " --mode " + c.mode + " --width " + std::to_string(c.width) + " --height " +
                std::to_string(c.height);
-    if (c.time_start != 0.0f) command += " --time-start " + format(c.time_start);
-    if (c.frames > 1 || item.frame > 0) command += " --time-step " + format(c.time_step);
+    if (c.time_start != 0.0f) command += " --time-start " + number_text(c.time_start, "%.4g", "-");
+    if (c.frames > 1 || item.frame > 0)
+        command += " --time-step " + number_text(c.time_step, "%.4g", "-");
     command += " --frame " + std::to_string(item.frame) + probe_point(m, item, x, y);
     for (const auto& [key, value] : c.params.values()) command += " --param " + key + "=" + value;
     return command;
@@ -251,7 +245,8 @@ void compare_item(const DiffOptions& o, const ToleranceTable& tolerances, float 
         FlipParams fp;
         if (distance_px > 0.0f) {
             fp.pixels_per_degree = flip_pixels_per_degree(distance_px);
-            item.flip_observer = "display model, viewing distance " + format(distance_px) + " px";
+            item.flip_observer =
+                "display model, viewing distance " + number_text(distance_px, "%.4g", "-") + " px";
         } else {
             item.flip_observer =
                 "NVlabs default observer: 0.7 m from a 0.7 m wide 3840-pixel monitor";
@@ -403,10 +398,10 @@ void print_summary(const DiffReport& report) {
         if (r.nonfinite_mismatches > 0) masked += "  convention mismatch: see note";
         std::printf("%-5d %-20s %-26s %-7s %10s %9lld %10lld %8s %8s%s\n", item.frame,
                     item.stage.c_str(), item.name.c_str(), status.c_str(),
-                    format(r.max_abs).c_str(), static_cast<long long>(r.max_ulp),
+                    number_text(r.max_abs, "%.4g", "-").c_str(), static_cast<long long>(r.max_ulp),
                     static_cast<long long>(r.failing_pixels),
-                    r.nonfinite_mismatches > 0 ? "-" : format(r.psnr).c_str(),
-                    r.ssim ? format(*r.ssim).c_str() : "-", masked.c_str());
+                    r.nonfinite_mismatches > 0 ? "-" : number_text(r.psnr, "%.4g", "-").c_str(),
+                    r.ssim ? number_text(*r.ssim, "%.4g", "-").c_str() : "-", masked.c_str());
         if (item.flip)
             std::printf(
                 "      LDR-FLIP mean %.6f, weighted median %.6f, quartiles %.6f / %.6f, "
@@ -450,8 +445,10 @@ void print_summary(const DiffReport& report) {
             const BufferComparison& r = item.result;
             std::printf(
                 ": %lld pixel(s) out of tolerance (abs %s, rel %s, ulp %lld, %lld allowed)\n",
-                static_cast<long long>(r.failing_pixels), format(r.tolerance.abs).c_str(),
-                format(r.tolerance.rel).c_str(), static_cast<long long>(r.tolerance.ulp),
+                static_cast<long long>(r.failing_pixels),
+                number_text(r.tolerance.abs, "%.4g", "-").c_str(),
+                number_text(r.tolerance.rel, "%.4g", "-").c_str(),
+                static_cast<long long>(r.tolerance.ulp),
                 static_cast<long long>(r.tolerance.max_failing_pixels));
             if (r.first_failing)
                 std::printf("  first failing pixel (%d, %d): golden %s, candidate %s\n",
@@ -460,7 +457,8 @@ void print_summary(const DiffReport& report) {
                             values_text(r.first_failing->candidate).c_str());
             if (!r.worst.empty())
                 std::printf("  worst pixel (%d, %d): |error| %s, golden %s, candidate %s\n",
-                            r.worst[0].x, r.worst[0].y, format(r.worst[0].abs_error).c_str(),
+                            r.worst[0].x, r.worst[0].y,
+                            number_text(r.worst[0].abs_error, "%.4g", "-").c_str(),
                             values_text(r.worst[0].golden).c_str(),
                             values_text(r.worst[0].candidate).c_str());
             if (r.nonfinite_mismatches > 0) std::printf("  note: %s\n", item.note.c_str());

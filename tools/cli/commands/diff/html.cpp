@@ -15,6 +15,7 @@
 #include "ref/metrics/heatmap.h"
 #include "ref/stage/frame.h"
 #include "tools/cli/commands/diff/report.h"
+#include "tools/cli/common/number_text.h"
 #include "tools/cli/report/svg_plot.h"
 
 namespace fs = std::filesystem;
@@ -85,13 +86,7 @@ std::string preview_tag(const Image& image, const std::string& kind, const std::
     return img_tag(preview_image(b), alt);
 }
 
-std::string fmt(double v, const char* format = "%.4g") {
-    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-    if (std::isnan(v)) return "&ndash;";
-    char text[48];
-    std::snprintf(text, sizeof text, format, v);
-    return text;
-}
+std::string fmt(double v, const char* format = "%.4g") { return number_text(v, format, "&ndash;"); }
 
 std::string values_text(const std::vector<float>& values) {
     std::string out;
