@@ -83,4 +83,15 @@ bump "$TMP/cf_cand/f000_gaze_color.pfm" 4 3
 expect 1 "a gaze pixel changed" -- "$FOVREF" diff "$TMP/cf_gold" "$TMP/cf_cand"
 contains "buffer 'gaze_color'" "names the gaze buffer"
 contains "--pixel $((X0 + 4)),$((Y0 + 3))" "the screen pixel of the gaze buffer's pixel"
+# A Visual-Polar texel: the mode's description of its buffers (vp_* are texels) gives --texel.
+expect 0 "export a Visual-Polar golden" -- "$FOVREF" golden export cornell-visual-polar-basic "$TMP/vp_gold" -q
+cp -r "$TMP/vp_gold" "$TMP/vp_cand"
+bump "$TMP/vp_cand/f000_vp_color.pfm" 30 4
+expect 1 "a Visual-Polar texel changed" -- "$FOVREF" diff "$TMP/vp_gold" "$TMP/vp_cand"
+contains "buffer 'vp_color'" "names the Visual-Polar buffer"
+contains "--texel 30,4" "the Visual-Polar texel"
+CMD=$(grep -o "explain it: fovref probe.*" <<<"$OUT" | sed 's/^explain it: fovref //')
+# shellcheck disable=SC2086
+expect 0 "the printed Visual-Polar probe command runs" -- "$FOVREF" $CMD
+contains "texel (30, 4)" "explains that texel"
 finish

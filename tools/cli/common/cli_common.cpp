@@ -1,4 +1,6 @@
 #include "tools/cli/common/cli_common.h"
+#include <charconv>
+#include <cmath>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -117,6 +119,21 @@ double median_of(std::vector<double> values) {
     std::sort(values.begin(), values.end());
     const std::size_t n = values.size();
     return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+glm::vec2 parse_gaze(const std::string& text, int width, int height) {
+    if (text.empty()) return {0.5f * static_cast<float>(width), 0.5f * static_cast<float>(height)};
+    float xy[2] = {0, 0};
+    const char* p = text.data();
+    const char* end = p + text.size();
+    auto r = std::from_chars(p, end, xy[0]);
+    if (r.ec == std::errc() && r.ptr < end && *r.ptr == ',')
+        r = std::from_chars(r.ptr + 1, end, xy[1]);
+    else
+        r.ec = std::errc::invalid_argument;
+    if (r.ec != std::errc() || r.ptr != end || !std::isfinite(xy[0]) || !std::isfinite(xy[1]))
+        throw Error("--gaze '" + text + "': expected X,Y in pixels (e.g. 640,360)");
+    return {xy[0], xy[1]};
 }
 
 }  // namespace fovref

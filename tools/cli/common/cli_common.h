@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec2.hpp>
+
 #include "ref/golden/bundle.h"
 #include "ref/scene/scene.h"
 #include "ref/scene/scene_file.h"
@@ -56,6 +58,9 @@ struct CaseOptions {
     std::vector<std::string> params;  ///< mode parameters, key=value
     std::string gaze;                 ///< --gaze X,Y: the foveated modes' gaze=X,Y ("": unset)
 };
+
+/// --gaze "X,Y" in pixels; "" = the screen centre. Throws fovref::Error when malformed.
+glm::vec2 parse_gaze(const std::string& text, int width, int height);
 
 /// Registers --gaze X,Y on a command whose options derive from CaseOptions.
 void add_gaze_option(CLI::App& command, CaseOptions& options);

@@ -1,10 +1,10 @@
-// Pieces shared by the reports of `fovref diff` and `fovref evaluate`.
+// Metric values and ring statistics as JSON, shared by the reports of `fovref diff` and `fovref
+// evaluate`.
 #pragma once
 
 #include <cmath>
 #include <string>
 
-#include <glm/vec2.hpp>
 #include <nlohmann/json.hpp>
 
 #include "ref/metrics/rings.h"
@@ -31,8 +31,5 @@ inline nlohmann::json ring_json(const RingStats& s) {
             {"ssim", number_json(s.ssim)},
             {"sd", number_json(s.sd)}};
 }
-
-/// --gaze "X,Y" in pixels; "" = the screen centre. Throws fovref::Error when malformed.
-glm::vec2 parse_gaze(const std::string& text, int width, int height);
 
 }  // namespace fovref

@@ -1,0 +1,68 @@
+// The pieces of `fovref diff` its files share (tools/cli/commands/diff/): reading the golden and
+// the candidate into items (input.cpp), comparing them (compare.cpp), the probe hint of a differing
+// pixel (probe_hint.cpp) and the reports (console.cpp, json.cpp, html.cpp); diff.cpp runs them in
+// that order, options.cpp registers the command's options.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "ref/golden/bundle.h"
+#include "ref/image/image.h"
+#include "ref/metrics/compare.h"
+#include "tools/cli/commands/diff/diff.h"
+#include "tools/cli/commands/diff/report.h"
+
+namespace fovref {
+
+/// How the pooled FLIP values are accumulated (printed with them; docs/flip.md).
+inline constexpr const char* flip_pooling_note =
+    "binary64 sums (mean in row-major order; weighted percentiles over the values sorted "
+    "ascending); NVlabs's tool sums in binary32, so its mean can differ in the 5th decimal";
+
+// ---- input.cpp ------------------------------------------------------------------------------
+
+/// What the comparison needs beside the report's items, per item: the SHA-256 of a golden buffer
+/// kept only as a hash, and the golden's viewing distance (0: none).
+struct ItemInputs {
+    std::vector<std::string> expected_sha;
+    std::vector<float> distances;
+};
+
+/// Reads a golden or candidate file. PNGs of colour buffers are sRGB-decoded (SPEC §11) unless
+/// --png-linear; an RGBA file compared with an RGB buffer loses its alpha channel (noted).
+Image load_image(const DiffOptions& o, const std::string& path, const std::string& kind, int width,
+                 int height, int channels, std::string* note);
+
+/// The items of a golden bundle in comparison order, each with its candidate file (a directory's
+/// files, or the one candidate file as --buffer of --frame); candidate files that match no buffer
+/// go to report.ignored.
+void collect_bundle_items(const DiffOptions& o, const Manifest& manifest, bool candidate_dir,
+                          DiffReport& report, ItemInputs& inputs);
+
+/// A golden image: one item, the candidate image.
+void collect_image_item(const DiffOptions& o, bool candidate_dir, DiffReport& report,
+                        ItemInputs& inputs);
+
+// ---- compare.cpp ----------------------------------------------------------------------------
+
+/// Compares frame by frame: the id buffers of a frame first, then its other buffers where the
+/// ids agree (unless --no-id-mask), each group in comparison order.
+void compare_items(const DiffOptions& o, const ToleranceTable& tolerances, const ItemInputs& inputs,
+                   DiffReport& report);
+
+// ---- probe_hint.cpp -------------------------------------------------------------------------
+
+/// The `fovref probe` command that explains element (x, y) of `item` (empty without a case).
+std::string probe_command(const Manifest& m, const DiffItem& item, int x, int y);
+
+// ---- console.cpp, json.cpp ------------------------------------------------------------------
+
+/// The report on stdout: a row per buffer, the first failing stage, the result.
+void print_summary(const DiffReport& report);
+/// The report as JSON (--json).
+nlohmann::json report_json(const DiffOptions& o, const DiffReport& report);
+
+}  // namespace fovref

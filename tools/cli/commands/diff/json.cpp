@@ -1,0 +1,135 @@
+#include <nlohmann/json.hpp>
+
+#include "tools/cli/commands/diff/internal.h"
+#include "tools/cli/report/json_values.h"
+
+namespace fovref {
+
+namespace {
+
+using json = nlohmann::json;
+
+json tolerance_json(const Tolerance& t, bool is_id) {
+    if (is_id)
+        return {{"edge_mismatch_share", t.max_edge_mismatch_share},
+                {"interior_mismatches", t.max_interior_mismatches},
+                {"reason", t.reason}};
+    return {{"abs", t.abs},
+            {"rel", t.rel},
+            {"ulp", t.ulp},
+            {"max_failing_pixels", t.max_failing_pixels},
+            {"reason", t.reason}};
+}
+
+json item_json(const DiffItem& item) {
+    json j;
+    j["frame"] = item.frame;
+    j["name"] = item.name;
+    j["stage"] = item.stage;
+    j["kind"] = item.kind;
+    j["golden_file"] = item.golden_file;
+    j["candidate_file"] = item.candidate_file.empty() ? json(nullptr) : json(item.candidate_file);
+    j["status"] = !item.compared ? (item.required ? "missing-required" : "missing")
+                  : item.pass    ? "pass"
+                                 : "fail";
+    j["compared_as"] = item.is_id ? "ids" : "values";
+    if (!item.note.empty()) j["note"] = item.note;
+    if (!item.compared || item.hash_only) return j;
+    auto pixel_json = [](const PixelDifference& d) {
+        return json{{"x", d.x},
+                    {"y", d.y},
+                    {"abs_error", number_json(d.abs_error)},
+                    {"golden", d.golden},
+                    {"candidate", d.candidate}};
+    };
+    if (item.is_id) {
+        const IdComparison& r = item.ids;
+        j["width"] = r.width;
+        j["height"] = r.height;
+        j["channels"] = r.channels;
+        j["tolerance"] = tolerance_json(r.tolerance, true);
+        j["edge_pixels"] = r.edge_pixels;
+        j["edge_mismatches"] = r.edge_mismatches;
+        j["allowed_edge_mismatches"] = r.allowed_edge_mismatches;
+        j["interior_mismatches"] = r.interior_mismatches;
+        j["mismatches"] = json::array();
+        for (const IdMismatch& m : r.mismatches)
+            j["mismatches"].push_back({{"x", m.x},
+                                       {"y", m.y},
+                                       {"edge", m.edge},
+                                       {"golden", m.golden},
+                                       {"candidate", m.candidate}});
+        return j;
+    }
+    const BufferComparison& r = item.result;
+    j["width"] = r.width;
+    j["height"] = r.height;
+    j["channels"] = r.channels;
+    j["tolerance"] = tolerance_json(r.tolerance, false);
+    if (!item.masked_by.empty()) {
+        j["masked_by"] = item.masked_by;
+        j["masked_pixels"] = r.masked_pixels;
+    }
+    j["max_abs_error"] = number_json(r.max_abs);
+    j["max_rel_error"] = number_json(r.max_rel);
+    j["max_ulp"] = r.max_ulp;
+    j["nan_mismatches"] = r.nan_mismatches;
+    j["nonfinite_mismatches"] = r.nonfinite_mismatches;
+    j["differing_elements"] = r.differing_elements;
+    j["mean_abs_error"] = number_json(r.mean_abs);
+    j["rmse"] = number_json(r.rmse);
+    j["psnr"] = number_json(r.psnr);
+    j["ssim"] = r.ssim ? number_json(*r.ssim) : json(nullptr);
+    if (r.threshold >= 0.0) j["threshold"] = r.threshold;
+    j["pixels_over_threshold"] = r.pixels_over_threshold;
+    j["failing_pixels"] = r.failing_pixels;
+    if (r.first_failing) j["first_failing_pixel"] = pixel_json(*r.first_failing);
+    j["worst_pixels"] = json::array();
+    for (const PixelDifference& d : r.worst) j["worst_pixels"].push_back(pixel_json(d));
+    if (item.flip)
+        j["flip"] = {{"mean", item.flip->mean},
+                     {"weighted_median", item.flip->weighted_median},
+                     {"first_quartile", item.flip->first_quartile},
+                     {"third_quartile", item.flip->third_quartile},
+                     {"min", item.flip->min},
+                     {"max", item.flip->max},
+                     {"pixels_per_degree", item.flip_ppd},
+                     {"observer", item.flip_observer},
+                     {"pooling", flip_pooling_note}};
+    if (!r.rings.empty()) {
+        json rings = json::array();
+        for (const RingStats& s : r.rings) rings.push_back(ring_json(s));
+        j["rings"] = rings;
+        j["ring_layout"] = {{"gaze", {item.rings->gaze.x, item.rings->gaze.y}},
+                            {"distance_px", item.rings->distance_px},
+                            {"max_eccentricity_deg", item.rings->max_eccentricity_deg},
+                            {"outer_deg", item.rings->outer_deg}};
+    }
+    return j;
+}
+
+}  // namespace
+
+json report_json(const DiffOptions& o, const DiffReport& report) {
+    json j;
+    j["golden"] = o.golden;
+    j["candidate"] = o.candidate;
+    if (!report.case_name.empty()) j["case"] = report.case_name;
+    j["profile"] = report.profile;
+    j["pass"] = report.pass;
+    j["compared"] = report.compared;
+    j["failed"] = report.failed;
+    j["missing"] = report.missing;
+    j["missing_required"] = report.missing_required;
+    j["ignored_files"] = report.ignored;
+    if (report.first_failing >= 0) {
+        const DiffItem& f = report.items[static_cast<std::size_t>(report.first_failing)];
+        j["first_failing"] = {{"frame", f.frame}, {"buffer", f.name}, {"stage", f.stage}};
+        if (!report.probe_command.empty()) j["probe_command"] = report.probe_command;
+    }
+    j["buffers"] = json::array();
+    for (const DiffItem& item : report.items) j["buffers"].push_back(item_json(item));
+    return j;
+}
+
+}  // namespace fovref
