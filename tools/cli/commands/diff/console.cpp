@@ -26,6 +26,101 @@ std::string percent(std::int64_t part, std::int64_t whole) {
     return text;
 }
 
+// One row of the table: a buffer's result (and its LDR-FLIP under it).
+void print_row(const DiffItem& item) {
+    const std::string status = item.status();
+    if (!item.compared || item.hash_only) {
+        std::printf("%-5d %-20s %-26s %-7s %s\n", item.frame, item.stage.c_str(), item.name.c_str(),
+                    status.c_str(), item.note.c_str());
+        return;
+    }
+    if (item.is_id) {
+        const IdComparison& r = item.ids;
+        std::printf(
+            "%-5d %-20s %-26s %-7s ids: %lld interior, %lld edge (%s of %lld edge "
+            "px, %lld allowed)\n",
+            item.frame, item.stage.c_str(), item.name.c_str(), status.c_str(),
+            static_cast<long long>(r.interior_mismatches),
+            static_cast<long long>(r.edge_mismatches),
+            percent(r.edge_mismatches, r.edge_pixels).c_str(),
+            static_cast<long long>(r.edge_pixels),
+            static_cast<long long>(r.allowed_edge_mismatches));
+        return;
+    }
+    const BufferComparison& r = item.result;
+    std::string masked;
+    if (r.masked_pixels > 0)
+        masked = "  (" + std::to_string(r.masked_pixels) + " px where ids differ left out)";
+    if (r.nonfinite_mismatches > 0) masked += "  convention mismatch: see note";
+    std::printf("%-5d %-20s %-26s %-7s %10s %9lld %10lld %8s %8s%s\n", item.frame,
+                item.stage.c_str(), item.name.c_str(), status.c_str(),
+                number_text(r.max_abs, "%.4g", "-").c_str(), static_cast<long long>(r.max_ulp),
+                static_cast<long long>(r.failing_pixels),
+                r.nonfinite_mismatches > 0 ? "-" : number_text(r.psnr, "%.4g", "-").c_str(),
+                r.ssim ? number_text(*r.ssim, "%.4g", "-").c_str() : "-", masked.c_str());
+    if (item.flip)
+        std::printf(
+            "      LDR-FLIP mean %.6f, weighted median %.6f, quartiles %.6f / %.6f, "
+            "max %.6f; %.4g pixels per degree (%s)\n",
+            item.flip->mean, item.flip->weighted_median, item.flip->first_quartile,
+            item.flip->third_quartile, static_cast<double>(item.flip->max),
+            static_cast<double>(item.flip_ppd), item.flip_observer.c_str());
+}
+
+// Why an id buffer failed: its mismatch counts, its edge mismatches and the first interior one.
+void print_id_failure(const IdComparison& r) {
+    std::printf(
+        ": %lld interior and %lld edge id mismatches (%lld and %lld allowed); "
+        "later buffers are compared only where the ids agree\n",
+        static_cast<long long>(r.interior_mismatches), static_cast<long long>(r.edge_mismatches),
+        static_cast<long long>(r.tolerance.max_interior_mismatches),
+        static_cast<long long>(r.allowed_edge_mismatches));
+    for (const IdMismatch& m : r.mismatches) {
+        std::printf("  %s mismatch (%d, %d): golden %s, candidate %s\n",
+                    m.edge ? "edge" : "interior", m.x, m.y, values_text(m.golden).c_str(),
+                    values_text(m.candidate).c_str());
+        if (!m.edge) break;  // the first interior one is what explains the failure
+    }
+}
+
+// Why a value buffer failed: the pixels out of tolerance, the first failing and the worst pixel.
+void print_value_failure(const DiffItem& item) {
+    const BufferComparison& r = item.result;
+    std::printf(
+        ": %lld pixel(s) out of tolerance (abs %s, rel %s, ulp %lld, %lld allowed)\n",
+        static_cast<long long>(r.failing_pixels), number_text(r.tolerance.abs, "%.4g", "-").c_str(),
+        number_text(r.tolerance.rel, "%.4g", "-").c_str(), static_cast<long long>(r.tolerance.ulp),
+        static_cast<long long>(r.tolerance.max_failing_pixels));
+    if (r.first_failing)
+        std::printf("  first failing pixel (%d, %d): golden %s, candidate %s\n", r.first_failing->x,
+                    r.first_failing->y, values_text(r.first_failing->golden).c_str(),
+                    values_text(r.first_failing->candidate).c_str());
+    if (!r.worst.empty())
+        std::printf("  worst pixel (%d, %d): |error| %s, golden %s, candidate %s\n", r.worst[0].x,
+                    r.worst[0].y, number_text(r.worst[0].abs_error, "%.4g", "-").c_str(),
+                    values_text(r.worst[0].golden).c_str(),
+                    values_text(r.worst[0].candidate).c_str());
+    if (r.nonfinite_mismatches > 0) std::printf("  note: %s\n", item.note.c_str());
+}
+
+// The first failing stage: its buffer, why it failed, and the probe command that explains it.
+void print_first_failing(const DiffReport& report) {
+    const DiffItem& item = report.items[static_cast<std::size_t>(report.first_failing)];
+    std::printf("first failing stage: %s, buffer '%s', frame %d", item.stage.c_str(),
+                item.name.c_str(), item.frame);
+    if (!item.compared) {
+        std::printf(": required, missing in the candidate\n");
+    } else if (item.hash_only) {
+        std::printf(": %s\n", item.note.c_str());
+    } else if (item.is_id) {
+        print_id_failure(item.ids);
+    } else {
+        print_value_failure(item);
+    }
+    if (!report.probe_command.empty())
+        std::printf("  explain it: %s\n", report.probe_command.c_str());
+}
+
 }  // namespace
 
 void print_summary(const DiffReport& report) {
@@ -34,45 +129,7 @@ void print_summary(const DiffReport& report) {
                 report.candidate.c_str(), report.profile.c_str());
     std::printf("%-5s %-20s %-26s %-7s %10s %9s %10s %8s %8s\n", "frame", "stage", "buffer",
                 "result", "max abs", "max ulp", "fail px", "PSNR", "SSIM");
-    for (const DiffItem& item : report.items) {
-        const std::string status = item.status();
-        if (!item.compared || item.hash_only) {
-            std::printf("%-5d %-20s %-26s %-7s %s\n", item.frame, item.stage.c_str(),
-                        item.name.c_str(), status.c_str(), item.note.c_str());
-            continue;
-        }
-        if (item.is_id) {
-            const IdComparison& r = item.ids;
-            std::printf(
-                "%-5d %-20s %-26s %-7s ids: %lld interior, %lld edge (%s of %lld edge "
-                "px, %lld allowed)\n",
-                item.frame, item.stage.c_str(), item.name.c_str(), status.c_str(),
-                static_cast<long long>(r.interior_mismatches),
-                static_cast<long long>(r.edge_mismatches),
-                percent(r.edge_mismatches, r.edge_pixels).c_str(),
-                static_cast<long long>(r.edge_pixels),
-                static_cast<long long>(r.allowed_edge_mismatches));
-            continue;
-        }
-        const BufferComparison& r = item.result;
-        std::string masked;
-        if (r.masked_pixels > 0)
-            masked = "  (" + std::to_string(r.masked_pixels) + " px where ids differ left out)";
-        if (r.nonfinite_mismatches > 0) masked += "  convention mismatch: see note";
-        std::printf("%-5d %-20s %-26s %-7s %10s %9lld %10lld %8s %8s%s\n", item.frame,
-                    item.stage.c_str(), item.name.c_str(), status.c_str(),
-                    number_text(r.max_abs, "%.4g", "-").c_str(), static_cast<long long>(r.max_ulp),
-                    static_cast<long long>(r.failing_pixels),
-                    r.nonfinite_mismatches > 0 ? "-" : number_text(r.psnr, "%.4g", "-").c_str(),
-                    r.ssim ? number_text(*r.ssim, "%.4g", "-").c_str() : "-", masked.c_str());
-        if (item.flip)
-            std::printf(
-                "      LDR-FLIP mean %.6f, weighted median %.6f, quartiles %.6f / %.6f, "
-                "max %.6f; %.4g pixels per degree (%s)\n",
-                item.flip->mean, item.flip->weighted_median, item.flip->first_quartile,
-                item.flip->third_quartile, static_cast<double>(item.flip->max),
-                static_cast<double>(item.flip_ppd), item.flip_observer.c_str());
-    }
+    for (const DiffItem& item : report.items) print_row(item);
     if (std::any_of(report.items.begin(), report.items.end(),
                     [](const DiffItem& item) { return item.flip.has_value(); }))
         std::printf("LDR-FLIP pooling: %s\n", flip_pooling_note);
@@ -81,54 +138,7 @@ void print_summary(const DiffReport& report) {
                     report.ignored_hint[k].empty()
                         ? ""
                         : ("; did you mean " + report.ignored_hint[k] + "?").c_str());
-    if (report.first_failing >= 0) {
-        const DiffItem& item = report.items[static_cast<std::size_t>(report.first_failing)];
-        std::printf("first failing stage: %s, buffer '%s', frame %d", item.stage.c_str(),
-                    item.name.c_str(), item.frame);
-        if (!item.compared) {
-            std::printf(": required, missing in the candidate\n");
-        } else if (item.hash_only) {
-            std::printf(": %s\n", item.note.c_str());
-        } else if (item.is_id) {
-            const IdComparison& r = item.ids;
-            std::printf(
-                ": %lld interior and %lld edge id mismatches (%lld and %lld allowed); "
-                "later buffers are compared only where the ids agree\n",
-                static_cast<long long>(r.interior_mismatches),
-                static_cast<long long>(r.edge_mismatches),
-                static_cast<long long>(r.tolerance.max_interior_mismatches),
-                static_cast<long long>(r.allowed_edge_mismatches));
-            for (const IdMismatch& m : r.mismatches) {
-                std::printf("  %s mismatch (%d, %d): golden %s, candidate %s\n",
-                            m.edge ? "edge" : "interior", m.x, m.y, values_text(m.golden).c_str(),
-                            values_text(m.candidate).c_str());
-                if (!m.edge) break;  // the first interior one is what explains the failure
-            }
-        } else {
-            const BufferComparison& r = item.result;
-            std::printf(
-                ": %lld pixel(s) out of tolerance (abs %s, rel %s, ulp %lld, %lld allowed)\n",
-                static_cast<long long>(r.failing_pixels),
-                number_text(r.tolerance.abs, "%.4g", "-").c_str(),
-                number_text(r.tolerance.rel, "%.4g", "-").c_str(),
-                static_cast<long long>(r.tolerance.ulp),
-                static_cast<long long>(r.tolerance.max_failing_pixels));
-            if (r.first_failing)
-                std::printf("  first failing pixel (%d, %d): golden %s, candidate %s\n",
-                            r.first_failing->x, r.first_failing->y,
-                            values_text(r.first_failing->golden).c_str(),
-                            values_text(r.first_failing->candidate).c_str());
-            if (!r.worst.empty())
-                std::printf("  worst pixel (%d, %d): |error| %s, golden %s, candidate %s\n",
-                            r.worst[0].x, r.worst[0].y,
-                            number_text(r.worst[0].abs_error, "%.4g", "-").c_str(),
-                            values_text(r.worst[0].golden).c_str(),
-                            values_text(r.worst[0].candidate).c_str());
-            if (r.nonfinite_mismatches > 0) std::printf("  note: %s\n", item.note.c_str());
-        }
-        if (!report.probe_command.empty())
-            std::printf("  explain it: %s\n", report.probe_command.c_str());
-    }
+    if (report.first_failing >= 0) print_first_failing(report);
     std::printf("RESULT: %s (%d compared, %d out of tolerance, %d missing in the candidate%s%s)\n",
                 report.pass ? "PASS" : "FAIL", report.compared,
                 report.failed - report.missing_required, report.missing,

@@ -21,46 +21,58 @@ json tolerance_json(const Tolerance& t, bool is_id) {
             {"reason", t.reason}};
 }
 
-json item_json(const DiffItem& item) {
-    json j;
-    j["frame"] = item.frame;
-    j["name"] = item.name;
-    j["stage"] = item.stage;
-    j["kind"] = item.kind;
-    j["golden_file"] = item.golden_file;
-    j["candidate_file"] = item.candidate_file.empty() ? json(nullptr) : json(item.candidate_file);
-    j["status"] = !item.compared ? (item.required ? "missing-required" : "missing")
-                  : item.pass    ? "pass"
-                                 : "fail";
-    j["compared_as"] = item.is_id ? "ids" : "values";
-    if (!item.note.empty()) j["note"] = item.note;
-    if (!item.compared || item.hash_only) return j;
-    auto pixel_json = [](const PixelDifference& d) {
-        return json{{"x", d.x},
-                    {"y", d.y},
-                    {"abs_error", number_json(d.abs_error)},
-                    {"golden", d.golden},
-                    {"candidate", d.candidate}};
-    };
-    if (item.is_id) {
-        const IdComparison& r = item.ids;
-        j["width"] = r.width;
-        j["height"] = r.height;
-        j["channels"] = r.channels;
-        j["tolerance"] = tolerance_json(r.tolerance, true);
-        j["edge_pixels"] = r.edge_pixels;
-        j["edge_mismatches"] = r.edge_mismatches;
-        j["allowed_edge_mismatches"] = r.allowed_edge_mismatches;
-        j["interior_mismatches"] = r.interior_mismatches;
-        j["mismatches"] = json::array();
-        for (const IdMismatch& m : r.mismatches)
-            j["mismatches"].push_back({{"x", m.x},
-                                       {"y", m.y},
-                                       {"edge", m.edge},
-                                       {"golden", m.golden},
-                                       {"candidate", m.candidate}});
-        return j;
-    }
+json pixel_json(const PixelDifference& d) {
+    return json{{"x", d.x},
+                {"y", d.y},
+                {"abs_error", number_json(d.abs_error)},
+                {"golden", d.golden},
+                {"candidate", d.candidate}};
+}
+
+// An id buffer's comparison: the counts and every listed mismatch.
+void add_ids_json(const IdComparison& r, json& j) {
+    j["width"] = r.width;
+    j["height"] = r.height;
+    j["channels"] = r.channels;
+    j["tolerance"] = tolerance_json(r.tolerance, true);
+    j["edge_pixels"] = r.edge_pixels;
+    j["edge_mismatches"] = r.edge_mismatches;
+    j["allowed_edge_mismatches"] = r.allowed_edge_mismatches;
+    j["interior_mismatches"] = r.interior_mismatches;
+    j["mismatches"] = json::array();
+    for (const IdMismatch& m : r.mismatches)
+        j["mismatches"].push_back({{"x", m.x},
+                                   {"y", m.y},
+                                   {"edge", m.edge},
+                                   {"golden", m.golden},
+                                   {"candidate", m.candidate}});
+}
+
+// A value buffer's LDR-FLIP and its ring statistics (when it has them).
+void add_flip_and_rings_json(const DiffItem& item, json& j) {
+    const BufferComparison& r = item.result;
+    if (item.flip)
+        j["flip"] = {{"mean", item.flip->mean},
+                     {"weighted_median", item.flip->weighted_median},
+                     {"first_quartile", item.flip->first_quartile},
+                     {"third_quartile", item.flip->third_quartile},
+                     {"min", item.flip->min},
+                     {"max", item.flip->max},
+                     {"pixels_per_degree", item.flip_ppd},
+                     {"observer", item.flip_observer},
+                     {"pooling", flip_pooling_note}};
+    if (r.rings.empty()) return;
+    json rings = json::array();
+    for (const RingStats& s : r.rings) rings.push_back(ring_json(s));
+    j["rings"] = rings;
+    j["ring_layout"] = {{"gaze", {item.rings->gaze.x, item.rings->gaze.y}},
+                        {"distance_px", item.rings->distance_px},
+                        {"max_eccentricity_deg", item.rings->max_eccentricity_deg},
+                        {"outer_deg", item.rings->outer_deg}};
+}
+
+// A value buffer's comparison: the errors, the failing and worst pixels, FLIP and rings.
+void add_values_json(const DiffItem& item, json& j) {
     const BufferComparison& r = item.result;
     j["width"] = r.width;
     j["height"] = r.height;
@@ -86,25 +98,27 @@ json item_json(const DiffItem& item) {
     if (r.first_failing) j["first_failing_pixel"] = pixel_json(*r.first_failing);
     j["worst_pixels"] = json::array();
     for (const PixelDifference& d : r.worst) j["worst_pixels"].push_back(pixel_json(d));
-    if (item.flip)
-        j["flip"] = {{"mean", item.flip->mean},
-                     {"weighted_median", item.flip->weighted_median},
-                     {"first_quartile", item.flip->first_quartile},
-                     {"third_quartile", item.flip->third_quartile},
-                     {"min", item.flip->min},
-                     {"max", item.flip->max},
-                     {"pixels_per_degree", item.flip_ppd},
-                     {"observer", item.flip_observer},
-                     {"pooling", flip_pooling_note}};
-    if (!r.rings.empty()) {
-        json rings = json::array();
-        for (const RingStats& s : r.rings) rings.push_back(ring_json(s));
-        j["rings"] = rings;
-        j["ring_layout"] = {{"gaze", {item.rings->gaze.x, item.rings->gaze.y}},
-                            {"distance_px", item.rings->distance_px},
-                            {"max_eccentricity_deg", item.rings->max_eccentricity_deg},
-                            {"outer_deg", item.rings->outer_deg}};
-    }
+    add_flip_and_rings_json(item, j);
+}
+
+json item_json(const DiffItem& item) {
+    json j;
+    j["frame"] = item.frame;
+    j["name"] = item.name;
+    j["stage"] = item.stage;
+    j["kind"] = item.kind;
+    j["golden_file"] = item.golden_file;
+    j["candidate_file"] = item.candidate_file.empty() ? json(nullptr) : json(item.candidate_file);
+    j["status"] = !item.compared ? (item.required ? "missing-required" : "missing")
+                  : item.pass    ? "pass"
+                                 : "fail";
+    j["compared_as"] = item.is_id ? "ids" : "values";
+    if (!item.note.empty()) j["note"] = item.note;
+    if (!item.compared || item.hash_only) return j;
+    if (item.is_id)
+        add_ids_json(item.ids, j);
+    else
+        add_values_json(item, j);
     return j;
 }
 
