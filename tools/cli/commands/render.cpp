@@ -139,86 +139,111 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
                "textures + scene.json; OBJ triangle k is primitive id k)");
 }
 
-int run_render(const RenderOptions& given) {
-    RenderOptions o = given;
-    parse_frames(o);
-    if (o.out_dir.empty() && o.dump_dir.empty())
-        throw Error("render: give --out DIR and/or --dump DIR");
-    const std::optional<Scene> scene = command_scene(o, "render");
-    GoldenCase run = command_case(o, "render");
-    run.frames = frame_count(o);
+namespace {
+
+// The case `render` renders, resolved once: its mode and scene, the frame count, the static
+// camera, the primary visibility.
+ResolvedCase render_case(const RenderOptions& o) {
+    ResolvedCase c = resolve_case(o, "render");
+    c.run.frames = frame_count(o);
     if (o.static_camera) {
         if (o.time_step != RenderOptions{}.time_step)
             throw Error(
                 "--static-camera and --time-step both given: give one (--static-camera is "
                 "--time-step 0)");
-        run.time_step = 0.0f;
+        c.run.time_step = 0.0f;
     }
-    if (!o.primary.empty()) run.params.set("primary", o.primary);
-    const bool keep_all = std::find(o.outputs.begin(), o.outputs.end(), "all") != o.outputs.end();
-    // With --dump every buffer is computed; --out keeps the requested (or final) ones.
-    const std::vector<std::string> requested =
-        o.dump_dir.empty() ? o.outputs : std::vector<std::string>{"all"};
+    if (!o.primary.empty()) c.run.params.set("primary", o.primary);
+    return c;
+}
 
-    BundleOptions options;
-    options.previews_for_all = true;
-    options.include_timings = true;
-    std::optional<BundleWriter> dump, out;
-    if (!o.dump_dir.empty()) dump.emplace(o.dump_dir, run, options);
-    if (!o.out_dir.empty()) out.emplace(o.out_dir, run, options);
-    if (o.with_scene) {
-        if (!scene) throw Error("render --with-scene: mode '" + o.mode + "' has no scene");
-        if (dump) dump->add_scene(*scene, "scene");
-        if (out) out->add_scene(*scene, "scene");
-    }
-    const std::vector<std::string> wanted =
-        o.outputs.empty() ? find_mode(o.mode)
-                                .build(scene ? &*scene : nullptr, case_settings(run, {}))
-                                .final_outputs
-                          : o.outputs;
-    Progress progress("render " + o.mode, o.quiet);
-    std::vector<std::string> lines;
-    RenderSettings settings = case_settings(run, requested, [&](double f) { progress.update(f); });
-    if (o.first_frame > 0 && !find_mode(o.mode).stateless)
+// The first frame and the state it starts from (--first-frame, --resume), checked against the
+// mode: a stateful mode renders from frame 0 or resumes from frame F - 1's dump; the reference
+// continues the same frame's sums.
+void set_first_frame(const RenderOptions& o, const ResolvedCase& c, RenderSettings& settings) {
+    const ModeInfo& mode = *c.mode;
+    if (o.first_frame > 0 && !mode.stateless)
         throw Error("--first-frame: mode '" + o.mode +
                     "' carries state from frame to frame; render from frame 0");
     settings.first_frame = o.first_frame;
-    if (!o.resume.empty() && find_mode(o.mode).resume_same_frame) {
+    if (o.resume.empty()) return;
+    if (mode.resume_same_frame) {
         // the reference: continue the same frame's sums
         if (frame_count(o) != 1)
             throw Error("--resume " + o.resume + ": mode '" + o.mode +
                         "' continues the accumulation of one frame: render one frame "
                         "(--frames 1, --first-frame F)");
-        settings.state_buffers = resume_buffers(o.resume, run, o.first_frame, "spp");
-    } else if (!o.resume.empty()) {
-        if (!carries_state(find_mode(o.mode), run.params))
-            throw Error("--resume " + o.resume + ": mode '" + o.mode +
-                        "' carries no state from frame to frame with these parameters (no TAA, "
-                        "no BMFR): render frame F alone with --first-frame F");
-        if (o.first_frame == 0)
-            throw Error("--resume " + o.resume +
-                        ": frame 0 has no previous frame; give "
-                        "--first-frame F (or --frames A..B with A > 0)");
-        settings.state_buffers = resume_buffers(o.resume, run, o.first_frame - 1);
+        settings.state_buffers = resume_buffers(o.resume, c.run, o.first_frame, "spp");
+        return;
     }
-    render_each(scene ? &*scene : nullptr, o.mode, settings, [&](FrameResult& f) {
+    if (!carries_state(mode, c.run.params))
+        throw Error("--resume " + o.resume + ": mode '" + o.mode +
+                    "' carries no state from frame to frame with these parameters (no TAA, "
+                    "no BMFR): render frame F alone with --first-frame F");
+    if (o.first_frame == 0)
+        throw Error("--resume " + o.resume +
+                    ": frame 0 has no previous frame; give "
+                    "--first-frame F (or --frames A..B with A > 0)");
+    settings.state_buffers = resume_buffers(o.resume, c.run, o.first_frame - 1);
+}
+
+// The bundles render writes: --dump (every buffer) and --out (the requested or final ones), each
+// with the scene on --with-scene.
+struct RenderWriters {
+    std::optional<BundleWriter> dump, out;
+};
+void open_writers(const RenderOptions& o, const ResolvedCase& c, RenderWriters& w) {
+    BundleOptions options;
+    options.previews_for_all = true;
+    options.include_timings = true;
+    if (!o.dump_dir.empty()) w.dump.emplace(o.dump_dir, c.run, options);
+    if (!o.out_dir.empty()) w.out.emplace(o.out_dir, c.run, options);
+    if (o.with_scene) {
+        if (!c.scene) throw Error("render --with-scene: mode '" + o.mode + "' has no scene");
+        if (w.dump) w.dump->add_scene(*c.scene, "scene");
+        if (w.out) w.out->add_scene(*c.scene, "scene");
+    }
+}
+
+}  // namespace
+
+int run_render(const RenderOptions& given) {
+    RenderOptions o = given;
+    parse_frames(o);
+    if (o.out_dir.empty() && o.dump_dir.empty())
+        throw Error("render: give --out DIR and/or --dump DIR");
+    const ResolvedCase c = render_case(o);
+    const bool keep_all = std::find(o.outputs.begin(), o.outputs.end(), "all") != o.outputs.end();
+    // With --dump every buffer is computed; --out keeps the requested (or final) ones.
+    const std::vector<std::string> requested =
+        o.dump_dir.empty() ? o.outputs : std::vector<std::string>{"all"};
+    RenderWriters writers;
+    open_writers(o, c, writers);
+    Progress progress("render " + o.mode, o.quiet);
+    RenderSettings settings =
+        case_settings(c.run, requested, [&](double f) { progress.update(f); });
+    set_first_frame(o, c, settings);
+    const std::vector<std::string> wanted =
+        o.outputs.empty() ? c.mode->build(c.scene_or_null(), settings).final_outputs : o.outputs;
+    std::vector<std::string> lines;
+    render_each(c.scene_or_null(), *c.mode, settings, [&](FrameResult& f) {
         lines.push_back(frame_line(f));
-        if (dump) dump->add_frame(f);
-        if (out) {
-            if (!keep_all)
-                std::erase_if(f.buffers, [&](const Buffer& b) {
-                    return std::find(wanted.begin(), wanted.end(), b.name) == wanted.end();
-                });
-            out->add_frame(f);
-        }
+        if (writers.dump) writers.dump->add_frame(f);
+        if (!writers.out) return;
+        if (!keep_all)
+            std::erase_if(f.buffers, [&](const Buffer& b) {
+                return std::find(wanted.begin(), wanted.end(), b.name) == wanted.end();
+            });
+        writers.out->add_frame(f);
     });
     progress.finish();
-    if (dump) dump->commit();
-    if (out) out->commit();
+    if (writers.dump) writers.dump->commit();
+    if (writers.out) writers.out->commit();
     for (const std::string& line : lines) say(o.quiet, line);
-    const std::string count = std::to_string(run.frames);
-    if (dump) say(o.quiet, "dumped every buffer of " + count + " frame(s) to " + o.dump_dir);
-    if (out) say(o.quiet, "wrote " + count + " frame(s) to " + o.out_dir);
+    const std::string count = std::to_string(c.run.frames);
+    if (writers.dump)
+        say(o.quiet, "dumped every buffer of " + count + " frame(s) to " + o.dump_dir);
+    if (writers.out) say(o.quiet, "wrote " + count + " frame(s) to " + o.out_dir);
     return exit_ok;
 }
 

@@ -50,10 +50,27 @@ void add_gaze_option(CLI::App& c, CaseOptions& o) {
                  "screen too; default the screen centre) (= --param gaze=X,Y)");
 }
 
-std::optional<Scene> command_scene(const CaseOptions& o, const std::string& command) {
-    if (!find_mode(o.mode).needs_scene) return std::nullopt;
+namespace {
+
+std::optional<Scene> scene_of(const CaseOptions& o, const ModeInfo& mode,
+                              const std::string& command) {
+    if (!mode.needs_scene) return std::nullopt;
     if (o.scene.empty()) throw Error(command + ": mode '" + o.mode + "' needs --scene");
     return load_cli_scene(o.scene);
+}
+
+}  // namespace
+
+std::optional<Scene> command_scene(const CaseOptions& o, const std::string& command) {
+    return scene_of(o, find_mode(o.mode), command);
+}
+
+ResolvedCase resolve_case(const CaseOptions& o, const std::string& command) {
+    ResolvedCase c;
+    c.mode = &find_mode(o.mode);
+    c.scene = scene_of(o, *c.mode, command);
+    c.run = command_case(o, command);
+    return c;
 }
 
 SceneLoadOptions& cli_scene_options() {

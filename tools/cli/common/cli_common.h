@@ -12,6 +12,7 @@
 #include "ref/golden/bundle.h"
 #include "ref/scene/scene.h"
 #include "ref/scene/scene_file.h"
+#include "ref/stage/pipeline.h"
 
 namespace CLI {
 class App;
@@ -67,6 +68,20 @@ void add_gaze_option(CLI::App& command, CaseOptions& options);
 
 /// The case the options describe, named `name`, with one frame.
 GoldenCase command_case(const CaseOptions& options, const std::string& name);
+
+/// What a command that renders a case resolves once from its options and hands down: the case
+/// (scene, mode name, size, times, parameters), its mode and its scene (none for a mode that
+/// needs none). No layer below looks the mode or the scene up again.
+struct ResolvedCase {
+    GoldenCase run;
+    const ModeInfo* mode = nullptr;
+    std::optional<Scene> scene;
+    const Scene* scene_or_null() const { return scene ? &*scene : nullptr; }
+};
+
+/// The mode (fovref::Error listing the modes for an unknown one), the scene (as command_scene)
+/// and the case (as command_case, named `command`), in that order.
+ResolvedCase resolve_case(const CaseOptions& options, const std::string& command);
 
 /// The scene of the options' mode, or none for a mode that needs none. Throws fovref::Error
 /// ("COMMAND: mode 'M' needs --scene") when the mode needs one and --scene is missing.
