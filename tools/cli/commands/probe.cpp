@@ -28,12 +28,12 @@ namespace {
 // with a conditional breakpoint on the pixel in each per-pixel function of the mode's passes. A
 // stateless mode renders only the probed frame (--first-frame), so each breakpoint stops once
 // per call at that pixel in that frame; with TAA (or a mode with state) frames 0 .. F run.
-std::string debugger_line(const ProbeOptions& o, int x, int y) {
-    const ModeInfo& mode = find_mode(o.mode);
+std::string debugger_line(const ProbeOptions& o, const ResolvedCase& c, int x, int y) {
+    const ModeInfo& mode = *c.mode;
+    const GoldenCase& run = c.run;
     if (!mode.pixel_functions)
         throw Error("--debugger: mode '" + o.mode +
                     "' names no per-pixel functions to stop in (basic and ground-truth do)");
-    const GoldenCase run = command_case(o, "probe");
 #if FOVREF_DEBUGGABLE
     std::error_code ec;
     std::string program = fs::canonical("/proc/self/exe", ec).string();
@@ -89,10 +89,9 @@ nlohmann::json probe_json(const ProbeReport& report, const std::string& debug_co
 }
 
 // The [debugger] section of the text report: the functions it stops in and the command.
-void print_debugger_section(const ProbeOptions& o, const GoldenCase& run,
-                            const std::string& debug_command) {
+void print_debugger_section(const ResolvedCase& c, const std::string& debug_command) {
     std::cout << "\n[debugger] stop at this pixel in each pass's per-pixel function\n";
-    for (const PixelFunction& f : find_mode(o.mode).pixel_functions(run.params))
+    for (const PixelFunction& f : c.mode->pixel_functions(c.run.params))
         std::cout << "  " << f.stage << ": " << f.function
                   << (f.note.empty() ? "" : " (" + f.note + ")") << "\n";
 #if !FOVREF_DEBUGGABLE
@@ -153,20 +152,19 @@ int run_probe(const ProbeOptions& o) {
     } else if (std::sscanf(o.pixel.c_str(), "%d,%d%c", &x, &y, &tail) != 2) {
         throw Error("--pixel '" + o.pixel + "': expected X,Y (e.g. 10,20)");
     }
-    const std::optional<Scene> scene = command_scene(o, "probe");
-    const GoldenCase run = command_case(o, "probe");
+    const ResolvedCase c = resolve_case(o, "probe");
     Progress progress("probe " + o.mode, o.quiet);
     const ProbeReport report = probe_pixel(
-        scene ? &*scene : nullptr, o.mode,
-        case_settings(run, {}, [&](double f) { progress.update(f); }), o.frame, x, y, texel, eye);
+        c.scene_or_null(), *c.mode, case_settings(c.run, {}, [&](double f) { progress.update(f); }),
+        o.frame, x, y, texel, eye);
     progress.finish();
     std::string debug_command;
-    if (!o.debugger.empty()) debug_command = debugger_line(o, x, y);
+    if (!o.debugger.empty()) debug_command = debugger_line(o, c, x, y);
     if (o.json) {
         std::cout << probe_json(report, debug_command).dump(1) << "\n";
     } else {
         std::cout << probe_text(report);
-        if (!debug_command.empty()) print_debugger_section(o, run, debug_command);
+        if (!debug_command.empty()) print_debugger_section(c, debug_command);
     }
     return report.consistent ? exit_ok : exit_check_failed;
 }
