@@ -177,28 +177,26 @@ void add_sweep_report_options(CLI::App& c, SweepOptions& o) {
         ->capture_default_str();
 }
 
-int run_sweep_report(const SweepOptions& o) {
-    const fs::path results_file = fs::path(o.out) / "results.json";
-    if (!fs::exists(results_file))
-        throw Error(results_file.string() + ": no such file (run `fovref sweep merge " + o.out +
-                    "` first)");
-    const json results =
-        parse_json_document<json>(read_file(results_file.string()), results_file.string());
-    const Metric metric = metric_of(o.metric);
+namespace {
 
-    // Groups: scene, screen and gaze; the configurations in the order of the plan.
-    std::map<std::string, std::vector<Point>> groups;
+// The finished results by group (scene, screen and gaze), the groups in the order of the plan.
+struct Groups {
+    std::map<std::string, std::vector<Point>> points;
     std::vector<std::string> order;
-    int missing = 0;
+    int missing = 0;  ///< jobs without a result
+};
+
+Groups read_groups(const json& results, const Metric& metric) {
+    Groups g;
     for (const json& row : results["results"]) {
         if (row["status"] != "done") {
-            ++missing;
+            ++g.missing;
             continue;
         }
         const std::string group =
             row["scene"].get<std::string>() + ", " + std::to_string(row["width"].get<int>()) + "x" +
             std::to_string(row["height"].get<int>()) + ", gaze " + row["gaze"].get<std::string>();
-        if (!groups.count(group)) order.push_back(group);
+        if (!g.points.count(group)) g.order.push_back(group);
         Point p;
         p.id = row["id"].get<std::string>();
         p.label = row["mode"].get<std::string>();
@@ -208,116 +206,145 @@ int run_sweep_report(const SweepOptions& o) {
         p.rays = number_or_nan(row, "rays_traced_per_frame");
         p.metric = number_or_nan(row, metric.key);
         p.row = &row;
-        groups[group].push_back(p);
+        g.points[group].push_back(p);
     }
-    if (groups.empty())
+    return g;
+}
+
+// A Pareto plot: every configuration as a dot, the front joined.
+PlotSpec pareto_plot(const std::vector<Point>& points, const Metric& metric, const char* title,
+                     const char* x_label, double Point::*cost,
+                     const std::vector<const Point*>& front) {
+    PlotSeries all{"configurations", {}, {}, false, 3.0, {}};
+    PlotSeries joined{"Pareto front", {}, {}, true, 4.5, {}};
+    for (const Point& p : points) {
+        all.x.push_back(p.*cost);
+        all.y.push_back(p.metric);
+        all.tips.push_back(p.label + ": " + fmt(p.*cost) + ", " + fmt(p.metric));
+    }
+    for (const Point* p : front) {
+        joined.x.push_back(p->*cost);
+        joined.y.push_back(p->metric);
+        joined.tips.push_back(p->label);
+    }
+    PlotSpec spec{title, x_label, metric.label, {all, joined}, 460, 300};
+    spec.x_scale = PlotScale::automatic;
+    return spec;
+}
+
+// Ring-error curves: every configuration (the front's only, when there are more than 8).
+PlotSpec ring_plot(const std::vector<Point>& points) {
+    PlotSpec rings{"PSNR per error ring", "eccentricity (degrees)", "dB", {}, 460, 300};
+    for (const Point& p : points) {
+        if (points.size() > 8 && !p.time_front) continue;
+        PlotSeries s{p.label, {}, {}, true, 2.0, {}};
+        const json& deg = (*p.row)["ring_outer_deg"];
+        const json& psnr = (*p.row)["ring_psnr"];
+        for (std::size_t k = 0; k < deg.size() && k < psnr.size(); ++k) {
+            s.x.push_back(deg[k].get<double>());
+            s.y.push_back(psnr[k].is_number() ? psnr[k].get<double>() : NAN);
+        }
+        rings.series.push_back(s);
+    }
+    return rings;
+}
+
+// The table: every configuration, fastest first.
+std::string configurations_table(const std::vector<const Point*>& sorted) {
+    std::string body =
+        "<table class=\"configurations\"><tr><th class=\"l\">configuration</th>"
+        "<th>ms per frame</th><th>rays per frame</th><th>PSNR</th><th>SSIM</th>"
+        "<th>FLIP</th><th>temporal</th><th>front (time)</th><th>front (rays)</th>"
+        "<th class=\"l\">dominated by (time)</th></tr>\n";
+    for (const Point* p : sorted) {
+        const json& r = *p->row;
+        body += std::string("<tr") + (p->time_front ? " class=\"front\"" : "") +
+                "><td class=\"l\" title=\"" + html_escape(p->id) + "\">" + html_escape(p->label) +
+                "</td><td>" + fmt(p->ms) + "</td><td>" + fmt(p->rays, "%.0f") + "</td><td>" +
+                fmt(number_or_nan(r, "psnr")) + "</td><td>" + fmt(number_or_nan(r, "ssim")) +
+                "</td><td>" + fmt(number_or_nan(r, "flip_mean")) + "</td><td>" +
+                fmt(number_or_nan(r, "temporal_error")) + "</td><td>" +
+                (p->time_front ? "yes" : "") + "</td><td>" + (p->rays_front ? "yes" : "") +
+                "</td><td class=\"l\">" + html_escape(p->dominated_by) + "</td></tr>\n";
+    }
+    return body + "</table>\n";
+}
+
+// The work skipped (and done), per frame, from the modes' counters.
+std::string work_table(const std::vector<Point>& points, const std::vector<const Point*>& sorted) {
+    std::string body = "<table class=\"skipped\"><tr><th class=\"l\">work per frame</th>";
+    std::vector<std::string> shown;
+    for (const char* c : skip_counters)
+        for (const Point& p : points)
+            if ((*p.row).contains("counters_per_frame") &&
+                (*p.row)["counters_per_frame"].contains(c)) {
+                shown.push_back(c);
+                break;
+            }
+    for (const std::string& c : shown) body += "<th>" + html_escape(c) + "</th>";
+    body += "</tr>\n";
+    for (const Point* p : sorted) {
+        body += "<tr><td class=\"l\">" + html_escape(p->label) + "</td>";
+        const json& counters = (*p->row).value("counters_per_frame", json::object());
+        for (const std::string& c : shown)
+            body += "<td>" +
+                    (counters.contains(c) ? fmt(counters[c].get<double>(), "%.0f")
+                                          : std::string("&ndash;")) +
+                    "</td>";
+        body += "</tr>\n";
+    }
+    return body + "</table>\n";
+}
+
+// One group's section: its fronts and plots, the table of configurations and the work table.
+std::string group_section(const std::string& title, const std::string& name,
+                          std::vector<Point>& points, const Metric& metric, PlotWriter& plot,
+                          int& front_total) {
+    const std::vector<const Point*> time_front =
+        pareto_front(points, &Point::ms, &Point::time_front, metric.higher_is_better, true);
+    const std::vector<const Point*> rays_front =
+        pareto_front(points, &Point::rays, &Point::rays_front, metric.higher_is_better, false);
+    front_total += static_cast<int>(time_front.size());
+    std::string body = "<h2>" + html_escape(title) + "</h2>\n<div class=\"plots\">\n";
+    body +=
+        plot(name + "-time", pareto_plot(points, metric, "time against error",
+                                         "ms per frame (single thread)", &Point::ms, time_front));
+    body += plot(name + "-rays", pareto_plot(points, metric, "rays traced against error",
+                                             "rays per frame", &Point::rays, rays_front));
+    body += plot(name + "-rings", ring_plot(points));
+    body += "</div>\n";
+    std::vector<const Point*> sorted;
+    for (const Point& p : points) sorted.push_back(&p);
+    std::sort(sorted.begin(), sorted.end(), [](const Point* a, const Point* b) {
+        return a->ms < b->ms || (a->ms == b->ms && a->label < b->label);
+    });
+    return body + configurations_table(sorted) + work_table(points, sorted);
+}
+
+}  // namespace
+
+int run_sweep_report(const SweepOptions& o) {
+    const fs::path results_file = fs::path(o.out) / "results.json";
+    if (!fs::exists(results_file))
+        throw Error(results_file.string() + ": no such file (run `fovref sweep merge " + o.out +
+                    "` first)");
+    const json results =
+        parse_json_document<json>(read_file(results_file.string()), results_file.string());
+    const Metric metric = metric_of(o.metric);
+    Groups groups = read_groups(results, metric);
+    if (groups.points.empty())
         throw Error(results_file.string() + ": no finished job to report (" +
-                    std::to_string(missing) + " missing)");
+                    std::to_string(groups.missing) + " missing)");
 
     fs::create_directories(fs::path(o.html) / "plots");
     PlotWriter plot{fs::path(o.html), have_rsvg_convert()};
     std::string body;
     int front_total = 0, points_total = 0;
-    for (std::size_t g = 0; g < order.size(); ++g) {
-        std::vector<Point>& points = groups[order[g]];
-        const std::vector<const Point*> time_front =
-            pareto_front(points, &Point::ms, &Point::time_front, metric.higher_is_better, true);
-        const std::vector<const Point*> rays_front =
-            pareto_front(points, &Point::rays, &Point::rays_front, metric.higher_is_better, false);
-        front_total += static_cast<int>(time_front.size());
+    for (std::size_t g = 0; g < groups.order.size(); ++g) {
+        std::vector<Point>& points = groups.points[groups.order[g]];
         points_total += static_cast<int>(points.size());
-        const std::string name = std::to_string(g) + "-" + slug(order[g]);
-        body += "<h2>" + html_escape(order[g]) + "</h2>\n<div class=\"plots\">\n";
-
-        // Pareto plots: all configurations as dots, the front joined.
-        const auto pareto_plot = [&](const char* title, const char* x_label, double Point::*cost,
-                                     const std::vector<const Point*>& front) {
-            PlotSeries all{"configurations", {}, {}, false, 3.0, {}};
-            PlotSeries joined{"Pareto front", {}, {}, true, 4.5, {}};
-            for (const Point& p : points) {
-                all.x.push_back(p.*cost);
-                all.y.push_back(p.metric);
-                all.tips.push_back(p.label + ": " + fmt(p.*cost) + ", " + fmt(p.metric));
-            }
-            for (const Point* p : front) {
-                joined.x.push_back(p->*cost);
-                joined.y.push_back(p->metric);
-                joined.tips.push_back(p->label);
-            }
-            PlotSpec spec{title, x_label, metric.label, {all, joined}, 460, 300};
-            spec.x_scale = PlotScale::automatic;
-            return spec;
-        };
-        body +=
-            plot(name + "-time", pareto_plot("time against error", "ms per frame (single thread)",
-                                             &Point::ms, time_front));
-        body += plot(name + "-rays", pareto_plot("rays traced against error", "rays per frame",
-                                                 &Point::rays, rays_front));
-
-        // Ring-error curves: every configuration (the front's only, when there are more than 8).
-        PlotSpec rings{"PSNR per error ring", "eccentricity (degrees)", "dB", {}, 460, 300};
-        for (const Point& p : points) {
-            if (points.size() > 8 && !p.time_front) continue;
-            PlotSeries s{p.label, {}, {}, true, 2.0, {}};
-            const json& deg = (*p.row)["ring_outer_deg"];
-            const json& psnr = (*p.row)["ring_psnr"];
-            for (std::size_t k = 0; k < deg.size() && k < psnr.size(); ++k) {
-                s.x.push_back(deg[k].get<double>());
-                s.y.push_back(psnr[k].is_number() ? psnr[k].get<double>() : NAN);
-            }
-            rings.series.push_back(s);
-        }
-        body += plot(name + "-rings", rings);
-        body += "</div>\n";
-
-        // The table: every configuration, fastest first.
-        std::vector<const Point*> sorted;
-        for (const Point& p : points) sorted.push_back(&p);
-        std::sort(sorted.begin(), sorted.end(), [](const Point* a, const Point* b) {
-            return a->ms < b->ms || (a->ms == b->ms && a->label < b->label);
-        });
-        body +=
-            "<table class=\"configurations\"><tr><th class=\"l\">configuration</th>"
-            "<th>ms per frame</th><th>rays per frame</th><th>PSNR</th><th>SSIM</th>"
-            "<th>FLIP</th><th>temporal</th><th>front (time)</th><th>front (rays)</th>"
-            "<th class=\"l\">dominated by (time)</th></tr>\n";
-        for (const Point* p : sorted) {
-            const json& r = *p->row;
-            body += std::string("<tr") + (p->time_front ? " class=\"front\"" : "") +
-                    "><td class=\"l\" title=\"" + html_escape(p->id) + "\">" +
-                    html_escape(p->label) + "</td><td>" + fmt(p->ms) + "</td><td>" +
-                    fmt(p->rays, "%.0f") + "</td><td>" + fmt(number_or_nan(r, "psnr")) +
-                    "</td><td>" + fmt(number_or_nan(r, "ssim")) + "</td><td>" +
-                    fmt(number_or_nan(r, "flip_mean")) + "</td><td>" +
-                    fmt(number_or_nan(r, "temporal_error")) + "</td><td>" +
-                    (p->time_front ? "yes" : "") + "</td><td>" + (p->rays_front ? "yes" : "") +
-                    "</td><td class=\"l\">" + html_escape(p->dominated_by) + "</td></tr>\n";
-        }
-        body += "</table>\n";
-
-        // The work skipped (and done), per frame, from the modes' counters.
-        body += "<table class=\"skipped\"><tr><th class=\"l\">work per frame</th>";
-        std::vector<std::string> shown;
-        for (const char* c : skip_counters)
-            for (const Point& p : points)
-                if ((*p.row).contains("counters_per_frame") &&
-                    (*p.row)["counters_per_frame"].contains(c)) {
-                    shown.push_back(c);
-                    break;
-                }
-        for (const std::string& c : shown) body += "<th>" + html_escape(c) + "</th>";
-        body += "</tr>\n";
-        for (const Point* p : sorted) {
-            body += "<tr><td class=\"l\">" + html_escape(p->label) + "</td>";
-            const json& counters = (*p->row).value("counters_per_frame", json::object());
-            for (const std::string& c : shown)
-                body += "<td>" +
-                        (counters.contains(c) ? fmt(counters[c].get<double>(), "%.0f")
-                                              : std::string("&ndash;")) +
-                        "</td>";
-            body += "</tr>\n";
-        }
-        body += "</table>\n";
+        const std::string name = std::to_string(g) + "-" + slug(groups.order[g]);
+        body += group_section(groups.order[g], name, points, metric, plot, front_total);
     }
 
     std::string page =
@@ -330,9 +357,9 @@ int run_sweep_report(const SweepOptions& o) {
         "dominated when another is no slower and no worse, and better in one; "
         "the others form the Pareto front (joined, larger dots; green rows). "
         "Hover a dot for its configuration.</p>\n" +
-        (missing > 0 ? "<p><b>" + std::to_string(missing) +
-                           " job(s) have no result yet and are not shown.</b></p>\n"
-                     : std::string()) +
+        (groups.missing > 0 ? "<p><b>" + std::to_string(groups.missing) +
+                                  " job(s) have no result yet and are not shown.</b></p>\n"
+                            : std::string()) +
         body + "<p id=\"report-ready\">" + std::to_string(plot.written) + " plots, " +
         std::to_string(points_total) + " configurations, " + std::to_string(front_total) +
         " on the time front</p>\n</body></html>\n";
@@ -340,8 +367,8 @@ int run_sweep_report(const SweepOptions& o) {
     std::printf(
         "sweep report: %d configuration(s) in %zu group(s), %d on the time front; wrote "
         "%s/index.html and %d plot(s) (%d as PNG%s)\n",
-        points_total, order.size(), front_total, o.html.c_str(), plot.written, plot.converted,
-        plot.png ? "" : "; install librsvg2-bin for PNGs");
+        points_total, groups.order.size(), front_total, o.html.c_str(), plot.written,
+        plot.converted, plot.png ? "" : "; install librsvg2-bin for PNGs");
     return 0;
 }
 
