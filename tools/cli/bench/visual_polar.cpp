@@ -198,9 +198,8 @@ struct Method {
     const char* samples;  ///< the counter of samples per frame; "" = W x H
 };
 
-void print_errors(const Scene& scene, const BenchVisualPolarOptions& o, Size size) {
-    Progress progress("bench visual-polar (error)", o.quiet);
-    std::vector<Method> methods = {
+std::vector<Method> error_methods() {
+    return {
         {"screen",
          "screen space + BMFR (pathtrace denoise=bmfr)",
          "pathtrace",
@@ -219,49 +218,141 @@ void print_errors(const Scene& scene, const BenchVisualPolarOptions& o, Size siz
          {{"denoise", "bmfr"}},
          "pixels_sampled"},
     };
+}
+
+// P_p of linear fall-off whose expected samples equal `samples` (E[samples] = A + B P_p: L is
+// linear in P_p), clamped to [0, 1].
+double equal_budget_probability(const Scene& scene, Size size, double samples) {
+    const float d_px = display_distance_px(scene.display, size.width, size.height,
+                                           camera_at(scene, 0.0f).vfov_deg);
+    const glm::vec2 centre{static_cast<float>(size.width) * 0.5f,
+                           static_cast<float>(size.height) * 0.5f};
+    LinearFalloff falloff;
+    falloff.periphery_probability = 0.0f;
+    const double a = linear_falloff_expected(falloff, size.width, size.height, centre, d_px);
+    falloff.periphery_probability = 1.0f;
+    const double b = linear_falloff_expected(falloff, size.width, size.height, centre, d_px) - a;
+    return std::clamp((samples - a) / b, 0.0, 1.0);
+}
+
+// Every method's frames in display space and its samples per frame.
+struct MethodRuns {
+    std::vector<std::vector<Image>> finals;
+    std::vector<double> samples;
+    double periphery_probability = 0.0;  ///< LF=VP's P_p
+};
+
+MethodRuns render_methods(const Scene& scene, const RenderSettings& s, Size size,
+                          std::vector<Method>& methods, Progress& progress, double units) {
+    MethodRuns runs;
+    runs.finals.resize(methods.size());
+    runs.samples.assign(methods.size(), 0.0);
+    for (std::size_t m = 0; m < methods.size(); ++m) {
+        if (m == 3) {
+            runs.periphery_probability = equal_budget_probability(scene, size, runs.samples[1]);
+            char value[32];
+            std::snprintf(value, sizeof value, "%.6f", runs.periphery_probability);
+            methods[m].params["falloff_min"] = value;
+        }
+        RenderSettings r = s;
+        r.params = Params(methods[m].params);
+        render_each(&scene, methods[m].mode, r, [&](FrameResult& f) {
+            runs.finals[m].push_back(to_display(f.find("final")->image));
+            runs.samples[m] += *methods[m].samples == '\0'
+                                   ? size.pixels()
+                                   : static_cast<double>(f.counters.get(methods[m].samples));
+            progress.update((static_cast<double>(m) * s.frame_count + f.frame + 1) / units);
+        });
+        runs.samples[m] /= s.frame_count;
+    }
+    return runs;
+}
+
+void print_budgets(const BenchVisualPolarOptions& o, Size size, float distance,
+                   const std::vector<Method>& methods, const MethodRuns& runs) {
+    std::printf(
+        "\nerror: %s %dx%d, %d frames moving, every %dth frame against pathtrace-reference at %d "
+        "spp (display space); gaze at the screen centre, display distance %.1f px\n",
+        o.scene.c_str(), size.width, size.height, o.frames, o.every, o.reference_spp, distance);
+    const std::vector<double>& samples = runs.samples;
+    for (std::size_t m = 0; m < methods.size(); ++m)
+        std::printf("  %-7s %-58s %9.0f samples/frame (%5.1f%% of WxH)\n", methods[m].label,
+                    methods[m].name, samples[m], 100.0 * samples[m] / size.pixels());
+    std::printf(
+        "  budgets: VP traces %.2fx the samples of screen space; linear-falloff with its defaults "
+        "%.2fx; LF=VP is linear-falloff with P_p = %.4f, so that its expected samples equal VP's "
+        "(P5's comparison at equal sample budget): measured %.3fx VP's\n",
+        samples[1] / samples[0], samples[2] / samples[0], runs.periphery_probability,
+        samples[3] / samples[1]);
+}
+
+// The errors summed over the compared frames, per method (and per ring).
+struct ErrorSums {
+    std::vector<double> rmse, ssim;
+    std::vector<std::vector<double>> rings;
+    std::vector<std::int64_t> ring_pixels;
+};
+
+// Frame f of every method against the reference: a row of RMSE and SSIM, added to the sums.
+void compare_frame(int f, const Image& reference, double standard_error, const MethodRuns& runs,
+                   const RingLayout& layout, ErrorSums& sums) {
+    const std::size_t m_count = runs.finals.size();
+    const Image reference_luma = luma(reference);
+    std::vector<double> rmse(m_count), ssim_value(m_count);
+    for (std::size_t m = 0; m < m_count; ++m) {
+        const Image& image = runs.finals[m][static_cast<std::size_t>(f)];
+        rmse[m] = std::sqrt(mse(reference, image));
+        ssim_value[m] = ssim(reference_luma, luma(image));
+        sums.rmse[m] += rmse[m];
+        sums.ssim[m] += ssim_value[m];
+        for (const RingStats& ring : ring_errors(reference, image, layout, nullptr)) {
+            const auto k = static_cast<std::size_t>(ring.ring);
+            sums.rings[m][k] += ring.rmse;
+            sums.ring_pixels[k] = ring.pixels;
+        }
+    }
+    std::printf("  %6d", f);
+    for (std::size_t m = 0; m < m_count; ++m) std::printf(" %12.5f", rmse[m]);
+    for (std::size_t m = 0; m < m_count; ++m) std::printf(" %12.4f", ssim_value[m]);
+    std::printf(" %14.5f\n", standard_error);
+    std::fflush(stdout);
+}
+
+void print_ring_table(const BenchVisualPolarOptions& o, const RingLayout& layout,
+                      const std::vector<Method>& methods, const ErrorSums& sums, double n) {
+    std::printf(
+        "  RMSE per ring (mean over the compared frames): %d rings of %.2f deg around the gaze, "
+        "out to the farthest corner (%.2f deg)\n",
+        o.rings, layout.ring_width_deg, layout.outer_deg);
+    std::printf("  %6s %17s %9s", "ring", "eccentricity", "pixels");
+    for (const Method& m : methods) std::printf("  RMSE %-6s", m.label);
+    std::printf("\n");
+    for (int k = 0; k < o.rings; ++k) {
+        const auto index = static_cast<std::size_t>(k);
+        char range[40];
+        std::snprintf(range, sizeof range, "%.1f-%.1f deg", layout.inner(k), layout.outer(k));
+        std::printf("  %6d %17s %9lld", k + 1, range,
+                    static_cast<long long>(sums.ring_pixels[index]));
+        for (std::size_t m = 0; m < methods.size(); ++m)
+            std::printf(" %12.5f", sums.rings[m][index] / n);
+        std::printf("\n");
+    }
+}
+
+void print_errors(const Scene& scene, const BenchVisualPolarOptions& o, Size size) {
+    Progress progress("bench visual-polar (error)", o.quiet);
+    std::vector<Method> methods = error_methods();
     const std::size_t m_count = methods.size();
     std::vector<int> compared;
     for (int f = o.every - 1; f < o.frames; f += o.every) compared.push_back(f);
     // progress in units of one 1-spp frame: the methods' frames, then spp per reference frame
     const double units = static_cast<double>(m_count) * o.frames +
                          static_cast<double>(compared.size()) * o.reference_spp;
-
     RenderSettings s;
     s.width = size.width;
     s.height = size.height;
     s.frame_count = o.frames;
-    std::vector<std::vector<Image>> finals(m_count);
-    std::vector<double> samples(m_count, 0.0);
-    double periphery_probability = 0.0;
-    for (std::size_t m = 0; m < m_count; ++m) {
-        if (m == 3) {
-            // E[samples] = A + B P_p (L is linear in P_p): P_p for VP's mean count
-            const float d_px = display_distance_px(scene.display, size.width, size.height,
-                                                   camera_at(scene, 0.0f).vfov_deg);
-            const glm::vec2 centre{static_cast<float>(size.width) * 0.5f,
-                                   static_cast<float>(size.height) * 0.5f};
-            LinearFalloff falloff;
-            falloff.periphery_probability = 0.0f;
-            const double a =
-                linear_falloff_expected(falloff, size.width, size.height, centre, d_px);
-            falloff.periphery_probability = 1.0f;
-            const double b =
-                linear_falloff_expected(falloff, size.width, size.height, centre, d_px) - a;
-            periphery_probability = std::clamp((samples[1] - a) / b, 0.0, 1.0);
-            char value[32];
-            std::snprintf(value, sizeof value, "%.6f", periphery_probability);
-            methods[m].params["falloff_min"] = value;
-        }
-        s.params = Params(methods[m].params);
-        render_each(&scene, methods[m].mode, s, [&](FrameResult& f) {
-            finals[m].push_back(to_display(f.find("final")->image));
-            samples[m] += *methods[m].samples == '\0'
-                              ? size.pixels()
-                              : static_cast<double>(f.counters.get(methods[m].samples));
-            progress.update((static_cast<double>(m) * o.frames + f.frame + 1) / units);
-        });
-        samples[m] /= o.frames;
-    }
+    const MethodRuns runs = render_methods(scene, s, size, methods, progress, units);
     progress.clear();
 
     const float distance = display_distance_px(scene.display, size.width, size.height,
@@ -271,32 +362,18 @@ void print_errors(const Scene& scene, const BenchVisualPolarOptions& o, Size siz
     RingSettings ring_settings;
     ring_settings.count = o.rings;
     const RingLayout layout = ring_layout(size.width, size.height, gaze, distance, ring_settings);
-
-    std::printf(
-        "\nerror: %s %dx%d, %d frames moving, every %dth frame against pathtrace-reference at %d "
-        "spp (display space); gaze at the screen centre, display distance %.1f px\n",
-        o.scene.c_str(), size.width, size.height, o.frames, o.every, o.reference_spp, distance);
-    for (std::size_t m = 0; m < m_count; ++m)
-        std::printf("  %-7s %-58s %9.0f samples/frame (%5.1f%% of WxH)\n", methods[m].label,
-                    methods[m].name, samples[m], 100.0 * samples[m] / size.pixels());
-    std::printf(
-        "  budgets: VP traces %.2fx the samples of screen space; linear-falloff with its defaults "
-        "%.2fx; LF=VP is linear-falloff with P_p = %.4f, so that its expected samples equal VP's "
-        "(P5's comparison at equal sample budget): measured %.3fx VP's\n",
-        samples[1] / samples[0], samples[2] / samples[0], periphery_probability,
-        samples[3] / samples[1]);
+    print_budgets(o, size, distance, methods, runs);
 
     std::printf("  %6s", "frame");
     for (const char* what : {"RMSE", "SSIM"})
         for (const Method& m : methods) std::printf(" %5s %-6s", what, m.label);
     std::printf(" %14s\n", "ref. std. err.");
-    std::vector<double> rmse_sum(m_count, 0.0), ssim_sum(m_count, 0.0);
-    std::vector<std::vector<double>> ring_sum(
-        m_count, std::vector<double>(static_cast<std::size_t>(o.rings)));
-    std::vector<std::int64_t> ring_pixels(static_cast<std::size_t>(o.rings), 0);
+    ErrorSums sums{std::vector<double>(m_count, 0.0), std::vector<double>(m_count, 0.0),
+                   std::vector<std::vector<double>>(
+                       m_count, std::vector<double>(static_cast<std::size_t>(o.rings))),
+                   std::vector<std::int64_t>(static_cast<std::size_t>(o.rings), 0)};
     double done = static_cast<double>(m_count) * o.frames;
-    for (std::size_t i = 0; i < compared.size(); ++i) {
-        const int f = compared[i];
+    for (const int f : compared) {
         RenderSettings r = s;
         r.first_frame = f;
         r.frame_count = 1;
@@ -311,51 +388,17 @@ void print_errors(const Scene& scene, const BenchVisualPolarOptions& o, Size siz
         });
         done += o.reference_spp;
         progress.clear();
-        const Image reference_luma = luma(reference);
-        std::vector<double> rmse(m_count), ssim_value(m_count);
-        for (std::size_t m = 0; m < m_count; ++m) {
-            const Image& image = finals[m][static_cast<std::size_t>(f)];
-            rmse[m] = std::sqrt(mse(reference, image));
-            ssim_value[m] = ssim(reference_luma, luma(image));
-            rmse_sum[m] += rmse[m];
-            ssim_sum[m] += ssim_value[m];
-            const std::vector<RingStats> rings = ring_errors(reference, image, layout, nullptr);
-            for (const RingStats& ring : rings) {
-                const auto k = static_cast<std::size_t>(ring.ring);
-                ring_sum[m][k] += ring.rmse;
-                ring_pixels[k] = ring.pixels;
-            }
-        }
-        std::printf("  %6d", f);
-        for (std::size_t m = 0; m < m_count; ++m) std::printf(" %12.5f", rmse[m]);
-        for (std::size_t m = 0; m < m_count; ++m) std::printf(" %12.4f", ssim_value[m]);
-        std::printf(" %14.5f\n", standard_error);
-        std::fflush(stdout);
+        compare_frame(f, reference, standard_error, runs, layout, sums);
     }
     const double n = static_cast<double>(compared.size());
     std::printf("  %6s", "mean");
-    for (std::size_t m = 0; m < m_count; ++m) std::printf(" %12.5f", rmse_sum[m] / n);
-    for (std::size_t m = 0; m < m_count; ++m) std::printf(" %12.4f", ssim_sum[m] / n);
+    for (std::size_t m = 0; m < m_count; ++m) std::printf(" %12.5f", sums.rmse[m] / n);
+    for (std::size_t m = 0; m < m_count; ++m) std::printf(" %12.4f", sums.ssim[m] / n);
     std::printf("\n");
-
-    std::printf(
-        "  RMSE per ring (mean over the compared frames): %d rings of %.2f deg around the gaze, "
-        "out to the farthest corner (%.2f deg)\n",
-        o.rings, layout.ring_width_deg, layout.outer_deg);
-    std::printf("  %6s %17s %9s", "ring", "eccentricity", "pixels");
-    for (const Method& m : methods) std::printf("  RMSE %-6s", m.label);
-    std::printf("\n");
-    for (int k = 0; k < o.rings; ++k) {
-        const auto index = static_cast<std::size_t>(k);
-        char range[40];
-        std::snprintf(range, sizeof range, "%.1f-%.1f deg", layout.inner(k), layout.outer(k));
-        std::printf("  %6d %17s %9lld", k + 1, range, static_cast<long long>(ring_pixels[index]));
-        for (std::size_t m = 0; m < m_count; ++m) std::printf(" %12.5f", ring_sum[m][index] / n);
-        std::printf("\n");
-    }
+    print_ring_table(o, layout, methods, sums, n);
     std::printf("  temporal error (mean |luma(t) - luma(t-1)|):");
     for (std::size_t m = 0; m < m_count; ++m)
-        std::printf(" %s %.5f%s", methods[m].label, temporal_error(finals[m]),
+        std::printf(" %s %.5f%s", methods[m].label, temporal_error(runs.finals[m]),
                     m + 1 < m_count ? "," : "\n");
     std::fflush(stdout);
     progress.finish();
