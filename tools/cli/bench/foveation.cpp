@@ -119,6 +119,93 @@ void add_bench_foveation_options(CLI::App& c, BenchFoveationOptions& o) {
     c.add_flag("--stages", o.stages, "also print each stage's own fastest time under its row");
 }
 
+namespace {
+
+// The rows of the table: basic, then the modes asked for (by default every foveated mode).
+std::vector<Row> bench_rows(const BenchFoveationOptions& o) {
+    std::vector<Row> rows = {{"basic", "basic", {}}};
+    if (o.modes.empty()) {
+        for (const std::string m : {"fov", "kfov", "cfov", "ckfov", "kfr", "stereo-lp"})
+            rows.push_back({m, m, {}});
+        rows.push_back({"vp-basic", "visual-polar-basic", {}});
+        rows.push_back(
+            {"cfov+lerp", "cfov", Params(std::map<std::string, std::string>{{"filters", "lerp"}})});
+        return rows;
+    }
+    for (const std::string& m : o.modes) {
+        if (m == "basic") continue;
+        find_mode(m);  // an unknown mode is an error before any work
+        rows.push_back({m, m, {}});
+    }
+    return rows;
+}
+
+void print_header(const BenchFoveationOptions& o) {
+    std::printf(
+        "fovref bench foveation: %dx%d, gaze at the centre, one thread; each stage the "
+        "fastest of %d frames (the first frame, which builds the BVH, is not timed)\n",
+        o.width, o.height, o.repeats);
+    std::printf(
+        "trace = ray generation + tracing of the buffers; target = 0.8 x (basic's primary "
+        "rays / the mode's); pass 2 + filters share: target <= 15%%\n"
+        "work = BVH nodes visited + triangles tested by all rays (primary and shadow), %% of "
+        "basic's; w-target = 0.8 x (basic's work / the mode's): rays differ in cost (those near "
+        "the gaze may hit more), which the ray-count target does not see\n");
+}
+
+// One row: the mode's buffer, shares of rays and work, stage-group times, speed-up against
+// basic and whether it meets its targets.
+void print_row(const BenchFoveationOptions& o, const Row& row, const ModeTimes& t,
+               const ModeTimes& basic) {
+    const double pixels = static_cast<double>(o.width) * o.height;
+    const std::string buffer =
+        t.buffer_width > 0 ? std::to_string(t.buffer_width) + "x" + std::to_string(t.buffer_height)
+                           : "-";
+    const double dispatched = row.mode == "basic" ? pixels : static_cast<double>(t.dispatched);
+    const double speedup = basic.frame / t.frame;
+    const double target = 0.8 * static_cast<double>(basic.rays) /
+                          static_cast<double>(std::max<std::int64_t>(t.rays, 1));
+    const double share = (t.group.at("pass2") + t.group.at("filters")) / t.frame;
+    // A mode without primary rays (the deferred kfr) has no ray-count target.
+    char target_text[16] = "-";
+    if (row.mode == "basic")
+        std::snprintf(target_text, sizeof target_text, "1.00x");
+    else if (t.rays > 0)
+        std::snprintf(target_text, sizeof target_text, "%.2fx", target);
+    const double work_target = 0.8 * static_cast<double>(basic.work) /
+                               static_cast<double>(std::max<std::int64_t>(t.work, 1));
+    std::string verdict;
+    if (row.mode != "basic") {
+        std::vector<std::string> missed;
+        if (t.rays > 0 && speedup < target) missed.push_back("ray target");
+        if (t.rays > 0 && speedup < work_target) missed.push_back("work target");
+        if (share > 0.15) missed.push_back("share");
+        verdict = "  ok";
+        for (std::size_t k = 0; k < missed.size(); ++k)
+            verdict = (k == 0 ? "  misses " : verdict + ", ") + missed[k];
+    }
+    char work_target_text[16] = "-";
+    if (row.mode == "basic" || t.rays > 0)
+        std::snprintf(work_target_text, sizeof work_target_text, "%.2fx",
+                      row.mode == "basic" ? 1.0 : work_target);
+    std::printf(
+        "  %-10s %-10s %7.1f%% %7.1f%% %6.1f%% %9.2f %9.2f %9.2f %9.2f %9.2f %7.2fx %7s "
+        "%8s %8.1f%%%s\n",
+        row.label.c_str(), buffer.c_str(), 100.0 * dispatched / pixels,
+        100.0 * static_cast<double>(t.rays) / pixels,
+        100.0 * static_cast<double>(t.work) /
+            static_cast<double>(std::max<std::int64_t>(basic.work, 1)),
+        1e3 * t.group.at("trace"), 1e3 * t.group.at("shade"), 1e3 * t.group.at("pass2"),
+        1e3 * t.group.at("filters"), 1e3 * t.frame, speedup, target_text, work_target_text,
+        100.0 * share, verdict.c_str());
+    if (o.stages)
+        for (const auto& [stage, seconds] : t.stage)
+            std::printf("    %-24s %9.2f ms\n", stage.c_str(), 1e3 * seconds);
+    std::fflush(stdout);
+}
+
+}  // namespace
+
 int run_bench_foveation(const BenchFoveationOptions& o) {
     // Steady state, as a renderer that keeps its buffers from frame to frame: freed buffers stay
     // in the heap instead of going back to the system, so a frame's buffers do not pay the page
@@ -132,31 +219,8 @@ int run_bench_foveation(const BenchFoveationOptions& o) {
     for (const std::string& name : scenes)
         if (!is_procedural_scene(name))
             files.emplace(name, load_cli_scene(name));  // a file must load before the table
-    std::vector<Row> rows = {{"basic", "basic", {}}};
-    if (o.modes.empty()) {
-        for (const std::string m : {"fov", "kfov", "cfov", "ckfov", "kfr", "stereo-lp"})
-            rows.push_back({m, m, {}});
-        rows.push_back({"vp-basic", "visual-polar-basic", {}});
-        rows.push_back(
-            {"cfov+lerp", "cfov", Params(std::map<std::string, std::string>{{"filters", "lerp"}})});
-    } else {
-        for (const std::string& m : o.modes) {
-            if (m == "basic") continue;
-            find_mode(m);  // an unknown mode is an error before any work
-            rows.push_back({m, m, {}});
-        }
-    }
-    const double pixels = static_cast<double>(o.width) * o.height;
-    std::printf(
-        "fovref bench foveation: %dx%d, gaze at the centre, one thread; each stage the "
-        "fastest of %d frames (the first frame, which builds the BVH, is not timed)\n",
-        o.width, o.height, o.repeats);
-    std::printf(
-        "trace = ray generation + tracing of the buffers; target = 0.8 x (basic's primary "
-        "rays / the mode's); pass 2 + filters share: target <= 15%%\n"
-        "work = BVH nodes visited + triangles tested by all rays (primary and shadow), %% of "
-        "basic's; w-target = 0.8 x (basic's work / the mode's): rays differ in cost (those near "
-        "the gaze may hit more), which the ray-count target does not see\n");
+    const std::vector<Row> rows = bench_rows(o);
+    print_header(o);
     Progress progress("bench foveation", o.quiet);
     const double step = 1.0 / static_cast<double>(scenes.size() * rows.size());
     double done = 0.0;
@@ -176,51 +240,7 @@ int run_bench_foveation(const BenchFoveationOptions& o) {
             done += step;
             if (row.mode == "basic") basic = t;
             progress.clear();
-            const std::string buffer = t.buffer_width > 0 ? std::to_string(t.buffer_width) + "x" +
-                                                                std::to_string(t.buffer_height)
-                                                          : "-";
-            const double dispatched =
-                row.mode == "basic" ? pixels : static_cast<double>(t.dispatched);
-            const double speedup = basic.frame / t.frame;
-            const double target = 0.8 * static_cast<double>(basic.rays) /
-                                  static_cast<double>(std::max<std::int64_t>(t.rays, 1));
-            const double share = (t.group.at("pass2") + t.group.at("filters")) / t.frame;
-            // A mode without primary rays (the deferred kfr) has no ray-count target.
-            char target_text[16] = "-";
-            if (row.mode == "basic")
-                std::snprintf(target_text, sizeof target_text, "1.00x");
-            else if (t.rays > 0)
-                std::snprintf(target_text, sizeof target_text, "%.2fx", target);
-            const double work_target = 0.8 * static_cast<double>(basic.work) /
-                                       static_cast<double>(std::max<std::int64_t>(t.work, 1));
-            std::string verdict;
-            if (row.mode != "basic") {
-                std::vector<std::string> missed;
-                if (t.rays > 0 && speedup < target) missed.push_back("ray target");
-                if (t.rays > 0 && speedup < work_target) missed.push_back("work target");
-                if (share > 0.15) missed.push_back("share");
-                verdict = "  ok";
-                for (std::size_t k = 0; k < missed.size(); ++k)
-                    verdict = (k == 0 ? "  misses " : verdict + ", ") + missed[k];
-            }
-            char work_target_text[16] = "-";
-            if (row.mode == "basic" || t.rays > 0)
-                std::snprintf(work_target_text, sizeof work_target_text, "%.2fx",
-                              row.mode == "basic" ? 1.0 : work_target);
-            std::printf(
-                "  %-10s %-10s %7.1f%% %7.1f%% %6.1f%% %9.2f %9.2f %9.2f %9.2f %9.2f %7.2fx %7s "
-                "%8s %8.1f%%%s\n",
-                row.label.c_str(), buffer.c_str(), 100.0 * dispatched / pixels,
-                100.0 * static_cast<double>(t.rays) / pixels,
-                100.0 * static_cast<double>(t.work) /
-                    static_cast<double>(std::max<std::int64_t>(basic.work, 1)),
-                1e3 * t.group.at("trace"), 1e3 * t.group.at("shade"), 1e3 * t.group.at("pass2"),
-                1e3 * t.group.at("filters"), 1e3 * t.frame, speedup, target_text, work_target_text,
-                100.0 * share, verdict.c_str());
-            if (o.stages)
-                for (const auto& [stage, seconds] : t.stage)
-                    std::printf("    %-24s %9.2f ms\n", stage.c_str(), 1e3 * seconds);
-            std::fflush(stdout);
+            print_row(o, row, t, basic);
         }
     }
     progress.finish();
