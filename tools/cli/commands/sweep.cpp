@@ -366,55 +366,100 @@ void add_sweep_export_options(CLI::App& c, SweepOptions& o) {
         ->capture_default_str();
 }
 
-int run_sweep_plan(const SweepOptions& o) {
-    const SweepFile file(o.file);
-    const json& doc = file.doc();
-    const std::vector<std::string> scenes = file.strings("scenes", {});
-    const std::vector<std::string> resolutions = file.strings("resolutions", {"320x180"});
-    const std::vector<std::string> gazes = file.strings("gazes", {"centre"});
-    const int frames = file.integer("frames", 4, 1, 100000);
-    const int every = file.integer("every", 1, 1, 100000);
-    const int rings = file.integer("rings", 20, 1, 1000);
-    const int repeats = file.integer("repeats", 3, 1, 1000);
-    const bool flip = file.boolean("flip", false);
-    const double time_start = file.number("time_start", 0.0);
-    const double time_step = file.number("time_step", 1.0 / 30.0);
+namespace {
+
+// A sweep file's grid, read and checked before any job is planned: a bad mode, scene or gaze
+// fails the plan, not every job.
+struct SweepGrid {
+    std::vector<std::string> scenes, resolutions, gazes;
+    int frames = 4, every = 1, rings = 20, repeats = 3;
+    bool flip = false;
+    double time_start = 0.0, time_step = 1.0 / 30.0;
     std::string reference = "ground-truth";
+};
+
+SweepGrid read_grid(const SweepFile& file) {
+    const json& doc = file.doc();
+    SweepGrid g;
+    g.scenes = file.strings("scenes", {});
+    g.resolutions = file.strings("resolutions", {"320x180"});
+    g.gazes = file.strings("gazes", {"centre"});
+    g.frames = file.integer("frames", 4, 1, 100000);
+    g.every = file.integer("every", 1, 1, 100000);
+    g.rings = file.integer("rings", 20, 1, 1000);
+    g.repeats = file.integer("repeats", 3, 1, 1000);
+    g.flip = file.boolean("flip", false);
+    g.time_start = file.number("time_start", 0.0);
+    g.time_step = file.number("time_step", 1.0 / 30.0);
     if (doc.contains("reference")) {
         if (!doc["reference"].is_string()) file.fail("/reference", "expected a mode name");
-        reference = doc["reference"].get<std::string>();
+        g.reference = doc["reference"].get<std::string>();
     }
     try {
-        find_mode(reference);
+        find_mode(g.reference);
     } catch (const Error& e) {
         file.fail("/reference", e.what());
     }
-    for (std::size_t i = 0; i < scenes.size(); ++i) try {
-            load_scene(scenes[i]);  // a name or a file: it must load now, not in every job
+    for (std::size_t i = 0; i < g.scenes.size(); ++i) try {
+            load_scene(g.scenes[i]);  // a name or a file: it must load now, not in every job
         } catch (const Error& e) {
             file.fail(json_pointer_element("/scenes", i), e.what());
         }
-    for (std::size_t i = 0; i < gazes.size(); ++i) {
+    for (std::size_t i = 0; i < g.gazes.size(); ++i) {
         float x = 0, y = 0;
         char rest = 0;
-        if (gazes[i] != "centre" && std::sscanf(gazes[i].c_str(), "%f,%f%c", &x, &y, &rest) != 2)
+        if (g.gazes[i] != "centre" &&
+            std::sscanf(g.gazes[i].c_str(), "%f,%f%c", &x, &y, &rest) != 2)
             file.fail(json_pointer_element("/gazes", i),
-                      "a gaze is \"centre\" or \"X,Y\" in pixels, got '" + gazes[i] + "'");
+                      "a gaze is \"centre\" or \"X,Y\" in pixels, got '" + g.gazes[i] + "'");
     }
     if (!doc.contains("configurations") || !doc["configurations"].is_array() ||
         doc["configurations"].empty())
         file.fail("", "'configurations' (a non-empty array) is required");
+    return g;
+}
 
-    json references = json::array(), evaluations = json::array();
+// The evaluation jobs of one reference: every configuration's parameter sets at every gaze.
+void add_evaluations(const SweepFile& file, const SweepGrid& g, const json& rconfig,
+                     const std::string& rid, json& evaluations) {
+    for (std::size_t c = 0; c < file.doc()["configurations"].size(); ++c) {
+        std::string mode;
+        for (const auto& params : expand_configuration(file, c, mode))
+            for (const std::string& gaze : g.gazes) {
+                json config = rconfig;
+                config["mode"] = mode;
+                config["params"] = params;
+                config["gaze"] = gaze;
+                config["rings"] = g.rings;
+                config["flip"] = g.flip;
+                config["repeats"] = g.repeats;
+                json job = config;
+                job["kind"] = "evaluate";
+                job["id"] = mode + "-" + short_hash(config.dump());
+                job["reference_id"] = rid;
+                job["config"] = config;
+                evaluations.push_back(job);
+            }
+    }
+}
+
+// The jobs of the grid: one reference per scene and screen (shared by its evaluations), then the
+// evaluations.
+void plan_jobs(const SweepFile& file, const SweepGrid& g, json& references, json& evaluations) {
     std::map<std::string, bool> reference_ids;
-    for (std::size_t r = 0; r < resolutions.size(); ++r) {
+    for (std::size_t r = 0; r < g.resolutions.size(); ++r) {
         int width = 0, height = 0;
-        parse_resolution(file, json_pointer_element("/resolutions", r), resolutions[r], width,
+        parse_resolution(file, json_pointer_element("/resolutions", r), g.resolutions[r], width,
                          height);
-        for (const std::string& scene : scenes) {
-            json rconfig = {{"scene", scene},           {"reference", reference}, {"width", width},
-                            {"height", height},         {"frames", frames},       {"every", every},
-                            {"time_start", time_start}, {"time_step", time_step}};
+        for (const std::string& scene : g.scenes) {
+            json rconfig = {{"scene", scene},
+                            {"reference", g.reference},
+                            {"width", width},
+                            {"height", height},
+                            {"frames", g.frames},
+                            {"every", g.every},
+                            {"time_start", g.time_start},
+                            {"time_step", g.time_step}};
             const std::string rid = "ref-" + short_hash(rconfig.dump());
             if (!reference_ids[rid]) {
                 reference_ids[rid] = true;
@@ -425,27 +470,18 @@ int run_sweep_plan(const SweepOptions& o) {
                 job["config"] = rconfig;
                 references.push_back(job);
             }
-            for (std::size_t c = 0; c < doc["configurations"].size(); ++c) {
-                std::string mode;
-                for (const auto& params : expand_configuration(file, c, mode))
-                    for (const std::string& gaze : gazes) {
-                        json config = rconfig;
-                        config["mode"] = mode;
-                        config["params"] = params;
-                        config["gaze"] = gaze;
-                        config["rings"] = rings;
-                        config["flip"] = flip;
-                        config["repeats"] = repeats;
-                        json job = config;
-                        job["kind"] = "evaluate";
-                        job["id"] = mode + "-" + short_hash(config.dump());
-                        job["reference_id"] = rid;
-                        job["config"] = config;
-                        evaluations.push_back(job);
-                    }
-            }
+            add_evaluations(file, g, rconfig, rid, evaluations);
         }
     }
+}
+
+}  // namespace
+
+int run_sweep_plan(const SweepOptions& o) {
+    const SweepFile file(o.file);
+    const SweepGrid grid = read_grid(file);
+    json references = json::array(), evaluations = json::array();
+    plan_jobs(file, grid, references, evaluations);
     json jobs = json::array();
     for (json& j : references) jobs.push_back(std::move(j));
     for (json& j : evaluations) jobs.push_back(std::move(j));
