@@ -586,6 +586,116 @@ int run_sweep_run(const SweepOptions& o) {
     return 0;
 }
 
+namespace {
+
+// The job's columns of results.csv, up to the status.
+std::string job_csv_columns(const json& job) {
+    std::string params;
+    for (const auto& [key, value] : job["params"].items())
+        params += (params.empty() ? "" : " ") + key + "=" + value.get<std::string>();
+    return csv_field(job["id"].get<std::string>()) + "," +
+           csv_field(job["scene"].get<std::string>()) + "," +
+           csv_field(job["mode"].get<std::string>()) + "," + csv_field(params) + "," +
+           std::to_string(job["width"].get<int>()) + "," +
+           std::to_string(job["height"].get<int>()) + "," +
+           csv_field(job["gaze"].get<std::string>()) + "," +
+           std::to_string(job["frames"].get<int>()) + "," +
+           std::to_string(job["every"].get<int>()) + ",";
+}
+
+// Whether the job's result is there and made for the job's inputs.
+bool job_done(const fs::path& dir, const json& job) {
+    const fs::path marker = dir / "job.json";
+    if (!fs::exists(marker)) return false;
+    const json d = parse_json_document<json>(read_file(marker.string()), marker.string());
+    return d.value("inputs_sha256", "") == inputs_sha(job);
+}
+
+// Per stage the median over the evaluated frames (each already the median of the repeats), and
+// per counter the mean per evaluated frame; `stage_text` lists the stages for the CSV.
+void add_stage_times_and_counters(const json& frames, json& row, std::string& stage_text) {
+    std::map<std::string, std::vector<double>> stage_samples;
+    std::map<std::string, double> counter_sums;
+    for (const json& f : frames) {
+        if (f.contains("stage_times"))
+            for (const auto& [name, t] : f["stage_times"].items())
+                stage_samples[name].push_back(t.get<double>());
+        if (f.contains("counters"))
+            for (const auto& [name, v] : f["counters"].items())
+                counter_sums[name] += v.get<double>();
+    }
+    json stage_seconds = json::object(), counters = json::object();
+    for (const auto& [name, samples] : stage_samples) {
+        stage_seconds[name] = median_of(samples);
+        stage_text +=
+            (stage_text.empty() ? "" : " ") + name + "=" + number_text(median_of(samples), "%.9g");
+    }
+    for (const auto& [name, sum] : counter_sums)
+        counters[name] = sum / static_cast<double>(std::max<std::size_t>(frames.size(), 1));
+    row["stage_seconds"] = stage_seconds;
+    row["counters_per_frame"] = counters;
+}
+
+// The candidate's ring errors as columns of the row.
+void add_rings(const json& candidate, json& row) {
+    json ring_psnr = json::array(), ring_rmse = json::array(), ring_ssim = json::array(),
+         ring_deg = json::array();
+    for (const json& ring : candidate["rings"]) {
+        ring_psnr.push_back(ring["psnr"]);
+        ring_rmse.push_back(ring["rmse"]);
+        ring_ssim.push_back(ring["ssim"]);
+        ring_deg.push_back(ring["outer_deg"]);
+    }
+    row["ring_outer_deg"] = ring_deg;
+    row["ring_psnr"] = ring_psnr;
+    row["ring_rmse"] = ring_rmse;
+    row["ring_ssim"] = ring_ssim;
+    if (candidate.contains("ring_flip_mean")) row["ring_flip"] = candidate["ring_flip_mean"];
+}
+
+// A finished job's row (from its summary.json) and its CSV columns after the status.
+std::string add_result(const fs::path& dir, const json& job, json& row) {
+    const fs::path summary_file = dir / "summary.json";
+    const json summary =
+        parse_json_document<json>(read_file(summary_file.string()), summary_file.string());
+    const json& candidate = summary["candidates"][0];
+    const json& frames = candidate["frames"];
+    bool has_flip = false, present = false;
+    const double psnr = mean_of(frames, "psnr", present);
+    const double ssim = mean_of(frames, "ssim", present);
+    const double flip_mean = mean_of(frames, "flip_mean", has_flip);
+    const double rays = mean_of(frames, "rays_traced", present);
+    const double shaded = mean_of(frames, "pixels_shaded", present);
+    std::vector<double> seconds;
+    for (const json& f : frames)
+        if (f.contains("stage_seconds")) seconds.push_back(f["stage_seconds"].get<double>());
+    row["status"] = "done";
+    row["psnr"] = psnr;
+    row["ssim"] = ssim;
+    if (has_flip) row["flip_mean"] = flip_mean;
+    // null (not finite) in summary.json stays null here
+    row["temporal_error"] =
+        candidate.contains("temporal_error") && candidate["temporal_error"].is_number()
+            ? json(candidate["temporal_error"].get<double>())
+            : json();
+    row["seconds_per_frame"] = median_of(seconds);
+    row["rays_traced_per_frame"] = rays;
+    row["pixels_shaded_per_frame"] = shaded;
+    std::string stage_text;
+    add_stage_times_and_counters(frames, row, stage_text);
+    add_rings(candidate, row);
+    row["command"] = job["command"];
+    return "done," + number_text(psnr, "%.9g") + "," + number_text(ssim, "%.9g") + "," +
+           (has_flip ? number_text(flip_mean, "%.9g") : std::string()) + "," +
+           (row["temporal_error"].is_number()
+                ? number_text(row["temporal_error"].get<double>(), "%.9g")
+                : std::string()) +
+           "," + number_text(median_of(seconds), "%.9g") + "," + number_text(rays, "%.9g") + "," +
+           number_text(shaded, "%.9g") + "," + csv_field(stage_text) + "\n";
+}
+
+}  // namespace
+
 int run_sweep_merge(const SweepOptions& o) {
     const json plan = read_plan(o.out);
     json rows = json::array();
@@ -600,101 +710,16 @@ int run_sweep_merge(const SweepOptions& o) {
         json row = {{"id", job["id"]},         {"scene", job["scene"]},   {"mode", job["mode"]},
                     {"params", job["params"]}, {"width", job["width"]},   {"height", job["height"]},
                     {"gaze", job["gaze"]},     {"frames", job["frames"]}, {"every", job["every"]}};
-        std::string params;
-        for (const auto& [key, value] : job["params"].items())
-            params += (params.empty() ? "" : " ") + key + "=" + value.get<std::string>();
-        std::string line = csv_field(job["id"].get<std::string>()) + "," +
-                           csv_field(job["scene"].get<std::string>()) + "," +
-                           csv_field(job["mode"].get<std::string>()) + "," + csv_field(params) +
-                           "," + std::to_string(job["width"].get<int>()) + "," +
-                           std::to_string(job["height"].get<int>()) + "," +
-                           csv_field(job["gaze"].get<std::string>()) + "," +
-                           std::to_string(job["frames"].get<int>()) + "," +
-                           std::to_string(job["every"].get<int>()) + ",";
-        const fs::path marker = dir / "job.json";
-        bool done = fs::exists(marker);
-        if (done) {
-            const json d = parse_json_document<json>(read_file(marker.string()), marker.string());
-            done = d.value("inputs_sha256", "") == inputs_sha(job);
-        }
-        if (!done) {
+        const std::string line = job_csv_columns(job);
+        if (!job_done(dir, job)) {
             ++missing;
             row["status"] = "missing";
             rows.push_back(row);
             csv += line + "missing,,,,,,,,\n";
             continue;
         }
-        const fs::path summary_file = dir / "summary.json";
-        const json summary =
-            parse_json_document<json>(read_file(summary_file.string()), summary_file.string());
-        const json& candidate = summary["candidates"][0];
-        const json& frames = candidate["frames"];
-        bool has_flip = false, present = false;
-        const double psnr = mean_of(frames, "psnr", present);
-        const double ssim = mean_of(frames, "ssim", present);
-        const double flip_mean = mean_of(frames, "flip_mean", has_flip);
-        const double rays = mean_of(frames, "rays_traced", present);
-        const double shaded = mean_of(frames, "pixels_shaded", present);
-        std::vector<double> seconds;
-        for (const json& f : frames)
-            if (f.contains("stage_seconds")) seconds.push_back(f["stage_seconds"].get<double>());
-        row["status"] = "done";
-        row["psnr"] = psnr;
-        row["ssim"] = ssim;
-        if (has_flip) row["flip_mean"] = flip_mean;
-        // null (not finite) in summary.json stays null here
-        row["temporal_error"] =
-            candidate.contains("temporal_error") && candidate["temporal_error"].is_number()
-                ? json(candidate["temporal_error"].get<double>())
-                : json();
-        row["seconds_per_frame"] = median_of(seconds);
-        row["rays_traced_per_frame"] = rays;
-        row["pixels_shaded_per_frame"] = shaded;
-        // per stage: the median over the evaluated frames (each already the median of the
-        // repeats); counters: the mean per evaluated frame
-        std::map<std::string, std::vector<double>> stage_samples;
-        std::map<std::string, double> counter_sums;
-        for (const json& f : frames) {
-            if (f.contains("stage_times"))
-                for (const auto& [name, t] : f["stage_times"].items())
-                    stage_samples[name].push_back(t.get<double>());
-            if (f.contains("counters"))
-                for (const auto& [name, v] : f["counters"].items())
-                    counter_sums[name] += v.get<double>();
-        }
-        json stage_seconds = json::object(), counters = json::object();
-        std::string stage_text;
-        for (const auto& [name, samples] : stage_samples) {
-            stage_seconds[name] = median_of(samples);
-            stage_text += (stage_text.empty() ? "" : " ") + name + "=" +
-                          number_text(median_of(samples), "%.9g");
-        }
-        for (const auto& [name, sum] : counter_sums)
-            counters[name] = sum / static_cast<double>(std::max<std::size_t>(frames.size(), 1));
-        row["stage_seconds"] = stage_seconds;
-        row["counters_per_frame"] = counters;
-        json ring_psnr = json::array(), ring_rmse = json::array(), ring_ssim = json::array(),
-             ring_deg = json::array();
-        for (const json& ring : candidate["rings"]) {
-            ring_psnr.push_back(ring["psnr"]);
-            ring_rmse.push_back(ring["rmse"]);
-            ring_ssim.push_back(ring["ssim"]);
-            ring_deg.push_back(ring["outer_deg"]);
-        }
-        row["ring_outer_deg"] = ring_deg;
-        row["ring_psnr"] = ring_psnr;
-        row["ring_rmse"] = ring_rmse;
-        row["ring_ssim"] = ring_ssim;
-        if (candidate.contains("ring_flip_mean")) row["ring_flip"] = candidate["ring_flip_mean"];
-        row["command"] = job["command"];
+        csv += line + add_result(dir, job, row);
         rows.push_back(row);
-        csv += line + "done," + number_text(psnr, "%.9g") + "," + number_text(ssim, "%.9g") + "," +
-               (has_flip ? number_text(flip_mean, "%.9g") : std::string()) + "," +
-               (row["temporal_error"].is_number()
-                    ? number_text(row["temporal_error"].get<double>(), "%.9g")
-                    : std::string()) +
-               "," + number_text(median_of(seconds), "%.9g") + "," + number_text(rays, "%.9g") +
-               "," + number_text(shaded, "%.9g") + "," + csv_field(stage_text) + "\n";
     }
     write_file_atomic((fs::path(o.out) / "results.csv").string(), csv);
     write_file_atomic((fs::path(o.out) / "results.json").string(),
