@@ -729,6 +729,83 @@ int run_sweep_merge(const SweepOptions& o) {
     return 0;
 }
 
+namespace {
+
+// GNU parallel: the references first, then the jobs (files written, in export/).
+std::vector<std::string> export_parallel(const SweepOptions& o, const fs::path& dir,
+                                         const std::string& out, int total, int references) {
+    const auto job_line = [&](int k) {
+        return o.fovref + " sweep job " + out + " " + std::to_string(k) + " -q\n";
+    };
+    std::string refs, jobs;
+    for (int k = 0; k < total; ++k) (k < references ? refs : jobs) += job_line(k);
+    write_file_atomic((dir / "references.txt").string(), refs);
+    write_file_atomic((dir / "jobs.txt").string(), jobs);
+    write_file_atomic(
+        (dir / "run-parallel.sh").string(),
+        "#!/bin/sh\n# GNU parallel: the references first, then the jobs; --joblog records "
+        "every job, --resume-failed reruns only what failed.\nset -e\ncd \"$(dirname "
+        "\"$0\")\"\nparallel --joblog references.log --resume-failed < references.txt\n"
+        "parallel --joblog jobs.log --resume-failed < jobs.txt\n" +
+            o.fovref + " sweep merge " + out + "\n");
+    return {"references.txt", "jobs.txt", "run-parallel.sh"};
+}
+
+// Slurm: an array job for the references, one for the jobs after them.
+std::vector<std::string> export_slurm(const SweepOptions& o, const fs::path& dir,
+                                      const std::string& out, int total, int references) {
+    const auto script = [&](const std::string& name, int first, int count) {
+        return "#!/bin/bash\n#SBATCH --job-name=fovref-" + name + "\n#SBATCH --array=0-" +
+               std::to_string(count - 1) + "\n#SBATCH --cpus-per-task=1\n#SBATCH --output=" + out +
+               "/export/slurm-" + name + "-%a.log\n# one array task per job of the plan; " + out +
+               " must be on a shared file system\n" + o.fovref + " sweep job " + out +
+               " $((SLURM_ARRAY_TASK_ID + " + std::to_string(first) + ")) -q\n";
+    };
+    write_file_atomic((dir / "references.sbatch").string(),
+                      script("references", 0, std::max(references, 1)));
+    write_file_atomic((dir / "jobs.sbatch").string(),
+                      script("jobs", references, std::max(total - references, 1)));
+    write_file_atomic((dir / "submit-slurm.sh").string(),
+                      "#!/bin/sh\n# the jobs start when every reference task succeeded\n"
+                      "set -e\ncd \"$(dirname \"$0\")\"\nref=$(sbatch --parsable "
+                      "references.sbatch)\nsbatch --dependency=afterok:$ref jobs.sbatch\n");
+    return {"references.sbatch", "jobs.sbatch", "submit-slurm.sh"};
+}
+
+// Kubernetes: an Indexed Job for the references, one for the jobs.
+std::vector<std::string> export_k8s(const SweepOptions& o, const fs::path& dir,
+                                    const std::string& out, int total, int references) {
+    const auto manifest = [&](const std::string& name, int first, int count) {
+        const std::string n = std::to_string(count);
+        return "# Kubernetes Indexed Job: completion index i runs job i + " +
+               std::to_string(first) + " of " + out +
+               "/plan.json.\n# The sweep directory must be on the volume fovref-sweep "
+               "(a ReadWriteMany claim), mounted at the same path.\napiVersion: batch/v1\n"
+               "kind: Job\nmetadata:\n  name: fovref-sweep-" +
+               name + "\nspec:\n  completionMode: Indexed\n  completions: " + n +
+               "\n  parallelism: " + n +
+               "\n  backoffLimitPerIndex: 2\n  template:\n    spec:\n      restartPolicy: "
+               "Never\n      containers:\n        - name: fovref\n          image: " +
+               o.image +
+               "\n          resources:\n            requests:\n              cpu: \"1\"\n"
+               "          command: [\"sh\", \"-c\", \"" +
+               o.fovref + " sweep job " + out + " $((JOB_COMPLETION_INDEX + " +
+               std::to_string(first) +
+               ")) -q\"]\n          volumeMounts:\n            - name: sweep\n"
+               "              mountPath: " +
+               out +
+               "\n      volumes:\n        - name: sweep\n          persistentVolumeClaim:\n"
+               "            claimName: fovref-sweep\n";
+    };
+    write_file_atomic((dir / "k8s-references.yaml").string(),
+                      manifest("references", 0, std::max(references, 1)));
+    write_file_atomic((dir / "k8s-jobs.yaml").string(),
+                      manifest("jobs", references, std::max(total - references, 1)));
+    return {"k8s-references.yaml", "k8s-jobs.yaml"};
+}
+
+}  // namespace
+
 int run_sweep_export(const SweepOptions& o) {
     const json plan = read_plan(o.out);
     const int total = static_cast<int>(plan["jobs"].size());
@@ -736,70 +813,10 @@ int run_sweep_export(const SweepOptions& o) {
     const fs::path dir = fs::path(o.out) / "export";
     fs::create_directories(dir);
     const std::string out = fs::absolute(o.out).string();
-    const auto job_line = [&](int k) {
-        return o.fovref + " sweep job " + out + " " + std::to_string(k) + " -q\n";
-    };
-    std::vector<std::string> written;
-    if (o.format == "parallel") {
-        std::string refs, jobs;
-        for (int k = 0; k < total; ++k) (k < references ? refs : jobs) += job_line(k);
-        write_file_atomic((dir / "references.txt").string(), refs);
-        write_file_atomic((dir / "jobs.txt").string(), jobs);
-        write_file_atomic(
-            (dir / "run-parallel.sh").string(),
-            "#!/bin/sh\n# GNU parallel: the references first, then the jobs; --joblog records "
-            "every job, --resume-failed reruns only what failed.\nset -e\ncd \"$(dirname "
-            "\"$0\")\"\nparallel --joblog references.log --resume-failed < references.txt\n"
-            "parallel --joblog jobs.log --resume-failed < jobs.txt\n" +
-                o.fovref + " sweep merge " + out + "\n");
-        written = {"references.txt", "jobs.txt", "run-parallel.sh"};
-    } else if (o.format == "slurm") {
-        const auto script = [&](const std::string& name, int first, int count) {
-            return "#!/bin/bash\n#SBATCH --job-name=fovref-" + name + "\n#SBATCH --array=0-" +
-                   std::to_string(count - 1) +
-                   "\n#SBATCH --cpus-per-task=1\n#SBATCH --output=" + out + "/export/slurm-" +
-                   name + "-%a.log\n# one array task per job of the plan; " + out +
-                   " must be on a shared file system\n" + o.fovref + " sweep job " + out +
-                   " $((SLURM_ARRAY_TASK_ID + " + std::to_string(first) + ")) -q\n";
-        };
-        write_file_atomic((dir / "references.sbatch").string(),
-                          script("references", 0, std::max(references, 1)));
-        write_file_atomic((dir / "jobs.sbatch").string(),
-                          script("jobs", references, std::max(total - references, 1)));
-        write_file_atomic((dir / "submit-slurm.sh").string(),
-                          "#!/bin/sh\n# the jobs start when every reference task succeeded\n"
-                          "set -e\ncd \"$(dirname \"$0\")\"\nref=$(sbatch --parsable "
-                          "references.sbatch)\nsbatch --dependency=afterok:$ref jobs.sbatch\n");
-        written = {"references.sbatch", "jobs.sbatch", "submit-slurm.sh"};
-    } else {
-        const auto manifest = [&](const std::string& name, int first, int count) {
-            const std::string n = std::to_string(count);
-            return "# Kubernetes Indexed Job: completion index i runs job i + " +
-                   std::to_string(first) + " of " + out +
-                   "/plan.json.\n# The sweep directory must be on the volume fovref-sweep "
-                   "(a ReadWriteMany claim), mounted at the same path.\napiVersion: batch/v1\n"
-                   "kind: Job\nmetadata:\n  name: fovref-sweep-" +
-                   name + "\nspec:\n  completionMode: Indexed\n  completions: " + n +
-                   "\n  parallelism: " + n +
-                   "\n  backoffLimitPerIndex: 2\n  template:\n    spec:\n      restartPolicy: "
-                   "Never\n      containers:\n        - name: fovref\n          image: " +
-                   o.image +
-                   "\n          resources:\n            requests:\n              cpu: \"1\"\n"
-                   "          command: [\"sh\", \"-c\", \"" +
-                   o.fovref + " sweep job " + out + " $((JOB_COMPLETION_INDEX + " +
-                   std::to_string(first) +
-                   ")) -q\"]\n          volumeMounts:\n            - name: sweep\n"
-                   "              mountPath: " +
-                   out +
-                   "\n      volumes:\n        - name: sweep\n          persistentVolumeClaim:\n"
-                   "            claimName: fovref-sweep\n";
-        };
-        write_file_atomic((dir / "k8s-references.yaml").string(),
-                          manifest("references", 0, std::max(references, 1)));
-        write_file_atomic((dir / "k8s-jobs.yaml").string(),
-                          manifest("jobs", references, std::max(total - references, 1)));
-        written = {"k8s-references.yaml", "k8s-jobs.yaml"};
-    }
+    const std::vector<std::string> written =
+        o.format == "parallel" ? export_parallel(o, dir, out, total, references)
+        : o.format == "slurm"  ? export_slurm(o, dir, out, total, references)
+                               : export_k8s(o, dir, out, total, references);
     for (const std::string& w : written) {
         const fs::path p = dir / w;
         if (p.extension() == ".sh")
