@@ -146,16 +146,8 @@ void print_errors(const Scene& scene, const BenchBmfrOptions& o, Progress& progr
 }  // namespace
 
 void add_bench_bmfr_options(CLI::App& c, BenchBmfrOptions& o) {
-    c.add_option("--scene", o.scene,
-                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
-        ->capture_default_str();
-    add_scene_load_options(c);
-    c.add_option("--width", o.width, "screen width of the cost part")
-        ->check(CLI::Range(16, 16384))
-        ->capture_default_str();
-    c.add_option("--height", o.height, "screen height of the cost part")
-        ->check(CLI::Range(16, 16384))
-        ->capture_default_str();
+    add_scene_options(c, o.scene)->capture_default_str();
+    add_screen_options(c, o.width, o.height, " of the cost part", 16);
     c.add_option("--repeats", o.repeats, "timed frames (after an untimed first one)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();

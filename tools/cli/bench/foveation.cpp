@@ -100,16 +100,8 @@ struct Row {
 }  // namespace
 
 void add_bench_foveation_options(CLI::App& c, BenchFoveationOptions& o) {
-    c.add_option("--scene", o.scenes,
-                 "procedural scene, scene file or model file (.obj, .gltf, .glb) (repeatable; "
-                 "default: every procedural scene)");
-    add_scene_load_options(c);
-    c.add_option("--width", o.width, "screen width")
-        ->check(CLI::Range(1, 16384))
-        ->capture_default_str();
-    c.add_option("--height", o.height, "screen height")
-        ->check(CLI::Range(1, 16384))
-        ->capture_default_str();
+    add_scenes_options(c, o.scenes);
+    add_screen_options(c, o.width, o.height, "", 1);
     c.add_option("--repeats", o.repeats, "timed frames per mode (after an untimed first one)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();

@@ -346,16 +346,8 @@ void print_footer(const BenchRaysOptions& options, const std::string& explanatio
 }  // namespace
 
 void add_bench_rays_options(CLI::App& c, BenchRaysOptions& o) {
-    c.add_option("--scene", o.scenes,
-                 "procedural scene, scene file or model file (.obj, .gltf, .glb) (repeatable; "
-                 "default: every procedural scene)");
-    add_scene_load_options(c);
-    c.add_option("--width", o.width, "primary rays: screen width")
-        ->check(CLI::Range(1, 16384))
-        ->capture_default_str();
-    c.add_option("--height", o.height, "primary rays: screen height")
-        ->check(CLI::Range(1, 16384))
-        ->capture_default_str();
+    add_scenes_options(c, o.scenes);
+    add_screen_options(c, o.width, o.height, " of the primary rays", 1);
     c.add_option("--repeats", o.repeats, "each timing is the fastest of N runs")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();

@@ -416,10 +416,7 @@ Size parse_size(const std::string& text, const std::string& option) {
 }  // namespace
 
 void add_bench_visual_polar_options(CLI::App& c, BenchVisualPolarOptions& o) {
-    c.add_option("--scene", o.scene,
-                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
-        ->capture_default_str();
-    add_scene_load_options(c);
+    add_scene_options(c, o.scene)->capture_default_str();
     c.add_option("--width", o.width,
                  "screen width of the cost part (with --height: this one size instead of "
                  "1280x1440 and 1280x720)")

@@ -19,19 +19,12 @@ void add_density_options(CLI::App& c, DensityOptions& o) {
     o.width = 1280;
     o.height = 720;
     c.add_option("mode", o.mode, "a log-polar mode: fov, kfov, cfov, ckfov, kfr")->required();
-    c.add_option("--scene", o.scene, "scene whose camera and display model give d_px")
+    add_scene_options(c, o.scene, "scene whose camera and display model give d_px")
         ->capture_default_str();
-    add_scene_load_options(c);
-    c.add_option("--width", o.width, "screen width")->capture_default_str();
-    c.add_option("--height", o.height, "screen height")->capture_default_str();
+    add_screen_options(c, o.width, o.height);
     c.add_option("--param", o.params, "mode parameter key=value (repeatable)");
     add_gaze_option(c, o);
-    c.add_option("--rings", o.rings, "number of error rings")
-        ->check(CLI::Range(1, 1000))
-        ->capture_default_str();
-    c.add_option("--max-range", o.max_range, "fraction of the largest eccentricity covered")
-        ->check(CLI::Range(1e-6, 1.0))
-        ->capture_default_str();
+    add_ring_options(c, o.rings, o.max_range);
     c.add_option("--out", o.out_dir, "write density.csv and density.svg here");
 }
 

@@ -120,10 +120,7 @@ std::vector<RingStats> average_rings(const std::vector<std::vector<RingStats>>& 
 }  // namespace
 
 void add_evaluate_options(CLI::App& c, EvaluateOptions& o) {
-    c.add_option("--scene", o.scene,
-                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
-        ->required();
-    add_scene_load_options(c);
+    add_scene_options(c, o.scene)->required();
     c.add_option("--mode", o.modes,
                  "mode to evaluate, optionally with parameters: basic or basic:primary=raster "
                  "(repeatable, or comma-separated)")
@@ -136,12 +133,7 @@ void add_evaluate_options(CLI::App& c, EvaluateOptions& o) {
                  "read the reference frames from DIR when it holds them for these settings, "
                  "else render them and store them there (f000_final.pfm, ..., reference.json)");
     c.add_option("--param", o.params, "key=value for every mode that has the parameter");
-    c.add_option("--width", o.width, "screen width")
-        ->check(CLI::Range(11, 16384))
-        ->capture_default_str();
-    c.add_option("--height", o.height, "screen height")
-        ->check(CLI::Range(11, 16384))
-        ->capture_default_str();
+    add_screen_options(c, o.width, o.height, "", 11);
     c.add_option("--frames", o.frames, "frames along the camera path")
         ->check(CLI::Range(1, 100000))
         ->capture_default_str();
@@ -160,12 +152,7 @@ void add_evaluate_options(CLI::App& c, EvaluateOptions& o) {
     c.add_option("--gaze", o.gaze,
                  "gaze point X,Y in pixels, of the error ranges and of the foveated modes "
                  "(default: the centre)");
-    c.add_option("--rings", o.rings, "number of error ranges")
-        ->check(CLI::Range(1, 1000))
-        ->capture_default_str();
-    c.add_option("--max-range", o.max_range, "fraction of the largest eccentricity covered")
-        ->check(CLI::Range(1e-6, 1.0))
-        ->capture_default_str();
+    add_ring_options(c, o.rings, o.max_range);
     c.add_flag("--linear", o.linear, "compare stored linear values (default: display space)");
     c.add_flag("--flip", o.flip, "also LDR-FLIP of every evaluated frame (display space)");
     c.add_option("--out", o.out_dir,

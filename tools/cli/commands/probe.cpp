@@ -104,12 +104,9 @@ void print_debugger_section(const ResolvedCase& c, const std::string& debug_comm
 }  // namespace
 
 void add_probe_options(CLI::App& c, ProbeOptions& o) {
-    c.add_option("--scene", o.scene,
-                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)");
-    add_scene_load_options(c);
+    add_scene_options(c, o.scene);
     c.add_option("--mode", o.mode, "render mode (see `fovref modes`)")->required();
-    c.add_option("--width", o.width, "screen width in pixels")->capture_default_str();
-    c.add_option("--height", o.height, "screen height in pixels")->capture_default_str();
+    add_screen_options(c, o.width, o.height, " in pixels");
     c.add_option("--frame", o.frame, "frame number (frames before it run too)")
         ->check(CLI::Range(0, 100000))
         ->capture_default_str();

@@ -95,12 +95,9 @@ std::vector<Buffer> resume_buffers(const std::string& directory, const GoldenCas
 }  // namespace
 
 void add_render_options(CLI::App& c, RenderOptions& o) {
-    c.add_option("--scene", o.scene,
-                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)");
-    add_scene_load_options(c);
+    add_scene_options(c, o.scene);
     c.add_option("--mode", o.mode, "render mode (see `fovref modes`)")->capture_default_str();
-    c.add_option("--width", o.width, "screen width in pixels")->capture_default_str();
-    c.add_option("--height", o.height, "screen height in pixels")->capture_default_str();
+    add_screen_options(c, o.width, o.height, " in pixels");
     c.add_option("--frames", o.frames,
                  "number of frames N, or a range A..B of frame numbers (= --first-frame A, "
                  "B - A + 1 frames)")

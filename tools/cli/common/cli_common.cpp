@@ -78,6 +78,39 @@ SceneLoadOptions& cli_scene_options() {
     return options;
 }
 
+CLI::Option* add_scene_options(CLI::App& c, std::string& scene, const std::string& help) {
+    CLI::Option* option = c.add_option("--scene", scene, help);
+    add_scene_load_options(c);
+    return option;
+}
+
+CLI::Option* add_scenes_options(CLI::App& c, std::vector<std::string>& scenes) {
+    CLI::Option* option =
+        c.add_option("--scene", scenes,
+                     "procedural scene, scene file or model file (.obj, .gltf, .glb) (repeatable; "
+                     "default: every procedural scene)");
+    add_scene_load_options(c);
+    return option;
+}
+
+void add_screen_options(CLI::App& c, int& width, int& height, const std::string& of, int min_side) {
+    CLI::Option* w = c.add_option("--width", width, "screen width" + of)->capture_default_str();
+    CLI::Option* h = c.add_option("--height", height, "screen height" + of)->capture_default_str();
+    if (min_side > 0) {
+        w->check(CLI::Range(min_side, 16384));
+        h->check(CLI::Range(min_side, 16384));
+    }
+}
+
+void add_ring_options(CLI::App& c, int& rings, float& max_range) {
+    c.add_option("--rings", rings, "number of error ranges (rings of eccentricity)")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    c.add_option("--max-range", max_range, "fraction of the largest eccentricity covered")
+        ->check(CLI::Range(1e-6, 1.0))
+        ->capture_default_str();
+}
+
 void add_scene_load_options(CLI::App& c, bool with_camera) {
     SceneLoadOptions& o = cli_scene_options();
     c.add_flag("--strict-obj", o.strict_obj,

@@ -16,7 +16,9 @@
 
 namespace CLI {
 class App;
-}
+class Option;
+class Option;
+}  // namespace CLI
 
 namespace fovref {
 
@@ -48,6 +50,28 @@ void add_scene_load_options(CLI::App& command, bool with_camera = true);
 /// a scene with load warnings, unsupported features or defaults gets one summary line on
 /// stderr and its first three warnings (`scene info` lists them all).
 Scene load_cli_scene(const std::string& name_or_path, bool report = true);
+
+/// The help of --scene for a command that renders one scene.
+inline constexpr const char* scene_option_help =
+    "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)";
+
+/// The scene options of a command that renders one scene: --scene (`help`), --strict-obj and
+/// --camera (add_scene_load_options). Returns --scene (to mark it required or show its default).
+CLI::Option* add_scene_options(CLI::App& command, std::string& scene,
+                               const std::string& help = scene_option_help);
+/// The scene options of a command that takes several scenes (a repeatable --scene; default:
+/// every procedural scene).
+CLI::Option* add_scenes_options(CLI::App& command, std::vector<std::string>& scenes);
+
+/// The screen options --width and --height ("screen width" + `of`), their defaults shown; with
+/// `min_side` > 0 checked to [min_side, 16384] (without, the render's own settings check names
+/// the bad value).
+void add_screen_options(CLI::App& command, int& width, int& height, const std::string& of = "",
+                        int min_side = 0);
+
+/// The error-range options: --rings (1 .. 1000 rings of eccentricity) and --max-range (the
+/// fraction of the largest eccentricity they cover), their defaults shown.
+void add_ring_options(CLI::App& command, int& rings, float& max_range);
 
 /// The options `fovref render` and `fovref probe` share: the case they render.
 struct CaseOptions {

@@ -1,6 +1,7 @@
 #include <CLI/CLI.hpp>
 
 #include "tools/cli/commands/diff/diff.h"
+#include "tools/cli/common/cli_common.h"
 
 namespace fovref {
 
@@ -50,12 +51,7 @@ void add_diff_options(CLI::App& c, DiffOptions& o) {
     c.add_option("--gaze", o.gaze,
                  "gaze point X,Y in pixels for the error ranges (default: "
                  "the centre)");
-    c.add_option("--rings", o.rings, "number of error ranges")
-        ->check(CLI::Range(1, 1000))
-        ->capture_default_str();
-    c.add_option("--max-range", o.max_range, "fraction of the largest eccentricity covered")
-        ->check(CLI::Range(1e-6, 1.0))
-        ->capture_default_str();
+    add_ring_options(c, o.rings, o.max_range);
     c.add_flag("--flip", o.flip,
                "also LDR-FLIP (NVlabs v1.x) of colour buffers, in display space (about 0.25 s "
                "per 1280x720 pair); pixels per degree from the display model, else NVlabs's "
