@@ -1,9 +1,15 @@
 // fovref: the command-line tool of the reference renderer. This file builds the command line and
-// dispatches; each command (or command group) is a module of its own: tools/cli/commands/scene.h,
-// cmd_render.h, cmd_modes.h, cmd_rays.h, cmd_golden.h, cmd_probe.h, cmd_gain.h, cmd_density.h,
-// bench_rays.h, bench_metrics.h, bench_foveation.h, bench_temporal.h, evaluate.h and diff.h, each
-// with its options, their registration and its run function. Exit codes: 0 ok, 1 a check failed
-// (golden verify, diff), 2 usage or input error.
+// dispatches; each command (or command group) is a module of its own, with its options, their
+// registration and its run function:
+//   tools/cli/commands/  scene, modes, render, rays, golden, probe, evaluate, sweep, stress, diff
+//                        (diff/: options, input, compare, probe_hint, console, json, html), gain,
+//                        density, denoise
+//   tools/cli/bench/     rays (and embree, its peer), metrics, foveation, temporal, bmfr,
+//                        visual_polar
+//   tools/cli/report/    JSON values, SVG plots, the sweep report
+//   tools/cli/common/    what they share: exit codes, option groups, the resolved case, number
+//                        formatting, progress
+// Exit codes: 0 ok, 1 a check failed (golden verify, diff), 2 usage or input error.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
