@@ -61,10 +61,6 @@ std::optional<Scene> scene_of(const CaseOptions& o, const ModeInfo& mode,
 
 }  // namespace
 
-std::optional<Scene> command_scene(const CaseOptions& o, const std::string& command) {
-    return scene_of(o, find_mode(o.mode), command);
-}
-
 ResolvedCase resolve_case(const CaseOptions& o, const std::string& command) {
     ResolvedCase c;
     c.mode = &find_mode(o.mode);

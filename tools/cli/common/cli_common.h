@@ -103,12 +103,10 @@ struct ResolvedCase {
     const Scene* scene_or_null() const { return scene ? &*scene : nullptr; }
 };
 
-/// The mode (fovref::Error listing the modes for an unknown one), the scene (as command_scene)
-/// and the case (as command_case, named `command`), in that order.
+/// The mode (fovref::Error listing the modes for an unknown one), the scene
+/// and the case (as command_case, named `command`), in that order. The scene: none for a mode
+/// that needs none; fovref::Error ("COMMAND: mode 'M' needs --scene") when it needs one and
+/// --scene is missing.
 ResolvedCase resolve_case(const CaseOptions& options, const std::string& command);
-
-/// The scene of the options' mode, or none for a mode that needs none. Throws fovref::Error
-/// ("COMMAND: mode 'M' needs --scene") when the mode needs one and --scene is missing.
-std::optional<Scene> command_scene(const CaseOptions& options, const std::string& command);
 
 }  // namespace fovref
