@@ -39,7 +39,8 @@ using json = nlohmann::json;
 // One compared sequence: a render mode (with its parameters) or a directory of frames.
 struct Candidate {
     std::string label;
-    std::string mode;  ///< "" for a directory of frames
+    std::string mode;                ///< "" for a directory of frames
+    const ModeInfo* info = nullptr;  ///< the mode, looked up once
     std::string directory;
     Params params;
     std::vector<std::vector<RingStats>> rings;   ///< per evaluated frame
@@ -62,7 +63,8 @@ Candidate parse_mode(const std::string& text, const std::vector<std::string>& sh
         start = colon + 1;
     }
     c.mode = parts[0];
-    const ModeInfo& mode = find_mode(c.mode);
+    c.info = &find_mode(c.mode);
+    const ModeInfo& mode = *c.info;
     for (const std::string& p : shared_params) {
         Params one;
         one.set_from_assignment(p);
@@ -170,7 +172,8 @@ struct Evaluation {
 
     const EvaluateOptions& options;
     const Scene& scene;
-    RenderSettings base;  ///< size and camera-path times of every render
+    const ModeInfo* reference_mode = nullptr;  ///< looked up once
+    RenderSettings base;                       ///< size and camera-path times of every render
     glm::vec2 gaze;
     float distance = 0.0f;  ///< viewing distance in pixels (the scene's display model)
     RingLayout layout;
@@ -302,7 +305,7 @@ void render_reference(Evaluation& e, Progress& progress, double total) {
                 progress.update((static_cast<double>(i) + f) /
                                 static_cast<double>(e.evaluated.size()) / total);
             };
-            for (const FrameResult& f : render(&e.scene, e.options.reference_mode, s))
+            for (const FrameResult& f : render(&e.scene, *e.reference_mode, s))
                 linear.push_back(final_image(f));
         }
         if (!dir.empty()) store_reference(dir, key, linear, e.evaluated);
@@ -384,7 +387,7 @@ void evaluate_candidate(const Evaluation& e, Candidate& c, std::size_t index, Pr
         std::map<int, std::map<std::string, std::vector<double>>> times;
         std::map<int, std::string> hashes;
         for (int r = 1; r < e.options.repeats; ++r)
-            render_each(&e.scene, c.mode, s, [&](FrameResult& f) {
+            render_each(&e.scene, *c.info, s, [&](FrameResult& f) {
                 for (const StageRun& run : f.stages)
                     if (run.ran) times[f.frame][run.name].push_back(run.seconds);
                 const std::string hash = canonical_sha256(final_image(f));
@@ -393,7 +396,7 @@ void evaluate_candidate(const Evaluation& e, Candidate& c, std::size_t index, Pr
                                 " differs between repeats (not deterministic)");
             });
         s.progress = done;
-        render_each(&e.scene, c.mode, s, [&](FrameResult& f) {
+        render_each(&e.scene, *c.info, s, [&](FrameResult& f) {
             if (!hashes.empty() && hashes.at(f.frame) != canonical_sha256(final_image(f)))
                 throw Error(c.label + ": frame " + std::to_string(f.frame) +
                             " differs between repeats (not deterministic)");
@@ -586,10 +589,8 @@ int run_evaluate(const EvaluateOptions& o) {
         throw Error("evaluate: give --mode and/or --frames-dir");
     const Scene scene = load_cli_scene(o.scene);
     std::vector<Candidate> candidates = make_candidates(o);
-    const ModeInfo& reference_mode = find_mode(o.reference_mode);
-    (void)reference_mode;
-
     Evaluation e(o, scene);
+    e.reference_mode = &find_mode(o.reference_mode);  // an unknown mode fails before any work
     set_up_rings(e);
     for (int f = 0; f < o.frames; f += o.every) e.evaluated.push_back(f);
     Progress progress("evaluate", o.quiet);
