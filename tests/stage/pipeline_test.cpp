@@ -307,3 +307,51 @@ TEST_CASE("pipeline: skipping unconsumed stages leaves the final buffers bit-ide
     }
     CHECK(modes_with_skips >= 5);
 }
+
+namespace {
+
+// A stage that reads its port "in" and writes its port "out": the wiring decides which buffers.
+void double_in_to_out(FrameContext& ctx) {
+    Image out = ctx.input("in");
+    for (float& v : out.data) v *= 2.0f;
+    ctx.output("out", BufferKind::scalar, {"v"}, std::move(out));
+}
+
+void read_undeclared(FrameContext& ctx) { (void)ctx.input("a"); }
+
+void write_undeclared(FrameContext& ctx) {
+    ctx.output("elsewhere", BufferKind::scalar, {"v"}, Image(1, 1, 1, 0.0f));
+}
+
+}  // namespace
+
+// Stages declare their ports (slot -> buffer) and the framework hands over the buffers the wiring
+// binds: the same stage function serves two wirings, and a stage that reads or writes a slot it
+// did not declare fails with its name.
+TEST_CASE("pipeline: ports bind a stage's slots to the buffers the wiring names") {
+    int runs[3] = {0, 0, 0};
+    Pipeline p = toy_pipeline(runs);
+    p.stages.push_back({"a_twice", {{"in", "a"}}, {{"out", "a4"}}, double_in_to_out});
+    p.stages.push_back({"b_twice", {{"in", "b"}}, {{"out", "b4"}}, double_in_to_out});
+    p.validate("toy");
+    FrameContext ctx;
+    const FrameResult r = p.run_frame(ctx, {"a4", "b4"});
+    REQUIRE(r.find("a4") != nullptr);
+    REQUIRE(r.find("b4") != nullptr);
+    CHECK(r.find("a4")->image.data[0] == 2.0f);  // a = 1
+    CHECK(r.find("b4")->image.data[0] == 4.0f);  // b = 2 a
+    CHECK(r.find("a4")->stage == "a_twice");
+
+    Pipeline reads;
+    reads.stages.push_back({"make_a", {}, {"a"}, make_a, std::make_shared<ToyState>()});
+    reads.stages.push_back({"sneaky", {}, {"x"}, read_undeclared});
+    int more[3] = {0, 0, 0};
+    static_cast<ToyState&>(*reads.stages.front().state).runs = more;
+    CHECK_THROWS_WITH_AS(reads.run_frame(ctx, {"all"}),
+                         doctest::Contains("stage 'sneaky' reads 'a', which it does not declare"),
+                         Error);
+    Pipeline writes;
+    writes.stages.push_back({"stray", {}, {"x"}, write_undeclared});
+    CHECK_THROWS_WITH_AS(writes.run_frame(ctx, {"all"}),
+                         doctest::Contains("writes 'elsewhere', which it does not declare"), Error);
+}
