@@ -168,12 +168,13 @@ namespace {
 // What every comparison of a run shares: the screen, the ring layout around the gaze, the
 // evaluated frames and the reference images at them.
 struct Evaluation {
-    Evaluation(const EvaluateOptions& o, const Scene& s) : options(o), scene(s) {}
+    Evaluation(const EvaluateOptions& o, const Scene& s)
+        : options(o), scene(s), reference_mode(&find_mode(o.reference_mode)) {}
 
     const EvaluateOptions& options;
     const Scene& scene;
-    const ModeInfo* reference_mode = nullptr;  ///< looked up once
-    RenderSettings base;                       ///< size and camera-path times of every render
+    const ModeInfo* reference_mode;  ///< looked up once (an unknown mode fails before any work)
+    RenderSettings base;             ///< size and camera-path times of every render
     glm::vec2 gaze;
     float distance = 0.0f;  ///< viewing distance in pixels (the scene's display model)
     RingLayout layout;
@@ -590,7 +591,6 @@ int run_evaluate(const EvaluateOptions& o) {
     const Scene scene = load_cli_scene(o.scene);
     std::vector<Candidate> candidates = make_candidates(o);
     Evaluation e(o, scene);
-    e.reference_mode = &find_mode(o.reference_mode);  // an unknown mode fails before any work
     set_up_rings(e);
     for (int f = 0; f < o.frames; f += o.every) e.evaluated.push_back(f);
     Progress progress("evaluate", o.quiet);
