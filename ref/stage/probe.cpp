@@ -18,14 +18,6 @@ std::string probe_vec3(glm::vec3 v) {
     return "(" + probe_float(v.x) + ", " + probe_float(v.y) + ", " + probe_float(v.z) + ")";
 }
 
-std::string probe_bits(float v) {
-    std::uint32_t bits = 0;
-    std::memcpy(&bits, &v, 4);
-    char text[16];
-    std::snprintf(text, sizeof text, "0x%08x", bits);
-    return text;
-}
-
 namespace {
 
 // The frame, pixel, texel and eye of a probe, checked before any work; a texel's x and y are 0.

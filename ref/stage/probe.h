@@ -68,10 +68,9 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
                         int frame, int x, int y, std::optional<glm::ivec2> texel = std::nullopt,
                         int eye = -1);
 
-/// Formatting helpers for explainers: "%.9g" floats (round-trip exact), vectors, hex bits.
+/// Formatting helpers for explainers: "%.9g" floats (round-trip exact), vectors.
 std::string probe_float(float v);
 std::string probe_vec3(glm::vec3 v);
-std::string probe_bits(float v);
 
 /// The report as indented text.
 std::string probe_text(const ProbeReport& report);
