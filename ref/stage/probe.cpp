@@ -1,7 +1,6 @@
 #include "ref/stage/probe.h"
 
 #include <cstdio>
-#include <cstring>
 
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
