@@ -312,24 +312,30 @@ Image bmfr_accumulate_filtered(const BmfrParams& params, const Image& fitted, co
     if (!history.empty()) check_shape(history, width, height, 3, "accumulated_filtered history");
     Image out(width, height, 3);
     for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            // the accepted-tap bits 0 .. 15 (anything else, e.g. from a corrupted buffer: none)
-            const float bits = accept.at(x, y);
-            const unsigned mask = bits >= 0.0f && bits < 16.0f ? static_cast<unsigned>(bits) : 0u;
-            float* o = &out.data[out.index(x, y)];
-            const float* c = &fitted.data[fitted.index(x, y)];
-            float h[3];
-            const glm::vec2 q(previous_pixel.at(x, y, 0), previous_pixel.at(x, y, 1));
-            if (!history.empty() && mask != 0 &&
-                blend_accepted(history, space.map ? bmfr_vp_taps(*space.map, q) : bmfr_taps(q),
-                               mask, h)) {
-                const float alpha = std::max(1.0f / spp.at(x, y), params.filtered_alpha_min);
-                for (int ch = 0; ch < 3; ++ch) o[ch] = alpha * c[ch] + (1.0f - alpha) * h[ch];
-            } else {
-                for (int ch = 0; ch < 3; ++ch) o[ch] = c[ch];
-            }
-        }
+        for (int x = 0; x < width; ++x)
+            bmfr_accumulate_filtered_pixel(params, fitted, spp, accept, previous_pixel, history,
+                                           space, out, x, y);
     return out;
+}
+
+void bmfr_accumulate_filtered_pixel(const BmfrParams& params, const Image& fitted, const Image& spp,
+                                    const Image& accept, const Image& previous_pixel,
+                                    const Image& history, const BmfrSpace& space, Image& out, int x,
+                                    int y) {
+    // the accepted-tap bits 0 .. 15 (anything else, e.g. from a corrupted buffer: none)
+    const float bits = accept.at(x, y);
+    const unsigned mask = bits >= 0.0f && bits < 16.0f ? static_cast<unsigned>(bits) : 0u;
+    float* o = &out.data[out.index(x, y)];
+    const float* c = &fitted.data[fitted.index(x, y)];
+    float h[3];
+    const glm::vec2 q(previous_pixel.at(x, y, 0), previous_pixel.at(x, y, 1));
+    if (!history.empty() && mask != 0 &&
+        blend_accepted(history, space.map ? bmfr_vp_taps(*space.map, q) : bmfr_taps(q), mask, h)) {
+        const float alpha = std::max(1.0f / spp.at(x, y), params.filtered_alpha_min);
+        for (int ch = 0; ch < 3; ++ch) o[ch] = alpha * c[ch] + (1.0f - alpha) * h[ch];
+    } else {
+        for (int ch = 0; ch < 3; ++ch) o[ch] = c[ch];
+    }
 }
 
 }  // namespace fovref

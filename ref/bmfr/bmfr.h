@@ -285,6 +285,9 @@ BmfrFit bmfr_fit(const BmfrParams& params, const Image& accumulated, const Image
 /// clamps each channel at 0 from below (a sum that overflows to infinity gives 0, counted).
 Image bmfr_weighted_sum(const BmfrFit& fit, const Image& world_position, const Image& normal,
                         BmfrStats& stats, const Image* valid = nullptr);
+/// Per-pixel work of the weighted sum: pixel (x, y) of `out` (W x H x 3), from its cell's fit.
+void bmfr_weighted_sum_pixel(const BmfrFit& fit, const Image& world_position, const Image& normal,
+                             Image& out, int x, int y, BmfrStats& stats);
 
 // ---- phase III, remodulation, TAA -----------------------------------------------------------
 
@@ -294,6 +297,11 @@ Image bmfr_weighted_sum(const BmfrFit& fit, const Image& world_position, const I
 Image bmfr_accumulate_filtered(const BmfrParams& params, const Image& fitted, const Image& spp,
                                const Image& accept, const Image& previous_pixel,
                                const Image& history, const BmfrSpace& space = {});
+/// Per-pixel work of phase III: pixel (x, y) of `out` (W x H x 3).
+void bmfr_accumulate_filtered_pixel(const BmfrParams& params, const Image& fitted, const Image& spp,
+                                    const Image& accept, const Image& previous_pixel,
+                                    const Image& history, const BmfrSpace& space, Image& out, int x,
+                                    int y);
 
 /// display = clamp((max(albedo, floor) max(0, x) + e)^(1/2.2), 0, 1) per channel, e the emission
 /// (empty: 0).
@@ -315,6 +323,13 @@ Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Ima
 /// the history's taps are bmfr_vp_taps on traced texels of the previous frame.
 Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& previous_pixel,
                const Image& history, BmfrStats& stats, const BmfrSpace& space = {});
+/// `display` in unnormalised YCoCg, per pixel (what the TAA's neighbourhoods read).
+Image bmfr_ycocg(const Image& display);
+/// Per-pixel work of the TAA: pixel (x, y) of `out` (W x H x 3); `ycocg` = bmfr_ycocg(display)
+/// (unused without history). True when the history was blended in.
+bool bmfr_taa_pixel(const BmfrParams& params, const Image& display, const Image& ycocg,
+                    const Image& previous_pixel, const Image& history, const BmfrSpace& space,
+                    Image& out, int x, int y);
 
 /// The linear value of a display-space output: x^2.2 (the `final` buffer of a denoised frame).
 Image bmfr_linearize(const Image& display);

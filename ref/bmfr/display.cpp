@@ -120,51 +120,55 @@ Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& prev
                                           history.channels == 3)),
                  "bmfr_taa: buffers of different shapes");
     Image out(width, height, 3);
-    // Every pixel's YCoCg once (the neighbourhoods below read each one up to nine times)
-    Image ycocg(width, height, 3);
-    if (!history.empty())
-        for (int y = 0; y < height; ++y)
-            for (int x = 0; x < width; ++x) {
-                const glm::vec3 v = rgb_to_ycocg(load3(display, x, y));
-                float* p = &ycocg.data[ycocg.index(x, y)];
-                p[0] = v.x, p[1] = v.y, p[2] = v.z;
-            }
+    const Image ycocg = history.empty() ? Image() : bmfr_ycocg(display);
     for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            const glm::vec3 current = load3(display, x, y);
-            float* o = &out.data[out.index(x, y)];
-            o[0] = current.x, o[1] = current.y, o[2] = current.z;
-            if (history.empty()) continue;
-            if (space.map) {
-                if (space.valid->at(x, y) == 0.0f) continue;
-                const glm::vec2 q(previous_pixel.at(x, y, 0), previous_pixel.at(x, y, 1));
-                if (!(q.x >= -1.0f && q.x < static_cast<float>(width))) continue;
-                if (vp_taa_pixel(params, display, ycocg, q, history, space, x, y, o))
-                    ++stats.taa_history_used;
-                continue;
-            }
-            const glm::vec2 q(previous_pixel.at(x, y, 0), previous_pixel.at(x, y, 1));
-            // Some tap of the reprojected point must be on the screen: floor(q) in [-1, W - 1]
-            if (!(q.x >= -1.0f && q.y >= -1.0f && q.x < static_cast<float>(width) &&
-                  q.y < static_cast<float>(height)))
-                continue;
-            // The neighbours and the history's bilinear taps inside the image
-            const BmfrTaps taps = bmfr_taps(q);
-            const bool used = taa_blend(
-                params, display, ycocg, history, x, y, taps,
-                [&](int dx, int dy, int& sx, int& sy) {
-                    sx = x + dx, sy = y + dy;
-                    return sx >= 0 && sy >= 0 && sx < width && sy < height;
-                },
-                [&](int k) {
-                    return taps.x[k] >= 0 && taps.y[k] >= 0 && taps.x[k] < width &&
-                           taps.y[k] < height;
-                },
-                o);
-            if (!used) continue;
-            ++stats.taa_history_used;
-        }
+        for (int x = 0; x < width; ++x)
+            if (bmfr_taa_pixel(params, display, ycocg, previous_pixel, history, space, out, x, y))
+                ++stats.taa_history_used;
     return out;
+}
+
+Image bmfr_ycocg(const Image& display) {
+    Image ycocg(display.width, display.height, 3);
+    for (int y = 0; y < display.height; ++y)
+        for (int x = 0; x < display.width; ++x) {
+            const glm::vec3 v = rgb_to_ycocg(load3(display, x, y));
+            float* p = &ycocg.data[ycocg.index(x, y)];
+            p[0] = v.x, p[1] = v.y, p[2] = v.z;
+        }
+    return ycocg;
+}
+
+bool bmfr_taa_pixel(const BmfrParams& params, const Image& display, const Image& ycocg,
+                    const Image& previous_pixel, const Image& history, const BmfrSpace& space,
+                    Image& out, int x, int y) {
+    const int width = display.width, height = display.height;
+    const glm::vec3 current = load3(display, x, y);
+    float* o = &out.data[out.index(x, y)];
+    o[0] = current.x, o[1] = current.y, o[2] = current.z;
+    if (history.empty()) return false;
+    const glm::vec2 q(previous_pixel.at(x, y, 0), previous_pixel.at(x, y, 1));
+    if (space.map) {
+        if (space.valid->at(x, y) == 0.0f) return false;
+        if (!(q.x >= -1.0f && q.x < static_cast<float>(width))) return false;
+        return vp_taa_pixel(params, display, ycocg, q, history, space, x, y, o);
+    }
+    // Some tap of the reprojected point must be on the screen: floor(q) in [-1, W - 1]
+    if (!(q.x >= -1.0f && q.y >= -1.0f && q.x < static_cast<float>(width) &&
+          q.y < static_cast<float>(height)))
+        return false;
+    // The neighbours and the history's bilinear taps inside the image
+    const BmfrTaps taps = bmfr_taps(q);
+    return taa_blend(
+        params, display, ycocg, history, x, y, taps,
+        [&](int dx, int dy, int& sx, int& sy) {
+            sx = x + dx, sy = y + dy;
+            return sx >= 0 && sy >= 0 && sx < width && sy < height;
+        },
+        [&](int k) {
+            return taps.x[k] >= 0 && taps.y[k] >= 0 && taps.x[k] < width && taps.y[k] < height;
+        },
+        o);
 }
 
 Image bmfr_linearize(const Image& display) {

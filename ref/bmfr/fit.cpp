@@ -326,27 +326,32 @@ Image bmfr_weighted_sum(const BmfrFit& fit, const Image& world_position, const I
             if (g.visual_polar() && (y >= g.column_rows[static_cast<std::size_t>(x)] ||
                                      (valid && valid->at(x, y) == 0.0f)))
                 continue;  // no data: 0
-            const glm::ivec2 cell = g.cell_of(x, y);
-            const float* w = &fit.weights.data[fit.weights.index(cell.x, cell.y)];
-            const float* range = &fit.feature_range.data[fit.feature_range.index(cell.x, cell.y)];
-            float t[bmfr_feature_count];
-            bmfr_features(load3(normal, x, y), load3(world_position, x, y), t);
-            for (int k = 0; k < bmfr_scaled_count; ++k)
-                t[bmfr_scaled_first + k] =
-                    scale_feature(t[bmfr_scaled_first + k], range[k], range[bmfr_scaled_count + k]);
-            float* o = &out.data[out.index(x, y)];
-            for (int ch = 0; ch < 3; ++ch) {
-                float sum = 0.0f;
-                for (int i = 0; i < bmfr_feature_count; ++i)
-                    sum = sum + w[ch * bmfr_feature_count + i] * t[i];
-                if (!std::isfinite(sum)) {
-                    ++stats.fit_nonfinite;
-                    sum = 0.0f;
-                }
-                o[ch] = std::max(sum, 0.0f);
-            }
+            bmfr_weighted_sum_pixel(fit, world_position, normal, out, x, y, stats);
         }
     return out;
+}
+
+void bmfr_weighted_sum_pixel(const BmfrFit& fit, const Image& world_position, const Image& normal,
+                             Image& out, int x, int y, BmfrStats& stats) {
+    const glm::ivec2 cell = fit.grid.cell_of(x, y);
+    const float* w = &fit.weights.data[fit.weights.index(cell.x, cell.y)];
+    const float* range = &fit.feature_range.data[fit.feature_range.index(cell.x, cell.y)];
+    float t[bmfr_feature_count];
+    bmfr_features(load3(normal, x, y), load3(world_position, x, y), t);
+    for (int k = 0; k < bmfr_scaled_count; ++k)
+        t[bmfr_scaled_first + k] =
+            scale_feature(t[bmfr_scaled_first + k], range[k], range[bmfr_scaled_count + k]);
+    float* o = &out.data[out.index(x, y)];
+    for (int ch = 0; ch < 3; ++ch) {
+        float sum = 0.0f;
+        for (int i = 0; i < bmfr_feature_count; ++i)
+            sum = sum + w[ch * bmfr_feature_count + i] * t[i];
+        if (!std::isfinite(sum)) {
+            ++stats.fit_nonfinite;
+            sum = 0.0f;
+        }
+        o[ch] = std::max(sum, 0.0f);
+    }
 }
 
 }  // namespace fovref

@@ -301,4 +301,27 @@ void add_bmfr_stages(Pipeline& p, const BmfrWiring& w) {
     p.add({"bmfr_output", {"bmfr_taa"}, {{"output", w.output}}, bmfr_output_stage, state});
 }
 
+std::vector<PixelFunction> bmfr_pixel_functions(
+    const std::string& family,
+    std::function<glm::ivec2(const RenderSettings&, int frame, glm::ivec2 point)> block_of) {
+    const PixelArgs args = family.empty() ? PixelArgs::screen : PixelArgs::texel;
+    const std::string at = family.empty() ? "x, y: the pixel" : "x, y: the texel";
+    return {{"bmfr_accumulate_noisy", "fovref::bmfr_accumulate_noisy_pixel", at, args, family, {}},
+            {"bmfr_fit", "fovref::bmfr_gather_block",
+             "cell_x, cell_y: the block (the frame's offset grid); then bmfr_solve_block",
+             PixelArgs::block, family, std::move(block_of)},
+            {"bmfr_weighted_sum", "fovref::bmfr_weighted_sum_pixel", at, args, family, {}},
+            {"bmfr_accumulate_filtered",
+             "fovref::bmfr_accumulate_filtered_pixel",
+             at,
+             args,
+             family,
+             {}},
+            {"bmfr_taa", "fovref::bmfr_taa_pixel", at, args, family, {}}};
+}
+
+glm::ivec2 bmfr_screen_block(const RenderSettings& settings, int frame, glm::ivec2 point) {
+    return bmfr_grid(settings.width, settings.height, frame).cell_of(point.x, point.y);
+}
+
 }  // namespace fovref

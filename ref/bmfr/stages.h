@@ -62,6 +62,15 @@ void bmfr_remodulate_stage(FrameContext& context);
 void bmfr_taa_stage(FrameContext& context);
 void bmfr_output_stage(FrameContext& context);
 
+/// The per-pixel functions of the BMFR phases (for `probe --debugger`), on the screen
+/// (`family` empty) or on the texels of a buffer family ("vp_"); `block_of`: the grid cell of a
+/// frame that covers a point (bmfr_screen_block for the screen).
+std::vector<PixelFunction> bmfr_pixel_functions(
+    const std::string& family,
+    std::function<glm::ivec2(const RenderSettings&, int frame, glm::ivec2 point)> block_of);
+/// The cell of frame `frame`'s screen grid (bmfr_grid) that covers pixel `point`.
+glm::ivec2 bmfr_screen_block(const RenderSettings& settings, int frame, glm::ivec2 point);
+
 /// The bmfr_* counters of a frame (BmfrStats).
 void add_bmfr_counters(Counters& counters, const BmfrStats& stats);
 

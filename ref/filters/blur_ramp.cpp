@@ -28,65 +28,10 @@ void check_inputs(const BlurRamp& ramp, const BlurRampGeometry& geometry, const 
 Image blur_pass(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
                 bool vertical) {
     check_inputs(ramp, geometry, image);
-    const int width = image.width, height = image.height, channels = image.channels;
-    const int extent = vertical ? height : width;
-    // floats from one pixel to the next along the pass
-    const std::ptrdiff_t stride =
-        vertical ? static_cast<std::ptrdiff_t>(width) * channels : channels;
     Image out = image;
-    std::vector<float> mean(static_cast<std::size_t>(channels));
-    float weights[blur_ramp_max_radius + 1];
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            const glm::vec2 centre = pixel_centre(x, y);
-            const float sigma = blur_ramp_sigma_px(ramp, geometry, centre);
-            const int radius = blur_ramp_radius(sigma);
-            if (radius == 0) continue;  // copied
-
-            // Gaussian weights w_|d| = a^(d^2), a = exp(-1 / (2 sigma^2)), d = 0 .. R, by the
-            // recurrence w_d = w_(d-1) g_d, g_d = g_(d-1) a^2 (g_1 = a): one exp per pixel
-            const float a = dm::exp(-1.0f / (2.0f * sigma * sigma));
-            const float a2 = a * a;
-            weights[0] = 1.0f;
-            float g = a;
-            for (int d = 1; d <= radius; ++d) {
-                weights[d] = weights[d - 1] * g;
-                g = g * a2;
-            }
-            // Normalised: the sum over the taps -R .. R (from -R up), then each weight / sum
-            float weight_sum = 0.0f;
-            for (int d = -radius; d <= radius; ++d) weight_sum += weights[d < 0 ? -d : d];
-            const float inverse = 1.0f / weight_sum;
-            for (int d = 0; d <= radius; ++d) weights[d] = weights[d] * inverse;
-
-            // The weighted sum over the taps -R .. R, clamped to the border
-            const int position = vertical ? y : x;
-            std::fill(mean.begin(), mean.end(), 0.0f);
-            const float* centre_pixel = &image.data[image.index(x, y)];
-            const bool inside = position - radius >= 0 && position + radius < extent;
-            const auto offset = [&](int d) -> std::ptrdiff_t {
-                return (inside ? d : std::clamp(position + d, 0, extent - 1) - position) * stride;
-            };
-            if (channels == 3) {  // the colour images of the modes: sums kept in registers
-                float m0 = 0.0f, m1 = 0.0f, m2 = 0.0f;
-                for (int d = -radius; d <= radius; ++d) {
-                    const float weight = weights[d < 0 ? -d : d];
-                    const float* source = centre_pixel + offset(d);
-                    m0 += weight * source[0];
-                    m1 += weight * source[1];
-                    m2 += weight * source[2];
-                }
-                mean[0] = m0, mean[1] = m1, mean[2] = m2;
-            } else {
-                for (int d = -radius; d <= radius; ++d) {
-                    const float weight = weights[d < 0 ? -d : d];
-                    const float* source = centre_pixel + offset(d);
-                    for (int c = 0; c < channels; ++c)
-                        mean[static_cast<std::size_t>(c)] += weight * source[c];
-                }
-            }
-            for (int c = 0; c < channels; ++c) out.at(x, y, c) = mean[static_cast<std::size_t>(c)];
-        }
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x)
+            blur_ramp_pixel(ramp, geometry, image, vertical, out, x, y);
     return out;
 }
 
@@ -110,6 +55,63 @@ int blur_ramp_radius(float sigma_px) {
     const float radius = std::ceil(3.0f * sigma_px);
     return radius >= static_cast<float>(blur_ramp_max_radius) ? blur_ramp_max_radius
                                                               : static_cast<int>(radius);
+}
+
+void blur_ramp_pixel(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
+                     bool vertical, Image& out, int x, int y) {
+    const int width = image.width, height = image.height, channels = image.channels;
+    const glm::vec2 centre = pixel_centre(x, y);
+    const float sigma = blur_ramp_sigma_px(ramp, geometry, centre);
+    const int radius = blur_ramp_radius(sigma);
+    if (radius == 0) return;  // copied
+
+    // Gaussian weights w_|d| = a^(d^2), a = exp(-1 / (2 sigma^2)), d = 0 .. R, by the
+    // recurrence w_d = w_(d-1) g_d, g_d = g_(d-1) a^2 (g_1 = a): one exp per pixel
+    float weights[blur_ramp_max_radius + 1];
+    const float a = dm::exp(-1.0f / (2.0f * sigma * sigma));
+    const float a2 = a * a;
+    weights[0] = 1.0f;
+    float g = a;
+    for (int d = 1; d <= radius; ++d) {
+        weights[d] = weights[d - 1] * g;
+        g = g * a2;
+    }
+    // Normalised: the sum over the taps -R .. R (from -R up), then each weight / sum
+    float weight_sum = 0.0f;
+    for (int d = -radius; d <= radius; ++d) weight_sum += weights[d < 0 ? -d : d];
+    const float inverse = 1.0f / weight_sum;
+    for (int d = 0; d <= radius; ++d) weights[d] = weights[d] * inverse;
+
+    // The weighted sum over the taps -R .. R, clamped to the border
+    const int extent = vertical ? height : width;
+    const std::ptrdiff_t stride =  // floats from one pixel to the next along the pass
+        vertical ? static_cast<std::ptrdiff_t>(width) * channels : channels;
+    const int position = vertical ? y : x;
+    const float* centre_pixel = &image.data[image.index(x, y)];
+    const bool inside = position - radius >= 0 && position + radius < extent;
+    const auto offset = [&](int d) -> std::ptrdiff_t {
+        return (inside ? d : std::clamp(position + d, 0, extent - 1) - position) * stride;
+    };
+    float* o = &out.data[out.index(x, y)];
+    if (channels == 3) {  // the colour images of the modes: sums kept in registers
+        float m0 = 0.0f, m1 = 0.0f, m2 = 0.0f;
+        for (int d = -radius; d <= radius; ++d) {
+            const float weight = weights[d < 0 ? -d : d];
+            const float* source = centre_pixel + offset(d);
+            m0 += weight * source[0];
+            m1 += weight * source[1];
+            m2 += weight * source[2];
+        }
+        o[0] = m0, o[1] = m1, o[2] = m2;
+        return;
+    }
+    std::vector<float> mean(static_cast<std::size_t>(channels), 0.0f);
+    for (int d = -radius; d <= radius; ++d) {
+        const float weight = weights[d < 0 ? -d : d];
+        const float* source = centre_pixel + offset(d);
+        for (int c = 0; c < channels; ++c) mean[static_cast<std::size_t>(c)] += weight * source[c];
+    }
+    for (int c = 0; c < channels; ++c) o[c] = mean[static_cast<std::size_t>(c)];
 }
 
 Image blur_ramp_horizontal(const BlurRamp& ramp, const BlurRampGeometry& geometry,

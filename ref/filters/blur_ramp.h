@@ -58,6 +58,11 @@ float blur_ramp_sigma_px(const BlurRamp& ramp, const BlurRampGeometry& geometry,
 /// sigma_px <= 0.
 int blur_ramp_radius(float sigma_px);
 
+/// Per-pixel work of a pass (along y when `vertical`, else x): pixel (x, y) of `out`, which holds
+/// a copy of `image` (a pixel whose radius is 0 keeps it).
+void blur_ramp_pixel(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
+                     bool vertical, Image& out, int x, int y);
+
 /// The horizontal pass on a W x H image (the geometry's screen size), any channel count.
 Image blur_ramp_horizontal(const BlurRamp& ramp, const BlurRampGeometry& geometry,
                            const Image& image);

@@ -67,66 +67,56 @@ void post_aa_pixel(const Image& in, glm::vec2 gaze, float radius_max,
     for (int c = 0; c < in.channels; ++c) out.at(x, y, c) = sum[c];
 }
 
-namespace {
-
-/// The row sums (post_aa_row) of one kernel size eta, kept for the last eta rows each column
-/// asked for: the entry of (x, yy) lives in slot yy mod eta of column x. A window of eta rows
-/// holds eta different rows (or fewer, clamped at the edges), so it never evicts its own rows.
-struct RowSums {
-    int eta = 0;
-    std::vector<float> value;  ///< eta slots x width x channels
-    std::vector<int> row;      ///< eta slots x width: the row each entry holds (-1: none yet)
-};
-
-}  // namespace
-
 Image post_aa(const Image& in, glm::vec2 gaze, float radius_max) {
     FOVREF_CHECK(in.channels <= 4, "post anti-aliasing of more than 4 channels");
     std::vector<std::vector<float>> weights(max_eta + 1);
     for (int eta = 3; eta <= max_eta; eta += 2)
         weights[static_cast<std::size_t>(eta)] = post_aa_weights(eta);
     Image out(in.width, in.height, in.channels, 0.0f);
-    const int width = in.width, channels = in.channels;
-    std::vector<RowSums> sums(max_eta + 1);
-    // post_aa_pixel with each row sum computed once per (eta, x, row) instead of once per pixel
-    // that reads it: the same operations on the same values, so the same bits.
+    std::vector<PostAaRowCache> cache(max_eta + 1);
     for (int y = 0; y < in.height; ++y)
-        for (int x = 0; x < width; ++x) {
-            const glm::vec2 centre = pixel_centre(x, y);
-            const int eta = post_aa_size(gaze_distance(gaze, centre) / radius_max);
-            if (eta == 0) {
-                for (int c = 0; c < channels; ++c) out.at(x, y, c) = in.at(x, y, c);
-                continue;
-            }
-            const std::vector<float>& g = weights[static_cast<std::size_t>(eta)];
-            RowSums& r = sums[static_cast<std::size_t>(eta)];
-            if (r.eta == 0) {
-                r.eta = eta;
-                r.value.assign(static_cast<std::size_t>(eta) * width * channels, 0.0f);
-                r.row.assign(static_cast<std::size_t>(eta) * width, -1);
-            }
-            const int half = (eta - 1) / 2;
-            float sum[4] = {0, 0, 0, 0};
-            int previous = -1, slot = 0;
-            for (int dy = -half; dy <= half; ++dy) {
-                const int yy = std::clamp(y + dy, 0, in.height - 1);
-                if (previous < 0)
-                    slot = yy % eta;
-                else if (yy != previous)
-                    slot = slot + 1 == eta ? 0 : slot + 1;  // yy = previous + 1
-                previous = yy;
-                const std::size_t k = static_cast<std::size_t>(slot) * width + x;
-                float* row = &r.value[k * channels];
-                if (r.row[k] != yy) {
-                    post_aa_row(in, g, x, yy, row);
-                    r.row[k] = yy;
-                }
-                const float wy = g[static_cast<std::size_t>(dy + half)];
-                for (int c = 0; c < channels; ++c) sum[c] += wy * row[c];
-            }
-            for (int c = 0; c < channels; ++c) out.at(x, y, c) = sum[c];
-        }
+        for (int x = 0; x < in.width; ++x)
+            post_aa_cached_pixel(in, gaze, radius_max, weights, cache, out, x, y);
     return out;
+}
+
+void post_aa_cached_pixel(const Image& in, glm::vec2 gaze, float radius_max,
+                          const std::vector<std::vector<float>>& weights,
+                          std::vector<PostAaRowCache>& cache, Image& out, int x, int y) {
+    const int width = in.width, channels = in.channels;
+    const glm::vec2 centre = pixel_centre(x, y);
+    const int eta = post_aa_size(gaze_distance(gaze, centre) / radius_max);
+    if (eta == 0) {
+        for (int c = 0; c < channels; ++c) out.at(x, y, c) = in.at(x, y, c);
+        return;
+    }
+    const std::vector<float>& g = weights[static_cast<std::size_t>(eta)];
+    PostAaRowCache& r = cache[static_cast<std::size_t>(eta)];
+    if (r.eta == 0) {
+        r.eta = eta;
+        r.value.assign(static_cast<std::size_t>(eta) * width * channels, 0.0f);
+        r.row.assign(static_cast<std::size_t>(eta) * width, -1);
+    }
+    const int half = (eta - 1) / 2;
+    float sum[4] = {0, 0, 0, 0};
+    int previous = -1, slot = 0;
+    for (int dy = -half; dy <= half; ++dy) {
+        const int yy = std::clamp(y + dy, 0, in.height - 1);
+        if (previous < 0)
+            slot = yy % eta;
+        else if (yy != previous)
+            slot = slot + 1 == eta ? 0 : slot + 1;  // yy = previous + 1
+        previous = yy;
+        const std::size_t k = static_cast<std::size_t>(slot) * width + x;
+        float* row = &r.value[k * channels];
+        if (r.row[k] != yy) {
+            post_aa_row(in, g, x, yy, row);
+            r.row[k] = yy;
+        }
+        const float wy = g[static_cast<std::size_t>(dy + half)];
+        for (int c = 0; c < channels; ++c) sum[c] += wy * row[c];
+    }
+    for (int c = 0; c < channels; ++c) out.at(x, y, c) = sum[c];
 }
 
 }  // namespace fovref

@@ -40,7 +40,23 @@ void post_aa_row(const Image& in, const std::vector<float>& g, int x, int yy, fl
 void post_aa_pixel(const Image& in, glm::vec2 gaze, float radius_max,
                    const std::vector<std::vector<float>>& weights, Image& out, int x, int y);
 
-/// The filter: an image of `in`'s size and channels.
+/// The filter: an image of `in`'s size and channels (post_aa_cached_pixel, row by row).
 Image post_aa(const Image& in, glm::vec2 gaze, float radius_max);
+
+/// The row sums (post_aa_row) of one kernel size eta, kept for the last eta rows each column
+/// asked for: the entry of (x, yy) lives in slot yy mod eta of column x. A window of eta rows
+/// holds eta different rows (or fewer, clamped at the edges), so it never evicts its own rows.
+struct PostAaRowCache {
+    int eta = 0;
+    std::vector<float> value;  ///< eta slots x width x channels
+    std::vector<int> row;      ///< eta slots x width: the row each entry holds (-1: none yet)
+};
+
+/// post_aa's per-pixel work: post_aa_pixel with each row sum computed once per (eta, x, row)
+/// instead of once per pixel that reads it (kept in cache[eta]) - the same operations on the
+/// same values, so the same bits, when the pixels run row by row.
+void post_aa_cached_pixel(const Image& in, glm::vec2 gaze, float radius_max,
+                          const std::vector<std::vector<float>>& weights,
+                          std::vector<PostAaRowCache>& cache, Image& out, int x, int y);
 
 }  // namespace fovref

@@ -1,5 +1,7 @@
 #include "ref/modes/log_polar.h"
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 
 #include "ref/core/error.h"
@@ -84,14 +86,34 @@ Pipeline foveated_pipeline(const std::string& preset, const RenderSettings& sett
     return p;
 }
 
-std::vector<PixelFunction> foveated_pixel_functions(const Params& params) {
-    std::vector<PixelFunction> functions = {
-        {"lp_trace", "fovref::lp_gbuffer_texel", "x, y: the texel (i, j)"},
-        {"gaze_trace", "fovref::gaze_gbuffer_pixel", "composite modes only"},
-        {"lp_shade", "fovref::shade_basic_pixel", "x, y: the texel (i, j)"},
-        {"resolve", "fovref::resolve_pixel", ""}};
-    if (parse_taa_params(params).enabled())
-        functions.push_back({"taa", "fovref::taa_pixel", "once per frame, frames 0 .. F"});
+std::vector<PixelFunction> foveated_pixel_functions(const std::string& preset,
+                                                    const Params& params) {
+    const FoveatedParams p = parse_foveated_params(params, find_foveation_preset(preset));
+    const bool composite = p.map.gaze_angle > 0.0f;
+    const PixelArgs texel = PixelArgs::texel;
+    std::vector<PixelFunction> functions;
+    if (p.deferred) {
+        functions = raster_pixel_functions("gbuffer_raster", "gbuffer_",
+                                           "the G-buffer pixels lp_sample copies into the texels");
+        functions.push_back({"lp_sample", "fovref::deferred_gbuffer_texel", "", texel, "lp_"});
+    } else {
+        functions.push_back({"lp_trace", "fovref::lp_gbuffer_texel", "", texel, "lp_"});
+    }
+    if (composite)
+        functions.push_back({"gaze_trace", "fovref::gaze_gbuffer_pixel",
+                             "x, y: the screen pixel inside the gaze buffer's window",
+                             PixelArgs::screen, "gaze_"});
+    functions.push_back({"lp_shade", "fovref::shade_basic_pixel", "", texel, "lp_"});
+    if (composite)
+        functions.push_back({"gaze_shade", "fovref::shade_basic_pixel", "", texel, "gaze_"});
+    if (p.internal_aa)
+        functions.push_back({"internal_aa", "fovref::internal_aa_texel", "", texel, "lp_"});
+    functions.push_back(
+        {"resolve", p.mip_resolve ? "fovref::resolve_mip_pixel" : "fovref::resolve_pixel", ""});
+    if (parse_taa_params(params).enabled()) functions.push_back({"taa", "fovref::taa_pixel", ""});
+    if (p.gaussian_lerp) functions.push_back({"gaussian_lerp", "fovref::gaussian_lerp_pixel", ""});
+    if (p.post_aa)
+        functions.push_back({"post_aa", "fovref::post_aa_cached_pixel", "post_aa_pixel's bits"});
     return functions;
 }
 
@@ -132,11 +154,14 @@ Pipeline stereo_pipeline(const Scene*, const RenderSettings& settings) {
 
 std::vector<PixelFunction> stereo_pixel_functions(const Params& params) {
     std::vector<PixelFunction> functions = {
-        {"stereo_trace", "fovref::stereo_gbuffer_texel", "x, y: the texel of both eyes' buffer"},
-        {"stereo_shade", "fovref::shade_basic_pixel", "x, y: the texel"},
+        {"stereo_trace", "fovref::stereo_gbuffer_texel", "x: the column in both eyes' buffer",
+         PixelArgs::texel, "lp_"},
+        {"stereo_shade", "fovref::shade_basic_pixel", "x: the column in both eyes' buffer",
+         PixelArgs::texel, "lp_"},
         {"resolve", "fovref::resolve_stereo_pixel", ""}};
     if (parse_taa_params(params).enabled())
-        functions.push_back({"taa", "fovref::taa_pixel", "x, y: the pixel within its eye"});
+        functions.push_back(
+            {"taa", "fovref::taa_pixel", "x, y: the pixel within its eye", PixelArgs::eye_pixel});
     return functions;
 }
 
@@ -145,17 +170,46 @@ Camera frame_camera(const Scene& scene, const RenderSettings& settings, int fram
     return camera_at(scene, settings.time_start + static_cast<float>(frame) * settings.time_step);
 }
 
+// Meng's deferred variant: the rasterized G-buffer pixels that lp_sample copies into `texels`
+// (each texel's screen point after the frame's jitter, floored), as family "gbuffer_".
+std::vector<TexelRead> deferred_sampled_pixels(const LogPolarMap& map, Offset2 jitter,
+                                               const std::vector<TexelRead>& texels) {
+    const LpInverseTable table =
+        lp_inverse_table(map, Offset2{}, {jitter.x - 0.5f, jitter.y - 0.5f});
+    std::vector<TexelRead> pixels;
+    for (const TexelRead& read : texels) {
+        glm::vec2 p{0.0f};
+        if (read.family != "lp_" ||
+            lp_texel_status(map, table, read.texel.x, read.texel.y, p) != TexelStatus::traced)
+            continue;
+        const TexelRead pixel{
+            "gbuffer_", {static_cast<int>(std::floor(p.x)), static_cast<int>(std::floor(p.y))}};
+        if (std::find(pixels.begin(), pixels.end(), pixel) == pixels.end()) pixels.push_back(pixel);
+    }
+    return pixels;
+}
+
 std::vector<TexelRead> foveated_pixel_texels(const std::string& preset, const Scene& scene,
                                              const RenderSettings& settings, int frame, int x,
                                              int y) {
     const FoveatedParams params =
         parse_foveated_params(settings.params, find_foveation_preset(preset));
-    const LogPolarMap map = foveated_map(params, scene, frame_camera(scene, settings, frame),
-                                         settings.width, settings.height, frame);
+    const Camera camera = frame_camera(scene, settings, frame);
+    const LogPolarMap map =
+        foveated_map(params, scene, camera, settings.width, settings.height, frame);
     bool from_gaze = false;
     std::vector<TexelRead> reads;
     for (const glm::ivec2& texel : resolve_pixel_taps(map, x, y, from_gaze))
         reads.push_back({from_gaze ? "gaze_" : "lp_", texel});
+    if (params.deferred) {
+        // The frame's jitter, as the stage computes it (taa_frame_jitter): frame f's previous
+        // camera is frame f - 1's
+        const Camera previous = frame > 0 ? frame_camera(scene, settings, frame - 1) : camera;
+        const Offset2 jitter =
+            taa_jitter(parse_taa_params(settings.params), frame, !(camera == previous));
+        for (TexelRead& pixel : deferred_sampled_pixels(map, jitter, reads))
+            reads.push_back(std::move(pixel));
+    }
     return reads;
 }
 
@@ -186,7 +240,9 @@ ModeInfo foveated_mode(const std::string& preset_name, const std::string& what) 
     };
     m.explain = explain_foveated_taa;
     m.explains_texels = true;
-    m.pixel_functions = foveated_pixel_functions;
+    m.pixel_functions = [preset_name](const Params& params) {
+        return foveated_pixel_functions(preset_name, params);
+    };
     m.buffer_families = {{"lp_", BufferSpace::texel}, {"gaze_", BufferSpace::screen_window}};
     m.pixel_texels = [preset_name](const Scene& scene, const RenderSettings& settings, int frame,
                                    int x, int y) {

@@ -45,18 +45,16 @@ Pipeline basic_pipeline(const Scene*, const RenderSettings& settings) {
 }
 
 std::vector<PixelFunction> basic_pixel_functions(const Params& params) {
-    if (parse_taa_params(params).enabled())
-        return {{"primary_visibility", "fovref::raycast_gbuffer_pixel", "jittered (TAA)"},
-                {"shade_direct", "fovref::shade_basic_pixel", ""},
-                {"taa", "fovref::taa_pixel", "once per frame, frames 0 .. F"}};
+    const bool taa = parse_taa_params(params).enabled();
+    std::vector<PixelFunction> functions;
     if (parse_basic_params(params).primary == PrimaryVisibility::raster)
-        return {{"primary_visibility", "fovref::raster_fragment",
-                 "once per triangle whose snapped coverage contains the centre"},
-                {"primary_visibility", "fovref::depth_test", "once per fragment found"},
-                {"primary_visibility", "fovref::write_gbuffer_pixel", "the winner's attributes"},
-                {"shade_direct", "fovref::shade_basic_pixel", ""}};
-    return {{"primary_visibility", "fovref::raycast_gbuffer_pixel", ""},
-            {"shade_direct", "fovref::shade_basic_pixel", ""}};
+        functions = raster_pixel_functions("primary_visibility");
+    else
+        functions = {
+            {"primary_visibility", "fovref::raycast_gbuffer_pixel", taa ? "jittered (TAA)" : ""}};
+    functions.push_back({"shade_direct", "fovref::shade_basic_pixel", ""});
+    if (taa) functions.push_back({"taa", "fovref::taa_pixel", ""});
+    return functions;
 }
 
 void explain_basic_taa(const ProbeContext& c, ProbeReport& report) {
@@ -115,10 +113,13 @@ Pipeline pathtrace_pipeline(const Scene*, const RenderSettings& settings) {
     return p;
 }
 
-std::vector<PixelFunction> pathtrace_pixel_functions(const Params&) {
-    return {{"primary_visibility", "fovref::raster_fragment",
-             "once per triangle whose snapped coverage contains the centre"},
-            {"pathtrace", "fovref::pathtrace_pixel", ""}};
+std::vector<PixelFunction> pathtrace_pixel_functions(const Params& params) {
+    std::vector<PixelFunction> functions = raster_pixel_functions("primary_visibility");
+    functions.push_back({"pathtrace", "fovref::pathtrace_pixel", ""});
+    if (parse_bmfr_params(params).enabled)
+        for (PixelFunction& f : bmfr_pixel_functions("", bmfr_screen_block))
+            functions.push_back(std::move(f));
+    return functions;
 }
 
 std::vector<ParamSpec> pathtrace_reference_param_specs() {

@@ -67,16 +67,31 @@ Pipeline vp_pipeline(const RenderSettings& settings, bool path_traced) {
     return p;
 }
 
-std::vector<PixelFunction> visual_polar_pixel_functions(const Params&) {
-    return {{"vp_trace", "fovref::vp_gbuffer_texel", "x, y: the texel (i, j)"},
-            {"vp_pathtrace", "fovref::pathtrace_pixel", "x, y: the texel (i, j)"},
-            {"resolve", "fovref::resolve_vp_pixel", ""}};
+// The cell of frame `frame`'s Visual-Polar BMFR grid that covers texel `texel`.
+glm::ivec2 vp_bmfr_block(const RenderSettings& settings, int frame, glm::ivec2 texel) {
+    const VisualPolarMap map = sparse_vp_map(parse_sparse_params(settings.params, "visual-polar"),
+                                             settings.width, settings.height, frame);
+    return bmfr_grid(map.width, map.height, frame, &map).cell_of(texel.x, texel.y);
 }
 
-std::vector<PixelFunction> visual_polar_basic_pixel_functions(const Params&) {
-    return {{"vp_trace", "fovref::vp_gbuffer_texel", "x, y: the texel (i, j)"},
-            {"vp_shade", "fovref::shade_basic_pixel", "x, y: the texel (i, j)"},
-            {"resolve", "fovref::resolve_vp_pixel", ""}};
+std::vector<PixelFunction> vp_pixel_functions(bool path_traced, const Params& params) {
+    std::vector<PixelFunction> functions = {
+        {"vp_trace", "fovref::vp_gbuffer_texel", "", PixelArgs::texel, "vp_"}};
+    if (!path_traced) {
+        functions.push_back({"vp_shade", "fovref::shade_basic_pixel", "", PixelArgs::texel, "vp_"});
+    } else {
+        functions.push_back(
+            {"vp_pathtrace", "fovref::pathtrace_pixel", "", PixelArgs::texel, "vp_"});
+        if (parse_bmfr_params(params, "bmfr").enabled)
+            for (PixelFunction& f : bmfr_pixel_functions("vp_", vp_bmfr_block))
+                functions.push_back(std::move(f));
+    }
+    functions.push_back({"resolve", "fovref::resolve_vp_pixel", ""});
+    if (parse_sparse_params(params, path_traced ? "visual-polar" : "visual-polar-basic").blur) {
+        functions.push_back({"blur_horizontal", "fovref::blur_ramp_pixel", "vertical = false"});
+        functions.push_back({"blur_vertical", "fovref::blur_ramp_pixel", "vertical = true"});
+    }
+    return functions;
 }
 
 // visual-polar's probe: the Visual-Polar explanation and, for a traced texel of a frame BMFR
@@ -117,7 +132,7 @@ ModeInfo visual_polar_mode() {
                              "ramp (Koskela P5)");
     m.params = visual_polar_param_specs(true);
     m.build = [](const Scene*, const RenderSettings& s) { return vp_pipeline(s, true); };
-    m.pixel_functions = visual_polar_pixel_functions;
+    m.pixel_functions = [](const Params& params) { return vp_pixel_functions(true, params); };
     m.parameters_carry_state = [](const Params& p) {  // BMFR by default
         return parse_bmfr_params(p, "bmfr").enabled;
     };
@@ -136,7 +151,7 @@ ModeInfo visual_polar_basic_mode() {
                              "resolve, blur ramp (for comparison with the log-polar modes)");
     m.params = visual_polar_param_specs(false);
     m.build = [](const Scene*, const RenderSettings& s) { return vp_pipeline(s, false); };
-    m.pixel_functions = visual_polar_basic_pixel_functions;
+    m.pixel_functions = [](const Params& params) { return vp_pixel_functions(false, params); };
     m.explain = explain_visual_polar;
     m.explains_texels = true;
     m.buffer_families = {{"vp_", BufferSpace::texel}};

@@ -37,4 +37,15 @@ StageDef rasterize_stage_def(std::string name, RasterSettings settings) {
     return {std::move(name), {}, gbuffer_ports(), rasterize_stage, state};
 }
 
+std::vector<PixelFunction> raster_pixel_functions(const std::string& stage,
+                                                  const std::string& family,
+                                                  const std::string& why) {
+    const std::string tail = why.empty() ? "" : "; " + why;
+    const PixelArgs args = family.empty() ? PixelArgs::screen : PixelArgs::texel;
+    return {{stage, "fovref::raster_fragment",
+             "once per triangle whose snapped coverage contains the centre" + tail, args, family},
+            {stage, "fovref::depth_test", "once per fragment found", args, family},
+            {stage, "fovref::write_gbuffer_pixel", "the winner's attributes", args, family}};
+}
+
 }  // namespace fovref

@@ -25,4 +25,11 @@ void rasterize_stage(FrameContext& context);
 
 void add_raster_counters(Counters& counters, const RasterStats& stats);
 
+/// The rasterizer's per-pixel functions in stage `stage` (for `probe --debugger`), at the screen
+/// pixel; with `family` set, at the pixels of that family the probed pixel reads (kfr: the
+/// G-buffer pixels lp_sample copies, family "gbuffer_"), `why` saying what for.
+std::vector<PixelFunction> raster_pixel_functions(const std::string& stage,
+                                                  const std::string& family = "",
+                                                  const std::string& why = "");
+
 }  // namespace fovref

@@ -167,6 +167,8 @@ std::vector<bool> Pipeline::plan(const std::vector<std::string>& requested) cons
     return needed;
 }
 
+DebuggerPosition debugger_position;
+
 FrameResult Pipeline::run_frame(FrameContext& context,
                                 const std::vector<std::string>& requested) const {
     FrameResult result;
@@ -189,6 +191,7 @@ FrameResult Pipeline::run_frame(FrameContext& context,
                 };
             const auto start = std::chrono::steady_clock::now();
             context.stage = &stages[k];
+            debugger_position = {context.frame, static_cast<int>(k), -1};
             stages[k].run(context);
             context.stage = nullptr;
             run.seconds =

@@ -171,13 +171,53 @@ struct Pipeline {
 struct ProbeContext;  // ref/stage/probe.h
 struct ProbeReport;
 
+/// What a pass's per-pixel function receives as its coordinates, for `fovref probe --debugger`.
+enum class PixelArgs {
+    screen,     ///< x, y: the screen pixel
+    texel,      ///< x, y: a texel of PixelFunction::family that the pixel reads (pass 2's taps)
+    eye_pixel,  ///< x, y: the pixel within its eye's half of a side-by-side stereo screen
+    block,      ///< cell_x, cell_y: the BMFR block (grid cell) holding the pixel or texel
+};
+
 /// A pass's per-pixel function, for `fovref probe --debugger`: a debugger can stop in it at one
-/// pixel because it takes the pixel as parameters named `x` and `y`.
+/// pixel because it takes the pixel (or the texel, or block) as parameters named `x` and `y`
+/// (`cell_x`, `cell_y` for a block).
 struct PixelFunction {
     std::string stage;     ///< the stage whose pass calls it
     std::string function;  ///< qualified name, e.g. "fovref::shade_basic_pixel"
     std::string note;      ///< e.g. "once per triangle covering the pixel"
+    PixelArgs args = PixelArgs::screen;
+    /// texel: the buffer family of its texels ("lp_", "gaze_", "vp_"). screen: when set, the
+    /// function matters only for a pixel that reads texels of this family (the composite's gaze
+    /// pass traces screen pixels that only the gaze buffer holds).
+    std::string family;
+    /// block: the grid cell that covers a point of the frame (a screen pixel, or a texel of
+    /// `family`).
+    using BlockOf =
+        std::function<glm::ivec2(const RenderSettings& settings, int frame, glm::ivec2 point)>;
+    BlockOf block_of;
+
+    PixelFunction(std::string stage_name, std::string function_name, std::string note_text,
+                  PixelArgs arguments = PixelArgs::screen, std::string texel_family = "",
+                  BlockOf block = {})
+        : stage(std::move(stage_name)),
+          function(std::move(function_name)),
+          note(std::move(note_text)),
+          args(arguments),
+          family(std::move(texel_family)),
+          block_of(std::move(block)) {}
 };
+
+/// Where the pipeline is: written by Pipeline::run_frame before each stage (and by a stage that
+/// runs its pass once per eye), read by nothing in fovref - only by the conditions of the
+/// breakpoints `fovref probe --debugger` prints, because a per-pixel function receives its
+/// pixel but not its frame or stage. The one global of the library, kept for the debugger.
+struct DebuggerPosition {
+    int frame = -1;  ///< the frame being rendered
+    int stage = -1;  ///< the index of the running stage in Pipeline::stages
+    int eye = -1;    ///< a stereo stage's eye (0 left, 1 right) while it runs that eye's pass
+};
+extern DebuggerPosition debugger_position;
 
 /// How the pixels of a buffer relate to the screen (a mode describes its buffers that are not
 /// screen images): what `fovref diff` offers as the probe of a differing pixel and how reports
@@ -221,7 +261,7 @@ struct ModeInfo {
     bool explains_texels = false;
     /// The per-pixel functions of the passes the parameters select, in pipeline order; may be
     /// null (no breakpoints to offer).
-    std::vector<PixelFunction> (*pixel_functions)(const Params& params) = nullptr;
+    std::function<std::vector<PixelFunction>(const Params& params)> pixel_functions;
     /// True when a frame depends on no earlier frame, so frame f can be rendered alone
     /// (RenderSettings::first_frame) with the same bits.
     bool stateless = true;

@@ -178,39 +178,4 @@ std::string probe_text(const ProbeReport& report) {
     return out;
 }
 
-std::string shell_quote(const std::string& text) {
-    const bool plain = !text.empty() && text.find_first_not_of(
-                                            "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                            "0123456789_-+=/.,:@%") == std::string::npos;
-    if (plain) return text;
-    std::string out = "'";
-    for (const char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return out + "'";
-}
-
-std::string debugger_command(const std::string& debugger, const std::string& program,
-                             const std::vector<std::string>& arguments,
-                             const std::vector<PixelFunction>& functions, int x, int y) {
-    if (functions.empty())
-        throw Error("--debugger: this mode names no per-pixel functions to stop in");
-    const std::string condition = "x == " + std::to_string(x) + " && y == " + std::to_string(y);
-    std::string command;
-    if (debugger == "gdb") {
-        command = "gdb -q";
-        for (const PixelFunction& f : functions)
-            command += " -ex " + shell_quote("break " + f.function + " if " + condition);
-        command += " -ex run --args " + shell_quote(program);
-    } else if (debugger == "lldb") {
-        command = "lldb";
-        for (const PixelFunction& f : functions)
-            command += " -o " +
-                       shell_quote("breakpoint set -n " + f.function + " -c \"" + condition + "\"");
-        command += " -o run -- " + shell_quote(program);
-    } else {
-        throw Error("--debugger '" + debugger + "': expected gdb or lldb");
-    }
-    for (const std::string& a : arguments) command += " " + shell_quote(a);
-    return command;
-}
-
 }  // namespace fovref

@@ -75,14 +75,4 @@ std::string probe_vec3(glm::vec3 v);
 /// The report as indented text.
 std::string probe_text(const ProbeReport& report);
 
-/// A shell command line that runs `program` with `arguments` under `debugger` ("gdb" or "lldb")
-/// and stops in each of `functions` when its parameters x and y are the pixel (conditional
-/// breakpoints, in pipeline order). Throws fovref::Error for another debugger or no functions.
-std::string debugger_command(const std::string& debugger, const std::string& program,
-                             const std::vector<std::string>& arguments,
-                             const std::vector<PixelFunction>& functions, int x, int y);
-
-/// Quotes `text` for a POSIX shell when it needs it ('...' with embedded quotes escaped).
-std::string shell_quote(const std::string& text);
-
 }  // namespace fovref

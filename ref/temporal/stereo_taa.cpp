@@ -116,7 +116,9 @@ void stereo_taa_stage(FrameContext& ctx) {
             history = resumed_eye_history(ctx, x0, eye_width, previous[eye]);
         const TaaInputs in{color, depth, cameras[eye], maps[eye].gaze, boxes ? &bounds : nullptr};
         Image eye_out, eye_age;
+        debugger_position.eye = e;  // the eye's taa_pixel calls, for a debugger's conditions
         taa(state.taa.params, in, history, eye_out, eye_age, stats);
+        debugger_position.eye = -1;
         set_image_columns(out, x0, eye_out);
         set_image_columns(age, x0, eye_age);
         history = next_taa_state(std::move(eye_out), std::move(eye_age), depth, cameras[eye]);

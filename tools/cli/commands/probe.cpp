@@ -10,6 +10,7 @@
 
 #include "ref/core/error.h"
 #include "ref/modes/modes.h"
+#include "ref/stage/debugger.h"
 #include "ref/stage/probe.h"
 #include "tools/cli/common/cli_common.h"
 #include "tools/cli/common/progress.h"
@@ -24,16 +25,48 @@ namespace fovref {
 
 namespace {
 
-// The debugger command of `probe --debugger`: `fovref render` of the same case under gdb/lldb,
-// with a conditional breakpoint on the pixel in each per-pixel function of the mode's passes. A
-// stateless mode renders only the probed frame (--first-frame), so each breakpoint stops once
-// per call at that pixel in that frame; with TAA (or a mode with state) frames 0 .. F run.
-std::string debugger_line(const ProbeOptions& o, const ResolvedCase& c, int x, int y) {
+// What `probe --debugger` stops at: the pixel and the texels pass 2 reads for it, or the probed
+// texel (stereo: its column in both eyes' buffer, report.buffer_texel).
+DebugTarget debug_target(const ResolvedCase& c, const ProbeReport& report,
+                         const RenderSettings& settings) {
+    const ModeInfo& mode = *c.mode;
+    DebugTarget target;
+    target.frame = report.frame;
+    target.eye_width = settings.width / 2;
+    if (report.texel) {
+        std::string family;
+        for (const BufferFamily& f : mode.buffer_families)
+            if (family.empty() &&
+                (f.space == BufferSpace::texel || f.space == BufferSpace::stereo_texel))
+                family = f.prefix;
+        target.texels = {{family, report.buffer_texel.value_or(*report.texel)}};
+        return target;
+    }
+    target.pixel = glm::ivec2(report.x, report.y);
+    if (mode.pixel_texels && c.scene)
+        target.texels = mode.pixel_texels(*c.scene, settings, report.frame, report.x, report.y);
+    return target;
+}
+
+// `probe --debugger`: the breakpoints, and `fovref render` of the same case under gdb/lldb. A
+// stateless mode renders only the probed frame (--first-frame); with TAA or BMFR (state carried
+// from frame to frame) frames 0 .. F run, and every breakpoint's condition names the frame.
+struct DebugPlan {
+    std::vector<Breakpoint> breakpoints;
+    std::string command;
+};
+
+DebugPlan debug_plan(const ProbeOptions& o, const ResolvedCase& c, const ProbeReport& report) {
     const ModeInfo& mode = *c.mode;
     const GoldenCase& run = c.run;
     if (!mode.pixel_functions)
         throw Error("--debugger: mode '" + o.mode +
-                    "' names no per-pixel functions to stop in (basic and ground-truth do)");
+                    "' names no per-pixel functions to stop in (`fovref modes` lists the modes)");
+    const RenderSettings settings = case_settings(run, {});
+    DebugPlan plan;
+    plan.breakpoints = debugger_breakpoints(mode.pixel_functions(run.params),
+                                            mode.build(c.scene_or_null(), settings), settings,
+                                            debug_target(c, report, settings));
 #if FOVREF_DEBUGGABLE
     std::error_code ec;
     std::string program = fs::canonical("/proc/self/exe", ec).string();
@@ -52,8 +85,6 @@ std::string debugger_line(const ProbeOptions& o, const ResolvedCase& c, int x, i
     }
     std::snprintf(text, sizeof text, "%.9g", static_cast<double>(o.time_step));
     args.insert(args.end(), {"--time-step", text});
-    // TAA and BMFR carry state from frame to frame: then frames 0 .. F run (the breakpoints stop
-    // in each).
     if (!carries_state(mode, run.params))
         args.insert(args.end(), {"--first-frame", std::to_string(o.frame), "--frames", "1"});
     else
@@ -61,12 +92,28 @@ std::string debugger_line(const ProbeOptions& o, const ResolvedCase& c, int x, i
     for (const auto& [key, value] : run.params.values())
         args.insert(args.end(), {"--param", key + "=" + value});
     args.insert(args.end(), {"--out", "/tmp/fovref-debug", "-q"});
-    return debugger_command(o.debugger, program, args, mode.pixel_functions(run.params), x, y);
+    plan.command = debugger_command(o.debugger, program, args, plan.breakpoints);
+    return plan;
 }
 
-nlohmann::json probe_json(const ProbeReport& report, const std::string& debug_command) {
+nlohmann::json probe_json(const ProbeReport& report, const DebugPlan& debug) {
     nlohmann::json j;
-    if (!debug_command.empty()) j["debugger_command"] = debug_command;
+    if (!debug.command.empty()) {
+        j["debugger_command"] = debug.command;
+        for (const Breakpoint& b : debug.breakpoints) {
+            nlohmann::json points = nlohmann::json::array();
+            for (const glm::ivec2& p : b.points) points.push_back({p.x, p.y});
+            j["breakpoints"].push_back({{"stage", b.function.stage},
+                                        {"stage_index", b.stage},
+                                        {"function", b.function.function},
+                                        {"condition", b.condition},
+                                        {"parameters", {b.x_name, b.y_name}},
+                                        {"points", points},
+                                        {"eye", b.eye},
+                                        {"coordinates", b.coordinates},
+                                        {"skipped", b.skipped}});
+        }
+    }
     j["mode"] = report.mode;
     j["frame"] = report.frame;
     if (report.texel && report.eye >= 0)
@@ -88,17 +135,24 @@ nlohmann::json probe_json(const ProbeReport& report, const std::string& debug_co
     return j;
 }
 
-// The [debugger] section of the text report: the functions it stops in and the command.
-void print_debugger_section(const ResolvedCase& c, const std::string& debug_command) {
-    std::cout << "\n[debugger] stop at this pixel in each pass's per-pixel function\n";
-    for (const PixelFunction& f : c.mode->pixel_functions(c.run.params))
-        std::cout << "  " << f.stage << ": " << f.function
-                  << (f.note.empty() ? "" : " (" + f.note + ")") << "\n";
+// The [debugger] section of the text report: where each function stops, and the command.
+void print_debugger_section(const DebugPlan& debug) {
+    std::cout << "\n[debugger] stop where this is computed, in each pass's per-pixel function\n";
+    for (const Breakpoint& b : debug.breakpoints) {
+        std::cout << "  " << b.function.stage << ": " << b.function.function;
+        if (!b.condition.empty())
+            std::cout << " at " << b.coordinates;
+        else
+            std::cout << ": no stop (" << b.skipped << ")";
+        std::cout << (b.function.note.empty() ? "" : "; " + b.function.note) << "\n";
+    }
+    std::cout << "  every stop is in the probed frame (fovref::debugger_position.frame) and in its "
+                 "stage (.stage)\n";
 #if !FOVREF_DEBUGGABLE
     std::cout << "  this fovref has no debug info: build the debug preset first\n"
                  "  (cmake --preset debug && cmake --build --preset debug)\n";
 #endif
-    std::cout << "debug it: " << debug_command << "\n";
+    std::cout << "debug it: " << debug.command << "\n";
 }
 
 }  // namespace
@@ -124,7 +178,8 @@ void add_probe_options(CLI::App& c, ProbeOptions& o) {
     c.add_flag("--json", o.json, "machine-readable output");
     c.add_option("--debugger", o.debugger,
                  "also print a gdb or lldb command line that renders this case and stops in "
-                 "each pass's per-pixel function at this pixel (README: Debugging one pixel)")
+                 "each pass's per-pixel function where this pixel (or --texel) is computed, in "
+                 "this frame (README: Debugging one pixel)")
         ->check(CLI::IsMember({"gdb", "lldb"}));
 }
 
@@ -144,8 +199,6 @@ int run_probe(const ProbeOptions& o) {
             throw Error("--texel '" + o.texel +
                         "': expected I,J (e.g. 10,20), or I,J,EYE with EYE 0 or 1 (stereo-lp)");
         texel = glm::ivec2(x, y);
-        if (!o.debugger.empty())
-            throw Error("--texel with --debugger: stop at a pixel (--pixel) instead");
     } else if (std::sscanf(o.pixel.c_str(), "%d,%d%c", &x, &y, &tail) != 2) {
         throw Error("--pixel '" + o.pixel + "': expected X,Y (e.g. 10,20)");
     }
@@ -155,13 +208,13 @@ int run_probe(const ProbeOptions& o) {
         c.scene_or_null(), *c.mode, case_settings(c.run, {}, [&](double f) { progress.update(f); }),
         o.frame, x, y, texel, eye);
     progress.finish();
-    std::string debug_command;
-    if (!o.debugger.empty()) debug_command = debugger_line(o, c, x, y);
+    DebugPlan debug;
+    if (!o.debugger.empty()) debug = debug_plan(o, c, report);
     if (o.json) {
-        std::cout << probe_json(report, debug_command).dump(1) << "\n";
+        std::cout << probe_json(report, debug).dump(1) << "\n";
     } else {
         std::cout << probe_text(report);
-        if (!debug_command.empty()) print_debugger_section(c, debug_command);
+        if (!debug.command.empty()) print_debugger_section(debug);
     }
     return report.consistent ? exit_ok : exit_check_failed;
 }
