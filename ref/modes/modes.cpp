@@ -23,7 +23,7 @@ std::vector<ModeInfo> make_modes() {
         foveated_mode("kfr",
                       "kernel foveated rendering: deferred shading in the log-polar buffer, "
                       "internal AA, mip resolve, post-AA; TAA with jitter after the inverse "
-                      "transform (Meng 2018)"),
+                      "transform"),
         stereo_mode(),
         pathtrace_mode(),
         pathtrace_reference_mode(),

@@ -70,10 +70,14 @@ public:
         : file_(file), locator_(text, file) {}
 
     [[noreturn]] void fail(const std::string& pointer, const std::string& message) const {
-        throw file_error(file_, locator_.find(pointer).value_line, pointer + ": " + message);
+        throw file_error(file_, locator_.find(pointer).value_line, at(pointer) + message);
     }
     [[noreturn]] void fail_at_key(const std::string& pointer, const std::string& message) const {
-        throw file_error(file_, locator_.find(pointer).key_line, pointer + ": " + message);
+        throw file_error(file_, locator_.find(pointer).key_line, at(pointer) + message);
+    }
+    /// "/camera/fov: " for a value, "the document: " for the whole file (empty pointer).
+    static std::string at(const std::string& pointer) {
+        return (pointer.empty() ? std::string("the document") : pointer) + ": ";
     }
     /// "file:line" of a value, for errors raised by the OBJ and texture loaders.
     std::string where(const std::string& pointer) const {

@@ -3,17 +3,43 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <system_error>
 
 #include "ref/core/error.h"
 
 namespace fovref {
 
+namespace {
+
+// A bound in a message: "%.9g" (64, not 64.000000; 3.40282347e+38).
+std::string bound_text(float v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", static_cast<double>(v));
+    return text;
+}
+
+}  // namespace
+
 void Params::set_from_assignment(const std::string& assignment) {
     const auto eq = assignment.find('=');
     if (eq == std::string::npos || eq == 0)
         throw Error("parameter '" + assignment + "': expected key=value");
     values_[assignment.substr(0, eq)] = assignment.substr(eq + 1);
+}
+
+Params Params::from_assignments(const std::vector<std::string>& assignments) {
+    Params params;
+    for (const std::string& assignment : assignments) {
+        Params one;
+        one.set_from_assignment(assignment);
+        const auto& [key, value] = *one.values_.begin();
+        if (params.given(key))
+            throw Error("parameter '" + key + "' is given twice (" + key + "=" +
+                        params.values_[key] + ", " + key + "=" + value + "): give it once");
+        params.values_[key] = value;
+    }
+    return params;
 }
 
 void Params::check_known(const std::vector<ParamSpec>& specs, const std::string& mode) const {
@@ -42,11 +68,15 @@ float Params::get_float(const std::vector<ParamSpec>& specs, const std::string& 
     const std::string text = get_string(specs, key);
     float value = 0.0f;
     auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (ec == std::errc::result_out_of_range ||
+        (ec == std::errc() && end == text.data() + text.size() && std::isinf(value)))
+        throw Error("parameter '" + key + "': " + text + " is outside [" + bound_text(min) + ", " +
+                    bound_text(max) + "] (beyond the float range)");
     if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
         throw Error("parameter '" + key + "': '" + text + "' is not a finite number");
     if (value < min || value > max)
-        throw Error("parameter '" + key + "': " + text + " is outside [" + std::to_string(min) +
-                    ", " + std::to_string(max) + "]");
+        throw Error("parameter '" + key + "': " + text + " is outside [" + bound_text(min) + ", " +
+                    bound_text(max) + "]");
     return value;
 }
 

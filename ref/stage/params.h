@@ -26,8 +26,12 @@ public:
     Params() = default;
     explicit Params(std::map<std::string, std::string> values) : values_(std::move(values)) {}
 
-    /// Parses "key=value"; throws fovref::Error when malformed.
+    /// Parses "key=value" (replacing an earlier value of the key); throws fovref::Error when
+    /// malformed.
     void set_from_assignment(const std::string& assignment);
+    /// The parameters of a list of "key=value" given on a command line: throws fovref::Error
+    /// for a malformed one or a key given twice (`--param alpha=2 --param alpha=3`).
+    static Params from_assignments(const std::vector<std::string>& assignments);
     void set(const std::string& key, const std::string& value) { values_[key] = value; }
 
     /// Throws fovref::Error naming the first key that is not in `specs`.

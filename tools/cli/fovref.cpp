@@ -84,8 +84,8 @@ const char* const app_footer =
     "                                         ring errors against the ground truth\n"
     "  fovref sweep plan FILE OUT | run OUT [--jobs N] | merge OUT | report OUT --html DIR\n"
     "               | export OUT --format parallel|slurm|k8s\n"
-    "  fovref stress [--fast] [--case G]      numerical stress suite\n"
     "                                         run time against error over a grid\n"
+    "  fovref stress [--fast] [--case G]      numerical stress suite\n"
     "  fovref diff GOLDEN CANDIDATE [--tolerance N:abs=X] [--json F] [--html DIR]\n"
     "                                         compare a GPU's buffers with a golden bundle\n"
     "  fovref gain [--fov-deg W[,H] --max-cpd C] [--json]\n"
@@ -348,7 +348,6 @@ int main(int argc, char** argv) {
     app.failure_message([](const CLI::App*, const CLI::Error& e) {
         return std::string("fovref: ") + e.what() + " (see --help)\n";
     });
-    app.footer(app_footer);
     Commands commands;
     add_scene_commands(app, o, commands);
     add_render_commands(app, o, commands);
@@ -358,6 +357,7 @@ int main(int argc, char** argv) {
     add_check_commands(app, o, commands);
     add_analysis_commands(app, o, commands);
     add_denoise_commands(app, o, commands);
+    app.footer(app_footer);  // after the commands: a subcommand copies its parent's footer
     add_sweep_commands(app, o, commands);
     CLI::App* stress = app.add_subcommand(
         "stress",

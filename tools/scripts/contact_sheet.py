@@ -48,7 +48,11 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("out")
     parser.add_argument("models", nargs="+")
-    parser.add_argument("--fovref", default=shutil.which("fovref") or "build/gcc-O2/fovref")
+    built = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "build", "gcc-O2",
+                         "fovref")
+    parser.add_argument("--fovref", default=shutil.which("fovref") or os.path.normpath(built),
+                        help="the fovref binary (default: fovref on PATH, else the release build "
+                             "of this source tree)")
     parser.add_argument("--mode", default="basic")
     parser.add_argument("--size", default="256x192")
     parser.add_argument("--columns", type=int, default=4)
@@ -64,6 +68,11 @@ def main():
         return 2
     if not (16 <= width <= 4096 and 16 <= height <= 4096 and args.columns >= 1):
         print("contact_sheet: --size must be 16..4096 each and --columns at least 1", file=sys.stderr)
+        return 2
+    if not (os.path.isfile(args.fovref) and os.access(args.fovref, os.X_OK)):
+        print(f"contact_sheet: no fovref binary at '{args.fovref}': give --fovref BIN, put fovref "
+              "on PATH, or build it (bash tools/scripts/test.sh builds build/gcc-O2/fovref)",
+              file=sys.stderr)
         return 2
     if not shutil.which("rsvg-convert"):
         print("contact_sheet: rsvg-convert not found (Debian: librsvg2-bin)", file=sys.stderr)

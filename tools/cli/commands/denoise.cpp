@@ -180,8 +180,7 @@ void add_denoise_options(CLI::App& c, DenoiseOptions& o) {
 }
 
 int run_denoise(const DenoiseOptions& o) {
-    Params params;
-    for (const std::string& p : o.params) params.set_from_assignment(p);
+    Params params = Params::from_assignments(o.params);
     params.check_known(bmfr_param_specs(), "denoise bmfr");
     params.set("denoise", "bmfr");
     const BmfrSettings settings = parse_bmfr_params(params);

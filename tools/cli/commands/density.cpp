@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "ref/analysis/density.h"
 #include "ref/core/error.h"
@@ -10,6 +11,7 @@
 #include "ref/log_polar/params.h"
 #include "ref/modes/modes.h"
 #include "ref/scene/scene_file.h"
+#include "tools/cli/common/output_dir.h"
 #include "tools/cli/report/svg_plot.h"
 
 namespace fovref {
@@ -29,6 +31,8 @@ void add_density_options(CLI::App& c, DensityOptions& o) {
 }
 
 int run_density(const DensityOptions& o) {
+    std::optional<OutputDirectory> out;  // checked before any work
+    if (!o.out_dir.empty()) out.emplace("--out", o.out_dir);
     const FoveationPreset& preset = find_foveation_preset(o.mode);
     const GoldenCase run = command_case(o, "density");
     run.params.check_known(find_mode(o.mode).params, o.mode);
@@ -81,9 +85,8 @@ int run_density(const DensityOptions& o) {
         angular.y.push_back(r.angular_rays_per_px);
         acuity.y.push_back(r.acuity);
     }
-    if (!o.out_dir.empty()) {
-        std::filesystem::create_directories(o.out_dir);
-        write_file_atomic(o.out_dir + "/density.csv", csv);
+    if (out) {
+        write_file_atomic(out->file("density.csv"), csv);
         PlotSpec spec;
         spec.title = o.mode + ": rays per pixel at each ring's middle (Lund mid_range_res)";
         spec.x_label = "eccentricity (deg)";
@@ -91,7 +94,8 @@ int run_density(const DensityOptions& o) {
         spec.series = {radial, angular, acuity};
         spec.width = 560;
         spec.height = 320;
-        write_file_atomic(o.out_dir + "/density.svg", svg_line_plot(spec));
+        write_file_atomic(out->file("density.svg"), svg_line_plot(spec));
+        out->commit();
         if (!o.quiet) std::printf("wrote %s/density.csv, density.svg\n", o.out_dir.c_str());
     }
     return 0;

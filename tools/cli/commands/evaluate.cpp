@@ -24,6 +24,7 @@
 #include "ref/scene/scene_file.h"
 #include "tools/cli/common/cli_common.h"
 #include "tools/cli/common/number_text.h"
+#include "tools/cli/common/output_dir.h"
 #include "tools/cli/common/progress.h"
 #include "tools/cli/report/json_values.h"
 #include "tools/cli/report/svg_plot.h"
@@ -65,14 +66,13 @@ Candidate parse_mode(const std::string& text, const std::vector<std::string>& sh
     c.mode = parts[0];
     c.info = &find_mode(c.mode);
     const ModeInfo& mode = *c.info;
-    for (const std::string& p : shared_params) {
-        Params one;
-        one.set_from_assignment(p);
-        for (const auto& [key, value] : one.values())
-            for (const ParamSpec& spec : mode.params)
-                if (spec.name == key) c.params.set(key, value);
-    }
-    for (std::size_t k = 1; k < parts.size(); ++k) c.params.set_from_assignment(parts[k]);
+    const Params shared = Params::from_assignments(shared_params);
+    for (const auto& [key, value] : shared.values())
+        for (const ParamSpec& spec : mode.params)
+            if (spec.name == key) c.params.set(key, value);
+    // The mode's own parameters (MODE:k=v:...) replace the shared ones, each key given once
+    const Params own = Params::from_assignments({parts.begin() + 1, parts.end()});
+    for (const auto& [key, value] : own.values()) c.params.set(key, value);
     c.params.check_known(mode.params, c.mode);
     return c;
 }
@@ -470,13 +470,13 @@ std::string frames_csv_rows(const Candidate& c) {
 }
 
 // heatmap_LABEL.png: the squared error of the candidate's last evaluated frame with the rings.
-void write_heatmap(const Evaluation& e, const Candidate& c) {
+void write_heatmap(const Evaluation& e, const Candidate& c, OutputDirectory& out) {
     HeatmapSettings hs;
     hs.rings = &e.layout;
     std::string file = "heatmap_" + c.label + ".png";
     for (char& ch : file)
         if (ch == ':' || ch == '=' || ch == '/' || ch == ' ') ch = '_';
-    write_png((fs::path(e.options.out_dir) / file).string(), heatmap(c.last_error, hs));
+    write_png(out.file(file), heatmap(c.last_error, hs));
 }
 
 // SSIM, PSNR and RMSE against eccentricity side by side, one line per candidate.
@@ -499,9 +499,8 @@ std::string rings_svg(const Evaluation& e, const std::vector<PlotSeries>& ssim_p
 }
 
 // rings.csv, frames.csv, summary.json, rings.svg and a heatmap per candidate in --out.
-void write_outputs(const Evaluation& e, const std::vector<Candidate>& candidates) {
-    const EvaluateOptions& o = e.options;
-    fs::create_directories(o.out_dir);
+void write_outputs(const Evaluation& e, const std::vector<Candidate>& candidates,
+                   OutputDirectory& out) {
     std::string rings_csv = "label,ring,inner_deg,outer_deg,pixels,mse,rmse,psnr,ssim,sd\n";
     std::string frames_csv =
         "label,frame,mse,psnr,ssim,flip_mean,rays_traced,rays_percent_of_pixels,"
@@ -542,13 +541,14 @@ void write_outputs(const Evaluation& e, const std::vector<Candidate>& candidates
         jc["frames"] = c.frame_rows;
         frames_csv += frames_csv_rows(c);
         summary["candidates"].push_back(jc);
-        write_heatmap(e, c);
+        write_heatmap(e, c, out);
     }
     const std::string svg = rings_svg(e, ssim_plot, psnr_plot, rmse_plot);
-    write_file_atomic((fs::path(o.out_dir) / "rings.svg").string(), svg);
-    write_file_atomic((fs::path(o.out_dir) / "rings.csv").string(), rings_csv);
-    write_file_atomic((fs::path(o.out_dir) / "frames.csv").string(), frames_csv);
-    write_file_atomic((fs::path(o.out_dir) / "summary.json").string(), summary.dump(1) + "\n");
+    write_file_atomic(out.file("rings.svg"), svg);
+    write_file_atomic(out.file("rings.csv"), rings_csv);
+    write_file_atomic(out.file("frames.csv"), frames_csv);
+    write_file_atomic(out.file("summary.json"), summary.dump(1) + "\n");
+    out.commit();
 }
 
 // The text summary on stdout: every fifth ring and the last of each candidate.
@@ -588,6 +588,8 @@ void print_rings(const Evaluation& e, const std::vector<Candidate>& candidates) 
 int run_evaluate(const EvaluateOptions& o) {
     if (o.modes.empty() && o.frame_dirs.empty())
         throw Error("evaluate: give --mode and/or --frames-dir");
+    OutputDirectory out("--out", o.out_dir);  // checked before any work
+    check_separate_outputs({{"--out", o.out_dir}, {"--reference-dir", o.reference_dir}});
     const Scene scene = load_cli_scene(o.scene);
     std::vector<Candidate> candidates = make_candidates(o);
     Evaluation e(o, scene);
@@ -600,7 +602,7 @@ int run_evaluate(const EvaluateOptions& o) {
         evaluate_candidate(e, candidates[ci], ci, progress, total);
     progress.finish();
 
-    write_outputs(e, candidates);
+    write_outputs(e, candidates, out);
     if (!o.quiet) print_rings(e, candidates);
     return 0;
 }

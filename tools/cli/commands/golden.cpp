@@ -68,7 +68,7 @@ std::vector<std::string> verify_case(const GoldenCase& c, const std::string& dir
     for (const FrameResult& f : frames) buffers += f.buffers.size();
     if (differences.empty()) {
         char line[160];
-        std::snprintf(line, sizeof line, "ok   %-28s %zu buffers, %d frame(s)", c.name.c_str(),
+        std::snprintf(line, sizeof line, "ok   %-34s %zu buffers, %d frame(s)", c.name.c_str(),
                       buffers, c.frames);
         if (!quiet) report.push_back(line);
     } else {
@@ -125,10 +125,18 @@ void add_golden_export_options(CLI::App& c, GoldenExportOptions& o) {
 
 int run_golden_list(const GoldenOptions& o) {
     const std::string dir = golden_directory(o);
-    for (const GoldenCase& c : load_golden_cases(dir + "/cases.json"))
-        std::printf("%-28s %-12s %-14s %dx%d x%d  %s\n", c.name.c_str(), c.mode.c_str(),
-                    c.scene.empty() ? "-" : c.scene.c_str(), c.width, c.height, c.frames,
-                    c.description.c_str());
+    const std::vector<GoldenCase> cases = load_golden_cases(dir + "/cases.json");
+    // Columns as wide as their longest entry
+    int name_width = 4, mode_width = 4, scene_width = 5;
+    for (const GoldenCase& c : cases) {
+        name_width = std::max(name_width, static_cast<int>(c.name.size()));
+        mode_width = std::max(mode_width, static_cast<int>(c.mode.size()));
+        scene_width = std::max(scene_width, static_cast<int>(c.scene.size()));
+    }
+    for (const GoldenCase& c : cases)
+        std::printf("%-*s %-*s %-*s %dx%d x%d  %s\n", name_width, c.name.c_str(), mode_width,
+                    c.mode.c_str(), scene_width, c.scene.empty() ? "-" : c.scene.c_str(), c.width,
+                    c.height, c.frames, c.description.c_str());
     return exit_ok;
 }
 
@@ -201,7 +209,9 @@ int run_golden_export(const GoldenOptions& o, const GoldenExportOptions& e) {
     if (e.width) c.width = *e.width;
     if (e.height) c.height = *e.height;
     if (e.frames) c.frames = *e.frames;
-    for (const std::string& assignment : e.params) c.params.set_from_assignment(assignment);
+    // --param replaces the case's value of a key (each key given once)
+    const Params given = Params::from_assignments(e.params);
+    for (const auto& [key, value] : given.values()) c.params.set(key, value);
     c.files = "all";  // an export writes every frame's files
     SceneCache scenes(repository_root(dir));
     const Scene* scene = scenes.get(c.scene);

@@ -1,5 +1,6 @@
 #include "tools/cli/commands/modes.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "ref/modes/modes.h"
@@ -8,8 +9,11 @@
 namespace fovref {
 
 int run_modes() {
+    int name_width = 4;  // the names' column: as wide as the longest
+    for (const ModeInfo& mode : render_modes())
+        name_width = std::max(name_width, static_cast<int>(mode.name.size()));
     for (const ModeInfo& mode : render_modes()) {
-        std::printf("%-12s %s%s\n", mode.name.c_str(), mode.description.c_str(),
+        std::printf("%-*s %s%s\n", name_width, mode.name.c_str(), mode.description.c_str(),
                     mode.needs_scene ? "" : " (no scene needed)");
         for (const ParamSpec& p : mode.params)
             std::printf("    --param %s=<%s>  %s\n", p.name.c_str(), p.default_value.c_str(),

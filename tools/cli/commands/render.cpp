@@ -10,6 +10,7 @@
 #include "ref/image/image_io.h"
 #include "ref/modes/modes.h"
 #include "tools/cli/common/cli_common.h"
+#include "tools/cli/common/output_dir.h"
 #include "tools/cli/common/progress.h"
 
 namespace fovref {
@@ -209,6 +210,10 @@ int run_render(const RenderOptions& given) {
     parse_frames(o);
     if (o.out_dir.empty() && o.dump_dir.empty())
         throw Error("render: give --out DIR and/or --dump DIR");
+    // The outputs checked before any work (BundleWriter stages and swaps each in at the end)
+    for (const auto& [option, dir] : {std::pair{"--out", o.out_dir}, {"--dump", o.dump_dir}})
+        if (!dir.empty()) check_output_directory(option, dir);
+    check_separate_outputs({{"--out", o.out_dir}, {"--dump", o.dump_dir}});
     const ResolvedCase c = render_case(o);
     const bool keep_all = std::find(o.outputs.begin(), o.outputs.end(), "all") != o.outputs.end();
     // With --dump every buffer is computed; --out keeps the requested (or final) ones.

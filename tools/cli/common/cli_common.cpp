@@ -35,7 +35,7 @@ GoldenCase command_case(const CaseOptions& o, const std::string& name) {
     run.frames = 1;
     run.time_start = o.time_start;
     run.time_step = o.time_step;
-    for (const std::string& p : o.params) run.params.set_from_assignment(p);
+    run.params = Params::from_assignments(o.params);
     if (!o.gaze.empty()) {
         if (run.params.given("gaze"))
             throw Error(name + ": --gaze and --param gaze=... both given; give one");

@@ -11,4 +11,9 @@ namespace fovref {
 /// value: "-" in a console table, "&ndash;" in HTML, "" in CSV), else as printf writes it.
 std::string number_text(double v, const char* format = "%.4g", const char* nan = nullptr);
 
+/// "1 pixel", "2 pixels", "0 pixels": a count and its noun (plural: noun + "s").
+inline std::string count_text(long long count, const std::string& noun) {
+    return std::to_string(count) + " " + noun + (count == 1 ? "" : "s");
+}
+
 }  // namespace fovref

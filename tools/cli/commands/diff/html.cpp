@@ -145,8 +145,9 @@ std::string id_section(const DiffItem& item) {
         (r.tolerance.reason.empty() ? "" : " (" + html_escape(r.tolerance.reason) + ")") + "</p>\n";
     h += "<p>" + std::to_string(r.interior_mismatches) + " interior mismatches, " +
          std::to_string(r.edge_mismatches) + " edge mismatches (" +
-         percent(r.edge_mismatches, r.edge_pixels) + " of " + std::to_string(r.edge_pixels) +
-         " edge pixels, " + std::to_string(r.allowed_edge_mismatches) +
+         percent(r.edge_mismatches, r.edge_pixels) + " of " +
+         count_text(r.edge_pixels, "edge pixel") + ", " +
+         std::to_string(r.allowed_edge_mismatches) +
          " allowed). An edge pixel has another id in the golden's 3&times;3 neighbourhood.</p>\n";
     h += "<div class=\"shots\"><figure>" +
          preview_tag(item.golden, item.kind, "golden " + item.name) +
@@ -254,7 +255,7 @@ std::string table_row(const DiffReport& report, std::size_t k) {
                std::to_string(r.tolerance.max_interior_mismatches) + " allowed), " +
                std::to_string(r.edge_mismatches) +
                " edge mismatches = " + percent(r.edge_mismatches, r.edge_pixels) + " of " +
-               std::to_string(r.edge_pixels) + " edge pixels (" +
+               count_text(r.edge_pixels, "edge pixel") + " (" +
                std::to_string(r.allowed_edge_mismatches) + " allowed)</td></tr>\n";
     }
     const BufferComparison& r = item.result;
@@ -374,15 +375,15 @@ std::string section_html(const DiffReport& report, std::size_t k) {
          html_escape(item.candidate_file) + "</code>; " + std::to_string(r.width) + "&times;" +
          std::to_string(r.height) + "&times;" + std::to_string(r.channels) + "; tolerance abs " +
          fmt(r.tolerance.abs) + ", rel " + fmt(r.tolerance.rel) + ", ulp " +
-         std::to_string(r.tolerance.ulp) + ", " + std::to_string(r.tolerance.max_failing_pixels) +
-         " failing pixels allowed" +
+         std::to_string(r.tolerance.ulp) + ", " +
+         count_text(r.tolerance.max_failing_pixels, "failing pixel") + " allowed" +
          (r.tolerance.reason.empty() ? "" : " (" + html_escape(r.tolerance.reason) + ")") +
          "</p>\n";
     if (!item.masked_by.empty()) {
         std::string names;
         for (const std::string& n : item.masked_by) names += (names.empty() ? "" : ", ") + n;
         h += "<p>compared where <code>" + html_escape(names) +
-             "</code> agree: " + std::to_string(r.masked_pixels) + " pixels left out.</p>\n";
+             "</code> agree: " + count_text(r.masked_pixels, "pixel") + " left out.</p>\n";
     }
     // Pictures: every failing buffer and every colour buffer.
     if (!item.pass || item.kind == "color") h += pictures_html(item);

@@ -190,8 +190,17 @@ Image load_image(const DiffOptions& o, const std::string& path, const std::strin
         image = read_raw(path, raw_layout(o, width, height, channels));
     } else if (lower_extension(path) == ".png") {
         image = read_png(path, !o.png_linear && kind == "color");
-    } else {
+    } else if (std::find(candidate_extensions.begin(), candidate_extensions.end(),
+                         lower_extension(path)) != candidate_extensions.end()) {
         image = read_image(path);
+    } else {
+        std::string list;
+        for (const std::string& ext : candidate_extensions)
+            list += (list.empty() ? "" : ", ") + ext;
+        throw Error(path + ": unknown image extension \"" + lower_extension(path) +
+                    "\" (expected " + list +
+                    "; .raw, .bin and .f32 are raw binary32 with "
+                    "--raw-size WxH[xC])");
     }
     if (channels == 3 && image.channels == 4) {
         Image rgb(image.width, image.height, 3);
