@@ -18,11 +18,46 @@ namespace fovref {
 
 using json = nlohmann::json;
 
+bool tolerance_pattern_matches(const std::string& pattern, const std::string& name) {
+    // Iterative glob: on a mismatch, let the last `*` swallow one more character
+    std::size_t p = 0, n = 0, star = std::string::npos, resume = 0;
+    while (n < name.size()) {
+        if (p < pattern.size() && pattern[p] == '*') {
+            star = p++;
+            resume = n;
+        } else if (p < pattern.size() && pattern[p] == name[n]) {
+            ++p;
+            ++n;
+        } else if (star != std::string::npos) {
+            p = star + 1;
+            n = ++resume;
+        } else {
+            return false;
+        }
+    }
+    while (p < pattern.size() && pattern[p] == '*') ++p;
+    return p == pattern.size();
+}
+
+std::string ToleranceTable::key_for(const std::string& name) const {
+    if (buffers.count(name)) return name;
+    std::string best;
+    std::ptrdiff_t best_literal = -1;
+    for (const auto& [key, tolerance] : buffers) {
+        if (key.find('*') == std::string::npos || !tolerance_pattern_matches(key, name)) continue;
+        const auto literal = static_cast<std::ptrdiff_t>(
+            key.size() - static_cast<std::size_t>(std::count(key.begin(), key.end(), '*')));
+        if (literal > best_literal) {
+            best = key;
+            best_literal = literal;
+        }
+    }
+    return best;
+}
+
 const Tolerance& ToleranceTable::for_buffer(const std::string& name) const {
-    const auto it = buffers.find(name);
-    if (it != buffers.end()) return it->second;
-    const auto any = buffers.find("*");
-    return any != buffers.end() ? any->second : fallback;
+    const std::string key = key_for(name);
+    return key.empty() ? fallback : buffers.at(key);
 }
 
 namespace {
@@ -35,6 +70,8 @@ void check_tolerance(const Tolerance& t, const std::string& where) {
                     "and >= 0");
     if (!(t.max_edge_mismatch_share >= 0.0 && t.max_edge_mismatch_share <= 1.0))
         throw Error(where + ": edge_mismatch_share must be in [0, 1]");
+    if (!(t.max_failing_share >= 0.0 && t.max_failing_share <= 1.0))
+        throw Error(where + ": max_failing_share must be in [0, 1]");
 }
 
 PixelDifference pixel_difference(const Image& golden, const Image& candidate, std::size_t pixel,
@@ -80,11 +117,16 @@ void read_tolerance_file(const std::string& path, ToleranceTable& table) {
                 if (!v.is_string()) throw fail(at, "\"reason\" must be a string");
                 t.reason = v.get<std::string>();
             } else if (field.key() == "abs" || field.key() == "rel" ||
-                       field.key() == "edge_mismatch_share") {
+                       field.key() == "edge_mismatch_share" || field.key() == "max_failing_share") {
                 if (!v.is_number()) throw fail(at, "\"" + field.key() + "\" must be a number");
-                (field.key() == "abs"   ? t.abs
-                 : field.key() == "rel" ? t.rel
-                                        : t.max_edge_mismatch_share) = v.get<double>();
+                (field.key() == "abs"                 ? t.abs
+                 : field.key() == "rel"               ? t.rel
+                 : field.key() == "max_failing_share" ? t.max_failing_share
+                                                      : t.max_edge_mismatch_share) =
+                    v.get<double>();
+            } else if (field.key() == "integer") {
+                if (!v.is_boolean()) throw fail(at, "\"integer\" must be true or false");
+                t.integer = v.get<bool>();
             } else if (field.key() == "ulp" || field.key() == "max_failing_pixels" ||
                        field.key() == "interior_mismatches") {
                 if (!v.is_number_integer())
@@ -96,8 +138,11 @@ void read_tolerance_file(const std::string& path, ToleranceTable& table) {
             } else {
                 throw fail(at, "unknown key \"" + field.key() +
                                    "\" (expected abs, rel, ulp, max_failing_pixels, "
-                                   "edge_mismatch_share, interior_mismatches, reason)");
+                                   "max_failing_share, edge_mismatch_share, "
+                                   "interior_mismatches, integer, reason)");
             }
+            if (field.key() == "edge_mismatch_share" || field.key() == "interior_mismatches")
+                t.integer = true;
         }
         try {
             check_tolerance(t, "tolerance");
@@ -113,7 +158,7 @@ void parse_tolerance_option(const std::string& option, ToleranceTable& table) {
     const std::string where = "--tolerance '" + option + "'";
     const auto colon = option.rfind(':');
     if (colon == std::string::npos || colon == 0)
-        throw Error(where + ": expected NAME:abs=X,rel=X,ulp=N,pixels=N,edge=X,interior=N");
+        throw Error(where + ": expected NAME:abs=X,rel=X,ulp=N,pixels=N,share=X,edge=X,interior=N");
     const std::string name = option.substr(0, colon);
     Tolerance t;
     std::string rest = option.substr(colon + 1);
@@ -127,10 +172,13 @@ void parse_tolerance_option(const std::string& option, ToleranceTable& table) {
         const char* first = value.data();
         const char* last = value.data() + value.size();
         std::from_chars_result r{};
-        if (key == "abs" || key == "rel" || key == "edge") {
+        if (key == "abs" || key == "rel" || key == "edge" || key == "share") {
             double v = 0;
             r = std::from_chars(first, last, v);
-            (key == "abs" ? t.abs : key == "rel" ? t.rel : t.max_edge_mismatch_share) = v;
+            (key == "abs"     ? t.abs
+             : key == "rel"   ? t.rel
+             : key == "share" ? t.max_failing_share
+                              : t.max_edge_mismatch_share) = v;
         } else if (key == "ulp" || key == "pixels" || key == "interior") {
             std::int64_t v = 0;
             r = std::from_chars(first, last, v);
@@ -139,10 +187,11 @@ void parse_tolerance_option(const std::string& option, ToleranceTable& table) {
                                : t.max_interior_mismatches) = v;
         } else {
             throw Error(where + ": unknown key '" + key +
-                        "' (expected abs, rel, ulp, pixels, edge, interior)");
+                        "' (expected abs, rel, ulp, pixels, share, edge, interior)");
         }
         if (r.ec != std::errc() || r.ptr != last || value.empty())
             throw Error(where + ": '" + value + "' is not a valid value for " + key);
+        if (key == "edge" || key == "interior") t.integer = true;
     }
     check_tolerance(t, where);
     t.reason = "command line";
@@ -307,7 +356,12 @@ BufferComparison compare_buffers(const std::string& name, const Image& golden,
     } else {
         r.psnr = std::numeric_limits<double>::infinity();
     }
-    r.pass = r.nonfinite_mismatches == 0 && r.failing_pixels <= tolerance.max_failing_pixels;
+    const auto compared = static_cast<double>(
+        static_cast<std::int64_t>(golden.width) * golden.height - r.masked_pixels);
+    r.allowed_failing_pixels =
+        std::max(tolerance.max_failing_pixels,
+                 static_cast<std::int64_t>(std::floor(tolerance.max_failing_share * compared)));
+    r.pass = r.nonfinite_mismatches == 0 && r.failing_pixels <= r.allowed_failing_pixels;
     add_image_metrics(golden, candidate, mask, options, r);
     return r;
 }

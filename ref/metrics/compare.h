@@ -42,35 +42,62 @@ struct Tolerance {
     double rel = 0.0;
     std::int64_t ulp = 0;
     std::int64_t max_failing_pixels = 0;
+    /// Failing pixels allowed as a share of the compared pixels, in [0, 1] (the larger of this
+    /// and max_failing_pixels applies): for path-traced buffers, where a ray decided differently
+    /// changes a whole pixel and the count grows with the resolution.
+    double max_failing_share = 0.0;
     // Id buffers only:
     double max_edge_mismatch_share = 0.0;  ///< of the golden's edge pixels, in [0, 1]
     std::int64_t max_interior_mismatches = 0;
+    /// Compare as integers (compare_id_buffers) although the buffer is not an id buffer: masks,
+    /// accept bits, ages, sample counts, whose values are discrete decisions. Id buffers always
+    /// are; the edge and interior limits apply.
+    bool integer = false;
     std::string reason;  ///< SPEC §11: every tolerance states why
     bool operator==(const Tolerance&) const = default;
 };
 
-/// Per-buffer tolerances; "*" (or the default-constructed fallback) applies to the rest.
+/// Per-buffer tolerances. A key is a buffer name or a pattern with `*` wildcards ("lp_gbuffer_*",
+/// "*_valid"; "*" alone: every buffer). A buffer takes its exact entry, else the most specific
+/// pattern that matches it (the most characters besides `*`; on a tie the first in name order),
+/// else the default-constructed fallback (bit-exact).
 struct ToleranceTable {
     std::map<std::string, Tolerance> buffers;
     Tolerance fallback;
+    /// A profile's entries for the images after path tracing, and after BMFR (the output and
+    /// what follows it), which tolerance_profile puts over `buffers` for such a golden.
+    std::map<std::string, Tolerance> path_traced, denoised;
     const Tolerance& for_buffer(const std::string& name) const;
+    /// The key for_buffer(name) uses ("" for the fallback).
+    std::string key_for(const std::string& name) const;
 };
 
-/// Tolerance file (JSON): { "buffer name" or "*": {"abs": x, "rel": x, "ulp": n,
-/// "max_failing_pixels": n, "edge_mismatch_share": x, "interior_mismatches": n, "reason": "..."}
-/// }. Entries are added to `table`, replacing one of the same name. Throws fovref::Error naming
-/// the file, line and key.
+/// True when `name` matches `pattern`, whose `*` stands for any run of characters (others match
+/// themselves).
+bool tolerance_pattern_matches(const std::string& pattern, const std::string& name);
+
+/// Tolerance file (JSON): { "buffer name" or pattern: {"abs": x, "rel": x, "ulp": n,
+/// "max_failing_pixels": n, "max_failing_share": x, "edge_mismatch_share": x,
+/// "interior_mismatches": n, "integer": bool,
+/// "reason": "..."} } (edge_mismatch_share or interior_mismatches imply "integer"). Entries are
+/// added to `table`, replacing one of the same name. Throws fovref::Error naming the file, line and
+/// key.
 ToleranceTable read_tolerance_file(const std::string& path);
 void read_tolerance_file(const std::string& path, ToleranceTable& table);
-/// Command-line form "NAME:abs=1e-6,rel=1e-4,ulp=2,pixels=10,edge=0.01,interior=0" (NAME may be
-/// "*"); added to `table`, overriding an entry for the same name. Throws fovref::Error naming the
-/// option.
+/// Command-line form "NAME:abs=1e-6,rel=1e-4,ulp=2,pixels=10,share=0.001,edge=0.01,interior=0"
+/// (NAME may be
+/// a pattern; edge= or interior= compare the buffer as integers); added to `table`, overriding an
+/// entry for the same name. Throws fovref::Error naming the option.
 void parse_tolerance_option(const std::string& option, ToleranceTable& table);
 
 /// The shipped tolerance profiles (docs/diff.md), each entry with its reason: "bit-exact" (the
 /// default: 0 everywhere), "gpu-raster" (a correct GPU rasterizer's G-buffer) and "gpu-rt" (a
-/// correct GPU ray tracer's primary hits). Throws fovref::Error for another name.
-ToleranceTable tolerance_profile(const std::string& name);
+/// correct GPU ray tracer's primary hits), each covering every buffer family. `golden`: the
+/// golden's buffer names, which say whether it path traces (a radiance buffer) or runs BMFR
+/// (bmfr_taa): then its output and what follows carry the paths' or the fit's error. Throws
+/// fovref::Error for another name.
+ToleranceTable tolerance_profile(const std::string& name,
+                                 const std::vector<std::string>& golden = {});
 const std::vector<std::string>& tolerance_profile_names();
 
 /// Distance of two floats in the binary32 ordering (see above); both must not be NaN.
@@ -113,6 +140,8 @@ struct BufferComparison {
     double threshold = -1.0;     ///< < 0: none given (pixels_over_threshold = failing_pixels)
     std::int64_t pixels_over_threshold = 0;
     std::int64_t failing_pixels = 0;
+    /// The failing pixels the tolerance allows: max(max_failing_pixels, share x compared)
+    std::int64_t allowed_failing_pixels = 0;
     bool pass = true;
     std::optional<PixelDifference> first_failing;  ///< row-major first failing pixel
     std::vector<PixelDifference> worst;            ///< largest abs error first; ties row-major

@@ -2,12 +2,14 @@
 // and first failing pixels, tolerance files and options.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <vector>
 
+#include "ref/golden/bundle.h"
 #include "ref/metrics/compare.h"
 #include "tests/image/image_test_util.h"
 
@@ -277,4 +279,55 @@ TEST_CASE("tolerance profiles: every entry has a reason; id limits from files an
     CHECK(table.for_buffer("gbuffer_material_id").max_interior_mismatches == 2);
     CHECK(table.for_buffer("gbuffer_view_depth").rel > 0.0);  // the profile's entry is kept
     CHECK(test::contains(table.for_buffer("gbuffer_material_id").reason, "t.json"));
+}
+
+TEST_CASE("tolerance patterns: exact name, then the most specific pattern, then the fallback") {
+    CHECK(tolerance_pattern_matches("lp_*", "lp_color"));
+    CHECK(tolerance_pattern_matches("*_valid", "gaze_valid"));
+    CHECK(tolerance_pattern_matches("lp_*_id", "lp_gbuffer_primitive_id"));
+    CHECK(tolerance_pattern_matches("*", ""));
+    CHECK_FALSE(tolerance_pattern_matches("lp_*", "gaze_color"));
+    CHECK_FALSE(tolerance_pattern_matches("lp_*_id", "lp_gbuffer_primitive"));
+    ToleranceTable table;
+    parse_tolerance_option("*:abs=1", table);
+    parse_tolerance_option("lp_*:abs=2", table);
+    parse_tolerance_option("lp_gbuffer_*:abs=3", table);
+    parse_tolerance_option("lp_color:abs=4", table);
+    CHECK(table.for_buffer("lp_color").abs == 4.0);
+    CHECK(table.for_buffer("lp_gbuffer_albedo").abs == 3.0);
+    CHECK(table.for_buffer("lp_valid").abs == 2.0);
+    CHECK(table.for_buffer("final").abs == 1.0);
+    CHECK(table.key_for("lp_valid") == "lp_*");
+    parse_tolerance_option("taa_age:edge=0.1", table);
+    CHECK(table.for_buffer("taa_age").integer);  // edge= compares as integers
+}
+
+TEST_CASE("GPU profiles: every buffer of every golden's rendering modes has its own entry") {
+    // The building blocks (rng, halton, geometry, camera rays, the splat) and the converged
+    // reference are not what a GPU port produces; every other buffer must be declared, with a
+    // reason, so that a correct port is not failed by a bit-exact default.
+    const std::vector<std::string> blocks = {"rng",         "halton", "geometry",
+                                             "camera-rays", "splat",  "pathtrace-reference"};
+    int checked = 0;
+    for (const GoldenCase& c : load_golden_cases(FOVREF_SOURCE_DIR "/golden/cases.json")) {
+        if (std::find(blocks.begin(), blocks.end(), c.mode) != blocks.end()) continue;
+        const Manifest m = read_manifest(FOVREF_SOURCE_DIR "/golden/" + c.name);
+        std::vector<std::string> names;
+        for (const ManifestBuffer& b : m.buffers) names.push_back(b.name);
+        for (const char* profile : {"gpu-raster", "gpu-rt"}) {
+            const ToleranceTable table = tolerance_profile(profile, names);
+            for (const std::string& name : names) {
+                CAPTURE(c.name);
+                CAPTURE(profile);
+                CAPTURE(name);
+                CHECK_FALSE(table.key_for(name).empty());
+                ++checked;
+            }
+        }
+    }
+    CHECK(checked > 1000);
+    // A golden that runs BMFR takes the denoised entries for what follows it
+    const ToleranceTable plain = tolerance_profile("gpu-rt", {"final"});
+    const ToleranceTable denoised = tolerance_profile("gpu-rt", {"final", "bmfr_taa"});
+    CHECK(denoised.for_buffer("final").rel > plain.for_buffer("final").rel);
 }

@@ -26,20 +26,29 @@ std::string percent(std::int64_t part, std::int64_t whole) {
     return text;
 }
 
+// The widths of the table's stage and buffer columns: their longest entries.
+struct Columns {
+    int stage = 20, buffer = 26;
+};
+
+// The row's first columns: frame, stage, buffer, result.
+void print_row_head(const DiffItem& item, const Columns& w) {
+    std::printf("%-5d %-*s %-*s %-7s ", item.frame, w.stage, item.stage.c_str(), w.buffer,
+                item.name.c_str(), item.status().c_str());
+}
+
 // One row of the table: a buffer's result (and its LDR-FLIP under it).
-void print_row(const DiffItem& item) {
-    const std::string status = item.status();
+void print_row(const DiffItem& item, const Columns& w) {
+    print_row_head(item, w);
     if (!item.compared || item.hash_only) {
-        std::printf("%-5d %-20s %-26s %-7s %s\n", item.frame, item.stage.c_str(), item.name.c_str(),
-                    status.c_str(), item.note.c_str());
+        std::printf("%s\n", item.note.c_str());
         return;
     }
     if (item.is_id) {
         const IdComparison& r = item.ids;
         std::printf(
-            "%-5d %-20s %-26s %-7s ids: %lld interior, %lld edge (%s of %lld edge "
+            "ids: %lld interior, %lld edge (%s of %lld edge "
             "px, %lld allowed)\n",
-            item.frame, item.stage.c_str(), item.name.c_str(), status.c_str(),
             static_cast<long long>(r.interior_mismatches),
             static_cast<long long>(r.edge_mismatches),
             percent(r.edge_mismatches, r.edge_pixels).c_str(),
@@ -52,10 +61,8 @@ void print_row(const DiffItem& item) {
     if (r.masked_pixels > 0)
         masked = "  (" + std::to_string(r.masked_pixels) + " px where ids differ left out)";
     if (r.nonfinite_mismatches > 0) masked += "  convention mismatch: see note";
-    std::printf("%-5d %-20s %-26s %-7s %10s %9lld %10lld %8s %8s%s\n", item.frame,
-                item.stage.c_str(), item.name.c_str(), status.c_str(),
-                number_text(r.max_abs, "%.4g", "-").c_str(), static_cast<long long>(r.max_ulp),
-                static_cast<long long>(r.failing_pixels),
+    std::printf("%10s %9lld %10lld %8s %8s%s\n", number_text(r.max_abs, "%.4g", "-").c_str(),
+                static_cast<long long>(r.max_ulp), static_cast<long long>(r.failing_pixels),
                 r.nonfinite_mismatches > 0 ? "-" : number_text(r.psnr, "%.4g", "-").c_str(),
                 r.ssim ? number_text(*r.ssim, "%.4g", "-").c_str() : "-", masked.c_str());
     if (item.flip)
@@ -90,7 +97,7 @@ void print_value_failure(const DiffItem& item) {
         ": %lld pixel(s) out of tolerance (abs %s, rel %s, ulp %lld, %lld allowed)\n",
         static_cast<long long>(r.failing_pixels), number_text(r.tolerance.abs, "%.4g", "-").c_str(),
         number_text(r.tolerance.rel, "%.4g", "-").c_str(), static_cast<long long>(r.tolerance.ulp),
-        static_cast<long long>(r.tolerance.max_failing_pixels));
+        static_cast<long long>(r.allowed_failing_pixels));
     if (r.first_failing)
         std::printf("  first failing pixel (%d, %d): golden %s, candidate %s\n", r.first_failing->x,
                     r.first_failing->y, values_text(r.first_failing->golden).c_str(),
@@ -123,31 +130,50 @@ void print_first_failing(const DiffReport& report) {
 
 }  // namespace
 
+std::string result_counts(const DiffReport& report) {
+    std::string text = std::to_string(report.compared) + " compared, " +
+                       std::to_string(report.out_of_tolerance()) + " out of tolerance, " +
+                       std::to_string(report.missing) + " missing in the candidate";
+    if (report.missing_required > 0)
+        text += ", " + std::to_string(report.missing_required) + " of them required";
+    if (!report.ignored.empty())
+        text += ", " + count_text(report.ignored.size(), "file") + " ignored";
+    return text;
+}
+
 void print_summary(const DiffReport& report) {
     std::printf("fovref diff: golden %s%s, candidate %s, profile %s\n", report.golden.c_str(),
                 report.case_name.empty() ? "" : (" (case " + report.case_name + ")").c_str(),
                 report.candidate.c_str(), report.profile.c_str());
-    std::printf("%-5s %-20s %-26s %-7s %10s %9s %10s %8s %8s\n", "frame", "stage", "buffer",
-                "result", "max abs", "max ulp", "fail px", "PSNR", "SSIM");
-    for (const DiffItem& item : report.items) print_row(item);
+    Columns w;
+    for (const DiffItem& item : report.items) {
+        w.stage = std::max(w.stage, static_cast<int>(item.stage.size()));
+        w.buffer = std::max(w.buffer, static_cast<int>(item.name.size()));
+    }
+    std::printf("%-5s %-*s %-*s %-7s %10s %9s %10s %8s %8s\n", "frame", w.stage, "stage", w.buffer,
+                "buffer", "result", "max abs", "max ulp", "fail px", "PSNR", "SSIM");
+    for (const DiffItem& item : report.items) print_row(item, w);
     if (std::any_of(report.items.begin(), report.items.end(),
                     [](const DiffItem& item) { return item.flip.has_value(); }))
         std::printf("LDR-FLIP pooling: %s\n", flip_pooling_note);
+    // Ignored files: one line per file whose name is close to a buffer's, the rest in one line
+    std::vector<std::string> others;
     for (std::size_t k = 0; k < report.ignored.size(); ++k)
-        std::printf("ignored: %s (matches no golden buffer%s)\n", report.ignored[k].c_str(),
-                    report.ignored_hint[k].empty()
-                        ? ""
-                        : ("; did you mean " + report.ignored_hint[k] + "?").c_str());
+        if (report.ignored_hint[k].empty())
+            others.push_back(report.ignored[k]);
+        else
+            std::printf("ignored: %s (matches no golden buffer; did you mean %s?)\n",
+                        report.ignored[k].c_str(), report.ignored_hint[k].c_str());
+    if (!others.empty()) {
+        std::string list;
+        for (std::size_t k = 0; k < others.size() && k < 4; ++k)
+            list += (k ? ", " : "") + others[k];
+        std::printf("ignored: %s named like no golden buffer (%s%s)\n",
+                    count_text(static_cast<long long>(others.size()), "file").c_str(), list.c_str(),
+                    others.size() > 4 ? ", ..." : "");
+    }
     if (report.first_failing >= 0) print_first_failing(report);
-    std::printf("RESULT: %s (%d compared, %d out of tolerance, %d missing in the candidate%s%s)\n",
-                report.pass ? "PASS" : "FAIL", report.compared,
-                report.failed - report.missing_required, report.missing,
-                report.missing_required > 0
-                    ? (", " + std::to_string(report.missing_required) + " of them required").c_str()
-                    : "",
-                report.ignored.empty()
-                    ? ""
-                    : (", " + std::to_string(report.ignored.size()) + " file(s) ignored").c_str());
+    std::printf("RESULT: %s (%s)\n", report.pass ? "PASS" : "FAIL", result_counts(report).c_str());
 }
 
 }  // namespace fovref

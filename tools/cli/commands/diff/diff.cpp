@@ -1,5 +1,6 @@
 #include "tools/cli/commands/diff/diff.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -39,9 +40,7 @@ int run_diff(const DiffOptions& o) {
         std::snprintf(text, sizeof text, "--distance-px %g", static_cast<double>(o.distance_px));
         check_flip_viewing_distance(o.distance_px, text);
     }
-    ToleranceTable tolerances = tolerance_profile(o.profile);
-    if (!o.tolerance_file.empty()) read_tolerance_file(o.tolerance_file, tolerances);
-    for (const std::string& t : o.tolerances) parse_tolerance_option(t, tolerances);
+    tolerance_profile(o.profile);  // an unknown profile is an error before any file is read
     if (!fs::exists(o.golden)) throw Error(o.golden + ": no such file or directory");
     if (!fs::exists(o.candidate)) throw Error(o.candidate + ": no such file or directory");
 
@@ -60,6 +59,16 @@ int run_diff(const DiffOptions& o) {
         collect_image_item(o, candidate_dir, report, inputs);
     }
 
+    // The buffer names the tolerances must name; buffers compared as integers
+    std::vector<std::string> names;
+    const auto add_name = [&names](const std::string& name) {
+        if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+    };
+    for (const ManifestBuffer& b : manifest.buffers) add_name(b.name);
+    for (const DiffItem& item : report.items) add_name(item.name);
+    const ToleranceTable tolerances = diff_tolerances(o, names);
+    for (DiffItem& item : report.items)
+        item.is_id = item.is_id || tolerances.for_buffer(item.name).integer;
     compare_items(o, tolerances, inputs, report);
     for (std::size_t k = 0; k < report.items.size(); ++k)
         if (!report.items[k].pass) {

@@ -217,8 +217,7 @@ std::string summary_html(const DiffReport& report) {
     h += "<br>candidate <code>" + html_escape(report.candidate) + "</code></p>\n";
     h += std::string("<p id=\"result\" class=\"") + (report.pass ? "status-pass" : "status-fail") +
          "\">RESULT: " + (report.pass ? "PASS" : "FAIL") + " &mdash; " +
-         std::to_string(report.compared) + " compared, " + std::to_string(report.failed) +
-         " out of tolerance, " + std::to_string(report.missing) + " missing in the candidate</p>\n";
+         html_escape(result_counts(report)) + "</p>\n";
     if (report.first_failing >= 0) {
         const auto k = static_cast<std::size_t>(report.first_failing);
         const DiffItem& f = report.items[k];

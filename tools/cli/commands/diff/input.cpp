@@ -74,6 +74,23 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
     return row[b.size()];
 }
 
+}  // namespace
+
+std::vector<std::string> nearest_names(const std::string& name,
+                                       const std::vector<std::string>& names, std::size_t count) {
+    std::vector<std::pair<std::size_t, std::size_t>> ranked;  // (distance, index)
+    for (std::size_t k = 0; k < names.size(); ++k)
+        ranked.emplace_back(edit_distance(name, names[k]), k);
+    std::stable_sort(ranked.begin(), ranked.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<std::string> out;
+    for (std::size_t k = 0; k < ranked.size() && out.size() < count; ++k)
+        out.push_back(names[ranked[k].second]);
+    return out;
+}
+
+namespace {
+
 // Candidate files of a directory, sorted by name (a fixed order).
 std::vector<std::string> list_files(const std::string& directory) {
     std::vector<std::string> files;
@@ -122,15 +139,27 @@ std::vector<std::string> required_names(const std::string& text, const Manifest&
         const std::size_t comma = text.find(',', start);
         const std::string name =
             text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+        // A name, or a pattern (`*` wildcards) that must match some buffer
+        const bool pattern = name.find('*') != std::string::npos;
+        std::vector<std::string> all;
         bool known = false;
-        for (const ManifestBuffer& b : manifest.buffers) known = known || b.name == name;
-        if (!known) {
-            std::string list;
-            for (const ManifestBuffer& b : manifest.buffers)
-                if (b.frame == manifest.buffers.front().frame) list += " " + b.name;
-            throw Error("--require: the golden has no buffer '" + name + "' (it has:" + list + ")");
+        for (const ManifestBuffer& b : manifest.buffers) {
+            if (std::find(all.begin(), all.end(), b.name) == all.end()) all.push_back(b.name);
+            if (pattern ? tolerance_pattern_matches(name, b.name) : b.name == name) {
+                known = true;
+                if (std::find(names.begin(), names.end(), b.name) == names.end())
+                    names.push_back(b.name);
+            }
         }
-        names.push_back(name);
+        if (!known) {
+            std::string nearest;
+            for (const std::string& n : nearest_names(name, all))
+                nearest += (nearest.empty() ? "" : ", ") + n;
+            throw Error("--require: " +
+                        (pattern ? "the pattern '" + name + "' matches no buffer of the golden"
+                                 : "the golden has no buffer '" + name + "'") +
+                        " (nearest: " + nearest + ")");
+        }
         if (comma == std::string::npos) break;
         start = comma + 1;
     }
@@ -258,8 +287,11 @@ void collect_bundle_items(const DiffOptions& o, const Manifest& manifest, bool c
                     "' in frame " + std::to_string(single_frame) + " (see --buffer, --frame)");
     for (std::size_t k = 0; k < files.size(); ++k)
         if (!used[k]) {
+            // A suggestion only when it names another file (not f000_final.png for itself: a
+            // preview beside the f000_final.pfm that was compared)
+            const std::string hint = closest_buffer_file(files[k], manifest);
             report.ignored.push_back(files[k]);
-            report.ignored_hint.push_back(closest_buffer_file(files[k], manifest));
+            report.ignored_hint.push_back(hint == files[k] ? "" : hint);
         }
 }
 

@@ -46,6 +46,18 @@ void collect_bundle_items(const DiffOptions& o, const Manifest& manifest, bool c
 void collect_image_item(const DiffOptions& o, bool candidate_dir, DiffReport& report,
                         ItemInputs& inputs);
 
+/// Up to `count` of `names` nearest to `name` (edit distance; ties in `names` order).
+std::vector<std::string> nearest_names(const std::string& name,
+                                       const std::vector<std::string>& names,
+                                       std::size_t count = 3);
+
+// ---- tolerances.cpp -------------------------------------------------------------------------
+
+/// The tolerances of a diff: the profile's, then the tolerance file's and the --tolerance
+/// options' entries over them. Each entry the user gave must name a buffer of `names` (a pattern
+/// must match one): otherwise fovref::Error names the option or file and the nearest names.
+ToleranceTable diff_tolerances(const DiffOptions& o, const std::vector<std::string>& names);
+
 // ---- compare.cpp ----------------------------------------------------------------------------
 
 /// Compares frame by frame: the id buffers of a frame first, then its other buffers where the

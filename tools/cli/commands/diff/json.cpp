@@ -18,6 +18,7 @@ json tolerance_json(const Tolerance& t, bool is_id) {
             {"rel", t.rel},
             {"ulp", t.ulp},
             {"max_failing_pixels", t.max_failing_pixels},
+            {"max_failing_share", t.max_failing_share},
             {"reason", t.reason}};
 }
 
@@ -95,6 +96,7 @@ void add_values_json(const DiffItem& item, json& j) {
     if (r.threshold >= 0.0) j["threshold"] = r.threshold;
     j["pixels_over_threshold"] = r.pixels_over_threshold;
     j["failing_pixels"] = r.failing_pixels;
+    j["allowed_failing_pixels"] = r.allowed_failing_pixels;
     if (r.first_failing) j["first_failing_pixel"] = pixel_json(*r.first_failing);
     j["worst_pixels"] = json::array();
     for (const PixelDifference& d : r.worst) j["worst_pixels"].push_back(pixel_json(d));
@@ -132,7 +134,9 @@ json report_json(const DiffOptions& o, const DiffReport& report) {
     j["profile"] = report.profile;
     j["pass"] = report.pass;
     j["compared"] = report.compared;
-    j["failed"] = report.failed;
+    j["failed"] = report.failed;  // out of tolerance + missing and required
+    j["out_of_tolerance"] = report.out_of_tolerance();
+    j["summary"] = result_counts(report);
     j["missing"] = report.missing;
     j["missing_required"] = report.missing_required;
     j["ignored_files"] = report.ignored;

@@ -13,20 +13,23 @@ void add_diff_options(CLI::App& c, DiffOptions& o) {
                  "...) or one image file")
         ->required();
     c.add_option("--profile", o.profile,
-                 "tolerance profile: bit-exact (0 everywhere), gpu-raster (a correct GPU "
-                 "rasterizer's G-buffer), gpu-rt (a correct GPU ray tracer); the tolerance file "
-                 "and --tolerance override it per buffer (docs/diff.md)")
+                 "tolerance profile: bit-exact (0 everywhere), gpu-raster (a correct GPU port "
+                 "with a hardware rasterizer), gpu-rt (with GPU ray tracing); each covers every "
+                 "buffer family (G-buffers, foveation buffers, filters, TAA, BMFR, Visual-Polar); "
+                 "the tolerance file and --tolerance override it per buffer (docs/diff.md)")
         ->capture_default_str();
     c.add_option("--tolerance", o.tolerances,
-                 "NAME:abs=X,rel=X,ulp=N,pixels=N; for id buffers edge=SHARE,interior=N (NAME "
-                 "may be '*'; repeatable)");
+                 "NAME:abs=X,rel=X,ulp=N,pixels=N,share=X; edge=SHARE,interior=N compare as "
+                 "integers (ids, masks, counts); NAME is a buffer or a pattern ('lp_*', '*'), "
+                 "which must match a buffer of the golden; repeatable");
     c.add_option("--tolerance-file", o.tolerance_file,
                  "JSON: {\"buffer\": {\"abs\": x, \"rel\": x, \"ulp\": n, "
-                 "\"max_failing_pixels\": n, \"edge_mismatch_share\": x, "
-                 "\"interior_mismatches\": n, \"reason\": \"...\"}}");
+                 "\"max_failing_pixels\": n, \"max_failing_share\": x, "
+                 "\"edge_mismatch_share\": x, \"interior_mismatches\": n, \"integer\": b, "
+                 "\"reason\": \"...\"}} (keys: buffers or patterns)");
     c.add_option("--require", o.require,
-                 "'all' or a comma-separated list of buffer names that must be in the candidate "
-                 "(a missing one fails)");
+                 "'all' or a comma-separated list of buffer names or patterns ('bmfr_*') that "
+                 "must be in the candidate (a missing one fails)");
     c.add_flag("--no-id-mask", o.no_id_mask,
                "compare depth, position, ... everywhere, not only where the frame's id buffers "
                "agree");

@@ -52,7 +52,13 @@ struct DiffReport {
     bool pass = true;
     int compared = 0, failed = 0, missing = 0;
     int missing_required = 0;  ///< included in failed
+    /// The buffers compared and found out of tolerance (failed less the missing required ones).
+    int out_of_tolerance() const { return failed - missing_required; }
 };
+
+/// "25 compared, 1 out of tolerance, 0 missing in the candidate, 3 file(s) ignored": the counts
+/// every report (console, HTML, JSON's "summary") states in the same words.
+std::string result_counts(const DiffReport& report);
 
 /// Writes DIR/index.html (self-contained: images as data: URIs, plots as inline SVG).
 void write_diff_html(const DiffReport& report, const std::string& directory);
