@@ -192,6 +192,10 @@ void bmfr_accumulate_noisy_pixel(const BmfrParams& params, const Image& illumina
 /// and each clamped to [-65504, 65504].
 void bmfr_features(glm::vec3 normal, glm::vec3 world, float t[bmfr_feature_count]);
 
+/// A block's scaling of features 4..9: (v - min) / (max - min) when the range exceeds 1, else
+/// v - min (SPEC §9 item 4).
+float bmfr_scale_feature(float v, float lo, float hi);
+
 /// The block grid of frame `frame` on a W x H image: (ceil(W/32) + 1) x (ceil(H/32) + 1) cells;
 /// cell (i, j) covers pixels (32 i - 16 + o.x .. +31, 32 j - 16 + o.y .. +31), o the offset.
 /// With a Visual-Polar map (BmfrSpace): cells_y = ceil(h / 32), cell column cx holds

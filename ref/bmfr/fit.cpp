@@ -17,12 +17,6 @@ float clamp_feature(float v) {
     return std::clamp(v, -half_max, half_max);
 }
 
-// (v - min) / (max - min) when the range exceeds 1, else v - min (SPEC §9 item 4).
-float scale_feature(float v, float lo, float hi) {
-    const float range = hi - lo;
-    return range > 1.0f ? (v - lo) / range : v - lo;
-}
-
 float store(BmfrStorage storage, float v) {
     return storage == BmfrStorage::half ? round_to_half(v) : v;
 }
@@ -79,6 +73,11 @@ const std::array<glm::ivec2, 16>& bmfr_block_offsets() {
         glm::ivec2{12, 14},   glm::ivec2{-8, -16}, glm::ivec2{6, 6},    glm::ivec2{-2, -2},
         glm::ivec2{6, -14},   glm::ivec2{-16, 12}, glm::ivec2{14, -4},  glm::ivec2{-6, 4}};
     return offsets;
+}
+
+float bmfr_scale_feature(float v, float lo, float hi) {
+    const float range = hi - lo;
+    return range > 1.0f ? (v - lo) / range : v - lo;
 }
 
 BmfrGrid bmfr_grid(int width, int height, int frame, const VisualPolarMap* map) {
@@ -207,7 +206,7 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
         float* a = &out.a[static_cast<std::size_t>(row) * bmfr_matrix_stride];
         for (int k = 0; k < bmfr_scaled_count; ++k)
             a[bmfr_scaled_first + k] =
-                store(params.storage, scale_feature(a[bmfr_scaled_first + k], lo[k], hi[k]));
+                store(params.storage, bmfr_scale_feature(a[bmfr_scaled_first + k], lo[k], hi[k]));
         if (noise)
             for (int f = 1; f < bmfr_feature_count; ++f)
                 a[f] = a[f] + regularisation_noise(params.noise_amount, row, f, frame);
@@ -340,7 +339,7 @@ void bmfr_weighted_sum_pixel(const BmfrFit& fit, const Image& world_position, co
     bmfr_features(load3(normal, x, y), load3(world_position, x, y), t);
     for (int k = 0; k < bmfr_scaled_count; ++k)
         t[bmfr_scaled_first + k] =
-            scale_feature(t[bmfr_scaled_first + k], range[k], range[bmfr_scaled_count + k]);
+            bmfr_scale_feature(t[bmfr_scaled_first + k], range[k], range[bmfr_scaled_count + k]);
     float* o = &out.data[out.index(x, y)];
     for (int ch = 0; ch < 3; ++ch) {
         float sum = 0.0f;

@@ -2,6 +2,7 @@
 
 #include <memory>
 
+#include "ref/bmfr/probe.h"
 #include "ref/bmfr/stages.h"
 #include "ref/core/error.h"
 #include "ref/raster/stages.h"
@@ -172,7 +173,8 @@ ModeInfo pathtrace_mode() {
     m.params = pathtrace_param_specs();
     m.build = pathtrace_pipeline;
     m.pixel_functions = pathtrace_pixel_functions;
-    m.stateless = true;  // unless denoise=bmfr (carries_state)
+    m.explain = explain_bmfr_pixel;  // the BMFR phases (nothing without denoise=bmfr)
+    m.stateless = true;              // unless denoise=bmfr (carries_state)
     return m;
 }
 

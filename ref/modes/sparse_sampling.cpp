@@ -2,6 +2,7 @@
 
 #include <memory>
 
+#include "ref/bmfr/probe.h"
 #include "ref/bmfr/stages.h"
 #include "ref/raster/stages.h"
 #include "ref/trace/stages.h"
@@ -76,6 +77,7 @@ ModeInfo linear_falloff_mode() {
         "fill, optional BMFR (Weier et al.; Koskela eq. 4.1)";
     m.params = linear_falloff_param_specs();
     m.build = linear_falloff_pipeline;
+    m.explain = explain_bmfr_pixel;  // the BMFR phases (nothing without denoise=bmfr)
     return m;
 }
 
