@@ -311,6 +311,40 @@ void add_image_metrics(const Image& golden, const Image& candidate,
 
 }  // namespace
 
+namespace {
+
+// The RMSE of each column and each row over the compared finite elements (binary64, row-major).
+void add_axis_errors(const Image& golden, const Image& candidate,
+                     const std::vector<std::uint8_t>* mask, BufferComparison& r) {
+    std::vector<double> column_sum(static_cast<std::size_t>(golden.width), 0.0),
+        row_sum(static_cast<std::size_t>(golden.height), 0.0);
+    std::vector<std::int64_t> column_count(column_sum.size(), 0), row_count(row_sum.size(), 0);
+    for (int y = 0; y < golden.height; ++y)
+        for (int x = 0; x < golden.width; ++x) {
+            const std::size_t p = static_cast<std::size_t>(y) * golden.width + x;
+            if (mask && (*mask)[p] == 0) continue;
+            for (int c = 0; c < golden.channels; ++c) {
+                const double g = golden.at(x, y, c), v = candidate.at(x, y, c);
+                if (!std::isfinite(g) || !std::isfinite(v)) continue;
+                const double e = (v - g) * (v - g);
+                column_sum[static_cast<std::size_t>(x)] += e;
+                row_sum[static_cast<std::size_t>(y)] += e;
+                ++column_count[static_cast<std::size_t>(x)];
+                ++row_count[static_cast<std::size_t>(y)];
+            }
+        }
+    const auto rmse = [](double sum, std::int64_t count) {
+        return count > 0 ? std::sqrt(sum / static_cast<double>(count))
+                         : std::numeric_limits<double>::quiet_NaN();
+    };
+    for (std::size_t x = 0; x < column_sum.size(); ++x)
+        r.column_rmse.push_back(rmse(column_sum[x], column_count[x]));
+    for (std::size_t y = 0; y < row_sum.size(); ++y)
+        r.row_rmse.push_back(rmse(row_sum[y], row_count[y]));
+}
+
+}  // namespace
+
 BufferComparison compare_buffers(const std::string& name, const Image& golden,
                                  const Image& candidate, const Tolerance& tolerance,
                                  const CompareOptions& options) {
@@ -342,6 +376,9 @@ BufferComparison compare_buffers(const std::string& name, const Image& golden,
         const bool over = r.threshold >= 0.0 ? pixel.abs > r.threshold : pixel.fails;
         if (over) ++r.pixels_over_threshold;
         if (pixel.fails) ++r.failing_pixels;
+        if (pixel.fails && r.failing_listed.size() < BufferComparison::failing_listed_max)
+            r.failing_listed.emplace_back(static_cast<int>(p % golden.width),
+                                          static_cast<int>(p / golden.width));
         if (pixel.fails && !r.first_failing)
             r.first_failing = pixel_difference(golden, candidate, p, pixel.abs);
         if (keep > 0 && pixel.abs > 0.0) keep_worst(worst, WorstEntry(pixel.abs, p), keep);
@@ -363,6 +400,7 @@ BufferComparison compare_buffers(const std::string& name, const Image& golden,
                  static_cast<std::int64_t>(std::floor(tolerance.max_failing_share * compared)));
     r.pass = r.nonfinite_mismatches == 0 && r.failing_pixels <= r.allowed_failing_pixels;
     add_image_metrics(golden, candidate, mask, options, r);
+    if (options.axis_errors) add_axis_errors(golden, candidate, mask, r);
     return r;
 }
 

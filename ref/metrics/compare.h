@@ -32,6 +32,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec2.hpp>
+
 #include "ref/image/image.h"
 #include "ref/metrics/rings.h"
 
@@ -121,6 +123,9 @@ struct CompareOptions {
     /// diff passes the pixels where the frame's ids agree. Left-out pixels count in no figure;
     /// SSIM and the ring errors see the golden's value there (zero error).
     const std::vector<std::uint8_t>* mask = nullptr;
+    /// Also the RMSE of each column and of each row (a buffer-space image, whose columns u and
+    /// rows v are the mapping's radius and angle, summarised along its axes instead of rings).
+    bool axis_errors = false;
 };
 
 struct BufferComparison {
@@ -144,9 +149,16 @@ struct BufferComparison {
     std::int64_t allowed_failing_pixels = 0;
     bool pass = true;
     std::optional<PixelDifference> first_failing;  ///< row-major first failing pixel
-    std::vector<PixelDifference> worst;            ///< largest abs error first; ties row-major
-    Image abs_error;                               ///< per-pixel largest channel |c - g|
+    /// The first failing pixels in row-major order, at most failing_listed_max of them (the
+    /// report rings them in the heatmap when that is all of them).
+    std::vector<glm::ivec2> failing_listed;
+    static constexpr std::size_t failing_listed_max = 64;
+    std::vector<PixelDifference> worst;  ///< largest abs error first; ties row-major
+    Image abs_error;                     ///< per-pixel largest channel |c - g|
     std::vector<RingStats> rings;
+    /// CompareOptions::axis_errors: RMSE over the compared finite elements of each column (u)
+    /// and each row (v), binary64 sums in row-major order; NaN where none was compared.
+    std::vector<double> column_rmse, row_rmse;
 };
 
 /// Compares candidate against golden (same shape: the caller checks and reports a mismatch as an

@@ -158,6 +158,25 @@ Image heatmap(const Image& values, const HeatmapSettings& settings) {
     return out;
 }
 
+void mark_pixels(Image& image, int map_width, int map_height, const std::vector<glm::ivec2>& pixels,
+                 glm::vec3 colour) {
+    // Rings big and thick enough to survive the report's downscaling (a 1280-wide map is shown at
+    // 640 px): radius 1/64 of the map's larger side, thickness a quarter of it.
+    const int radius = std::max(3, std::max(map_width, map_height) / 64);
+    const int thickness = std::max(1, radius / 4);
+    auto put = [&](int x, int y) {
+        if (x < 0 || y < 0 || x >= map_width || y >= map_height) return;
+        for (int c = 0; c < 3; ++c) image.at(x, y, c) = colour[c];
+    };
+    for (const glm::ivec2& p : pixels) {
+        put(p.x, p.y);
+        for (int dy = -radius; dy <= radius; ++dy)
+            for (int dx = -radius; dx <= radius; ++dx)
+                if (std::max(std::abs(dx), std::abs(dy)) > radius - thickness)  // square ring
+                    put(p.x + dx, p.y + dy);
+    }
+}
+
 Image id_mismatch_image(const Image& background, const Image& mismatch_map) {
     FOVREF_CHECK(
         background.channels == 3 && mismatch_map.channels == 1 &&
@@ -174,26 +193,13 @@ Image id_mismatch_image(const Image& background, const Image& mismatch_map) {
                            0.0722f * background.data[3 * p + 2];
         for (std::size_t c = 0; c < 3; ++c) out.data[3 * p + c] = 0.15f + 0.35f * grey;
     }
-    // Rings big and thick enough to survive the report's downscaling (a 1280-wide map is shown at
-    // 640 px): radius 1/64 of the larger side, thickness a quarter of it.
-    const int radius = std::max(3, std::max(out.width, out.height) / 64);
-    const int thickness = std::max(1, radius / 4);
-    auto put = [&](int x, int y, glm::vec3 colour) {
-        if (x < 0 || y < 0 || x >= out.width || y >= out.height) return;
-        for (int c = 0; c < 3; ++c) out.at(x, y, c) = colour[c];
-    };
     for (const float kind : {1.0f, 2.0f}) {  // edge markers first, interior ones on top
-        const glm::vec3 colour = kind == 1.0f ? edge_marker_colour : interior_marker_colour;
+        std::vector<glm::ivec2> pixels;
         for (int y = 0; y < out.height; ++y)
-            for (int x = 0; x < out.width; ++x) {
-                if (mismatch_map.at(x, y) != kind) continue;
-                put(x, y, colour);
-                for (int dy = -radius; dy <= radius; ++dy)
-                    for (int dx = -radius; dx <= radius; ++dx) {
-                        const int d = std::max(std::abs(dx), std::abs(dy));  // square ring
-                        if (d > radius - thickness) put(x + dx, y + dy, colour);
-                    }
-            }
+            for (int x = 0; x < out.width; ++x)
+                if (mismatch_map.at(x, y) == kind) pixels.emplace_back(x, y);
+        mark_pixels(out, out.width, out.height, pixels,
+                    kind == 1.0f ? edge_marker_colour : interior_marker_colour);
     }
     return out;
 }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -39,6 +40,13 @@ float heatmap_scale(const Image& values, const HeatmapSettings& settings);
 inline constexpr glm::vec3 edge_marker_colour{1.0f, 0.55f, 0.0f};
 inline constexpr glm::vec3 interior_marker_colour{1.0f, 0.0f, 0.0f};
 Image id_mismatch_image(const Image& background, const Image& mismatch_map);
+
+/// Draws a square ring in `colour` around each of `pixels` (and the pixel itself) of `image`,
+/// within its first map_width x map_height pixels (a heatmap's legend panel is left alone): radius
+/// 1/64 of the map's larger side (at least 3), so that an isolated pixel stays visible after the
+/// report's downscaling.
+void mark_pixels(Image& image, int map_width, int map_height, const std::vector<glm::ivec2>& pixels,
+                 glm::vec3 colour);
 
 /// Draws `text` (digits, '.', '-', '+', 'e', 'x', space) with a 3x5 pixel font scaled by `scale`
 /// at (x, y) (top-left), clipped to the image. For legends and plot labels in PNGs.

@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -24,6 +26,49 @@ std::string shape(int w, int h, int c) {
 // view (docs/diff.md).
 float default_distance_px(int height) {
     return 0.5f * static_cast<float>(height) / dm::tan(dm::radians(30.0f));
+}
+
+// What the candidate file itself suggests went wrong, beside the numbers: a PNG for a float
+// buffer (quantised to 1/255), an HDR colour buffer clipped by a PNG, rows upside down.
+std::string candidate_hints(const DiffItem& item, const Tolerance& tolerance) {
+    std::vector<std::string> hints;
+    const bool png = lower_extension(item.candidate_file) == ".png";
+    if (png && item.kind != "color")
+        hints.push_back(
+            "a PNG for a float buffer holds 8- or 16-bit steps (value/255 or "
+            "/65535), not this buffer's values: write PFM or EXR");
+    if (png && item.kind == "color") {
+        float brightest = 0.0f;
+        for (const float v : item.golden.data)
+            if (std::isfinite(v)) brightest = std::max(brightest, v);
+        if (brightest > 1.0f)
+            hints.push_back("the golden holds values above 1 (up to " +
+                            number_text(brightest, "%.4g") +
+                            "), which a PNG clips at 1: write PFM or EXR");
+    }
+    if (!item.result.pass && item.golden.height > 1) {
+        // The same comparison with the candidate's rows reversed
+        Image flipped = item.candidate;
+        const std::size_t row = static_cast<std::size_t>(flipped.width) * flipped.channels;
+        for (int y = 0; y < flipped.height / 2; ++y)
+            std::swap_ranges(flipped.data.begin() + static_cast<std::ptrdiff_t>(y * row),
+                             flipped.data.begin() + static_cast<std::ptrdiff_t>((y + 1) * row),
+                             flipped.data.end() - static_cast<std::ptrdiff_t>((y + 1) * row));
+        CompareOptions plain;
+        plain.worst_pixels = 0;
+        const BufferComparison upside_down =
+            compare_buffers(item.name, item.golden, flipped, tolerance, plain);
+        if (upside_down.failing_pixels * 10 < item.result.failing_pixels)
+            hints.push_back("the candidate matches far better upside down (" +
+                            std::to_string(upside_down.failing_pixels) + " instead of " +
+                            std::to_string(item.result.failing_pixels) +
+                            " pixels out of tolerance): its rows are stored bottom-up? Row 0 is "
+                            "the top (a PFM file stores the bottom row first; raw files: "
+                            "--raw-bottom-up)");
+    }
+    std::string text;
+    for (const std::string& h : hints) text += (text.empty() ? "" : "; ") + h;
+    return text;
 }
 
 void compare_item(const DiffOptions& o, const ToleranceTable& tolerances, float distance_px,
@@ -58,7 +103,9 @@ void compare_item(const DiffOptions& o, const ToleranceTable& tolerances, float 
     }
     const bool image_like = (item.golden.channels == 1 || item.golden.channels == 3) &&
                             item.golden.width >= 11 && item.golden.height >= 11;
-    if (image_like) {
+    // Eccentricity rings for screen images only: a buffer-space image is summarised along its
+    // columns and rows (a log-polar buffer's u is the radius, v the angle)
+    if (image_like && item.space == BufferSpace::screen) {
         RingSettings rs;
         rs.count = o.rings;
         rs.max_range = o.max_range;
@@ -72,7 +119,10 @@ void compare_item(const DiffOptions& o, const ToleranceTable& tolerances, float 
     options.worst_pixels = o.worst;
     options.rings = item.rings ? &*item.rings : nullptr;
     options.mask = mask;
+    options.axis_errors = item.space != BufferSpace::screen && item.golden.height > 1;
     item.result = compare_buffers(item.name, item.golden, item.candidate, tolerance, options);
+    const std::string hints = candidate_hints(item, tolerance);
+    if (!hints.empty()) note += (note.empty() ? "" : "; ") + hints;
     if (item.result.nonfinite_mismatches > 0)
         note += std::string(note.empty() ? "" : "; ") +
                 std::to_string(item.result.nonfinite_mismatches) +
@@ -118,6 +168,23 @@ std::vector<std::uint8_t> id_mask(const DiffOptions& o, DiffReport& report, std:
     return mask;
 }
 
+// --margin N: the pixels within N of the image's border are left out (counted in
+// item.margin_pixels).
+void add_margin(const DiffOptions& o, DiffItem& item, std::vector<std::uint8_t>& mask) {
+    const int w = item.golden.width, h = item.golden.height;
+    if (o.margin <= 0 || item.hash_only || item.candidate_file.empty() || w == 0) return;
+    if (mask.empty()) mask.assign(static_cast<std::size_t>(w) * h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool border =
+                x < o.margin || y < o.margin || x >= w - o.margin || y >= h - o.margin;
+            std::uint8_t& m = mask[static_cast<std::size_t>(y) * w + x];
+            if (!border) continue;
+            item.margin_pixels += m;  // only the pixels the ids had not left out already
+            m = 0;
+        }
+}
+
 }  // namespace
 
 void compare_items(const DiffOptions& o, const ToleranceTable& tolerances, const ItemInputs& inputs,
@@ -146,7 +213,8 @@ void compare_items(const DiffOptions& o, const ToleranceTable& tolerances, const
             if (report.items[k].is_id) compare_at(k, nullptr);
         for (std::size_t k = first; k < end; ++k) {
             if (report.items[k].is_id) continue;
-            const std::vector<std::uint8_t> mask = id_mask(o, report, first, end, report.items[k]);
+            std::vector<std::uint8_t> mask = id_mask(o, report, first, end, report.items[k]);
+            add_margin(o, report.items[k], mask);
             compare_at(k, mask.empty() ? nullptr : &mask);
         }
         first = end;

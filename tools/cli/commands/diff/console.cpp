@@ -58,8 +58,14 @@ void print_row(const DiffItem& item, const Columns& w) {
     }
     const BufferComparison& r = item.result;
     std::string masked;
-    if (r.masked_pixels > 0)
-        masked = "  (" + std::to_string(r.masked_pixels) + " px where ids differ left out)";
+    const std::int64_t by_ids = r.masked_pixels - item.margin_pixels;
+    if (by_ids > 0 || item.margin_pixels > 0)
+        masked = "  (" + (by_ids > 0 ? std::to_string(by_ids) + " px where ids differ" : "") +
+                 (by_ids > 0 && item.margin_pixels > 0 ? ", " : "") +
+                 (item.margin_pixels > 0
+                      ? std::to_string(item.margin_pixels) + " px of the --margin band"
+                      : "") +
+                 " left out)";
     if (r.nonfinite_mismatches > 0) masked += "  convention mismatch: see note";
     std::printf("%10s %9lld %10lld %8s %8s%s\n", number_text(r.max_abs, "%.4g", "-").c_str(),
                 static_cast<long long>(r.max_ulp), static_cast<long long>(r.failing_pixels),
@@ -72,6 +78,7 @@ void print_row(const DiffItem& item, const Columns& w) {
             item.flip->mean, item.flip->weighted_median, item.flip->first_quartile,
             item.flip->third_quartile, static_cast<double>(item.flip->max),
             static_cast<double>(item.flip_ppd), item.flip_observer.c_str());
+    if (!item.note.empty()) std::printf("      note: %s\n", item.note.c_str());
 }
 
 // Why an id buffer failed: its mismatch counts, its edge mismatches and the first interior one.
@@ -107,7 +114,6 @@ void print_value_failure(const DiffItem& item) {
                     r.worst[0].y, number_text(r.worst[0].abs_error, "%.4g", "-").c_str(),
                     values_text(r.worst[0].golden).c_str(),
                     values_text(r.worst[0].candidate).c_str());
-    if (r.nonfinite_mismatches > 0) std::printf("  note: %s\n", item.note.c_str());
 }
 
 // The first failing stage: its buffer, why it failed, and the probe command that explains it.

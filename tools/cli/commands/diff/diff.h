@@ -28,6 +28,7 @@ struct DiffOptions {
     int frame = -1;         ///< only this frame (default: all)
     double threshold = -1;  ///< "pixels over threshold" (< 0: count the pixels out of tolerance)
     int worst = 5;
+    int margin = 0;  ///< leave out the pixels within this many of each value buffer's border
     // Raw binary32 candidates (.raw, .bin, .f32): the golden buffer's shape unless given.
     std::string raw_size;  ///< WxH or WxHxC
     bool raw_planar = false, raw_bottom_up = false, raw_big_endian = false;

@@ -133,6 +133,19 @@ std::string ring_plots(const BufferComparison& r) {
     return out + "</div>";
 }
 
+// A buffer-space image's errors along its axes: per column (u: a log-polar or Visual-Polar
+// buffer's radius) and per row (v: its angle), where screen images get rings.
+std::string axis_plots(const BufferComparison& r) {
+    PlotSeries columns{"RMSE", {}, r.column_rmse}, rows{"RMSE", {}, r.row_rmse};
+    for (std::size_t k = 0; k < r.column_rmse.size(); ++k)
+        columns.x.push_back(static_cast<double>(k));
+    for (std::size_t k = 0; k < r.row_rmse.size(); ++k) rows.x.push_back(static_cast<double>(k));
+    std::string out = "<div class=\"plots\">";
+    out += svg_line_plot({"RMSE per column (along u)", "column u (buffer space)", "", {columns}});
+    out += svg_line_plot({"RMSE per row (along v)", "row v (buffer space)", "", {rows}});
+    return out + "</div>";
+}
+
 // An id buffer: both previews, the mismatch map with markers, the counts and the mismatches.
 std::string id_section(const DiffItem& item) {
     const IdComparison& r = item.ids;
@@ -304,11 +317,21 @@ std::string pictures_html(const DiffItem& item) {
                     "<figcaption>golden</figcaption></figure><figure>" +
                     preview_tag(item.candidate, item.kind, "candidate " + item.name) +
                     "<figcaption>candidate</figcaption></figure>";
-    if (differs)
-        h += "<figure>" + img_tag(heatmap(r.abs_error, hs), "error heatmap " + item.name) +
+    if (differs) {
+        // A few failing pixels are marked (a single wrong value is one pixel of the map)
+        Image map = heatmap(r.abs_error, hs);
+        const bool isolated =
+            r.failing_pixels > 0 &&
+            r.failing_pixels <= static_cast<std::int64_t>(r.failing_listed.size());
+        if (isolated) mark_pixels(map, r.width, r.height, r.failing_listed, interior_marker_colour);
+        h += "<figure>" + img_tag(map, "error heatmap " + item.name) +
              "<figcaption>|candidate &minus; golden| (largest channel), scale 0 .. " +
              fmt(heatmap_scale(r.abs_error, hs)) + (hs.rings ? ", ring boundaries lighter" : "") +
+             (isolated
+                  ? ", the " + count_text(r.failing_pixels, "pixel") + " out of tolerance ringed"
+                  : "") +
              "</figcaption></figure>";
+    }
     h += "</div>\n";
     return h;
 }
@@ -382,12 +405,17 @@ std::string section_html(const DiffReport& report, std::size_t k) {
         std::string names;
         for (const std::string& n : item.masked_by) names += (names.empty() ? "" : ", ") + n;
         h += "<p>compared where <code>" + html_escape(names) +
-             "</code> agree: " + count_text(r.masked_pixels, "pixel") + " left out.</p>\n";
+             "</code> agree: " + count_text(r.masked_pixels - item.margin_pixels, "pixel") +
+             " left out.</p>\n";
     }
+    if (item.margin_pixels > 0)
+        h += "<p>--margin: " + count_text(item.margin_pixels, "pixel") +
+             " of the border band left out.</p>\n";
     // Pictures: every failing buffer and every colour buffer.
     if (!item.pass || item.kind == "color") h += pictures_html(item);
     h += figures_html(item);
     if (!r.rings.empty() && r.max_abs > 0.0) h += ring_plots(r);
+    if (!r.column_rmse.empty() && r.max_abs > 0.0) h += axis_plots(r);
     h += "</details></section>\n";
     return h;
 }

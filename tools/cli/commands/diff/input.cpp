@@ -262,6 +262,7 @@ void collect_bundle_items(const DiffOptions& o, const Manifest& manifest, bool c
         item.stage = b.stage;
         item.kind = b.kind;
         item.is_id = b.kind == "id";
+        item.space = space_of(manifest.golden_case.mode, b.name);
         item.golden_file = b.file.empty() ? "" : (fs::path(o.golden) / b.file).string();
         item.hash_only = b.file.empty();
         item.required = std::find(required.begin(), required.end(), b.name) != required.end();

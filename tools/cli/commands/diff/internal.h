@@ -67,6 +67,10 @@ void compare_items(const DiffOptions& o, const ToleranceTable& tolerances, const
 
 // ---- probe_hint.cpp -------------------------------------------------------------------------
 
+/// The space of buffer `name` as the case's mode describes its buffers (ModeInfo::
+/// buffer_families); a mode this fovref does not know (a bundle from another version): screen.
+BufferSpace space_of(const std::string& mode, const std::string& name);
+
 /// The `fovref probe` command that explains element (x, y) of `item` (empty without a case).
 std::string probe_command(const Manifest& m, const DiffItem& item, int x, int y);
 

@@ -1,3 +1,4 @@
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "tools/cli/commands/diff/internal.h"
@@ -62,6 +63,16 @@ void add_flip_and_rings_json(const DiffItem& item, json& j) {
                      {"pixels_per_degree", item.flip_ppd},
                      {"observer", item.flip_observer},
                      {"pooling", flip_pooling_note}};
+    if (!r.column_rmse.empty()) {
+        // NaN (no compared element) as null
+        const auto array = [](const std::vector<double>& values) {
+            json a = json::array();
+            for (const double v : values) a.push_back(std::isfinite(v) ? json(v) : json());
+            return a;
+        };
+        j["column_rmse"] = array(r.column_rmse);
+        j["row_rmse"] = array(r.row_rmse);
+    }
     if (r.rings.empty()) return;
     json rings = json::array();
     for (const RingStats& s : r.rings) rings.push_back(ring_json(s));
@@ -81,8 +92,9 @@ void add_values_json(const DiffItem& item, json& j) {
     j["tolerance"] = tolerance_json(r.tolerance, false);
     if (!item.masked_by.empty()) {
         j["masked_by"] = item.masked_by;
-        j["masked_pixels"] = r.masked_pixels;
+        j["masked_pixels"] = r.masked_pixels - item.margin_pixels;
     }
+    if (item.margin_pixels > 0) j["margin_pixels"] = item.margin_pixels;
     j["max_abs_error"] = number_json(r.max_abs);
     j["max_rel_error"] = number_json(r.max_rel);
     j["max_ulp"] = r.max_ulp;

@@ -41,6 +41,10 @@ void add_diff_options(CLI::App& c, DiffOptions& o) {
     c.add_option("--threshold", o.threshold,
                  "count the pixels whose error exceeds this absolute value (default: count the "
                  "pixels out of the buffer's tolerance)");
+    c.add_option("--margin", o.margin,
+                 "leave out the value buffers' pixels within N of the border (a port with other "
+                 "border handling, e.g. BMFR's mirrored blocks); the reports say how many")
+        ->check(CLI::Range(0, 100000));
     c.add_option("--worst", o.worst, "worst pixels to list per buffer")
         ->check(CLI::Range(0, 1000))
         ->capture_default_str();

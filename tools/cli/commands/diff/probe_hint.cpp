@@ -6,15 +6,13 @@
 
 namespace fovref {
 
-namespace {
-
-// The space of buffer `name` as the case's mode describes its buffers (ModeInfo::
-// buffer_families); a mode this fovref does not know (a bundle from another version): screen.
 BufferSpace space_of(const std::string& mode, const std::string& name) {
     for (const ModeInfo& m : render_modes())
         if (m.name == mode) return buffer_space(m, name);
     return BufferSpace::screen;
 }
+
+namespace {
 
 // The probe's point for element (x, y) of buffer item.name, by the buffer's space: a texel of a
 // foveation buffer (--texel I,J; both eyes side by side: I,J,EYE with the eye from the half it
@@ -26,7 +24,7 @@ std::string probe_point(const Manifest& m, const DiffItem& item, int x, int y) {
     const Counters none;
     const Counters& counters =
         known_frame ? m.frame_counters[static_cast<std::size_t>(item.frame)] : none;
-    switch (space_of(m.golden_case.mode, item.name)) {
+    switch (item.space) {
         case BufferSpace::texel: return " --texel " + std::to_string(x) + "," + std::to_string(y);
         case BufferSpace::stereo_texel: {
             const auto w = counters.get("buffer_width");

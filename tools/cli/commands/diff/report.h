@@ -2,6 +2,7 @@
 // (tools/cli/commands/diff/diff.cpp, tools/cli/commands/diff/html.cpp).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "ref/metrics/compare.h"
 #include "ref/metrics/flip.h"
 #include "ref/metrics/rings.h"
+#include "ref/stage/pipeline.h"
 
 namespace fovref {
 
@@ -21,12 +23,16 @@ struct DiffItem {
     bool hash_only = false;                   ///< the golden keeps only a hash: compared by SHA-256
     bool required = false;                    ///< --require: missing fails
     bool is_id = false;  ///< an id or mask buffer: compared as integers (ids below)
+    /// How its pixels relate to the screen: screen images get eccentricity rings, the others
+    /// (foveation buffers, windows, sample lists) errors along their columns and rows.
+    BufferSpace space = BufferSpace::screen;
     bool pass = true;
     std::string note;         ///< e.g. "alpha channel dropped", "golden stores only a hash"
     BufferComparison result;  ///< value buffers
     IdComparison ids;         ///< id buffers
     /// Value buffers compared only where these id buffers of the frame agree (empty: everywhere).
     std::vector<std::string> masked_by;
+    std::int64_t margin_pixels = 0;  ///< --margin: border pixels left out (besides masked_by's)
 
     /// "pass", "FAIL", "missing" or "MISSING" (required).
     std::string status() const;
