@@ -74,9 +74,10 @@ bool blend_accepted(const Image& image, const BmfrTaps& taps, unsigned mask, flo
 
 // Phase I's reprojection of world point p (BmfrSpace): the previous frame's pixel index, or on
 // a Visual-Polar buffer (u - 1/2, t) through the previous screen and map; false when behind.
-bool reproject(const BmfrHistory& history, const BmfrSpace& space, int width, int height,
-               glm::vec3 p, glm::vec2& q) {
-    if (!space.map) return bmfr_project(history.view_projection, width, height, p, q);
+bool reproject(const BmfrParams& params, const BmfrHistory& history, const BmfrSpace& space,
+               int width, int height, glm::vec3 p, glm::vec2& q) {
+    if (!space.map)
+        return bmfr_project(history.view_projection, width, height, p, q, params.pixel_offset);
     const VisualPolarMap& previous = *history.map;
     glm::vec2 s;
     if (!bmfr_project(history.view_projection, previous.screen_width, previous.screen_height, p, s))
@@ -107,14 +108,15 @@ ViewProjection view_projection(const Camera& camera, int width, int height) {
     return vp;
 }
 
-bool bmfr_project(const ViewProjection& vp, int width, int height, glm::vec3 p, glm::vec2& pixel) {
+bool bmfr_project(const ViewProjection& vp, int width, int height, glm::vec3 p, glm::vec2& pixel,
+                  glm::vec2 offset) {
     const auto& m = vp.m;
     const float cx = m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3];
     const float cy = m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7];
     const float cw = m[12] * p.x + m[13] * p.y + m[14] * p.z + m[15];
     if (!(cw > 0.0f)) return false;
-    pixel.x = (cx / cw + 1.0f) * 0.5f * static_cast<float>(width) - 0.5f;
-    pixel.y = (1.0f - cy / cw) * 0.5f * static_cast<float>(height) - 0.5f;
+    pixel.x = (cx / cw + 1.0f) * 0.5f * static_cast<float>(width) - offset.x;
+    pixel.y = (1.0f - cy / cw) * 0.5f * static_cast<float>(height) - offset.y;
     return std::isfinite(pixel.x) && std::isfinite(pixel.y);
 }
 
@@ -169,7 +171,15 @@ Image bmfr_demodulate(const BmfrParams& params, const Image& radiance, const Ima
     check_shape(radiance, radiance.width, radiance.height, 3, "radiance");
     const bool separate = params.separate_emission && !emission.empty();
     if (separate) check_shape(emission, radiance.width, radiance.height, 3, "emission");
+    FOVREF_CHECK(!(params.demodulated_input && separate),
+                 "bmfr: a demodulated input colour cannot keep the emission apart");
     Image out(radiance.width, radiance.height, 3);
+    if (params.demodulated_input) {  // the illumination as given (the authors' input)
+        for (std::size_t i = 0; i < out.data.size(); ++i)
+            out.data[i] = std::clamp(finite_or_zero(radiance.data[i], stats.nonfinite_inputs),
+                                     -half_max, half_max);
+        return out;
+    }
     for (std::size_t i = 0; i < out.data.size(); ++i) {
         const float a = finite_or_zero(albedo.data[i], stats.nonfinite_inputs);
         float c = finite_or_zero(radiance.data[i], stats.nonfinite_inputs);
@@ -255,7 +265,7 @@ void bmfr_accumulate_noisy_pixel(const BmfrParams& params, const Image& illumina
     if (has_previous && data) {
         const glm::vec3 p = finite_or_zero(load3(world_position, x, y), stats);
         const glm::vec3 n = finite_or_zero(load3(normal, x, y), stats);
-        if (!reproject(history, space, width, height, p, q)) {
+        if (!reproject(params, history, space, width, height, p, q)) {
             q = bmfr_behind_camera;
             ++stats.history_off_screen;
         } else {

@@ -49,6 +49,15 @@ struct BmfrParams {
     /// remodulating. Off by default, and without an emission buffer: the radiance is demodulated
     /// whole, as SPEC §9.
     bool separate_emission = false;
+    /// The input colour is already divided by max(albedo, floor) (the BMFR authors' input,
+    /// `denoise bmfr --demodulated`): phase I takes it as the illumination as it is (NaN and
+    /// infinities -> 0, clamped to +-65504), and remodulation multiplies by max(albedo, floor)
+    /// as usual. Not with separate_emission.
+    bool demodulated_input = false;
+    /// Where this frame's samples lie in their pixels (the authors' pixel_offsets[frame], x
+    /// right, y down in fovref's rows): phase I's reprojected pixel index is the projection
+    /// minus this offset, (0.5, 0.5) for pixel centres (bmfr_project). Screen space only.
+    glm::vec2 pixel_offset{0.5f, 0.5f};
 };
 
 inline constexpr int bmfr_block_size = 32;  ///< block edge in pixels
@@ -73,9 +82,11 @@ struct ViewProjection {
     bool operator==(const ViewProjection&) const = default;
 };
 ViewProjection view_projection(const Camera& camera, int width, int height);
-/// The pixel index at which `world` appears under `vp` on a W x H screen; false when behind.
+/// The pixel index at which `world` appears under `vp` on a W x H screen, for samples at
+/// `offset` in their pixels (x = (clip.x / clip.w + 1) 0.5 W - offset.x, y = (1 - clip.y /
+/// clip.w) 0.5 H - offset.y); false when behind.
 bool bmfr_project(const ViewProjection& vp, int width, int height, glm::vec3 world,
-                  glm::vec2& pixel);
+                  glm::vec2& pixel, glm::vec2 offset = glm::vec2(0.5f));
 
 /// Where BMFR runs (SPEC §9 item 11, Koskela P5 §3.3; docs/bmfr.md "Visual-Polar space"): on the
 /// screen (no map), or on a Visual-Polar buffer (`map`), where

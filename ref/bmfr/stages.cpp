@@ -15,6 +15,8 @@ const std::vector<std::string> rgb = {"r", "g", "b"};
 struct BmfrState : StageState {
     BmfrSettings settings;
     std::function<VisualPolarMap(const FrameContext&, int frame)> map;  ///< empty: the screen
+    std::function<ViewProjection(const FrameContext&, int frame)> camera;  ///< empty: ctx's
+    std::function<glm::vec2(const FrameContext&)> pixel_offset;           ///< empty: centres
     BmfrHistory history;  ///< what the previous frame handed on
     BmfrHistory next;     ///< what this frame hands on (filled by the stages)
     int frame = -1;       ///< the frame `next` belongs to
@@ -30,13 +32,27 @@ AddBuffer to_outputs(const FrameContext& ctx) {
                   Image image) { ctx.output(name, kind, std::move(channels), std::move(image)); };
 }
 
+// The view-projection of frame `frame` (the current or the previous one): the wiring's matrices,
+// else the frame's camera.
+ViewProjection frame_view_projection(const FrameContext& ctx, const BmfrState& s, int frame) {
+    if (s.camera) return s.camera(ctx, frame);
+    return view_projection(frame == ctx.frame ? ctx.camera : ctx.previous_camera,
+                           ctx.settings->width, ctx.settings->height);
+}
+
+// The parameters of this frame's phase I: the wiring's pixel offset, if any.
+BmfrParams frame_params(const FrameContext& ctx, const BmfrState& s) {
+    BmfrParams params = s.settings.params;
+    if (s.pixel_offset) params.pixel_offset = s.pixel_offset(ctx);
+    return params;
+}
+
 // The history of a frame rendered after frame 0 with nothing rendered before it: the previous
 // frame's dumped buffers (read by phase I, which holds the G-buffer's and the mask's ports).
 BmfrHistory resumed_history(const FrameContext& ctx, const BmfrState& s) {
     BmfrHistory h;
     h.valid = true;
-    h.view_projection =
-        view_projection(ctx.previous_camera, ctx.settings->width, ctx.settings->height);
+    h.view_projection = frame_view_projection(ctx, s, ctx.frame - 1);
     std::optional<glm::ivec2> size;  // the buffer's (the screen's unless Visual-Polar)
     if (s.map) {
         h.map = s.map(ctx, ctx.frame - 1);
@@ -112,7 +128,7 @@ void add_fit(const AddBuffer& add, Image weights, Image feature_range) {
 void hand_on_accumulation(const FrameContext& ctx, BmfrState& s, const BmfrSpace& space,
                           const Image& world, const Image& normal, const BmfrAccumulation& a) {
     s.next.valid = true;
-    s.next.view_projection = view_projection(ctx.camera, ctx.settings->width, ctx.settings->height);
+    s.next.view_projection = frame_view_projection(ctx, s, ctx.frame);
     s.next.map = space.map;
     if (space.valid) s.next.valid_texels = *space.valid;
     s.next.world_position = world;
@@ -160,7 +176,7 @@ void bmfr_accumulate_noisy_stage(FrameContext& ctx) {
     const Image& normal = ctx.input("shading_normal");
     const BmfrSpace space = frame_space(ctx, s);
     BmfrStats stats;
-    BmfrAccumulation a = bmfr_accumulate_noisy(s.settings.params, ctx.input("bmfr_illumination"),
+    BmfrAccumulation a = bmfr_accumulate_noisy(frame_params(ctx, s), ctx.input("bmfr_illumination"),
                                                world, normal, s.history, stats, space);
     add_stats(ctx, stats);
     ctx.note = !s.history.valid ? "first frame: no history"
@@ -256,6 +272,8 @@ void add_bmfr_stages(Pipeline& p, const BmfrWiring& w) {
     auto state = std::make_shared<BmfrState>();
     state->settings = w.settings;
     state->map = w.map;
+    state->camera = w.view_projection;
+    state->pixel_offset = w.pixel_offset;
     std::vector<Port> demodulate = {{"radiance", w.radiance}};
     std::vector<Port> remodulate = {"bmfr_accumulated_filtered"};
     if (w.settings.params.separate_emission) {

@@ -39,6 +39,12 @@ struct BmfrWiring {
     /// Visual-Polar space: the validity mask's buffer and the map of a frame; empty: the screen.
     std::string valid;
     std::function<VisualPolarMap(const FrameContext&, int frame)> map;
+    /// The view-projection of frame `frame` (empty: view_projection of the frame's camera), for
+    /// buffers from another renderer whose matrices are given (`denoise bmfr`).
+    std::function<ViewProjection(const FrameContext&, int frame)> view_projection;
+    /// Where the frame's samples lie in their pixels (empty: the centres; BmfrParams::
+    /// pixel_offset).
+    std::function<glm::vec2(const FrameContext&)> pixel_offset;
 
     /// Screen space, reading the G-buffer gbuffer_*.
     BmfrWiring(BmfrSettings bmfr, std::string radiance_buffer, std::string emission_buffer,

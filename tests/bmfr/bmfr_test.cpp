@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "ref/bmfr/bmfr.h"
@@ -464,4 +465,48 @@ TEST_CASE("bmfr: the same inputs give the same bits; half and float storage diff
             std::max(worst, static_cast<double>(std::fabs(a.fitted.data[i] - c.fitted.data[i])));
     MESSAGE("half vs float storage: max |fitted difference| = " << worst);
     CHECK(worst < 0.02);
+}
+
+TEST_CASE(
+    "bmfr phase I: a frame's pixel offset moves the reprojected pixel by exactly its "
+    "difference from the centre; the demodulated input is taken as the illumination") {
+    Frame f = wall(16, 16, 0.1f, glm::vec3(0, 0, 1), 1.0f);
+    Camera camera = look_at({0.75f, 0.75f, 3.0f}, {0.75f, 0.75f, 1.0f}, {0, 1, 0}, 40.0f);
+    BmfrHistory history;
+    history.valid = true;
+    history.view_projection = view_projection(camera, 16, 16);
+    history.world_position = f.world;
+    history.normal = f.normal;
+    history.accumulated_noisy = Image(16, 16, 3, 1.0f);
+    history.spp = Image(16, 16, 1, 1.0f);
+    BmfrParams centre, offset;
+    offset.pixel_offset = {0.25f, 0.75f};  // the authors' pixel_offsets[frame]
+    BmfrStats stats;
+    const Image illumination(16, 16, 3, 2.0f);
+    const BmfrAccumulation a =
+        bmfr_accumulate_noisy(centre, illumination, f.world, f.normal, history, stats);
+    const BmfrAccumulation b =
+        bmfr_accumulate_noisy(offset, illumination, f.world, f.normal, history, stats);
+    int checked = 0;
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+            // q - 0.25 and q - 0.5 are exact for |q| < 2^21: the difference is exactly 0.25
+            CHECK(b.previous_pixel.at(x, y, 0) == a.previous_pixel.at(x, y, 0) + 0.25f);
+            CHECK(b.previous_pixel.at(x, y, 1) == a.previous_pixel.at(x, y, 1) - 0.25f);
+            ++checked;
+        }
+    CHECK(checked == 256);
+    // --demodulated: colour / max(albedo, floor) as given gives bmfr_demodulate's bits
+    BmfrParams demodulated;
+    demodulated.demodulated_input = true;
+    Image colour(16, 16, 3);
+    for (std::size_t i = 0; i < colour.data.size(); ++i) {
+        f.radiance.data[i] = 0.37f * static_cast<float>(i % 7);
+        f.albedo.data[i] = i % 5 == 0 ? 0.001f : 0.3f + 0.1f * static_cast<float>(i % 3);
+        colour.data[i] = f.radiance.data[i] / std::max(f.albedo.data[i], centre.albedo_floor);
+    }
+    const Image from_radiance = bmfr_demodulate(centre, f.radiance, f.albedo, Image(), stats);
+    const Image as_given = bmfr_demodulate(demodulated, colour, f.albedo, Image(), stats);
+    CHECK(std::memcmp(from_radiance.data.data(), as_given.data.data(),
+                      from_radiance.data.size() * sizeof(float)) == 0);
 }

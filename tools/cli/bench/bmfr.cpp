@@ -1,4 +1,6 @@
 // `fovref bench bmfr`:
+//   --input DIR  the phases' times on another renderer's buffers (denoise bmfr's IN_DIR), the
+//          fastest of each over the frames after the first; nothing else.
 //   cost   renders 1 + repeats frames of `pathtrace --param denoise=bmfr` at W x H along the
 //          scene's camera path (30 frames per second); frame 0 (BVH build, no history) is not
 //          timed; each stage's time is its fastest over the timed frames. BMFR = every bmfr_*
@@ -21,6 +23,7 @@
 #include "ref/metrics/ssim.h"
 #include "ref/modes/modes.h"
 #include "ref/scene/scene_file.h"
+#include "tools/cli/commands/denoise.h"
 #include "tools/cli/common/cli_common.h"
 #include "tools/cli/common/progress.h"
 
@@ -31,6 +34,34 @@ namespace {
 bool is_bmfr_phase(const std::string& stage) {
     return stage.rfind("bmfr_", 0) == 0 && stage != "bmfr_output";
 }
+
+// The fastest time of each stage that ran, over the frames handed to `add`.
+struct StageTimes {
+    std::vector<std::string> order;
+    std::map<std::string, double> best;
+    void add(const FrameResult& f) {
+        for (const StageRun& run : f.stages) {
+            if (!run.ran) continue;
+            if (best.count(run.name) == 0) {
+                order.push_back(run.name);
+                best[run.name] = run.seconds;
+            }
+            best[run.name] = std::min(best[run.name], run.seconds);
+        }
+    }
+    // Each stage, the BMFR phases' sum against the 720p target and the frame's sum.
+    void print() const {
+        double bmfr = 0.0, total = 0.0;
+        for (const std::string& name : order) {
+            total += best.at(name);
+            if (is_bmfr_phase(name)) bmfr += best.at(name);
+            std::printf("    %-28s %9.1f ms\n", name.c_str(), 1e3 * best.at(name));
+        }
+        std::printf("    %-28s %9.1f ms  %s\n    %-28s %9.1f ms\n", "BMFR (all phases)", 1e3 * bmfr,
+                    bmfr <= 0.3 ? "meets the target" : "misses the target", "frame", 1e3 * total);
+        std::fflush(stdout);
+    }
+};
 
 void print_cost(const Scene& scene, const BenchBmfrOptions& o, Progress& progress) {
     std::printf(
@@ -45,31 +76,40 @@ void print_cost(const Scene& scene, const BenchBmfrOptions& o, Progress& progres
         s.params = Params(
             std::map<std::string, std::string>{{"denoise", "bmfr"}, {"bmfr_storage", storage}});
         s.progress = [&](double f) { progress.update(f); };
-        std::vector<std::string> order;
-        std::map<std::string, double> best;
+        StageTimes times;
         render_each(&scene, "pathtrace", s, [&](FrameResult& f) {
-            if (f.frame == 0) return;
-            for (const StageRun& run : f.stages) {
-                if (!run.ran) continue;
-                if (best.count(run.name) == 0) {
-                    order.push_back(run.name);
-                    best[run.name] = run.seconds;
-                }
-                best[run.name] = std::min(best[run.name], run.seconds);
-            }
+            if (f.frame > 0) times.add(f);
         });
         progress.clear();
-        double bmfr = 0.0, total = 0.0;
         std::printf("  bmfr_storage=%s\n", storage);
-        for (const std::string& name : order) {
-            total += best[name];
-            if (is_bmfr_phase(name)) bmfr += best[name];
-            std::printf("    %-28s %9.1f ms\n", name.c_str(), 1e3 * best[name]);
-        }
-        std::printf("    %-28s %9.1f ms  %s\n    %-28s %9.1f ms\n", "BMFR (all phases)", 1e3 * bmfr,
-                    bmfr <= 0.3 ? "meets the target" : "misses the target", "frame", 1e3 * total);
-        std::fflush(stdout);
+        times.print();
     }
+}
+
+// --input DIR: the phases on another renderer's buffers (`denoise bmfr`'s input), fastest over
+// every frame after the first (which has no history); load_inputs (reading the files) is not a
+// phase.
+void print_external_cost(const BenchBmfrOptions& o, Progress& progress) {
+    DenoiseOptions d;
+    d.input = o.input;
+    d.params = o.params;
+    d.demodulated = o.demodulated;
+    StageTimes times;
+    const DenoiseRun run = denoise_each(
+        d, {"final"}, [&](double f) { progress.update(f); },
+        [&](FrameResult& f) {
+            if (f.frame > 0) times.add(f);
+        });
+    progress.clear();
+    if (times.order.empty())
+        throw Error("bench bmfr --input " + o.input +
+                    ": one frame only; the timed frames are the "
+                    "ones after the first (it has no history)");
+    std::printf(
+        "\ncost: %s, %dx%d, frames 1 .. %d (fastest), one thread; target: BMFR <= 300 ms "
+        "per 720p frame\n",
+        o.input.c_str(), run.width, run.height, run.last);
+    times.print();
 }
 
 void print_errors(const Scene& scene, const BenchBmfrOptions& o, Progress& progress) {
@@ -167,6 +207,12 @@ void add_bench_bmfr_options(CLI::App& c, BenchBmfrOptions& o) {
         ->check(CLI::Range(1, 65536))
         ->capture_default_str();
     c.add_flag("--no-cost", o.skip_cost, "skip the cost part");
+    c.add_option("--input", o.input,
+                 "time the phases on another renderer's buffers instead (the layout of `fovref "
+                 "denoise bmfr`'s IN_DIR); no path tracing, no error part");
+    c.add_option("--param", o.params, "with --input: BMFR parameters, as denoise bmfr takes");
+    c.add_flag("--demodulated", o.demodulated,
+               "with --input: the colour is already divided by albedo (as denoise bmfr)");
     c.add_flag("--no-error", o.skip_error, "skip the error part");
 }
 
@@ -177,9 +223,16 @@ int run_bench_bmfr(const BenchBmfrOptions& o) {
     if (o.every > o.frames)
         throw Error("--every " + std::to_string(o.every) + " is more than --frames " +
                     std::to_string(o.frames) + ": no frame would be compared");
+    Progress progress("bench bmfr", o.quiet);
+    if (!o.input.empty()) {  // another renderer's buffers: the cost of the phases only
+        std::printf("fovref bench bmfr: BMFR (SPEC §9) on the buffers of %s, one thread\n",
+                    o.input.c_str());
+        print_external_cost(o, progress);
+        progress.finish();
+        return 0;
+    }
     const Scene scene = load_cli_scene(o.scene);
     std::printf("fovref bench bmfr: path tracing + BMFR (SPEC §8-9), one thread\n");
-    Progress progress("bench bmfr", o.quiet);
     if (!o.skip_cost) print_cost(scene, o, progress);
     if (!o.skip_error) print_errors(scene, o, progress);
     progress.finish();

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace CLI {
 class App;
@@ -22,6 +23,9 @@ struct BenchBmfrOptions {
     int every = 4;                              ///< compare every K-th frame (K - 1, 2K - 1, ...)
     int reference_spp = 256;                    ///< samples per pixel of the reference
     bool skip_cost = false, skip_error = false;
+    std::string input;                ///< --input DIR: time external buffers only
+    std::vector<std::string> params;  ///< with --input: BMFR parameters
+    bool demodulated = false;         ///< with --input: the colour is already demodulated
     bool quiet = false;
 };
 

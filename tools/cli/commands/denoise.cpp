@@ -1,8 +1,11 @@
 #include "tools/cli/commands/denoise.h"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -12,6 +15,8 @@
 #include "ref/core/error.h"
 #include "ref/golden/bundle.h"
 #include "ref/image/image_io.h"
+#include "ref/stage/pipeline.h"
+#include "tools/cli/common/output_dir.h"
 #include "tools/cli/common/progress.h"
 
 namespace fovref {
@@ -80,8 +85,34 @@ ViewProjection frame_matrix(const nlohmann::json& frame, const std::string& wher
 struct Input {
     int width = 0, height = 0;
     std::vector<ViewProjection> cameras;
+    std::vector<glm::vec2> pixel_offsets;  ///< per frame; (0.5, 0.5) unless cameras.json says
     std::string cameras_file;
+    /// cameras.json's "position_limit_squared" and "normal_limit_squared" (as bmfr_* params)
+    std::vector<std::pair<std::string, std::string>> limits;
 };
+
+// A frame's "pixel_offset": [x, y], each in [0, 1) (the BMFR authors' pixel_offsets[frame]).
+glm::vec2 frame_pixel_offset(const nlohmann::json& frame, const std::string& where) {
+    if (!frame.contains("pixel_offset")) return glm::vec2(0.5f);
+    const nlohmann::json& o = frame["pixel_offset"];
+    if (!o.is_array() || o.size() != 2) throw Error(where + ".pixel_offset: expected [x, y]");
+    const glm::vec2 offset{finite_number(o[0], where + ".pixel_offset[0]"),
+                           finite_number(o[1], where + ".pixel_offset[1]")};
+    if (!(offset.x >= 0.0f && offset.x < 1.0f && offset.y >= 0.0f && offset.y < 1.0f))
+        throw Error(where + ".pixel_offset: each coordinate must lie in [0, 1)");
+    return offset;
+}
+
+// cameras.json's reprojection limits, as the parameters they set.
+void read_limits(const nlohmann::json& j, const std::string& file, Input& in) {
+    for (const char* key : {"position_limit_squared", "normal_limit_squared"}) {
+        if (!j.contains(key)) continue;
+        const float v = finite_number(j[key], file + ": " + key);
+        char text[32];
+        std::snprintf(text, sizeof text, "%.9g", static_cast<double>(v));
+        in.limits.emplace_back(std::string("bmfr_") + key, text);
+    }
+}
 
 // IN_DIR/cameras.json, else the frames of IN_DIR/manifest.json (a fovref bundle).
 Input read_input(const std::string& dir) {
@@ -99,10 +130,12 @@ Input read_input(const std::string& dir) {
         in.height = j["height"].get<int>();
         if (in.width < 1 || in.height < 1 || in.width > 16384 || in.height > 16384)
             throw Error(cameras + ": width and height must lie in 1..16384");
-        for (std::size_t f = 0; f < j["frames"].size(); ++f)
-            in.cameras.push_back(frame_matrix(j["frames"][f],
-                                              cameras + ": frames[" + std::to_string(f) + "]",
-                                              in.width, in.height));
+        for (std::size_t f = 0; f < j["frames"].size(); ++f) {
+            const std::string where = cameras + ": frames[" + std::to_string(f) + "]";
+            in.cameras.push_back(frame_matrix(j["frames"][f], where, in.width, in.height));
+            in.pixel_offsets.push_back(frame_pixel_offset(j["frames"][f], where));
+        }
+        read_limits(j, cameras, in);
     } else if (fs::exists(manifest)) {
         in.cameras_file = manifest;
         const nlohmann::json j = read_json(manifest);
@@ -117,10 +150,12 @@ Input read_input(const std::string& dir) {
         in.height = j["case"]["height"].get<int>();
         if (in.width < 1 || in.height < 1 || in.width > 16384 || in.height > 16384)
             throw Error(manifest + ": width and height must lie in 1..16384");
-        for (std::size_t f = 0; f < j["frames"].size(); ++f)
+        for (std::size_t f = 0; f < j["frames"].size(); ++f) {
             in.cameras.push_back(frame_matrix(j["frames"][f],
                                               manifest + ": frames[" + std::to_string(f) + "]",
                                               in.width, in.height));
+            in.pixel_offsets.push_back(glm::vec2(0.5f));
+        }
     } else {
         throw Error(dir +
                     ": no cameras.json (per-frame view-projection matrices; docs/bmfr.md) "
@@ -164,75 +199,222 @@ Image read_input_buffer(const std::string& dir, int frame, const std::string& na
     return image;
 }
 
+// The input buffers of a frame (the load stage's outputs): name, kind, channel names.
+struct InputBuffer {
+    const char* name;
+    BufferKind kind;
+    std::vector<std::string> channels;
+};
+const std::vector<InputBuffer>& input_buffers() {
+    static const std::vector<InputBuffer> buffers = {
+        {"radiance", BufferKind::color, {"r", "g", "b"}},
+        {"gbuffer_albedo", BufferKind::color, {"r", "g", "b"}},
+        {"gbuffer_shading_normal", BufferKind::vector, {"x", "y", "z"}},
+        {"gbuffer_world_position", BufferKind::scalar, {"x", "y", "z"}}};
+    return buffers;
+}
+
+// What the load stage reads: IN_DIR and the screen, and whether it reads the emission.
+struct LoadState : StageState {
+    std::string dir;
+    int width = 0, height = 0;
+    bool emission = false;
+};
+
+// The stage that stands for another renderer's passes: frame f's buffers from IN_DIR.
+void load_inputs_stage(FrameContext& ctx) {
+    const LoadState& s = ctx.state<LoadState>();
+    for (const InputBuffer& b : input_buffers())
+        ctx.output(b.name, b.kind, b.channels,
+                   read_input_buffer(s.dir, ctx.frame, b.name, s.width, s.height));
+    if (s.emission)
+        ctx.output("emission", BufferKind::color, {"r", "g", "b"},
+                   read_input_buffer(s.dir, ctx.frame, "emission", s.width, s.height));
+    ctx.note = "read from " + s.dir;
+}
+
+// --frames N (0 .. N-1) or A..B (A .. B written; BMFR runs 0 .. B, its history needs them).
+std::pair<int, int> frame_range(const std::string& text, int available, const std::string& file) {
+    const auto number = [&](const std::string& t) {
+        std::size_t used = 0;
+        int v = -1;
+        try {
+            v = std::stoi(t, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (t.empty() || used != t.size() || v < 0 ||
+            !std::isdigit(static_cast<unsigned char>(t[0])))
+            throw Error("--frames '" + text + "': expected N or A..B (non-negative integers)");
+        return v;
+    };
+    if (text.empty()) return {0, available - 1};
+    const std::size_t dots = text.find("..");
+    const int first = dots == std::string::npos ? 0 : number(text.substr(0, dots));
+    const int last = dots == std::string::npos ? number(text) - 1 : number(text.substr(dots + 2));
+    if (last < first) throw Error("--frames '" + text + "': the range is empty");
+    if (last >= available)
+        throw Error("--frames '" + text + "': " + file + " has " + std::to_string(available) +
+                    " frame(s) (0 .. " + std::to_string(available - 1) + ")");
+    return {first, last};
+}
+
+// The BMFR parameters: --param, then cameras.json's limits where --param does not set them (both
+// setting one to different values is an error).
+Params denoise_params(const DenoiseOptions& o, const Input& in) {
+    Params params = Params::from_assignments(o.params);
+    params.check_known(bmfr_param_specs(), "denoise bmfr");
+    for (const auto& [key, value] : in.limits) {
+        if (params.given(key) && params.get_string(bmfr_param_specs(), key) != value)
+            throw Error("--param " + key + "=" + params.get_string(bmfr_param_specs(), key) +
+                        " and " + in.cameras_file + "'s " + key.substr(5) + " = " + value +
+                        " disagree; give one");
+        params.set(key, value);
+    }
+    params.set("denoise", "bmfr");
+    return params;
+}
+
+// Every input file of frames 0 .. last, checked before any work.
+void check_inputs(const std::string& dir, int last, bool emission) {
+    for (int f = 0; f <= last; ++f) {
+        for (const InputBuffer& b : input_buffers())
+            if (!has_input_buffer(dir, f, b.name))
+                throw Error(dir + "/" + input_prefix(f) + b.name +
+                            ".pfm (or .exr): missing (frame " + std::to_string(f) + ")");
+        if (emission && !has_input_buffer(dir, f, "emission"))
+            throw Error(dir + "/" + input_prefix(f) + "emission.pfm (or .exr): missing (frame " +
+                        std::to_string(f) + "; bmfr_emission=separate reads it)");
+    }
+}
+
+// `denoise bmfr` as a mode: the load stage, then BMFR's stages wired to the input's matrices and
+// pixel offsets.
+ModeInfo denoise_mode(const DenoiseOptions& o, std::shared_ptr<const Input> in) {
+    ModeInfo m;
+    m.name = "denoise-bmfr";
+    m.description = "BMFR on another renderer's buffers";
+    m.needs_scene = false;
+    m.params = concat_specs(bmfr_param_specs(), {});
+    m.stateless = false;
+    m.build = [dir = o.input, demodulated = o.demodulated, in](const Scene*,
+                                                               const RenderSettings& settings) {
+        BmfrSettings bmfr = parse_bmfr_params(settings.params);
+        if (demodulated && bmfr.params.separate_emission)
+            throw Error(
+                "--demodulated with bmfr_emission=separate: a colour already divided by "
+                "albedo has no emission to keep apart");
+        bmfr.params.demodulated_input = demodulated;
+        auto load = std::make_shared<LoadState>();
+        load->dir = dir;
+        load->width = in->width;
+        load->height = in->height;
+        load->emission = bmfr.params.separate_emission;
+        std::vector<Port> outputs;
+        for (const InputBuffer& b : input_buffers()) outputs.emplace_back(b.name);
+        if (load->emission) outputs.emplace_back("emission");
+        Pipeline p;
+        p.add({"load_inputs", {}, outputs, load_inputs_stage, load});
+        BmfrWiring wiring{bmfr, "radiance", "emission", "final"};
+        wiring.view_projection = [in](const FrameContext&, int frame) {
+            return in->cameras[static_cast<std::size_t>(frame)];
+        };
+        wiring.pixel_offset = [in](const FrameContext& ctx) {
+            return in->pixel_offsets[static_cast<std::size_t>(ctx.frame)];
+        };
+        add_bmfr_stages(p, wiring);
+        p.final_outputs = {"final"};
+        return p;
+    };
+    return m;
+}
+
 }  // namespace
 
 void add_denoise_options(CLI::App& c, DenoiseOptions& o) {
     c.add_option("IN_DIR", o.input,
                  "per-frame buffers fNNN_radiance, fNNN_gbuffer_albedo, "
                  "fNNN_gbuffer_shading_normal, fNNN_gbuffer_world_position (.pfm or .exr; "
-                 "optionally fNNN_emission) and cameras.json (or a fovref bundle's "
-                 "manifest.json)")
+                 "fNNN_emission with bmfr_emission=separate) and cameras.json (per frame "
+                 "\"view_projection\" or \"camera\", optionally \"pixel_offset\": [x, y]; at the "
+                 "top optionally \"position_limit_squared\", \"normal_limit_squared\"), or a "
+                 "fovref bundle's manifest.json (docs/bmfr.md)")
         ->required();
-    c.add_option("OUT_DIR", o.output, "the bundle written: every phase of every frame")->required();
+    c.add_option("OUT_DIR", o.output,
+                 "the bundle written (every phase of every frame unless --output/--frames say)")
+        ->required();
     c.add_option("--param", o.params,
                  "bmfr_storage=half|float, bmfr_position_limit_squared=V, "
                  "bmfr_normal_limit_squared=V, bmfr_emission=separate|include");
+    c.add_flag("--demodulated", o.demodulated,
+               "fNNN_radiance already holds colour / max(albedo, 0.01), as the BMFR authors' "
+               "input does: it is taken as the illumination (not divided again)");
+    c.add_option("--frames", o.frames,
+                 "N (frames 0 .. N-1) or A..B (frames A .. B written; 0 .. B run, BMFR's history "
+                 "needs them); default: every frame of cameras.json");
+    c.add_option("--output", o.outputs,
+                 "comma-separated buffers to write (e.g. final,bmfr_fitted), or all (default)")
+        ->delimiter(',');
+    c.add_flag("--previews", o.previews, "also a PNG preview of every buffer written");
+}
+
+DenoiseRun denoise_each(const DenoiseOptions& o, const std::vector<std::string>& requested,
+                        const std::function<void(double)>& progress,
+                        const std::function<void(FrameResult&)>& on_frame) {
+    const auto in = std::make_shared<const Input>(read_input(o.input));
+    DenoiseRun run;
+    run.params = denoise_params(o, *in);
+    std::tie(run.first, run.last) =
+        frame_range(o.frames, static_cast<int>(in->cameras.size()), in->cameras_file);
+    run.width = in->width;
+    run.height = in->height;
+    check_inputs(o.input, run.last, parse_bmfr_params(run.params).params.separate_emission);
+    if (!on_frame) return run;  // checked only
+    RenderSettings settings;
+    settings.width = in->width;
+    settings.height = in->height;
+    settings.frame_count = run.last + 1;
+    settings.params = run.params;
+    settings.requested = requested;
+    settings.progress = progress;
+    render_each(nullptr, denoise_mode(o, in), settings, [&](FrameResult& frame) {
+        if (frame.frame >= run.first) on_frame(frame);
+    });
+    return run;
 }
 
 int run_denoise(const DenoiseOptions& o) {
-    Params params = Params::from_assignments(o.params);
-    params.check_known(bmfr_param_specs(), "denoise bmfr");
-    params.set("denoise", "bmfr");
-    const BmfrSettings settings = parse_bmfr_params(params);
-    const Input in = read_input(o.input);
+    check_output_directory("OUT_DIR", o.output);
+    const bool all = o.outputs.empty() ||
+                     std::find(o.outputs.begin(), o.outputs.end(), "all") != o.outputs.end();
+    const std::vector<std::string> requested = all ? std::vector<std::string>{"all"} : o.outputs;
+    const DenoiseRun checked = denoise_each(o, requested, {}, {});  // inputs, before any work
     GoldenCase run;
     run.name = "denoise";
     run.mode = "denoise-bmfr";
-    run.width = in.width;
-    run.height = in.height;
-    run.frames = static_cast<int>(in.cameras.size());
-    run.params = params;
+    run.width = checked.width;
+    run.height = checked.height;
+    run.frames = checked.last - checked.first + 1;
+    run.params = checked.params;
     BundleOptions options;
-    options.previews_for_all = true;
-    BundleWriter writer(o.output, run, options);
+    options.previews_for_all = o.previews;
+    options.include_timings = true;
     Progress progress("denoise bmfr", o.quiet);
-    BmfrHistory history;
-    const int frames = static_cast<int>(in.cameras.size());
-    for (int f = 0; f < frames; ++f) {
-        FrameResult frame;
-        frame.frame = f;
-        const auto buffer = [&](const char* name) {
-            return read_input_buffer(o.input, f, name, in.width, in.height);
-        };
-        frame.add("radiance", BufferKind::color, {"r", "g", "b"}, buffer("radiance"));
-        frame.add("gbuffer_albedo", BufferKind::color, {"r", "g", "b"}, buffer("gbuffer_albedo"));
-        frame.add("gbuffer_shading_normal", BufferKind::vector, {"x", "y", "z"},
-                  buffer("gbuffer_shading_normal"));
-        frame.add("gbuffer_world_position", BufferKind::scalar, {"x", "y", "z"},
-                  buffer("gbuffer_world_position"));
-        // optional: the directly seen emission, kept out of the fit (bmfr_emission=separate)
-        const Image* emission = nullptr;
-        if (has_input_buffer(o.input, f, "emission")) {
-            frame.add("emission", BufferKind::color, {"r", "g", "b"}, buffer("emission"));
-            emission = &frame.find("emission")->image;
-        }
-        static const Image none;
-        BmfrStats stats;
-        BmfrFrame denoised = bmfr_denoise_frame(
-            settings.params, frame.find("radiance")->image, frame.find("gbuffer_albedo")->image,
-            emission ? *emission : none, frame.find("gbuffer_shading_normal")->image,
-            frame.find("gbuffer_world_position")->image, in.cameras[static_cast<std::size_t>(f)], f,
-            history, stats);
-        add_bmfr_buffers(frame, std::move(denoised), "final");
-        add_bmfr_counters(frame.counters, stats);
-        writer.add_frame(frame);
-        progress.update(static_cast<double>(f + 1) / frames);
-    }
+    BundleWriter writer(o.output, run, options);
+    denoise_each(
+        o, requested, [&](double f) { progress.update(f); },
+        [&](FrameResult& frame) {
+            if (!all)
+                std::erase_if(frame.buffers, [&](const Buffer& b) {
+                    return std::find(o.outputs.begin(), o.outputs.end(), b.name) == o.outputs.end();
+                });
+            writer.add_frame(frame);
+        });
     writer.commit();
     progress.finish();
     if (!o.quiet)
-        std::printf("denoised %d frame(s) of %dx%d from %s into %s\n", frames, in.width, in.height,
-                    o.input.c_str(), o.output.c_str());
+        std::printf("denoised frames %d .. %d of %dx%d from %s into %s\n", checked.first,
+                    checked.last, checked.width, checked.height, o.input.c_str(), o.output.c_str());
     return 0;
 }
 
