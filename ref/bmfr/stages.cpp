@@ -14,9 +14,9 @@ const std::vector<std::string> rgb = {"r", "g", "b"};
 /// The state the eight BMFR stages share.
 struct BmfrState : StageState {
     BmfrSettings settings;
-    std::function<VisualPolarMap(const FrameContext&, int frame)> map;  ///< empty: the screen
+    std::function<VisualPolarMap(const FrameContext&, int frame)> map;     ///< empty: the screen
     std::function<ViewProjection(const FrameContext&, int frame)> camera;  ///< empty: ctx's
-    std::function<glm::vec2(const FrameContext&)> pixel_offset;           ///< empty: centres
+    std::function<glm::vec2(const FrameContext&)> pixel_offset;            ///< empty: centres
     BmfrHistory history;  ///< what the previous frame handed on
     BmfrHistory next;     ///< what this frame hands on (filled by the stages)
     int frame = -1;       ///< the frame `next` belongs to
