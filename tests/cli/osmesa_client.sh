@@ -77,7 +77,7 @@ cp -r "$TMP/o_cornell" "$TMP/misnamed"
 mv "$TMP/misnamed/f000_gbuffer_view_depth.pfm" "$TMP/misnamed/f000_gbuffer_view_depht.pfm"
 expect 0 "a misnamed file without --require" -- "$FOVREF" diff "$TMP/g_cornell" "$TMP/misnamed" --profile gpu-raster
 contains "did you mean f000_gbuffer_view_depth.pfm?" "suggests the buffer name"
-contains "1 file(s) ignored" "counts the ignored file"
+contains "1 file ignored" "counts the ignored file"
 expect 1 "a misnamed file with --require" -- "$FOVREF" diff "$TMP/g_cornell" "$TMP/misnamed" --profile gpu-raster --require "$REQUIRE"
 contains "gbuffer_view_depth         MISSING" "the required buffer is MISSING"
 contains "1 of them required" "counted as required"
