@@ -323,7 +323,7 @@ std::vector<PixelFunction> bmfr_pixel_functions(
     const std::string& family,
     std::function<glm::ivec2(const RenderSettings&, int frame, glm::ivec2 point)> block_of) {
     const PixelArgs args = family.empty() ? PixelArgs::screen : PixelArgs::texel;
-    const std::string at = family.empty() ? "x, y: the pixel" : "x, y: the texel";
+    const std::string at;  // the coordinates are named where the breakpoint is listed
     return {{"bmfr_accumulate_noisy", "fovref::bmfr_accumulate_noisy_pixel", at, args, family, {}},
             {"bmfr_fit", "fovref::bmfr_gather_block",
              "cell_x, cell_y: the block (the frame's offset grid); then bmfr_solve_block",

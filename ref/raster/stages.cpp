@@ -42,10 +42,13 @@ std::vector<PixelFunction> raster_pixel_functions(const std::string& stage,
                                                   const std::string& why) {
     const std::string tail = why.empty() ? "" : "; " + why;
     const PixelArgs args = family.empty() ? PixelArgs::screen : PixelArgs::texel;
-    return {{stage, "fovref::raster_fragment",
-             "once per triangle whose snapped coverage contains the centre" + tail, args, family},
-            {stage, "fovref::depth_test", "once per fragment found", args, family},
-            {stage, "fovref::write_gbuffer_pixel", "the winner's attributes", args, family}};
+    std::vector<PixelFunction> functions = {
+        {stage, "fovref::raster_fragment",
+         "once per triangle whose snapped coverage contains the centre" + tail, args, family},
+        {stage, "fovref::depth_test", "once per fragment found", args, family},
+        {stage, "fovref::write_gbuffer_pixel", "the winner's attributes", args, family}};
+    for (PixelFunction& f : functions) f.needs_geometry = true;
+    return functions;
 }
 
 }  // namespace fovref

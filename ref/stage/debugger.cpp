@@ -128,6 +128,18 @@ Points function_points(const PixelFunction& f, const RenderSettings& settings,
             break;
         }
     }
+    if (f.needs_geometry && !out.points.empty()) {
+        // The rasterizer's functions run only where a triangle covers the point
+        std::vector<glm::ivec2> covered;
+        for (const glm::ivec2& p : out.points)
+            if (std::find(target.background.begin(), target.background.end(), p) ==
+                target.background.end())
+                covered.push_back(p);
+        if (covered.empty())
+            out.skipped = "no triangle covers " + points_text(out.points) +
+                          " (background): the rasterizer never reaches it";
+        out.points = covered;
+    }
     return out;
 }
 

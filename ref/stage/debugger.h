@@ -20,6 +20,9 @@ struct DebugTarget {
     std::optional<glm::ivec2> pixel;
     std::vector<TexelRead> texels;
     int eye_width = 0;  ///< stereo: W / 2, the width of one eye's half of the screen
+    /// Screen points no triangle covers (G-buffer primitive -1): the rasterizer never reaches
+    /// them (PixelFunction::needs_geometry).
+    std::vector<glm::ivec2> background;
 };
 
 /// One function's breakpoint for a target.

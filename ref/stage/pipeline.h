@@ -196,6 +196,9 @@ struct PixelFunction {
     using BlockOf =
         std::function<glm::ivec2(const RenderSettings& settings, int frame, glm::ivec2 point)>;
     BlockOf block_of;
+    /// Reached only where a triangle covers the point (the rasterizer's functions): a point
+    /// whose G-buffer primitive is -1 (DebugTarget::background) gets no breakpoint.
+    bool needs_geometry = false;
 
     PixelFunction(std::string stage_name, std::string function_name, std::string note_text,
                   PixelArgs arguments = PixelArgs::screen, std::string texel_family = "",

@@ -1,6 +1,7 @@
 #include "ref/stage/probe.h"
 
 #include <cstdio>
+#include <memory>
 
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
@@ -153,6 +154,7 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
         mode.explain(context, report);
     }
     report.sections.push_back(buffers_section(s, last, report));
+    report.rendered = std::make_shared<const FrameResult>(std::move(last));
     return report;
 }
 

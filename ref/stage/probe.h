@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,6 +42,8 @@ struct ProbeReport {
     /// False when the probe's recomputation differs from the rendered buffer: a bug in the
     /// probe or a nondeterminism in the stage.
     bool consistent = true;
+    /// The probed frame with every buffer (what the explanation was checked against).
+    std::shared_ptr<const FrameResult> rendered;
 };
 
 /// What a mode's explainer sees: the rendered frame (every buffer) and the pixel.

@@ -79,6 +79,22 @@ TEST_CASE("debugger: functions that do not compute the target get no breakpoint,
                          doctest::Contains("no per-pixel function"), Error);
 }
 
+TEST_CASE("debugger: the rasterizer's functions get no breakpoint on a background pixel") {
+    std::vector<PixelFunction> functions = {{"trace", "fovref::raster_fragment", ""},
+                                            {"resolve", "fovref::shade_pixel", ""}};
+    functions[0].needs_geometry = true;
+    DebugTarget target;
+    target.pixel = glm::ivec2(3, 4);
+    target.background = {{3, 4}};
+    std::vector<Breakpoint> b = debugger_breakpoints(functions, two_stages(), screen(8, 8), target);
+    CHECK(b[0].condition.empty());
+    CHECK(b[0].skipped.find("no triangle covers (3, 4)") != std::string::npos);
+    CHECK_FALSE(b[1].condition.empty());  // a pass that does not need a triangle still stops
+    target.background.clear();
+    b = debugger_breakpoints(functions, two_stages(), screen(8, 8), target);
+    CHECK_FALSE(b[0].condition.empty());
+}
+
 TEST_CASE("debugger: a stereo pixel stops in its eye's TAA at the pixel within the eye") {
     const std::vector<PixelFunction> functions = {
         {"resolve", "fovref::taa_pixel", "", PixelArgs::eye_pixel}};

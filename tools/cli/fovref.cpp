@@ -92,8 +92,8 @@ const char* const app_footer =
     "                                         theoretical gain of foveation (Koskela P1)\n"
     "  fovref density MODE [--scene S --gaze X,Y --param k=v] [--out DIR]\n"
     "                                         rays per pixel per error ring vs acuity\n"
-    "  fovref denoise bmfr IN_DIR OUT_DIR [--param bmfr_storage=half|float]\n"
-    "                                         BMFR on another renderer's buffers, every phase\n"
+    "  fovref denoise bmfr IN_DIR OUT_DIR [--demodulated] [--frames A..B] [--output a,b]\n"
+    "                [--param k=v]             BMFR on another renderer's buffers, every phase\n"
     "SCENE is a procedural scene name (see `scene list`) or a scene file or directory.\n"
     "Run `fovref COMMAND --help` for each command's options.";
 

@@ -45,6 +45,18 @@ DebugTarget debug_target(const ResolvedCase& c, const ProbeReport& report,
     target.pixel = glm::ivec2(report.x, report.y);
     if (mode.pixel_texels && c.scene)
         target.texels = mode.pixel_texels(*c.scene, settings, report.frame, report.x, report.y);
+    // The screen points of the target that no triangle covers (the rasterized G-buffer's -1)
+    const Buffer* primitive =
+        report.rendered ? report.rendered->find("gbuffer_primitive_id") : nullptr;
+    if (primitive) {
+        std::vector<glm::ivec2> points = {*target.pixel};
+        for (const TexelRead& read : target.texels)
+            if (read.family == "gbuffer_") points.push_back(read.texel);
+        for (const glm::ivec2& p : points)
+            if (p.x >= 0 && p.y >= 0 && p.x < primitive->image.width &&
+                p.y < primitive->image.height && primitive->image.at(p.x, p.y) == -1.0f)
+                target.background.push_back(p);
+    }
     return target;
 }
 
