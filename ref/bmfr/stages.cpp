@@ -22,8 +22,7 @@ struct BmfrState : StageState {
     int frame = -1;       ///< the frame `next` belongs to
 };
 
-/// Where a buffer goes: a stage's output slot, or a frame's buffer (add_bmfr_buffers). The BMFR
-/// buffers' slots are their names.
+/// Where a stage's buffer goes: its output slot (the BMFR buffers' slots are their names).
 using AddBuffer =
     std::function<void(const std::string& name, BufferKind, std::vector<std::string>, Image)>;
 
@@ -102,8 +101,7 @@ void add_stats(FrameContext& ctx, const BmfrStats& stats) {
     add_bmfr_counters(ctx.result->counters, stats);
 }
 
-// The stages' buffers, one function per stage so that the stages and add_bmfr_buffers name them
-// alike.
+// The buffers of the stages with several outputs (names, kinds, channel names).
 void add_accumulation(const AddBuffer& add, BmfrAccumulation a) {
     add("bmfr_accumulated_noisy", BufferKind::color, rgb, std::move(a.accumulated));
     add("bmfr_spp", BufferKind::scalar, {"spp"}, std::move(a.spp));
@@ -251,21 +249,6 @@ void bmfr_taa_stage(FrameContext& ctx) {
 void bmfr_output_stage(FrameContext& ctx) {
     ctx.note = "linear: bmfr_taa^2.2";
     ctx.output("output", BufferKind::color, rgb, bmfr_linearize(ctx.input("bmfr_taa")));
-}
-
-void add_bmfr_buffers(FrameResult& r, BmfrFrame f, const std::string& output) {
-    const AddBuffer add = [&r](const std::string& name, BufferKind kind,
-                               std::vector<std::string> channels, Image image) {
-        r.add(name, kind, std::move(channels), std::move(image));
-    };
-    add("bmfr_illumination", BufferKind::color, rgb, std::move(f.illumination));
-    add_accumulation(add, std::move(f.accumulation));
-    add_fit(add, std::move(f.fit.weights), std::move(f.fit.feature_range));
-    add("bmfr_fitted", BufferKind::color, rgb, std::move(f.fitted));
-    add("bmfr_accumulated_filtered", BufferKind::color, rgb, std::move(f.filtered));
-    add("bmfr_display", BufferKind::scalar, rgb, std::move(f.display));
-    add("bmfr_taa", BufferKind::scalar, rgb, std::move(f.taa));
-    add(output, BufferKind::color, rgb, std::move(f.output));
 }
 
 void add_bmfr_stages(Pipeline& p, const BmfrWiring& w) {

@@ -80,8 +80,4 @@ glm::ivec2 bmfr_screen_block(const RenderSettings& settings, int frame, glm::ive
 /// The bmfr_* counters of a frame (BmfrStats).
 void add_bmfr_counters(Counters& counters, const BmfrStats& stats);
 
-/// Adds every buffer of a denoised frame under the stages' names and kinds (bmfr_illumination …
-/// bmfr_taa, and `output` for the linear result): what `fovref denoise bmfr` writes.
-void add_bmfr_buffers(FrameResult& frame, BmfrFrame denoised, const std::string& output);
-
 }  // namespace fovref

@@ -18,21 +18,32 @@ std::vector<glm::ivec2> distinct(const std::vector<glm::ivec2>& points) {
     return out;
 }
 
-// "x == 3 && y == 4" for one point; a range test when the points fill their bounding rectangle
-// (pass 2's 2 x 2 taps); else one test per point joined by ||.
+// The bounding rectangle of distinct points, and whether they fill it (pass 2's 2 x 2 taps).
+struct Bounds {
+    glm::ivec2 lo, hi;
+    bool filled;
+};
+Bounds bounds_of(const std::vector<glm::ivec2>& points) {
+    Bounds b{points.front(), points.front(), false};
+    for (const glm::ivec2& p : points) {
+        b.lo = glm::min(b.lo, p);
+        b.hi = glm::max(b.hi, p);
+    }
+    b.filled =
+        static_cast<std::size_t>((b.hi.x - b.lo.x + 1) * (b.hi.y - b.lo.y + 1)) == points.size();
+    return b;
+}
+
+// "x == 3 && y == 4" for one point; a range test when the points fill their bounding rectangle;
+// else one test per point joined by ||.
 std::string points_condition(const std::vector<glm::ivec2>& points, const std::string& xn,
                              const std::string& yn) {
-    glm::ivec2 lo = points.front(), hi = points.front();
-    for (const glm::ivec2& p : points) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-    const auto rectangle = static_cast<std::size_t>((hi.x - lo.x + 1) * (hi.y - lo.y + 1));
-    const auto axis = [](const std::string& name, int a, int b) {
-        return a == b ? name + " == " + number(a)
-                      : name + " >= " + number(a) + " && " + name + " <= " + number(b);
+    const Bounds b = bounds_of(points);
+    const auto axis = [](const std::string& name, int lo, int hi) {
+        return lo == hi ? name + " == " + number(lo)
+                        : name + " >= " + number(lo) + " && " + name + " <= " + number(hi);
     };
-    if (rectangle == points.size()) return axis(xn, lo.x, hi.x) + " && " + axis(yn, lo.y, hi.y);
+    if (b.filled) return axis(xn, b.lo.x, b.hi.x) + " && " + axis(yn, b.lo.y, b.hi.y);
     std::string out = "(";
     for (std::size_t k = 0; k < points.size(); ++k)
         out += (k ? " || " : "") + std::string("(") + xn + " == " + number(points[k].x) + " && " +
@@ -42,16 +53,11 @@ std::string points_condition(const std::vector<glm::ivec2>& points, const std::s
 
 // "(75..76, 215..216)" for points that fill their bounding rectangle, else "(3, 4) (9, 2)".
 std::string points_text(const std::vector<glm::ivec2>& points) {
-    glm::ivec2 lo = points.front(), hi = points.front();
-    for (const glm::ivec2& p : points) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-    const auto range = [](int a, int b) {
-        return a == b ? number(a) : number(a) + ".." + number(b);
+    const Bounds b = bounds_of(points);
+    const auto range = [](int lo, int hi) {
+        return lo == hi ? number(lo) : number(lo) + ".." + number(hi);
     };
-    if (static_cast<std::size_t>((hi.x - lo.x + 1) * (hi.y - lo.y + 1)) == points.size())
-        return "(" + range(lo.x, hi.x) + ", " + range(lo.y, hi.y) + ")";
+    if (b.filled) return "(" + range(b.lo.x, b.hi.x) + ", " + range(b.lo.y, b.hi.y) + ")";
     std::string out;
     for (const glm::ivec2& p : points)
         out += (out.empty() ? "" : " ") + std::string("(") + number(p.x) + ", " + number(p.y) + ")";

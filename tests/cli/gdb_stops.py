@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Runs `fovref probe --debugger gdb --json`'s render under gdb in batch mode and checks each stop.
 
-usage: gdb_stops.py PROBE_JSON WORKDIR
+usage: gdb_stops.py PROBE_JSON WORKDIR [LOG]
 
 From the probe's JSON (its breakpoints: function, condition, stage index, coordinates), writes a
 gdb script that sets every breakpoint with a command list printing where it stopped (the frame
@@ -9,7 +9,7 @@ line: function, arguments, file:line) and the coordinates, frame, stage and eye 
 there, then runs the printed command's program under `gdb -batch`. Checks: every breakpoint stops
 at least once; every stop is in its named function, with a source line, at coordinates among the
 breakpoint's points, in the probed frame and in the breakpoint's stage (and eye). Exits 1 with the
-reasons otherwise.
+reasons otherwise. LOG, when given, receives gdb's whole output.
 """
 import json
 import re
@@ -37,6 +37,9 @@ def main():
     run = subprocess.run(["gdb", "-q", "-batch", "-x", f"{workdir}/stops.gdb", "--args"] +
                          program_args, capture_output=True, text=True, timeout=900)
     out = run.stdout + run.stderr
+    if len(sys.argv) > 3:
+        with open(sys.argv[3], "w") as f:
+            f.write(out)
     problems, hits, frame_line = [], [0] * len(breakpoints), None
     for line in out.splitlines():
         if line.startswith("#0"):
