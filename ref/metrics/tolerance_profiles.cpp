@@ -195,7 +195,8 @@ void add_path_tracing(ToleranceTable& table) {
 
 // Shared by both GPU profiles: what differs once the same primitive is seen. The G-buffer values
 // are about 3x the largest differences measured between fovref and Mesa's llvmpipe (OpenGL 4.5,
-// tools/clients/osmesa_gbuffer.cpp) on the five procedural scenes at 1280x720 (docs/diff.md);
+// tools/clients/gl_gbuffer.cpp, then through OSMesa) on the five procedural scenes at 1280x720
+// (docs/diff.md);
 // the rest from the error analysis beside each entry (issue 30's Vulkan port re-measures them).
 // `how` says where the GPU's attribute arithmetic differs, `id_reason` why its ids may differ
 // on edges.

@@ -1,14 +1,15 @@
-# A real OpenGL client (tools/clients/osmesa_gbuffer.cpp: Mesa's llvmpipe through OSMesa) renders
+# A real OpenGL client (tools/clients/gl_gbuffer.cpp: OpenGL 4.5 through EGL, Mesa's surfaceless
+# platform, llvmpipe) renders
 # the G-buffer of three procedural scenes with fovref's conventions; `fovref diff --profile
 # gpu-raster --require ...` must pass on it, and fail, naming the right buffer and pixel, when one
 # triangle's id or one depth is perturbed. Also: a misnamed file with --require, a background
 # convention mismatch, and the HTML report checked in headless Chromium (plot axes, states).
 source "$(dirname "$0")/lib.bash"
 PY=$(command -v /usr/bin/python3 || command -v python3)
-CLIENT=$(dirname "$FOVREF")/osmesa_gbuffer
+CLIENT=$(dirname "$FOVREF")/gl_gbuffer
 if [ ! -x "$CLIENT" ]; then
-  echo "FAIL: $CLIENT was not built: OSMesa is missing (apt-get install libosmesa6-dev, which"
-  echo "      tools/scripts/setup.sh does), then reconfigure the build"
+  echo "FAIL: $CLIENT was not built: EGL or OpenGL is missing (apt-get install libegl-dev"
+  echo "      libopengl-dev libegl-mesa0, which tools/scripts/setup.sh does), then reconfigure"
   exit 1
 fi
 REQUIRE=gbuffer_primitive_id,gbuffer_material_id,gbuffer_view_depth,gbuffer_hit_distance,gbuffer_world_position,gbuffer_shading_normal,gbuffer_geometric_normal,gbuffer_albedo

@@ -1,9 +1,11 @@
-// osmesa_gbuffer: a real OpenGL client of the oracle. It renders the G-buffer of a fovref golden
-// bundle with Mesa's llvmpipe through OSMesa (a conformant OpenGL 4.5 implementation that needs
-// no display), writes each channel under the bundle's buffer name, and `fovref diff` checks it:
+// gl_gbuffer: a real OpenGL client of the oracle. It renders the G-buffer of a fovref golden
+// bundle with OpenGL 4.5 through EGL on Mesa's surfaceless platform (no display, no window: on a
+// machine without a GPU that is Mesa's llvmpipe, a conformant OpenGL 4.5 implementation; OSMesa,
+// which this client used before, is gone from Mesa 25.1), writes each channel under the bundle's
+// buffer name, and `fovref diff` checks it:
 //
 //   fovref golden export cornell-basic-raster gold --param fill_rule=gl --with-scene
-//   osmesa_gbuffer gold out
+//   gl_gbuffer gold out
 //   fovref diff gold out --profile gpu-raster --require gbuffer_primitive_id,...
 //
 // It is deliberately small, and it depends on nothing of fovref's: it reads what a GPU engine
@@ -27,8 +29,10 @@
 // gbuffer_shading_normal, gbuffer_geometric_normal, gbuffer_albedo, gbuffer_material_id,
 // gbuffer_primitive_id (frame f as f%03d_<name>.pfm). Exit 0 on success, 2 on any error.
 #define GL_GLEXT_PROTOTYPES 1
-#include <GL/osmesa.h>
-// osmesa.h includes GL/gl.h
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GL/gl.h>
+// (GL/gl.h first: GL/glext.h extends it)
 #include <GL/glext.h>
 #include <tiny_obj_loader.h>
 
@@ -295,10 +299,10 @@ void clear_and_set_state(int width, int height) {
         else
             glClearBufferfv(GL_COLOR, k, zero);
     }
-    // OpenGL 4.5's glClipControl is not exported by libOSMesa: look it up.
+    // OpenGL 4.5's glClipControl, looked up (libOpenGL need not export every 4.5 entry point)
     const auto clip_control =
-        reinterpret_cast<PFNGLCLIPCONTROLPROC>(OSMesaGetProcAddress("glClipControl"));
-    if (!clip_control) throw Failure("OSMesa: no glClipControl");
+        reinterpret_cast<PFNGLCLIPCONTROLPROC>(eglGetProcAddress("glClipControl"));
+    if (!clip_control) throw Failure("EGL: no glClipControl");
     clip_control(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glClearDepth(0.0);
     glClear(GL_DEPTH_BUFFER_BIT);
@@ -437,13 +441,50 @@ void render_frame(const Scene& scene, const json& camera, int width, int height,
 
 }  // namespace
 
+// An OpenGL 4.5 core context on EGL's surfaceless platform (EGL_MESA_platform_surfaceless): no
+// display and no window; the client draws into its framebuffer's textures.
+struct Context {
+    EGLDisplay display = EGL_NO_DISPLAY;
+    EGLContext context = EGL_NO_CONTEXT;
+    Context() {
+        const auto get_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
+            eglGetProcAddress("eglGetPlatformDisplayEXT"));
+        if (!get_display) throw Failure("EGL: no eglGetPlatformDisplayEXT");
+        display = get_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+        EGLint major = 0, minor = 0;
+        if (display == EGL_NO_DISPLAY || !eglInitialize(display, &major, &minor))
+            throw Failure("EGL: no surfaceless display (Mesa's EGL: Debian's libegl-mesa0)");
+        if (!eglBindAPI(EGL_OPENGL_API)) throw Failure("EGL: no OpenGL API");
+        const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                     4,
+                                     EGL_CONTEXT_MINOR_VERSION,
+                                     5,
+                                     EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                     EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                     EGL_NONE};
+        context = eglCreateContext(display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);
+        if (context == EGL_NO_CONTEXT)
+            throw Failure("EGL: cannot create an OpenGL 4.5 core context");
+        if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context))
+            throw Failure("EGL: cannot make the context current");
+    }
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+    ~Context() {
+        eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        eglDestroyContext(display, context);
+        eglTerminate(display);
+    }
+};
+
 int main(int argc, char** argv) {
     if (argc != 3 || std::strcmp(argv[1], "--help") == 0) {
         std::fprintf(stderr,
-                     "usage: osmesa_gbuffer BUNDLE OUT_DIR\n"
+                     "usage: gl_gbuffer BUNDLE OUT_DIR\n"
                      "  renders the G-buffer of a fovref bundle exported with --with-scene\n"
                      "  (fovref golden export CASE BUNDLE --param fill_rule=gl --with-scene)\n"
-                     "  with OpenGL (Mesa llvmpipe via OSMesa) into OUT_DIR/f000_<buffer>.pfm\n");
+                     "  with OpenGL 4.5 (EGL, Mesa's surfaceless platform) into "
+                     "OUT_DIR/f000_<buffer>.pfm\n");
         return 2;
     }
     const std::string bundle = argv[1], out = argv[2];
@@ -456,7 +497,7 @@ int main(int argc, char** argv) {
         const json params = c.value("params", json::object());
         if (params.value("fill_rule", "d3d") != "gl")
             std::fprintf(stderr,
-                         "osmesa_gbuffer: note: the bundle uses fill_rule %s; OpenGL's is 'gl' "
+                         "gl_gbuffer: note: the bundle uses fill_rule %s; OpenGL's is 'gl' "
                          "(export with --param fill_rule=gl for the same edges)\n",
                          params.value("fill_rule", "d3d").c_str());
         const std::string scene_json = manifest.at("scene_export").get<std::string>();
@@ -467,23 +508,8 @@ int main(int argc, char** argv) {
         std::filesystem::create_directories(out, ec);
         if (ec) throw Failure(out + ": cannot create directory: " + ec.message());
 
-        const int attributes[] = {OSMESA_FORMAT,
-                                  OSMESA_RGBA,
-                                  OSMESA_DEPTH_BITS,
-                                  0,
-                                  OSMESA_PROFILE,
-                                  OSMESA_CORE_PROFILE,
-                                  OSMESA_CONTEXT_MAJOR_VERSION,
-                                  4,
-                                  OSMESA_CONTEXT_MINOR_VERSION,
-                                  5,
-                                  0};
-        OSMesaContext context = OSMesaCreateContextAttribs(attributes, nullptr);
-        if (!context) throw Failure("OSMesa: cannot create an OpenGL 4.5 core context");
-        std::vector<unsigned char> window(4);  // the real targets are the framebuffer's textures
-        if (!OSMesaMakeCurrent(context, window.data(), GL_UNSIGNED_BYTE, 1, 1))
-            throw Failure("OSMesa: cannot make the context current");
-        std::fprintf(stderr, "osmesa_gbuffer: %s, %s; %zu triangles, %dx%d\n",
+        const Context context;
+        std::fprintf(stderr, "gl_gbuffer: %s, %s; %zu triangles, %dx%d\n",
                      reinterpret_cast<const char*>(glGetString(GL_RENDERER)),
                      reinterpret_cast<const char*>(glGetString(GL_VERSION)),
                      scene.position.size() / 9, width, height);
@@ -492,9 +518,8 @@ int main(int argc, char** argv) {
             std::snprintf(prefix, sizeof prefix, "/f%03d_", frame.at("frame").get<int>());
             render_frame(scene, frame.at("camera"), width, height, out + prefix);
         }
-        OSMesaDestroyContext(context);
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "osmesa_gbuffer: %s\n", e.what());
+        std::fprintf(stderr, "gl_gbuffer: %s\n", e.what());
         return 2;
     }
     return 0;
