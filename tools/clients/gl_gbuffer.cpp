@@ -36,6 +36,8 @@
 #include <GL/glext.h>
 #include <tiny_obj_loader.h>
 
+#include "tools/clients/common/files.h"
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -58,14 +60,6 @@ struct Failure : std::runtime_error {
 
 // ---- Files -------------------------------------------------------------------------------------
 
-std::string read_text(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Failure(path + ": cannot open");
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
 // PFM: "PF" (RGB) or "Pf" (grey), size, negative scale = little-endian, rows bottom to top.
 struct Texture {
     int width = 0, height = 0;
@@ -86,15 +80,6 @@ Texture read_pfm_rgb(const std::string& path) {
                  static_cast<std::streamsize>(t.rgb.size() * sizeof(float))))
         throw Failure(path + ": truncated");
     return t;
-}
-
-void write_pfm(const std::string& path, int width, int height, int channels,
-               const std::vector<float>& bottom_up) {
-    std::ofstream out(path, std::ios::binary);
-    out << (channels == 3 ? "PF" : "Pf") << "\n" << width << " " << height << "\n-1\n";
-    out.write(reinterpret_cast<const char*>(bottom_up.data()),
-              static_cast<std::streamsize>(bottom_up.size() * sizeof(float)));
-    if (!out) throw Failure(path + ": cannot write");
 }
 
 // ---- Scene -------------------------------------------------------------------------------------
@@ -424,7 +409,7 @@ void read_back(int width, int height, const std::string& out_prefix) {
                     pixels[p * a.channels + c] = raw[p * read_channels + c];
         }
         check_gl("read back");
-        write_pfm(out_prefix + a.name + ".pfm", width, height, a.channels, pixels);
+        fovref_client::write_pfm(out_prefix + a.name + ".pfm", width, height, a.channels, pixels);
     }
 }
 
@@ -489,7 +474,7 @@ int main(int argc, char** argv) {
     }
     const std::string bundle = argv[1], out = argv[2];
     try {
-        const json manifest = json::parse(read_text(bundle + "/manifest.json"));
+        const json manifest = json::parse(fovref_client::read_text(bundle + "/manifest.json"));
         if (!manifest.contains("scene_export"))
             throw Failure(bundle + "/manifest.json: no scene_export (export with --with-scene)");
         const json& c = manifest.at("case");

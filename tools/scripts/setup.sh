@@ -8,7 +8,7 @@ packages=(
   build-essential g++ clang cmake ninja-build pkg-config clang-format
   libglm-dev libstb-dev libtinyobjloader-dev libtinygltf-dev doctest-dev nlohmann-json3-dev libcli11-dev
   libopenexr-dev libssl-dev zlib1g-dev libembree-dev
-  libegl-dev libopengl-dev libegl-mesa0 gdb
+  libegl-dev libopengl-dev libegl-mesa0 libvulkan-dev glslc mesa-vulkan-drivers gdb
   python3 python3-skimage chromium parallel librsvg2-bin assimp-utils
 )
 sudo=""

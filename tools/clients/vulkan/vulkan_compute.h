@@ -1,0 +1,50 @@
+// The Vulkan side of fovref's compute client (tools/clients/vulkan/): one instance, one device
+// with a compute queue, and one call that runs a compute shader over storage buffers. Written as
+// a GPU engine would, with nothing of fovref's: the passes (vk_passes.cpp) upload a bundle's
+// buffers, dispatch, read back and write PFM files that `fovref diff` checks.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace fovref_client {
+
+/// Which device to run on: the first GPU (discrete, then integrated, then virtual), else the CPU
+/// (Mesa's lavapipe); `lavapipe` asks for the CPU device even when a GPU is there.
+enum class DevicePreference { any, lavapipe };
+
+class VulkanCompute {
+public:
+    explicit VulkanCompute(DevicePreference preference);
+    VulkanCompute(const VulkanCompute&) = delete;
+    VulkanCompute& operator=(const VulkanCompute&) = delete;
+    ~VulkanCompute();
+
+    /// "llvmpipe (LLVM 15.0.6, 256 bits), Mesa 22.3.6, Vulkan 1.3.230": for the dump's manifest.
+    std::string device_description() const { return description_; }
+    /// Whether the device keeps the shaders' binary32 denormals and rounds to nearest even
+    /// (VkPhysicalDeviceFloatControlsProperties), for the manifest.
+    std::string float_controls() const { return float_controls_; }
+
+    /// Runs the SPIR-V compute shader in `spirv_path` once: `buffers[k]` is bound as storage
+    /// buffer k (read and written back in place), `push` (at most 128 bytes) as its push
+    /// constants, over groups_x x groups_y workgroups. Throws std::runtime_error.
+    void dispatch(const std::string& spirv_path, std::vector<std::vector<float>*> buffers,
+                  const void* push, std::uint32_t push_size, std::uint32_t groups_x,
+                  std::uint32_t groups_y);
+
+private:
+    VkInstance instance_ = VK_NULL_HANDLE;
+    VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+    VkDevice device_ = VK_NULL_HANDLE;
+    VkQueue queue_ = VK_NULL_HANDLE;
+    std::uint32_t queue_family_ = 0;
+    VkCommandPool pool_ = VK_NULL_HANDLE;
+    std::string description_, float_controls_;
+    std::uint32_t memory_type(std::uint32_t bits, VkMemoryPropertyFlags flags) const;
+};
+
+}  // namespace fovref_client
