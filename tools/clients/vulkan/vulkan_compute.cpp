@@ -132,34 +132,37 @@ std::uint32_t VulkanCompute::memory_type(std::uint32_t bits, VkMemoryPropertyFla
     throw std::runtime_error("Vulkan: no host-visible, coherent memory");
 }
 
-void VulkanCompute::dispatch(const std::string& spirv_path, std::vector<std::vector<float>*> data,
-                             const void* push, std::uint32_t push_size, std::uint32_t groups_x,
-                             std::uint32_t groups_y) {
+// Host-visible, coherent storage buffers holding `data` (a renderer would keep device-local
+// ones; the client uploads once per pass).
+void VulkanCompute::upload(const std::vector<std::vector<float>*>& data, Buffers& b) const {
     const auto n = static_cast<std::uint32_t>(data.size());
-    // Host-visible, coherent storage buffers (a renderer would keep device-local ones; the
-    // client uploads once per pass)
-    std::vector<VkBuffer> buffers(n);
-    std::vector<VkDeviceMemory> memories(n);
+    b.buffers.resize(n);
+    b.memories.resize(n);
     for (std::uint32_t k = 0; k < n; ++k) {
         auto info = vk_struct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
         info.size = std::max<VkDeviceSize>(data[k]->size() * sizeof(float), 4);
         info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-        check(vkCreateBuffer(device_, &info, nullptr, &buffers[k]), "vkCreateBuffer");
+        check(vkCreateBuffer(device_, &info, nullptr, &b.buffers[k]), "vkCreateBuffer");
         VkMemoryRequirements req;
-        vkGetBufferMemoryRequirements(device_, buffers[k], &req);
+        vkGetBufferMemoryRequirements(device_, b.buffers[k], &req);
         auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
         alloc.allocationSize = req.size;
         alloc.memoryTypeIndex =
             memory_type(req.memoryTypeBits,
                         VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-        check(vkAllocateMemory(device_, &alloc, nullptr, &memories[k]), "vkAllocateMemory");
-        check(vkBindBufferMemory(device_, buffers[k], memories[k], 0), "vkBindBufferMemory");
+        check(vkAllocateMemory(device_, &alloc, nullptr, &b.memories[k]), "vkAllocateMemory");
+        check(vkBindBufferMemory(device_, b.buffers[k], b.memories[k], 0), "vkBindBufferMemory");
         void* mapped = nullptr;
-        check(vkMapMemory(device_, memories[k], 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory");
+        check(vkMapMemory(device_, b.memories[k], 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory");
         std::memcpy(mapped, data[k]->data(), data[k]->size() * sizeof(float));
-        vkUnmapMemory(device_, memories[k]);
+        vkUnmapMemory(device_, b.memories[k]);
     }
-    // The pipeline: n storage buffers, push constants, the shader
+}
+
+// The pipeline of the shader in `spirv_path`: n storage buffers, push constants, one set.
+void VulkanCompute::create_pipeline(const std::string& spirv_path, const Buffers& b,
+                                    std::uint32_t push_size, Pipeline& p) const {
+    const auto n = static_cast<std::uint32_t>(b.buffers.size());
     std::vector<VkDescriptorSetLayoutBinding> bindings(n);
     for (std::uint32_t k = 0; k < n; ++k)
         bindings[k] = {k, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT,
@@ -168,39 +171,36 @@ void VulkanCompute::dispatch(const std::string& spirv_path, std::vector<std::vec
         VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
     set_info.bindingCount = n;
     set_info.pBindings = bindings.data();
-    VkDescriptorSetLayout set_layout;
-    check(vkCreateDescriptorSetLayout(device_, &set_info, nullptr, &set_layout),
+    check(vkCreateDescriptorSetLayout(device_, &set_info, nullptr, &p.set_layout),
           "vkCreateDescriptorSetLayout");
     const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size};
     auto layout_info =
         vk_struct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
     layout_info.setLayoutCount = 1;
-    layout_info.pSetLayouts = &set_layout;
+    layout_info.pSetLayouts = &p.set_layout;
     layout_info.pushConstantRangeCount = push_size > 0 ? 1 : 0;
     layout_info.pPushConstantRanges = &range;
-    VkPipelineLayout layout;
-    check(vkCreatePipelineLayout(device_, &layout_info, nullptr, &layout),
+    check(vkCreatePipelineLayout(device_, &layout_info, nullptr, &p.layout),
           "vkCreatePipelineLayout");
     const std::vector<std::uint32_t> code = read_spirv(spirv_path);
     auto module_info =
         vk_struct<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
     module_info.codeSize = code.size() * 4;
     module_info.pCode = code.data();
-    VkShaderModule module;
-    check(vkCreateShaderModule(device_, &module_info, nullptr, &module), "vkCreateShaderModule");
+    check(vkCreateShaderModule(device_, &module_info, nullptr, &p.module), "vkCreateShaderModule");
     auto pipeline_info =
         vk_struct<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
     pipeline_info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
                            nullptr,
                            0,
                            VK_SHADER_STAGE_COMPUTE_BIT,
-                           module,
+                           p.module,
                            "main",
                            nullptr};
-    pipeline_info.layout = layout;
-    VkPipeline pipeline;
-    check(vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &pipeline),
-          "vkCreateComputePipelines");
+    pipeline_info.layout = p.layout;
+    check(
+        vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &pipeline_info, nullptr, &p.pipeline),
+        "vkCreateComputePipelines");
     // The descriptor set
     const VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, n};
     auto pool_info =
@@ -208,25 +208,27 @@ void VulkanCompute::dispatch(const std::string& spirv_path, std::vector<std::vec
     pool_info.maxSets = 1;
     pool_info.poolSizeCount = 1;
     pool_info.pPoolSizes = &pool_size;
-    VkDescriptorPool descriptor_pool;
-    check(vkCreateDescriptorPool(device_, &pool_info, nullptr, &descriptor_pool),
+    check(vkCreateDescriptorPool(device_, &pool_info, nullptr, &p.descriptor_pool),
           "vkCreateDescriptorPool");
     auto set_alloc =
         vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
-    set_alloc.descriptorPool = descriptor_pool;
+    set_alloc.descriptorPool = p.descriptor_pool;
     set_alloc.descriptorSetCount = 1;
-    set_alloc.pSetLayouts = &set_layout;
-    VkDescriptorSet set;
-    check(vkAllocateDescriptorSets(device_, &set_alloc, &set), "vkAllocateDescriptorSets");
+    set_alloc.pSetLayouts = &p.set_layout;
+    check(vkAllocateDescriptorSets(device_, &set_alloc, &p.set), "vkAllocateDescriptorSets");
     std::vector<VkDescriptorBufferInfo> infos(n);
     std::vector<VkWriteDescriptorSet> writes(n);
     for (std::uint32_t k = 0; k < n; ++k) {
-        infos[k] = {buffers[k], 0, VK_WHOLE_SIZE};
-        writes[k] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, set,       k,      0, 1,
+        infos[k] = {b.buffers[k], 0, VK_WHOLE_SIZE};
+        writes[k] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, p.set,     k,      0, 1,
                      VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,      nullptr, &infos[k], nullptr};
     }
     vkUpdateDescriptorSets(device_, n, writes.data(), 0, nullptr);
-    // Record, submit, wait
+}
+
+// Records the dispatch, submits it and waits for it.
+void VulkanCompute::run(const Pipeline& p, const void* push, std::uint32_t push_size,
+                        std::uint32_t groups_x, std::uint32_t groups_y) {
     auto cb_info =
         vk_struct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
     cb_info.commandPool = pool_;
@@ -237,10 +239,10 @@ void VulkanCompute::dispatch(const std::string& spirv_path, std::vector<std::vec
     auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     check(vkBeginCommandBuffer(cb, &begin), "vkBeginCommandBuffer");
-    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline);
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
     if (push_size > 0)
-        vkCmdPushConstants(cb, layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size, push);
+        vkCmdPushConstants(cb, p.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size, push);
     vkCmdDispatch(cb, groups_x, groups_y, 1);
     check(vkEndCommandBuffer(cb), "vkEndCommandBuffer");
     auto submit = vk_struct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
@@ -248,21 +250,39 @@ void VulkanCompute::dispatch(const std::string& spirv_path, std::vector<std::vec
     submit.pCommandBuffers = &cb;
     check(vkQueueSubmit(queue_, 1, &submit, VK_NULL_HANDLE), "vkQueueSubmit");
     check(vkQueueWaitIdle(queue_), "vkQueueWaitIdle");
-    // Read back, release
-    for (std::uint32_t k = 0; k < n; ++k) {
-        void* mapped = nullptr;
-        check(vkMapMemory(device_, memories[k], 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory");
-        std::memcpy(data[k]->data(), mapped, data[k]->size() * sizeof(float));
-        vkUnmapMemory(device_, memories[k]);
-        vkDestroyBuffer(device_, buffers[k], nullptr);
-        vkFreeMemory(device_, memories[k], nullptr);
-    }
     vkFreeCommandBuffers(device_, pool_, 1, &cb);
-    vkDestroyDescriptorPool(device_, descriptor_pool, nullptr);
-    vkDestroyPipeline(device_, pipeline, nullptr);
-    vkDestroyShaderModule(device_, module, nullptr);
-    vkDestroyPipelineLayout(device_, layout, nullptr);
-    vkDestroyDescriptorSetLayout(device_, set_layout, nullptr);
+}
+
+// Copies the buffers back into `data` and releases them.
+void VulkanCompute::download(const std::vector<std::vector<float>*>& data, Buffers& b) const {
+    for (std::size_t k = 0; k < data.size(); ++k) {
+        void* mapped = nullptr;
+        check(vkMapMemory(device_, b.memories[k], 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory");
+        std::memcpy(data[k]->data(), mapped, data[k]->size() * sizeof(float));
+        vkUnmapMemory(device_, b.memories[k]);
+        vkDestroyBuffer(device_, b.buffers[k], nullptr);
+        vkFreeMemory(device_, b.memories[k], nullptr);
+    }
+}
+
+void VulkanCompute::destroy(const Pipeline& p) const {
+    vkDestroyDescriptorPool(device_, p.descriptor_pool, nullptr);
+    vkDestroyPipeline(device_, p.pipeline, nullptr);
+    vkDestroyShaderModule(device_, p.module, nullptr);
+    vkDestroyPipelineLayout(device_, p.layout, nullptr);
+    vkDestroyDescriptorSetLayout(device_, p.set_layout, nullptr);
+}
+
+void VulkanCompute::dispatch(const std::string& spirv_path, std::vector<std::vector<float>*> data,
+                             const void* push, std::uint32_t push_size, std::uint32_t groups_x,
+                             std::uint32_t groups_y) {
+    Buffers buffers;
+    upload(data, buffers);
+    Pipeline pipeline;
+    create_pipeline(spirv_path, buffers, push_size, pipeline);
+    run(pipeline, push, push_size, groups_x, groups_y);
+    download(data, buffers);
+    destroy(pipeline);
 }
 
 }  // namespace fovref_client

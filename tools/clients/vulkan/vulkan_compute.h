@@ -44,7 +44,28 @@ private:
     std::uint32_t queue_family_ = 0;
     VkCommandPool pool_ = VK_NULL_HANDLE;
     std::string description_, float_controls_;
+
+    // dispatch's steps
+    struct Buffers {
+        std::vector<VkBuffer> buffers;
+        std::vector<VkDeviceMemory> memories;
+    };
+    struct Pipeline {
+        VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+        VkPipelineLayout layout = VK_NULL_HANDLE;
+        VkShaderModule module = VK_NULL_HANDLE;
+        VkPipeline pipeline = VK_NULL_HANDLE;
+        VkDescriptorPool descriptor_pool = VK_NULL_HANDLE;
+        VkDescriptorSet set = VK_NULL_HANDLE;
+    };
     std::uint32_t memory_type(std::uint32_t bits, VkMemoryPropertyFlags flags) const;
+    void upload(const std::vector<std::vector<float>*>& data, Buffers& buffers) const;
+    void create_pipeline(const std::string& spirv_path, const Buffers& buffers,
+                         std::uint32_t push_size, Pipeline& pipeline) const;
+    void run(const Pipeline& pipeline, const void* push, std::uint32_t push_size,
+             std::uint32_t groups_x, std::uint32_t groups_y);
+    void download(const std::vector<std::vector<float>*>& data, Buffers& buffers) const;
+    void destroy(const Pipeline& pipeline) const;
 };
 
 }  // namespace fovref_client
