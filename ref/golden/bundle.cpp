@@ -211,6 +211,14 @@ json counters_to_json(const Counters& counters) {
     return j;
 }
 
+// The image's floats as stored in memory (little-endian on every platform fovref builds on).
+void write_raw_binary32(const std::string& path, const Image& image) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(image.data.data()),
+              static_cast<std::streamsize>(image.data.size() * sizeof(float)));
+    if (!out) throw Error(path + ": cannot write");
+}
+
 // Rows [first, first + count) as their own image.
 Image row_block(const Image& image, int first, int count) {
     Image block(image.width, count, image.channels);
@@ -346,6 +354,11 @@ void BundleWriter::add_frame(const FrameResult& frame) {
             const std::string file = buffer_file_name(frame.frame, buffer);
             write_image((s.staging / file).string(), buffer.image);
             jb["file"] = file;
+            if (s.options.raw_copies && buffer.image.channels != 1 && buffer.image.channels != 3) {
+                const std::string raw = buffer_file_name(frame.frame, buffer, ".f32");
+                write_raw_binary32((s.staging / raw).string(), buffer.image);
+                jb["raw_file"] = raw;
+            }
         } else {
             // Hash only: too large for the repository (with per-block hashes that locate a
             // difference), or an earlier frame of a "last-frame" case (the whole hash only).

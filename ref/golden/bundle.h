@@ -45,6 +45,10 @@ struct BundleOptions {
     bool include_timings = false;   ///< stage wall times in the manifest (never in goldens)
     /// Buffers with more pixels are recorded by hash only (no file): keeps the repository small.
     std::size_t max_stored_pixels = std::numeric_limits<std::size_t>::max();
+    /// Also a raw copy of every stored buffer whose channel count PFM cannot hold (not 1 or 3):
+    /// f000_name.f32, binary32 little-endian, channels interleaved, top row first, recorded as
+    /// "raw_file" (for clients without an EXR reader, such as the Vulkan client).
+    bool raw_copies = false;
 };
 
 /// Loads scenes for cases once each: a procedural name, an absolute path, or a path relative to

@@ -1,9 +1,7 @@
-# The Vulkan compute port (tools/clients/vulkan/, issue 30): Lund's Gaussian lerp and Meng's
-# internal AA as GLSL compute shaders on Mesa's lavapipe, each fed the golden's own input
-# buffers (stage-isolated). The diff passes on two cases per pass (the lerp: a composite kernel
-# foveation with an off-centre gaze, a TAA sequence followed by the lerp; internal AA: kfr, kfr
-# with TAA), and fails, naming the stage and a pixel, when the shader is built with an injected
-# porting bug (the lerp: the pixel's corner for its centre; internal AA: v clamped, not wrapped).
+# The Vulkan compute port (tools/clients/vulkan/, issue 30) on Mesa's lavapipe: every pass in
+# tests/cli/vulkan/*.bash runs on golden bundles' own inputs (stage-isolated) and the diff passes
+# with the port's tolerance profile; built with its injected porting bug, the diff fails and
+# names the pass's stage and a pixel the bug changed.
 source "$(dirname "$0")/lib.bash"
 CLIENT=$(dirname "$FOVREF")/vk_passes
 if [ ! -x "$CLIENT" ]; then
@@ -11,34 +9,49 @@ if [ ! -x "$CLIENT" ]; then
   echo "      glslc mesa-vulkan-drivers, which tools/scripts/setup.sh does), then reconfigure"
   exit 1
 fi
+FRAGMENTS=$(cd "$(dirname "$0")/vulkan" && pwd)
 cd "$TMP" || exit 1
-# pass CASE PROFILE STAGE: the pass on CASE, the diff with PROFILE, the injected bug caught
+# export CASE [golden export options]: the bundle g_CASE, once
+export_case() {
+  local case=$1
+  shift
+  [ -d "g_$case" ] || expect 0 "export $case" -- "$FOVREF" golden export "$case" "g_$case" --raw-copies -q "$@"
+}
+# run_pass PASS CASE PROFILE STAGE: the pass on CASE, the diff with PROFILE passes; with the
+# injected bug the diff fails, naming STAGE and a pixel where the bug's output differs from
+# the correct one
 run_pass() {
   local pass=$1 case=$2 profile=$3 stage=$4
-  [ -d "g_$case" ] || expect 0 "export $case" -- "$FOVREF" golden export "$case" "g_$case" -q
-  expect 0 "$pass on lavapipe ($case)" -- "$CLIENT" --lavapipe "$pass" "g_$case" "v_$case"
+  export_case "$case"
+  expect 0 "$pass on lavapipe ($case)" -- "$CLIENT" --lavapipe "$pass" "g_$case" "v_${pass}_$case"
   contains "on llvmpipe" "lavapipe named"
-  expect 0 "diff --profile $profile ($case)" -- "$FOVREF" diff "g_$case" "v_$case" --profile "$profile" --json "$case.json"
+  expect 0 "diff --profile $profile ($pass, $case)" -- "$FOVREF" diff "g_$case" "v_${pass}_$case" --profile "$profile" --json "$pass-$case.json"
   echo "$pass, $case: $(python3 -c "
-import json; r = json.load(open('$case.json'))
+import json; r = json.load(open('$pass-$case.json'))
 l = [b for b in r['buffers'] if b['stage'] == '$stage' and 'max_abs_error' in b]
-print(len(l), 'frames compared, max |error|', max(b['max_abs_error'] for b in l),
+print(len(l), 'buffers compared, max |error|', max(b['max_abs_error'] for b in l),
       ', max ulp', max(b['max_ulp'] for b in l))")"
-  expect 0 "$pass with an injected bug ($case)" -- "$CLIENT" --lavapipe --bug "$pass" "g_$case" "b_$case"
-  expect 1 "the diff catches it ($case)" -- "$FOVREF" diff "g_$case" "b_$case" --profile "$profile"
+  expect 0 "$pass with an injected bug ($case)" -- "$CLIENT" --lavapipe --bug "$pass" "g_$case" "b_${pass}_$case"
+  expect 1 "the diff catches it ($pass, $case)" -- "$FOVREF" diff "g_$case" "b_${pass}_$case" --profile "$profile"
   contains "first failing stage: $stage, buffer " "names the stage"
   contains "first failing pixel (" "and a pixel"
+  # the named pixel is one the bug changed: the correct and the buggy outputs differ there
+  checks=$((checks + 1))
+  python3 "$FRAGMENTS/bug_changed.py" "g_$case" "v_${pass}_$case" "b_${pass}_$case" <<<"$OUT" ||
+    { echo "FAIL: the pixel named is not one the bug changed ($pass, $case)"; failures=$((failures + 1)); }
 }
-run_pass lerp textured-room-ckfov-gaze-lerp gpu-rt gaussian_lerp
-run_pass lerp checker-room-cfov-taa-clamp-screen gpu-rt gaussian_lerp
-run_pass internal_aa checker-room-kfr gpu-raster internal_aa
-run_pass internal_aa checker-room-kfr-taa-depth gpu-raster internal_aa
+for fragment in "$FRAGMENTS"/*.bash; do
+  # shellcheck source=/dev/null
+  source "$fragment"
+done
 checks=$((checks + 1))
-grep -q '"float_controls"' "v_textured-room-ckfov-gaze-lerp/vk_passes.json" ||
+grep -q '"float_controls"' "v_lerp_textured-room-ckfov-gaze-lerp/vk_passes.json" ||
   { echo "FAIL: the dump records no float controls"; failures=$((failures + 1)); }
 expect 0 "a bundle without the passes" -- "$FOVREF" golden export cornell-basic g_basic -q
 expect 2 "the lerp on it" -- "$CLIENT" --lavapipe lerp g_basic v_basic
 contains "no gaussian_lerp stage" "a clear message"
 expect 2 "internal AA on it" -- "$CLIENT" --lavapipe internal_aa g_basic v_basic
 contains "no lp_color_aa" "a clear message"
+expect 2 "an unknown pass" -- "$CLIENT" --lavapipe nosuchpass g_basic v_basic
+contains "unknown pass 'nosuchpass'" "named"
 finish

@@ -121,6 +121,10 @@ void add_golden_export_options(CLI::App& c, GoldenExportOptions& o) {
     c.add_flag("--with-scene", o.with_scene,
                "also write the scene into DIR/scene (OBJ + MTL + textures + scene.json; "
                "OBJ triangle k is primitive id k), for a GPU implementation to render");
+    c.add_flag("--raw-copies", o.raw_copies,
+               "also write every buffer of 2 or more than 3 channels (stored as EXR) as raw "
+               "binary32, interleaved, top row first (f000_NAME.f32, the manifest's raw_file), "
+               "for a client without an EXR reader");
 }
 
 int run_golden_list(const GoldenOptions& o) {
@@ -218,6 +222,7 @@ int run_golden_export(const GoldenOptions& o, const GoldenExportOptions& e) {
     if (e.with_scene && !scene) throw Error("--with-scene: case '" + c.name + "' has no scene");
     BundleOptions options;
     options.previews_for_all = true;
+    options.raw_copies = e.raw_copies;
     BundleWriter writer(e.directory, c, options);
     if (e.with_scene) writer.add_scene(*scene, "scene");
     Progress progress("golden export " + c.name, o.quiet);

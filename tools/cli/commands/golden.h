@@ -31,6 +31,7 @@ struct GoldenExportOptions {
     std::optional<int> frames;         ///< override the case's frame count
     std::vector<std::string> params;   ///< override or add mode parameters, key=value
     bool with_scene = false;           ///< also the scene files into DIR/scene
+    bool raw_copies = false;           ///< also .f32 copies of the EXR buffers
 };
 
 /// Registers --dir on the `golden` command.

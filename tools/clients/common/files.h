@@ -37,6 +37,28 @@ inline void write_pfm(const std::string& path, int width, int height, int channe
     if (!out) throw std::runtime_error(path + ": cannot write");
 }
 
+/// Reads `count` raw little-endian binary32 values, exactly the file's size.
+inline std::vector<float> read_binary32(const std::string& path, std::size_t count) {
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    if (!in) throw std::runtime_error(path + ": cannot open");
+    if (static_cast<std::size_t>(in.tellg()) != count * sizeof(float))
+        throw std::runtime_error(path + ": expected " + std::to_string(count) +
+                                 " binary32 values");
+    in.seekg(0);
+    std::vector<float> values(count);
+    in.read(reinterpret_cast<char*>(values.data()),
+            static_cast<std::streamsize>(count * sizeof(float)));
+    return values;
+}
+
+/// Writes raw little-endian binary32 values.
+inline void write_binary32(const std::string& path, const std::vector<float>& values) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(values.data()),
+              static_cast<std::streamsize>(values.size() * sizeof(float)));
+    if (!out) throw std::runtime_error(path + ": cannot write");
+}
+
 /// Reads a little-endian PFM (scale < 0). Throws std::runtime_error naming the file.
 inline PfmImage read_pfm(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

@@ -1,5 +1,6 @@
 #include "tools/clients/vulkan/vulkan_compute.h"
 
+#include <chrono>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -134,13 +135,13 @@ std::uint32_t VulkanCompute::memory_type(std::uint32_t bits, VkMemoryPropertyFla
 
 // Host-visible, coherent storage buffers holding `data` (a renderer would keep device-local
 // ones; the client uploads once per pass).
-void VulkanCompute::upload(const std::vector<std::vector<float>*>& data, Buffers& b) const {
+void VulkanCompute::upload(const std::vector<HostBuffer>& data, Buffers& b) const {
     const auto n = static_cast<std::uint32_t>(data.size());
     b.buffers.resize(n);
     b.memories.resize(n);
     for (std::uint32_t k = 0; k < n; ++k) {
         auto info = vk_struct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
-        info.size = std::max<VkDeviceSize>(data[k]->size() * sizeof(float), 4);
+        info.size = std::max<VkDeviceSize>(data[k].bytes, 4);
         info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
         check(vkCreateBuffer(device_, &info, nullptr, &b.buffers[k]), "vkCreateBuffer");
         VkMemoryRequirements req;
@@ -154,7 +155,7 @@ void VulkanCompute::upload(const std::vector<std::vector<float>*>& data, Buffers
         check(vkBindBufferMemory(device_, b.buffers[k], b.memories[k], 0), "vkBindBufferMemory");
         void* mapped = nullptr;
         check(vkMapMemory(device_, b.memories[k], 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory");
-        std::memcpy(mapped, data[k]->data(), data[k]->size() * sizeof(float));
+        if (data[k].bytes > 0) std::memcpy(mapped, data[k].data, data[k].bytes);
         vkUnmapMemory(device_, b.memories[k]);
     }
 }
@@ -228,7 +229,7 @@ void VulkanCompute::create_pipeline(const std::string& spirv_path, const Buffers
 
 // Records the dispatch, submits it and waits for it.
 void VulkanCompute::run(const Pipeline& p, const void* push, std::uint32_t push_size,
-                        std::uint32_t groups_x, std::uint32_t groups_y) {
+                        std::uint32_t groups_x, std::uint32_t groups_y, std::uint32_t groups_z) {
     auto cb_info =
         vk_struct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
     cb_info.commandPool = pool_;
@@ -243,22 +244,25 @@ void VulkanCompute::run(const Pipeline& p, const void* push, std::uint32_t push_
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout, 0, 1, &p.set, 0, nullptr);
     if (push_size > 0)
         vkCmdPushConstants(cb, p.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_size, push);
-    vkCmdDispatch(cb, groups_x, groups_y, 1);
+    vkCmdDispatch(cb, groups_x, groups_y, groups_z);
     check(vkEndCommandBuffer(cb), "vkEndCommandBuffer");
     auto submit = vk_struct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
     submit.commandBufferCount = 1;
     submit.pCommandBuffers = &cb;
+    const auto start = std::chrono::steady_clock::now();
     check(vkQueueSubmit(queue_, 1, &submit, VK_NULL_HANDLE), "vkQueueSubmit");
     check(vkQueueWaitIdle(queue_), "vkQueueWaitIdle");
+    last_run_ms_ =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     vkFreeCommandBuffers(device_, pool_, 1, &cb);
 }
 
 // Copies the buffers back into `data` and releases them.
-void VulkanCompute::download(const std::vector<std::vector<float>*>& data, Buffers& b) const {
+void VulkanCompute::download(const std::vector<HostBuffer>& data, Buffers& b) const {
     for (std::size_t k = 0; k < data.size(); ++k) {
         void* mapped = nullptr;
         check(vkMapMemory(device_, b.memories[k], 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory");
-        std::memcpy(data[k]->data(), mapped, data[k]->size() * sizeof(float));
+        if (data[k].bytes > 0) std::memcpy(data[k].data, mapped, data[k].bytes);
         vkUnmapMemory(device_, b.memories[k]);
         vkDestroyBuffer(device_, b.buffers[k], nullptr);
         vkFreeMemory(device_, b.memories[k], nullptr);
@@ -273,14 +277,14 @@ void VulkanCompute::destroy(const Pipeline& p) const {
     vkDestroyDescriptorSetLayout(device_, p.set_layout, nullptr);
 }
 
-void VulkanCompute::dispatch(const std::string& spirv_path, std::vector<std::vector<float>*> data,
+void VulkanCompute::dispatch(const std::string& spirv_path, const std::vector<HostBuffer>& data,
                              const void* push, std::uint32_t push_size, std::uint32_t groups_x,
-                             std::uint32_t groups_y) {
+                             std::uint32_t groups_y, std::uint32_t groups_z) {
     Buffers buffers;
     upload(data, buffers);
     Pipeline pipeline;
     create_pipeline(spirv_path, buffers, push_size, pipeline);
-    run(pipeline, push, push_size, groups_x, groups_y);
+    run(pipeline, push, push_size, groups_x, groups_y, groups_z);
     download(data, buffers);
     destroy(pipeline);
 }

@@ -6,6 +6,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -15,6 +16,17 @@ namespace fovref_client {
 /// Which device to run on: the first GPU (discrete, then integrated, then virtual), else the CPU
 /// (Mesa's lavapipe); `lavapipe` asks for the CPU device even when a GPU is there.
 enum class DevicePreference { any, lavapipe };
+
+/// Host memory bound as one storage buffer: uploaded before the dispatch, written back after.
+struct HostBuffer {
+    void* data;
+    std::size_t bytes;
+};
+/// The whole of `v` as a HostBuffer (floats, packed binary16 pairs, BVH nodes...).
+template <class T>
+HostBuffer host(std::vector<T>& v) {
+    return {v.data(), v.size() * sizeof(T)};
+}
 
 class VulkanCompute {
 public:
@@ -31,10 +43,13 @@ public:
 
     /// Runs the SPIR-V compute shader in `spirv_path` once: `buffers[k]` is bound as storage
     /// buffer k (read and written back in place), `push` (at most 128 bytes) as its push
-    /// constants, over groups_x x groups_y workgroups. Throws std::runtime_error.
-    void dispatch(const std::string& spirv_path, std::vector<std::vector<float>*> buffers,
+    /// constants, over groups_x x groups_y x groups_z workgroups. Throws std::runtime_error.
+    void dispatch(const std::string& spirv_path, const std::vector<HostBuffer>& buffers,
                   const void* push, std::uint32_t push_size, std::uint32_t groups_x,
-                  std::uint32_t groups_y);
+                  std::uint32_t groups_y, std::uint32_t groups_z = 1);
+    /// Milliseconds of the last dispatch's run on the device (submit to completion; not the
+    /// upload, the pipeline's creation or the read-back), from the host's steady clock.
+    double last_run_ms() const { return last_run_ms_; }
 
 private:
     VkInstance instance_ = VK_NULL_HANDLE;
@@ -44,6 +59,7 @@ private:
     std::uint32_t queue_family_ = 0;
     VkCommandPool pool_ = VK_NULL_HANDLE;
     std::string description_, float_controls_;
+    double last_run_ms_ = 0.0;
 
     // dispatch's steps
     struct Buffers {
@@ -59,12 +75,12 @@ private:
         VkDescriptorSet set = VK_NULL_HANDLE;
     };
     std::uint32_t memory_type(std::uint32_t bits, VkMemoryPropertyFlags flags) const;
-    void upload(const std::vector<std::vector<float>*>& data, Buffers& buffers) const;
+    void upload(const std::vector<HostBuffer>& data, Buffers& buffers) const;
     void create_pipeline(const std::string& spirv_path, const Buffers& buffers,
                          std::uint32_t push_size, Pipeline& pipeline) const;
     void run(const Pipeline& pipeline, const void* push, std::uint32_t push_size,
-             std::uint32_t groups_x, std::uint32_t groups_y);
-    void download(const std::vector<std::vector<float>*>& data, Buffers& buffers) const;
+             std::uint32_t groups_x, std::uint32_t groups_y, std::uint32_t groups_z);
+    void download(const std::vector<HostBuffer>& data, Buffers& buffers) const;
     void destroy(const Pipeline& pipeline) const;
 };
 

@@ -3,7 +3,7 @@
 // from the docs: t = clamp((|p - gaze| - D/6) / (R_c - D/6), 0, 1) at the pixel centre p, then
 // out = v + t (G3x3(v) - v), G3x3 the 1-2-1 kernel / 16 with clamped edges. Native GLSL
 // arithmetic (distance() is the GPU's sqrt): not bit-exact, within the diff's tolerance.
-// -DBUG_PIXEL_CENTRE injects a typical porting bug: the pixel's corner instead of its centre.
+// -DINJECT_BUG injects a typical porting bug: the pixel's corner instead of its centre.
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(std430, binding = 0) readonly buffer Source { float source[]; };
 layout(std430, binding = 1) writeonly buffer Result { float result[]; };
@@ -21,7 +21,7 @@ float load(int x, int y, int c) {
 void main() {
     const ivec2 xy = ivec2(gl_GlobalInvocationID.xy);
     if (xy.x >= p.width || xy.y >= p.height) return;
-#ifdef BUG_PIXEL_CENTRE
+#ifdef INJECT_BUG
     const vec2 centre = vec2(xy);
 #else
     const vec2 centre = vec2(xy) + 0.5;

@@ -3,7 +3,7 @@
 // GPU developer writes it from the docs: a traced texel in the buffer's outer half (2 u >= w)
 // becomes the 1-2-1 weighted mean of the traced texels of its 3x3 neighbourhood, u clamped at
 // the buffer's edges, v wrapping around (v is the angle); every other texel is copied.
-// -DBUG_V_CLAMPED injects a typical porting bug: v clamped like u instead of wrapped.
+// -DINJECT_BUG injects a typical porting bug: v clamped like u instead of wrapped.
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(std430, binding = 0) readonly buffer Colour { float colour[]; };
 layout(std430, binding = 1) readonly buffer Valid { float valid[]; };
@@ -24,7 +24,7 @@ void main() {
     vec4 sum = vec4(0.0);
     float weight = 0.0;
     for (int dy = -1; dy <= 1; ++dy) {
-#ifdef BUG_V_CLAMPED
+#ifdef INJECT_BUG
         const int y = clamp(xy.y + dy, 0, p.height - 1);
 #else
         const int y = ((xy.y + dy) % p.height + p.height) % p.height;

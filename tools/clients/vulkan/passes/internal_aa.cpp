@@ -1,0 +1,34 @@
+// Meng's internal AA in the log-polar buffer (shaders/internal_aa.comp): lp_color and lp_valid
+// in, lp_color_aa out, on every frame that has lp_color_aa.
+#include <stdexcept>
+
+#include "tools/clients/vulkan/pass.h"
+
+namespace fovref_client {
+namespace {
+
+int run(PassContext& ctx) {
+    int frames = 0;
+    for (const json& frame : ctx.frames()) {
+        if (!PassContext::has(frame, "lp_color_aa")) continue;
+        Image colour = ctx.read(frame, "lp_color");
+        Image valid = ctx.read(frame, "lp_valid");
+        Image result{colour.width, colour.height, colour.channels,
+                     std::vector<float>(colour.data.size(), 0.0f)};
+        const std::int32_t push[3] = {colour.width, colour.height, colour.channels};
+        ctx.dispatch("internal_aa", {host(colour.data), host(valid.data), host(result.data)}, push,
+                     sizeof push, groups(colour.width, 8), groups(colour.height, 8));
+        ctx.write(frame.at("frame").get<int>(), "lp_color_aa", result);
+        ++frames;
+    }
+    if (frames == 0)
+        throw std::runtime_error("internal_aa: the bundle has no lp_color_aa (internal AA)");
+    return frames;
+}
+
+const bool registered = register_pass(
+    {"internal_aa", "Meng's internal AA in the log-polar buffer: lp_color, lp_valid -> lp_color_aa",
+     "v clamped at the buffer's edges, not wrapped", run});
+
+}  // namespace
+}  // namespace fovref_client
