@@ -42,8 +42,7 @@ inline std::vector<float> read_binary32(const std::string& path, std::size_t cou
     std::ifstream in(path, std::ios::binary | std::ios::ate);
     if (!in) throw std::runtime_error(path + ": cannot open");
     if (static_cast<std::size_t>(in.tellg()) != count * sizeof(float))
-        throw std::runtime_error(path + ": expected " + std::to_string(count) +
-                                 " binary32 values");
+        throw std::runtime_error(path + ": expected " + std::to_string(count) + " binary32 values");
     in.seekg(0);
     std::vector<float> values(count);
     in.read(reinterpret_cast<char*>(values.data()),

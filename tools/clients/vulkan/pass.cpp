@@ -71,20 +71,21 @@ std::string PassContext::output_of(const json& frame, const std::string& stage) 
 Image PassContext::read(const json& frame, const std::string& name) const {
     const json* b = find_buffer(frame, name);
     if (!b)
-        throw std::runtime_error("frame " + std::to_string(frame.at("frame").get<int>()) +
-                                 " of " + bundle + " has no buffer " + name);
+        throw std::runtime_error("frame " + std::to_string(frame.at("frame").get<int>()) + " of " +
+                                 bundle + " has no buffer " + name);
     if (b->contains("raw_file")) {  // 2 or more than 3 channels (golden export --raw-copies)
-        Image image{b->at("width").get<int>(), b->at("height").get<int>(),
-                    b->at("channels").get<int>(), {}};
-        image.data = read_binary32(bundle + "/" + b->at("raw_file").get<std::string>(),
-                                   static_cast<std::size_t>(image.width) * image.height *
-                                       image.channels);
+        Image image{b->at("width").get<int>(),
+                    b->at("height").get<int>(),
+                    b->at("channels").get<int>(),
+                    {}};
+        image.data =
+            read_binary32(bundle + "/" + b->at("raw_file").get<std::string>(),
+                          static_cast<std::size_t>(image.width) * image.height * image.channels);
         return image;
     }
     const int channels = b->at("channels").get<int>();
     if (channels != 1 && channels != 3)
-        throw std::runtime_error(bundle + ": buffer " + name + " has " +
-                                 std::to_string(channels) +
+        throw std::runtime_error(bundle + ": buffer " + name + " has " + std::to_string(channels) +
                                  " channels, stored as EXR: export the bundle with "
                                  "`fovref golden export --raw-copies`");
     PfmImage pfm = read_pfm(bundle + "/" + b->at("file").get<std::string>());

@@ -31,10 +31,10 @@ struct Image {
 /// The state a pass runs with.
 struct PassContext {
     VulkanCompute& vk;
-    const json& manifest;  ///< the bundle's manifest.json
-    std::string bundle;    ///< the bundle's directory
-    std::string out;       ///< the dump's directory
-    bool bug = false;      ///< run the shaders built with -DINJECT_BUG
+    const json& manifest;    ///< the bundle's manifest.json
+    std::string bundle;      ///< the bundle's directory
+    std::string out;         ///< the dump's directory
+    bool bug = false;        ///< run the shaders built with -DINJECT_BUG
     double device_ms = 0.0;  ///< the sum of the pass's dispatches' run times (VulkanCompute)
     int dispatches = 0;
     json notes = json::object();  ///< what the pass adds to vk_passes.json ("precise" use...)
@@ -49,7 +49,7 @@ struct PassContext {
     /// The case's parameter `key` as the manifest states it, else `fallback` (the documented
     /// default: the manifest lists only the parameters a case sets).
     std::string param(const std::string& key, const std::string& fallback) const;
-    int width() const;   ///< the case's screen size
+    int width() const;  ///< the case's screen size
     int height() const;
     /// The manifest's frames, in order.
     const json& frames() const { return manifest.at("frames"); }

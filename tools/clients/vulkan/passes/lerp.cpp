@@ -35,7 +35,12 @@ int run(PassContext& ctx) {
         if (output.empty()) continue;
         Image in = ctx.read(frame, PassContext::has(frame, "taa_color") ? "taa_color" : "resolved");
         Image result{in.width, in.height, in.channels, std::vector<float>(in.data.size(), 0.0f)};
-        const LerpParameters push{width,  height, in.channels, gaze_x, gaze_y, diagonal / 6.0f,
+        const LerpParameters push{width,
+                                  height,
+                                  in.channels,
+                                  gaze_x,
+                                  gaze_y,
+                                  diagonal / 6.0f,
                                   farthest - diagonal / 6.0f};
         ctx.dispatch("gaussian_lerp", {host(in.data), host(result.data)}, &push, sizeof push,
                      groups(width, 8), groups(height, 8));
