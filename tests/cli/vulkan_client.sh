@@ -40,10 +40,14 @@ print(len(l), 'buffers compared, max |error|', max(b['max_abs_error'] for b in l
   python3 "$FRAGMENTS/bug_changed.py" "g_$case" "v_${pass}_$case" "b_${pass}_$case" <<<"$OUT" ||
     { echo "FAIL: the pixel named is not one the bug changed ($pass, $case)"; failures=$((failures + 1)); }
 }
+# VK_FRAGMENTS=taa,bmfr runs only those fragments (while working on a pass)
 for fragment in "$FRAGMENTS"/*.bash; do
+  name=$(basename "$fragment" .bash)
+  [ -z "${VK_FRAGMENTS:-}" ] || [[ ",$VK_FRAGMENTS," == *",$name,"* ]] || continue
   # shellcheck source=/dev/null
   source "$fragment"
 done
+[ -n "${VK_FRAGMENTS:-}" ] && { finish; exit; }
 checks=$((checks + 1))
 grep -q '"float_controls"' "v_lerp_textured-room-ckfov-gaze-lerp/vk_passes.json" ||
   { echo "FAIL: the dump records no float controls"; failures=$((failures + 1)); }
