@@ -127,6 +127,18 @@ void read_tolerance_file(const std::string& path, ToleranceTable& table) {
             } else if (field.key() == "integer") {
                 if (!v.is_boolean()) throw fail(at, "\"integer\" must be true or false");
                 t.integer = v.get<bool>();
+            } else if (field.key() == "margin") {
+                if (!v.is_string() || v.get<std::string>().empty())
+                    throw fail(at, "\"margin\" must name a golden buffer or a derivation");
+                t.margin = v.get<std::string>();
+                t.integer = true;
+            } else if (field.key() == "margin_epsilon") {
+                if (!v.is_array() || v.empty()) throw fail(at, "expected an array of numbers");
+                for (const json& e : v) {
+                    if (!e.is_number() || !(e.get<double>() >= 0.0))
+                        throw fail(at, "\"margin_epsilon\" entries must be numbers >= 0");
+                    t.margin_epsilon.push_back(e.get<double>());
+                }
             } else if (field.key() == "ulp" || field.key() == "max_failing_pixels" ||
                        field.key() == "interior_mismatches") {
                 if (!v.is_number_integer())
@@ -139,11 +151,14 @@ void read_tolerance_file(const std::string& path, ToleranceTable& table) {
                 throw fail(at, "unknown key \"" + field.key() +
                                    "\" (expected abs, rel, ulp, max_failing_pixels, "
                                    "max_failing_share, edge_mismatch_share, "
-                                   "interior_mismatches, integer, reason)");
+                                   "interior_mismatches, integer, margin, margin_epsilon, "
+                                   "reason)");
             }
             if (field.key() == "edge_mismatch_share" || field.key() == "interior_mismatches")
                 t.integer = true;
         }
+        if (!t.margin.empty() && t.margin_epsilon.empty())
+            throw fail(pointer, "\"margin\" needs \"margin_epsilon\" (one epsilon per channel)");
         try {
             check_tolerance(t, "tolerance");
         } catch (const Error& e) {
@@ -362,6 +377,7 @@ BufferComparison compare_buffers(const std::string& name, const Image& golden,
     r.tolerance = tolerance;
     r.threshold = options.threshold;
     r.abs_error = Image(golden.width, golden.height, 1, 0.0f);
+    r.failing_map.assign(golden.pixel_count(), 0);
 
     ErrorSums sums;
     std::vector<WorstEntry> worst;
@@ -375,7 +391,7 @@ BufferComparison compare_buffers(const std::string& name, const Image& golden,
         r.abs_error.data[p] = static_cast<float>(pixel.abs);
         const bool over = r.threshold >= 0.0 ? pixel.abs > r.threshold : pixel.fails;
         if (over) ++r.pixels_over_threshold;
-        if (pixel.fails) ++r.failing_pixels;
+        if (pixel.fails) ++r.failing_pixels, r.failing_map[p] = 1;
         if (pixel.fails && r.failing_listed.size() < BufferComparison::failing_listed_max)
             r.failing_listed.emplace_back(static_cast<int>(p % golden.width),
                                           static_cast<int>(p / golden.width));
@@ -404,8 +420,75 @@ BufferComparison compare_buffers(const std::string& name, const Image& golden,
     return r;
 }
 
+namespace {
+
+// Whether the flip at (x, y) lies within ε of the oracle's threshold (any channel of `margin`
+// within its ε); records it in r (near: counted and listed; far: the smallest margin).
+bool near_threshold_flip(const Image& margin, const std::vector<double>& epsilon, int x, int y,
+                         IdComparison& r) {
+    double nearest = std::numeric_limits<double>::infinity();
+    bool near = false;
+    for (int c = 0; c < margin.channels && c < static_cast<int>(epsilon.size()); ++c) {
+        const double m = std::fabs(static_cast<double>(margin.at(x, y, c)));
+        if (!std::isfinite(m)) continue;
+        nearest = std::min(nearest, m);
+        near = near || m <= epsilon[static_cast<std::size_t>(c)];
+    }
+    if (near) {
+        ++r.near_threshold;
+        r.near_pixels.push_back({x, y});
+        r.near_max_margin = std::max(r.near_max_margin, nearest);
+    } else if (std::isfinite(nearest)) {
+        r.far_min_margin = r.far_min_margin < 0.0 ? nearest : std::min(r.far_min_margin, nearest);
+    }
+    return near;
+}
+
+// The derivations derived_decision_margin knows, as "name(" prefixes.
+constexpr const char* margin_derivations[] = {"screen_border(", "pixel_edge("};
+
+}  // namespace
+
+std::string decision_margin_input(const std::string& margin) {
+    for (const char* d : margin_derivations) {
+        const std::string prefix = d;
+        if (margin.rfind(prefix, 0) == 0 && margin.size() > prefix.size() + 1 &&
+            margin.back() == ')')
+            return margin.substr(prefix.size(), margin.size() - prefix.size() - 1);
+    }
+    return "";
+}
+
+Image derived_decision_margin(const std::string& derivation, const Image& points, int screen_width,
+                              int screen_height) {
+    FOVREF_CHECK(points.channels >= 2, "a decision margin from screen points needs 2 channels");
+    const bool border = derivation.rfind("screen_border(", 0) == 0;
+    FOVREF_CHECK(border || derivation.rfind("pixel_edge(", 0) == 0,
+                 "unknown decision margin derivation");
+    Image out(points.width, points.height, 1, 0.0f);
+    const double w = screen_width, h = screen_height;
+    for (int y = 0; y < points.height; ++y)
+        for (int x = 0; x < points.width; ++x) {
+            const double px = points.at(x, y, 0), py = points.at(x, y, 1);
+            double m = 0.0;
+            if (border) {
+                // Signed distance to the rectangle's boundary: inside the smallest distance to
+                // an edge, outside the Euclidean distance to the rectangle
+                const double dx = std::max({-px, px - w, 0.0}), dy = std::max({-py, py - h, 0.0});
+                m = dx > 0.0 || dy > 0.0 ? std::sqrt(dx * dx + dy * dy)
+                                         : std::min({px, w - px, py, h - py});
+            } else {
+                const double fx = px - std::floor(px), fy = py - std::floor(py);
+                m = std::min({fx, 1.0 - fx, fy, 1.0 - fy});
+            }
+            out.at(x, y) = static_cast<float>(std::isfinite(m) ? m : 1e30);
+        }
+    return out;
+}
+
 IdComparison compare_id_buffers(const std::string& name, const Image& golden,
-                                const Image& candidate, const Tolerance& tolerance, int listed) {
+                                const Image& candidate, const Tolerance& tolerance, int listed,
+                                const Image* margin) {
     check_same_shape(golden, candidate, ("buffer '" + name + "'").c_str());
     IdComparison r;
     r.name = name;
@@ -443,6 +526,10 @@ IdComparison compare_id_buffers(const std::string& name, const Image& golden,
             if (same_pixel(golden, x, y, candidate, x, y)) continue;
             const std::size_t p = static_cast<std::size_t>(y) * golden.width + x;
             r.agree[p] = 0;
+            if (margin && near_threshold_flip(*margin, tolerance.margin_epsilon, x, y, r)) {
+                r.mismatch_map.data[p] = 3.0f;
+                continue;
+            }
             r.mismatch_map.data[p] = is_edge ? 1.0f : 2.0f;
             (is_edge ? r.edge_mismatches : r.interior_mismatches) += 1;
             std::vector<IdMismatch>& list = is_edge ? edge : interior;
@@ -453,6 +540,11 @@ IdComparison compare_id_buffers(const std::string& name, const Image& golden,
         std::floor(tolerance.max_edge_mismatch_share * static_cast<double>(r.edge_pixels)));
     r.pass = r.edge_mismatches <= r.allowed_edge_mismatches &&
              r.interior_mismatches <= tolerance.max_interior_mismatches;
+    if (margin) {  // a decision buffer: every flip far from the threshold fails
+        r.margin_source = tolerance.margin;
+        r.allowed_edge_mismatches = 0;
+        r.pass = r.edge_mismatches == 0 && r.interior_mismatches == 0;
+    }
     r.mismatches = interior;
     r.mismatches.insert(r.mismatches.end(), edge.begin(), edge.end());
     return r;

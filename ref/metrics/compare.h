@@ -55,6 +55,16 @@ struct Tolerance {
     /// accept bits, ages, sample counts, whose values are discrete decisions. Id buffers always
     /// are; the edge and interior limits apply.
     bool integer = false;
+    /// Threshold decisions (a validity bit, an accept/reject, an age restart, a rounded index):
+    /// where the oracle's own decision lay within margin_epsilon of its threshold, a flip is
+    /// *near-threshold*: counted and reported, not a failure; any other flip fails (the edge
+    /// share no longer applies). `margin` names where the oracle's margin comes from: a golden
+    /// buffer of the same frame and size (channel c: the distance from the threshold of the
+    /// decision's c-th test, in that test's units), or a margin the diff derives
+    /// (decision_margin_names(): "screen_border(lp_screen_point)"...). margin_epsilon: one ε per
+    /// channel; a flip is near-threshold when any channel's |margin| <= its ε.
+    std::string margin;
+    std::vector<double> margin_epsilon;
     std::string reason;  ///< SPEC §11: every tolerance states why
     bool operator==(const Tolerance&) const = default;
 };
@@ -80,7 +90,7 @@ bool tolerance_pattern_matches(const std::string& pattern, const std::string& na
 
 /// Tolerance file (JSON): { "buffer name" or pattern: {"abs": x, "rel": x, "ulp": n,
 /// "max_failing_pixels": n, "max_failing_share": x, "edge_mismatch_share": x,
-/// "interior_mismatches": n, "integer": bool,
+/// "interior_mismatches": n, "integer": bool, "margin": "buffer", "margin_epsilon": [x, ...],
 /// "reason": "..."} } (edge_mismatch_share or interior_mismatches imply "integer"). Entries are
 /// added to `table`, replacing one of the same name. Throws fovref::Error naming the file, line and
 /// key.
@@ -147,6 +157,13 @@ struct BufferComparison {
     std::int64_t failing_pixels = 0;
     /// The failing pixels the tolerance allows: max(max_failing_pixels, share x compared)
     std::int64_t allowed_failing_pixels = 0;
+    /// Failing pixels explained by a near-threshold decision flip nearby (set by the diff after
+    /// comparing every decision buffer; see attribute_to_decisions); they do not count against
+    /// allowed_failing_pixels. attributed_to: the decision buffers that explain them.
+    std::int64_t attributed_pixels = 0;
+    std::vector<std::string> attributed_to;
+    /// 1 where the pixel fails (width x height), for the attribution.
+    std::vector<std::uint8_t> failing_map;
     bool pass = true;
     std::optional<PixelDifference> first_failing;  ///< row-major first failing pixel
     /// The first failing pixels in row-major order, at most failing_listed_max of them (the
@@ -181,6 +198,13 @@ struct IdComparison {
     std::int64_t edge_pixels = 0;  ///< golden pixels with another id in their 3x3 neighbourhood
     std::int64_t edge_mismatches = 0, interior_mismatches = 0;
     std::int64_t allowed_edge_mismatches = 0;  ///< floor(share x edge_pixels)
+    /// Decision buffers (Tolerance::margin): the flips where the oracle lay within ε of the
+    /// threshold (not counted as edge or interior mismatches), and their pixels; the largest
+    /// |margin| among them, and the smallest among the far flips (-1: none).
+    std::int64_t near_threshold = 0;
+    std::vector<glm::ivec2> near_pixels;
+    double near_max_margin = -1.0, far_min_margin = -1.0;
+    std::string margin_source;  ///< the margin's buffer or derivation ("" without)
     bool pass = true;
     /// The first `listed` interior mismatches, then the first edge ones (row-major each).
     std::vector<IdMismatch> mismatches;
@@ -191,8 +215,21 @@ struct IdComparison {
 };
 
 /// Compares an id or mask buffer as integers (see above). Values are equal when bit-equal, both
-/// zero, or both NaN.
+/// zero, or both NaN. `margin` (the oracle's decision margins, same width and height, one channel
+/// per ε of tolerance.margin_epsilon) makes it a decision buffer: see Tolerance::margin.
 IdComparison compare_id_buffers(const std::string& name, const Image& golden,
-                                const Image& candidate, const Tolerance& tolerance, int listed = 5);
+                                const Image& candidate, const Tolerance& tolerance, int listed = 5,
+                                const Image* margin = nullptr);
+
+/// The margins the diff derives itself (Tolerance::margin): "screen_border(POINTS)", the
+/// distance in pixels of each texel's screen point (golden buffer POINTS, 2 channels) from the
+/// border of the screen [0, W) x [0, H) (validity: on screen or not; the gaze circle's edge is
+/// not covered), and "pixel_edge(POINTS)", its distance from the nearest pixel edge (which pixel
+/// floor(point) picks).
+Image derived_decision_margin(const std::string& derivation, const Image& points, int screen_width,
+                              int screen_height);
+/// The golden buffer a derivation reads ("lp_screen_point" of "screen_border(lp_screen_point)"),
+/// "" when `margin` is a plain buffer name.
+std::string decision_margin_input(const std::string& margin);
 
 }  // namespace fovref

@@ -252,10 +252,48 @@ ToleranceTable make_gpu_rt() {
         "mismatch is a bug");
 }
 
+// A decision buffer: a flip where the oracle's margin lies within `epsilon` of the threshold is
+// near-threshold (reported, not failing); any other flip fails.
+Tolerance decision(const std::string& margin, std::vector<double> epsilon,
+                   const std::string& reason) {
+    Tolerance t = integers(0.0, reason);
+    t.margin = margin;
+    t.margin_epsilon = std::move(epsilon);
+    return t;
+}
+
+// The Vulkan compute port's profile (tools/clients/vulkan/, docs/gpu-port.md): gpu-rt's entries
+// (its frame pass traces rays in a compute shader) with the threshold decisions compared as
+// decisions, each ε from the error analysis of the value the decision tests.
+ToleranceTable make_vulkan() {
+    ToleranceTable table = make_gpu_rt();
+    const std::string border =
+        "a texel is traced when its screen point lies on the screen: the GPU's point is within "
+        "4e-3 px of the oracle's (lp_screen_point's bound), so a flip where the oracle's point "
+        "lies within 4e-3 px of the border is near-threshold; any other flip is a bug (the gaze "
+        "circle's edge is not covered: a flip there fails)";
+    table.buffers["lp_valid"] = decision("screen_border(lp_screen_point)", {4e-3}, border);
+    table.buffers["vp_valid"] = decision("screen_border(vp_screen_point)", {4e-3}, border);
+    table.buffers["taa_age"] = decision(
+        "taa_margin", {3e-4, 4e-3},
+        "an age restarts where TAA rejects the history: the depth test |z' - z_h| <= tau z' "
+        "(channel 0 of taa_margin: (tau z' - |z' - z_h|) / z', the GPU's reprojected depth "
+        "within 3e-4 relative) or the reprojected point leaving the history (channel 1: its "
+        "distance in pixels from the border of the taps' region, the GPU's within 4e-3 px); a "
+        "flip within those of the threshold is near-threshold, any other flip is a bug");
+    table.buffers["bmfr_accept"] = decision(
+        "bmfr_accept_margin", {3e-4, 1e-4},
+        "a tap is accepted when |P_k - P|^2 and |n_k - n|^2 lie below the limits (strict): "
+        "bmfr_accept_margin holds the smallest relative distance of the pixel's tests from "
+        "their limits (channel 0: position, channel 1: normal); the GPU's positions within "
+        "3e-4 relative and normals within 1e-4 flip only taps that close");
+    return table;
+}
+
 }  // namespace
 
 const std::vector<std::string>& tolerance_profile_names() {
-    static const std::vector<std::string> names = {"bit-exact", "gpu-raster", "gpu-rt"};
+    static const std::vector<std::string> names = {"bit-exact", "gpu-raster", "gpu-rt", "vulkan"};
     return names;
 }
 
@@ -267,6 +305,8 @@ ToleranceTable tolerance_profile(const std::string& name, const std::vector<std:
         table = make_gpu_raster();
     else if (name == "gpu-rt")
         table = make_gpu_rt();
+    else if (name == "vulkan")
+        table = make_vulkan();
     if (!table.fallback.reason.empty()) {
         const auto has = [&golden](const char* buffer) {
             return std::find(golden.begin(), golden.end(), buffer) != golden.end();

@@ -73,7 +73,7 @@ std::string candidate_hints(const DiffItem& item, const Tolerance& tolerance) {
 
 void compare_item(const DiffOptions& o, const ToleranceTable& tolerances, float distance_px,
                   DiffItem& item, const std::string& expected_sha,
-                  const std::vector<std::uint8_t>* mask) {
+                  const std::vector<std::uint8_t>* mask, const Image* margin) {
     const Tolerance& tolerance = tolerances.for_buffer(item.name);
     std::string note;
     if (item.hash_only) {
@@ -95,7 +95,8 @@ void compare_item(const DiffOptions& o, const ToleranceTable& tolerances, float 
                     ", the candidate is " +
                     shape(item.candidate.width, item.candidate.height, item.candidate.channels));
     if (item.is_id) {
-        item.ids = compare_id_buffers(item.name, item.golden, item.candidate, tolerance, o.worst);
+        item.ids =
+            compare_id_buffers(item.name, item.golden, item.candidate, tolerance, o.worst, margin);
         item.compared = true;
         item.pass = item.ids.pass;
         item.note = note;
@@ -189,7 +190,8 @@ void add_margin(const DiffOptions& o, DiffItem& item, std::vector<std::uint8_t>&
 
 void compare_items(const DiffOptions& o, const ToleranceTable& tolerances, const ItemInputs& inputs,
                    DiffReport& report) {
-    auto compare_at = [&](std::size_t k, const std::vector<std::uint8_t>* mask) {
+    auto compare_at = [&](std::size_t k, const std::vector<std::uint8_t>* mask,
+                          const Image* margin) {
         DiffItem& item = report.items[k];
         if (item.candidate_file.empty()) {
             ++report.missing;
@@ -202,23 +204,35 @@ void compare_items(const DiffOptions& o, const ToleranceTable& tolerances, const
             return;
         }
         compare_item(o, tolerances, o.distance_px > 0.0f ? o.distance_px : inputs.distances[k],
-                     item, inputs.expected_sha[k], mask);
+                     item, inputs.expected_sha[k], mask, margin);
         ++report.compared;
     };
     for (std::size_t first = 0; first < report.items.size();) {
         std::size_t end = first;
         while (end < report.items.size() && report.items[end].frame == report.items[first].frame)
             ++end;
-        for (std::size_t k = first; k < end; ++k)
-            if (report.items[k].is_id) compare_at(k, nullptr);
+        for (std::size_t k = first; k < end; ++k) {
+            if (!report.items[k].is_id) continue;
+            const Tolerance& t = tolerances.for_buffer(report.items[k].name);
+            Image storage;
+            std::string why;
+            const Image* margin = t.margin.empty() || report.items[k].candidate_file.empty()
+                                      ? nullptr
+                                      : decision_margin(o, inputs, report, first, end,
+                                                        report.items[k], t, storage, why);
+            compare_at(k, nullptr, margin);
+            if (!why.empty())
+                report.items[k].note += (report.items[k].note.empty() ? "" : "; ") + why;
+        }
         for (std::size_t k = first; k < end; ++k) {
             if (report.items[k].is_id) continue;
             std::vector<std::uint8_t> mask = id_mask(o, report, first, end, report.items[k]);
             add_margin(o, report.items[k], mask);
-            compare_at(k, mask.empty() ? nullptr : &mask);
+            compare_at(k, mask.empty() ? nullptr : &mask, nullptr);
         }
         first = end;
     }
+    attribute_to_decisions(inputs, report);
 }
 
 }  // namespace fovref

@@ -54,6 +54,18 @@ void print_row(const DiffItem& item, const Columns& w) {
             percent(r.edge_mismatches, r.edge_pixels).c_str(),
             static_cast<long long>(r.edge_pixels),
             static_cast<long long>(r.allowed_edge_mismatches));
+        if (!r.margin_source.empty())
+            std::printf(
+                "      decision (margin %s): %lld near-threshold flip(s), the oracle within "
+                "%s of its threshold (not failures)%s\n",
+                r.margin_source.c_str(), static_cast<long long>(r.near_threshold),
+                r.near_max_margin >= 0.0 ? number_text(r.near_max_margin, "%.3g", "-").c_str()
+                                         : "epsilon",
+                r.far_min_margin >= 0.0 ? ("; far flips fail (the nearest " +
+                                           number_text(r.far_min_margin, "%.3g", "-") + " from it)")
+                                              .c_str()
+                                        : "");
+        if (!item.note.empty()) std::printf("      note: %s\n", item.note.c_str());
         return;
     }
     const BufferComparison& r = item.result;
@@ -78,6 +90,12 @@ void print_row(const DiffItem& item, const Columns& w) {
             item.flip->mean, item.flip->weighted_median, item.flip->first_quartile,
             item.flip->third_quartile, static_cast<double>(item.flip->max),
             static_cast<double>(item.flip_ppd), item.flip_observer.c_str());
+    if (r.attributed_pixels > 0) {
+        std::string by;
+        for (const std::string& name : r.attributed_to) by += (by.empty() ? "" : ", ") + name;
+        std::printf("      %lld failing pixel(s) attributed to near-threshold flips of %s\n",
+                    static_cast<long long>(r.attributed_pixels), by.c_str());
+    }
     if (!item.note.empty()) std::printf("      note: %s\n", item.note.c_str());
 }
 

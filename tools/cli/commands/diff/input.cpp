@@ -246,6 +246,8 @@ void collect_bundle_items(const DiffOptions& o, const Manifest& manifest, bool c
     report.case_name = manifest.golden_case.name;
     report.mode = manifest.golden_case.mode;
     report.scene = manifest.golden_case.scene;
+    inputs.screen_width = manifest.golden_case.width;
+    inputs.screen_height = manifest.golden_case.height;
     const std::vector<std::string> required = required_names(o.require, manifest);
     std::vector<std::string> files;
     if (candidate_dir) files = list_files(o.candidate);

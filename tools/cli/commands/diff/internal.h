@@ -29,6 +29,7 @@ inline constexpr const char* flip_pooling_note =
 struct ItemInputs {
     std::vector<std::string> expected_sha;
     std::vector<float> distances;
+    int screen_width = 0, screen_height = 0;  ///< the golden case's (0: a plain image)
 };
 
 /// Reads a golden or candidate file. PNGs of colour buffers are sRGB-decoded (SPEC §11) unless
@@ -64,6 +65,23 @@ ToleranceTable diff_tolerances(const DiffOptions& o, const std::vector<std::stri
 /// ids agree (unless --no-id-mask), each group in comparison order.
 void compare_items(const DiffOptions& o, const ToleranceTable& tolerances, const ItemInputs& inputs,
                    DiffReport& report);
+
+// ---- decisions.cpp --------------------------------------------------------------------------
+
+/// The oracle's margins for decision buffer `item` (Tolerance::margin) among items [first, end)
+/// of its frame: a golden buffer of the frame (loaded if the candidate lacks it) or one the diff
+/// derives from the golden's screen points; null, with a note in `why`, when the frame lacks the
+/// margin's input or its size differs (the buffer is then compared as plain ids).
+const Image* decision_margin(const DiffOptions& o, const ItemInputs& inputs, DiffReport& report,
+                             std::size_t first, std::size_t end, const DiffItem& item,
+                             const Tolerance& tolerance, Image& storage, std::string& why);
+
+/// After every buffer is compared: the failing pixels of value buffers that a near-threshold
+/// decision flip explains (a flip at most 1 pixel away in a buffer of the same size, in this or
+/// an earlier frame; or, for a screen-sized buffer, a flipped texel whose golden screen point
+/// lies within 2 pixels) are attributed to it; a buffer whose other failing pixels are within
+/// its allowance passes.
+void attribute_to_decisions(const ItemInputs& inputs, DiffReport& report);
 
 // ---- probe_hint.cpp -------------------------------------------------------------------------
 

@@ -11,10 +11,13 @@ namespace {
 using json = nlohmann::json;
 
 json tolerance_json(const Tolerance& t, bool is_id) {
-    if (is_id)
-        return {{"edge_mismatch_share", t.max_edge_mismatch_share},
-                {"interior_mismatches", t.max_interior_mismatches},
-                {"reason", t.reason}};
+    if (is_id) {
+        json j{{"edge_mismatch_share", t.max_edge_mismatch_share},
+               {"interior_mismatches", t.max_interior_mismatches},
+               {"reason", t.reason}};
+        if (!t.margin.empty()) j["margin"] = t.margin, j["margin_epsilon"] = t.margin_epsilon;
+        return j;
+    }
     return {{"abs", t.abs},
             {"rel", t.rel},
             {"ulp", t.ulp},
@@ -41,6 +44,12 @@ void add_ids_json(const IdComparison& r, json& j) {
     j["edge_mismatches"] = r.edge_mismatches;
     j["allowed_edge_mismatches"] = r.allowed_edge_mismatches;
     j["interior_mismatches"] = r.interior_mismatches;
+    if (!r.margin_source.empty()) {
+        j["decision_margin"] = r.margin_source;
+        j["near_threshold_flips"] = r.near_threshold;
+        j["near_threshold_max_margin"] = number_json(r.near_max_margin);
+        j["far_flip_min_margin"] = number_json(r.far_min_margin);
+    }
     j["mismatches"] = json::array();
     for (const IdMismatch& m : r.mismatches)
         j["mismatches"].push_back({{"x", m.x},
@@ -109,6 +118,8 @@ void add_values_json(const DiffItem& item, json& j) {
     j["pixels_over_threshold"] = r.pixels_over_threshold;
     j["failing_pixels"] = r.failing_pixels;
     j["allowed_failing_pixels"] = r.allowed_failing_pixels;
+    j["attributed_pixels"] = r.attributed_pixels;
+    j["attributed_to"] = r.attributed_to;
     if (r.first_failing) j["first_failing_pixel"] = pixel_json(*r.first_failing);
     j["worst_pixels"] = json::array();
     for (const PixelDifference& d : r.worst) j["worst_pixels"].push_back(pixel_json(d));
