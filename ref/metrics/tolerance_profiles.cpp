@@ -132,6 +132,12 @@ void add_foveation(ToleranceTable& table) {
         table.buffers[screen] = values(2e-3, 1e-3, 0, resolve_reason);
     table.buffers["taa_view_depth"] =
         values(0.0, 3e-4, 0, "the depth of the texel pass 2 sampled: as lp_gbuffer_view_depth");
+    table.buffers["taa_margin"] = values(
+        4e-3, 0.0, 0,
+        "the oracle's distances of TAA's decisions from their thresholds (the diff reads the "
+        "golden's to judge taa_age's flips; a port need not write it): the depth test's within "
+        "3e-4 relative, the reprojected point's within 4e-3 px; 1e30 where no such decision was "
+        "made");
     table.buffers["taa_age"] = integers(
         0.02,
         "an age restarts where the depth test |z' - z_h| <= tau z' or the clamp decides "

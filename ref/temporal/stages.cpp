@@ -75,9 +75,9 @@ void taa_stage(FrameContext& ctx) {
                                       : glm::vec2(static_cast<float>(color.width) * 0.5f,
                                                   static_cast<float>(color.height) * 0.5f);
     const TaaInputs in{color, depth, ctx.camera, gaze, bounds};
-    Image out, age;
+    Image out, age, margin;
     TaaStats stats;
-    taa(state.taa.params, in, state.history, out, age, stats);
+    taa(state.taa.params, in, state.history, out, age, stats, &margin);
     add_taa_counters(ctx, state.taa, stats);
     const int index = jitter_index(ctx, state.taa);
     ctx.note = std::string(taa_mode_name(state.taa.mode)) +
@@ -88,6 +88,7 @@ void taa_stage(FrameContext& ctx) {
     state.history = next_taa_state(out, age, depth, ctx.camera);
     ctx.output("output", BufferKind::color, {"r", "g", "b"}, std::move(out));
     ctx.output("age", BufferKind::scalar, {"age"}, std::move(age));
+    ctx.output("margin", BufferKind::scalar, {"depth", "reprojection"}, std::move(margin));
 }
 
 StageDef taa_stage_def(const TaaSettings& taa, const TaaPorts& ports,
@@ -97,7 +98,11 @@ StageDef taa_stage_def(const TaaSettings& taa, const TaaPorts& ports,
     state->gaze = std::move(gaze);
     std::vector<Port> inputs = {{"color", ports.color}, {"depth", ports.depth}};
     if (!ports.bounds.empty()) inputs.emplace_back("bounds", ports.bounds);
-    return {"taa", inputs, {{"output", ports.output}, {"age", "taa_age"}}, taa_stage, state};
+    return {"taa",
+            inputs,
+            {{"output", ports.output}, {"age", "taa_age"}, {"margin", "taa_margin"}},
+            taa_stage,
+            state};
 }
 
 void taa_source_stage(FrameContext& ctx) {

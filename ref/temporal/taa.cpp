@@ -133,6 +133,15 @@ float sample_history(const TaaState& previous, glm::vec2 q, glm::vec3& history, 
     return sum;
 }
 
+// Signed distance of p from the border of the rectangle [x0, x1] x [y0, y1]: inside, the
+// distance to the nearest side; outside, minus the distance to the rectangle.
+float border_distance(glm::vec2 p, float x0, float y0, float x1, float y1) {
+    const float dx = std::max({x0 - p.x, p.x - x1, 0.0f});
+    const float dy = std::max({y0 - p.y, p.y - y1, 0.0f});
+    if (dx > 0.0f || dy > 0.0f) return -std::sqrt(dx * dx + dy * dy);
+    return std::min({p.x - x0, x1 - p.x, p.y - y0, y1 - p.y});
+}
+
 bool finite3(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 glm::vec3 rgb_at(const Image& image, int x, int y) {
@@ -185,14 +194,24 @@ bool previous_history(const TaaParams& params, const TaaInputs& in, const TaaSta
     const float z = in.depth.at(x, y);
     // A NaN or infinite current depth is no surface, and counted with the non-finite.
     r.history_nonfinite = !std::isfinite(z);
-    if (!(z > 0.0f && std::isfinite(z)) ||
-        !taa_reproject(k.reprojection, x, y, z, r.previous_point, r.previous_depth) ||
+    const bool reprojected =
+        z > 0.0f && std::isfinite(z) &&
+        taa_reproject(k.reprojection, x, y, z, r.previous_point, r.previous_depth);
+    if (reprojected)
+        r.reprojection_margin = border_distance(r.previous_point, -0.5f, -0.5f,
+                                                static_cast<float>(in.color.width) + 0.5f,
+                                                static_cast<float>(in.color.height) + 0.5f);
+    if (!reprojected ||
         sample_history(previous, r.previous_point, r.history, r.history_depth) <= 0.0f) {
         r.history = glm::vec3(0.0f);
         r.history_depth = 0.0f;
         return false;
     }
     // p' lies within a pixel of the screen here (sample_history had a tap).
+    if (params.rejection == TaaRejection::depth)
+        r.depth_margin = (params.tau * r.previous_depth -
+                          std::fabs(r.previous_depth - r.history_depth)) /
+                         r.previous_depth;
     const int px = std::clamp(floor_int(r.previous_point.x), 0, in.color.width - 1);
     const int py = std::clamp(floor_int(r.previous_point.y), 0, in.color.height - 1);
     r.age_previous = previous.age.at(px, py);
@@ -263,7 +282,7 @@ TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const Taa
 }
 
 void taa(const TaaParams& params, const TaaInputs& in, const TaaState& previous, Image& out,
-         Image& age, TaaStats& stats) {
+         Image& age, TaaStats& stats, Image* margin) {
     const int width = in.color.width, height = in.color.height;
     FOVREF_CHECK_EQ(in.color.channels, 3, "TAA colour channels");
     FOVREF_CHECK(in.depth.width == width && in.depth.height == height,
@@ -280,10 +299,15 @@ void taa(const TaaParams& params, const TaaInputs& in, const TaaState& previous,
             "TAA clamp bounds of another shape than the frame");
     out = Image(width, height, 3, 0.0f);
     age = Image(width, height, 1, 0.0f);
+    if (margin) *margin = Image(width, height, 2, 0.0f);
     const TaaConstants constants = taa_constants(in, previous);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
             const TaaPixelRecord r = taa_pixel(params, in, previous, x, y, out, age, &constants);
+            if (margin) {
+                margin->at(x, y, 0) = r.depth_margin;
+                margin->at(x, y, 1) = r.reprojection_margin;
+            }
             switch (r.decision) {
                 case TaaDecision::first: break;
                 case TaaDecision::stationary:

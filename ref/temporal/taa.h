@@ -124,6 +124,9 @@ bool taa_reproject(const Camera& camera, float tan_half, const Camera& previous,
                    float previous_tan_half, int width, int height, int x, int y, float z,
                    glm::vec2& previous_point, float& previous_depth);
 
+/// A margin of a decision the pixel did not make (TaaPixelRecord).
+inline constexpr float taa_no_margin = 1e30f;
+
 /// What taa_pixel did at a pixel (for counters and `fovref probe`).
 struct TaaPixelRecord {
     TaaDecision decision = TaaDecision::first;
@@ -134,6 +137,12 @@ struct TaaPixelRecord {
     glm::vec3 history{0.0f};  ///< the history used (after clamping)
     /// Rejected because the history, its age or depth, or the current depth was not finite.
     bool history_nonfinite = false;
+    /// How far the pixel's decisions lay from their thresholds (the `taa_margin` buffer, for
+    /// `fovref diff`'s threshold decisions): the depth test's (tau z' - |z' - z_h|) / z' (depth
+    /// rejection only), and the reprojected point's distance in pixels from the border of the
+    /// region where the history has a tap, (-1/2, W + 1/2) x (-1/2, H + 1/2), negative outside;
+    /// taa_no_margin where the pixel made no such decision.
+    float depth_margin = taa_no_margin, reprojection_margin = taa_no_margin;
 };
 
 /// What every pixel of a frame shares, computed once per pass: the two cameras' tan(vfov / 2),
@@ -146,7 +155,7 @@ struct TaaConstants {
 TaaConstants taa_constants(const TaaInputs& in, const TaaState& previous);
 
 /// Per-pixel work of the pass: pixel (x, y) of `out` (3 channels) and `age`. `constants`: those
-/// of this frame (taa_constants), computed here when null.
+/// of this frame (taa_constants), computed here when null. The record carries the margins.
 TaaPixelRecord taa_pixel(const TaaParams& params, const TaaInputs& in, const TaaState& previous,
                          int x, int y, Image& out, Image& age,
                          const TaaConstants* constants = nullptr);
@@ -158,9 +167,10 @@ struct TaaStats {
     std::int64_t nonfinite_history = 0;     ///< rejected: a non-finite history, age or depth
 };
 
-/// The pass: the TAA output (the next frame's history) and the age, W x H.
+/// The pass: the TAA output (the next frame's history) and the age, W x H; `margin` (when not
+/// null): W x H x 2, the record's depth and reprojection margins.
 void taa(const TaaParams& params, const TaaInputs& in, const TaaState& previous, Image& out,
-         Image& age, TaaStats& stats);
+         Image& age, TaaStats& stats, Image* margin = nullptr);
 
 /// The state the next frame reads: this frame's output, age, depth and camera.
 TaaState next_taa_state(Image out, Image age, const Image& depth, const Camera& camera);
