@@ -301,3 +301,50 @@ TEST_CASE("TAA: the stationary rule agrees with reprojection to 2e-6 (depth mode
     CHECK(compared > 800);
     CHECK(sky > 50);
 }
+
+TEST_CASE("TAA: the decision margins (taa_margin): their sign is the decision, their size the "
+          "distance from the threshold") {
+    // As above: the camera moves 0.5 forward, a surface at depth 2 was at 2.5 (tau = 1%).
+    const int w = 30, h = 30;
+    Camera previous = yawed(0.0f), camera = previous;
+    camera.position += 0.5f * camera.forward;
+    const Image color(w, h, 3, 0.25f), depth(w, h, 1, 2.0f);
+    TaaState state;
+    state.valid = true;
+    state.camera = previous;
+    state.history = Image(w, h, 3, 0.75f);
+    state.age = Image(w, h, 1, 4.0f);
+    for (const float history_depth : {2.5f, 2.52f, 2.53f, 4.0f}) {
+        state.depth = Image(w, h, 1, history_depth);
+        Image out, age, margin;
+        TaaStats stats;
+        taa({}, {color, depth, camera, {15.0f, 15.0f}}, state, out, age, stats, &margin);
+        REQUIRE(margin.channels == 2);
+        // The centre pixel reprojects to about the centre (z' = 2.5): (0.01 z' - |z' - z_h|) / z'
+        const float z = 2.5f;
+        CHECK(margin.at(15, 15, 0) ==
+              doctest::Approx((0.01f * z - std::fabs(z - history_depth)) / z).epsilon(1e-3));
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                // kept by the depth test exactly where its margin is >= 0
+                const float dx = static_cast<float>(x) + 0.5f - 15.0f;
+                const float dy = static_cast<float>(y) + 0.5f - 15.0f;
+                const bool near_gaze = std::sqrt(dx * dx + dy * dy) <= 14.0f;
+                if (near_gaze) CHECK((age.at(x, y) > 1.0f) == (margin.at(x, y, 0) >= 0.0f));
+                // the reprojected point lies on the screen, at most 15.5 px from the border
+                CHECK(margin.at(x, y, 1) > 0.0f);
+                CHECK(margin.at(x, y, 1) <= 15.5f);
+            }
+    }
+    // Clamp rejection makes no depth decision; the first frame none at all.
+    TaaParams clamp;
+    clamp.rejection = TaaRejection::clamp;
+    Image out, age, margin;
+    TaaStats stats;
+    taa(clamp, {color, depth, camera, {15.0f, 15.0f}}, state, out, age, stats, &margin);
+    CHECK(margin.at(3, 4, 0) == taa_no_margin);
+    CHECK(margin.at(3, 4, 1) < taa_no_margin);
+    taa({}, {color, depth, camera, {15.0f, 15.0f}}, TaaState{}, out, age, stats, &margin);
+    CHECK(margin.at(3, 4, 0) == taa_no_margin);
+    CHECK(margin.at(3, 4, 1) == taa_no_margin);
+}
