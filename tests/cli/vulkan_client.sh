@@ -48,9 +48,10 @@ for fragment in "$FRAGMENTS"/*.bash; do
   source "$fragment"
 done
 [ -n "${VK_FRAGMENTS:-}" ] && { finish; exit; }
-checks=$((checks + 1))
-grep -q '"float_controls"' "v_lerp_textured-room-ckfov-gaze-lerp/vk_passes.json" ||
-  { echo "FAIL: the dump records no float controls"; failures=$((failures + 1)); }
+# the dump's port.json (device, driver, float controls), which the diff prints
+expect 0 "diff prints the port" -- "$FOVREF" diff g_textured-room-ckfov-gaze-lerp v_lerp_textured-room-ckfov-gaze-lerp --profile vulkan
+contains "port: device: llvmpipe" "the device"
+contains "port: float_controls: binary32 denormals" "the float controls"
 expect 0 "a bundle without the passes" -- "$FOVREF" golden export cornell-basic g_basic -q
 expect 2 "the lerp on it" -- "$CLIENT" --lavapipe lerp g_basic v_basic
 contains "no gaussian_lerp stage" "a clear message"

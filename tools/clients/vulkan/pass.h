@@ -37,7 +37,7 @@ struct PassContext {
     bool bug = false;        ///< run the shaders built with -DINJECT_BUG
     double device_ms = 0.0;  ///< the sum of the pass's dispatches' run times (VulkanCompute)
     int dispatches = 0;
-    json notes = json::object();  ///< what the pass adds to vk_passes.json ("precise" use...)
+    json notes = json::object();  ///< what the pass adds to port.json ("precise" use...)
 
     /// The SPIR-V file of shader `name` (shaders/<name>.comp), the bug variant under --bug.
     std::string shader(const std::string& name) const;

@@ -3,13 +3,13 @@
 // bundle's names, so that `fovref diff` checks that pass alone (an error cannot cascade):
 //
 //   fovref golden export textured-room-ckfov-gaze-lerp gold --raw-copies
-//   vk_passes lerp gold out            # out/f000_final.pfm ..., out/vk_passes.json
+//   vk_passes lerp gold out            # out/f000_final.pfm ..., out/port.json
 //   fovref diff gold out --profile vulkan
 //
 // The passes are in passes/*.cpp (`vk_passes --help` lists them), their shaders in
 // shaders/*.comp. Options: --lavapipe (the CPU device even when a GPU is there; default: a GPU
 // first), --bug (the shaders built with -DINJECT_BUG: each pass's typical porting bug, for the
-// diff to catch). It depends on nothing of fovref's; the dump's vk_passes.json records the
+// diff to catch). It depends on nothing of fovref's; the dump's port.json records the
 // device, driver, float controls, the injected bug and the pass's device time. Exit 0 on
 // success, 2 on any error.
 #include <chrono>
@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
                     {"device_ms", ctx.device_ms},
                     {"wall_ms", wall_ms}};
         for (const auto& [key, value] : ctx.notes.items()) record[key] = value;
-        std::ofstream(out + "/vk_passes.json") << record.dump(1) << "\n";
+        std::ofstream(out + "/port.json") << record.dump(1) << "\n";
         std::fprintf(stderr, "vk_passes: %s, %d frame(s), %d dispatch(es), %.2f ms on %s\n",
                      pass->name.c_str(), frames, ctx.dispatches, ctx.device_ms,
                      vk.device_description().c_str());

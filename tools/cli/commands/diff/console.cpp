@@ -169,6 +169,7 @@ void print_summary(const DiffReport& report) {
     std::printf("fovref diff: golden %s%s, candidate %s, profile %s\n", report.golden.c_str(),
                 report.case_name.empty() ? "" : (" (case " + report.case_name + ")").c_str(),
                 report.candidate.c_str(), report.profile.c_str());
+    for (const std::string& line : report.port) std::printf("port: %s\n", line.c_str());
     Columns w;
     for (const DiffItem& item : report.items) {
         w.stage = std::max(w.stage, static_cast<int>(item.stage.size()));

@@ -91,6 +91,23 @@ std::vector<std::string> nearest_names(const std::string& name,
 
 namespace {
 
+// A GPU client's port.json as "key: value" lines (strings as they are, other values as JSON); a
+// file that is not a JSON object gives one line saying so (the record is informative only).
+std::vector<std::string> port_lines(const std::string& path) {
+    std::vector<std::string> lines;
+    try {
+        const nlohmann::json j = nlohmann::json::parse(read_file(path));
+        if (!j.is_object()) return {path + ": not a JSON object (ignored)"};
+        for (auto it = j.begin(); it != j.end(); ++it)
+            lines.push_back(
+                it.key() + ": " +
+                (it.value().is_string() ? it.value().get<std::string>() : it.value().dump()));
+    } catch (const std::exception& e) {
+        lines = {path + ": not valid JSON (ignored): " + e.what()};
+    }
+    return lines;
+}
+
 // Candidate files of a directory, sorted by name (a fixed order).
 std::vector<std::string> list_files(const std::string& directory) {
     std::vector<std::string> files;
@@ -252,6 +269,11 @@ void collect_bundle_items(const DiffOptions& o, const Manifest& manifest, bool c
     std::vector<std::string> files;
     if (candidate_dir) files = list_files(o.candidate);
     std::vector<bool> used(files.size(), false);
+    for (std::size_t k = 0; k < files.size(); ++k)
+        if (files[k] == "port.json") {
+            used[k] = true;
+            report.port = port_lines((fs::path(o.candidate) / files[k]).string());
+        }
     const int frames = static_cast<int>(manifest.frame_counters.size());
     const int single_frame = o.frame >= 0 ? o.frame : 0;
     bool found_buffer = false;

@@ -155,6 +155,7 @@ json report_json(const DiffOptions& o, const DiffReport& report) {
     j["candidate"] = o.candidate;
     if (!report.case_name.empty()) j["case"] = report.case_name;
     j["profile"] = report.profile;
+    if (!report.port.empty()) j["port"] = report.port;
     j["pass"] = report.pass;
     j["compared"] = report.compared;
     j["failed"] = report.failed;  // out of tolerance + missing and required

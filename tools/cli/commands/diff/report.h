@@ -53,8 +53,12 @@ struct DiffReport {
     std::vector<std::string> ignored;       ///< candidate files that match no golden buffer
     std::vector<std::string> ignored_hint;  ///< per ignored file: the closest buffer file name
     std::string profile;                    ///< the tolerance profile used
-    int first_failing = -1;                 ///< index into items
-    std::string probe_command;              ///< for the worst pixel of the first failing buffer
+    /// The candidate's port.json (a GPU client's record of itself: device, driver, float
+    /// controls, `precise` use, injected bug...), its members as "key: value" lines; empty when
+    /// the candidate directory has none.
+    std::vector<std::string> port;
+    int first_failing = -1;     ///< index into items
+    std::string probe_command;  ///< for the worst pixel of the first failing buffer
     bool pass = true;
     int compared = 0, failed = 0, missing = 0;
     int missing_required = 0;  ///< included in failed
