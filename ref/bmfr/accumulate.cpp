@@ -205,18 +205,23 @@ void check_history(const BmfrHistory& history, const BmfrSpace& space, int width
 
 // Phase I's accept bits (bit k: tap k) for a pixel at world position p with normal n: a tap is
 // accepted inside the buffer, on a traced texel (Visual-Polar), within both limits (strict).
+// `margin` (channels 0 and 1 of accept_margin): the smallest |L^2 - d^2| / L^2 of each test.
 unsigned accepted_taps(const BmfrParams& params, const BmfrHistory& history, const BmfrSpace& space,
-                       const BmfrTaps& taps, int width, int height, glm::vec3 p, glm::vec3 n) {
+                       const BmfrTaps& taps, int width, int height, glm::vec3 p, glm::vec3 n,
+                       float margin[2]) {
     unsigned mask = 0;
+    const auto closer = [](float& m, float d2, float limit2) {
+        m = std::min(m, std::fabs(limit2 - d2) / limit2);
+    };
     for (int k = 0; k < 4; ++k) {
         if (!inside(taps.x[k], taps.y[k], width, height)) continue;
         if (space.map && history.valid_texels.at(taps.x[k], taps.y[k]) == 0.0f) continue;
-        if (!(distance_squared(load3(history.world_position, taps.x[k], taps.y[k]), p) <
-              params.position_limit_squared))
-            continue;
-        if (!(distance_squared(load3(history.normal, taps.x[k], taps.y[k]), n) <
-              params.normal_limit_squared))
-            continue;
+        const float dp = distance_squared(load3(history.world_position, taps.x[k], taps.y[k]), p);
+        closer(margin[0], dp, params.position_limit_squared);
+        if (!(dp < params.position_limit_squared)) continue;
+        const float dn = distance_squared(load3(history.normal, taps.x[k], taps.y[k]), n);
+        closer(margin[1], dn, params.normal_limit_squared);
+        if (!(dn < params.normal_limit_squared)) continue;
         mask |= 1u << k;
     }
     return mask;
@@ -259,6 +264,7 @@ void bmfr_accumulate_noisy_pixel(const BmfrParams& params, const Image& illumina
         q.y = (static_cast<float>(y) + 0.5f) / static_cast<float>(vp_column_rows(*space.map, x));
     unsigned mask = 0;
     float h[3] = {0, 0, 0}, h_spp = 0.0f;
+    float margin[3] = {bmfr_no_margin, bmfr_no_margin, bmfr_no_margin};
     bool has_history = false;
     const bool data = !space.map || space.valid->at(x, y) != 0.0f;
     if (!data) q = bmfr_behind_camera;
@@ -270,7 +276,10 @@ void bmfr_accumulate_noisy_pixel(const BmfrParams& params, const Image& illumina
             ++stats.history_off_screen;
         } else {
             const BmfrTaps taps = space.map ? bmfr_vp_taps(*space.map, q) : bmfr_taps(q);
-            mask = accepted_taps(params, history, space, taps, width, height, p, n);
+            mask = accepted_taps(params, history, space, taps, width, height, p, n, margin);
+            if (!space.map)
+                margin[2] = std::min({q.x - std::floor(q.x), std::ceil(q.x) - q.x,
+                                      q.y - std::floor(q.y), std::ceil(q.y) - q.y});
             has_history = blend_noisy_history(history, taps, mask, width, h, h_spp);
             ++(has_history ? stats.history_accepted : stats.history_rejected);
             if (!has_history) mask = 0;
@@ -288,6 +297,8 @@ void bmfr_accumulate_noisy_pixel(const BmfrParams& params, const Image& illumina
     out.accept.at(x, y) = static_cast<float>(mask);
     out.previous_pixel.at(x, y, 0) = q.x;
     out.previous_pixel.at(x, y, 1) = q.y;
+    if (!out.accept_margin.data.empty())
+        for (int ch = 0; ch < 3; ++ch) out.accept_margin.at(x, y, ch) = margin[ch];
 }
 
 BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& illumination,
@@ -305,6 +316,7 @@ BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& il
     out.spp = Image(width, height, 1);
     out.accept = Image(width, height, 1);
     out.previous_pixel = Image(width, height, 2);
+    out.accept_margin = Image(width, height, 3);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x)
             bmfr_accumulate_noisy_pixel(params, illumination, world_position, normal, history,

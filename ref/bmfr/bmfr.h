@@ -156,7 +156,16 @@ struct BmfrAccumulation {
     /// (x, (y + 1/2) / n_x), BmfrSpace),
     /// bmfr_behind_camera when the point is behind the previous camera
     Image previous_pixel;
+    /// 3 (`bmfr_accept_margin`, for `fovref diff`'s threshold decisions; written only when
+    /// allocated): how far the pixel's accept decisions lay from their limits, over the taps
+    /// inside the buffer the smallest |L^2 - d^2| / L^2 of the position test (channel 0) and of
+    /// the normal test (1), and (screen space) the reprojected index's distance from the
+    /// nearest integer, where the taps change (2); bmfr_no_margin where none was decided.
+    Image accept_margin;
 };
+
+/// A margin of a decision a pixel did not make (BmfrAccumulation::accept_margin).
+inline constexpr float bmfr_no_margin = 1e30f;
 
 /// The reprojected pixel of a point behind the previous camera: off the image for every stage.
 inline constexpr glm::vec2 bmfr_behind_camera{-2.0f, -2.0f};

@@ -90,7 +90,7 @@ void explain_phase_one(const ProbeContext& c, const BmfrParams& params, const Bm
                               ") (bmfr_illumination)");
     BmfrStats stats;
     out = BmfrAccumulation{Image(width, height, 3), Image(width, height, 1),
-                           Image(width, height, 1), Image(width, height, 2)};
+                           Image(width, height, 1), Image(width, height, 2), Image()};
     bmfr_accumulate_noisy_pixel(params, image_of(f, "bmfr_illumination"), world, normal, h, h.valid,
                                 {}, out, x, y, stats);
     const glm::vec2 q{out.previous_pixel.at(x, y, 0), out.previous_pixel.at(x, y, 1)};

@@ -107,6 +107,8 @@ void add_accumulation(const AddBuffer& add, BmfrAccumulation a) {
     add("bmfr_spp", BufferKind::scalar, {"spp"}, std::move(a.spp));
     add("bmfr_accept", BufferKind::scalar, {"mask"}, std::move(a.accept));
     add("bmfr_previous_pixel", BufferKind::scalar, {"x", "y"}, std::move(a.previous_pixel));
+    add("bmfr_accept_margin", BufferKind::scalar, {"position", "normal", "taps"},
+        std::move(a.accept_margin));
 }
 
 void add_fit(const AddBuffer& add, Image weights, Image feature_range) {
@@ -271,7 +273,8 @@ void add_bmfr_stages(Pipeline& p, const BmfrWiring& w) {
            state});
     p.add({"bmfr_accumulate_noisy",
            ports({"bmfr_illumination"}, w, world_normal, true),
-           {"bmfr_accumulated_noisy", "bmfr_spp", "bmfr_accept", "bmfr_previous_pixel"},
+           {"bmfr_accumulated_noisy", "bmfr_spp", "bmfr_accept", "bmfr_previous_pixel",
+            "bmfr_accept_margin"},
            bmfr_accumulate_noisy_stage,
            state});
     p.add({"bmfr_fit",

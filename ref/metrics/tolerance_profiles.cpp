@@ -162,6 +162,11 @@ void add_path_tracing(ToleranceTable& table) {
         "a tap is accepted when |P_k - P|^2 and |n_k - n|^2 are below the limits (strict): "
         "positions within 3e-4 relative flip taps near the limits, at the edges of the "
         "disocclusions; 5% of the edge pixels");
+    table.buffers["bmfr_accept_margin"] = values(
+        1e-3, 1e-4, 0,
+        "the oracle's distances of BMFR's accept tests from their limits (the diff reads the "
+        "golden's to judge bmfr_accept's flips; a port need not write it); 1e30 where none was "
+        "decided");
     table.buffers["bmfr_spp"] = integers(
         0.05, "the sample count follows the accept bits from frame to frame: as bmfr_accept");
     table.buffers["bmfr_previous_pixel"] = values(
@@ -288,11 +293,13 @@ ToleranceTable make_vulkan() {
         "distance in pixels from the border of the taps' region, the GPU's within 4e-3 px); a "
         "flip within those of the threshold is near-threshold, any other flip is a bug");
     table.buffers["bmfr_accept"] = decision(
-        "bmfr_accept_margin", {3e-4, 1e-4},
-        "a tap is accepted when |P_k - P|^2 and |n_k - n|^2 lie below the limits (strict): "
-        "bmfr_accept_margin holds the smallest relative distance of the pixel's tests from "
-        "their limits (channel 0: position, channel 1: normal); the GPU's positions within "
-        "3e-4 relative and normals within 1e-4 flip only taps that close");
+        "bmfr_accept_margin", {1e-4, 1e-4, 1e-3},
+        "a tap is accepted when |P_k - P|^2 and |n_k - n|^2 lie below the limits (strict); "
+        "bmfr_accept_margin holds, over the pixel's taps, the smallest |L^2 - d^2| / L^2 of "
+        "each test and the reprojected index's distance from where the taps change: with the "
+        "golden's own positions and normals (a stage-isolated port) d^2 differs by ulps, 1e-4 "
+        "relative, and the index by bmfr_previous_pixel's 1e-3 px; a port that computes its "
+        "own G-buffer needs its positions' error here (about 2 x 3e-4 |P| / L)");
     return table;
 }
 

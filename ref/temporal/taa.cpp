@@ -209,9 +209,9 @@ bool previous_history(const TaaParams& params, const TaaInputs& in, const TaaSta
     }
     // p' lies within a pixel of the screen here (sample_history had a tap).
     if (params.rejection == TaaRejection::depth)
-        r.depth_margin = (params.tau * r.previous_depth -
-                          std::fabs(r.previous_depth - r.history_depth)) /
-                         r.previous_depth;
+        r.depth_margin =
+            (params.tau * r.previous_depth - std::fabs(r.previous_depth - r.history_depth)) /
+            r.previous_depth;
     const int px = std::clamp(floor_int(r.previous_point.x), 0, in.color.width - 1);
     const int py = std::clamp(floor_int(r.previous_point.y), 0, in.color.height - 1);
     r.age_previous = previous.age.at(px, py);

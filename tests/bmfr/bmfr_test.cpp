@@ -510,3 +510,49 @@ TEST_CASE(
     CHECK(std::memcmp(from_radiance.data.data(), as_given.data.data(),
                       from_radiance.data.size() * sizeof(float)) == 0);
 }
+
+TEST_CASE(
+    "bmfr phase I: the accept margins (bmfr_accept_margin) measure each test's distance "
+    "from its limit; a tap exactly beyond the limit is rejected") {
+    // A static camera; every pixel sees the point (0.35, 0.35, 1) and the history the point
+    // moved by dz along the normal, so every tap's |P_k - P|^2 = dz^2 and the position margin
+    // is |L^2 - dz^2| / L^2.
+    const Camera camera = look_at({0.35f, 0.35f, 3.0f}, {0.35f, 0.35f, 1.0f}, {0, 1, 0}, 40.0f);
+    Frame f = wall(8, 8, 0.0f, glm::vec3(0, 0, 1), 1.0f);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) f.world.at(x, y, 0) = f.world.at(x, y, 1) = 0.35f;
+    BmfrParams params;
+    BmfrStats stats;
+    const Image illumination(8, 8, 3, 1.0f);
+    BmfrHistory history;
+    history.valid = true;
+    history.view_projection = view_projection(camera, 8, 8);
+    history.normal = f.normal;
+    history.accumulated_noisy = illumination;
+    history.spp = Image(8, 8, 1, 1.0f);
+    const float limit2 = params.position_limit_squared;
+    for (const float share : {0.25f, 0.81f, 1.21f}) {  // dz^2 = share x L^2
+        history.world_position = f.world;
+        const float dz = std::sqrt(share * limit2);
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) history.world_position.at(x, y, 2) += dz;
+        const BmfrAccumulation a =
+            bmfr_accumulate_noisy(params, illumination, f.world, f.normal, history, stats);
+        REQUIRE(a.accept_margin.channels == 3);
+        const float dz2 = (1.0f + dz - 1.0f) * (1.0f + dz - 1.0f);
+        CHECK(a.accept_margin.at(4, 4, 0) ==
+              doctest::Approx(std::fabs(limit2 - dz2) / limit2).epsilon(1e-3));
+        CHECK((a.accept.at(4, 4) != 0.0f) == (share < 1.0f));
+        // the same normals: the normal test's margin is 1 (d^2 = 0) where it ran
+        if (share < 1.0f) CHECK(a.accept_margin.at(4, 4, 1) == 1.0f);
+        // the reprojected index's distance from the nearest integer (where the taps change)
+        const float qx = a.previous_pixel.at(4, 4, 0), qy = a.previous_pixel.at(4, 4, 1);
+        const float to_integer = std::min(
+            {qx - std::floor(qx), std::ceil(qx) - qx, qy - std::floor(qy), std::ceil(qy) - qy});
+        CHECK(a.accept_margin.at(4, 4, 2) == to_integer);
+    }
+    // Without a history no decision: the sentinel
+    const BmfrAccumulation first =
+        bmfr_accumulate_noisy(params, illumination, f.world, f.normal, BmfrHistory{}, stats);
+    CHECK(first.accept_margin.at(4, 4, 0) == bmfr_no_margin);
+}
