@@ -125,6 +125,9 @@ void add_golden_export_options(CLI::App& c, GoldenExportOptions& o) {
                "also write every buffer of 2 or more than 3 channels (stored as EXR) as raw "
                "binary32, interleaved, top row first (f000_NAME.f32, the manifest's raw_file), "
                "for a client without an EXR reader");
+    c.add_flag("--timings", o.timings,
+               "record each stage's wall time per frame in the manifest (\"seconds\"), for "
+               "comparing a port's pass times with the oracle's");
 }
 
 int run_golden_list(const GoldenOptions& o) {
@@ -223,6 +226,7 @@ int run_golden_export(const GoldenOptions& o, const GoldenExportOptions& e) {
     BundleOptions options;
     options.previews_for_all = true;
     options.raw_copies = e.raw_copies;
+    options.include_timings = e.timings;
     BundleWriter writer(e.directory, c, options);
     if (e.with_scene) writer.add_scene(*scene, "scene");
     Progress progress("golden export " + c.name, o.quiet);

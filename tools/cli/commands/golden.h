@@ -32,6 +32,7 @@ struct GoldenExportOptions {
     std::vector<std::string> params;   ///< override or add mode parameters, key=value
     bool with_scene = false;           ///< also the scene files into DIR/scene
     bool raw_copies = false;           ///< also .f32 copies of the EXR buffers
+    bool timings = false;              ///< stage wall times in the manifest
 };
 
 /// Registers --dir on the `golden` command.
