@@ -107,6 +107,13 @@ void print_id_failure(const IdComparison& r) {
         static_cast<long long>(r.interior_mismatches), static_cast<long long>(r.edge_mismatches),
         static_cast<long long>(r.tolerance.max_interior_mismatches),
         static_cast<long long>(r.allowed_edge_mismatches));
+    // The pixel the failure points at: the first interior mismatch, else the first edge one
+    if (!r.mismatches.empty()) {
+        const IdMismatch& m = r.mismatches.front();
+        std::printf("  first failing pixel (%d, %d): golden %s, candidate %s (%s mismatch)\n", m.x,
+                    m.y, values_text(m.golden).c_str(), values_text(m.candidate).c_str(),
+                    m.edge ? "edge" : "interior");
+    }
     for (const IdMismatch& m : r.mismatches) {
         std::printf("  %s mismatch (%d, %d): golden %s, candidate %s\n",
                     m.edge ? "edge" : "interior", m.x, m.y, values_text(m.golden).c_str(),
