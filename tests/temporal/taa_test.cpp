@@ -302,8 +302,9 @@ TEST_CASE("TAA: the stationary rule agrees with reprojection to 2e-6 (depth mode
     CHECK(sky > 50);
 }
 
-TEST_CASE("TAA: the decision margins (taa_margin): their sign is the decision, their size the "
-          "distance from the threshold") {
+TEST_CASE(
+    "TAA: the decision margins (taa_margin): their sign is the decision, their size the "
+    "distance from the threshold") {
     // As above: the camera moves 0.5 forward, a surface at depth 2 was at 2.5 (tau = 1%).
     const int w = 30, h = 30;
     Camera previous = yawed(0.0f), camera = previous;

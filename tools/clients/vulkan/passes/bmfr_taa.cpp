@@ -1,0 +1,81 @@
+// BMFR's TAA, the authors' YCoCg TAA in display space (shaders/bmfr_taa.comp; docs/bmfr.md,
+// "TAA"), stage-isolated: per frame that has the bmfr_taa stage, the golden's bmfr_display and
+// phase I's bmfr_previous_pixel in; the history is the golden's PREVIOUS frame's bmfr_taa (frame
+// 0: none). Out: bmfr_taa. Screen space only: a Visual-Polar bundle (vp_valid) is refused.
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+#include "tools/clients/vulkan/pass.h"
+
+namespace fovref_client {
+namespace {
+
+struct TaaPush {
+    std::int32_t width, height, has_history;
+    float taa_alpha;
+};
+
+// The manifest's frame `index`, or nullptr.
+const json* frame_numbered(const PassContext& ctx, int index) {
+    for (const json& frame : ctx.frames())
+        if (frame.at("frame").get<int>() == index) return &frame;
+    return nullptr;
+}
+
+// Runs the TAA on one frame (its history: `previous`, nullptr on frame 0).
+void taa_frame(PassContext& ctx, const json& frame, const json* previous) {
+    Image display = ctx.read(frame, "bmfr_display");
+    Image previous_pixel = ctx.read(frame, "bmfr_previous_pixel");
+    const int width = display.width, height = display.height;
+    if (display.channels != 3 || previous_pixel.width != width || previous_pixel.height != height ||
+        previous_pixel.channels != 2)
+        throw std::runtime_error("bmfr_taa: bmfr_previous_pixel is not the size of bmfr_display");
+    Image history{1, 1, 3, {0, 0, 0}};
+    if (previous) {
+        history = ctx.read(*previous, "bmfr_taa");
+        if (history.width != width || history.height != height || history.channels != 3)
+            throw std::runtime_error("bmfr_taa: the previous bmfr_taa is not the frame's size");
+    }
+    Image result{width, height, 3, std::vector<float>(display.data.size(), 0.0f)};
+    const TaaPush push{width, height, previous ? 1 : 0, 0.2f};  // 0.2 new + 0.8 history
+    ctx.dispatch(
+        "bmfr_taa",
+        {host(display.data), host(previous_pixel.data), host(history.data), host(result.data)},
+        &push, sizeof push, groups(width, 16), groups(height, 16));
+    const int index = frame.at("frame").get<int>();
+    // each frame's device time (the last run's, with --repeat), for the per-frame figures
+    ctx.notes["frame_ms"][std::to_string(index)] = ctx.vk.last_run_ms();
+    ctx.write(index, "bmfr_taa", result);
+}
+
+int run(PassContext& ctx) {
+    ctx.notes["precise"] =
+        "the YCoCg transforms, the extents' means, the history's sum and the "
+        "blend (the oracle's binary32 order)";
+    int frames = 0;
+    for (const json& frame : ctx.frames()) {
+        if (PassContext::output_of(frame, "bmfr_taa").empty()) continue;
+        if (PassContext::has(frame, "vp_valid"))
+            throw std::runtime_error("bmfr_taa: Visual-Polar BMFR is not ported");
+        const int index = frame.at("frame").get<int>();
+        const json* previous = index > 0 ? frame_numbered(ctx, index - 1) : nullptr;
+        if (index > 0 && !previous)
+            throw std::runtime_error("bmfr_taa: frame " + std::to_string(index) + " needs frame " +
+                                     std::to_string(index - 1) +
+                                     " (its history), which the bundle does not hold");
+        taa_frame(ctx, frame, previous);
+        ++frames;
+    }
+    if (frames == 0) throw std::runtime_error("bmfr_taa: the bundle has no bmfr_taa stage");
+    return frames;
+}
+
+const bool registered = register_pass(
+    {"bmfr_taa",
+     "BMFR's YCoCg TAA: bmfr_display, bmfr_previous_pixel and the previous frame's bmfr_taa -> "
+     "bmfr_taa",
+     "the normalised YCoCg's inverse (no /4) after the unnormalised forward transform", run});
+
+}  // namespace
+}  // namespace fovref_client
