@@ -278,6 +278,20 @@ Tolerance decision(const std::string& margin, std::vector<double> epsilon,
 // decisions, each ε from the error analysis of the value the decision tests.
 ToleranceTable make_vulkan() {
     ToleranceTable table = make_gpu_rt();
+    // Measured on the port (lavapipe, 1280x720): pass 2's sampling point moves by up to 7e-4
+    // texel (native atan and log), which times the contrast at an emitter's edge (8 against
+    // 0.13 on cornell) gives up to 4.4e-3; 11 of 921600 pixels (1.2e-5) on cornell-kfov, 9 on
+    // cornell-cfov; and a Visual-Polar row index within 2.3e-5 of its threshold next to
+    // untraced texels changed one pixel of checker-room-visual-polar-basic by 0.051
+    for (const char* screen :
+         {"resolved", "taa_color", "lerp_filtered", "blur_horizontal", "filled", "final"}) {
+        Tolerance& t = table.buffers[screen];
+        t.max_failing_share = 5e-5;
+        t.reason +=
+            "; beyond that 5e-5 of the pixels (measured 1.2e-5 at 1280x720: pass 2's sampling "
+            "point, 7e-4 texel off, at an emitter's edge of contrast 8, up to 4.4e-3; a "
+            "Visual-Polar row within 2.3e-5 of its threshold beside untraced texels)";
+    }
     const std::string border =
         "a texel is traced when its screen point lies on the screen: the GPU's point is within "
         "4e-3 px of the oracle's (lp_screen_point's bound), so a flip where the oracle's point "

@@ -56,7 +56,7 @@ expect 0 "a bundle without the passes" -- "$FOVREF" golden export cornell-basic 
 expect 2 "the lerp on it" -- "$CLIENT" --lavapipe lerp g_basic v_basic
 contains "no gaussian_lerp stage" "a clear message"
 expect 2 "internal AA on it" -- "$CLIENT" --lavapipe internal_aa g_basic v_basic
-contains "no lp_color_aa" "a clear message"
+contains "no internal_aa stage" "a clear message"
 expect 2 "an unknown pass" -- "$CLIENT" --lavapipe nosuchpass g_basic v_basic
 contains "unknown pass 'nosuchpass'" "named"
 finish

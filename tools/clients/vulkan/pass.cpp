@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
@@ -53,6 +54,40 @@ std::string PassContext::param(const std::string& key, const std::string& fallba
     if (!c.contains("params") || !c.at("params").contains(key)) return fallback;
     const json& v = c.at("params").at(key);
     return v.is_string() ? v.get<std::string>() : v.dump();
+}
+
+float PassContext::float_param(const std::string& key, const std::string& fallback) const {
+    const std::string text = param(key, fallback);
+    char* end = nullptr;
+    const float value = std::strtof(text.c_str(), &end);
+    if (text.empty() || *end != '\0')
+        throw std::runtime_error("parameter " + key + " '" + text + "' is not a number");
+    return value;
+}
+
+int PassContext::each_frame(
+    const std::string& stage,
+    const std::function<void(const json& frame, const std::string& output)>& run,
+    const std::string& none) const {
+    int frames = 0;
+    for (const json& frame : manifest.at("frames")) {
+        const std::string output = output_of(frame, stage);
+        if (output.empty()) continue;
+        run(frame, output);
+        ++frames;
+    }
+    if (frames == 0) throw std::runtime_error(none);
+    return frames;
+}
+
+const json* PassContext::previous_frame(const json& frame) const {
+    const int index = frame.at("frame").get<int>();
+    if (index == 0) return nullptr;
+    for (const json& f : manifest.at("frames"))
+        if (f.at("frame").get<int>() == index - 1) return &f;
+    throw std::runtime_error("frame " + std::to_string(index) + " needs frame " +
+                             std::to_string(index - 1) +
+                             " (its history), which the bundle does not hold");
 }
 
 int PassContext::width() const { return manifest.at("case").at("width").get<int>(); }

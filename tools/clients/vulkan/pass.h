@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,9 @@ struct PassContext {
     /// The case's parameter `key` as the manifest states it, else `fallback` (the documented
     /// default: the manifest lists only the parameters a case sets).
     std::string param(const std::string& key, const std::string& fallback) const;
+    /// The case's parameter `key` as a binary32 number, else `fallback` (the documented
+    /// default, as text); throws std::runtime_error naming the parameter when it is not one.
+    float float_param(const std::string& key, const std::string& fallback) const;
     int width() const;  ///< the case's screen size
     int height() const;
     /// The manifest's frames, in order.
@@ -60,6 +64,15 @@ struct PassContext {
     static bool has(const json& frame, const std::string& name);
     /// The name of the buffer `stage` writes in `frame` ("" when none; the first when several).
     static std::string output_of(const json& frame, const std::string& stage);
+    /// Runs `run(frame, output)` on every frame that has stage `stage` (output: the name of the
+    /// buffer it writes, the first when several) and returns how many; throws
+    /// std::runtime_error(`none`) when no frame has the stage.
+    int each_frame(const std::string& stage,
+                   const std::function<void(const json& frame, const std::string& output)>& run,
+                   const std::string& none) const;
+    /// The frame before `frame` (its history), null for frame 0; throws naming both frames
+    /// when the bundle does not hold it.
+    const json* previous_frame(const json& frame) const;
     /// Writes `image` as frame `frame`'s buffer `name` of the dump.
     void write(int frame, const std::string& name, const Image& image) const;
 };

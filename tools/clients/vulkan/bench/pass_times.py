@@ -68,10 +68,11 @@ def main():
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for pass_name, case in pairs:
-            bundle = os.path.join(tmp, "g_" + case + "_" + size)
+            bundle = os.path.join(tmp, "g_%s_%s%s" % (case, size, "_scene" if pass_name == "frame" else ""))
             if not os.path.isdir(bundle):
+                scene = ["--with-scene"] if pass_name == "frame" else []
                 run([fovref, "-q", "golden", "export", case, bundle, "--width", width, "--height",
-                     height, "--raw-copies", "--timings"])
+                     height, "--raw-copies", "--timings"] + scene)
             dump = os.path.join(tmp, "v_%s_%s" % (pass_name, case))
             flags = ["--repeat=3"] + (["--lavapipe"] if device == "lavapipe" else [])
             run([client] + flags + [pass_name, bundle, dump])

@@ -29,16 +29,6 @@ float inverse_cdf(float u) {
     return (((25.09f * u + 0.1680f) * u + 27.61f) * u + 23.87f) * u + 3.232f;
 }
 
-/// The case's parameter `key` as a float, else `fallback` (its documented default).
-float float_param(const PassContext& ctx, const std::string& key, float fallback) {
-    const std::string text = ctx.param(key, "");
-    if (text.empty()) return fallback;
-    float value = 0.0f;
-    if (std::sscanf(text.c_str(), "%f", &value) != 1)
-        throw std::runtime_error("blur_ramp: parameter " + key + " '" + text + "' is not a number");
-    return value;
-}
-
 /// The ramp's geometry on the case's screen (the map's gaze, s and P(u0)) and parameters.
 BlurParameters ramp_parameters(const PassContext& ctx, int channels) {
     if (!ctx.param("gaze_track", "").empty())
@@ -60,8 +50,8 @@ BlurParameters ramp_parameters(const PassContext& ctx, int channels) {
         }
     b.scale = std::sqrt(r2) / inverse_cdf(1.0f);
     b.fovea_deg = inverse_cdf(vp_u0);
-    b.sigma_deg = float_param(ctx, "blur_sigma_deg", 0.564f);
-    b.full_deg = float_param(ctx, "blur_full_deg", 30.0f);
+    b.sigma_deg = ctx.float_param("blur_sigma_deg", "0.564");
+    b.full_deg = ctx.float_param("blur_full_deg", "30.0");
     return b;
 }
 

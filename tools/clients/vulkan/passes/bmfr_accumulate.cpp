@@ -24,14 +24,6 @@ struct AccumulatePush {
 };
 static_assert(sizeof(AccumulatePush) == 80, "push constants out of step with the shader");
 
-float float_param(const PassContext& ctx, const std::string& key, const std::string& fallback) {
-    const std::string text = ctx.param(key, fallback);
-    char* end = nullptr;
-    const float value = std::strtof(text.c_str(), &end);
-    if (end == text.c_str()) throw std::runtime_error("parameter " + key + ": '" + text + "'");
-    return value;
-}
-
 // One row of the view-projection, (axis, -axis . C) / scale with C the camera's position, in
 // binary32 in the oracle's order (its view_projection).
 void matrix_row(const json& axis_json, const json& position_json, float scale, float row[4]) {
@@ -59,13 +51,6 @@ void view_projection(const json& frame, int width, int height, AccumulatePush& p
     matrix_row(camera.at("right"), camera.at("position"), sx, push.row_x);
     matrix_row(camera.at("up"), camera.at("position"), tan_half, push.row_y);
     matrix_row(camera.at("forward"), camera.at("position"), 1.0f, push.row_w);
-}
-
-// The manifest's frame `index`, or nullptr.
-const json* frame_numbered(const PassContext& ctx, int index) {
-    for (const json& frame : ctx.frames())
-        if (frame.at("frame").get<int>() == index) return &frame;
-    return nullptr;
 }
 
 // Runs phase I on one frame (its history: `previous`, nullptr on frame 0) and writes its five
@@ -123,32 +108,22 @@ void accumulate_frame(PassContext& ctx, const json& frame, const json* previous,
 
 int run(PassContext& ctx) {
     AccumulatePush push{};
-    push.position_limit_squared = float_param(ctx, "bmfr_position_limit_squared", "0.01");
-    push.normal_limit_squared = float_param(ctx, "bmfr_normal_limit_squared", "0.25");
+    push.position_limit_squared = ctx.float_param("bmfr_position_limit_squared", "0.01");
+    push.normal_limit_squared = ctx.float_param("bmfr_normal_limit_squared", "0.25");
     push.alpha_min = 0.2f;                 // the authors' noisy alpha minimum (no parameter)
     push.offset_x = push.offset_y = 0.5f;  // the pixel centres (a render's samples)
     ctx.notes["precise"] =
         "the view-projection's rows, the pixel index, |P' - P|^2, |n' - n|^2, the tap weights and "
         "the blend (the oracle's binary32 order, no contraction)";
-    int frames = 0;
-    for (const json& frame : ctx.frames()) {
-        if (PassContext::output_of(frame, "bmfr_accumulate_noisy").empty()) continue;
-        if (PassContext::has(frame, "vp_valid"))
-            throw std::runtime_error("bmfr_accumulate: Visual-Polar BMFR is not ported");
-        const int index = frame.at("frame").get<int>();
-        const json* previous = index > 0 ? frame_numbered(ctx, index - 1) : nullptr;
-        if (index > 0 && !previous)
-            throw std::runtime_error("bmfr_accumulate: frame " + std::to_string(index) +
-                                     " needs frame " + std::to_string(index - 1) +
-                                     " (its history), which the bundle does not hold");
-        accumulate_frame(ctx, frame, previous, push);
-        ++frames;
-    }
-    if (frames == 0)
-        throw std::runtime_error(
-            "bmfr_accumulate: the bundle has no bmfr_accumulate_noisy stage "
-            "(bmfr_accumulated_noisy)");
-    return frames;
+    return ctx.each_frame(
+        "bmfr_accumulate_noisy",
+        [&](const json& frame, const std::string&) {
+            if (PassContext::has(frame, "vp_valid"))
+                throw std::runtime_error("Visual-Polar BMFR is not ported");
+            const json* previous = ctx.previous_frame(frame);
+            accumulate_frame(ctx, frame, previous, push);
+        },
+        "the bundle has no bmfr_accumulate_noisy stage (bmfr_accumulated_noisy)");
 }
 
 const bool registered = register_pass(

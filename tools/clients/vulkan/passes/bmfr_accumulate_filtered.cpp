@@ -17,13 +17,6 @@ struct FilteredPush {
     float alpha_min;
 };
 
-// The manifest's frame `index`, or nullptr.
-const json* frame_numbered(const PassContext& ctx, int index) {
-    for (const json& frame : ctx.frames())
-        if (frame.at("frame").get<int>() == index) return &frame;
-    return nullptr;
-}
-
 // Checks that `image` is width x height x channels, naming it otherwise.
 void check_shape(const Image& image, int width, int height, int channels, const char* name) {
     if (image.width != width || image.height != height || image.channels != channels)
@@ -61,25 +54,15 @@ void filter_frame(PassContext& ctx, const json& frame, const json* previous) {
 int run(PassContext& ctx) {
     ctx.notes["precise"] =
         "the tap weights, the history's sum and the blend (the oracle's binary32 order)";
-    int frames = 0;
-    for (const json& frame : ctx.frames()) {
-        if (PassContext::output_of(frame, "bmfr_accumulate_filtered").empty()) continue;
-        if (PassContext::has(frame, "vp_valid"))
-            throw std::runtime_error("bmfr_accumulate_filtered: Visual-Polar BMFR is not ported");
-        const int index = frame.at("frame").get<int>();
-        const json* previous = index > 0 ? frame_numbered(ctx, index - 1) : nullptr;
-        if (index > 0 && !previous)
-            throw std::runtime_error("bmfr_accumulate_filtered: frame " + std::to_string(index) +
-                                     " needs frame " + std::to_string(index - 1) +
-                                     " (its history), which the bundle does not hold");
-        filter_frame(ctx, frame, previous);
-        ++frames;
-    }
-    if (frames == 0)
-        throw std::runtime_error(
-            "bmfr_accumulate_filtered: the bundle has no bmfr_accumulate_filtered stage "
-            "(bmfr_accumulated_filtered)");
-    return frames;
+    return ctx.each_frame(
+        "bmfr_accumulate_filtered",
+        [&](const json& frame, const std::string&) {
+            if (PassContext::has(frame, "vp_valid"))
+                throw std::runtime_error("Visual-Polar BMFR is not ported");
+            const json* previous = ctx.previous_frame(frame);
+            filter_frame(ctx, frame, previous);
+        },
+        "the bundle has no bmfr_accumulate_filtered stage (bmfr_accumulated_filtered)");
 }
 
 const bool registered = register_pass(

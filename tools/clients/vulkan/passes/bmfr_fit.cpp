@@ -100,15 +100,9 @@ int run(PassContext& ctx) {
         "the regularisation noise and its addition, s + x_c^2 and s + u_c^2 (the oracle's "
         "products and sums without contraction); the reductions (binary32 trees, the oracle "
         "binary64 in row order) may contract";
-    int frames = 0;
-    for (const json& frame : ctx.frames()) {
-        if (PassContext::output_of(frame, "bmfr_fit").empty()) continue;
-        fit_frame(ctx, frame, half);
-        ++frames;
-    }
-    if (frames == 0)
-        throw std::runtime_error("bmfr_fit: the bundle has no bmfr_fit stage (bmfr_weights)");
-    return frames;
+    return ctx.each_frame(
+        "bmfr_fit", [&](const json& frame, const std::string&) { fit_frame(ctx, frame, half); },
+        "the bundle has no bmfr_fit stage (bmfr_weights)");
 }
 
 const bool registered = register_pass(

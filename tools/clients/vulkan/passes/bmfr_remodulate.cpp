@@ -54,16 +54,10 @@ int run(PassContext& ctx) {
     const bool separate = separate_emission(ctx);
     ctx.notes["precise"] = "x max(albedo, 0.01) and + e (binary32, no contraction)";
     ctx.notes["bmfr_remodulate_pow"] = "GLSL pow (the oracle: dm::pow_fast)";
-    int frames = 0;
-    for (const json& frame : ctx.frames()) {
-        if (PassContext::output_of(frame, "bmfr_remodulate").empty()) continue;
-        remodulate_frame(ctx, frame, separate);
-        ++frames;
-    }
-    if (frames == 0)
-        throw std::runtime_error(
-            "bmfr_remodulate: the bundle has no bmfr_remodulate stage (bmfr_display)");
-    return frames;
+    return ctx.each_frame(
+        "bmfr_remodulate",
+        [&](const json& frame, const std::string&) { remodulate_frame(ctx, frame, separate); },
+        "the bundle has no bmfr_remodulate stage (bmfr_display)");
 }
 
 const bool registered = register_pass(

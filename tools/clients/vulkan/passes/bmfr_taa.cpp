@@ -16,13 +16,6 @@ struct TaaPush {
     float taa_alpha;
 };
 
-// The manifest's frame `index`, or nullptr.
-const json* frame_numbered(const PassContext& ctx, int index) {
-    for (const json& frame : ctx.frames())
-        if (frame.at("frame").get<int>() == index) return &frame;
-    return nullptr;
-}
-
 // Runs the TAA on one frame (its history: `previous`, nullptr on frame 0).
 void taa_frame(PassContext& ctx, const json& frame, const json* previous) {
     Image display = ctx.read(frame, "bmfr_display");
@@ -53,22 +46,15 @@ int run(PassContext& ctx) {
     ctx.notes["precise"] =
         "the YCoCg transforms, the extents' means, the history's sum and the "
         "blend (the oracle's binary32 order)";
-    int frames = 0;
-    for (const json& frame : ctx.frames()) {
-        if (PassContext::output_of(frame, "bmfr_taa").empty()) continue;
-        if (PassContext::has(frame, "vp_valid"))
-            throw std::runtime_error("bmfr_taa: Visual-Polar BMFR is not ported");
-        const int index = frame.at("frame").get<int>();
-        const json* previous = index > 0 ? frame_numbered(ctx, index - 1) : nullptr;
-        if (index > 0 && !previous)
-            throw std::runtime_error("bmfr_taa: frame " + std::to_string(index) + " needs frame " +
-                                     std::to_string(index - 1) +
-                                     " (its history), which the bundle does not hold");
-        taa_frame(ctx, frame, previous);
-        ++frames;
-    }
-    if (frames == 0) throw std::runtime_error("bmfr_taa: the bundle has no bmfr_taa stage");
-    return frames;
+    return ctx.each_frame(
+        "bmfr_taa",
+        [&](const json& frame, const std::string&) {
+            if (PassContext::has(frame, "vp_valid"))
+                throw std::runtime_error("Visual-Polar BMFR is not ported");
+            const json* previous = ctx.previous_frame(frame);
+            taa_frame(ctx, frame, previous);
+        },
+        "the bundle has no bmfr_taa stage");
 }
 
 const bool registered = register_pass(

@@ -57,18 +57,14 @@ int run(PassContext& ctx) {
         "in the oracle's order, no contraction)";
     ctx.notes["bmfr_weighted_sum_features"] =
         "binary32, as the oracle's weighted sum reads them (binary16 storage is the fit's)";
-    int frames = 0;
-    for (const json& frame : ctx.frames()) {
-        if (PassContext::output_of(frame, "bmfr_weighted_sum").empty()) continue;
-        if (PassContext::has(frame, "vp_valid"))
-            throw std::runtime_error("bmfr_weighted_sum: Visual-Polar BMFR is not ported");
-        weighted_sum_frame(ctx, frame);
-        ++frames;
-    }
-    if (frames == 0)
-        throw std::runtime_error(
-            "bmfr_weighted_sum: the bundle has no bmfr_weighted_sum stage (bmfr_fitted)");
-    return frames;
+    return ctx.each_frame(
+        "bmfr_weighted_sum",
+        [&](const json& frame, const std::string&) {
+            if (PassContext::has(frame, "vp_valid"))
+                throw std::runtime_error("Visual-Polar BMFR is not ported");
+            weighted_sum_frame(ctx, frame);
+        },
+        "the bundle has no bmfr_weighted_sum stage (bmfr_fitted)");
 }
 
 const bool registered =

@@ -8,22 +8,19 @@ namespace fovref_client {
 namespace {
 
 int run(PassContext& ctx) {
-    int frames = 0;
-    for (const json& frame : ctx.frames()) {
-        if (!PassContext::has(frame, "lp_color_aa")) continue;
-        Image colour = ctx.read(frame, "lp_color");
-        Image valid = ctx.read(frame, "lp_valid");
-        Image result{colour.width, colour.height, colour.channels,
-                     std::vector<float>(colour.data.size(), 0.0f)};
-        const std::int32_t push[3] = {colour.width, colour.height, colour.channels};
-        ctx.dispatch("internal_aa", {host(colour.data), host(valid.data), host(result.data)}, push,
-                     sizeof push, groups(colour.width, 8), groups(colour.height, 8));
-        ctx.write(frame.at("frame").get<int>(), "lp_color_aa", result);
-        ++frames;
-    }
-    if (frames == 0)
-        throw std::runtime_error("internal_aa: the bundle has no lp_color_aa (internal AA)");
-    return frames;
+    return ctx.each_frame(
+        "internal_aa",
+        [&](const json& frame, const std::string& output) {
+            Image colour = ctx.read(frame, "lp_color");
+            Image valid = ctx.read(frame, "lp_valid");
+            Image result{colour.width, colour.height, colour.channels,
+                         std::vector<float>(colour.data.size(), 0.0f)};
+            const std::int32_t push[3] = {colour.width, colour.height, colour.channels};
+            ctx.dispatch("internal_aa", {host(colour.data), host(valid.data), host(result.data)},
+                         push, sizeof push, groups(colour.width, 8), groups(colour.height, 8));
+            ctx.write(frame.at("frame").get<int>(), output, result);
+        },
+        "the bundle has no internal_aa stage (lp_color_aa)");
 }
 
 const bool registered = register_pass(

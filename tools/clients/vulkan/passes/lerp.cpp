@@ -29,26 +29,25 @@ int run(PassContext& ctx) {
     for (const float cx : {0.0f, static_cast<float>(width)})
         for (const float cy : {0.0f, static_cast<float>(height)})
             farthest = std::max(farthest, std::hypot(cx - gaze_x, cy - gaze_y));
-    int frames = 0;
-    for (const json& frame : ctx.frames()) {
-        const std::string output = PassContext::output_of(frame, "gaussian_lerp");
-        if (output.empty()) continue;
-        Image in = ctx.read(frame, PassContext::has(frame, "taa_color") ? "taa_color" : "resolved");
-        Image result{in.width, in.height, in.channels, std::vector<float>(in.data.size(), 0.0f)};
-        const LerpParameters push{width,
-                                  height,
-                                  in.channels,
-                                  gaze_x,
-                                  gaze_y,
-                                  diagonal / 6.0f,
-                                  farthest - diagonal / 6.0f};
-        ctx.dispatch("gaussian_lerp", {host(in.data), host(result.data)}, &push, sizeof push,
-                     groups(width, 8), groups(height, 8));
-        ctx.write(frame.at("frame").get<int>(), output, result);
-        ++frames;
-    }
-    if (frames == 0) throw std::runtime_error("lerp: the bundle has no gaussian_lerp stage");
-    return frames;
+    return ctx.each_frame(
+        "gaussian_lerp",
+        [&](const json& frame, const std::string& output) {
+            Image in =
+                ctx.read(frame, PassContext::has(frame, "taa_color") ? "taa_color" : "resolved");
+            Image result{in.width, in.height, in.channels,
+                         std::vector<float>(in.data.size(), 0.0f)};
+            const LerpParameters push{width,
+                                      height,
+                                      in.channels,
+                                      gaze_x,
+                                      gaze_y,
+                                      diagonal / 6.0f,
+                                      farthest - diagonal / 6.0f};
+            ctx.dispatch("gaussian_lerp", {host(in.data), host(result.data)}, &push, sizeof push,
+                         groups(width, 8), groups(height, 8));
+            ctx.write(frame.at("frame").get<int>(), output, result);
+        },
+        "the bundle has no gaussian_lerp stage");
 }
 
 const bool registered = register_pass(

@@ -22,24 +22,22 @@ std::string input_of(const json& frame) {
 }
 
 int run(PassContext& ctx) {
-    int frames = 0;
-    for (const json& frame : ctx.frames()) {
-        const std::string output = PassContext::output_of(frame, "post_aa");
-        if (output.empty()) continue;
-        Image in = ctx.read(frame, input_of(frame));
-        if (in.channels > 4) throw std::runtime_error("more than 4 channels in " + input_of(frame));
-        std::vector<std::uint32_t> map = log_polar_map_block(ctx, frame, in.width, in.height, 0, 0);
-        Image result{in.width, in.height, in.channels, std::vector<float>(in.data.size(), 0.0f)};
-        const std::int32_t push[3] = {in.width, in.height, in.channels};
-        ctx.dispatch("post_aa", {host(map), host(in.data), host(result.data)}, push, sizeof push,
-                     groups(in.width, 16), groups(in.height, 16));
-        ctx.write(frame.at("frame").get<int>(), output, result);
-        ++frames;
-    }
-    if (frames == 0) throw std::runtime_error("the bundle has no post_aa stage");
-    ctx.notes["precise"] = "the row sums and the sum of the rows (sum += g I), x' x' + y' y'";
-    ctx.notes["weights"] = "computed per workgroup with the shader's native exp";
-    return frames;
+    return ctx.each_frame(
+        "post_aa",
+        [&](const json& frame, const std::string& output) {
+            Image in = ctx.read(frame, input_of(frame));
+            if (in.channels > 4)
+                throw std::runtime_error("more than 4 channels in " + input_of(frame));
+            std::vector<std::uint32_t> map =
+                log_polar_map_block(ctx, frame, in.width, in.height, 0, 0);
+            Image result{in.width, in.height, in.channels,
+                         std::vector<float>(in.data.size(), 0.0f)};
+            const std::int32_t push[3] = {in.width, in.height, in.channels};
+            ctx.dispatch("post_aa", {host(map), host(in.data), host(result.data)}, push,
+                         sizeof push, groups(in.width, 16), groups(in.height, 16));
+            ctx.write(frame.at("frame").get<int>(), output, result);
+        },
+        "the bundle has no post_aa stage");
 }
 
 const bool registered = register_pass(

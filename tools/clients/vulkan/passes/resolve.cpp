@@ -59,16 +59,6 @@ const ModeDefaults& defaults_of(const PassContext& ctx) {
                              "fov, kfov, cfov, ckfov, kfr, stereo-lp)");
 }
 
-/// The case's parameter `key` as a binary32 number (the mode's default when not set).
-float float_param(const PassContext& ctx, const std::string& key, const std::string& fallback) {
-    const std::string text = ctx.param(key, fallback);
-    char* end = nullptr;
-    const float value = std::strtof(text.c_str(), &end);
-    if (text.empty() || *end != '\0')
-        throw std::runtime_error("parameter " + key + " '" + text + "' is not a number");
-    return value;
-}
-
 /// K(x) on the host, for G: x^alpha or Horner from beta_n down (the shader's lp_kernel_forward)
 float kernel_forward(const LpMapBlock& m, float x) {
     x = std::clamp(x, 0.0f, 1.0f);
@@ -81,7 +71,7 @@ float kernel_forward(const LpMapBlock& m, float x) {
 /// The kernel: `beta` (a polynomial) when the case gives it, else x^alpha.
 void read_kernel(const PassContext& ctx, const ModeDefaults& d, LpMapBlock& m) {
     const std::string beta = ctx.param("beta", "");
-    m.alpha = float_param(ctx, "alpha", d.alpha);
+    m.alpha = ctx.float_param("alpha", d.alpha);
     m.inverse_alpha = 1.0f / m.alpha;
     if (beta.empty()) return;
     m.kernel_kind = 1;
@@ -142,7 +132,7 @@ LpMapBlock make_map(const PassContext& ctx, const json& frame, int screen_width,
     read_gaze(ctx, screen_width, screen_height, m);
     read_kernel(ctx, d, m);
     set_radius(ctx.param("L", d.radius), m);
-    const float gaze_angle = float_param(ctx, "gaze_angle", d.gaze_angle);
+    const float gaze_angle = ctx.float_param("gaze_angle", d.gaze_angle);
     if (gaze_angle > 0.0f) {
         if (!frame.contains("display_distance_px"))
             throw std::runtime_error("frame " + std::to_string(frame.at("frame").get<int>()) +
@@ -267,14 +257,10 @@ void resolve_frame(PassContext& ctx, const json& frame, const std::string& outpu
 int run(PassContext& ctx) {
     if (ctx.manifest.at("case").at("mode") == "stereo-lp")
         throw std::runtime_error("stereo-lp's pass 2 is the stereo_resolve pass");
-    int frames = 0;
-    for (const json& frame : ctx.frames()) {
-        const std::string output = PassContext::output_of(frame, "resolve");
-        if (output.empty()) continue;
-        resolve_frame(ctx, frame, output);
-        ++frames;
-    }
-    if (frames == 0) throw std::runtime_error("the bundle has no resolve stage (pass 2)");
+    const int frames = ctx.each_frame(
+        "resolve",
+        [&](const json& frame, const std::string& output) { resolve_frame(ctx, frame, output); },
+        "the bundle has no resolve stage (pass 2)");
     ctx.notes["precise"] =
         "lp_map.glsl: x' x' + y' y', the polynomial kernel's Horner steps, the inverse's "
         "G + (1 - G) u / w and g + r cos; lp_bilinear.glsl's lerps; the mip levels' lerp";

@@ -65,14 +65,10 @@ void resolve_frame(PassContext& ctx, const json& frame, const std::string& outpu
 int run(PassContext& ctx) {
     if (ctx.manifest.at("case").at("mode") != "stereo-lp")
         throw std::runtime_error("the bundle is not stereo-lp's (its pass 2 is the resolve pass)");
-    int frames = 0;
-    for (const json& frame : ctx.frames()) {
-        const std::string output = PassContext::output_of(frame, "resolve");
-        if (output.empty()) continue;
-        resolve_frame(ctx, frame, output);
-        ++frames;
-    }
-    if (frames == 0) throw std::runtime_error("the bundle has no resolve stage (pass 2)");
+    const int frames = ctx.each_frame(
+        "resolve",
+        [&](const json& frame, const std::string& output) { resolve_frame(ctx, frame, output); },
+        "the bundle has no resolve stage (pass 2)");
     ctx.notes["precise"] =
         "lp_map.glsl: x' x' + y' y'; lp_bilinear.glsl's lerps; the barrel's |q|^2 and "
         "1 + k1 |q|^2 + k2 |q|^4 and c + (W/4) q s";

@@ -84,14 +84,6 @@ void set_reprojection(TaaPush& push, const Pose& camera, const Pose& previous) {
     push.a[1] = (0.5f * h) / previous.tan_half;
 }
 
-float float_param(const PassContext& ctx, const std::string& key, const std::string& fallback) {
-    const std::string text = ctx.param(key, fallback);
-    char* end = nullptr;
-    const float value = std::strtof(text.c_str(), &end);
-    if (end == text.c_str()) throw std::runtime_error("parameter " + key + ": '" + text + "'");
-    return value;
-}
-
 // What every frame shares: the size, the rejection rule, tau, the cap, the periphery radius
 // (periphery x the screen diagonal, binary32) and the gaze (the `gaze` parameter, else the
 // screen's centre).
@@ -106,11 +98,11 @@ TaaPush frame_constants(const PassContext& ctx) {
         throw std::runtime_error("stereo-lp's TAA per eye is not ported");
     if (!ctx.param("gaze_track", "").empty())
         throw std::runtime_error("gaze_track is not read yet (give a case with `gaze`)");
-    push.tau = float_param(ctx, "taa_tau", "0.01");
-    push.age_cap = float_param(ctx, "taa_age_cap", "20");
+    push.tau = ctx.float_param("taa_tau", "0.01");
+    push.age_cap = ctx.float_param("taa_age_cap", "20");
     const float w = static_cast<float>(push.width), h = static_cast<float>(push.height);
     push.periphery_radius =
-        float_param(ctx, "taa_periphery", "0.333333343") * std::sqrt(w * w + h * h);
+        ctx.float_param("taa_periphery", "0.333333343") * std::sqrt(w * w + h * h);
     push.gaze_x = 0.5f * w;
     push.gaze_y = 0.5f * h;
     const std::string gaze = ctx.param("gaze", "");
