@@ -68,12 +68,14 @@ float PassContext::float_param(const std::string& key, const std::string& fallba
 int PassContext::each_frame(
     const std::string& stage,
     const std::function<void(const json& frame, const std::string& output)>& run,
-    const std::string& none) const {
+    const std::string& none) {
     int frames = 0;
     for (const json& frame : manifest.at("frames")) {
         const std::string output = output_of(frame, stage);
         if (output.empty()) continue;
+        const double before = device_ms;
         run(frame, output);
+        notes["frame_ms"][std::to_string(frame.at("frame").get<int>())] = device_ms - before;
         ++frames;
     }
     if (frames == 0) throw std::runtime_error(none);

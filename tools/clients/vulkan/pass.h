@@ -65,11 +65,11 @@ struct PassContext {
     /// The name of the buffer `stage` writes in `frame` ("" when none; the first when several).
     static std::string output_of(const json& frame, const std::string& stage);
     /// Runs `run(frame, output)` on every frame that has stage `stage` (output: the name of the
-    /// buffer it writes, the first when several) and returns how many; throws
-    /// std::runtime_error(`none`) when no frame has the stage.
+    /// buffer it writes, the first when several) and returns how many; each frame's device time
+    /// goes to notes["frame_ms"]. Throws std::runtime_error(`none`) when no frame has the stage.
     int each_frame(const std::string& stage,
                    const std::function<void(const json& frame, const std::string& output)>& run,
-                   const std::string& none) const;
+                   const std::string& none);
     /// The frame before `frame` (its history), null for frame 0; throws naming both frames
     /// when the bundle does not hold it.
     const json* previous_frame(const json& frame) const;

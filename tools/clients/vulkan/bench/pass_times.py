@@ -3,10 +3,13 @@
 
 usage: pass_times.py FOVREF VK_PASSES [--size WxH] [--device lavapipe|any] [--json OUT] PASS:CASE...
 
-For each PASS:CASE: `fovref golden export CASE --width W --height H --raw-copies --timings` (the
+--size golden keeps each case's own size. For each PASS:CASE: `fovref golden export CASE --width W --height H --raw-copies --timings` (the
 oracle's stage wall times per frame, single-threaded, in the manifest), then `vk_passes PASS` on
 that bundle, the fastest of 3 runs (its port.json: the device time of the pass's dispatches,
-submit to completion, without the upload and the pipeline's creation), and the diff's verdict with --profile vulkan.
+submit to completion, without the upload and the pipeline's creation), and the diff's verdict with --profile vulkan:
+the largest |error| (and its buffer), the near-threshold decision flips, the failing pixels
+attributed to them, and the pixels beyond the per-element bounds (failing pixels and id
+mismatches, which the profile's shares may still admit).
 The oracle's time of a pass is the sum over the frames of the stages whose buffers the pass
 wrote. Prints a table (ms per frame) and, with --json, writes the rows. Default size 1280x720.
 """
@@ -44,6 +47,21 @@ def oracle_ms(bundle, dump):
     return 1000.0 * total, sorted(stages), len(manifest["frames"])
 
 
+def decision_figures(report):
+    """From the diff's JSON: the largest |error| over the compared value buffers, the buffer
+    it is in, the near-threshold flips of the decision buffers and the pixels attributed."""
+    worst, where, near, attributed, failing = 0.0, "-", 0, 0, 0
+    for b in report["buffers"]:
+        if b.get("max_abs_error") is not None and b["max_abs_error"] > worst:
+            worst, where = b["max_abs_error"], b["name"]
+        near += b.get("near_threshold_flips", 0)
+        attributed += b.get("attributed_pixels", 0)
+        failing += b.get("failing_pixels", 0) + b.get("edge_mismatches", 0) + \
+            b.get("interior_mismatches", 0)
+    return {"max_abs_error": worst, "max_error_buffer": where, "near_threshold_flips": near,
+            "attributed_pixels": attributed, "pixels_beyond_bounds": failing}
+
+
 def main():
     args = sys.argv[1:]
     if len(args) < 3:
@@ -64,32 +82,40 @@ def main():
         else:
             pairs.append(args[k].split(":", 1))
             k += 1
-    width, height = size.split("x")
+    size_flags = [] if size == "golden" else ["--width", size.split("x")[0], "--height",
+                                              size.split("x")[1]]
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         for pass_name, case in pairs:
             bundle = os.path.join(tmp, "g_%s_%s%s" % (case, size, "_scene" if pass_name == "frame" else ""))
             if not os.path.isdir(bundle):
                 scene = ["--with-scene"] if pass_name == "frame" else []
-                run([fovref, "-q", "golden", "export", case, bundle, "--width", width, "--height",
-                     height, "--raw-copies", "--timings"] + scene)
+                run([fovref, "-q", "golden", "export", case, bundle, "--raw-copies", "--timings"] +
+                    size_flags + scene)
             dump = os.path.join(tmp, "v_%s_%s" % (pass_name, case))
             flags = ["--repeat=3"] + (["--lavapipe"] if device == "lavapipe" else [])
             run([client] + flags + [pass_name, bundle, dump])
             port = json.load(open(os.path.join(dump, "port.json")))
             fovref_ms, stages, frames = oracle_ms(bundle, dump)
-            verdict = run([fovref, "diff", bundle, dump, "--profile", "vulkan", "-q"]).returncode
+            report = os.path.join(dump, "diff.json")
+            verdict = run([fovref, "diff", bundle, dump, "--profile", "vulkan", "--json",
+                           report]).returncode
+            errors = decision_figures(json.load(open(report)))
             rows.append({"pass": pass_name, "case": case, "size": size, "frames": frames,
                          "stages": stages, "fovref_ms_per_frame": fovref_ms / frames,
                          "device_ms_per_frame": port["device_ms"] / frames,
                          "ratio": (fovref_ms / port["device_ms"]) if port["device_ms"] > 0 else None,
-                         "diff": "pass" if verdict == 0 else "FAIL", "device": port["device"]})
-    print("%-24s %-36s %6s %12s %12s %8s %5s" % ("pass", "case", "frames", "fovref ms/f",
-                                                  "device ms/f", "speedup", "diff"))
+                         "diff": "pass" if verdict == 0 else "FAIL", "device": port["device"],
+                         **errors})
+    print("%-24s %-34s %3s %11s %11s %7s %5s %9s %-24s %4s %5s %5s" % (
+        "pass", "case", "fr", "fovref ms/f", "device ms/f", "speedup", "diff", "max |err|",
+        "in buffer", "near", "attr", "over"))
     for r in rows:
-        print("%-24s %-36s %6d %12.2f %12.2f %8s %5s" % (
+        print("%-24s %-34s %3d %11.2f %11.2f %7s %5s %9.3g %-24s %4d %5d %5d" % (
             r["pass"], r["case"], r["frames"], r["fovref_ms_per_frame"], r["device_ms_per_frame"],
-            "%.2fx" % r["ratio"] if r["ratio"] else "-", r["diff"]))
+            "%.2fx" % r["ratio"] if r["ratio"] else "-", r["diff"], r["max_abs_error"],
+            r["max_error_buffer"], r["near_threshold_flips"], r["attributed_pixels"],
+            r["pixels_beyond_bounds"]))
     if rows:
         print("device: %s; size %s; fovref: the stages' single-threaded wall time" % (
             rows[0]["device"], size))

@@ -46,8 +46,6 @@ void filter_frame(PassContext& ctx, const json& frame, const json* previous) {
                   host(history.data), host(filtered.data)},
                  &push, sizeof push, groups(width, 8), groups(height, 8));
     const int index = frame.at("frame").get<int>();
-    // each frame's device time (the last run's, with --repeat), for the per-frame figures
-    ctx.notes["frame_ms"][std::to_string(index)] = ctx.vk.last_run_ms();
     ctx.write(index, "bmfr_accumulated_filtered", filtered);
 }
 

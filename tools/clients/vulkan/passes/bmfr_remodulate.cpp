@@ -45,8 +45,6 @@ void remodulate_frame(PassContext& ctx, const json& frame, bool separate) {
                  {host(filtered.data), host(albedo.data), host(emission.data), host(display.data)},
                  &push, sizeof push, groups(filtered.width, 8), groups(filtered.height, 8));
     const int index = frame.at("frame").get<int>();
-    // each frame's device time (the last run's, with --repeat), for the per-frame figures
-    ctx.notes["frame_ms"][std::to_string(index)] = ctx.vk.last_run_ms();
     ctx.write(index, "bmfr_display", display);
 }
 

@@ -37,8 +37,6 @@ void taa_frame(PassContext& ctx, const json& frame, const json* previous) {
         {host(display.data), host(previous_pixel.data), host(history.data), host(result.data)},
         &push, sizeof push, groups(width, 16), groups(height, 16));
     const int index = frame.at("frame").get<int>();
-    // each frame's device time (the last run's, with --repeat), for the per-frame figures
-    ctx.notes["frame_ms"][std::to_string(index)] = ctx.vk.last_run_ms();
     ctx.write(index, "bmfr_taa", result);
 }
 

@@ -46,8 +46,6 @@ void weighted_sum_frame(PassContext& ctx, const json& frame) {
                  {host(world.data), host(normal.data), host(weights.data), host(range.data),
                   host(fitted.data)},
                  push, sizeof push, groups(width, 8), groups(height, 8));
-    // each frame's device time (the last run's, with --repeat), for the per-frame figures
-    ctx.notes["frame_ms"][std::to_string(index)] = ctx.vk.last_run_ms();
     ctx.write(index, "bmfr_fitted", fitted);
 }
 
