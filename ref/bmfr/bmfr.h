@@ -33,6 +33,12 @@ enum class BmfrStorage {
     single  ///< binary32 throughout (`bmfr_storage=float`)
 };
 
+/// The integer hash of the stochastic regularisation (SPEC §9 item 6).
+enum class BmfrNoiseHash {
+    jenkins,  ///< Bob Jenkins' six-shift hash, the authors' `random()` (default)
+    wang      ///< Thomas Wang's hash (`bmfr_noise_hash=wang`)
+};
+
 /// The denoiser's parameters; the defaults are the authors' (SPEC §9).
 struct BmfrParams {
     BmfrStorage storage = BmfrStorage::half;
@@ -42,8 +48,13 @@ struct BmfrParams {
     float noisy_alpha_min = 0.2f;          ///< phase I: alpha = max(1 / (spp + 1), this)
     float filtered_alpha_min = 0.1f;       ///< phase III: alpha = max(1 / spp, this)
     float noise_amount = 0.01f;            ///< stochastic regularisation amplitude
-    float pivot_epsilon = 1e-7f;           ///< |R_ii| below this: weight 0 (counted)
-    float taa_alpha = 0.2f;                ///< TAA: 0.2 new + 0.8 history
+    BmfrNoiseHash noise_hash = BmfrNoiseHash::jenkins;  ///< its hash
+    /// The display exponent of the remodulation (bmfr_gamma): the authors' 0.454545f (their
+    /// powr(x, 0.454545f)) or 1.0f / 2.2f (0.45454547f, fovref's before). The linear output
+    /// (bmfr_output) raises to 2.2 either way.
+    float display_exponent = 0.454545f;
+    float pivot_epsilon = 1e-7f;  ///< |R_ii| below this: weight 0 (counted)
+    float taa_alpha = 0.2f;       ///< TAA: 0.2 new + 0.8 history
     /// Keep the directly seen emission out of the fit (bmfr_emission=separate, our extension,
     /// docs/bmfr.md): demodulate radiance - emission and add the emission back when
     /// remodulating. Off by default, and without an emission buffer: the radiance is demodulated
@@ -292,6 +303,11 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
 /// Weights from row 9 to 0 in the authors' order: w_i = b_i / R_ii - sum_{k > i} (R_ik w_k) / R_ii
 /// (k ascending), 0 when |R_ii| < pivot_epsilon; a weight that overflows is 0 (counted).
 BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& matrix);
+
+/// The stochastic regularisation of feature `feature` (1..9) at block row `row`, frame `frame`
+/// (the same in every block; SPEC §9 item 6): amount * 2 * (r - 1/2), r = hash(row + feature
+/// 1024 + frame 13 1024) / 4294967295.0f, in binary32 in that order.
+float bmfr_regularisation_noise(float amount, BmfrNoiseHash hash, int row, int feature, int frame);
 
 /// Phase II's fit (the authors' fit kernel) over every block of the frame's grid. Outputs, one
 /// texel per block (cells_x x cells_y): weights (30 channels: red w_0..w_9, green, blue) and the

@@ -15,6 +15,13 @@ std::vector<ParamSpec> bmfr_param_specs(const char* denoise_default) {
              "units squared)"},
             {"bmfr_normal_limit_squared", "0.25",
              "BMFR reprojection: a history tap is kept when |n' - n|^2 is below this"},
+            {"bmfr_noise_hash", "jenkins",
+             "the stochastic regularisation's integer hash: 'jenkins' (Bob Jenkins' six-shift "
+             "hash, the authors' bmfr.cl random()) or 'wang' (Thomas Wang's, fovref's before; "
+             "docs/bmfr.md)"},
+            {"bmfr_gamma", "0.454545",
+             "the remodulation's display exponent: '0.454545' (the authors' constant) or "
+             "'1/2.2' (0.45454547, fovref's before); docs/bmfr.md"},
             {"bmfr_emission", "include",
              "'include': the whole radiance is demodulated (SPEC §9); 'separate': the emission "
              "seen directly is kept out of the fit and added back when remodulating (our "
@@ -40,6 +47,15 @@ BmfrSettings parse_bmfr_params(const Params& params, const char* denoise_default
         params.get_float(specs, "bmfr_position_limit_squared", 0.0f, 1e30f);
     s.params.normal_limit_squared =
         params.get_float(specs, "bmfr_normal_limit_squared", 0.0f, 4.0f);
+    const std::string hash = params.get_string(specs, "bmfr_noise_hash");
+    if (hash != "jenkins" && hash != "wang")
+        throw Error("parameter 'bmfr_noise_hash': expected 'jenkins' or 'wang', got '" + hash +
+                    "'");
+    s.params.noise_hash = hash == "jenkins" ? BmfrNoiseHash::jenkins : BmfrNoiseHash::wang;
+    const std::string gamma = params.get_string(specs, "bmfr_gamma");
+    if (gamma != "0.454545" && gamma != "1/2.2")
+        throw Error("parameter 'bmfr_gamma': expected '0.454545' or '1/2.2', got '" + gamma + "'");
+    s.params.display_exponent = gamma == "0.454545" ? 0.454545f : 1.0f / 2.2f;
     const std::string emission = params.get_string(specs, "bmfr_emission");
     if (emission != "separate" && emission != "include")
         throw Error("parameter 'bmfr_emission': expected 'separate' or 'include', got '" +

@@ -10,8 +10,6 @@ namespace fovref {
 
 namespace {
 
-constexpr float inverse_gamma = 1.0f / 2.2f;
-
 glm::vec3 rgb_to_ycocg(glm::vec3 c) {
     return {c.x + 2.0f * c.y + c.z, 2.0f * c.x - 2.0f * c.z, -c.x + 2.0f * c.y - c.z};
 }
@@ -104,9 +102,10 @@ Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Ima
         float linear = std::max(0.0f, filtered.data[i]) * std::max(a, params.albedo_floor);
         if (separate && std::isfinite(emission.data[i])) linear = linear + emission.data[i];
         linear = std::max(0.0f, linear);
-        // x >= 1 gives x^(1/2.2) >= 1, clamped to 1: no need to evaluate it
-        out.data[i] =
-            linear >= 1.0f ? 1.0f : std::clamp(dm::pow_fast(linear, inverse_gamma), 0.0f, 1.0f);
+        // x >= 1 gives x^g >= 1, clamped to 1: no need to evaluate it
+        out.data[i] = linear >= 1.0f
+                          ? 1.0f
+                          : std::clamp(dm::pow_fast(linear, params.display_exponent), 0.0f, 1.0f);
     }
     return out;
 }

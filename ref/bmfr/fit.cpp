@@ -21,15 +21,6 @@ float store(BmfrStorage storage, float v) {
     return storage == BmfrStorage::half ? round_to_half(v) : v;
 }
 
-// The regularisation noise of feature `feature` at row `row` of every block (SPEC §9 item 6).
-float regularisation_noise(float amount, int row, int feature, int frame) {
-    const std::uint32_t seed = static_cast<std::uint32_t>(row) +
-                               static_cast<std::uint32_t>(feature) * 1024u +
-                               static_cast<std::uint32_t>(frame) * 13u * 1024u;
-    const float r = static_cast<float>(wang_hash(seed)) / 4294967295.0f;
-    return amount * 2.0f * (r - 0.5f);
-}
-
 glm::vec3 load3(const Image& image, int x, int y) {
     const float* p = &image.data[image.index(x, y)];
     return {p[0], p[1], p[2]};
@@ -65,6 +56,15 @@ void reflect_columns(float* a, int col, int c, float uc, float u_length_squared,
 }
 
 }  // namespace
+
+float bmfr_regularisation_noise(float amount, BmfrNoiseHash hash, int row, int feature, int frame) {
+    const std::uint32_t seed = static_cast<std::uint32_t>(row) +
+                               static_cast<std::uint32_t>(feature) * 1024u +
+                               static_cast<std::uint32_t>(frame) * 13u * 1024u;
+    const std::uint32_t h = hash == BmfrNoiseHash::jenkins ? jenkins_hash(seed) : wang_hash(seed);
+    const float r = static_cast<float>(h) / 4294967295.0f;
+    return amount * 2.0f * (r - 0.5f);
+}
 
 const std::array<glm::ivec2, 16>& bmfr_block_offsets() {
     static const std::array<glm::ivec2, 16> offsets = {
@@ -209,7 +209,8 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
                 store(params.storage, bmfr_scale_feature(a[bmfr_scaled_first + k], lo[k], hi[k]));
         if (noise)
             for (int f = 1; f < bmfr_feature_count; ++f)
-                a[f] = a[f] + regularisation_noise(params.noise_amount, row, f, frame);
+                a[f] = a[f] + bmfr_regularisation_noise(params.noise_amount, params.noise_hash, row,
+                                                        f, frame);
     }
 }
 

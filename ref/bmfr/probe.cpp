@@ -211,8 +211,9 @@ void explain_display(const ProbeContext& c, const BmfrParams& params, const Bmfr
                 rgb(image_of(f, "bmfr_accumulated_filtered"), x, y));
     report.sections.push_back(p);
 
-    ProbeSection r{
-        "bmfr_remodulate", "display = clamp((max(albedo, floor) max(0, x) + e)^(1/2.2), 0, 1)", {}};
+    ProbeSection r{"bmfr_remodulate",
+                   "display = clamp((max(albedo, floor) max(0, x) + e)^g, 0, 1), g = bmfr_gamma",
+                   {}};
     Image one(1, 1, 3), albedo(1, 1, 3), emission;
     for (int ch = 0; ch < 3; ++ch) {
         one.at(0, 0, ch) = image_of(f, "bmfr_accumulated_filtered").at(x, y, ch);

@@ -232,8 +232,9 @@ void bmfr_remodulate_stage(FrameContext& ctx) {
     const BmfrState& s = ctx.state<BmfrState>();
     Image out = bmfr_remodulate(s.settings.params, ctx.input("bmfr_accumulated_filtered"),
                                 ctx.input("albedo"), emission_input(ctx, s));
-    ctx.note = std::string("display space: clamp(x^(1/2.2), 0, 1)") +
-               (s.settings.params.separate_emission ? ", emission added back" : "");
+    ctx.note = std::string("display space: clamp(x^") +
+               (s.settings.params.display_exponent == 0.454545f ? "0.454545" : "(1/2.2)") +
+               ", 0, 1)" + (s.settings.params.separate_emission ? ", emission added back" : "");
     ctx.output("bmfr_display", BufferKind::scalar, rgb, std::move(out));
 }
 

@@ -17,8 +17,21 @@ inline constexpr std::uint32_t pcg_hash(std::uint32_t input) {
     return (word >> 22u) ^ word;
 }
 
-/// Thomas Wang's 32-bit integer hash, which SPEC §9 names for BMFR's stochastic regularisation
-/// (the authors' published OpenCL code uses Bob Jenkins' six-shift hash instead; docs/bmfr.md).
+/// Bob Jenkins' 32-bit integer hash in six shifts (as Hoedt gives it): the BMFR authors'
+/// `random()` in bmfr.cl, the default of BMFR's stochastic regularisation (SPEC §9 item 6,
+/// docs/bmfr.md). Unsigned 32-bit wrap-around.
+inline constexpr std::uint32_t jenkins_hash(std::uint32_t a) {
+    a = (a + 0x7ed55d16u) + (a << 12u);
+    a = (a ^ 0xc761c23cu) ^ (a >> 19u);
+    a = (a + 0x165667b1u) + (a << 5u);
+    a = (a + 0xd3a2646cu) ^ (a << 9u);
+    a = (a + 0xfd7046c5u) + (a << 3u);
+    a = (a ^ 0xb55a4f09u) ^ (a >> 16u);
+    return a;
+}
+
+/// Thomas Wang's 32-bit integer hash: BMFR's regularisation with `bmfr_noise_hash=wang` (what
+/// fovref used before it followed the authors' code; docs/bmfr.md).
 inline constexpr std::uint32_t wang_hash(std::uint32_t seed) {
     seed = (seed ^ 61u) ^ (seed >> 16u);
     seed *= 9u;

@@ -17,7 +17,9 @@ constexpr int max_eta = 39;  // t = 1: 3 + 2 ceil(0.9 / 0.05)
 
 int post_aa_size(float t) {
     t = std::min(t, 1.0f);
-    if (!(t > 0.1f)) return 0;
+    // eta = 3 + 2 ceil((t - 0.1) / 0.05) exactly as Meng's eq. 2.14: 3 for 0.05 < t <= 0.10,
+    // 1 or less (unfiltered) for t <= 0.05
+    if (!(t > 0.05f)) return 0;
     const int steps = static_cast<int>(std::ceil((t - 0.1f) / 0.05f));
     return std::min(3 + 2 * steps, max_eta);
 }

@@ -26,7 +26,8 @@
 
 namespace fovref {
 
-/// The kernel size eta at distance ratio t = r / R (0 for t <= 0.10: no filter).
+/// The kernel size eta at distance ratio t = r / R: 3 + 2 ceil((t - 0.10) / 0.05) (Meng eq.
+/// 2.14), 3 .. 39; 0 (no filter) for t <= 0.05, where eq. 2.14 gives 1 or less.
 int post_aa_size(float t);
 
 /// The normalised 1-D weights g(-(eta-1)/2) .. g((eta-1)/2) of size eta.

@@ -62,10 +62,30 @@ Kernel polynomial_kernel(const std::vector<float>& beta, const std::string& what
     return kernel;
 }
 
+namespace {
+
+constexpr float half_pi = 1.5707964f;       // pi/2 rounded to binary32
+constexpr float two_over_pi = 0.63661975f;  // 2/pi rounded to binary32
+constexpr float e_minus_1 = 1.7182817f;     // e - 1 rounded to binary32
+
+float unit(float v) { return std::clamp(v, 0.0f, 1.0f); }
+
+}  // namespace
+
+Kernel named_kernel(KernelKind kind) {
+    FOVREF_CHECK(kind == KernelKind::sine || kind == KernelKind::exponential,
+                 "named_kernel: sine or exponential");
+    Kernel k;
+    k.kind = kind;
+    return k;
+}
+
 float kernel_forward(const Kernel& kernel, float x) {
     x = std::clamp(x, 0.0f, 1.0f);
     if (kernel.kind == KernelKind::power)
         return kernel.alpha == 1.0f ? x : dm::pow(x, kernel.alpha);
+    if (kernel.kind == KernelKind::sine) return unit(dm::sin(x * half_pi));
+    if (kernel.kind == KernelKind::exponential) return unit((dm::exp(x) - 1.0f) / e_minus_1);
     // Horner from beta_n down to beta_1, then the final factor x (beta_0 = 0).
     float sum = 0.0f;
     for (std::size_t i = kernel.beta.size() - 1; i >= 1; --i) sum = sum * x + kernel.beta[i];
@@ -76,6 +96,8 @@ float kernel_inverse(const Kernel& kernel, float t) {
     t = std::clamp(t, 0.0f, 1.0f);
     if (kernel.kind == KernelKind::power)
         return kernel.alpha == 1.0f ? t : dm::pow(t, 1.0f / kernel.alpha);
+    if (kernel.kind == KernelKind::sine) return unit(dm::asin(t) * two_over_pi);
+    if (kernel.kind == KernelKind::exponential) return unit(dm::log(1.0f + t * e_minus_1));
     float lo = 0.0f, hi = 1.0f, mid = 0.5f;
     for (int step = 0; step < 64; ++step) {
         mid = (lo + hi) * 0.5f;
@@ -92,6 +114,8 @@ float kernel_derivative(const Kernel& kernel, float x) {
     x = std::clamp(x, 0.0f, 1.0f);
     if (kernel.kind == KernelKind::power)
         return kernel.alpha == 1.0f ? 1.0f : kernel.alpha * dm::pow(x, kernel.alpha - 1.0f);
+    if (kernel.kind == KernelKind::sine) return half_pi * dm::cos(x * half_pi);
+    if (kernel.kind == KernelKind::exponential) return dm::exp(x) / e_minus_1;
     float sum = 0.0f;
     for (std::size_t i = kernel.beta.size() - 1; i >= 1; --i)
         sum = sum * x + static_cast<float>(i) * kernel.beta[i];
@@ -100,6 +124,8 @@ float kernel_derivative(const Kernel& kernel, float x) {
 
 std::string kernel_text(const Kernel& kernel) {
     if (kernel.kind == KernelKind::power) return "x^" + number_text(kernel.alpha);
+    if (kernel.kind == KernelKind::sine) return "sin(x pi/2)";
+    if (kernel.kind == KernelKind::exponential) return "(e^x - 1)/(e - 1)";
     std::string text = "poly(";
     for (std::size_t i = 0; i < kernel.beta.size(); ++i)
         text += (i ? ", " : "") + number_text(kernel.beta[i]);

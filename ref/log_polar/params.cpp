@@ -72,6 +72,9 @@ std::vector<ParamSpec> foveated_param_specs(const FoveationPreset& preset) {
         {"beta", "",
          "polynomial kernel K(x) = sum beta_i x^i instead of x^alpha: beta_0..beta_n, comma-"
          "separated (beta_0 = 0, sum 1, K' >= 0 on [0, 1])"},
+        {"kernel", "power",
+         "kernel family: 'power' (x^alpha, or the polynomial of 'beta'), 'sine' (sin(x pi/2)) or "
+         "'exp' ((e^x - 1)/(e - 1)): Meng's other two kernels (§2.1); docs/foveation.md"},
         {"lp_aspect", number_text(m.lp_aspect),
          "buffer aspect w/h (Lund eq. 3.6); 0: w = W/sigma, h = H/sigma"},
         {"L", m.radius == RadiusMode::diagonal ? "diagonal" : "corners",
@@ -101,7 +104,15 @@ FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset
     m.lp_aspect = params.get_float(specs, "lp_aspect", 0.0f, 1000.0f);
     m.gaze_angle = params.get_float(specs, "gaze_angle", 0.0f, 1.5f);
     const std::vector<float> beta = params.get_float_list(specs, "beta");
-    if (!beta.empty()) {
+    const std::string family = params.get_string(specs, "kernel");
+    if (family != "power" && family != "sine" && family != "exp")
+        throw Error("parameter 'kernel': expected 'power', 'sine' or 'exp', got '" + family + "'");
+    if (family != "power") {
+        if (params.given("alpha") || !beta.empty())
+            throw Error("parameter 'kernel' = '" + family +
+                        "' takes no 'alpha' or 'beta' (they shape the power kernel)");
+        m.kernel = named_kernel(family == "sine" ? KernelKind::sine : KernelKind::exponential);
+    } else if (!beta.empty()) {
         if (params.given("alpha"))
             throw Error(
                 "parameters 'alpha' and 'beta' both given: a kernel is x^alpha or a "

@@ -126,15 +126,25 @@ std::vector<PixelFunction> pathtrace_pixel_functions(const Params& params) {
 std::vector<ParamSpec> pathtrace_reference_param_specs() {
     return {{"spp", "1024", "samples per pixel (1..65536); --resume DIR continues an earlier run"},
             {"max_bounces", "1", "secondary rays per path, as pathtrace"},
-            {"rr", "0.8", "Russian-roulette continuation probability, as pathtrace"}};
+            {"rr", "0.8", "Russian-roulette continuation probability, as pathtrace"},
+            {"reference_jitter", "per-pixel",
+             "primary-ray jitter: 'per-pixel' (one sequence rotated per pixel, coverage errors "
+             "uncorrelated along edges) or 'shared' (the same jitter in every pixel); "
+             "docs/pathtrace.md"}};
 }
 
 Pipeline pathtrace_reference_pipeline(const Scene*, const RenderSettings& settings) {
     const std::vector<ParamSpec> specs = pathtrace_reference_param_specs();
     const int spp = settings.params.get_int(specs, "spp", 1, 65536);
+    const std::string jitter = settings.params.get_string(specs, "reference_jitter");
+    if (jitter != "per-pixel" && jitter != "shared")
+        throw Error("parameter 'reference_jitter': expected 'per-pixel' or 'shared', got '" +
+                    jitter + "'");
     Pipeline p;
-    p.add(pathtrace_reference_stage_def(parse_path_params(settings.params, specs, false), spp,
-                                        std::make_shared<BvhCache>()));
+    p.add(pathtrace_reference_stage_def(
+        parse_path_params(settings.params, specs, false), spp,
+        jitter == "shared" ? ReferenceJitter::shared : ReferenceJitter::per_pixel,
+        std::make_shared<BvhCache>()));
     p.final_outputs = p.all_outputs();
     return p;
 }

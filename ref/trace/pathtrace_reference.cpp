@@ -18,9 +18,17 @@ PathReferenceSums empty_reference_sums(int width, int height) {
     return s;
 }
 
-Offset2 reference_jitter(int sample) {
+Offset2 reference_jitter(int sample, int pixel, ReferenceJitter mode) {
     const auto s = static_cast<std::uint32_t>(sample);
-    return {rand_unit(0xffffffffu, s, 0u), rand_unit(0xffffffffu, s, 1u)};
+    Offset2 j{rand_unit(0xffffffffu, s, 0u), rand_unit(0xffffffffu, s, 1u)};
+    if (mode == ReferenceJitter::shared) return j;
+    // Both are multiples of 2^-24 below 1: the sum and the wrap are exact in binary32
+    const auto p = static_cast<std::uint32_t>(pixel);
+    j.x += rand_unit(0xfffffffeu, p, 0u);
+    j.y += rand_unit(0xfffffffeu, p, 1u);
+    if (j.x >= 1.0f) j.x -= 1.0f;
+    if (j.y >= 1.0f) j.y -= 1.0f;
+    return j;
 }
 
 std::uint32_t reference_seed(int frame, int sample) {
@@ -29,16 +37,20 @@ std::uint32_t reference_seed(int frame, int sample) {
 }
 
 void pathtrace_reference(const Scene& scene, const Bvh& bvh, const PathTraceParams& params,
-                         const Camera& camera, int frame, int total, PathReferenceSums& sums,
-                         TraceStats& primary, PathTraceStats& stats,
+                         const Camera& camera, int frame, int total, ReferenceJitter jitter,
+                         PathReferenceSums& sums, TraceStats& primary, PathTraceStats& stats,
                          const std::function<void(double)>& progress) {
     const int width = sums.sum.width, height = sums.sum.height;
     const int first = sums.count;
     for (int s = first; s < total; ++s) {
         // One sample of every pixel: jittered primary rays, then the paths
         RaycastStats raycast;
-        GBuffer g = raycast_gbuffer(PrimaryView(scene, bvh, camera, camera), width, height, raycast,
-                                    reference_jitter(s));
+        const PrimaryView view(scene, bvh, camera, camera);
+        GBuffer g(width, height);
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x)
+                raycast_gbuffer_pixel(g, view, x, y, raycast,
+                                      reference_jitter(s, y * width + x, jitter));
         primary += raycast.primary;
         const ShadeInputs in{g.world_position, g.shading_normal, g.geometric_normal,
                              g.albedo,         g.material_id,    g.primitive_id};

@@ -3,8 +3,12 @@
 // sample a full frame of jittered primary rays (ray cast instead of rasterized, so that the
 // reference averages over the pixel's area) followed by the same paths.
 //
-//   sample s: jitter (u(s, 0), u(s, 1)) inside every pixel, u(s, d) = rand(0xffffffff, s, d)
-//             (frame-independent: every frame's reference uses the same jitter sequence);
+//   sample s: jitter of pixel p (index y W + x) = frac(u(s) + r(p)) per axis d, with
+//             u(s, d) = rand(0xffffffff, s, d) and the pixel's rotation r(p, d) =
+//             rand(0xfffffffe, p, d) (a Cranley-Patterson rotation: each pixel a differently
+//             rotated copy of one sequence, so that coverage errors do not repeat along an edge;
+//             reference_jitter=shared: u(s) in every pixel, the error correlated along edges);
+//             frame-independent: every frame's reference uses the same jitter;
 //             the paths' random numbers rand(seed(F, s), pixel, d), seed(F, s) =
 //             0x80000000 | (F << 16) ^ s  (never a frame number of a render: frames < 2^31).
 //   sum      Neumaier-compensated float sum of the samples in sample order (sum + compensation
@@ -36,15 +40,22 @@ struct PathReferenceSums {
 /// An empty accumulation for a W x H frame.
 PathReferenceSums empty_reference_sums(int width, int height);
 
-/// The jitter of sample s and the random-number seed of its paths in frame `frame`.
-Offset2 reference_jitter(int sample);
+/// How the reference jitters its primary rays (above).
+enum class ReferenceJitter {
+    per_pixel,  ///< the shared sequence rotated per pixel (default)
+    shared      ///< the same jitter in every pixel
+};
+
+/// The jitter of sample s in pixel `pixel` (y W + x), and the random-number seed of its paths in
+/// frame `frame`.
+Offset2 reference_jitter(int sample, int pixel, ReferenceJitter mode);
 std::uint32_t reference_seed(int frame, int sample);
 
 /// Adds samples sums.count .. total - 1 of frame `frame` to `sums`; `progress` (may be empty)
 /// gets the fraction done after each sample.
 void pathtrace_reference(const Scene& scene, const Bvh& bvh, const PathTraceParams& params,
-                         const Camera& camera, int frame, int total, PathReferenceSums& sums,
-                         TraceStats& primary, PathTraceStats& stats,
+                         const Camera& camera, int frame, int total, ReferenceJitter jitter,
+                         PathReferenceSums& sums, TraceStats& primary, PathTraceStats& stats,
                          const std::function<void(double)>& progress);
 
 /// The mean image and the per-channel standard error of the mean.

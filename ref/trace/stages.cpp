@@ -35,6 +35,7 @@ struct PathTraceState : StageState {
 struct ReferenceState : StageState {
     PathTraceParams path;
     int spp = 1024;
+    ReferenceJitter jitter = ReferenceJitter::per_pixel;
     std::shared_ptr<BvhCache> bvh;
 };
 
@@ -241,7 +242,7 @@ void pathtrace_reference_stage(FrameContext& ctx) {
     TraceStats primary;
     PathTraceStats stats;
     pathtrace_reference(scene, state.bvh->get(scene, ctx.result->counters), state.path, ctx.camera,
-                        ctx.frame, state.spp, sums, primary, stats,
+                        ctx.frame, state.spp, state.jitter, sums, primary, stats,
                         [&](double f) { ctx.report(f); });
     Counters& counters = ctx.result->counters;
     add_trace_counters(counters, "primary", primary);
@@ -253,11 +254,12 @@ void pathtrace_reference_stage(FrameContext& ctx) {
     output_reference(ctx, std::move(sums), resumed);
 }
 
-StageDef pathtrace_reference_stage_def(PathTraceParams path, int spp,
+StageDef pathtrace_reference_stage_def(PathTraceParams path, int spp, ReferenceJitter jitter,
                                        std::shared_ptr<BvhCache> bvh) {
     auto state = std::make_shared<ReferenceState>();
     state->path = path;
     state->spp = spp;
+    state->jitter = jitter;
     state->bvh = std::move(bvh);
     return {"pathtrace_reference",
             {},

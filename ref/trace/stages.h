@@ -25,6 +25,7 @@
 #include "ref/raster/gbuffer.h"
 #include "ref/stage/pipeline.h"
 #include "ref/trace/pathtrace.h"
+#include "ref/trace/pathtrace_reference.h"
 #include "ref/trace/raycast_gbuffer.h"
 #include "ref/trace/shade_basic.h"
 
@@ -81,7 +82,7 @@ void pathtrace_stage(FrameContext& context);
 
 /// pathtrace-reference's stage (pathtrace_reference, ref/trace/pathtrace_reference.h): `spp`
 /// samples per pixel, resumable from an earlier run's sums (`fovref render --resume DIR`).
-StageDef pathtrace_reference_stage_def(PathTraceParams path, int spp,
+StageDef pathtrace_reference_stage_def(PathTraceParams path, int spp, ReferenceJitter jitter,
                                        std::shared_ptr<BvhCache> bvh);
 void pathtrace_reference_stage(FrameContext& context);
 

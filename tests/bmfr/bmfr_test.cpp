@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "ref/bmfr/bmfr.h"
+#include "ref/bmfr/bmfr_params.h"
+#include "ref/core/error.h"
 #include "ref/core/rng.h"
 
 using namespace fovref;
@@ -555,4 +557,46 @@ TEST_CASE(
     const BmfrAccumulation first =
         bmfr_accumulate_noisy(params, illumination, f.world, f.normal, BmfrHistory{}, stats);
     CHECK(first.accept_margin.at(4, 4, 0) == bmfr_no_margin);
+}
+
+TEST_CASE(
+    "bmfr regularisation noise: the authors' Jenkins hash by default, Wang's on request "
+    "(hand-computed in binary32)") {
+    // seed = row + feature 1024 + frame 13 1024; r = hash(seed) / 4294967295.0f; noise =
+    // 0.01 * 2 * (r - 0.5): values from an independent Python transcription
+    CHECK(BmfrParams{}.noise_hash == BmfrNoiseHash::jenkins);
+    CHECK(bmfr_regularisation_noise(0.01f, BmfrNoiseHash::jenkins, 0, 1, 0) == -0x1.2a2926p-8f);
+    CHECK(bmfr_regularisation_noise(0.01f, BmfrNoiseHash::jenkins, 5, 3, 2) == -0x1.b7a6eap-9f);
+    CHECK(bmfr_regularisation_noise(0.01f, BmfrNoiseHash::wang, 0, 1, 0) == 0x1.404dfcp-7f);
+    CHECK(bmfr_regularisation_noise(0.01f, BmfrNoiseHash::wang, 5, 3, 2) == 0x1.d8bp-12f);
+    // the parameter selects it, and refuses another name
+    Params p;
+    p.set("denoise", "bmfr");
+    CHECK(parse_bmfr_params(p, "none").params.noise_hash == BmfrNoiseHash::jenkins);
+    p.set("bmfr_noise_hash", "wang");
+    CHECK(parse_bmfr_params(p, "none").params.noise_hash == BmfrNoiseHash::wang);
+    p.set("bmfr_noise_hash", "pcg");
+    CHECK_THROWS_WITH_AS(parse_bmfr_params(p, "none"), doctest::Contains("bmfr_noise_hash"), Error);
+}
+
+TEST_CASE(
+    "bmfr remodulation: the authors' display exponent 0.454545 by default, 1/2.2 on "
+    "request") {
+    // 0.25^g by hand (binary64 of the binary32 exponents): 0.454545f = 0.45454499125...,
+    // 1.0f / 2.2f = 0.45454543828...
+    const Image filtered(1, 1, 3, 0.25f), albedo(1, 1, 3, 1.0f);
+    BmfrParams params;
+    CHECK(params.display_exponent == 0.454545f);
+    const float authors = bmfr_remodulate(params, filtered, albedo, Image()).at(0, 0, 0);
+    CHECK(authors == doctest::Approx(0.532520886735252).epsilon(1e-7));
+    Params p;
+    p.set("denoise", "bmfr");
+    p.set("bmfr_gamma", "1/2.2");
+    params = parse_bmfr_params(p, "none").params;
+    CHECK(params.display_exponent == 1.0f / 2.2f);
+    const float ours = bmfr_remodulate(params, filtered, albedo, Image()).at(0, 0, 0);
+    CHECK(ours == doctest::Approx(0.5325205567205135).epsilon(1e-7));
+    CHECK(ours < authors);
+    p.set("bmfr_gamma", "2.2");
+    CHECK_THROWS_WITH_AS(parse_bmfr_params(p, "none"), doctest::Contains("bmfr_gamma"), Error);
 }

@@ -52,11 +52,17 @@ TEST_CASE("halton jitter cycles with period 16 from the start index") {
     CHECK(halton_jitter(3, 5) == offsets[8]);
 }
 
-TEST_CASE("pcg hash and wang hash: published reference values") {
-    // Values from an independent Python transcription of both published listings.
+TEST_CASE("pcg, wang and jenkins hashes: published reference values") {
+    // Values from an independent Python transcription of the published listings (Jenkins':
+    // the six shifts as in the BMFR authors' bmfr.cl, unsigned 32-bit wrap-around).
     CHECK(pcg_hash(0u) == 129708002u);
     CHECK(wang_hash(0u) == 3232319850u);
     CHECK(wang_hash(1u) == 663891101u);
+    CHECK(jenkins_hash(0u) == 1800329511u);
+    CHECK(jenkins_hash(1u) == 3028713910u);
+    CHECK(jenkins_hash(1024u) == 1170470466u);
+    CHECK(jenkins_hash(13317u) == 3356915122u);
+    CHECK(jenkins_hash(4294967295u) == 4268016002u);
 }
 
 TEST_CASE(

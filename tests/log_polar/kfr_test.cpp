@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <tuple>
 
 #include "ref/filters/internal_aa.h"
@@ -82,13 +83,18 @@ TEST_CASE("mip resolve: the level from the Jacobian, and a constant buffer resol
 }
 
 TEST_CASE("post AA: the size eta, normalised weights, a filtered impulse by hand") {
-    CHECK(post_aa_size(0.05f) == 0);
-    CHECK(post_aa_size(0.1f) == 0);
+    // Meng eq. 2.14 as written: eta = 3 + 2 ceil((t - 0.10) / 0.05), unfiltered below eta 3
+    CHECK(post_aa_size(0.0f) == 0);
+    CHECK(post_aa_size(0.05f) == 0);                        // ceil(-1) = -1: eta 1
+    CHECK(post_aa_size(std::nextafter(0.05f, 1.0f)) == 3);  // ceil(-0.99..) = 0
+    CHECK(post_aa_size(0.07f) == 3);
+    CHECK(post_aa_size(0.1f) == 3);  // ceil(0) = 0
+    CHECK(post_aa_size(std::numeric_limits<float>::quiet_NaN()) == 0);
     CHECK(post_aa_size(0.12f) == 5);   // ceil(0.4) = 1
     CHECK(post_aa_size(0.33f) == 13);  // ceil(4.6) = 5
     CHECK(post_aa_size(1.0f) == 39);
     CHECK(post_aa_size(3.0f) == 39);  // t clamped to 1
-    for (int eta = 5; eta <= 39; eta += 2) {
+    for (int eta = 3; eta <= 39; eta += 2) {
         const std::vector<float> g = post_aa_weights(eta);
         double sum = 0.0;
         for (const float w : g) sum += w;

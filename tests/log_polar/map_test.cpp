@@ -405,6 +405,49 @@ TEST_CASE("kernel: Meng's polynomial, validated, inverted by bisection") {
                          "not a finite"));
 }
 
+TEST_CASE("kernel: Meng's sine and exponential kernels, their inverses and slopes") {
+    // sin(x pi/2): K(1/2) = sin(pi/4) = 0.70710678, K'(x) = pi/2 cos(x pi/2): K'(0) = pi/2
+    const Kernel s = named_kernel(KernelKind::sine);
+    CHECK(kernel_forward(s, 0.5f) == doctest::Approx(0.70710678).epsilon(1e-6));
+    CHECK(kernel_derivative(s, 0.0f) == doctest::Approx(1.57079633).epsilon(1e-6));
+    CHECK(kernel_derivative(s, 1.0f) == doctest::Approx(0.0).epsilon(1e-6));
+    // (e^x - 1)/(e - 1): K(1/2) = 0.64872127 / 1.71828183 = 0.37754067, K'(x) = e^x / (e - 1)
+    const Kernel e = named_kernel(KernelKind::exponential);
+    CHECK(kernel_forward(e, 0.5f) == doctest::Approx(0.37754067).epsilon(1e-6));
+    CHECK(kernel_derivative(e, 0.0f) == doctest::Approx(0.58197671).epsilon(1e-6));
+    for (const Kernel& k : {s, e}) {
+        CHECK(kernel_forward(k, 0.0f) == 0.0f);
+        CHECK(kernel_forward(k, 1.0f) == doctest::Approx(1.0).epsilon(1e-7));
+        CHECK(kernel_forward(k, 2.0f) <= 1.0f);  // clamped
+        float previous = -1.0f;
+        for (int i = 0; i <= 1000; ++i) {
+            const float x = static_cast<float>(i) / 1000.0f;
+            const float y = kernel_forward(k, x);
+            CHECK(y >= previous);  // monotone
+            previous = y;
+            CHECK(std::fabs(kernel_inverse(k, y) - x) <= 3e-4f);  // asin's slope at 1 is steep
+        }
+    }
+    CHECK(kernel_text(s) == "sin(x pi/2)");
+    // The mode parameter selects them, and refuses them with alpha or beta
+    Params p;
+    p.set("kernel", "sine");
+    CHECK(parse_foveated_params(p, find_foveation_preset("kfov")).map.kernel.kind ==
+          KernelKind::sine);
+    p.set("kernel", "exp");
+    CHECK(parse_foveated_params(p, find_foveation_preset("kfov")).map.kernel.kind ==
+          KernelKind::exponential);
+    p.set("alpha", "2");
+    CHECK(test::contains(
+        test::error_message([&] { parse_foveated_params(p, find_foveation_preset("kfov")); }),
+        "takes no 'alpha'"));
+    Params bad;
+    bad.set("kernel", "cubic");
+    CHECK(test::contains(
+        test::error_message([&] { parse_foveated_params(bad, find_foveation_preset("kfov")); }),
+        "parameter 'kernel'"));
+}
+
 TEST_CASE("log-polar: the factored inverse table gives lp_inverse's bits at every texel") {
     const float d_px = display_distance(180);
     for (const FoveationPreset& preset : foveation_presets())

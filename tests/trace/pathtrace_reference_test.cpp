@@ -4,7 +4,9 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <vector>
 
+#include "ref/core/rng.h"
 #include "ref/modes/modes.h"
 #include "ref/scene/procedural.h"
 #include "ref/trace/pathtrace_reference.h"
@@ -90,4 +92,47 @@ TEST_CASE("pathtrace-reference converges to the mean of 1-spp pathtrace frames")
     MESSAGE("image mean: reference " << ref_mean << ", 1-spp frames " << mean << " +- "
                                      << se_frames);
     CHECK(std::fabs(mean - ref_mean) < bound);
+}
+
+TEST_CASE(
+    "pathtrace-reference jitter: per-pixel rotations make an edge's region mean converge "
+    "at its standard error's rate; the shared jitter does not") {
+    // A vertical edge at 0.3 of every pixel of a column of M pixels: a sample covers the pixel
+    // when its jitter x < 0.3. The coverage estimate of one pixel from N samples has the standard
+    // error sqrt(0.3 * 0.7 / N); the mean over the M pixels, with independent pixels,
+    // sqrt(0.3 * 0.7 / (N M)).
+    const int n = 64, m = 1024;
+    const double single = std::sqrt(0.3 * 0.7 / n), region = std::sqrt(0.3 * 0.7 / (n * m));
+    for (const ReferenceJitter mode : {ReferenceJitter::per_pixel, ReferenceJitter::shared}) {
+        double sum = 0.0;
+        std::vector<double> pixel_estimates;
+        for (int p = 0; p < m; ++p) {
+            int covered = 0;
+            for (int s = 0; s < n; ++s) {
+                const Offset2 j = reference_jitter(s, p * 37, mode);
+                REQUIRE((j.x >= 0.0f && j.x < 1.0f && j.y >= 0.0f && j.y < 1.0f));
+                covered += j.x < 0.3f ? 1 : 0;
+            }
+            pixel_estimates.push_back(static_cast<double>(covered) / n);
+            sum += pixel_estimates.back();
+        }
+        const double error = std::fabs(sum / m - 0.3);
+        if (mode == ReferenceJitter::per_pixel) {
+            CHECK(error < 4.0 * region);  // within 4 standard errors of the region mean
+            // and the pixels' estimates do differ (their spread is about the single error)
+            double spread = 0.0;
+            for (const double e : pixel_estimates) spread += (e - sum / m) * (e - sum / m);
+            CHECK(std::sqrt(spread / m) > 0.5 * single);
+        } else {
+            // every pixel makes the same error: the region mean is one pixel's estimate
+            for (const double e : pixel_estimates) REQUIRE(e == pixel_estimates.front());
+            CHECK(error == std::fabs(pixel_estimates.front() - 0.3));
+        }
+    }
+    // per-pixel is the shared sequence rotated: the same points in pixel 0's frame of reference
+    // differ by the pixel's offset, modulo 1
+    const Offset2 a = reference_jitter(5, 12, ReferenceJitter::per_pixel);
+    const Offset2 b = reference_jitter(5, 12, ReferenceJitter::shared);
+    const float r = rand_unit(0xfffffffeu, 12u, 0u);
+    CHECK(a.x == (b.x + r >= 1.0f ? b.x + r - 1.0f : b.x + r));
 }

@@ -21,6 +21,7 @@ namespace {
 struct FitParameters {
     std::int32_t width, height, cells_x, cells_y, frame, half_storage, visual_polar;
     float noise_amount, pivot_epsilon;
+    std::int32_t jenkins_hash;  ///< the regularisation's hash: 1 Jenkins (default), 0 Wang
 };
 
 constexpr int block_size = 32;
@@ -50,7 +51,7 @@ int vp_column_rows(int width, int height, int column) {
 }
 
 // Fits every block of one frame and writes its two buffers.
-void fit_frame(PassContext& ctx, const json& frame, bool half) {
+void fit_frame(PassContext& ctx, const json& frame, bool half, bool jenkins) {
     const bool visual_polar = PassContext::has(frame, "vp_valid");
     const std::string gbuffer = visual_polar ? "vp_gbuffer_" : "gbuffer_";
     Image accumulated = ctx.read(frame, "bmfr_accumulated_noisy");
@@ -82,8 +83,8 @@ void fit_frame(PassContext& ctx, const json& frame, bool half) {
     std::vector<std::uint32_t> matrix(static_cast<std::size_t>(blocks) * block_pixels *
                                       (half ? 7 : 13));
     const FitParameters push{
-        width, height, cells_x, cells_y, frame_index, half ? 1 : 0, visual_polar ? 1 : 0,
-        0.01f, 1e-7f};
+        width, height, cells_x,        cells_y, frame_index, half ? 1 : 0, visual_polar ? 1 : 0,
+        0.01f, 1e-7f,  jenkins ? 1 : 0};
     ctx.dispatch("bmfr_fit",
                  {host(accumulated.data), host(world.data), host(normal.data), host(matrix),
                   host(weights.data), host(range.data), host(valid.data), host(column_rows)},
@@ -95,13 +96,20 @@ void fit_frame(PassContext& ctx, const json& frame, bool half) {
 
 int run(PassContext& ctx) {
     const bool half = half_storage(ctx);
+    const std::string hash = ctx.param("bmfr_noise_hash", "jenkins");
+    if (hash != "jenkins" && hash != "wang")
+        throw std::runtime_error("bmfr_noise_hash must be 'jenkins' or 'wang', got '" + hash + "'");
+    ctx.notes["bmfr_noise_hash"] = hash;
     ctx.notes["bmfr_storage"] = half ? "binary16 (packHalf2x16, clamped to +-65504)" : "binary32";
     ctx.notes["precise"] =
         "the regularisation noise and its addition, s + x_c^2 and s + u_c^2 (the oracle's "
         "products and sums without contraction); the reductions (binary32 trees, the oracle "
         "binary64 in row order) may contract";
     return ctx.each_frame(
-        "bmfr_fit", [&](const json& frame, const std::string&) { fit_frame(ctx, frame, half); },
+        "bmfr_fit",
+        [&](const json& frame, const std::string&) {
+            fit_frame(ctx, frame, half, hash == "jenkins");
+        },
         "the bundle has no bmfr_fit stage (bmfr_weights)");
 }
 

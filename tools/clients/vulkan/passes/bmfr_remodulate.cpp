@@ -11,6 +11,14 @@
 namespace fovref_client {
 namespace {
 
+// The display exponent (bmfr_gamma): the authors' 0.454545 (default) or 1/2.2.
+float display_exponent(const PassContext& ctx) {
+    const std::string gamma = ctx.param("bmfr_gamma", "0.454545");
+    if (gamma != "0.454545" && gamma != "1/2.2")
+        throw std::runtime_error("bmfr_gamma must be '0.454545' or '1/2.2', got '" + gamma + "'");
+    return gamma == "0.454545" ? 0.454545f : 1.0f / 2.2f;
+}
+
 struct RemodulatePush {
     std::int32_t width, height, separate_emission;
     float albedo_floor, inverse_gamma;
@@ -40,7 +48,7 @@ void remodulate_frame(PassContext& ctx, const json& frame, bool separate) {
     Image display{filtered.width, filtered.height, 3,
                   std::vector<float>(filtered.data.size(), 0.0f)};
     const RemodulatePush push{filtered.width, filtered.height, separate ? 1 : 0, 0.01f,
-                              1.0f / 2.2f};
+                              display_exponent(ctx)};
     ctx.dispatch("bmfr_remodulate",
                  {host(filtered.data), host(albedo.data), host(emission.data), host(display.data)},
                  &push, sizeof push, groups(filtered.width, 8), groups(filtered.height, 8));

@@ -95,6 +95,9 @@ MapSettings map_settings(const PassContext& ctx) {
         throw std::runtime_error("frame: filters '" + filters + "': only 'lerp' is ported");
     s.lerp = filters == "lerp";
     s.sigma = number_of(ctx.param("sigma", std::to_string(s.sigma)), "sigma");
+    if (ctx.param("kernel", "power") != "power")
+        throw std::runtime_error("kernel '" + ctx.param("kernel", "power") +
+                                 "' is not ported (the power and polynomial kernels are)");
     s.alpha = number_of(ctx.param("alpha", std::to_string(s.alpha)), "alpha");
     s.gaze_angle = number_of(ctx.param("gaze_angle", std::to_string(s.gaze_angle)), "gaze_angle");
     s.lp_aspect = number_of(ctx.param("lp_aspect", std::to_string(s.lp_aspect)), "lp_aspect");

@@ -70,6 +70,9 @@ float kernel_forward(const LpMapBlock& m, float x) {
 
 /// The kernel: `beta` (a polynomial) when the case gives it, else x^alpha.
 void read_kernel(const PassContext& ctx, const ModeDefaults& d, LpMapBlock& m) {
+    if (ctx.param("kernel", "power") != "power")
+        throw std::runtime_error("kernel '" + ctx.param("kernel", "power") +
+                                 "' is not ported (the power and polynomial kernels are)");
     const std::string beta = ctx.param("beta", "");
     m.alpha = ctx.float_param("alpha", d.alpha);
     m.inverse_alpha = 1.0f / m.alpha;

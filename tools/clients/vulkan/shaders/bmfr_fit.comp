@@ -34,6 +34,7 @@ layout(std430, binding = 7) readonly buffer Rows { int rows[]; };
 layout(push_constant) uniform Parameters {
     int width, height, cells_x, cells_y, frame, half_storage, visual_polar;
     float noise_amount, pivot_epsilon;
+    int jenkins_hash;
 } p;
 
 const int local_size = 256;

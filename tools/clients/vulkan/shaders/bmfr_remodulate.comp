@@ -3,7 +3,8 @@
 // developer writes it, one invocation per pixel, per channel:
 //   linear = max(0, x) max(albedo, 0.01) (+ e, the directly seen emission, with
 //   bmfr_emission=separate; a non-finite albedo is 0, a non-finite e is left out),
-//   display = clamp(max(0, linear)^(1/2.2), 0, 1), linear >= 1 giving 1 directly.
+//   display = clamp(max(0, linear)^g, 0, 1) (g: bmfr_gamma, the authors' 0.454545 by default),
+//   linear >= 1 giving 1 directly.
 // Native GLSL pow (the GPU's exp2(y log2 x)), not the oracle's dm::pow_fast: not bit-exact.
 // `precise` (no fused multiply-add): the product and the emission's sum.
 // -DINJECT_BUG injects a typical porting bug: the albedo's floor (the epsilon that demodulation

@@ -1,8 +1,8 @@
 #version 450
 // Meng's post anti-aliasing (docs/foveation.md, "Meng's post anti-aliasing"; Meng eq. 2.14), as
 // a GPU developer writes it from the docs: at pixel centre c, t = min(|c - g| / R, 1) (R the
-// map's R); t <= 0.10 copies the pixel; otherwise the kernel size eta = 3 + 2 ceil((t - 0.10) /
-// 0.05) (5 .. 39), sigma = eta / 6 and
+// map's R); the kernel size eta = 3 + 2 ceil((t - 0.10) / 0.05) (3 .. 39; t <= 0.05 gives
+// eta <= 1: the pixel is copied), sigma = eta / 6 and
 //   out = sum_dy g(dy) sum_dx g(dx) I(clamp(x + dx), clamp(y + dy)),
 // each row sum left to right, rows top to bottom, g(d) = e^(-d^2 / (2 sigma^2)) / sum_d (native
 // exp, the sum from the most negative d up).
@@ -12,7 +12,7 @@
 // each (the reference's row cache: the same operations on the same values), then each pixel of
 // that eta sums its column's eta rows.
 // -DINJECT_BUG injects a typical porting bug: the kernel's step count truncated by int() instead
-// of rounded up, so every filtered pixel gets a kernel 2 texels narrower (3 .. 37).
+// of rounded up, so every pixel beyond t = 0.10 gets a kernel 2 texels narrower.
 #extension GL_GOOGLE_include_directive : require
 #include "lp_map.glsl"
 
@@ -36,7 +36,7 @@ shared int bounds[MAX_HALF + 1][4];
 // The kernel size at distance ratio t (0: no filter)
 int kernel_size(float t) {
     t = min(t, 1.0);
-    if (!(t > 0.1)) return 0;
+    if (!(t > 0.05)) return 0;
 #ifdef INJECT_BUG
     const int steps = int((t - 0.1) / 0.05);
 #else

@@ -20,7 +20,18 @@ int bmfr_mirror(int index, int size) {
 // A feature as the fit stores it: NaN -> 0, clamped to binary16's range (+-inf -> +-65504)
 float clamp_feature(float v) { return isnan(v) ? 0.0 : clamp(v, -65504.0, 65504.0); }
 
-// Thomas Wang's integer hash (SPEC §9; the authors' code uses another hash)
+// Bob Jenkins' six-shift integer hash, the authors' random() (docs/bmfr.md; the default)
+uint jenkins_hash(uint a) {
+    a = (a + 0x7ed55d16u) + (a << 12u);
+    a = (a ^ 0xc761c23cu) ^ (a >> 19u);
+    a = (a + 0x165667b1u) + (a << 5u);
+    a = (a + 0xd3a2646cu) ^ (a << 9u);
+    a = (a + 0xfd7046c5u) + (a << 3u);
+    a = (a ^ 0xb55a4f09u) ^ (a >> 16u);
+    return a;
+}
+
+// Thomas Wang's integer hash (bmfr_noise_hash=wang)
 uint wang_hash(uint seed) {
     seed = (seed ^ 61u) ^ (seed >> 16u);
     seed *= 9u;
@@ -31,10 +42,11 @@ uint wang_hash(uint seed) {
 }
 
 // The regularisation noise of feature `feature` at block row `row` (the same in every block):
-// 0.01 * 2 * (rho - 0.5), rho = wang_hash(row + feature 1024 + frame 13 1024) / 4294967295.0
+// 0.01 * 2 * (rho - 0.5), rho = hash(row + feature 1024 + frame 13 1024) / 4294967295.0
 float regularisation_noise(int row, int feature) {
     const uint seed = uint(row) + uint(feature) * 1024u + uint(p.frame) * 13u * 1024u;
-    const float rho = float(wang_hash(seed)) / 4294967295.0;
+    const uint h = p.jenkins_hash != 0 ? jenkins_hash(seed) : wang_hash(seed);
+    const float rho = float(h) / 4294967295.0;
     precise float noise = p.noise_amount * 2.0 * (rho - 0.5);
     return noise;
 }
