@@ -77,10 +77,12 @@ bool blend_accepted(const Image& image, const BmfrTaps& taps, unsigned mask, flo
 bool reproject(const BmfrParams& params, const BmfrHistory& history, const BmfrSpace& space,
                int width, int height, glm::vec3 p, glm::vec2& q) {
     if (!space.map)
-        return bmfr_project(history.view_projection, width, height, p, q, params.pixel_offset);
+        return bmfr_project(history.view_projection, width, height, p, q, params.pixel_offset,
+                            params.project_behind_camera);
     const VisualPolarMap& previous = *history.map;
     glm::vec2 s;
-    if (!bmfr_project(history.view_projection, previous.screen_width, previous.screen_height, p, s))
+    if (!bmfr_project(history.view_projection, previous.screen_width, previous.screen_height, p, s,
+                      glm::vec2(0.5f), params.project_behind_camera))
         return false;
     const glm::vec2 ut = vp_forward_angle(previous, s + glm::vec2(0.5f));
     q = {ut.x - 0.5f, ut.y};
@@ -109,12 +111,12 @@ ViewProjection view_projection(const Camera& camera, int width, int height) {
 }
 
 bool bmfr_project(const ViewProjection& vp, int width, int height, glm::vec3 p, glm::vec2& pixel,
-                  glm::vec2 offset) {
+                  glm::vec2 offset, bool behind) {
     const auto& m = vp.m;
     const float cx = m[0] * p.x + m[1] * p.y + m[2] * p.z + m[3];
     const float cy = m[4] * p.x + m[5] * p.y + m[6] * p.z + m[7];
     const float cw = m[12] * p.x + m[13] * p.y + m[14] * p.z + m[15];
-    if (!(cw > 0.0f)) return false;
+    if (behind ? !(cw != 0.0f) : !(cw > 0.0f)) return false;
     pixel.x = (cx / cw + 1.0f) * 0.5f * static_cast<float>(width) - offset.x;
     pixel.y = (1.0f - cy / cw) * 0.5f * static_cast<float>(height) - offset.y;
     return std::isfinite(pixel.x) && std::isfinite(pixel.y);

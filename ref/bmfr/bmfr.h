@@ -48,6 +48,10 @@ struct BmfrParams {
     float noisy_alpha_min = 0.2f;          ///< phase I: alpha = max(1 / (spp + 1), this)
     float filtered_alpha_min = 0.1f;       ///< phase III: alpha = max(1 / spp, this)
     float noise_amount = 0.01f;            ///< stochastic regularisation amplitude
+    /// Phase I's reprojection of a point behind the previous camera (clip w < 0): false, no
+    /// history (default, bmfr_behind_camera=reject); true, divided by the negative w as the
+    /// authors' code does (bmfr_behind_camera=project; w = 0 has no history either way).
+    bool project_behind_camera = false;
     BmfrNoiseHash noise_hash = BmfrNoiseHash::jenkins;  ///< its hash
     /// The display exponent of the remodulation (bmfr_gamma): the authors' 0.454545f (their
     /// powr(x, 0.454545f)) or 1.0f / 2.2f (0.45454547f, fovref's before). The linear output
@@ -95,9 +99,11 @@ struct ViewProjection {
 ViewProjection view_projection(const Camera& camera, int width, int height);
 /// The pixel index at which `world` appears under `vp` on a W x H screen, for samples at
 /// `offset` in their pixels (x = (clip.x / clip.w + 1) 0.5 W - offset.x, y = (1 - clip.y /
-/// clip.w) 0.5 H - offset.y); false when behind.
+/// clip.w) 0.5 H - offset.y); false when behind (clip.w <= 0), or, with `behind`, only when
+/// clip.w = 0 or the result is not finite: a point behind the camera then projects through the
+/// negative w as the authors' code does (bmfr_behind_camera=project).
 bool bmfr_project(const ViewProjection& vp, int width, int height, glm::vec3 world,
-                  glm::vec2& pixel, glm::vec2 offset = glm::vec2(0.5f));
+                  glm::vec2& pixel, glm::vec2 offset = glm::vec2(0.5f), bool behind = false);
 
 /// Where BMFR runs (SPEC §9 item 11, Koskela P5 §3.3; docs/bmfr.md "Visual-Polar space"): on the
 /// screen (no map), or on a Visual-Polar buffer (`map`), where

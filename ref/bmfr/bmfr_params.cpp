@@ -22,6 +22,9 @@ std::vector<ParamSpec> bmfr_param_specs(const char* denoise_default) {
             {"bmfr_gamma", "0.454545",
              "the remodulation's display exponent: '0.454545' (the authors' constant) or "
              "'1/2.2' (0.45454547, fovref's before); docs/bmfr.md"},
+            {"bmfr_behind_camera", "reject",
+             "phase I's reprojection of a point behind the previous camera: 'reject' (no "
+             "history) or 'project' (divided by the negative clip w, as the authors' code)"},
             {"bmfr_emission", "include",
              "'include': the whole radiance is demodulated (SPEC §9); 'separate': the emission "
              "seen directly is kept out of the fit and added back when remodulating (our "
@@ -56,6 +59,11 @@ BmfrSettings parse_bmfr_params(const Params& params, const char* denoise_default
     if (gamma != "0.454545" && gamma != "1/2.2")
         throw Error("parameter 'bmfr_gamma': expected '0.454545' or '1/2.2', got '" + gamma + "'");
     s.params.display_exponent = gamma == "0.454545" ? 0.454545f : 1.0f / 2.2f;
+    const std::string behind = params.get_string(specs, "bmfr_behind_camera");
+    if (behind != "reject" && behind != "project")
+        throw Error("parameter 'bmfr_behind_camera': expected 'reject' or 'project', got '" +
+                    behind + "'");
+    s.params.project_behind_camera = behind == "project";
     const std::string emission = params.get_string(specs, "bmfr_emission");
     if (emission != "separate" && emission != "include")
         throw Error("parameter 'bmfr_emission': expected 'separate' or 'include', got '" +

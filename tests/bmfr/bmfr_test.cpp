@@ -415,6 +415,22 @@ TEST_CASE(
     }
     glm::vec2 pixel;
     CHECK_FALSE(bmfr_project(vp, 320, 180, camera.position - camera.forward, pixel));
+    // bmfr_behind_camera=project (the authors' code): divided by the negative w, the point
+    // 0.3 right of the axis 1 behind the camera lands mirrored, left of the centre:
+    // x = (0.3 / (tan W/H) / -1 + 1) 0.5 W - 0.5
+    const glm::vec3 behind = camera.position - camera.forward + 0.3f * camera.right;
+    REQUIRE(bmfr_project(vp, 320, 180, behind, pixel, glm::vec2(0.5f), true));
+    const double sx = tan_half * (320.0 / 180.0);
+    CHECK(pixel.x == doctest::Approx((-0.3 / sx + 1.0) * 0.5 * 320.0 - 0.5).epsilon(1e-4));
+    CHECK(pixel.y == doctest::Approx(0.5 * 180.0 - 0.5).epsilon(1e-4));
+    // w about 0 (in the camera's plane): no projection, or one far off the image (no tap)
+    if (bmfr_project(vp, 320, 180, camera.position + camera.right, pixel, glm::vec2(0.5f), true))
+        CHECK(std::fabs(pixel.x) > 1e5f);
+    Params params;
+    params.set("denoise", "bmfr");
+    CHECK_FALSE(parse_bmfr_params(params, "none").params.project_behind_camera);
+    params.set("bmfr_behind_camera", "project");
+    CHECK(parse_bmfr_params(params, "none").params.project_behind_camera);
 }
 
 TEST_CASE(
