@@ -463,3 +463,50 @@ TEST_CASE("log-polar: the factored inverse table gives lp_inverse's bits at ever
                 }
         }
 }
+
+TEST_CASE(
+    "log-polar: the rays Lund's presets trace at 1280x720 (Table 5.3), counted "
+    "independently in binary64") {
+    // cornell's viewing distance d_px = 360 / tan(20 deg), gaze at the centre. The traced
+    // texels are those whose centre's inverse map lies on the screen (Lund eq. 3.8 in binary64
+    // with libm's exp, cos, sin: t = G + (1 - G) u / w, r = exp(L t^(1/alpha)) - 1), plus the
+    // gaze buffer's pixels inside r_G. The shares pin docs/foveation.md's table (151.9%, 62.8%,
+    // 37.6%, 36.7%; Lund's 154%, 65.7%, 37.5%, 37.7%) and agree with fovref's own binary32 count
+    // to within a few texels on the screen's border.
+    const int W = 1280, H = 720;
+    const double d_px = 360.0 / std::tan(20.0 * M_PI / 180.0);
+    const std::vector<std::pair<std::string, double>> expected = {
+        {"fov", 151.9}, {"kfov", 62.8}, {"cfov", 37.6}, {"ckfov", 36.7}};
+    for (const auto& [name, share] : expected) {
+        const FoveationPreset& preset = find_foveation_preset(name);
+        const LogPolarMap m =
+            make_log_polar_map(preset.map, W, H, {640, 360}, static_cast<float>(d_px));
+        const double alpha = preset.map.kernel.alpha;
+        const double L = std::log(1.0 + std::sqrt(double(W) * W + double(H) * H));
+        const double r_g = preset.map.gaze_angle > 0.0f
+                               ? d_px * std::tan(static_cast<double>(preset.map.gaze_angle))
+                               : 0.0;
+        const double G = r_g > 0.0 ? std::min(1.0, std::pow(std::log(1.0 + r_g) / L, alpha)) : 0.0;
+        long independent = 0, ours = 0;
+        const LpInverseTable table = lp_inverse_table(m);
+        for (int j = 0; j < m.height; ++j)
+            for (int i = 0; i < m.width; ++i) {
+                const double t = G + (1.0 - G) * (i + 0.5) / m.width;
+                const double r = std::exp(L * std::pow(t, 1.0 / alpha)) - 1.0;
+                const double theta = 2.0 * M_PI * (j + 0.5) / m.height;
+                const double x = 640.0 + r * std::cos(theta), y = 360.0 + r * std::sin(theta);
+                independent += (x >= 0.0 && x < W && y >= 0.0 && y < H) ? 1 : 0;
+                glm::vec2 p{0.0f};
+                ours += lp_texel_status(m, table, i, j, p) == TexelStatus::traced ? 1 : 0;
+            }
+        long gaze_pixels = 0;
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x)
+                gaze_pixels += std::hypot(x + 0.5 - 640.0, y + 0.5 - 360.0) < r_g ? 1 : 0;
+        const double traced = 100.0 * double(independent + gaze_pixels) / (W * H);
+        INFO(name, ": ", m.width, "x", m.height, ", independent ", independent, ", fovref ", ours,
+             ", gaze ", gaze_pixels, ", traced ", traced, "%");
+        CHECK(std::abs(independent - ours) <= 8);
+        CHECK(std::fabs(traced - share) < 0.05);
+    }
+}
