@@ -132,6 +132,27 @@ std::vector<Row> bench_rows(const BenchFoveationOptions& o) {
     return rows;
 }
 
+// Lund's Table 5.3 for his four presets: the share of the screen's pixels dispatched and traced
+// (his resolution and viewing distance are not stated); "-" for the other rows.
+struct LundRow {
+    const char* mode;
+    double traced, dispatched;
+};
+constexpr LundRow lund_table_5_3[] = {
+    {"fov", 154.0, 162.0}, {"kfov", 65.7, 75.4}, {"cfov", 37.5, 48.3}, {"ckfov", 37.7, 47.6}};
+
+// "154.0%" for a Lund preset run with its own parameters, else "-".
+std::string lund_share(const Row& row, bool traced) {
+    if (row.params.values().size() > 0) return "-";
+    for (const LundRow& l : lund_table_5_3)
+        if (row.mode == l.mode) {
+            char text[16];
+            std::snprintf(text, sizeof text, "%.1f%%", traced ? l.traced : l.dispatched);
+            return text;
+        }
+    return "-";
+}
+
 void print_header(const BenchFoveationOptions& o) {
     std::printf(
         "fovref bench foveation: %dx%d, gaze at the centre, one thread; each stage the "
@@ -142,7 +163,12 @@ void print_header(const BenchFoveationOptions& o) {
         "rays / the mode's); pass 2 + filters share: target <= 15%%\n"
         "work = BVH nodes visited + triangles tested by all rays (primary and shadow), %% of "
         "basic's; w-target = 0.8 x (basic's work / the mode's): rays differ in cost (those near "
-        "the gaze may hit more), which the ray-count target does not see\n");
+        "the gaze may hit more), which the ray-count target does not see\n"
+        "Lund tr./disp.: Lund's Table 5.3 shares for his presets. Traced agrees within 3 "
+        "points at 1280x720 (his resolution and viewing distance are not stated, ours are the "
+        "camera's); dispatched differs more: Lund dispatches the gaze buffer's whole square "
+        "((2 r_G)^2) and the texels that map off screen, ours the texels and the gaze pixels "
+        "traced (docs/foveation.md, \"Rays traced against Lund Table 5.3\")\n");
 }
 
 // One row: the mode's buffer, shares of rays and work, stage-group times, speed-up against
@@ -181,10 +207,11 @@ void print_row(const BenchFoveationOptions& o, const Row& row, const ModeTimes& 
         std::snprintf(work_target_text, sizeof work_target_text, "%.2fx",
                       row.mode == "basic" ? 1.0 : work_target);
     std::printf(
-        "  %-10s %-10s %7.1f%% %7.1f%% %6.1f%% %9.2f %9.2f %9.2f %9.2f %9.2f %7.2fx %7s "
-        "%8s %8.1f%%%s\n",
+        "  %-10s %-10s %7.1f%% %7.1f%% %9s %10s %6.1f%% %9.2f %9.2f %9.2f %9.2f %9.2f %7.2fx "
+        "%7s %8s %8.1f%%%s\n",
         row.label.c_str(), buffer.c_str(), 100.0 * dispatched / pixels,
-        100.0 * static_cast<double>(t.rays) / pixels,
+        100.0 * static_cast<double>(t.rays) / pixels, lund_share(row, true).c_str(),
+        lund_share(row, false).c_str(),
         100.0 * static_cast<double>(t.work) /
             static_cast<double>(std::max<std::int64_t>(basic.work, 1)),
         1e3 * t.group.at("trace"), 1e3 * t.group.at("shade"), 1e3 * t.group.at("pass2"),
@@ -223,9 +250,10 @@ int run_bench_foveation(const BenchFoveationOptions& o) {
         const Scene scene = std::move(file->second);
         files.erase(file);
         std::printf("\n%s\n", name.c_str());
-        std::printf("  %-10s %-10s %8s %8s %7s %9s %9s %9s %9s %9s %8s %7s %8s %9s\n", "mode",
-                    "buffer", "dispatch", "traced", "work", "trace ms", "shade ms", "pass2 ms",
-                    "filt. ms", "frame ms", "speed-up", "target", "w-target", "p2+f share");
+        std::printf("  %-10s %-10s %8s %8s %9s %10s %7s %9s %9s %9s %9s %9s %8s %7s %8s %9s\n",
+                    "mode", "buffer", "dispatch", "traced", "Lund tr.", "Lund disp.", "work",
+                    "trace ms", "shade ms", "pass2 ms", "filt. ms", "frame ms", "speed-up",
+                    "target", "w-target", "p2+f share");
         ModeTimes basic;
         for (const Row& row : rows) {
             const ModeTimes t = time_mode(scene, row.mode, row.params, o, progress, done, step);
