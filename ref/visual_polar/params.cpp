@@ -33,6 +33,11 @@ std::vector<ParamSpec> sparse_param_specs(const std::string& mode) {
         specs.push_back(
             {"fill", "push-pull", "unsampled pixels: 'push-pull' (Koskela §4.4.3) or 'black'"});
     }
+    if (mode == "linear-falloff" || mode == "acuity")
+        specs.push_back({"eccentricity", "exact",
+                         "screen distance to degrees: 'exact' (atan(r / d_px), the display "
+                         "model) or 'linear' (r / pixels per degree at the gaze); "
+                         "docs/visual-polar.md"});
     if (mode == "acuity") {
         specs.push_back({"samples", "0", "samples per frame; 0: 10% of W x H"});
         specs.push_back({"progressive", "on",
@@ -79,6 +84,13 @@ SparseParams parse_sparse_params(const Params& params, const std::string& mode) 
                 "greater than f_l");
         p.fill = parse_fill(params, specs);
     }
+    if (mode == "linear-falloff" || mode == "acuity") {
+        const std::string model = params.get_string(specs, "eccentricity");
+        if (model != "exact" && model != "linear")
+            throw Error("parameter 'eccentricity': expected 'exact' or 'linear', got '" + model +
+                        "'");
+        p.exact_eccentricity = model == "exact";
+    }
     if (mode == "acuity") {
         p.samples = params.get_int(specs, "samples", 0, 1 << 28);
         p.progressive = params.get_bool(specs, "progressive");
@@ -104,6 +116,12 @@ VisualPolarMap sparse_vp_map(const SparseParams& params, int width, int height, 
 float sparse_pixels_per_degree(const Scene& scene, const Camera& camera, int width, int height) {
     const float d_px = display_distance_px(scene.display, width, height, camera.vfov_deg);
     return d_px * 3.14159265358979323846f / 180.0f;
+}
+
+EccentricityModel sparse_eccentricity(const SparseParams& params, const Scene& scene,
+                                      const Camera& camera, int width, int height) {
+    return {params.exact_eccentricity,
+            display_distance_px(scene.display, width, height, camera.vfov_deg)};
 }
 
 int acuity_samples_per_frame(const SparseParams& params, int width, int height) {

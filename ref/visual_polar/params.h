@@ -42,6 +42,8 @@ struct SparseParams {
     int samples = 0;          ///< `samples` per frame; 0: 10% of W x H
     bool progressive = true;  ///< `progressive=on`: accumulate over frames
     bool fill = false;        ///< `fill=push-pull` (linear-falloff default), `black` (acuity)
+    /// `eccentricity=exact` (default, both sparse modes) or `linear` (EccentricityModel)
+    bool exact_eccentricity = true;
 };
 
 /// The parameters of mode `mode` (visual-polar, visual-polar-basic, linear-falloff, acuity).
@@ -57,6 +59,10 @@ VisualPolarMap sparse_vp_map(const SparseParams& params, int width, int height, 
 
 /// The display model's pixels per degree at the gaze: d_px pi / 180 (SPEC §1, §5.5).
 float sparse_pixels_per_degree(const Scene& scene, const Camera& camera, int width, int height);
+/// The sparse modes' eccentricity model of a frame: the parameter's choice with the display
+/// model's d_px.
+EccentricityModel sparse_eccentricity(const SparseParams& params, const Scene& scene,
+                                      const Camera& camera, int width, int height);
 
 /// Samples per frame of the acuity mode: `samples`, or 10% of W x H (at least 1).
 int acuity_samples_per_frame(const SparseParams& params, int width, int height);

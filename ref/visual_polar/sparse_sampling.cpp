@@ -1,6 +1,7 @@
 #include "ref/visual_polar/sparse_sampling.h"
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "ref/core/dmath.h"
@@ -22,36 +23,51 @@ bool linear_falloff_sampled(std::uint32_t frame, std::uint32_t pixel, float prob
     return rand_unit(frame, pixel, 0) < probability;
 }
 
+namespace {
+constexpr float degrees_per_radian = 57.2957795130823208768f;
+}  // namespace
+
+float EccentricityModel::degrees(float r) const {
+    if (exact) return dm::atan(r / distance_px) * degrees_per_radian;
+    return r / (distance_px * 3.14159265358979323846f / 180.0f);
+}
+
+float EccentricityModel::radius(float e) const {
+    if (!exact) return e * (distance_px * 3.14159265358979323846f / 180.0f);
+    if (!(e < 89.9f)) return std::numeric_limits<float>::infinity();
+    return distance_px * dm::tan(dm::radians(e));
+}
+
 glm::vec2 acuity_sample(std::uint32_t frame, std::uint32_t sample, glm::vec2 gaze,
-                        float pixels_per_degree) {
+                        const EccentricityModel& model) {
     const float phi = 6.28318530717958647692f * rand_unit(frame, sample, 0);
     const float e = vp_inverse_cdf(rand_unit(frame, sample, 1));
-    const float r = e * pixels_per_degree;
+    const float r = model.radius(e);
     return gaze + glm::vec2(r * dm::cos(phi), r * dm::sin(phi));
 }
 
 namespace {
 
-// L(e) at the centre of pixel (x, y), e = atan(|c - g| / d_px) in degrees.
+// L(e) at the centre of pixel (x, y), e the model's degrees of |c - g|.
 float falloff_probability_at(const LinearFalloff& falloff, int x, int y, glm::vec2 gaze,
-                             float distance_px) {
-    constexpr float degrees = 57.2957795130823208768f;
-    const float e = dm::atan(gaze_distance(gaze, pixel_centre(x, y)) / distance_px) * degrees;
-    return linear_falloff_probability(falloff, e);
+                             const EccentricityModel& model) {
+    return linear_falloff_probability(falloff,
+                                      model.degrees(gaze_distance(gaze, pixel_centre(x, y))));
 }
 
 }  // namespace
 
 Image linear_falloff_mask(const LinearFalloff& falloff, int width, int height, glm::vec2 gaze,
-                          float distance_px, std::uint32_t frame, std::int64_t& sampled) {
-    FOVREF_CHECK(width > 0 && height > 0 && distance_px > 0.0f,
+                          const EccentricityModel& model, std::uint32_t frame,
+                          std::int64_t& sampled) {
+    FOVREF_CHECK(width > 0 && height > 0 && model.distance_px > 0.0f,
                  "linear_falloff_mask: bad size or viewing distance");
     Image mask(width, height, 1, 0.0f);
     for (int y = 0; y < height; ++y)
         for (int x = 0; x < width; ++x) {
             const auto pixel = static_cast<std::uint32_t>(y * width + x);
             if (!linear_falloff_sampled(frame, pixel,
-                                        falloff_probability_at(falloff, x, y, gaze, distance_px)))
+                                        falloff_probability_at(falloff, x, y, gaze, model)))
                 continue;
             mask.at(x, y) = 1.0f;
             ++sampled;
@@ -60,21 +76,19 @@ Image linear_falloff_mask(const LinearFalloff& falloff, int width, int height, g
 }
 
 double linear_falloff_expected(const LinearFalloff& falloff, int width, int height, glm::vec2 gaze,
-                               float distance_px) {
+                               const EccentricityModel& model) {
     double sum = 0.0;
     for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x)
-            sum += falloff_probability_at(falloff, x, y, gaze, distance_px);
+        for (int x = 0; x < width; ++x) sum += falloff_probability_at(falloff, x, y, gaze, model);
     return sum;
 }
 
 std::vector<glm::vec2> acuity_samples(std::uint32_t frame, int count, glm::vec2 gaze,
-                                      float pixels_per_degree) {
+                                      const EccentricityModel& model) {
     std::vector<glm::vec2> points;
     points.reserve(static_cast<std::size_t>(count));
     for (int k = 0; k < count; ++k)
-        points.push_back(
-            acuity_sample(frame, static_cast<std::uint32_t>(k), gaze, pixels_per_degree));
+        points.push_back(acuity_sample(frame, static_cast<std::uint32_t>(k), gaze, model));
     return points;
 }
 

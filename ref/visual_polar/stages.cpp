@@ -54,7 +54,7 @@ std::vector<glm::vec2> frame_acuity_points(const FrameContext& ctx, const Sparse
     return acuity_samples(static_cast<std::uint32_t>(ctx.frame),
                           acuity_samples_per_frame(params, width, height),
                           sparse_gaze(params, width, height, ctx.frame),
-                          sparse_pixels_per_degree(*ctx.scene, ctx.camera, width, height));
+                          sparse_eccentricity(params, *ctx.scene, ctx.camera, width, height));
 }
 
 // The progressive sums the frame starts from: the previous frame's, or (resumed) its dump's.
@@ -149,11 +149,11 @@ StageDef vp_resolve_stage_def(std::shared_ptr<SparseFrames> frames, std::string 
 void falloff_mask_stage(FrameContext& ctx) {
     const SparseParams& params = ctx.state<SparseState>().frames->params;
     const int width = ctx.settings->width, height = ctx.settings->height;
-    const float d_px = display_distance_px(ctx.scene->display, width, height, ctx.camera.vfov_deg);
     std::int64_t sampled = 0;
-    Image mask = linear_falloff_mask(params.falloff, width, height,
-                                     sparse_gaze(params, width, height, ctx.frame), d_px,
-                                     static_cast<std::uint32_t>(ctx.frame), sampled);
+    Image mask = linear_falloff_mask(
+        params.falloff, width, height, sparse_gaze(params, width, height, ctx.frame),
+        sparse_eccentricity(params, *ctx.scene, ctx.camera, width, height),
+        static_cast<std::uint32_t>(ctx.frame), sampled);
     ctx.result->counters.add("pixels_sampled", sampled);
     ctx.result->counters.add("pixels_unsampled",
                              static_cast<std::int64_t>(width) * height - sampled);

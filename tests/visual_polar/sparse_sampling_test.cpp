@@ -8,8 +8,10 @@
 #include <cmath>
 #include <vector>
 
+#include "ref/core/error.h"
 #include "ref/core/rng.h"
 #include "ref/visual_polar/map.h"
+#include "ref/visual_polar/params.h"
 #include "ref/visual_polar/sparse_sampling.h"
 
 using namespace fovref;
@@ -78,7 +80,9 @@ TEST_CASE("acuity sampling: the eccentricities follow the acuity model's CDF") {
     const int n = 100000;
     std::vector<double> e(n);
     for (int k = 0; k < n; ++k) {
-        const glm::vec2 p = acuity_sample(3u, static_cast<std::uint32_t>(k), {0.0f, 0.0f}, 1.0f);
+        // the linear model with 1 pixel per degree: the distance is e itself
+        const glm::vec2 p = acuity_sample(3u, static_cast<std::uint32_t>(k), {0.0f, 0.0f},
+                                          EccentricityModel{false, 180.0f / 3.14159265f});
         e[static_cast<std::size_t>(k)] = std::sqrt(static_cast<double>(p.x) * p.x + p.y * p.y);
     }
     std::sort(e.begin(), e.end());
@@ -92,4 +96,32 @@ TEST_CASE("acuity sampling: the eccentricities follow the acuity model's CDF") {
     // the KS critical value at 99.9% is 1.95 / sqrt(n) = 0.0062, plus up to 0.004 for the fit's own
     // deviation from the model (P is a polynomial fit of the model's inverse CDF)
     CHECK(d < 0.0062 + 0.004);
+}
+
+TEST_CASE(
+    "sparse sampling: one eccentricity model for linear fall-off and acuity sampling, exact "
+    "by default, linear on request") {
+    // d_px = 1000: 30 degrees is 1000 tan(30) = 577.35 px exactly (the display model), and
+    // 30 * 1000 pi / 180 = 523.60 px with the linear pixels-per-degree scale
+    const EccentricityModel exact{true, 1000.0f}, linear{false, 1000.0f};
+    CHECK(SparseParams{}.exact_eccentricity);
+    CHECK(exact.radius(30.0f) == doctest::Approx(577.350269).epsilon(1e-6));
+    CHECK(linear.radius(30.0f) == doctest::Approx(523.598776).epsilon(1e-6));
+    CHECK(exact.degrees(577.350269f) == doctest::Approx(30.0).epsilon(1e-5));
+    CHECK(linear.degrees(523.598776f) == doctest::Approx(30.0).epsilon(1e-6));
+    CHECK(std::isinf(exact.radius(90.0f)));  // beyond the display: off every screen
+    // the fall-off uses the same model: a pixel 550 px from the gaze is at 28.8 degrees exactly
+    // (sampled with P_p beyond p_l = 20) but 31.5 linearly; at 300 px, 16.7 against 17.2
+    LinearFalloff f;
+    const float e_exact = exact.degrees(300.0f), e_linear = linear.degrees(300.0f);
+    CHECK(e_exact == doctest::Approx(16.6992).epsilon(1e-4));
+    CHECK(e_linear == doctest::Approx(17.1887).epsilon(1e-4));
+    CHECK(linear_falloff_probability(f, e_exact) > linear_falloff_probability(f, e_linear));
+    // the modes take the parameter
+    Params p;
+    CHECK(parse_sparse_params(p, "acuity").exact_eccentricity);
+    p.set("eccentricity", "linear");
+    CHECK_FALSE(parse_sparse_params(p, "linear-falloff").exact_eccentricity);
+    p.set("eccentricity", "degrees");
+    CHECK_THROWS_AS(parse_sparse_params(p, "acuity"), Error);
 }

@@ -229,9 +229,12 @@ double equal_budget_probability(const Scene& scene, Size size, double samples) {
                            static_cast<float>(size.height) * 0.5f};
     LinearFalloff falloff;
     falloff.periphery_probability = 0.0f;
-    const double a = linear_falloff_expected(falloff, size.width, size.height, centre, d_px);
+    const double a = linear_falloff_expected(falloff, size.width, size.height, centre,
+                                             EccentricityModel{true, d_px});
     falloff.periphery_probability = 1.0f;
-    const double b = linear_falloff_expected(falloff, size.width, size.height, centre, d_px) - a;
+    const double b = linear_falloff_expected(falloff, size.width, size.height, centre,
+                                             EccentricityModel{true, d_px}) -
+                     a;
     return std::clamp((samples - a) / b, 0.0, 1.0);
 }
 
