@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "ref/core/error.h"
+#include "ref/raster/rasterizer.h"
 
 namespace fovref {
 
@@ -43,6 +44,15 @@ MaskedGBuffer sample_lp_gbuffer(const LogPolarMap& map, const ScreenGBuffer& scr
         for (int x = 0; x < map.width; ++x)
             deferred_gbuffer_texel(buffer, screen_points, map, table, screen, x, y, stats);
     return buffer;
+}
+
+glm::vec2 deferred_sample_offset(bool jitter_raster, Offset2 jitter) {
+    if (!jitter_raster) return {jitter.x - 0.5f, jitter.y - 0.5f};
+    RasterSettings settings;
+    settings.sample = jitter;
+    const FixedPoint shift = raster_sample_shift(settings);
+    return -glm::vec2(static_cast<float>(shift.x), static_cast<float>(shift.y)) /
+           static_cast<float>(raster_subpixel_scale);
 }
 
 }  // namespace fovref

@@ -39,4 +39,10 @@ MaskedGBuffer sample_lp_gbuffer(const LogPolarMap& map, const ScreenGBuffer& scr
                                 Image& screen_points, FoveatedTraceStats& stats,
                                 glm::vec2 screen_offset = glm::vec2(0.0f));
 
+/// The offset lp_sample adds to every texel's screen point under the frame's TAA jitter o:
+/// with a jittered rasterizer (`jitter_raster`) minus the sample's shift from the centre on the
+/// 1/256-pixel grid (raster_sample_shift), so that floor picks the pixel whose jittered sample
+/// is nearest; else o - (1/2, 1/2) (the points shifted, Meng §2.3.2 read literally).
+glm::vec2 deferred_sample_offset(bool jitter_raster, Offset2 jitter);
+
 }  // namespace fovref

@@ -88,6 +88,10 @@ std::vector<ParamSpec> foveated_param_specs(const FoveationPreset& preset) {
          "the buffer's G-buffer: 'ray' (a ray per texel) or 'raster' (Meng's deferred variant: "
          "the rasterized full-resolution G-buffer sampled per texel)"},
         {"fill_rule", "d3d", "rasterizer fill rule (primary=raster): 'd3d' or 'gl'"},
+        {"raster_jitter", "raster",
+         "TAA's jitter with primary=raster: 'raster' (the rasterizer samples at the jittered "
+         "point, as Meng/Karis: a static camera supersamples) or 'lookup' (the texels' points "
+         "shifted instead: whole pixels)"},
         {"resolve", preset.resolve,
          "pass 2's filter: 'bilinear' or 'mip' (a pyramid of the buffer, trilinear; Meng §5.1)"},
         {"filters", preset.filters,
@@ -157,6 +161,13 @@ FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset
         throw Error("parameter 'primary': '" + primary + "' is neither 'ray' nor 'raster'");
     parsed.raster.fill_rule =
         parse_fill_rule(params.get_string(specs, "fill_rule"), "parameter 'fill_rule'");
+    const std::string jitter = params.get_string(specs, "raster_jitter");
+    if (jitter != "raster" && jitter != "lookup")
+        throw Error("parameter 'raster_jitter': expected 'raster' or 'lookup', got '" + jitter +
+                    "'");
+    parsed.jitter_raster = jitter == "raster";
+    if (!parsed.deferred && params.given("raster_jitter"))
+        throw Error("parameter 'raster_jitter' applies to primary=raster only");
     if (!parsed.deferred && params.given("fill_rule"))
         throw Error("parameter 'fill_rule' applies to the rasterizer only: add primary=raster");
     if (parsed.deferred && m.gaze_angle > 0.0f)

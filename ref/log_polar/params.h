@@ -48,7 +48,13 @@ struct FoveatedParams {
     /// How the log-polar buffer's G-buffer is made: a ray per texel (`primary=ray`), or Meng's
     /// deferred sampling of the full-resolution rasterized G-buffer (`primary=raster`).
     bool deferred = false;
-    RasterSettings raster;     ///< the rasterizer's fill rule (`fill_rule`, primary=raster)
+    RasterSettings raster;  ///< the rasterizer's fill rule (`fill_rule`, primary=raster)
+    /// primary=raster with TAA jitter (`raster_jitter`): true (`raster`, default) jitters the
+    /// rasterizer's samples and each texel copies the pixel whose jittered sample is nearest
+    /// its point, so a static camera supersamples; false (`lookup`) leaves the rasterizer at the
+    /// pixel centres and shifts the texels' points by the jitter (whole pixels change, no
+    /// supersampling; what fovref did before). docs/foveation.md
+    bool jitter_raster = true;
     bool mip_resolve = false;  ///< pass 2 with the mip pyramid (`resolve=mip`), else bilinear
     // Filters (`filters=a,b`): buffer space before pass 2, then screen space in this order.
     bool internal_aa = false;    ///< Meng's internal AA on the buffer's peripheral half

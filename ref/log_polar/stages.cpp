@@ -135,17 +135,17 @@ void lp_sample_stage(FrameContext& ctx) {
     const LogPolarMap map = s.frames->map(ctx);
     FoveatedTraceStats stats;
     Image screen_points;
-    // Meng's TAA jitter comes after the inverse transform: o - (1/2, 1/2) screen pixels.
+    // The TAA jitter: the rasterizer's sample moved (the nearest jittered sample copied), or
+    // the texels' points shifted by o - (1/2, 1/2) (raster_jitter=lookup)
     const Offset2 jitter = frame_jitter(ctx, s.jitter);
-    MaskedGBuffer lp = sample_lp_gbuffer(map, screen_gbuffer(ctx), screen_points, stats,
-                                         {jitter.x - 0.5f, jitter.y - 0.5f});
+    const glm::vec2 offset = deferred_sample_offset(s.frames->params.jitter_raster, jitter);
+    MaskedGBuffer lp = sample_lp_gbuffer(map, screen_gbuffer(ctx), screen_points, stats, offset);
     add_buffer_counters(ctx, map, stats);
-    ctx.note =
-        map_note(map) + ", " + std::to_string(stats.texels_traced) +
-        " sampled from the rasterized G-buffer" +
-        (jitter == Offset2{} ? std::string()
-                             : ", screen points offset by (" + std::to_string(jitter.x - 0.5f) +
-                                   ", " + std::to_string(jitter.y - 0.5f) + ") px");
+    ctx.note = map_note(map) + ", " + std::to_string(stats.texels_traced) +
+               " sampled from the rasterized G-buffer" +
+               (jitter == Offset2{} ? std::string()
+                                    : ", screen points offset by (" + std::to_string(offset.x) +
+                                          ", " + std::to_string(offset.y) + ") px");
     output_buffer(ctx, std::move(lp), std::move(screen_points));
 }
 

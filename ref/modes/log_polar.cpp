@@ -6,6 +6,7 @@
 
 #include "ref/core/error.h"
 #include "ref/filters/stages.h"
+#include "ref/log_polar/deferred_sample.h"
 #include "ref/log_polar/probe.h"
 #include "ref/log_polar/stages.h"
 #include "ref/raster/stages.h"
@@ -23,7 +24,10 @@ void add_buffer_stages(Pipeline& p, const LogPolarStage& lp) {
     const FoveatedParams& params = lp.frames->params;
     const bool composite = params.map.gaze_angle > 0.0f;
     if (params.deferred)
-        p.add(rasterize_stage_def("gbuffer_raster", params.raster)).add(lp_sample_stage_def(lp));
+        p.add(rasterize_stage_def(
+                  "gbuffer_raster", params.raster,
+                  params.jitter_raster ? lp.jitter : std::function<Offset2(const FrameContext&)>{}))
+            .add(lp_sample_stage_def(lp));
     else
         p.add(lp_trace_stage_def(lp));
     if (composite) p.add(gaze_trace_stage_def(lp));
@@ -172,10 +176,9 @@ Camera frame_camera(const Scene& scene, const RenderSettings& settings, int fram
 
 // Meng's deferred variant: the rasterized G-buffer pixels that lp_sample copies into `texels`
 // (each texel's screen point after the frame's jitter, floored), as family "gbuffer_".
-std::vector<TexelRead> deferred_sampled_pixels(const LogPolarMap& map, Offset2 jitter,
+std::vector<TexelRead> deferred_sampled_pixels(const LogPolarMap& map, glm::vec2 offset,
                                                const std::vector<TexelRead>& texels) {
-    const LpInverseTable table =
-        lp_inverse_table(map, Offset2{}, {jitter.x - 0.5f, jitter.y - 0.5f});
+    const LpInverseTable table = lp_inverse_table(map, Offset2{}, offset);
     std::vector<TexelRead> pixels;
     for (const TexelRead& read : texels) {
         glm::vec2 p{0.0f};
@@ -207,7 +210,8 @@ std::vector<TexelRead> foveated_pixel_texels(const std::string& preset, const Sc
         const Camera previous = frame > 0 ? frame_camera(scene, settings, frame - 1) : camera;
         const Offset2 jitter =
             taa_jitter(parse_taa_params(settings.params), frame, !(camera == previous));
-        for (TexelRead& pixel : deferred_sampled_pixels(map, jitter, reads))
+        for (TexelRead& pixel : deferred_sampled_pixels(
+                 map, deferred_sample_offset(params.jitter_raster, jitter), reads))
             reads.push_back(std::move(pixel));
     }
     return reads;

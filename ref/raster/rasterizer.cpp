@@ -262,6 +262,17 @@ std::int64_t rasterize_triangle_coverage(glm::vec2 a, glm::vec2 b, glm::vec2 c, 
     return covered;
 }
 
+FixedPoint raster_sample_shift(const RasterSettings& settings) {
+    const auto grid = [](float s) {
+        const float d = (s - 0.5f) * static_cast<float>(raster_subpixel_scale);
+        return static_cast<std::int64_t>(d < 0.0f ? -std::floor(0.5f - d) : std::floor(d + 0.5f));
+    };
+    FOVREF_CHECK(settings.sample.x >= 0.0f && settings.sample.x <= 1.0f &&
+                     settings.sample.y >= 0.0f && settings.sample.y <= 1.0f,
+                 "rasterizer sample position outside its pixel");
+    return {grid(settings.sample.x), grid(settings.sample.y)};
+}
+
 RasterFrame make_raster_frame(const Scene& scene, const Camera& camera, int width, int height,
                               const RasterSettings& settings) {
     check_size(width, height);
@@ -308,11 +319,17 @@ TriangleSetup setup_triangle(const Scene& scene, const RasterFrame& frame, std::
         }
     }
 
-    // Project and snap.
+    // Project and snap; a jittered sample moves the triangle the other way (so the pixel centres
+    // sample where the jittered samples lie)
     setup.count = count;
-    for (int k = 0; k < count; ++k)
-        setup.polygon[static_cast<std::size_t>(k)] = snap_to_fixed(view_to_screen(
-            poly[static_cast<std::size_t>(k)].view, frame.tan_half, frame.width, frame.height));
+    const FixedPoint shift = raster_sample_shift(frame.settings);
+    for (int k = 0; k < count; ++k) {
+        FixedPoint& p = setup.polygon[static_cast<std::size_t>(k)];
+        p = snap_to_fixed(view_to_screen(poly[static_cast<std::size_t>(k)].view, frame.tan_half,
+                                         frame.width, frame.height));
+        p.x -= shift.x;
+        p.y -= shift.y;
+    }
     return setup;
 }
 
@@ -322,7 +339,10 @@ bool raster_fragment(const Scene& scene, const RasterFrame& frame, int x, int y,
                      std::int32_t primitive, RasterFragment& fragment) {
     // The pixel's primary ray, exactly as the ray caster builds it (raycast_gbuffer.h,
     // bvh_traverse.cpp: t in (0, inf), the watertight per-ray setup).
-    const glm::vec2 centre = pixel_centre(x, y);
+    const FixedPoint shift = raster_sample_shift(frame.settings);
+    const glm::vec2 centre =
+        pixel_centre(x, y) + glm::vec2(static_cast<float>(shift.x), static_cast<float>(shift.y)) /
+                                 static_cast<float>(raster_subpixel_scale);
     const glm::vec3 direction = primary_ray_direction(frame.camera, frame.tan_half, frame.width,
                                                       frame.height, centre.x, centre.y);
     const WatertightRay ray = make_watertight_ray(frame.camera.position, direction, 0.0f,

@@ -23,6 +23,7 @@
 
 #include <glm/glm.hpp>
 
+#include "ref/core/halton.h"
 #include "ref/image/image.h"
 #include "ref/raster/gbuffer.h"
 #include "ref/scene/camera.h"
@@ -71,6 +72,11 @@ FillRule parse_fill_rule(const std::string& text, const std::string& what);
 /// Rasterizer options (documented defaults).
 struct RasterSettings {
     FillRule fill_rule = FillRule::d3d;
+    /// Where in its pixel each pixel samples (a TAA jitter, as a jittered projection does):
+    /// (0.5, 0.5) is the centre. The shift from the centre is rounded to the 1/256-pixel grid
+    /// (raster_sample_shift) and applied to the snapped vertices, and the attribute ray goes
+    /// through the shifted sample: coverage and attributes stay consistent.
+    Offset2 sample{};
     bool operator==(const RasterSettings&) const = default;
 };
 
@@ -183,6 +189,10 @@ struct EdgeSetup {
 EdgeSetup setup_edges(FixedPoint a, FixedPoint b, FixedPoint c, FillRule rule);
 
 /// Fixed-point sample position of pixel (i, j): its centre, (256 i + 128, 256 j + 128).
+/// RasterSettings::sample's shift from the pixel centre on the 1/256-pixel grid:
+/// round((sample - 1/2) 256), halves away from zero.
+FixedPoint raster_sample_shift(const RasterSettings& settings);
+
 inline FixedPoint pixel_centre_fixed(std::int64_t i, std::int64_t j) {
     const std::int64_t half = raster_subpixel_scale / 2;
     return {i * raster_subpixel_scale + half, j * raster_subpixel_scale + half};

@@ -10,6 +10,7 @@ namespace {
 
 struct RasterizeState : StageState {
     RasterSettings settings;
+    std::function<Offset2(const FrameContext&)> sample;
 };
 
 }  // namespace
@@ -22,18 +23,27 @@ void add_raster_counters(Counters& counters, const RasterStats& stats) {
 }
 
 void rasterize_stage(FrameContext& ctx) {
-    const RasterSettings& settings = ctx.state<RasterizeState>().settings;
+    const RasterizeState& state = ctx.state<RasterizeState>();
+    RasterSettings settings = state.settings;
+    if (state.sample) settings.sample = state.sample(ctx);
     RasterStats stats;
     GBuffer g = rasterize_gbuffer(*ctx.scene, ctx.camera, ctx.previous_camera, ctx.settings->width,
                                   ctx.settings->height, stats, settings);
     add_raster_counters(ctx.result->counters, stats);
     ctx.note = std::string("rasterized, fill rule ") + fill_rule_name(settings.fill_rule);
+    if (!(settings.sample == Offset2{})) {
+        const FixedPoint shift = raster_sample_shift(settings);
+        ctx.note += ", samples jittered by (" + std::to_string(shift.x) + ", " +
+                    std::to_string(shift.y) + ")/256 px";
+    }
     output_gbuffer(ctx, std::move(g));
 }
 
-StageDef rasterize_stage_def(std::string name, RasterSettings settings) {
+StageDef rasterize_stage_def(std::string name, RasterSettings settings,
+                             std::function<Offset2(const FrameContext&)> sample) {
     auto state = std::make_shared<RasterizeState>();
     state->settings = settings;
+    state->sample = std::move(sample);
     return {std::move(name), {}, gbuffer_ports(), rasterize_stage, state};
 }
 

@@ -17,8 +17,10 @@
 namespace fovref {
 
 /// The stage named `name` (modes call it "primary_visibility", kfr "gbuffer_raster") that
-/// rasterizes the frame's G-buffer with `settings`.
-StageDef rasterize_stage_def(std::string name, RasterSettings settings);
+/// rasterizes the frame's G-buffer with `settings`; `sample` (may be empty) gives each frame's
+/// RasterSettings::sample (kfr: TAA's jitter).
+StageDef rasterize_stage_def(std::string name, RasterSettings settings,
+                             std::function<Offset2(const FrameContext&)> sample = {});
 
 /// The stage's body: rasterize_gbuffer (ref/raster/rasterizer.h) of the frame's camera.
 void rasterize_stage(FrameContext& context);
