@@ -284,6 +284,7 @@ RasterFrame make_raster_frame(const Scene& scene, const Camera& camera, int widt
     f.tan_half = tan_half_vfov(camera);
     f.near = std::max(raster_near_factor * scene.scene_scale, raster_min_near);
     f.settings = settings;
+    f.sample_shift = raster_sample_shift(settings);
     return f;
 }
 
@@ -322,7 +323,7 @@ TriangleSetup setup_triangle(const Scene& scene, const RasterFrame& frame, std::
     // Project and snap; a jittered sample moves the triangle the other way (so the pixel centres
     // sample where the jittered samples lie)
     setup.count = count;
-    const FixedPoint shift = raster_sample_shift(frame.settings);
+    const FixedPoint shift = frame.sample_shift;
     for (int k = 0; k < count; ++k) {
         FixedPoint& p = setup.polygon[static_cast<std::size_t>(k)];
         p = snap_to_fixed(view_to_screen(poly[static_cast<std::size_t>(k)].view, frame.tan_half,
@@ -339,7 +340,7 @@ bool raster_fragment(const Scene& scene, const RasterFrame& frame, int x, int y,
                      std::int32_t primitive, RasterFragment& fragment) {
     // The pixel's primary ray, exactly as the ray caster builds it (raycast_gbuffer.h,
     // bvh_traverse.cpp: t in (0, inf), the watertight per-ray setup).
-    const FixedPoint shift = raster_sample_shift(frame.settings);
+    const FixedPoint shift = frame.sample_shift;
     const glm::vec2 centre =
         pixel_centre(x, y) + glm::vec2(static_cast<float>(shift.x), static_cast<float>(shift.y)) /
                                  static_cast<float>(raster_subpixel_scale);

@@ -227,6 +227,7 @@ struct RasterFrame {
     float tan_half = 0.0f;
     float near = 0.0f;  ///< near plane distance (docs/raster.md)
     RasterSettings settings;
+    FixedPoint sample_shift;  ///< raster_sample_shift(settings), made once per frame
 };
 
 /// The constants for `camera` and a W x H screen; checks the size and the camera (throws

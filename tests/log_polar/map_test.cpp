@@ -477,7 +477,9 @@ TEST_CASE(
     const double d_px = 360.0 / std::tan(20.0 * M_PI / 180.0);
     const std::vector<std::pair<std::string, double>> expected = {
         {"fov", 151.9}, {"kfov", 62.8}, {"cfov", 37.6}, {"ckfov", 36.7}};
-    for (const auto& [name, share] : expected) {
+    for (const auto& entry : expected) {
+        const std::string& name = entry.first;
+        const double share = entry.second;
         const FoveationPreset& preset = find_foveation_preset(name);
         const LogPolarMap m =
             make_log_polar_map(preset.map, W, H, {640, 360}, static_cast<float>(d_px));
