@@ -48,9 +48,7 @@ MaskedGBuffer sample_lp_gbuffer(const LogPolarMap& map, const ScreenGBuffer& scr
 
 glm::vec2 deferred_sample_offset(bool jitter_raster, Offset2 jitter) {
     if (!jitter_raster) return {jitter.x - 0.5f, jitter.y - 0.5f};
-    RasterSettings settings;
-    settings.sample = jitter;
-    const FixedPoint shift = raster_sample_shift(settings);
+    const FixedPoint shift = raster_sample_shift(jitter);
     return -glm::vec2(static_cast<float>(shift.x), static_cast<float>(shift.y)) /
            static_cast<float>(raster_subpixel_scale);
 }

@@ -262,15 +262,14 @@ std::int64_t rasterize_triangle_coverage(glm::vec2 a, glm::vec2 b, glm::vec2 c, 
     return covered;
 }
 
-FixedPoint raster_sample_shift(const RasterSettings& settings) {
+FixedPoint raster_sample_shift(Offset2 sample) {
     const auto grid = [](float s) {
         const float d = (s - 0.5f) * static_cast<float>(raster_subpixel_scale);
         return static_cast<std::int64_t>(d < 0.0f ? -std::floor(0.5f - d) : std::floor(d + 0.5f));
     };
-    FOVREF_CHECK(settings.sample.x >= 0.0f && settings.sample.x <= 1.0f &&
-                     settings.sample.y >= 0.0f && settings.sample.y <= 1.0f,
+    FOVREF_CHECK(sample.x >= 0.0f && sample.x <= 1.0f && sample.y >= 0.0f && sample.y <= 1.0f,
                  "rasterizer sample position outside its pixel");
-    return {grid(settings.sample.x), grid(settings.sample.y)};
+    return {grid(sample.x), grid(sample.y)};
 }
 
 RasterFrame make_raster_frame(const Scene& scene, const Camera& camera, int width, int height,
@@ -284,7 +283,7 @@ RasterFrame make_raster_frame(const Scene& scene, const Camera& camera, int widt
     f.tan_half = tan_half_vfov(camera);
     f.near = std::max(raster_near_factor * scene.scene_scale, raster_min_near);
     f.settings = settings;
-    f.sample_shift = raster_sample_shift(settings);
+    f.sample_shift = raster_sample_shift(settings.sample);
     return f;
 }
 

@@ -189,9 +189,9 @@ struct EdgeSetup {
 EdgeSetup setup_edges(FixedPoint a, FixedPoint b, FixedPoint c, FillRule rule);
 
 /// Fixed-point sample position of pixel (i, j): its centre, (256 i + 128, 256 j + 128).
-/// RasterSettings::sample's shift from the pixel centre on the 1/256-pixel grid:
-/// round((sample - 1/2) 256), halves away from zero.
-FixedPoint raster_sample_shift(const RasterSettings& settings);
+/// A sample position's shift from the pixel centre on the 1/256-pixel grid (RasterSettings::
+/// sample): round((sample - 1/2) 256), halves away from zero.
+FixedPoint raster_sample_shift(Offset2 sample);
 
 inline FixedPoint pixel_centre_fixed(std::int64_t i, std::int64_t j) {
     const std::int64_t half = raster_subpixel_scale / 2;
@@ -227,7 +227,7 @@ struct RasterFrame {
     float tan_half = 0.0f;
     float near = 0.0f;  ///< near plane distance (docs/raster.md)
     RasterSettings settings;
-    FixedPoint sample_shift;  ///< raster_sample_shift(settings), made once per frame
+    FixedPoint sample_shift;  ///< raster_sample_shift(settings.sample), once per frame
 };
 
 /// The constants for `camera` and a W x H screen; checks the size and the camera (throws

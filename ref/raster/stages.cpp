@@ -32,7 +32,7 @@ void rasterize_stage(FrameContext& ctx) {
     add_raster_counters(ctx.result->counters, stats);
     ctx.note = std::string("rasterized, fill rule ") + fill_rule_name(settings.fill_rule);
     if (!(settings.sample == Offset2{})) {
-        const FixedPoint shift = raster_sample_shift(settings);
+        const FixedPoint shift = raster_sample_shift(settings.sample);
         ctx.note += ", samples jittered by (" + std::to_string(shift.x) + ", " +
                     std::to_string(shift.y) + ")/256 px";
     }

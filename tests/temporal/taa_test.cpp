@@ -40,6 +40,28 @@ Camera yawed(float degrees) {
     return look_at({0.0f, 1.0f, 4.0f}, glm::vec3{0.0f, 1.0f, 4.0f} + forward, {0, 1, 0}, 40.0f);
 }
 
+// A 30 x 30 frame whose camera moved 0.5 forward: a surface at current depth 2 was at previous
+// depth 2.5; colour 0.25 now, history 0.75 of age 4 (the history's depth set by each test).
+struct ForwardStep {
+    static constexpr int w = 30, h = 30;
+    Camera previous = yawed(0.0f), camera = moved(previous);
+    Image color{w, h, 3, 0.25f}, depth{w, h, 1, 2.0f};
+    TaaState state = history(previous);
+
+    static Camera moved(Camera c) {
+        c.position += 0.5f * c.forward;
+        return c;
+    }
+    static TaaState history(const Camera& previous) {
+        TaaState s;
+        s.valid = true;
+        s.camera = previous;
+        s.history = Image(w, h, 3, 0.75f);
+        s.age = Image(w, h, 1, 4.0f);
+        return s;
+    }
+};
+
 }  // namespace
 
 TEST_CASE("TAA: the first frame is the current frame with age 1") {
@@ -117,15 +139,11 @@ TEST_CASE("TAA: reprojection of a pure rotation matches the analytic projection 
 
 TEST_CASE("TAA: depth rejection where the depth changes, the periphery rule beyond diagonal / 3") {
     // The camera moves 0.5 forward: a surface at current depth 2 was at previous depth 2.5.
-    const int w = 30, h = 30;
-    Camera previous = yawed(0.0f), camera = previous;
-    camera.position += 0.5f * camera.forward;
-    const Image color(w, h, 3, 0.25f), depth(w, h, 1, 2.0f);
-    TaaState state;
-    state.valid = true;
-    state.camera = previous;
-    state.history = Image(w, h, 3, 0.75f);
-    state.age = Image(w, h, 1, 4.0f);
+    ForwardStep f0;
+    const int w = ForwardStep::w, h = ForwardStep::h;
+    const Camera& camera = f0.camera;
+    const Image &color = f0.color, &depth = f0.depth;
+    TaaState& state = f0.state;
     const glm::vec2 gaze{15.0f, 15.0f};
     // History depth 2.5 (what the previous camera saw there): kept; the blend with age 5.
     state.depth = Image(w, h, 1, 2.5f);
@@ -306,15 +324,11 @@ TEST_CASE(
     "TAA: the decision margins (taa_margin): their sign is the decision, their size the "
     "distance from the threshold") {
     // As above: the camera moves 0.5 forward, a surface at depth 2 was at 2.5 (tau = 1%).
-    const int w = 30, h = 30;
-    Camera previous = yawed(0.0f), camera = previous;
-    camera.position += 0.5f * camera.forward;
-    const Image color(w, h, 3, 0.25f), depth(w, h, 1, 2.0f);
-    TaaState state;
-    state.valid = true;
-    state.camera = previous;
-    state.history = Image(w, h, 3, 0.75f);
-    state.age = Image(w, h, 1, 4.0f);
+    ForwardStep f0;
+    const int w = ForwardStep::w, h = ForwardStep::h;
+    const Camera& camera = f0.camera;
+    const Image &color = f0.color, &depth = f0.depth;
+    TaaState& state = f0.state;
     for (const float history_depth : {2.5f, 2.52f, 2.53f, 4.0f}) {
         state.depth = Image(w, h, 1, history_depth);
         Image out, age, margin;

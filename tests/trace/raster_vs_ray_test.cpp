@@ -191,7 +191,7 @@ TEST_CASE("a jittered rasterizer samples where the ray caster's jittered rays go
     const Offset2 sample{0.25f, 0.8125f};
     RasterSettings jittered;
     jittered.sample = sample;
-    CHECK(raster_sample_shift(jittered) == FixedPoint{-64, 80});
+    CHECK(raster_sample_shift(jittered.sample) == FixedPoint{-64, 80});
     for (const char* name : {"cornell", "checker-room"}) {
         CAPTURE(name);
         const Scene scene = make_procedural_scene(name);

@@ -6,6 +6,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 
@@ -56,8 +57,11 @@ FrameTexture load_texture(const std::string& path) {
     return texture;
 }
 
-// The MTL's materials in file order (material id = their order in the scene).
-void load_mtl(const std::string& path, FrameScene& scene) {
+// Calls statement(keyword, rest of the line, "file:line") for every line of the OBJ or MTL file
+// at `path` (a trailing CR dropped; blank lines give an empty keyword).
+void for_each_statement(const std::string& path,
+                        const std::function<void(const std::string&, std::istringstream&,
+                                                 const std::string&)>& statement) {
     std::istringstream text(read_text(path));
     std::string line;
     int number_of_line = 0;
@@ -67,28 +71,36 @@ void load_mtl(const std::string& path, FrameScene& scene) {
         std::istringstream in(line);
         std::string keyword;
         in >> keyword;
-        const std::string where = path + ":" + std::to_string(number_of_line);
-        if (keyword == "newmtl") {
-            FrameMaterial material;
-            in >> material.name;
-            scene.materials.push_back(material);
-            continue;
-        }
-        if (keyword.empty() || keyword[0] == '#') continue;
-        if (scene.materials.empty()) throw std::runtime_error(where + ": statement before newmtl");
-        FrameMaterial& material = scene.materials.back();
-        if (keyword == "Kd") material.albedo = vec3_of(in, where);
-        if (keyword == "Ke") material.emission = vec3_of(in, where);
-        if (keyword == "map_Kd") {
-            std::string file;
-            std::getline(in >> std::ws, file);
-            if (file.size() < 4 || file.substr(file.size() - 4) != ".pfm")
-                throw std::runtime_error(where + ": texture '" + file +
-                                         "': only PFM textures are read by this client");
-            material.texture = static_cast<int>(scene.textures.size());
-            scene.textures.push_back(load_texture(directory_of(path) + "/" + file));
-        }
+        statement(keyword, in, path + ":" + std::to_string(number_of_line));
     }
+}
+
+// The MTL's materials in file order (material id = their order in the scene).
+void load_mtl(const std::string& path, FrameScene& scene) {
+    for_each_statement(
+        path, [&](const std::string& keyword, std::istringstream& in, const std::string& where) {
+            if (keyword == "newmtl") {
+                FrameMaterial material;
+                in >> material.name;
+                scene.materials.push_back(material);
+                return;
+            }
+            if (keyword.empty() || keyword[0] == '#') return;
+            if (scene.materials.empty())
+                throw std::runtime_error(where + ": statement before newmtl");
+            FrameMaterial& material = scene.materials.back();
+            if (keyword == "Kd") material.albedo = vec3_of(in, where);
+            if (keyword == "Ke") material.emission = vec3_of(in, where);
+            if (keyword == "map_Kd") {
+                std::string file;
+                std::getline(in >> std::ws, file);
+                if (file.size() < 4 || file.substr(file.size() - 4) != ".pfm")
+                    throw std::runtime_error(where + ": texture '" + file +
+                                             "': only PFM textures are read by this client");
+                material.texture = static_cast<int>(scene.textures.size());
+                scene.textures.push_back(load_texture(directory_of(path) + "/" + file));
+            }
+        });
 }
 
 int material_index(FrameScene& scene, const std::string& name) {
@@ -167,49 +179,42 @@ void add_triangle(const ObjLists& obj, const Corner* corners[3], int material, F
 
 // The OBJ's triangles (polygons as fans, which the exported files never need).
 void load_obj(const std::string& path, FrameScene& scene) {
-    std::istringstream text(read_text(path));
     ObjLists obj;
-    std::string line;
-    int number_of_line = 0, material = -1;
-    while (std::getline(text, line)) {
-        ++number_of_line;
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        std::istringstream in(line);
-        std::string keyword;
-        in >> keyword;
-        const std::string where = path + ":" + std::to_string(number_of_line);
-        if (keyword == "v") obj.v.push_back(vec3_of(in, where));
-        if (keyword == "vn") obj.vn.push_back(vec3_of(in, where));
-        if (keyword == "vt") {
-            std::string u, v;
-            in >> u >> v;
-            obj.vt.push_back(number(u, where));
-            obj.vt.push_back(v.empty() ? 0.0f : number(v, where));
-        }
-        if (keyword == "mtllib") {
-            std::string file;
-            std::getline(in >> std::ws, file);
-            load_mtl(directory_of(path) + "/" + file, scene);
-        }
-        if (keyword == "usemtl") {
-            std::string name;
-            in >> name;
-            material = material_index(scene, name);
-        }
-        if (keyword != "f") continue;
-        std::vector<Corner> corners;
-        for (std::string token; in >> token;) {
-            Corner c{};
-            corner_of(token, obj.v.size(), obj.vt.size() / 2, obj.vn.size(), c.data(), where);
-            corners.push_back(c);
-        }
-        if (corners.size() < 3) throw std::runtime_error(where + ": face with < 3 corners");
-        if (material < 0) material = material_index(scene, "default");
-        for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
-            const Corner* fan[3] = {&corners[0], &corners[k], &corners[k + 1]};
-            add_triangle(obj, fan, material, scene);
-        }
-    }
+    int material = -1;
+    for_each_statement(
+        path, [&](const std::string& keyword, std::istringstream& in, const std::string& where) {
+            if (keyword == "v") obj.v.push_back(vec3_of(in, where));
+            if (keyword == "vn") obj.vn.push_back(vec3_of(in, where));
+            if (keyword == "vt") {
+                std::string u, v;
+                in >> u >> v;
+                obj.vt.push_back(number(u, where));
+                obj.vt.push_back(v.empty() ? 0.0f : number(v, where));
+            }
+            if (keyword == "mtllib") {
+                std::string file;
+                std::getline(in >> std::ws, file);
+                load_mtl(directory_of(path) + "/" + file, scene);
+            }
+            if (keyword == "usemtl") {
+                std::string name;
+                in >> name;
+                material = material_index(scene, name);
+            }
+            if (keyword != "f") return;
+            std::vector<Corner> corners;
+            for (std::string token; in >> token;) {
+                Corner c{};
+                corner_of(token, obj.v.size(), obj.vt.size() / 2, obj.vn.size(), c.data(), where);
+                corners.push_back(c);
+            }
+            if (corners.size() < 3) throw std::runtime_error(where + ": face with < 3 corners");
+            if (material < 0) material = material_index(scene, "default");
+            for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
+                const Corner* fan[3] = {&corners[0], &corners[k], &corners[k + 1]};
+                add_triangle(obj, fan, material, scene);
+            }
+        });
 }
 
 // The explicit lights of scene.json, then one triangle light per emissive triangle.
