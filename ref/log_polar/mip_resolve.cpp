@@ -46,11 +46,14 @@ std::vector<MipLevel> build_lp_mips(const Image& color, const Image& valid) {
     return levels;
 }
 
-float mip_level(const LogPolarMap& map, glm::vec2 c, int levels) {
+float mip_lambda(const LogPolarMap& map, glm::vec2 c) {
     const float r = std::max(gaze_distance(map.gaze, c), 0x1p-10f);
     const TexelsPerPixel s = texels_per_pixel(map, r);
-    const float lambda = dm::log2(std::max(s.radial, s.angular));
-    return std::clamp(lambda, 0.0f, static_cast<float>(levels - 1));
+    return dm::log2(std::max(s.radial, s.angular));
+}
+
+float mip_level(const LogPolarMap& map, glm::vec2 c, int levels) {
+    return std::clamp(mip_lambda(map, c), 0.0f, static_cast<float>(levels - 1));
 }
 
 void resolve_mip_pixel(const LogPolarMap& map, const std::vector<MipLevel>& mips,
@@ -61,12 +64,14 @@ void resolve_mip_pixel(const LogPolarMap& map, const std::vector<MipLevel>& mips
     ++stats.pixels_from_buffer;
     const glm::vec2 centre = pixel_centre(x, y);
     const std::size_t k = static_cast<std::size_t>(y) * map.screen_width + x;
+    const int levels = static_cast<int>(mips.size());
     const float lambda =
-        table ? table->mip_lambda[k] : mip_level(map, centre, static_cast<int>(mips.size()));
+        table ? std::clamp(table->mip_lambda[k], 0.0f, static_cast<float>(levels - 1))
+              : mip_level(map, centre, levels);
     if (lambda_out) *lambda_out = lambda;
     const glm::vec2 uv = table ? table->uv[k] : lp_forward(map, centre);
     const int l0 = static_cast<int>(std::floor(lambda));
-    const int l1 = std::min(l0 + 1, static_cast<int>(mips.size()) - 1);
+    const int l1 = std::min(l0 + 1, levels - 1);
     const float f = lambda - static_cast<float>(l0);
     float a[4] = {0, 0, 0, 0}, b[4] = {0, 0, 0, 0};
     const auto sample = [&](int level, float* value) {

@@ -39,7 +39,10 @@ struct MipLevel {
 /// The pyramid of a buffer (level 0 = the buffer itself).
 std::vector<MipLevel> build_lp_mips(const Image& color, const Image& valid);
 
-/// The pyramid level (continuous) of screen point c, for a pyramid of `levels` levels.
+/// The pyramid level (continuous) of screen point c before its clamp: log2(max(s_u, s_v)).
+float mip_lambda(const LogPolarMap& map, glm::vec2 c);
+/// The pyramid level (continuous) of screen point c, for a pyramid of `levels` levels: mip_lambda
+/// clamped to [0, levels - 1].
 float mip_level(const LogPolarMap& map, glm::vec2 c, int levels);
 
 /// Per-pixel work of the mip resolve: screen pixel (x, y) of `out`. `lambda` (optional)

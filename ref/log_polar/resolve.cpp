@@ -34,8 +34,7 @@ float lerp(float a, float b, float t) { return a + t * (b - a); }
 
 }  // namespace
 
-BilinearLookup lp_bilinear_taps(const Image& valid, glm::vec2 uv) {
-    const int w = valid.width, h = valid.height;
+BilinearLookup lp_bilinear_index(int w, int h, glm::vec2 uv) {
     BilinearLookup l;
     l.uv = uv;
     // lp_forward gives a finite u and v in [0, h); anything else is a caller's bug.
@@ -56,6 +55,11 @@ BilinearLookup lp_bilinear_taps(const Image& valid, glm::vec2 uv) {
     while (l.j0 < 0) l.j0 += h;
     while (l.j0 >= h) l.j0 -= h;
     l.j1 = l.j0 + 1 == h ? 0 : l.j0 + 1;
+    return l;
+}
+
+BilinearLookup lp_bilinear_taps(const Image& valid, glm::vec2 uv) {
+    BilinearLookup l = lp_bilinear_index(valid.width, valid.height, uv);
     l.traced[0] = valid.at(l.i0, l.j0) != 0.0f;
     l.traced[1] = valid.at(l.i1, l.j0) != 0.0f;
     l.traced[2] = valid.at(l.i0, l.j1) != 0.0f;
@@ -118,15 +122,18 @@ GazeInput gaze_input(const LogPolarMap& map, const Image* image) {
     return gaze;
 }
 
-bool gaze_pixel(const LogPolarMap& map, const GazeInput& gaze, int x, int y, float* pixel,
-                int channels, ResolveStats& stats) {
+bool reads_gaze_buffer(const LogPolarMap& map, const GazeInput& gaze, int x, int y) {
     if (!gaze.image) return false;
     const ScreenWindow& w = gaze.window;
     // Outside the window no pixel centre is inside the circle (gaze_window), so only the
     // window's pixels need the distance.
     if (x < w.x0 || y < w.y0 || x >= w.x0 + w.width || y >= w.y0 + w.height) return false;
-    const glm::vec2 centre = pixel_centre(x, y);
-    if (!inside_gaze_circle(map, centre)) return false;
+    return inside_gaze_circle(map, pixel_centre(x, y));
+}
+
+bool gaze_pixel(const LogPolarMap& map, const GazeInput& gaze, int x, int y, float* pixel,
+                int channels, ResolveStats& stats) {
+    if (!reads_gaze_buffer(map, gaze, x, y)) return false;
     ++stats.pixels_from_gaze;
     for (int c = 0; c < channels; ++c)
         pixel[c] = gaze.image->at(x - gaze.window.x0, y - gaze.window.y0, c);
@@ -145,7 +152,7 @@ ForwardTable forward_table(const LogPolarMap& map, int mip_levels) {
             const glm::vec2 c = pixel_centre(x, y);
             const std::size_t k = static_cast<std::size_t>(y) * map.screen_width + x;
             table.uv[k] = lp_forward(map, c);
-            if (mip_levels > 0) table.mip_lambda[k] = mip_level(map, c, mip_levels);
+            if (mip_levels > 0) table.mip_lambda[k] = mip_lambda(map, c);
         }
     return table;
 }

@@ -41,6 +41,11 @@ struct BilinearLookup {
     float t = 0.0f;                                 ///< the final lerp's parameter
 };
 
+/// The columns, rows and fractions of the bilinear lookup at buffer coordinates uv in a
+/// width x height buffer, as sample_lp_bilinear computes them (traced, row_weight and t are
+/// left false and 0). Throws fovref::Error (a bug) for a v more than a row outside [0, height].
+BilinearLookup lp_bilinear_index(int width, int height, glm::vec2 uv);
+
 /// The four taps of the bilinear lookup at buffer coordinates uv (columns, rows, fractions and
 /// which are traced, from `valid`), as sample_lp_bilinear reads them; row_weight and t are 0.
 BilinearLookup lp_bilinear_taps(const Image& valid, glm::vec2 uv);
@@ -66,6 +71,10 @@ struct GazeInput {
 /// The gaze input of a frame: `image` (null: none) covering gaze_window(map).
 GazeInput gaze_input(const LogPolarMap& map, const Image* image);
 
+/// Whether pass 2 takes screen pixel (x, y) from the gaze buffer: there is one and the pixel's
+/// centre lies inside the gaze circle.
+bool reads_gaze_buffer(const LogPolarMap& map, const GazeInput& gaze, int x, int y);
+
 /// Pass 2 inside the gaze circle: when screen pixel (x, y)'s centre lies inside it and there is
 /// a gaze buffer, copies that buffer's pixel to `pixel` (channels values), counts it and returns
 /// true; otherwise returns false.
@@ -82,12 +91,13 @@ struct ResolveInputs {
 
 /// Pass 2's forward map of every pixel centre, made once for a map and reused while the map (the
 /// gaze, the sizes, the constants) stays the same, as a GPU renderer keeps such a table: the
-/// values are lp_forward's, bit for bit, and with `mip_levels` > 0 also mip_level's.
+/// values are lp_forward's, bit for bit, and with `mip_levels` > 0 also mip_lambda's (the level
+/// before its clamp: clamped to [0, mip_levels - 1] it is mip_level's).
 struct ForwardTable {
     LogPolarMap map;
     int mip_levels = 0;
     std::vector<glm::vec2> uv;      ///< W x H, row-major
-    std::vector<float> mip_lambda;  ///< W x H when mip_levels > 0
+    std::vector<float> mip_lambda;  ///< W x H when mip_levels > 0, unclamped
 };
 ForwardTable forward_table(const LogPolarMap& map, int mip_levels = 0);
 

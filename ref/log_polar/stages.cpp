@@ -201,12 +201,35 @@ void resolve_stage(FrameContext& ctx) {
                std::to_string(stats.pixels_from_gaze) + " pixels from the gaze buffer, " +
                std::to_string(stats.pixels_from_buffer) + " from the log-polar buffer";
     ctx.output("output", BufferKind::color, {"r", "g", "b"}, std::move(out));
+    output_resolve_decisions(ctx, lp_resolve_decisions(table, gaze, color.width, color.height));
 }
 
 StageDef resolve_stage_def(const LogPolarStage& shared, std::string color, std::string output) {
     std::vector<Port> inputs = {{"color", std::move(color)}, {"valid", "lp_valid"}};
     if (shared.frames->params.map.gaze_angle > 0.0f) inputs.emplace_back("gaze", "gaze_color");
-    return {"resolve", inputs, {{"output", std::move(output)}}, resolve_stage, lp_state(shared)};
+    std::vector<Port> outputs = {{"output", std::move(output)}};
+    for (Port& port : resolve_decision_ports(shared.frames->params.mip_resolve))
+        outputs.push_back(std::move(port));
+    return {"resolve", inputs, outputs, resolve_stage, lp_state(shared)};
+}
+
+std::vector<Port> resolve_decision_ports(bool mip) {
+    std::vector<Port> ports = {{"tap", "resolve_tap"}, {"tap_margin", "resolve_tap_margin"}};
+    if (mip) {
+        ports.emplace_back("mip_level", "resolve_mip_level");
+        ports.emplace_back("mip_margin", "resolve_mip_margin");
+    }
+    return ports;
+}
+
+void output_resolve_decisions(const FrameContext& ctx, ResolveDecisions d) {
+    ctx.output("tap", BufferKind::id, {"i0", "j0"}, std::move(d.tap));
+    ctx.output("tap_margin", BufferKind::scalar, {"texels"}, std::move(d.tap_margin));
+    if (d.mip_level.data.empty()) return;
+    std::vector<std::string> levels = {"level"};
+    if (d.mip_level.channels == 2) levels = {"i0_level", "i1_level"};
+    ctx.output("mip_level", BufferKind::id, std::move(levels), std::move(d.mip_level));
+    ctx.output("mip_margin", BufferKind::scalar, {"levels"}, std::move(d.mip_margin));
 }
 
 void ray_positions_stage(FrameContext& ctx) {

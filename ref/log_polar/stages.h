@@ -9,7 +9,9 @@
 //                                          pixel under its screen point (Meng's deferred KFR)
 //   gaze_trace     (nothing)            -> gaze_gbuffer_*, gaze_valid: one ray per pixel centre
 //                                          inside the gaze circle (composite modes)
-//   resolve        color, valid [, gaze] -> pass 2 (bilinear or mip) to the screen
+//   resolve        color, valid [, gaze] -> pass 2 (bilinear or mip) to the screen, and its
+//                                          decisions: resolve_tap, resolve_tap_margin (mip:
+//                                          resolve_mip_level, resolve_mip_margin)
 //   ray_positions  valid, screen_point [, gaze_valid] -> rays per screen pixel (Lund Fig. 3.3)
 //   stereo_trace, stereo_resolve, stereo_ray_positions: the same for Gupta's two eyes side by
 //                                          side
@@ -33,6 +35,7 @@
 #include "ref/bvh/bvh_cache.h"
 #include "ref/log_polar/params.h"
 #include "ref/log_polar/resolve.h"
+#include "ref/log_polar/resolve_decisions.h"
 #include "ref/log_polar/stereo.h"
 #include "ref/stage/pipeline.h"
 #include "ref/trace/stages.h"
@@ -75,6 +78,12 @@ StageDef resolve_stage_def(const LogPolarStage& shared, std::string color, std::
 void resolve_stage(FrameContext& context);
 StageDef ray_positions_stage_def(const LogPolarStage& shared);
 void ray_positions_stage(FrameContext& context);
+
+/// A resolve stage's decision outputs (ref/log_polar/resolve_decisions.h), slots tap,
+/// tap_margin and, with `mip`, mip_level, mip_margin, wired to the buffers resolve_<slot>.
+std::vector<Port> resolve_decision_ports(bool mip);
+/// Adds a resolve stage's decisions as its outputs (the mip level's when it has them).
+void output_resolve_decisions(const FrameContext& context, ResolveDecisions decisions);
 
 /// The gaze buffer's window on the screen in a frame (the gaze shading's ShadeView::window).
 std::function<ScreenWindow(const FrameContext&)> gaze_window_of(

@@ -40,6 +40,16 @@ Tolerance shares(double abs, double rel, double failing_share, const std::string
     return t;
 }
 
+// A decision buffer: a flip where the oracle's margin lies within `epsilon` of the threshold is
+// near-threshold (reported, not failing); any other flip fails.
+Tolerance decision(const std::string& margin, std::vector<double> epsilon,
+                   const std::string& reason) {
+    Tolerance t = integers(0.0, reason);
+    t.margin = margin;
+    t.margin_epsilon = std::move(epsilon);
+    return t;
+}
+
 // What the profile assumes of the GPU's own arithmetic (docs/diff.md, "What a correct port
 // differs by"): binary32 with its own operation order and FMA; exp, log within 4 ulp; sin, cos,
 // atan2 within 2^-20 absolute (NVIDIA's and AMD's hardware meet both; the Vulkan spec's minimum,
@@ -130,6 +140,31 @@ void add_foveation(ToleranceTable& table) {
     for (const char* screen :
          {"resolved", "taa_color", "lerp_filtered", "blur_horizontal", "filled", "final"})
         table.buffers[screen] = values(2e-3, 1e-3, 0, resolve_reason);
+    table.buffers["resolve_tap"] = decision(
+        "resolve_tap_margin", {2e-3},
+        "pass 2's first tap (column, row) is floor of the sampling point's coordinates in "
+        "texels, which the GPU's forward map (log, atan2; 4 ulp and 2^-20) moves by about 1e-3 "
+        "texel (measured 7e-4 on lavapipe at 1280x720): a flip where the oracle's coordinate "
+        "lies within 2e-3 texel of an integer (resolve_tap_margin) is near-threshold and changes "
+        "no pixel (the blend is continuous across it); any other flip is a bug");
+    table.buffers["resolve_mip_level"] = decision(
+        "resolve_mip_margin", {1e-5},
+        "the mip level read first is floor(lambda), lambda = log2(max(s_u, s_v)) of the texels "
+        "per pixel: the GPU's log2 (4 ulp of |lambda| <= 12: 6e-6) and the few ulps of s_u's "
+        "pow and ln (2e-6 / ln 2) move lambda by up to 1e-5 (measured 1.2e-6 on lavapipe): a "
+        "flip where the oracle's lambda lies within 1e-5 of an integer (resolve_mip_margin) is "
+        "near-threshold and changes no pixel (the levels' lerp is continuous); any other flip "
+        "is a bug");
+    table.buffers["resolve_tap_margin"] = values(
+        2e-3, 0.0, 4,
+        "the oracle's distance of pass 2's sampling point from where its tap changes (the diff "
+        "reads the golden's to judge resolve_tap; a port need not write it); 1e30 where pass 2 "
+        "read no buffer (within 4 ulp)");
+    table.buffers["resolve_mip_margin"] = values(
+        1e-5, 0.0, 4,
+        "the oracle's distance of lambda from where the mip level changes (the diff reads the "
+        "golden's to judge resolve_mip_level; a port need not write it); 1e30 where none (within 4 "
+        "ulp)");
     table.buffers["taa_view_depth"] =
         values(0.0, 3e-4, 0, "the depth of the texel pass 2 sampled: as lp_gbuffer_view_depth");
     table.buffers["taa_margin"] = values(
@@ -263,16 +298,6 @@ ToleranceTable make_gpu_rt() {
         "mismatch is a bug");
 }
 
-// A decision buffer: a flip where the oracle's margin lies within `epsilon` of the threshold is
-// near-threshold (reported, not failing); any other flip fails.
-Tolerance decision(const std::string& margin, std::vector<double> epsilon,
-                   const std::string& reason) {
-    Tolerance t = integers(0.0, reason);
-    t.margin = margin;
-    t.margin_epsilon = std::move(epsilon);
-    return t;
-}
-
 // The Vulkan compute port's profile (tools/clients/vulkan/, docs/gpu-port.md): gpu-rt's entries
 // (its frame pass traces rays in a compute shader) with the threshold decisions compared as
 // decisions, each ε from the error analysis of the value the decision tests.
@@ -281,15 +306,16 @@ ToleranceTable make_vulkan() {
     // Measured on the port (lavapipe, 1280x720): pass 2's sampling point moves by up to 7e-4
     // texel (native atan and log), which times the contrast at an emitter's edge (8 against
     // 0.13 on cornell) gives up to 4.4e-3; 11 of 921600 pixels (1.2e-5) on cornell-kfov, 9 on
-    // cornell-cfov; and a Visual-Polar row index within 2.3e-5 of its threshold next to
-    // untraced texels changed one pixel of checker-room-visual-polar-basic by 0.051
+    // cornell-cfov, 97 and 105 (1.1e-4) on the two frames of textured-room-ckfov-gaze-lerp (its
+    // ceiling light's longer edge); and a Visual-Polar row index within 2.3e-5 of its threshold
+    // next to untraced texels changed one pixel of checker-room-visual-polar-basic by 0.051
     for (const char* screen :
          {"resolved", "taa_color", "lerp_filtered", "blur_horizontal", "filled", "final"}) {
         Tolerance& t = table.buffers[screen];
-        t.max_failing_share = 5e-5;
+        t.max_failing_share = 2e-4;
         t.reason +=
-            "; beyond that 5e-5 of the pixels (measured 1.2e-5 at 1280x720: pass 2's sampling "
-            "point, 7e-4 texel off, at an emitter's edge of contrast 8, up to 4.4e-3; a "
+            "; beyond that 2e-4 of the pixels (measured up to 1.1e-4 at 1280x720: pass 2's "
+            "sampling point, 7e-4 texel off, at an emitter's edge of contrast 8, up to 4.4e-3; a "
             "Visual-Polar row within 2.3e-5 of its threshold beside untraced texels)";
     }
     const std::string border =

@@ -121,10 +121,36 @@ VpMips build_vp_mips(const VisualPolarMap& map, const Image& color, const Image&
     return mips;
 }
 
-float vp_mip_level(int rows, float radius) {
+float vp_mip_lambda(int rows, float radius) {
     const float r = std::max(radius, 0x1p-10f);
-    const float lambda = dm::log2(static_cast<float>(rows) / (two_pi * r));
-    return std::clamp(lambda, 0.0f, static_cast<float>(vp_mip_last_level(rows)));
+    return dm::log2(static_cast<float>(rows) / (two_pi * r));
+}
+
+float vp_mip_level(int rows, float radius) {
+    return std::clamp(vp_mip_lambda(rows, radius), 0.0f,
+                      static_cast<float>(vp_mip_last_level(rows)));
+}
+
+VpColumns vp_rho_columns(int width, float u) {
+    VpColumns c;
+    const float s = std::clamp(u, 0.5f, static_cast<float>(width) - 0.5f) - 0.5f;
+    const float i0f = std::floor(s);
+    c.i0 = static_cast<int>(i0f);
+    c.i1 = std::min(c.i0 + 1, width - 1);
+    c.fx = s - i0f;
+    c.count = c.i1 != c.i0 && c.fx > 0.0f ? 2 : 1;
+    return c;
+}
+
+VpRows vp_phi_rows(int rows, float v) {
+    VpRows r;
+    const float t = v - 0.5f;
+    const float j0f = std::floor(t);
+    r.fv = t - j0f;
+    r.j0 = static_cast<int>(j0f) % rows;
+    if (r.j0 < 0) r.j0 += rows;
+    r.j1 = r.j0 + 1 == rows ? 0 : r.j0 + 1;
+    return r;
 }
 
 bool sample_vp_phi(const Image& color, const Image& valid, int column, int rows, float v,
@@ -134,12 +160,9 @@ bool sample_vp_phi(const Image& color, const Image& valid, int column, int rows,
     // that is wrapped the same way, anything else is a caller's bug.
     FOVREF_CHECK(v >= -static_cast<float>(rows) && v <= 2.0f * static_cast<float>(rows),
                  "a phi lookup outside the column's angular range");
-    const float t = v - 0.5f;
-    const float j0f = std::floor(t);
-    const float fv = t - j0f;
-    int j0 = static_cast<int>(j0f) % rows;
-    if (j0 < 0) j0 += rows;
-    const int j1 = j0 + 1 == rows ? 0 : j0 + 1;
+    const VpRows phi = vp_phi_rows(rows, v);
+    const int j0 = phi.j0, j1 = phi.j1;
+    const float fv = phi.fv;
     const bool traced0 = valid.at(column, j0) != 0.0f;               // weight 1 - fv > 0
     const bool traced1 = fv > 0.0f && valid.at(column, j1) != 0.0f;  // weight fv
     for (int c = 0; c < channels; ++c) {
@@ -193,17 +216,14 @@ void resolve_vp_pixel(const VisualPolarMap& map, const VpMips& mips, Image& out,
     }
 
     // The two columns along rho (clamped to the first and last texel centres)
-    const float s = std::clamp(u, 0.5f, static_cast<float>(map.width) - 0.5f) - 0.5f;
-    const float i0f = std::floor(s);
-    const int columns[2] = {static_cast<int>(i0f),
-                            std::min(static_cast<int>(i0f) + 1, map.width - 1)};
-    const float fx = s - i0f;
+    const VpColumns rho = vp_rho_columns(map.width, u);
+    const int columns[2] = {rho.i0, rho.i1};
+    const float fx = rho.fx;
 
     // Each column at the pixel's angle on its own rows, at its own phi level
     float values[2][max_channels] = {{0, 0, 0, 0}, {0, 0, 0, 0}};
     bool have[2] = {false, false};
-    for (int k = 0; k < 2; ++k) {
-        if (k == 1 && (columns[1] == columns[0] || !(fx > 0.0f))) break;
+    for (int k = 0; k < rho.count; ++k) {
         const int n = mips.column_rows[static_cast<std::size_t>(columns[k])];
         const float v = static_cast<float>(n) * theta / two_pi;
         const float lambda = mip ? vp_mip_level(n, r) : 0.0f;
@@ -249,22 +269,15 @@ Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, Resolv
 std::vector<glm::ivec2> vp_resolve_taps(const VisualPolarMap& map, int x, int y) {
     float u = 0.0f, r = 0.0f, theta = 0.0f;
     vp_polar_pixel(map, x, y, u, r, theta);
-    const float s = std::clamp(u, 0.5f, static_cast<float>(map.width) - 0.5f) - 0.5f;
-    const float i0f = std::floor(s);
-    const int columns[2] = {static_cast<int>(i0f),
-                            std::min(static_cast<int>(i0f) + 1, map.width - 1)};
-    const float fx = s - i0f;
+    const VpColumns rho = vp_rho_columns(map.width, u);
     std::vector<glm::ivec2> taps;
-    for (int k = 0; k < 2; ++k) {
-        if (k == 1 && (columns[1] == columns[0] || !(fx > 0.0f))) break;
+    for (int k = 0; k < rho.count; ++k) {
         // the rows sample_vp_phi reads on this column's own rows
-        const int rows = vp_column_rows(map, columns[k]);
-        const float t = static_cast<float>(rows) * theta / two_pi - 0.5f;
-        const float j0f = std::floor(t);
-        int j0 = static_cast<int>(j0f) % rows;
-        if (j0 < 0) j0 += rows;
-        taps.emplace_back(columns[k], j0);
-        if (t - j0f > 0.0f) taps.emplace_back(columns[k], j0 + 1 == rows ? 0 : j0 + 1);
+        const int column = k == 0 ? rho.i0 : rho.i1;
+        const int rows = vp_column_rows(map, column);
+        const VpRows phi = vp_phi_rows(rows, static_cast<float>(rows) * theta / two_pi);
+        taps.emplace_back(column, phi.j0);
+        if (phi.fv > 0.0f) taps.emplace_back(column, phi.j1);
     }
     return taps;
 }

@@ -86,6 +86,26 @@ VpMips build_vp_mips(const VisualPolarMap& map, const Image& color, const Image&
 /// The phi level (continuous) of a column of `rows` rows seen at screen radius `radius`:
 /// clamp(log2(rows / (2 pi max(radius, 2^-10))), 0, vp_mip_last_level(rows)).
 float vp_mip_level(int rows, float radius);
+/// The same level before its clamp: log2(rows / (2 pi max(radius, 2^-10))).
+float vp_mip_lambda(int rows, float radius);
+
+/// The columns a lookup at column coordinate u reads along rho: s = clamp(u, 1/2, width - 1/2)
+/// - 1/2, i0 = floor(s), i1 = min(i0 + 1, width - 1), fx = s - i0; `count` is 2 when column i1
+/// has a weight (i1 != i0 and fx > 0), else 1.
+struct VpColumns {
+    int i0 = 0, i1 = 0;
+    float fx = 0.0f;
+    int count = 1;
+};
+VpColumns vp_rho_columns(int width, float u);
+
+/// The rows a lookup at row coordinate v reads along phi on a column of `rows` rows: t = v - 1/2,
+/// j0 = floor(t) wrapped into [0, rows), j1 = (j0 + 1) mod rows, fv = t - floor(t).
+struct VpRows {
+    int j0 = 0, j1 = 0;
+    float fv = 0.0f;
+};
+VpRows vp_phi_rows(int rows, float v);
 
 /// Linear lookup along phi of column `column` of one level (`color`, `valid`) that has `rows`
 /// rows there, at continuous row coordinate v (texel centres at + 1/2, wrap modulo rows) over

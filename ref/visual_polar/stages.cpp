@@ -3,7 +3,9 @@
 #include <cstdio>
 #include <utility>
 
+#include "ref/log_polar/stages.h"
 #include "ref/trace/stages.h"
+#include "ref/visual_polar/resolve_decisions.h"
 #include "ref/visual_polar/sparse_sampling.h"
 #include "ref/visual_polar/trace.h"
 
@@ -136,12 +138,16 @@ void vp_resolve_stage(FrameContext& ctx) {
                     : std::string("bilinear")) +
                (reused ? ", forward map reused" : ", forward map computed");
     ctx.output("output", BufferKind::color, rgb, std::move(out));
+    output_resolve_decisions(ctx, vp_resolve_decisions(*frames.forward, mip));
 }
 
 StageDef vp_resolve_stage_def(std::shared_ptr<SparseFrames> frames, std::string output) {
+    std::vector<Port> outputs = {{"output", std::move(output)}};
+    for (Port& port : resolve_decision_ports(frames->params.mip_resolve))
+        outputs.push_back(std::move(port));
     return {"resolve",
             {{"color", "vp_color"}, {"valid", "vp_valid"}},
-            {{"output", std::move(output)}},
+            outputs,
             vp_resolve_stage,
             sparse_state(std::move(frames))};
 }

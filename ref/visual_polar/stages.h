@@ -3,7 +3,8 @@
 // function beside it:
 //
 //   vp_trace           (nothing)        -> vp_gbuffer_*, vp_valid, vp_screen_point
-//   resolve            vp_color, vp_valid -> the φ-mip (or bilinear) resolve to the screen
+//   resolve            vp_color, vp_valid -> the φ-mip (or bilinear) resolve to the screen and
+//                      its decisions (resolve_tap, ...: ref/visual_polar/resolve_decisions.h)
 //   falloff_mask       (nothing)        -> sample_mask: the pixels linear fall-off traces
 //   fill               sparse_radiance [, sparse_emission], sample_mask -> push-pull (or black)
 //   acuity_trace       (nothing)        -> acuity_gbuffer_*, acuity_valid, acuity_point (N x 1)

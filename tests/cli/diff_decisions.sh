@@ -39,6 +39,50 @@ contains "interior mismatch (20, 31)" "and named"
 python3 "$SRC/tests/cli/fake_port.py" g other 0 --wrong lp_valid:0:16:2:0 --wrong final:0:10:10:0
 expect 1 "an unexplained pixel fails" -- "$FOVREF" diff g other --profile vulkan --tolerance-file eps.json
 contains "first failing pixel (10, 10)" "named"
+# Pass 2's decisions (resolve_tap, resolve_mip_level) against the oracle's margins: kfr's mip
+# resolve. NEAR: the buffer pixel whose lambda lies closest to an integer; FAR: one whose lambda
+# lies at least 0.3 from one
+expect 0 "export kfr" -- "$FOVREF" golden export checker-room-kfr k -q --raw-copies
+read -r NX NY NM NL FX FY FL W < <(python3 - "$SRC/tests/cli" <<'PY'
+import sys; sys.path.insert(0, sys.argv[1]); from fake_port import read_pfm
+w, h, _, margin = read_pfm("k/f000_resolve_mip_margin.pfm")
+_, _, _, level = read_pfm("k/f000_resolve_mip_level.pfm")
+at = lambda k: (k % w, h - 1 - k // w)  # PFM rows bottom to top
+near = min((m, k) for k, m in enumerate(margin) if 0 < m < 1e29)[1]
+far = next(k for k, m in enumerate(margin) if 0.3 < m < 1e29)
+print(*at(near), margin[near], level[near], *at(far), level[far], w)
+PY
+)
+cat > eps_level.json <<JSON
+{"resolve_mip_level": {"margin": "resolve_mip_margin", "margin_epsilon": [$(python3 -c "print($NM * 1.5)")],
+                       "reason": "test: 1.5 x the nearest margin"}}
+JSON
+python3 "$SRC/tests/cli/fake_port.py" k level_near 0 --wrong "resolve_mip_level:0:$NX:$NY:$((${NL%.*} + 1))"
+expect 0 "a level flip within epsilon of an integer lambda passes" -- "$FOVREF" diff k level_near --profile vulkan --tolerance-file eps_level.json
+contains "decision (margin resolve_mip_margin): 1 near-threshold flip(s)" "counted"
+python3 "$SRC/tests/cli/fake_port.py" k level_far 0 --wrong "resolve_mip_level:0:$FX:$FY:$((${FL%.*} + 1))"
+expect 1 "a level flip far from an integer lambda fails" -- "$FOVREF" diff k level_far --profile vulkan --tolerance-file eps_level.json
+contains "first failing stage: resolve, buffer 'resolve_mip_level'" "named"
+contains "interior mismatch ($FX, $FY)" "at its pixel"
+# resolve_tap has two channels (an EXR, and its raw copy): the port's is the raw copy, changed
+python3 "$SRC/tests/cli/fake_port.py" k tap_far 0
+rm tap_far/f000_resolve_tap.exr
+python3 - "$FX" "$FY" "$W" <<'PY'
+import struct, sys
+x, y, w = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3])
+data = bytearray(open("k/f000_resolve_tap.f32", "rb").read())  # rows top first, 2 channels
+struct.pack_into("<f", data, 4 * 2 * (y * w + x), struct.unpack_from("<f", data, 4 * 2 * (y * w + x))[0] + 1)
+open("tap_far/f000_resolve_tap.f32", "wb").write(data)
+PY
+expect 1 "a tap flip far from its threshold fails" -- "$FOVREF" diff k tap_far --profile vulkan
+contains "first failing stage: resolve, buffer 'resolve_tap'" "named"
+# --require all leaves out the oracle's margins, which no port writes
+rm k_port -rf; python3 "$SRC/tests/cli/fake_port.py" k k_port 0
+rm k_port/*_margin.pfm
+expect 0 "--require all without the margins" -- "$FOVREF" diff k k_port --profile vulkan --require all
+rm k_port/f000_resolve_tap.*
+expect 1 "--require all still requires the decisions" -- "$FOVREF" diff k k_port --profile vulkan --require all
+contains "resolve_tap" "the missing one named"
 # bad tolerance files: a margin without its epsilon
 echo '{"lp_valid": {"margin": "screen_border(lp_screen_point)", "reason": "x"}}' > bad.json
 expect 2 "margin without epsilon" -- "$FOVREF" diff g near --tolerance-file bad.json

@@ -29,8 +29,19 @@ run_pass() {
   echo "$pass, $case: $(python3 -c "
 import json; r = json.load(open('$pass-$case.json'))
 l = [b for b in r['buffers'] if b['stage'] == '$stage' and 'max_abs_error' in b]
+d = [b for b in r['buffers'] if b['stage'] == '$stage' and 'decision_margin' in b]
 print(len(l), 'buffers compared, max |error|', max(b['max_abs_error'] for b in l),
-      ', max ulp', max(b['max_ulp'] for b in l))")"
+      ', max ulp', max(b['max_ulp'] for b in l), ';', len(d), 'decision buffers compared,',
+      sum(b['near_threshold_flips'] for b in d), 'near-threshold flips')")"
+  # the stage's threshold decisions that the port takes are written and compared as decisions
+  checks=$((checks + 1))
+  python3 -c "
+import json, sys; r = json.load(open('$pass-$case.json'))
+decisions = {'lp_valid', 'vp_valid', 'resolve_tap', 'resolve_mip_level', 'taa_age', 'bmfr_accept'}
+missing = [b['name'] for b in r['buffers'] if b['stage'] == '$stage' and b['name'] in decisions
+           and b['status'] != 'pass']
+sys.exit('decision buffers not compared: ' + ', '.join(missing) if missing else 0)" ||
+    { echo "FAIL: $pass, $case: its decisions are not compared"; failures=$((failures + 1)); }
   expect 0 "$pass with an injected bug ($case)" -- "$CLIENT" --lavapipe --bug "$pass" "g_$case" "b_${pass}_$case"
   expect 1 "the diff catches it ($pass, $case)" -- "$FOVREF" diff "g_$case" "b_${pass}_$case" --profile "$profile"
   contains "first failing stage: $stage, buffer " "names the stage"

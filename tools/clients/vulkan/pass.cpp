@@ -141,6 +141,19 @@ void PassContext::write(int frame, const std::string& name, const Image& image) 
         write_binary32(out + file, image.data);
 }
 
+void PassContext::write_resolve_decisions(int frame, const std::vector<float>& decisions,
+                                          int levels) const {
+    const std::size_t pixels = decisions.size() / 4;
+    Image tap{width(), height(), 2, std::vector<float>(pixels * 2)};
+    Image level{width(), height(), levels, std::vector<float>(pixels * levels)};
+    for (std::size_t p = 0; p < pixels; ++p) {
+        for (int c = 0; c < 2; ++c) tap.data[p * 2 + c] = decisions[p * 4 + c];
+        for (int c = 0; c < levels; ++c) level.data[p * levels + c] = decisions[p * 4 + 2 + c];
+    }
+    write(frame, "resolve_tap", tap);
+    if (levels > 0) write(frame, "resolve_mip_level", level);
+}
+
 bool register_pass(const Pass& pass) {
     registry().push_back(pass);
     return true;

@@ -75,6 +75,10 @@ struct PassContext {
     const json* previous_frame(const json& frame) const;
     /// Writes `image` as frame `frame`'s buffer `name` of the dump.
     void write(int frame, const std::string& name, const Image& image) const;
+    /// Writes a resolve's decisions, `decisions` holding 4 values per screen pixel (i0, j0, then
+    /// the levels), as frame `frame`'s resolve_tap (i0, j0) and, when `levels` > 0,
+    /// resolve_mip_level (the next `levels` values).
+    void write_resolve_decisions(int frame, const std::vector<float>& decisions, int levels) const;
 };
 
 struct Pass {

@@ -402,10 +402,13 @@ void resolve_frame(PassContext& ctx, const json& frame, FrameRun& run, const Map
     Image resolved{ctx.width(), ctx.height(), 3, {}};
     resolved.data.assign(static_cast<std::size_t>(ctx.width()) * ctx.height() * 3, 0.0f);
     std::vector<FrameParams> params{run.params};
-    ctx.dispatch("frame_resolve", {host(params), host(run.lp), host(run.gaze), host(resolved.data)},
+    std::vector<float> decisions(resolved.data.size() / 3 * 4, 0.0f);
+    ctx.dispatch("frame_resolve",
+                 {host(params), host(run.lp), host(run.gaze), host(resolved.data), host(decisions)},
                  nullptr, 0, groups(ctx.width(), 8), groups(ctx.height(), 8));
     ctx.notes["resolve_ms"] = ctx.vk.last_run_ms();
     const int index = frame.at("frame").get<int>();
+    ctx.write_resolve_decisions(index, decisions, 0);
     const std::string resolve_output = PassContext::output_of(frame, "resolve");
     if (!resolve_output.empty()) ctx.write(index, resolve_output, resolved);
     const std::string lerp_output = PassContext::output_of(frame, "gaussian_lerp");

@@ -6,8 +6,10 @@
 // G) are computed once per frame on the host, as a renderer would, from the case's parameters
 // (the mode's defaults where the manifest lists none), the frame's display distance and the
 // manifest's counters (gaze_window_x0, gaze_window_y0); the gaze is the case's `gaze`
-// (default the screen centre); `gaze_track` is refused. The dump also holds each pixel's
-// lookup, fNNN_<output>_lookup.f32 (u, v, lambda, source), for the flip report.
+// (default the screen centre); `gaze_track` is refused. The dump also holds the decisions each
+// pixel took, resolve_tap and (mip) resolve_mip_level, which the diff judges against the
+// oracle's margins, and each pixel's lookup, fNNN_<output>_lookup.f32 (u, v, lambda, source),
+// to look at a flip with.
 //
 // log_polar_map_block (below) is shared with passes/stereo_resolve.cpp and passes/post_aa.cpp.
 #include <algorithm>
@@ -245,14 +247,16 @@ void resolve_frame(PassContext& ctx, const json& frame, const std::string& outpu
     Image result{ctx.width(), ctx.height(), colour.channels,
                  std::vector<float>(pixels * colour.channels, 0.0f)};
     Image lookups{ctx.width(), ctx.height(), 4, std::vector<float>(pixels * 4, 0.0f)};
+    std::vector<float> decisions(pixels * 4, 0.0f);
     std::vector<std::uint32_t> words = words_of(map);
     ctx.dispatch("resolve",
                  {host(words), host(levels), host(pyramid), host(mask), host(gaze.data),
-                  host(result.data), host(lookups.data)},
+                  host(result.data), host(lookups.data), host(decisions)},
                  &push, sizeof push, groups(ctx.width(), 8), groups(ctx.height(), 8));
     const int index = frame.at("frame").get<int>();
     ctx.write(index, output, result);
     ctx.write(index, output + "_lookup", lookups);
+    ctx.write_resolve_decisions(index, decisions, filter == "mip" ? 1 : 0);
     ctx.notes["resolve"] =
         filter == "mip" ? "mip, " + std::to_string(level_count) + " levels" : filter;
 }

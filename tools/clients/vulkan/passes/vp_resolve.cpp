@@ -5,7 +5,8 @@
 // (shaders/vp_resolve.comp). The map's constants (i_f, s, s P(u0)) and each column's row count
 // n_i (the buffer's layout, shared with the trace) are computed once on the host, as a renderer
 // would; the gaze is the case's `gaze` parameter (default the screen centre); `gaze_track` is
-// refused.
+// refused. The dump also holds the decisions each pixel took, resolve_tap and (mip)
+// resolve_mip_level, which the diff judges against the oracle's margins.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -77,8 +78,10 @@ std::vector<std::int32_t> column_rows(const VpResolveParameters& m) {
     return rows;
 }
 
-/// One frame: the pyramid (level 0 the buffer, the others zero until built), then the lookup.
-Image resolve_frame(PassContext& ctx, const Image& colour, const Image& valid) {
+/// One frame: the pyramid (level 0 the buffer, the others zero until built), then the lookup;
+/// `decisions` receives 4 values per pixel (vp_resolve.comp's).
+Image resolve_frame(PassContext& ctx, const Image& colour, const Image& valid,
+                    std::vector<float>& decisions, bool& mip) {
     if (colour.channels < 1 || colour.channels > 4)
         throw std::runtime_error("vp_resolve: vp_color has " + std::to_string(colour.channels) +
                                  " channels (1 to 4 supported)");
@@ -104,8 +107,12 @@ Image resolve_frame(PassContext& ctx, const Image& colour, const Image& valid) {
                  std::vector<float>(static_cast<std::size_t>(m.screen_width) * m.screen_height *
                                         static_cast<std::size_t>(m.channels),
                                     0.0f)};
-    ctx.dispatch("vp_resolve", {host(pyramid), host(pyramid_valid), host(rows), host(result.data)},
-                 &m, sizeof m, groups(m.screen_width, 8), groups(m.screen_height, 8));
+    decisions.assign(static_cast<std::size_t>(m.screen_width) * m.screen_height * 4, 0.0f);
+    mip = m.mip != 0;
+    ctx.dispatch(
+        "vp_resolve",
+        {host(pyramid), host(pyramid_valid), host(rows), host(result.data), host(decisions)}, &m,
+        sizeof m, groups(m.screen_width, 8), groups(m.screen_height, 8));
     return result;
 }
 
@@ -117,9 +124,12 @@ int run(PassContext& ctx) {
     for (const json& frame : ctx.frames()) {
         const std::string output = PassContext::output_of(frame, "resolve");
         if (output.empty() || !PassContext::has(frame, "vp_color")) continue;
-        const Image result =
-            resolve_frame(ctx, ctx.read(frame, "vp_color"), ctx.read(frame, "vp_valid"));
+        std::vector<float> decisions;
+        bool mip = false;
+        const Image result = resolve_frame(ctx, ctx.read(frame, "vp_color"),
+                                           ctx.read(frame, "vp_valid"), decisions, mip);
         ctx.write(frame.at("frame").get<int>(), output, result);
+        ctx.write_resolve_decisions(frame.at("frame").get<int>(), decisions, mip ? 2 : 0);
         ++frames;
     }
     if (frames == 0)

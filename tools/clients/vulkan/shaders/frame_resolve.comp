@@ -8,6 +8,8 @@
 //     lerp by fu (weight 1), one -> that tap (weight 1 - fu or fu); the rows' weights W0 =
 //     (1 - fv) w0, W1 = fv w1 -> lerp by fv (equal row weights) or W1 / (W0 + W1); none: black.
 //   lerp(a, b, t) = a + t (b - a), not contracted.
+// `decisions` receives the decisions each pixel took, (i0, j0, 0, 0), or -1 from the gaze buffer
+// (the diff compares them with resolve_tap).
 // -DINJECT_BUG injects the frame pass's porting bug here too: texel centres at integer
 // coordinates (no -1/2 before the taps), consistent with frame_trace.comp's.
 #extension GL_GOOGLE_include_directive : require
@@ -17,6 +19,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(std430, binding = 1) readonly buffer LogPolar { float lp[]; };   // RECORD per texel
 layout(std430, binding = 2) readonly buffer Gaze { float gaze[]; };     // RECORD per pixel
 layout(std430, binding = 3) writeonly buffer Final { float final_color[]; };
+layout(std430, binding = 4) writeonly buffer Decisions { vec4 decisions[]; };
 
 float lerp(float a, float b, float t) {
     precise float r = a + t * (b - a);
@@ -39,8 +42,8 @@ float sample_row(int i0, int i1, int j, float fu, out vec3 row) {
     return t0 ? 1.0 - fu : fu;
 }
 
-// The bilinear lookup over the traced texels at buffer coordinates uv
-vec3 sample_bilinear(vec2 uv) {
+// The bilinear lookup over the traced texels at buffer coordinates uv; `first`: its first tap
+vec3 sample_bilinear(vec2 uv, out ivec2 first) {
     const int w = P.screen.z, h = P.screen.w;
 #ifdef INJECT_BUG
     const float s = clamp(uv.x, 0.5, float(w) - 0.5), t = uv.y;
@@ -54,6 +57,7 @@ vec3 sample_bilinear(vec2 uv) {
     while (j0 < 0) j0 += h;
     while (j0 >= h) j0 -= h;
     const int j1 = j0 + 1 == h ? 0 : j0 + 1;
+    first = ivec2(i0, j0);
     vec3 row0, row1;
     const float w0 = sample_row(i0, i1, j0, fu, row0);
     const float w1 = sample_row(i0, i1, j1, fu, row1);
@@ -74,13 +78,15 @@ void main() {
     const vec2 centre = vec2(xy) + 0.5;
     const ivec2 g = xy - P.window.xy;
     vec3 result;
+    ivec2 first = ivec2(-1);
     if (P.launch.y != 0 && all(greaterThanEqual(g, ivec2(0))) && all(lessThan(g, P.window.zw)) &&
         inside_gaze_circle(centre)) {
         const int k = (g.y * P.window.z + g.x) * RECORD + R_COLOR;
         result = vec3(gaze[k], gaze[k + 1], gaze[k + 2]);
     } else {
-        result = sample_bilinear(lp_forward(centre));
+        result = sample_bilinear(lp_forward(centre), first);
     }
+    decisions[xy.y * P.screen.x + xy.x] = vec4(vec2(first), 0.0, 0.0);
     const int o = (xy.y * P.screen.x + xy.x) * 3;
     final_color[o] = result.x;
     final_color[o + 1] = result.y;

@@ -10,8 +10,10 @@
 //               (u, v) / 2^l and lerped by f = lambda - l0 (a level without a traced tap gives
 //               way to the other; neither: black)
 // The pyramid (shaders/resolve_mips.comp) lies level after level in one buffer. `lookups`
-// receives each pixel's (u, v, lambda, source) for the port's flip report (source: 0 gaze
-// buffer, 1 log-polar buffer, 2 black).
+// receives each pixel's (u, v, lambda, source) (source: 0 gaze buffer, 1 log-polar buffer,
+// 2 black), `decisions` the decisions the pixel took, (i0, j0, l0, 0): the first tap of level l0
+// and l0 (-1 from the gaze buffer), which the diff compares with resolve_tap and
+// resolve_mip_level.
 // -DINJECT_BUG injects a typical porting bug: v (the angle) not wrapped at the buffer's seam,
 // the rows clamped like the columns.
 #extension GL_GOOGLE_include_directive : require
@@ -27,6 +29,7 @@ layout(std430, binding = 3) readonly buffer Valid { float valid[]; };
 layout(std430, binding = 4) readonly buffer GazeColour { float gaze_colour[]; };
 layout(std430, binding = 5) writeonly buffer Result { float result[]; };
 layout(std430, binding = 6) writeonly buffer Lookups { vec4 lookups[]; };
+layout(std430, binding = 7) writeonly buffer Decisions { vec4 decisions[]; };
 layout(push_constant) uniform Parameters {
     int screen_width, screen_height, channels, level_count, mip;
     int gaze_x0, gaze_y0, gaze_width, gaze_height;  // gaze_width = 0: no gaze buffer
@@ -48,10 +51,12 @@ vec4 load(int texel) {
     return c;
 }
 
-// The bilinear lookup of level `level` at its coordinates uv; false: no traced tap
-bool sample_level(int level, vec2 uv, out vec4 value) {
+// The bilinear lookup of level `level` at its coordinates uv; false: no traced tap. `first`:
+// the first tap (i0, j0)
+bool sample_level(int level, vec2 uv, out vec4 value, out ivec2 first) {
     const ivec4 l = levels[level];
     const LpTaps taps = taps_of(uv, l.y, l.z);
+    first = ivec2(taps.i0, taps.j0);
     const ivec2 tap[4] = ivec2[4](ivec2(taps.i0, taps.j0), ivec2(taps.i1, taps.j0),
                                   ivec2(taps.i0, taps.j1), ivec2(taps.i1, taps.j1));
     bvec4 traced;
@@ -64,8 +69,9 @@ bool sample_level(int level, vec2 uv, out vec4 value) {
     return lp_bilinear_blend(taps, traced, c, value);
 }
 
-// The mip resolve of centre c at buffer coordinates uv; returns lambda
-float sample_mip(vec2 c, vec2 uv, out vec4 value, out bool any) {
+// The mip resolve of centre c at buffer coordinates uv; returns lambda. `first`: level l0's first
+// tap, `level`: l0
+float sample_mip(vec2 c, vec2 uv, out vec4 value, out bool any, out ivec2 first, out int level) {
     const float r = max(lp_gaze_distance(map, c), 1.0 / 1024.0);
     const vec2 s = lp_texels_per_pixel(map, r);
     const float lambda = clamp(log2(max(s.x, s.y)), 0.0, float(p.level_count - 1));
@@ -73,8 +79,11 @@ float sample_mip(vec2 c, vec2 uv, out vec4 value, out bool any) {
     const int l1 = min(l0 + 1, p.level_count - 1);
     const float f = lambda - float(l0);
     vec4 a, b = vec4(0.0);
-    const bool have_a = sample_level(l0, ldexp(uv, ivec2(-l0)), a);
-    const bool have_b = l1 != l0 && f > 0.0 && sample_level(l1, ldexp(uv, ivec2(-l1)), b);
+    ivec2 unused;
+    level = l0;
+    const bool have_a = sample_level(l0, ldexp(uv, ivec2(-l0)), a, first);
+    const bool have_b =
+        l1 != l0 && f > 0.0 && sample_level(l1, ldexp(uv, ivec2(-l1)), b, unused);
     precise vec4 blend = a + f * (b - a);
     value = have_a && have_b ? blend : (have_a ? a : b);
     any = have_a || have_b;
@@ -93,16 +102,20 @@ void main() {
         for (int k = 0; k < p.channels; ++k)
             result[pixel * p.channels + k] = gaze_colour[source * p.channels + k];
         lookups[pixel] = vec4(0.0);
+        decisions[pixel] = vec4(-1.0, -1.0, -1.0, 0.0);
         return;
     }
     const vec2 uv = lp_forward(map, c);
     vec4 value;
     bool any;
     float lambda = 0.0;
+    ivec2 first;
+    int level = 0;
     if (p.mip != 0)
-        lambda = sample_mip(c, uv, value, any);
+        lambda = sample_mip(c, uv, value, any, first, level);
     else
-        any = sample_level(0, uv, value);
+        any = sample_level(0, uv, value, first);
     for (int k = 0; k < p.channels; ++k) result[pixel * p.channels + k] = value[k];
     lookups[pixel] = vec4(uv, lambda, any ? 1.0 : 2.0);
+    decisions[pixel] = vec4(vec2(first), float(level), 0.0);
 }

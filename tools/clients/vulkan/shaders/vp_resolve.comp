@@ -9,6 +9,9 @@
 //   next sampled at v_c / 2^l along phi (texel centres at + 1/2, rows wrap, traced taps only,
 //   renormalised) and lerped with the fraction; the columns lerped with fx over those with a
 //   value; none: black. lerp(a, b, t) = a + t (b - a), not contracted (`precise`).
+// `decisions` receives the decisions each pixel took, (i0, j0, l0 of column i0, l0 of column i1
+// or -1 without a weight): the first column and column i0's first row at its level, which the
+// diff compares with resolve_tap and resolve_mip_level.
 // -DINJECT_BUG injects a typical porting bug: phi treated like rho, clamped instead of wrapped at
 // 2 pi: atan's (-pi, pi] kept as it is and the rows clamped to the edge (a sampler's
 // CLAMP_TO_EDGE for REPEAT), so the half-plane below theta = 0 reads the column's first row.
@@ -19,6 +22,7 @@ layout(std430, binding = 0) readonly buffer Colour { float colour[]; };
 layout(std430, binding = 1) readonly buffer Valid { float valid[]; };
 layout(std430, binding = 2) readonly buffer ColumnRows { int column_rows[]; };
 layout(std430, binding = 3) writeonly buffer Result { float result[]; };
+layout(std430, binding = 4) writeonly buffer Decisions { vec4 decisions[]; };
 
 vec4 lerp(vec4 a, vec4 b, float t) {
     precise vec4 value = a + t * (b - a);
@@ -26,8 +30,8 @@ vec4 lerp(vec4 a, vec4 b, float t) {
 }
 
 // Column `column` of a level (first texel `from`, `rows` rows there) at row coordinate v, over
-// the traced taps; false when no traced tap has a weight.
-bool sample_phi(int from, int column, int rows, float v, out vec4 value) {
+// the traced taps; false when no traced tap has a weight. `first`: the first row, j0.
+bool sample_phi(int from, int column, int rows, float v, out vec4 value, out int first) {
     const float t = v - 0.5;
     const float j0f = floor(t);
     const float fv = t - j0f;
@@ -40,6 +44,7 @@ bool sample_phi(int from, int column, int rows, float v, out vec4 value) {
     if (j0 >= rows) j0 -= rows;
     const int j1 = j0 + 1 == rows ? 0 : j0 + 1;
 #endif
+    first = j0;
     const int t0 = from + j0 * p.width + column, t1 = from + j1 * p.width + column;
     const bool traced0 = valid[t0] != 0.0;              // weight 1 - fv > 0
     const bool traced1 = fv > 0.0 && valid[t1] != 0.0;  // weight fv
@@ -53,18 +58,20 @@ bool sample_phi(int from, int column, int rows, float v, out vec4 value) {
 }
 
 // One column at the pixel's angle on its own rows: levels floor(lambda) and the next lerped.
-bool sample_column(int column, float v, float lambda, out vec4 value) {
+// `first`: level floor(lambda)'s first row.
+bool sample_column(int column, float v, float lambda, out vec4 value, out int first) {
     const int rows = column_rows[column];
     const int last = vp_mip_last_level(rows);
     const int l0 = int(floor(lambda));
     const int l1 = min(l0 + 1, last);
     const float f = lambda - float(l0);
     vec4 a, b = vec4(0.0);
+    int unused;
     const bool have_a =
-        sample_phi(vp_level_offset(l0), column, vp_mip_rows(rows, l0), ldexp(v, -l0), a);
+        sample_phi(vp_level_offset(l0), column, vp_mip_rows(rows, l0), ldexp(v, -l0), a, first);
     const bool have_b =
         l1 != l0 && f > 0.0 &&
-        sample_phi(vp_level_offset(l1), column, vp_mip_rows(rows, l1), ldexp(v, -l1), b);
+        sample_phi(vp_level_offset(l1), column, vp_mip_rows(rows, l1), ldexp(v, -l1), b, unused);
     value = have_a && have_b ? lerp(a, b, f) : have_a ? a : b;
     return have_a || have_b;
 }
@@ -92,6 +99,7 @@ void main() {
     // Each column at the pixel's angle on its own rows, at its own phi level
     vec4 values[2] = {vec4(0.0), vec4(0.0)};
     bool have[2] = {false, false};
+    vec4 decision = vec4(float(columns[0]), 0.0, 0.0, -1.0);
     for (int k = 0; k < 2; ++k) {
         if (k == 1 && (columns[1] == columns[0] || !(fx > 0.0))) break;
         const int n = column_rows[columns[k]];
@@ -100,8 +108,12 @@ void main() {
         if (p.mip != 0)
             lambda = clamp(log2(float(n) / (two_pi * max(r, 1.0 / 1024.0))), 0.0,
                            float(vp_mip_last_level(n)));
-        have[k] = sample_column(columns[k], v, lambda, values[k]);
+        int first;
+        have[k] = sample_column(columns[k], v, lambda, values[k], first);
+        if (k == 0) decision.y = float(first);
+        decision[2 + k] = floor(lambda);
     }
+    decisions[xy.y * p.screen_width + xy.x] = decision;
 
     // Lerp of the columns over those with a value (none: black)
     const vec4 pixel = have[0] && have[1] ? lerp(values[0], values[1], fx)
