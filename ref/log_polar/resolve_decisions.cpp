@@ -19,6 +19,11 @@ float wrap_margin(float x) {
     return std::fabs(x - std::round(x));
 }
 
+TapDecision lp_tap_decision(glm::vec2 uv, int width, int height) {
+    const BilinearLookup l = lp_bilinear_index(width, height, uv);
+    return {l.i0, l.j0, std::min(floor_margin(uv.x - 0.5f, 1, width - 1), wrap_margin(uv.y - 0.5f))};
+}
+
 ResolveDecisions lp_resolve_decisions(const ForwardTable& table, const GazeInput& gaze, int width,
                                       int height) {
     const LogPolarMap& map = table.map;
@@ -53,11 +58,31 @@ ResolveDecisions lp_resolve_decisions(const ForwardTable& table, const GazeInput
             const float scale = dm::exp2(static_cast<float>(-l0));
             const glm::vec2 uv = table.uv[k] * scale;
             const glm::ivec2 n = size[static_cast<std::size_t>(l0)];
-            const BilinearLookup l = lp_bilinear_index(n.x, n.y, uv);
-            d.tap.at(x, y, 0) = static_cast<float>(l.i0);
-            d.tap.at(x, y, 1) = static_cast<float>(l.j0);
-            d.tap_margin.at(x, y) =
-                std::min(floor_margin(uv.x - 0.5f, 1, n.x - 1), wrap_margin(uv.y - 0.5f));
+            const TapDecision tap = lp_tap_decision(uv, n.x, n.y);
+            d.tap.at(x, y, 0) = static_cast<float>(tap.i0);
+            d.tap.at(x, y, 1) = static_cast<float>(tap.j0);
+            d.tap_margin.at(x, y) = tap.margin;
+        }
+    return d;
+}
+
+ResolveDecisions stereo_resolve_decisions(const StereoForwardTable& table, int width, int height) {
+    const int sw = table.maps[0].screen_width * 2, sh = table.maps[0].screen_height;
+    FOVREF_CHECK(table.uv.size() == static_cast<std::size_t>(sw) * sh,
+                 "a stereo lookup table of another size than its screen");
+    const int eye_width = width / 2;
+    ResolveDecisions d;
+    d.tap = Image(sw, sh, 2, -1.0f);
+    d.tap_margin = Image(sw, sh, 1, no_threshold);
+    for (int y = 0; y < sh; ++y)
+        for (int x = 0; x < sw; ++x) {
+            const std::size_t k = static_cast<std::size_t>(y) * sw + x;
+            if (table.in_lens[k] == 0) continue;
+            const int eye = x / table.maps[0].screen_width;
+            const TapDecision tap = lp_tap_decision(table.uv[k], eye_width, height);
+            d.tap.at(x, y, 0) = static_cast<float>(eye * eye_width + tap.i0);
+            d.tap.at(x, y, 1) = static_cast<float>(tap.j0);
+            d.tap_margin.at(x, y) = tap.margin;
         }
     return d;
 }

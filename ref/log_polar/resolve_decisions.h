@@ -18,10 +18,14 @@
 //                in levels.
 // A pixel from the gaze buffer has tap (-1, -1) and level -1 and margins no_threshold: whether a
 // pixel lies in the gaze circle is another decision, which these margins do not cover.
+// Stereo (stereo_resolve_decisions): each pixel's lookup in its eye's half, bilinear; the tap's
+// column is the side-by-side buffer's (e w + i0); a pixel whose barrel source leaves the eye's
+// image has tap (-1, -1) and margin no_threshold (the lens test is not covered either).
 #pragma once
 
 #include "ref/image/image.h"
 #include "ref/log_polar/resolve.h"
+#include "ref/log_polar/stereo.h"
 
 namespace fovref {
 
@@ -35,6 +39,15 @@ float floor_margin(float x, int lo, int hi);
 /// no_threshold when x is not finite.
 float wrap_margin(float x);
 
+/// The first tap (i0, j0) of the bilinear lookup at uv in a width x height buffer
+/// (lp_bilinear_index), and its margin: the smaller of s = u - 1/2's distance from the nearest
+/// integer in [1, width - 1] and t = v - 1/2's from the nearest integer.
+struct TapDecision {
+    int i0 = 0, j0 = 0;
+    float margin = no_threshold;
+};
+TapDecision lp_tap_decision(glm::vec2 uv, int width, int height);
+
 /// Pass 2's decisions, screen-sized images. The mip level's are empty for a resolve without mips.
 struct ResolveDecisions {
     Image tap;         ///< 2 channels: i0, j0 (-1 where no buffer is read)
@@ -47,5 +60,9 @@ struct ResolveDecisions {
 /// the mip resolve's levels) over a width x height buffer and `gaze`.
 ResolveDecisions lp_resolve_decisions(const ForwardTable& table, const GazeInput& gaze, int width,
                                       int height);
+
+/// The decisions of the stereo pass 2 (no mips) for the lookups of `table` over a side-by-side
+/// buffer of width x height texels (each eye width / 2 wide).
+ResolveDecisions stereo_resolve_decisions(const StereoForwardTable& table, int width, int height);
 
 }  // namespace fovref

@@ -301,12 +301,17 @@ void stereo_resolve_stage(FrameContext& ctx) {
     ctx.note = std::string(params.barrel ? "bilinear, barrel distortion" : "bilinear") +
                (reused ? ", lookups reused" : ", lookups computed");
     ctx.output("output", BufferKind::color, {"r", "g", "b"}, std::move(out));
+    const Image& color = ctx.input("color");
+    output_resolve_decisions(ctx,
+                             stereo_resolve_decisions(*frames.forward, color.width, color.height));
 }
 
 StageDef stereo_resolve_stage_def(const StereoStage& shared, std::string output) {
+    std::vector<Port> outputs = {{"output", std::move(output)}};
+    for (Port& port : resolve_decision_ports(false)) outputs.push_back(std::move(port));
     return {"resolve",
             {{"color", "lp_color"}, {"valid", "lp_valid"}},
-            {{"output", std::move(output)}},
+            outputs,
             stereo_resolve_stage,
             stereo_state(shared)};
 }

@@ -149,6 +149,34 @@ TEST_CASE(
     }
 }
 
+TEST_CASE("stereo decisions: each eye's first tap in side-by-side columns, none outside the lens") {
+    StereoParams params;
+    params.barrel = true;
+    const float d_px = static_cast<float>(45.0 / std::tan(20.0 * M_PI / 180.0));
+    const LogPolarMap eye =
+        make_log_polar_map(find_foveation_preset("fov").map, 80, 90, {40, 45}, d_px);
+    const std::array<LogPolarMap, 2> maps = {eye, eye};
+    const StereoForwardTable table = stereo_forward_table(params, maps);
+    const ResolveDecisions d = stereo_resolve_decisions(table, 2 * eye.width, eye.height);
+    CHECK(d.mip_level.data.empty());
+    std::int64_t outside = 0;
+    for (int y = 0; y < 90; ++y)
+        for (int x = 0; x < 160; ++x) {
+            const std::vector<glm::ivec2> taps = stereo_pixel_taps(params, maps, x, y);
+            if (taps.empty()) {
+                ++outside;
+                REQUIRE(d.tap.at(x, y, 0) == -1.0f);
+                REQUIRE(d.tap_margin.at(x, y) == no_threshold);
+                continue;
+            }
+            REQUIRE(d.tap.at(x, y, 0) == static_cast<float>(taps[0].x));
+            REQUIRE(d.tap.at(x, y, 1) == static_cast<float>(taps[0].y));
+            REQUIRE(d.tap.at(x, y, 0) >= (x < 80 ? 0.0f : static_cast<float>(eye.width)));
+            REQUIRE(d.tap_margin.at(x, y) <= 0.5f);
+        }
+    CHECK(outside > 0);  // the barrel's corners leave the eye's image
+}
+
 TEST_CASE("Visual-Polar decisions: the taps and levels the resolve reads") {
     const VisualPolarMap map = make_visual_polar_map(160, 90, {70.0f, 40.0f}, 107, 60);
     const VpForwardTable table = vp_forward_table(map);

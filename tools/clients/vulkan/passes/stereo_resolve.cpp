@@ -3,7 +3,8 @@
 // that has it; with `barrel=on` Gupta's barrel distortion (k1, k2; defaults 0.22, 0.24). Both
 // eyes share one map on the W/2 x H sub-screen (log_polar_map_block of passes/resolve.cpp: the
 // gaze in eye coordinates, default the eye's centre; R, L computed once on the host). The dump
-// also holds each pixel's lookup, fNNN_<output>_lookup.f32 (u, v, 0, source).
+// also holds the decisions each pixel took, resolve_tap (the first tap, side-by-side columns;
+// -1 outside the lens), and its lookup, fNNN_<output>_lookup.f32 (u, v, 0, source).
 #include <cstdlib>
 #include <stdexcept>
 
@@ -53,12 +54,15 @@ void resolve_frame(PassContext& ctx, const json& frame, const std::string& outpu
                  std::vector<float>(pixels * colour.channels, 0.0f)};
     Image lookups{ctx.width(), ctx.height(), 4, std::vector<float>(pixels * 4, 0.0f)};
     std::vector<float> colours = colour.data, mask = valid.data;
+    std::vector<float> decisions(pixels * 4, 0.0f);
     ctx.dispatch("stereo_resolve",
-                 {host(map), host(colours), host(mask), host(result.data), host(lookups.data)},
+                 {host(map), host(colours), host(mask), host(result.data), host(lookups.data),
+                  host(decisions)},
                  &push, sizeof push, groups(ctx.width(), 8), groups(ctx.height(), 8));
     const int index = frame.at("frame").get<int>();
     ctx.write(index, output, result);
     ctx.write(index, output + "_lookup", lookups);
+    ctx.write_resolve_decisions(index, decisions, 0);
     ctx.notes["barrel"] = push.barrel ? "on" : "off";
 }
 

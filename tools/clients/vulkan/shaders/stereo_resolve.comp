@@ -21,6 +21,8 @@ layout(std430, binding = 1) readonly buffer Colour { float colour[]; };  // 2w x
 layout(std430, binding = 2) readonly buffer Valid { float valid[]; };
 layout(std430, binding = 3) writeonly buffer Result { float result[]; };
 layout(std430, binding = 4) writeonly buffer Lookups { vec4 lookups[]; };
+// (i0, j0): the lookup's first tap in the side-by-side buffer's columns; -1 outside the lens
+layout(std430, binding = 5) writeonly buffer Decisions { vec4 decisions[]; };
 layout(push_constant) uniform Parameters {
     int screen_width, screen_height, channels, barrel;
     float k1, k2;
@@ -48,9 +50,10 @@ vec4 load(int texel) {
 }
 
 // The bilinear lookup of eye `eye`'s half at uv; false: no traced tap
-bool sample_eye(int eye, vec2 uv, out vec4 value) {
+bool sample_eye(int eye, vec2 uv, out vec4 value, out ivec2 first) {
     const int w = map.width, h = map.height;
     const LpTaps taps = lp_bilinear_taps(uv, w, h);
+    first = ivec2(eye * w + taps.i0, taps.j0);
     const ivec2 tap[4] = ivec2[4](ivec2(taps.i0, taps.j0), ivec2(taps.i1, taps.j0),
                                   ivec2(taps.i0, taps.j1), ivec2(taps.i1, taps.j1));
     bvec4 traced;
@@ -72,11 +75,13 @@ void main() {
     vec4 value = vec4(0.0);
     float source = 3.0;
     vec2 uv = vec2(0.0);
+    ivec2 first = ivec2(-1);
     if (p.barrel != 0) c = barrel_source(c);
     if (p.barrel == 0 || lp_on_screen(map, c)) {
         uv = lp_forward(map, c);
-        source = sample_eye(eye, uv, value) ? 1.0 : 2.0;
+        source = sample_eye(eye, uv, value, first) ? 1.0 : 2.0;
     }
+    decisions[pixel] = vec4(vec2(first), 0.0, 0.0);
     for (int k = 0; k < p.channels; ++k) result[pixel * p.channels + k] = value[k];
     lookups[pixel] = vec4(uv, 0.0, source);
 }
