@@ -21,7 +21,8 @@ float wrap_margin(float x) {
 
 TapDecision lp_tap_decision(glm::vec2 uv, int width, int height) {
     const BilinearLookup l = lp_bilinear_index(width, height, uv);
-    return {l.i0, l.j0, std::min(floor_margin(uv.x - 0.5f, 1, width - 1), wrap_margin(uv.y - 0.5f))};
+    return {l.i0, l.j0,
+            std::min(floor_margin(uv.x - 0.5f, 1, width - 1), wrap_margin(uv.y - 0.5f))};
 }
 
 ResolveDecisions lp_resolve_decisions(const ForwardTable& table, const GazeInput& gaze, int width,

@@ -238,6 +238,9 @@ void ray_positions_stage(FrameContext& ctx) {
     ctx.output("rays", BufferKind::scalar, {"rays"},
                ray_position_counts(map.screen_width, map.screen_height, ctx.input("valid"),
                                    ctx.input("screen_point"), gaze_valid, gaze_window(map)));
+    ctx.output("pixel", BufferKind::id, {"x", "y"},
+               ray_pixels(map.screen_width, map.screen_height, ctx.input("valid"),
+                          ctx.input("screen_point")));
 }
 
 StageDef ray_positions_stage_def(const LogPolarStage& shared) {
@@ -245,7 +248,7 @@ StageDef ray_positions_stage_def(const LogPolarStage& shared) {
     if (shared.frames->params.map.gaze_angle > 0.0f) inputs.emplace_back("gaze_valid");
     return {"ray_positions",
             inputs,
-            {{"rays", "ray_positions"}},
+            {{"rays", "ray_positions"}, {"pixel", "ray_pixel"}},
             ray_positions_stage,
             lp_state(shared)};
 }
@@ -320,12 +323,15 @@ void stereo_ray_positions_stage(FrameContext& ctx) {
     ctx.output("rays", BufferKind::scalar, {"rays"},
                ray_position_counts(ctx.settings->width, ctx.settings->height, ctx.input("valid"),
                                    ctx.input("screen_point"), nullptr));
+    ctx.output("pixel", BufferKind::id, {"x", "y"},
+               ray_pixels(ctx.settings->width, ctx.settings->height, ctx.input("valid"),
+                          ctx.input("screen_point")));
 }
 
 StageDef stereo_ray_positions_stage_def(const StereoStage& shared) {
     return {"ray_positions",
             {{"valid", "lp_valid"}, {"screen_point", "lp_screen_point"}},
-            {{"rays", "ray_positions"}},
+            {{"rays", "ray_positions"}, {"pixel", "ray_pixel"}},
             stereo_ray_positions_stage,
             stereo_state(shared)};
 }

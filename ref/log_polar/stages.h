@@ -13,6 +13,7 @@
 //                                          decisions: resolve_tap, resolve_tap_margin (mip:
 //                                          resolve_mip_level, resolve_mip_margin)
 //   ray_positions  valid, screen_point [, gaze_valid] -> rays per screen pixel (Lund Fig. 3.3)
+//                                          and ray_pixel, the pixel each texel counts in
 //   stereo_trace, stereo_resolve, stereo_ray_positions: the same for Gupta's two eyes side by
 //                                          side
 // clang-format on

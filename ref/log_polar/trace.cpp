@@ -83,9 +83,8 @@ MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const PrimaryView& view
     return buffer;
 }
 
-Image ray_position_counts(int width, int height, const Image& lp_valid, const Image& screen_points,
-                          const Image* gaze_valid, const ScreenWindow& gaze) {
-    Image counts(width, height, 1, 0.0f);
+Image ray_pixels(int width, int height, const Image& lp_valid, const Image& screen_points) {
+    Image pixels(lp_valid.width, lp_valid.height, 2, -1.0f);
     for (int j = 0; j < lp_valid.height; ++j)
         for (int i = 0; i < lp_valid.width; ++i) {
             if (lp_valid.at(i, j) == 0.0f) continue;
@@ -95,8 +94,21 @@ Image ray_position_counts(int width, int height, const Image& lp_valid, const Im
             if (!(px >= 0.0f && px < static_cast<float>(width) && py >= 0.0f &&
                   py < static_cast<float>(height)))
                 continue;
-            counts.at(static_cast<int>(px), static_cast<int>(py)) += 1.0f;
+            pixels.at(i, j, 0) = std::floor(px);
+            pixels.at(i, j, 1) = std::floor(py);
         }
+    return pixels;
+}
+
+Image ray_position_counts(int width, int height, const Image& lp_valid, const Image& screen_points,
+                          const Image* gaze_valid, const ScreenWindow& gaze) {
+    Image counts(width, height, 1, 0.0f);
+    const Image pixels = ray_pixels(width, height, lp_valid, screen_points);
+    for (int j = 0; j < pixels.height; ++j)
+        for (int i = 0; i < pixels.width; ++i)
+            if (pixels.at(i, j, 0) >= 0.0f)
+                counts.at(static_cast<int>(pixels.at(i, j, 0)),
+                          static_cast<int>(pixels.at(i, j, 1))) += 1.0f;
     if (gaze_valid)
         for (int j = 0; j < gaze_valid->height; ++j)
             for (int i = 0; i < gaze_valid->width; ++i)

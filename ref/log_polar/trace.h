@@ -86,4 +86,11 @@ MaskedGBuffer trace_gaze_gbuffer(const LogPolarMap& map, const PrimaryView& view
 Image ray_position_counts(int width, int height, const Image& lp_valid, const Image& screen_points,
                           const Image* gaze_valid, const ScreenWindow& gaze = {});
 
+/// The pixel each log-polar texel's ray is counted in by ray_position_counts, a decision a port
+/// can be diffed on (docs/foveation.md, "Buffers and counters"): the buffer's size, 2 channels,
+/// (floor(x), floor(y)) of a traced texel's screen point on the width x height screen, (-1, -1)
+/// for a texel not counted. Its margin is the point's distance from the nearest pixel edge (the
+/// diff derives it: pixel_edge(lp_screen_point)).
+Image ray_pixels(int width, int height, const Image& lp_valid, const Image& screen_points);
+
 }  // namespace fovref

@@ -39,6 +39,45 @@ contains "interior mismatch (20, 31)" "and named"
 python3 "$SRC/tests/cli/fake_port.py" g other 0 --wrong lp_valid:0:16:2:0 --wrong final:0:10:10:0
 expect 1 "an unexplained pixel fails" -- "$FOVREF" diff g other --profile vulkan --tolerance-file eps.json
 contains "first failing pixel (10, 10)" "named"
+# ray_pixel: texel (16, 2)'s point (79.92, 30.99) lies 0.01 px from the edge between pixels
+# (79, 30) and (79, 31). Counted in (79, 31) instead, it moves one count of ray_positions: the
+# vulkan profile compares ray_positions exactly and attributes both changed pixels to the flip
+cat > eps_pixel.json <<'JSON'
+{"ray_pixel": {"margin": "pixel_edge(lp_screen_point)", "margin_epsilon": [0.02], "reason": "test"}}
+JSON
+# move_ray DIR X Y: the port counts texel (16, 2) in pixel (X, Y)
+move_ray() {
+  python3 "$SRC/tests/cli/fake_port.py" g "$1" 0
+  rm "$1/f000_ray_pixel.exr"
+  python3 - "$SRC/tests/cli" "$@" <<'PY'
+import json, struct, sys
+sys.path.insert(0, sys.argv[1]); from fake_port import read_pfm, write_pfm
+out, x, y = sys.argv[2], int(sys.argv[3]), int(sys.argv[4])
+b = [b for b in json.load(open("g/manifest.json"))["frames"][0]["buffers"] if b["name"] == "ray_pixel"][0]
+data = bytearray(open("g/f000_ray_pixel.f32", "rb").read())  # rows top first, 2 channels
+k = 8 * (2 * b["width"] + 16)
+old = struct.unpack_from("<2f", data, k)
+assert old == (79.0, 30.0), old
+struct.pack_into("<2f", data, k, x, y)
+open(out + "/f000_ray_pixel.f32", "wb").write(data)
+w, h, c, counts = read_pfm("g/f000_ray_positions.pfm")  # rows bottom first
+counts[(h - 1 - 30) * w + 79] -= 1
+counts[(h - 1 - y) * w + x] += 1
+write_pfm(out + "/f000_ray_positions.pfm", w, h, c, counts)
+PY
+}
+move_ray ray_near 79 31
+expect 0 "a ray counted across the nearby pixel edge passes" -- "$FOVREF" diff g ray_near --profile vulkan --tolerance-file eps_pixel.json
+contains "decision (margin pixel_edge(lp_screen_point)): 1 near-threshold flip(s)" "counted"
+contains "2 failing pixel(s) attributed to near-threshold flips of ray_pixel" "both counts attributed"
+expect 1 "beyond the profile's 4e-3 px the same flip fails" -- "$FOVREF" diff g ray_near --profile vulkan
+contains "first failing stage: ray_positions, buffer 'ray_pixel'" "named"
+# counted 9 pixels away instead: the flip is near (the oracle's margin decides that) but the
+# count it moves to (70, 31) is not beside it, so ray_positions fails there
+move_ray ray_far 70 31
+expect 1 "a ray counted 9 pixels away fails" -- "$FOVREF" diff g ray_far --profile vulkan --tolerance-file eps_pixel.json
+contains "first failing stage: ray_positions, buffer 'ray_positions'" "named"
+contains "first failing pixel (70, 31)" "at the pixel no flip explains"
 # Pass 2's decisions (resolve_tap, resolve_mip_level) against the oracle's margins: kfr's mip
 # resolve. NEAR: the buffer pixel whose lambda lies closest to an integer; FAR: one whose lambda
 # lies at least 0.3 from one

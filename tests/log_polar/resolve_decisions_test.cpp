@@ -210,3 +210,27 @@ TEST_CASE("Visual-Polar decisions: the taps and levels the resolve reads") {
         CHECK(level0 > 1000);
     }
 }
+
+TEST_CASE("ray_pixel: the pixel each traced texel's ray counts in, -1 where none") {
+    // texels: on screen, on a pixel edge, off screen (left, right), untraced, NaN
+    const float points[6][2] = {{1.5f, 2.999f}, {3.0f, 0.0f}, {-0.1f, 1.0f},
+                                {8.0f, 1.0f},   {2.0f, 2.0f}, {NAN, 1.0f}};
+    Image valid(6, 1, 1, 1.0f), screen(6, 1, 2, 0.0f);
+    valid.at(4, 0) = 0.0f;
+    for (int i = 0; i < 6; ++i)
+        for (int c = 0; c < 2; ++c) screen.at(i, 0, c) = points[i][c];
+    const Image pixels = ray_pixels(8, 4, valid, screen);
+    const float expected[6][2] = {{1, 2}, {3, 0}, {-1, -1}, {-1, -1}, {-1, -1}, {-1, -1}};
+    for (int i = 0; i < 6; ++i) {
+        CAPTURE(i);
+        CHECK(pixels.at(i, 0, 0) == expected[i][0]);
+        CHECK(pixels.at(i, 0, 1) == expected[i][1]);
+    }
+    // ray_positions counts exactly these pixels
+    const Image counts = ray_position_counts(8, 4, valid, screen, nullptr);
+    double total = 0.0;
+    for (const float v : counts.data) total += v;
+    CHECK(total == 2.0);
+    CHECK(counts.at(1, 2) == 1.0f);
+    CHECK(counts.at(3, 0) == 1.0f);
+}

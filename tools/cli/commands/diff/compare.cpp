@@ -152,15 +152,17 @@ void compare_item(const DiffOptions& o, const ToleranceTable& tolerances, float 
 
 // The mask of value buffer `item` among items [first, end) of one frame: the pixels where every
 // compared id buffer of its size agrees (empty: none, or --no-id-mask); names them in
-// item.masked_by.
+// item.masked_by. A decision buffer judged against its margin masks nothing: its far flips fail
+// on their own, and the pixels its near flips change are attributed to them
+// (attribute_to_decisions) rather than left out, so a wrong value beside a flip still shows.
 std::vector<std::uint8_t> id_mask(const DiffOptions& o, DiffReport& report, std::size_t first,
                                   std::size_t end, DiffItem& item) {
     std::vector<std::uint8_t> mask;
     if (o.no_id_mask || item.hash_only || item.candidate_file.empty()) return mask;
     for (std::size_t i = first; i < end; ++i) {
         const DiffItem& ids = report.items[i];
-        if (!ids.is_id || !ids.compared || ids.hash_only || ids.golden.width != item.golden.width ||
-            ids.golden.height != item.golden.height)
+        if (!ids.is_id || !ids.compared || ids.hash_only || !ids.ids.margin_source.empty() ||
+            ids.golden.width != item.golden.width || ids.golden.height != item.golden.height)
             continue;
         if (mask.empty()) mask.assign(ids.ids.agree.size(), 1);
         for (std::size_t p = 0; p < mask.size(); ++p) mask[p] &= ids.ids.agree[p];

@@ -307,18 +307,23 @@ void write_records(const PassContext& ctx, const json& frame, const std::string&
 
 // Lund's Fig. 3.3 buffer `ray_positions` (rays through each screen pixel), counted on the host
 // from the records: a traced texel adds 1 at floor(its screen point), a traced gaze pixel at
-// its own pixel (a debugging view, not a stage worth a kernel).
-Image ray_positions(const PassContext& ctx, const FrameRun& run) {
+// its own pixel (a debugging view, not a stage worth a kernel). `pixels` receives each texel's
+// decision, ray_pixel: (floor(x), floor(y)) of the point it was counted at, (-1, -1) if none.
+Image ray_positions(const PassContext& ctx, const FrameRun& run, Image& pixels) {
     const int width = ctx.width(), height = ctx.height();
     Image counts{width, height, 1,
                  std::vector<float>(static_cast<std::size_t>(width) * height, 0.0f)};
+    pixels =
+        Image{run.map.width, run.map.height, 2, std::vector<float>(run.lp.size() / 25 * 2, -1.0f)};
     for (std::size_t k = 0; k + 25 <= run.lp.size(); k += 25) {
         const float x = run.lp[k + 19], y = run.lp[k + 20];
         if (run.lp[k + 18] == 0.0f || !(x >= 0.0f && x < static_cast<float>(width) && y >= 0.0f &&
                                         y < static_cast<float>(height)))
             continue;
-        counts.data[static_cast<std::size_t>(static_cast<int>(y)) * width + static_cast<int>(x)] +=
-            1.0f;
+        const int px = static_cast<int>(x), py = static_cast<int>(y);
+        counts.data[static_cast<std::size_t>(py) * width + px] += 1.0f;
+        pixels.data[k / 25 * 2] = static_cast<float>(px);
+        pixels.data[k / 25 * 2 + 1] = static_cast<float>(py);
     }
     if (!(run.map.gaze_radius > 0.0f)) return counts;
     for (int j = 0; j < run.map.window_height; ++j)
@@ -470,8 +475,11 @@ int run(PassContext& ctx) {
             write_records(ctx, frame, "gaze_", run.gaze, run.map.window_width,
                           run.map.window_height);
         resolve_frame(ctx, frame, run, settings);
-        if (PassContext::has(frame, "ray_positions"))
-            ctx.write(index, "ray_positions", ray_positions(ctx, run));
+        if (PassContext::has(frame, "ray_positions")) {
+            Image pixels;
+            ctx.write(index, "ray_positions", ray_positions(ctx, run, pixels));
+            ctx.write(index, "ray_pixel", pixels);
+        }
         ctx.notes["frame " + std::to_string(index)] = {
             {"buffer", std::to_string(run.map.width) + "x" + std::to_string(run.map.height)},
             {"texels_traced", count_status(run.lp, 0.0f)},
