@@ -277,7 +277,7 @@ void bmfr_accumulate_noisy_pixel(const BmfrParams& params, const Image& illumina
             q = bmfr_behind_camera;
             ++stats.history_off_screen;
         } else {
-            const BmfrTaps taps = space.map ? bmfr_vp_taps(*space.map, q) : bmfr_taps(q);
+            const BmfrTaps taps = space.map ? bmfr_vp_taps(*history.map, q) : bmfr_taps(q);
             mask = accepted_taps(params, history, space, taps, width, height, p, n, margin);
             if (!space.map)
                 margin[2] = std::min({q.x - std::floor(q.x), std::ceil(q.x) - q.x,
@@ -354,7 +354,8 @@ void bmfr_accumulate_filtered_pixel(const BmfrParams& params, const Image& fitte
     float h[3];
     const glm::vec2 q(previous_pixel.at(x, y, 0), previous_pixel.at(x, y, 1));
     if (!history.empty() && mask != 0 &&
-        blend_accepted(history, space.map ? bmfr_vp_taps(*space.map, q) : bmfr_taps(q), mask, h)) {
+        blend_accepted(history, space.map ? bmfr_vp_taps(space.history_map(), q) : bmfr_taps(q),
+                       mask, h)) {
         const float alpha = std::max(1.0f / spp.at(x, y), params.filtered_alpha_min);
         for (int ch = 0; ch < 3; ++ch) o[ch] = alpha * c[ch] + (1.0f - alpha) * h[ch];
     } else {

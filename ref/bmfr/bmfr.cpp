@@ -9,6 +9,7 @@ BmfrFrame bmfr_denoise_frame(const BmfrParams& params, const Image& radiance, co
                              BmfrHistory& history, BmfrStats& stats, const BmfrSpace& space_in) {
     BmfrSpace space = space_in;
     space.previous_valid = history.valid_texels.empty() ? nullptr : &history.valid_texels;
+    space.previous_map = history.map;
     BmfrFrame f;
     f.illumination = bmfr_demodulate(params, radiance, albedo, emission, stats);
     f.accumulation = bmfr_accumulate_noisy(params, f.illumination, world_position, normal, history,

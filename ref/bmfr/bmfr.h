@@ -53,6 +53,12 @@ struct BmfrParams {
     /// authors' code does (bmfr_behind_camera=project; w = 0 has no history either way).
     bool project_behind_camera = false;
     BmfrNoiseHash noise_hash = BmfrNoiseHash::jenkins;  ///< its hash
+    /// The block edge (bmfr_block): 32, the authors' (their code supports no other), or 64,
+    /// which P2 §6.1 found best in quality. A block has block^2 rows; the noise's seed strides
+    /// by block^2 as the authors' BLOCK_EDGE_LENGTH * BLOCK_EDGE_LENGTH; the grid's offsets are
+    /// the authors' scaled by block / 32 (choice: they move the grid over the same share of a
+    /// block).
+    int block_size = 32;
     /// The display exponent of the remodulation (bmfr_gamma): the authors' 0.454545f (their
     /// powr(x, 0.454545f)) or 1.0f / 2.2f (0.45454547f, fovref's before). The linear output
     /// (bmfr_output) raises to 2.2 either way.
@@ -75,7 +81,7 @@ struct BmfrParams {
     glm::vec2 pixel_offset{0.5f, 0.5f};
 };
 
-inline constexpr int bmfr_block_size = 32;  ///< block edge in pixels
+inline constexpr int bmfr_block_size = 32;  ///< the authors' block edge in pixels (the default)
 inline constexpr int bmfr_block_pixels = bmfr_block_size * bmfr_block_size;
 inline constexpr int bmfr_feature_count = 10;  ///< [1, n_x, n_y, n_z, w, w^2]
 inline constexpr int bmfr_column_count = 13;   ///< the features and the three colour channels
@@ -123,7 +129,12 @@ struct BmfrSpace {
     std::optional<VisualPolarMap> map;      ///< this frame's map; none: screen space
     const Image* valid = nullptr;           ///< the frame's traced texels (Visual-Polar)
     const Image* previous_valid = nullptr;  ///< the previous frame's (the TAA's history taps)
+    /// The previous frame's map: the history buffers' layout, whose row counts the history's
+    /// taps follow (they differ from this frame's under P5's moving staircase clip)
+    std::optional<VisualPolarMap> previous_map;
     bool visual_polar() const { return map.has_value(); }
+    /// The map of the history buffers: the previous frame's, else this frame's.
+    const VisualPolarMap& history_map() const { return previous_map ? *previous_map : *map; }
 };
 
 /// What a frame hands on to the next one (all W x H).
@@ -242,14 +253,14 @@ float bmfr_scale_feature(float v, float lo, float hi);
 struct BmfrGrid {
     int width = 0, height = 0;     ///< the image
     int cells_x = 0, cells_y = 0;  ///< the grid
+    int block = bmfr_block_size;   ///< the block edge B (32 or 64; "32" above stands for B)
     glm::ivec2 offset{0};
     std::vector<int> column_rows;  ///< Visual-Polar: n_c per image column (empty: the screen)
     std::vector<int> cell_rows;    ///< Visual-Polar: H per cell column
     bool visual_polar() const { return !column_rows.empty(); }
     glm::ivec2 origin(int cell_x, int cell_y) const {
-        return {cell_x * bmfr_block_size - bmfr_block_size / 2 + offset.x,
-                visual_polar() ? cell_y * bmfr_block_size + offset.y
-                               : cell_y * bmfr_block_size - bmfr_block_size / 2 + offset.y};
+        return {cell_x * block - block / 2 + offset.x,
+                visual_polar() ? cell_y * block + offset.y : cell_y * block - block / 2 + offset.y};
     }
     /// The cell that covers pixel (x, y).
     glm::ivec2 cell_of(int x, int y) const;
@@ -259,8 +270,10 @@ struct BmfrGrid {
     /// for a Visual-Polar row beyond its column's n_c (no data).
     bool source(int cell_x, int cell_y, int row, int& x, int& y) const;
 };
-/// `map`: the Visual-Polar grid of that buffer (width, height must be the map's).
-BmfrGrid bmfr_grid(int width, int height, int frame, const VisualPolarMap* map = nullptr);
+/// `map`: the Visual-Polar grid of that buffer (width, height must be the map's). `block`: the
+/// block edge B (32 or 64); the offset is the authors' times B / 32.
+BmfrGrid bmfr_grid(int width, int height, int frame, const VisualPolarMap* map = nullptr,
+                   int block = bmfr_block_size);
 
 /// Mirrors a coordinate into [0, size): -1 -> 0, size -> size - 1, reflecting again as often
 /// as needed (images narrower than a block).
@@ -277,11 +290,14 @@ struct BmfrBlockFit {
     int weights_nonfinite = 0;  ///< weights that overflowed (set to 0)
 };
 
-/// One block's 1024 x 13 matrix as the QR receives it: row r = pixel_in_block r (row-major in
-/// the block), columns the scaled features with the regularisation noise (features 1..9) and the
-/// three colour channels, in the storage precision. Stride bmfr_matrix_stride floats per row.
+/// One block's B^2 x 13 matrix (1024 rows for the authors' 32 x 32 blocks) as the QR receives
+/// it: row r = pixel_in_block r (row-major in the block), columns the scaled features with the
+/// regularisation noise (features 1..9) and the three colour channels, in the storage
+/// precision. Stride bmfr_matrix_stride floats per row. bmfr_gather_block sizes it to its grid's
+/// blocks.
 inline constexpr int bmfr_matrix_stride = 16;
 struct BmfrBlockMatrix {
+    int rows = bmfr_block_pixels;
     std::vector<float> a = std::vector<float>(bmfr_block_pixels * bmfr_matrix_stride, 0.0f);
     float feature_min[bmfr_scaled_count] = {};
     float feature_max[bmfr_scaled_count] = {};
@@ -312,8 +328,9 @@ BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& matrix)
 
 /// The stochastic regularisation of feature `feature` (1..9) at block row `row`, frame `frame`
 /// (the same in every block; SPEC §9 item 6): amount * 2 * (r - 1/2), r = hash(row + feature
-/// 1024 + frame 13 1024) / 4294967295.0f, in binary32 in that order.
-float bmfr_regularisation_noise(float amount, BmfrNoiseHash hash, int row, int feature, int frame);
+/// P + frame 13 P) / 4294967295.0f, in binary32 in that order; P = the block's pixels (1024).
+float bmfr_regularisation_noise(float amount, BmfrNoiseHash hash, int row, int feature, int frame,
+                                int block_pixels = bmfr_block_pixels);
 
 /// Phase II's fit (the authors' fit kernel) over every block of the frame's grid. Outputs, one
 /// texel per block (cells_x x cells_y): weights (30 channels: red w_0..w_9, green, blue) and the

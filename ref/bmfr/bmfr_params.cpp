@@ -22,6 +22,9 @@ std::vector<ParamSpec> bmfr_param_specs(const char* denoise_default) {
             {"bmfr_gamma", "0.454545",
              "the remodulation's display exponent: '0.454545' (the authors' constant) or "
              "'1/2.2' (0.45454547, fovref's before); docs/bmfr.md"},
+            {"bmfr_block", "32",
+             "the block edge in pixels (texels): '32' (the authors') or '64' (Koskela P2 §6.1: "
+             "the best quality; the grid's offsets scaled by 2)"},
             {"bmfr_behind_camera", "reject",
              "phase I's reprojection of a point behind the previous camera: 'reject' (no "
              "history) or 'project' (divided by the negative clip w, as the authors' code)"},
@@ -59,6 +62,10 @@ BmfrSettings parse_bmfr_params(const Params& params, const char* denoise_default
     if (gamma != "0.454545" && gamma != "1/2.2")
         throw Error("parameter 'bmfr_gamma': expected '0.454545' or '1/2.2', got '" + gamma + "'");
     s.params.display_exponent = gamma == "0.454545" ? 0.454545f : 1.0f / 2.2f;
+    const std::string block = params.get_string(specs, "bmfr_block");
+    if (block != "32" && block != "64")
+        throw Error("parameter 'bmfr_block': expected '32' or '64', got '" + block + "'");
+    s.params.block_size = block == "64" ? 64 : 32;
     const std::string behind = params.get_string(specs, "bmfr_behind_camera");
     if (behind != "reject" && behind != "project")
         throw Error("parameter 'bmfr_behind_camera': expected 'reject' or 'project', got '" +

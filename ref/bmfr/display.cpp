@@ -70,7 +70,7 @@ bool vp_taa_pixel(const BmfrParams& params, const Image& display, const Image& y
     const VisualPolarMap& map = *space.map;
     const int width = display.width;
     const float t = (static_cast<float>(y) + 0.5f) / static_cast<float>(vp_column_rows(map, x));
-    const BmfrTaps taps = bmfr_vp_taps(map, q);
+    const BmfrTaps taps = bmfr_vp_taps(space.history_map(), q);
     return taa_blend(
         params, display, ycocg, history, x, y, taps,
         [&](int dx, int dy, int& sx, int& sy) {

@@ -5,6 +5,7 @@
 
 #include "ref/bmfr/bmfr.h"
 #include "ref/bmfr/half.h"
+#include "ref/core/block_offsets.h"
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
 
@@ -26,19 +27,20 @@ glm::vec3 load3(const Image& image, int x, int y) {
     return {p[0], p[1], p[2]};
 }
 
-// One Householder reflection of columns col + 1 .. 12 (bmfr_solve_block), over the rows c .. 1023
-// of the row-major block matrix `a` (stride 16). The loops run over columns J0 .. 15, J0 = col + 1
-// rounded down to a multiple of 4, a compile-time constant so that they vectorise: the other
-// columns get d_j = 0, which leaves them unchanged (storing a stored value again changes
-// nothing).
+// One Householder reflection of columns col + 1 .. 12 (bmfr_solve_block), over the rows
+// c .. rows - 1 (rows = B^2) of the row-major block matrix `a` (stride 16). The loops run over
+// columns J0 .. 15, J0 = col + 1 rounded down to a multiple of 4, a compile-time constant so that
+// they vectorise: the other columns get d_j = 0, which leaves them unchanged (storing a stored
+// value again changes nothing).
 template <int J0>
-void reflect_columns(float* a, int col, int c, float uc, float u_length_squared, bool half) {
+void reflect_columns(float* a, int rows, int col, int c, float uc, float u_length_squared,
+                     bool half) {
     constexpr int stride = bmfr_matrix_stride;
     // The dot products u . a_j (binary64, row order)
     double d[stride] = {};
     for (int j = J0; j < stride; ++j)
         d[j] = static_cast<double>(uc) * static_cast<double>(a[c * stride + j]);
-    for (int i = c + 1; i < bmfr_block_pixels; ++i) {
+    for (int i = c + 1; i < rows; ++i) {
         const double u = a[i * stride + col];
         const float* row = &a[i * stride];
         for (int j = J0; j < stride; ++j) d[j] += u * static_cast<double>(row[j]);
@@ -46,7 +48,7 @@ void reflect_columns(float* a, int col, int c, float uc, float u_length_squared,
     float dot[stride] = {};
     for (int j = col + 1; j < bmfr_column_count; ++j) dot[j] = static_cast<float>(d[j]);
     // a_ij -= ((2 u_i) d_j) / |u|^2 as the authors, rounded to the storage precision
-    for (int i = c; i < bmfr_block_pixels; ++i) {
+    for (int i = c; i < rows; ++i) {
         float* row = &a[i * stride];
         const float u2 = 2.0f * (i == c ? uc : row[col]);
         for (int j = J0; j < stride; ++j) row[j] = row[j] - (u2 * dot[j]) / u_length_squared;
@@ -57,37 +59,34 @@ void reflect_columns(float* a, int col, int c, float uc, float u_length_squared,
 
 }  // namespace
 
-float bmfr_regularisation_noise(float amount, BmfrNoiseHash hash, int row, int feature, int frame) {
+float bmfr_regularisation_noise(float amount, BmfrNoiseHash hash, int row, int feature, int frame,
+                                int block_pixels) {
+    const auto pixels = static_cast<std::uint32_t>(block_pixels);
     const std::uint32_t seed = static_cast<std::uint32_t>(row) +
-                               static_cast<std::uint32_t>(feature) * 1024u +
-                               static_cast<std::uint32_t>(frame) * 13u * 1024u;
+                               static_cast<std::uint32_t>(feature) * pixels +
+                               static_cast<std::uint32_t>(frame) * 13u * pixels;
     const std::uint32_t h = hash == BmfrNoiseHash::jenkins ? jenkins_hash(seed) : wang_hash(seed);
     const float r = static_cast<float>(h) / 4294967295.0f;
     return amount * 2.0f * (r - 0.5f);
 }
 
-const std::array<glm::ivec2, 16>& bmfr_block_offsets() {
-    static const std::array<glm::ivec2, 16> offsets = {
-        glm::ivec2{-14, -14}, glm::ivec2{4, -6},   glm::ivec2{-8, 14},  glm::ivec2{8, 0},
-        glm::ivec2{-10, -8},  glm::ivec2{2, 12},   glm::ivec2{12, -12}, glm::ivec2{-10, 0},
-        glm::ivec2{12, 14},   glm::ivec2{-8, -16}, glm::ivec2{6, 6},    glm::ivec2{-2, -2},
-        glm::ivec2{6, -14},   glm::ivec2{-16, 12}, glm::ivec2{14, -4},  glm::ivec2{-6, 4}};
-    return offsets;
-}
+const std::array<glm::ivec2, 16>& bmfr_block_offsets() { return block_grid_offsets(); }
 
 float bmfr_scale_feature(float v, float lo, float hi) {
     const float range = hi - lo;
     return range > 1.0f ? (v - lo) / range : v - lo;
 }
 
-BmfrGrid bmfr_grid(int width, int height, int frame, const VisualPolarMap* map) {
+BmfrGrid bmfr_grid(int width, int height, int frame, const VisualPolarMap* map, int block) {
     FOVREF_CHECK(width > 0 && height > 0 && frame >= 0, "bmfr_grid: bad size or frame");
+    FOVREF_CHECK(block == 32 || block == 64, "bmfr_grid: a block edge other than 32 or 64");
     BmfrGrid g;
     g.width = width;
     g.height = height;
-    g.cells_x = (width + bmfr_block_size - 1) / bmfr_block_size + 1;
-    g.cells_y = (height + bmfr_block_size - 1) / bmfr_block_size + 1;
-    g.offset = bmfr_block_offsets()[static_cast<std::size_t>(frame % 16)];
+    g.block = block;
+    g.cells_x = (width + block - 1) / block + 1;
+    g.cells_y = (height + block - 1) / block + 1;
+    g.offset = bmfr_block_offsets()[static_cast<std::size_t>(frame % 16)] * (block / 32);
     if (map) {
         FOVREF_CHECK(map->width == width && map->height == height,
                      "bmfr_grid: the Visual-Polar map is not the image's size");
@@ -95,13 +94,13 @@ BmfrGrid bmfr_grid(int width, int height, int frame, const VisualPolarMap* map) 
         // The phi height of each cell column: the largest row count among its columns
         for (int cx = 0; cx < g.cells_x; ++cx) {
             int rows = 1;
-            for (int k = 0; k < bmfr_block_size; ++k) {
+            for (int k = 0; k < block; ++k) {
                 const int c = std::clamp(g.origin(cx, 0).x + k, 0, width - 1);
                 rows = std::max(rows, g.column_rows[static_cast<std::size_t>(c)]);
             }
             g.cell_rows.push_back(rows);
         }
-        g.cells_y = (height + bmfr_block_size - 1) / bmfr_block_size;
+        g.cells_y = (height + block - 1) / block;
     }
     return g;
 }
@@ -116,27 +115,27 @@ int wrap(int index, int size) {
 }  // namespace
 
 glm::ivec2 BmfrGrid::cell_of(int x, int y) const {
-    // x - origin(0).x = x + 16 - offset.x >= 2 for offsets in [-16, 14]
-    const int cx = (x + bmfr_block_size / 2 - offset.x) / bmfr_block_size;
+    // x - origin(0).x = x + B/2 - offset.x >= 2 B/32 for offsets in B/32 [-16, 14]
+    const int cx = (x + block / 2 - offset.x) / block;
     if (visual_polar())
-        return {cx, wrap(y - offset.y, cell_rows[static_cast<std::size_t>(cx)]) / bmfr_block_size};
-    return {cx, (y + bmfr_block_size / 2 - offset.y) / bmfr_block_size};
+        return {cx, wrap(y - offset.y, cell_rows[static_cast<std::size_t>(cx)]) / block};
+    return {cx, (y + block / 2 - offset.y) / block};
 }
 
 int BmfrGrid::cells_in_column(int cell_x) const {
     if (!visual_polar()) return cells_y;
-    return (cell_rows[static_cast<std::size_t>(cell_x)] + bmfr_block_size - 1) / bmfr_block_size;
+    return (cell_rows[static_cast<std::size_t>(cell_x)] + block - 1) / block;
 }
 
 bool BmfrGrid::source(int cell_x, int cell_y, int row, int& x, int& y) const {
     const glm::ivec2 o = origin(cell_x, cell_y);
     if (!visual_polar()) {
-        x = bmfr_mirror(o.x + row % bmfr_block_size, width);
-        y = bmfr_mirror(o.y + row / bmfr_block_size, height);
+        x = bmfr_mirror(o.x + row % block, width);
+        y = bmfr_mirror(o.y + row / block, height);
         return true;
     }
-    x = std::clamp(o.x + row % bmfr_block_size, 0, width - 1);
-    y = wrap(o.y + row / bmfr_block_size, cell_rows[static_cast<std::size_t>(cell_x)]);
+    x = std::clamp(o.x + row % block, 0, width - 1);
+    y = wrap(o.y + row / block, cell_rows[static_cast<std::size_t>(cell_x)]);
     return y < column_rows[static_cast<std::size_t>(x)];
 }
 
@@ -167,12 +166,17 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
     std::fill(lo, lo + bmfr_scaled_count, half_max);
     std::fill(hi, hi + bmfr_scaled_count, -half_max);
     // Rows without data (Visual-Polar): zero rows, no noise, not in the ranges
-    unsigned char data[bmfr_block_pixels];
+    const int rows = grid.block * grid.block;
+    if (out.rows != rows) {
+        out.rows = rows;
+        out.a.assign(static_cast<std::size_t>(rows) * bmfr_matrix_stride, 0.0f);
+    }
+    std::vector<unsigned char> data(static_cast<std::size_t>(rows));
     int data_rows = 0;
     // Gather the raw features and colours (mirrored borders) in the storage precision, and the
     // ranges of features 4..9 over the stored values (the authors store the features in binary16
     // before the fit reads them)
-    for (int row = 0; row < bmfr_block_pixels; ++row) {
+    for (int row = 0; row < rows; ++row) {
         int x = 0, y = 0;
         float* a = &out.a[static_cast<std::size_t>(row) * bmfr_matrix_stride];
         data[row] = grid.source(cell_x, cell_y, row, x, y) && (!valid || valid->at(x, y) != 0.0f);
@@ -201,7 +205,7 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
     // Scale features 4..9 (stored again), then add the regularisation noise to features 1..9 in
     // float: the authors add it as the first Householder column reads the values, whose
     // reflection then stores them
-    for (int row = 0; row < bmfr_block_pixels; ++row) {
+    for (int row = 0; row < rows; ++row) {
         if (!data[row]) continue;
         float* a = &out.a[static_cast<std::size_t>(row) * bmfr_matrix_stride];
         for (int k = 0; k < bmfr_scaled_count; ++k)
@@ -210,7 +214,7 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
         if (noise)
             for (int f = 1; f < bmfr_feature_count; ++f)
                 a[f] = a[f] + bmfr_regularisation_noise(params.noise_amount, params.noise_hash, row,
-                                                        f, frame);
+                                                        f, frame, rows);
     }
 }
 
@@ -224,7 +228,7 @@ BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
         const int c = std::min(col, bmfr_feature_count);
         // The norm of the column below the pivot row (binary64, row order)
         double s_sum = 0.0;
-        for (int i = c + 1; i < bmfr_block_pixels; ++i) {
+        for (int i = c + 1; i < m.rows; ++i) {
             const double x = a[i * stride + col];
             s_sum += x * x;
         }
@@ -244,10 +248,10 @@ BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
         const int j0 = (col + 1) & ~3;
         const bool half = params.storage == BmfrStorage::half;
         switch (j0) {
-            case 0: reflect_columns<0>(a, col, c, uc, u_length_squared, half); break;
-            case 4: reflect_columns<4>(a, col, c, uc, u_length_squared, half); break;
-            case 8: reflect_columns<8>(a, col, c, uc, u_length_squared, half); break;
-            default: reflect_columns<12>(a, col, c, uc, u_length_squared, half); break;
+            case 0: reflect_columns<0>(a, m.rows, col, c, uc, u_length_squared, half); break;
+            case 4: reflect_columns<4>(a, m.rows, col, c, uc, u_length_squared, half); break;
+            case 8: reflect_columns<8>(a, m.rows, col, c, uc, u_length_squared, half); break;
+            default: reflect_columns<12>(a, m.rows, col, c, uc, u_length_squared, half); break;
         }
         // The diagonal stays in float (the authors keep R in local float memory)
         a[c * stride + col] = r;
@@ -279,8 +283,8 @@ BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
 BmfrFit bmfr_fit(const BmfrParams& params, const Image& accumulated, const Image& world_position,
                  const Image& normal, int frame, BmfrStats& stats, const BmfrSpace& space) {
     BmfrFit out;
-    out.grid =
-        bmfr_grid(accumulated.width, accumulated.height, frame, space.map ? &*space.map : nullptr);
+    out.grid = bmfr_grid(accumulated.width, accumulated.height, frame,
+                         space.map ? &*space.map : nullptr, params.block_size);
     const BmfrGrid& g = out.grid;
     out.weights = Image(g.cells_x, g.cells_y, bmfr_weight_count);
     out.feature_range = Image(g.cells_x, g.cells_y, 2 * bmfr_scaled_count);

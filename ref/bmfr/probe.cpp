@@ -12,7 +12,8 @@ namespace fovref {
 void explain_bmfr_block(const ProbeContext& c, const VisualPolarMap& m, int i, int j,
                         ProbeReport& report) {
     ProbeSection b{"bmfr_fit", "the BMFR block of this texel (staircase grid, rows wrap)", {}};
-    const BmfrGrid g = bmfr_grid(m.width, m.height, c.frame->frame, &m);
+    const BmfrGrid g = bmfr_grid(m.width, m.height, c.frame->frame, &m,
+                                 parse_bmfr_params(c.settings->params, "bmfr").params.block_size);
     const glm::ivec2 cell = g.cell_of(i, j);
     const glm::ivec2 o = g.origin(cell.x, cell.y);
     b.add("cell", "(" + std::to_string(cell.x) + ", " + std::to_string(cell.y) + ") of " +
@@ -137,7 +138,8 @@ void explain_fit(const ProbeContext& c, ProbeReport& report) {
     const FrameResult& f = *c.frame;
     const int x = c.x, y = c.y;
     BmfrFit fit;
-    fit.grid = bmfr_grid(c.settings->width, c.settings->height, f.frame);
+    fit.grid = bmfr_grid(c.settings->width, c.settings->height, f.frame, nullptr,
+                         parse_bmfr_params(c.settings->params).params.block_size);
     fit.weights = image_of(f, "bmfr_weights");
     fit.feature_range = image_of(f, "bmfr_feature_range");
     const glm::ivec2 cell = fit.grid.cell_of(x, y);
@@ -146,8 +148,8 @@ void explain_fit(const ProbeContext& c, ProbeReport& report) {
     b.add("block", "cell (" + std::to_string(cell.x) + ", " + std::to_string(cell.y) + ") of " +
                        std::to_string(fit.grid.cells_x) + " x " + std::to_string(fit.grid.cells_y) +
                        ", pixels (" + std::to_string(o.x) + ".." +
-                       std::to_string(o.x + bmfr_block_size - 1) + ", " + std::to_string(o.y) +
-                       ".." + std::to_string(o.y + bmfr_block_size - 1) +
+                       std::to_string(o.x + fit.grid.block - 1) + ", " + std::to_string(o.y) +
+                       ".." + std::to_string(o.y + fit.grid.block - 1) +
                        ") mirrored at the borders");
     b.add("offset", "(" + std::to_string(fit.grid.offset.x) + ", " +
                         std::to_string(fit.grid.offset.y) + "): the authors' offset " +

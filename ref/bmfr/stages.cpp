@@ -94,6 +94,7 @@ BmfrSpace frame_space(const FrameContext& ctx, const BmfrState& s) {
     space.map = s.map(ctx, ctx.frame);
     space.valid = &ctx.input("valid");
     if (!s.history.valid_texels.empty()) space.previous_valid = &s.history.valid_texels;
+    space.previous_map = s.history.map;
     return space;
 }
 
@@ -209,7 +210,8 @@ void bmfr_weighted_sum_stage(FrameContext& ctx) {
     const Image& world = ctx.input("world_position");
     const BmfrSpace space = frame_space(ctx, s);
     BmfrFit fit;
-    fit.grid = bmfr_grid(world.width, world.height, ctx.frame, space.map ? &*space.map : nullptr);
+    fit.grid = bmfr_grid(world.width, world.height, ctx.frame, space.map ? &*space.map : nullptr,
+                         s.settings.params.block_size);
     fit.weights = ctx.input("bmfr_weights");
     fit.feature_range = ctx.input("bmfr_feature_range");
     BmfrStats stats;
@@ -326,7 +328,9 @@ std::vector<PixelFunction> bmfr_pixel_functions(
 }
 
 glm::ivec2 bmfr_screen_block(const RenderSettings& settings, int frame, glm::ivec2 point) {
-    return bmfr_grid(settings.width, settings.height, frame).cell_of(point.x, point.y);
+    return bmfr_grid(settings.width, settings.height, frame, nullptr,
+                     parse_bmfr_params(settings.params).params.block_size)
+        .cell_of(point.x, point.y);
 }
 
 }  // namespace fovref

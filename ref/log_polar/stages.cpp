@@ -309,11 +309,24 @@ void stereo_resolve_stage(FrameContext& ctx) {
                              stereo_resolve_decisions(*frames.forward, color.width, color.height));
 }
 
+void stereo_internal_aa_stage(FrameContext& ctx) {
+    ctx.output("output", BufferKind::color, {"r", "g", "b"},
+               stereo_internal_aa(ctx.input("color"), ctx.input("valid")));
+}
+
+StageDef stereo_internal_aa_stage_def() {
+    return {"internal_aa",
+            {{"color", "lp_color"}, {"valid", "lp_valid"}},
+            {{"output", "lp_color_aa"}},
+            stereo_internal_aa_stage};
+}
+
 StageDef stereo_resolve_stage_def(const StereoStage& shared, std::string output) {
     std::vector<Port> outputs = {{"output", std::move(output)}};
     for (Port& port : resolve_decision_ports(false)) outputs.push_back(std::move(port));
+    const std::string color = shared.frames->params.blur ? "lp_color_aa" : "lp_color";
     return {"resolve",
-            {{"color", "lp_color"}, {"valid", "lp_valid"}},
+            {{"color", color}, {"valid", "lp_valid"}},
             outputs,
             stereo_resolve_stage,
             stereo_state(shared)};

@@ -111,6 +111,10 @@ struct StereoStage {
 
 StageDef stereo_trace_stage_def(const StereoStage& shared);
 void stereo_trace_stage(FrameContext& context);
+/// Gupta's pre-resolve blur (blur=internal_aa): lp_color, lp_valid -> lp_color_aa, Meng's internal
+/// AA on each eye's half (stereo_internal_aa); pass 2 then reads lp_color_aa.
+StageDef stereo_internal_aa_stage_def();
+void stereo_internal_aa_stage(FrameContext& context);
 StageDef stereo_resolve_stage_def(const StereoStage& shared, std::string output);
 void stereo_resolve_stage(FrameContext& context);
 StageDef stereo_ray_positions_stage_def(const StereoStage& shared);

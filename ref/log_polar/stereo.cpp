@@ -5,6 +5,7 @@
 
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
+#include "ref/filters/internal_aa.h"
 
 namespace fovref {
 
@@ -41,6 +42,9 @@ std::vector<ParamSpec> stereo_param_specs() {
     specs.push_back({"barrel", "off", "Gupta's barrel distortion in pass 2: on or off"});
     specs.push_back({"k1", "0.22", "barrel distortion: coefficient of |q|^2"});
     specs.push_back({"k2", "0.24", "barrel distortion: coefficient of |q|^4"});
+    specs.push_back({"blur", "off",
+                     "Gupta's pre-resolve blur (Gupta §2, citing Meng): 'internal_aa' runs Meng's "
+                     "internal AA on each eye's buffer before pass 2; 'off' (Gupta's shader)"});
     return specs;
 }
 
@@ -58,6 +62,10 @@ StereoParams parse_stereo_params(const Params& params) {
     parsed.k2 = params.get_float(specs, "k2", -10.0f, 10.0f);
     if (!parsed.barrel && (params.given("k1") || params.given("k2")))
         throw Error("parameters 'k1' and 'k2' apply to the barrel distortion: add barrel=on");
+    const std::string blur = params.get_string(specs, "blur");
+    if (blur != "off" && blur != "internal_aa")
+        throw Error("parameter 'blur': '" + blur + "' is neither off nor internal_aa");
+    parsed.blur = blur == "internal_aa";
     return parsed;
 }
 
@@ -189,6 +197,21 @@ Image eye_half(const Image& side_by_side, int eye) {
             for (int k = 0; k < side_by_side.channels; ++k)
                 half.at(i, j, k) = side_by_side.at(eye * w + i, j, k);
     return half;
+}
+
+Image stereo_internal_aa(const Image& color, const Image& valid) {
+    FOVREF_CHECK(color.width % 2 == 0 && valid.width == color.width && valid.height == color.height,
+                 "a side-by-side buffer of an odd width, or a mask of another size");
+    const int w = color.width / 2;
+    Image out(color.width, color.height, color.channels, 0.0f);
+    for (int eye = 0; eye < 2; ++eye) {
+        const Image half = internal_aa(eye_half(color, eye), eye_half(valid, eye));
+        for (int j = 0; j < color.height; ++j)
+            for (int i = 0; i < w; ++i)
+                for (int k = 0; k < color.channels; ++k)
+                    out.at(eye * w + i, j, k) = half.at(i, j, k);
+    }
+    return out;
 }
 
 Image resolve_stereo(const StereoParams& params, const std::array<LogPolarMap, 2>& maps,

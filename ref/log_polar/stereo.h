@@ -39,6 +39,11 @@ struct StereoParams {
     float ipd = 0.064f;   ///< interpupillary distance in scene units
     bool barrel = false;  ///< Gupta's barrel distortion in pass 2
     float k1 = 0.22f, k2 = 0.24f;
+    /// Gupta's pre-resolve blur (`blur=internal_aa`; Gupta §2, citing Meng's "Gaussian blur on
+    /// the right side of the log-polar buffer"): Meng's internal AA on each eye's buffer before
+    /// pass 2. Off by default: Gupta's shader does not blur ("I will add the blurring feature
+    /// later").
+    bool blur = false;
 };
 
 /// stereo-lp's preset (SPEC §12): sigma = sqrt 2 per eye (both buffers together W H / 2 texels),
@@ -111,6 +116,11 @@ void resolve_stereo_pixel(const StereoParams& params, const std::array<LogPolarM
 /// Eye e's half of a side-by-side 2w x h buffer (columns e w .. e w + w - 1), as a w x h buffer
 /// of its own: pass 2 looks up each eye in its half (the lookup wraps and clamps within it).
 Image eye_half(const Image& side_by_side, int eye);
+
+/// Gupta's pre-resolve blur: Meng's internal AA (ref/filters/internal_aa.h) on each eye's half of
+/// the side-by-side buffer on its own (its columns clamp and its rows wrap within the half), the
+/// result side by side again; the buffer's size and channels.
+Image stereo_internal_aa(const Image& color, const Image& valid);
 
 /// Pass 2 of both eyes: a W x H image from the side-by-side buffer and its mask.
 Image resolve_stereo(const StereoParams& params, const std::array<LogPolarMap, 2>& maps,

@@ -149,6 +149,7 @@ Pipeline stereo_pipeline(const Scene*, const RenderSettings& settings) {
     Pipeline p;
     p.add(stereo_trace_stage_def(s));
     p.add(shade_stage_def("stereo_shade", "lp_gbuffer_", "lp_color", s.bvh, {{}, eye_cameras}));
+    if (s.frames->params.blur) p.add(stereo_internal_aa_stage_def());
     p.add(stereo_resolve_stage_def(s, taa.enabled() ? "resolved" : "final"));
     if (taa.enabled()) p.add(stereo_taa_source_stage_def(s, taa)).add(stereo_taa_stage_def(s, taa));
     p.add(stereo_ray_positions_stage_def(s));

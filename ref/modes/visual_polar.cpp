@@ -71,7 +71,9 @@ Pipeline vp_pipeline(const RenderSettings& settings, bool path_traced) {
 glm::ivec2 vp_bmfr_block(const RenderSettings& settings, int frame, glm::ivec2 texel) {
     const VisualPolarMap map = sparse_vp_map(parse_sparse_params(settings.params, "visual-polar"),
                                              settings.width, settings.height, frame);
-    return bmfr_grid(map.width, map.height, frame, &map).cell_of(texel.x, texel.y);
+    return bmfr_grid(map.width, map.height, frame, &map,
+                     parse_bmfr_params(settings.params, "bmfr").params.block_size)
+        .cell_of(texel.x, texel.y);
 }
 
 std::vector<PixelFunction> vp_pixel_functions(bool path_traced, const Params& params) {

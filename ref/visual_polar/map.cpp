@@ -98,12 +98,28 @@ VisualPolarMap make_visual_polar_map(int screen_width, int screen_height, glm::v
     return m;
 }
 
-int vp_column_rows(const VisualPolarMap& m, int i) {
+int vp_triangle_rows(const VisualPolarMap& m, int i) {
     if (i >= m.fovea_columns) return m.height;
     const float t = static_cast<float>(m.height) * (static_cast<float>(i) + 0.5f) /
                         static_cast<float>(m.fovea_columns) -
                     0.5f;
     return std::clamp(static_cast<int>(std::ceil(t)), 1, m.height);
+}
+
+int vp_column_rows(const VisualPolarMap& m, int i) {
+    if (m.staircase_block <= 0 || i >= m.fovea_columns) return vp_triangle_rows(m, i);
+    // The block column of i (BMFR's grid: x + B/2 - o >= 0 for |o| <= B/2) and its last column
+    // in the buffer, where the (nondecreasing) triangle is largest
+    const int b = m.staircase_block;
+    const int cell = (i + b / 2 - m.staircase_offset) / b;
+    return vp_triangle_rows(m, std::min(cell * b + b / 2 - 1 + m.staircase_offset, m.width - 1));
+}
+
+bool VisualPolarMap::same_forward(const VisualPolarMap& o) const {
+    VisualPolarMap a = *this, b = o;
+    a.staircase_block = b.staircase_block = 0;
+    a.staircase_offset = b.staircase_offset = 0;
+    return a == b;
 }
 
 float vp_column_radius(const VisualPolarMap& m, int i) {

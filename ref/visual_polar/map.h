@@ -10,7 +10,11 @@
 // degree, R the largest gaze-to-corner distance (the farthest corner is the last column).
 //   fovea, i < i_f = round(0.24 w): r_i = s P(u0) (i + 1/2) / i_f (linear);
 //     n_i = clamp(ceil(h (i + 1/2) / i_f - 1/2), 1, h) rows (the triangular clip), theta_j =
-//     2 pi (j + 1/2) / n_i for j < n_i; rows j >= n_i are clipped (never traced, no data)
+//     2 pi (j + 1/2) / n_i for j < n_i; rows j >= n_i are clipped (never traced, no data).
+//     With BMFR's staircase (P5 §3.3, Fig. 4b; staircase_block B > 0): every column of a BMFR
+//     block column (B c - B/2 + o .. + B - 1, o the frame's block offset) has the rows of the
+//     block column's last column in the buffer, n_i = tri(min(B c + B/2 - 1 + o, w - 1)), so
+//     the phi height is the same within a block column and the steps move with the offset.
 //   periphery, i >= i_f: U = u0 + (rho - rho_f)(1 - u0) / (1 - rho_f), rho = (i + 1/2) / w,
 //     rho_f = i_f / w; r = s P(U); theta_j = 2 pi (j + 1/2) / h
 //   forward (screen -> buffer, continuous): r < s P(u0): u = i_f r / (s P(u0)),
@@ -47,7 +51,14 @@ struct VisualPolarMap {
     int fovea_columns = 0;      ///< i_f
     float scale = 0.0f;         ///< s, pixels per model degree
     float fovea_radius = 0.0f;  ///< s P(u0) in pixels
+    /// BMFR's staircase clip (P5 Fig. 4b): the block edge B (0: the triangular clip) and the
+    /// x offset o of the frame's block grid.
+    int staircase_block = 0;
+    int staircase_offset = 0;
     bool operator==(const VisualPolarMap&) const = default;
+    /// Whether the forward map (u, r, theta of a screen point) is the same as `other`'s: every
+    /// member but the clip, which changes only row counts.
+    bool same_forward(const VisualPolarMap& other) const;
 };
 
 /// The map for a W x H screen, gaze g and buffer w x h (SPEC §12's preset: w = round(W / 1.5),
@@ -58,8 +69,12 @@ VisualPolarMap make_visual_polar_map(int screen_width, int screen_height, glm::v
 /// The preset's buffer size: round(W / 1.5) x round(H / 1.5).
 glm::ivec2 visual_polar_buffer_size(int screen_width, int screen_height);
 
-/// Rows of column i that carry data: n_i in the fovea, h in the periphery.
+/// Rows of column i that carry data: n_i in the fovea (the triangular clip, or BMFR's
+/// staircase), h in the periphery.
 int vp_column_rows(const VisualPolarMap& map, int column);
+/// The triangular clip's rows of column i, clamp(ceil(h (i + 1/2) / i_f - 1/2), 1, h) in the
+/// fovea, h beyond.
+int vp_triangle_rows(const VisualPolarMap& map, int column);
 
 /// The screen radius of column i's texel centres.
 float vp_column_radius(const VisualPolarMap& map, int column);

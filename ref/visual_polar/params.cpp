@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "ref/core/block_offsets.h"
 #include "ref/core/error.h"
 #include "ref/core/limits.h"
 #include "ref/visual_polar/map.h"
@@ -18,6 +19,13 @@ std::vector<ParamSpec> sparse_param_specs(const std::string& mode) {
         specs.push_back({"resolve", "mip",
                          "pass 2: 'mip' (per-column phi mips, trilinear; P5 §3.4) or 'bilinear'"});
         specs.push_back({"blur", "on", "the P5 blur ramp after pass 2: 'on' or 'off'"});
+        if (mode == "visual-polar")
+            specs.push_back(
+                {"vp_clip", "staircase",
+                 "the fovea's clip under BMFR: 'staircase' (P5 Fig. 4b: every column of a BMFR "
+                 "block column has the rows of its last, and the steps move with the block "
+                 "offsets) or 'triangle' (each column its own rows, as without BMFR); "
+                 "docs/visual-polar.md"});
         specs.push_back({"blur_sigma_deg", "0.564",
                          "blur ramp: sigma (model degrees) from blur_full_deg on (P5 §3.5)"});
         specs.push_back({"blur_full_deg", "30",
@@ -71,6 +79,19 @@ SparseParams parse_sparse_params(const Params& params, const std::string& mode) 
             throw Error("parameter 'resolve': expected 'mip' or 'bilinear', got '" + resolve + "'");
         p.mip_resolve = resolve == "mip";
         p.blur = params.get_bool(specs, "blur");
+        if (mode == "visual-polar") {
+            const std::string clip = params.get_string(specs, "vp_clip");
+            if (clip != "staircase" && clip != "triangle")
+                throw Error("parameter 'vp_clip': expected 'staircase' or 'triangle', got '" +
+                            clip + "'");
+            // BMFR's own parameters (denoise, bmfr_block) are validated by the BMFR stages;
+            // the clip follows the blocks only when BMFR runs
+            const auto raw = [&params](const char* key, const char* fallback) {
+                return params.given(key) ? params.values().at(key) : std::string(fallback);
+            };
+            if (clip == "staircase" && raw("denoise", "bmfr") == "bmfr")
+                p.staircase_block = raw("bmfr_block", "32") == "64" ? 64 : 32;
+        }
         p.ramp.sigma_deg = params.get_float(specs, "blur_sigma_deg", 0.0f, 10.0f);
         p.ramp.full_deg = params.get_float(specs, "blur_full_deg", 6.0f, 1000.0f);
     }
@@ -110,7 +131,14 @@ VisualPolarMap sparse_vp_map(const SparseParams& params, int width, int height, 
     check_limit("parameters 'buffer_width' x 'buffer_height': the Visual-Polar buffer",
                 static_cast<std::uint64_t>(w) * static_cast<std::uint64_t>(h),
                 input_limits().max_image_pixels, "texels", "FOVREF_MAX_IMAGE_PIXELS");
-    return make_visual_polar_map(width, height, sparse_gaze(params, width, height, frame), w, h);
+    VisualPolarMap map =
+        make_visual_polar_map(width, height, sparse_gaze(params, width, height, frame), w, h);
+    if (params.staircase_block > 0) {
+        map.staircase_block = params.staircase_block;
+        map.staircase_offset = block_grid_offsets()[static_cast<std::size_t>(frame % 16)].x *
+                               (params.staircase_block / 32);
+    }
+    return map;
 }
 
 float sparse_pixels_per_degree(const Scene& scene, const Camera& camera, int width, int height) {

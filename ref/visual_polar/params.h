@@ -35,7 +35,10 @@ struct SparseParams {
     int buffer_width = 0, buffer_height = 0;  ///< 0: the preset, round(W/1.5), round(H/1.5)
     bool mip_resolve = true;                  ///< `resolve=mip` (phi mips), else `bilinear`
     bool blur = true;                         ///< `blur=on`: the P5 blur ramp after pass 2
-    BlurRamp ramp;                            ///< `blur_sigma_deg`, `blur_full_deg`
+    /// BMFR's staircase clip (`vp_clip=staircase` with `denoise=bmfr`, P5 Fig. 4b): the BMFR
+    /// block edge (`bmfr_block`, 32 or 64) the fovea's row counts follow; 0: the triangular clip
+    int staircase_block = 0;
+    BlurRamp ramp;  ///< `blur_sigma_deg`, `blur_full_deg`
     // linear fall-off
     LinearFalloff falloff;  ///< `falloff_fovea_deg`, `falloff_periphery_deg`, `falloff_min`
     // acuity

@@ -128,8 +128,11 @@ void vp_resolve_stage(FrameContext& ctx) {
     SparseFrames& frames = *ctx.state<SparseState>().frames;
     const VisualPolarMap map = frames.map(ctx, ctx.frame);
     const VpMips mips = build_vp_mips(map, ctx.input("color"), ctx.input("valid"));
-    const bool reused = frames.forward && frames.forward->map == map;
+    // The table holds (u, r, theta), which BMFR's staircase does not change: kept when only the
+    // clip moved, with the frame's map
+    const bool reused = frames.forward && frames.forward->map.same_forward(map);
     if (!reused) frames.forward = vp_forward_table(map);
+    frames.forward->map = map;
     ResolveStats stats;
     const bool mip = frames.params.mip_resolve;
     Image out = resolve_visual_polar(map, mips, stats, mip, &*frames.forward);

@@ -13,6 +13,7 @@
 #include "ref/bmfr/bmfr_params.h"
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
+#include "tests/image/image_test_util.h"
 
 using namespace fovref;
 
@@ -51,7 +52,7 @@ std::vector<double> normal_equations(const BmfrBlockMatrix& m, const std::vector
                                      int rhs) {
     const int n = static_cast<int>(columns.size());
     std::vector<double> ata(n * (n + 1), 0.0);
-    for (int r = 0; r < bmfr_block_pixels; ++r)
+    for (int r = 0; r < m.rows; ++r)
         for (int i = 0; i < n; ++i) {
             for (int j = 0; j < n; ++j)
                 ata[i * (n + 1) + j] +=
@@ -127,6 +128,75 @@ TEST_CASE(
     }
     CHECK(bmfr_grid(1280, 720, 0).cells_x == 41);
     CHECK(bmfr_grid(1280, 720, 0).cells_y == 24);
+}
+
+TEST_CASE(
+    "bmfr 64 x 64 blocks (bmfr_block=64, P2 §6.1): the grid, the offsets doubled, the "
+    "noise's stride, a fit on a wall") {
+    // (ceil(1280 / 64) + 1) x (ceil(720 / 64) + 1) = 21 x 13 cells
+    CHECK(bmfr_grid(1280, 720, 0, nullptr, 64).cells_x == 21);
+    CHECK(bmfr_grid(1280, 720, 0, nullptr, 64).cells_y == 13);
+    for (int frame = 0; frame < 16; ++frame) {
+        const BmfrGrid g = bmfr_grid(160, 96, frame, nullptr, 64);
+        CHECK(g.offset == 2 * bmfr_block_offsets()[frame]);
+        CHECK(g.origin(0, 0) == glm::ivec2(-32) + g.offset);
+        for (int y = 0; y < 96; ++y)
+            for (int x = 0; x < 160; ++x) {
+                const glm::ivec2 c = g.cell_of(x, y), o = g.origin(c.x, c.y);
+                REQUIRE(c.x < g.cells_x);
+                REQUIRE(c.y < g.cells_y);
+                REQUIRE((x - o.x >= 0 && x - o.x < 64 && y - o.y >= 0 && y - o.y < 64));
+            }
+    }
+    // The noise's seed strides by the block's 4096 pixels: row 5 of feature 3 in frame 2 hashes
+    // 5 + 3 4096 + 2 13 4096 = 118789
+    const float r = static_cast<float>(jenkins_hash(118789u)) / 4294967295.0f;
+    CHECK(bmfr_regularisation_noise(0.01f, BmfrNoiseHash::jenkins, 5, 3, 2, 4096) ==
+          0.01f * 2.0f * (r - 0.5f));
+    // A wall lit linearly in x and y: the fit of a 64 x 64 block (4096 rows, with the noise)
+    // reproduces every row within 5e-3 (a flat wall is rank-deficient: the regularisation noise,
+    // 0.01 on every feature, moves the fit by a few 1e-3; the 32 x 32 block of the same wall
+    // below does the same)
+    Frame f = wall(160, 160, 0.01f, glm::vec3(0, 0, 1), 2.0f);
+    Image illumination(160, 160, 3);
+    for (int y = 0; y < 160; ++y)
+        for (int x = 0; x < 160; ++x)
+            for (int c = 0; c < 3; ++c)
+                illumination.at(x, y, c) = 0.2f + 0.004f * static_cast<float>(x) +
+                                           0.001f * static_cast<float>(y * (c + 1));
+    const BmfrGrid grid = bmfr_grid(160, 160, 3, nullptr, 64);
+    BmfrBlockMatrix m, clean;
+    bmfr_gather_block(float_params(), grid, 1, 1, illumination, f.world, f.normal, 3, true, m);
+    bmfr_gather_block(float_params(), grid, 1, 1, illumination, f.world, f.normal, 3, false, clean);
+    REQUIRE(m.rows == 4096);
+    const auto worst_row = [](BmfrBlockMatrix& noisy, const BmfrBlockMatrix& noise_free) {
+        const BmfrBlockFit fit = bmfr_solve_block(float_params(), noisy);
+        double worst = 0.0;
+        for (int row = 0; row < noise_free.rows; ++row)
+            for (int c = 0; c < 3; ++c) {
+                double v = 0.0;
+                for (int i = 0; i < 10; ++i) v += fit.weights[c][i] * noise_free.at(row, i);
+                worst = std::max(worst, std::fabs(v - noise_free.at(row, 10 + c)));
+            }
+        return worst;
+    };
+    const double worst64 = worst_row(m, clean);
+    const BmfrGrid grid32 = bmfr_grid(160, 160, 3);
+    BmfrBlockMatrix m32, clean32;
+    bmfr_gather_block(float_params(), grid32, 2, 2, illumination, f.world, f.normal, 3, true, m32);
+    bmfr_gather_block(float_params(), grid32, 2, 2, illumination, f.world, f.normal, 3, false,
+                      clean32);
+    REQUIRE(m32.rows == 1024);
+    const double worst32 = worst_row(m32, clean32);
+    MESSAGE("largest row error of the wall's fit: 64 x 64 " << worst64 << ", 32 x 32 " << worst32);
+    CHECK(worst64 < 5e-3);
+    CHECK(worst32 < 5e-3);
+    // refused values
+    CHECK(test::contains(test::error_message([] {
+                             parse_bmfr_params(Params(std::map<std::string, std::string>{
+                                 {"denoise", "bmfr"}, {"bmfr_block", "48"}}));
+                         }),
+                         "parameter 'bmfr_block'"));
 }
 
 TEST_CASE("bmfr_mirror: -1 -> 0, W -> W - 1, reflected again for images narrower than a block") {

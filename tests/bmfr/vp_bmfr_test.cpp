@@ -10,7 +10,9 @@
 
 #include "ref/bmfr/bmfr.h"
 #include "ref/core/rng.h"
+#include "ref/visual_polar/params.h"
 #include "ref/visual_polar/trace.h"
+#include "tests/image/image_test_util.h"
 
 using namespace fovref;
 
@@ -164,4 +166,58 @@ TEST_CASE(
     // outside the buffer
     const BmfrTaps o = bmfr_vp_taps(map, {-1.5f, 0.5f});
     CHECK(o.y[0] == -1);
+}
+
+TEST_CASE(
+    "VP-BMFR: P5's staircase clip (vp_clip=staircase): one phi height per BMFR block "
+    "column, moving with the block offsets") {
+    // By hand: w = 40, h = 30, i_f = round(9.6) = 10; frame 0's offset x is -14, so block column
+    // 0 covers columns -30 .. 1 and block column 1 columns 2 .. 33. Triangle rows of column 1:
+    // ceil(30 1.5 / 10 - 1/2) = 4; column 33 is in the periphery: 30.
+    VisualPolarMap hand = make_visual_polar_map(60, 45, {30.0f, 22.0f}, 40, 30);
+    hand.staircase_block = 32;
+    hand.staircase_offset = -14;
+    CHECK(vp_column_rows(hand, 0) == 4);
+    CHECK(vp_column_rows(hand, 1) == 4);
+    for (int c = 2; c < 40; ++c) CHECK(vp_column_rows(hand, c) == 30);
+    CHECK(vp_triangle_rows(hand, 0) == 1);  // ceil(30 0.5 / 10 - 1/2) = ceil(1.0)
+    // Every frame of the modes' map: within each block column every column has the same rows,
+    // the grid's phi height; never fewer rows than the triangle; the steps move with the offset
+    const SparseParams params = parse_sparse_params(Params(), "visual-polar");
+    CHECK(params.staircase_block == 32);
+    std::vector<int> previous;
+    int moved = 0;
+    for (int frame = 0; frame < 16; ++frame) {
+        CAPTURE(frame);
+        const VisualPolarMap map = sparse_vp_map(params, 320, 180, frame);
+        CHECK(map.staircase_offset == bmfr_block_offsets()[frame].x);
+        const BmfrGrid g = bmfr_grid(map.width, map.height, frame, &map);
+        std::vector<int> rows;
+        for (int c = 0; c < map.width; ++c) {
+            rows.push_back(vp_column_rows(map, c));
+            REQUIRE(rows.back() >= vp_triangle_rows(map, c));
+            REQUIRE(rows.back() == g.cell_rows[static_cast<std::size_t>(g.cell_of(c, 0).x)]);
+        }
+        if (!previous.empty() && rows != previous) ++moved;
+        previous = rows;
+    }
+    CHECK(moved > 10);
+    // Without BMFR, or with vp_clip=triangle: the triangle
+    for (const auto& p : {std::map<std::string, std::string>{{"denoise", "none"}},
+                          std::map<std::string, std::string>{{"vp_clip", "triangle"}}}) {
+        const VisualPolarMap map =
+            sparse_vp_map(parse_sparse_params(Params(p), "visual-polar"), 320, 180, 3);
+        CHECK(map.staircase_block == 0);
+        for (int c = 0; c < map.width; ++c)
+            REQUIRE(vp_column_rows(map, c) == vp_triangle_rows(map, c));
+    }
+    CHECK(parse_sparse_params(Params(std::map<std::string, std::string>{{"bmfr_block", "64"}}),
+                              "visual-polar")
+              .staircase_block == 64);
+    CHECK(test::contains(test::error_message([] {
+                             parse_sparse_params(
+                                 Params(std::map<std::string, std::string>{{"vp_clip", "stairs"}}),
+                                 "visual-polar");
+                         }),
+                         "parameter 'vp_clip'"));
 }

@@ -126,6 +126,64 @@ TEST_CASE("stereo: bad parameters are refused with their names") {
     CHECK(test::contains(message(16, {{"ipd", "-1"}}), "parameter 'ipd'"));
     CHECK(test::contains(message(16, {{"gaze_angle", "0.2"}}), "not a parameter of mode"));
     CHECK(test::contains(message(16, {{"barrel", "maybe"}}), "parameter 'barrel'"));
+    CHECK(test::contains(message(16, {{"blur", "gauss"}}), "parameter 'blur'"));
+}
+
+TEST_CASE("stereo: Gupta's pre-resolve blur is Meng's internal AA within each eye's half") {
+    // Two 4 x 3 eyes side by side: eye 0 holds 10 i + j, eye 1 1000 + the same. The outer half
+    // of each eye (eye-local columns 2, 3) is filtered; its columns clamp within the eye, so eye
+    // 0's column 3 never reads eye 1's column 4 (which would pull it towards 1000).
+    Image color(8, 3, 1, 0.0f), valid(8, 3, 1, 1.0f);
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 8; ++i)
+            color.at(i, j) = static_cast<float>((i >= 4 ? 1000 : 0) + 10 * (i % 4) + j);
+    const Image out = stereo_internal_aa(color, valid);
+    for (int j = 0; j < 3; ++j) {
+        CHECK(out.at(0, j) == color.at(0, j));  // inner half: unchanged
+        CHECK(out.at(5, j) == color.at(5, j));
+        CHECK(out.at(3, j) < 100.0f);  // clamped within eye 0
+        CHECK(out.at(4, j) == color.at(4, j));
+    }
+    // Eye-local texel (3, 1): columns 2, 3, 3 (clamped), rows 0, 1, 2, weights [1 2 1; 2 4 2;
+    // 1 2 1]: (20 + 2 30 + 30 + 2 21 + 4 31 + 2 31 + 22 + 2 32 + 32) / 16
+    const double expected = (20 + 60 + 30 + 42 + 124 + 62 + 22 + 64 + 32) / 16.0;
+    CHECK(out.at(3, 1) == doctest::Approx(expected).epsilon(1e-6));
+    CHECK(out.at(7, 1) == doctest::Approx(1000 + expected).epsilon(1e-6));
+    // In the mode: lp_color_aa is written and pass 2 reads it; pixels whose taps all lie in the
+    // inner halves are unchanged, the periphery is smoother
+    const Scene scene = make_procedural_scene("checker-room");
+    RenderSettings s;
+    s.width = 96;
+    s.height = 54;
+    s.requested = {"all"};
+    const FrameResult plain = render(&scene, "stereo-lp", s).at(0);
+    s.params = Params(std::map<std::string, std::string>{{"blur", "internal_aa"}});
+    const FrameResult blurred = render(&scene, "stereo-lp", s).at(0);
+    REQUIRE(blurred.find("lp_color_aa") != nullptr);
+    CHECK(plain.find("lp_color_aa") == nullptr);
+    const Image expected_aa =
+        stereo_internal_aa(blurred.find("lp_color")->image, blurred.find("lp_valid")->image);
+    CHECK(std::memcmp(blurred.find("lp_color_aa")->image.data.data(), expected_aa.data.data(),
+                      expected_aa.data.size() * sizeof(float)) == 0);
+    const Image& a = plain.find("final")->image;
+    const Image& b = blurred.find("final")->image;
+    const Image& taps = plain.find("resolve_tap")->image;
+    const auto w = static_cast<int>(plain.counters.get("buffer_width"));
+    std::int64_t inner = 0, changed = 0;
+    for (int y = 0; y < 54; ++y)
+        for (int x = 0; x < 96; ++x) {
+            // i0 + 1 < w/2 within its eye: both columns read lie in the inner half
+            const int i0 = static_cast<int>(taps.at(x, y, 0)) % w;
+            const bool differs =
+                std::memcmp(&a.data[a.index(x, y)], &b.data[b.index(x, y)], 3 * sizeof(float)) != 0;
+            if (2 * (i0 + 1) < w) {
+                ++inner;
+                REQUIRE_FALSE(differs);
+            }
+            changed += differs ? 1 : 0;
+        }
+    CHECK(inner > 0);
+    CHECK(changed > 0);
 }
 
 TEST_CASE("stereo: pass 2 from the kept lookup table gives the same bits") {

@@ -14,6 +14,7 @@
 #include "ref/modes/modes.h"
 #include "ref/scene/procedural.h"
 #include "ref/visual_polar/map.h"
+#include "ref/visual_polar/params.h"
 #include "ref/visual_polar/resolve.h"
 #include "tests/stage/mode_test_util.h"
 
@@ -144,7 +145,10 @@ TEST_CASE("VP-BMFR: a static camera and gaze reproject every traced texel onto i
     const Image& valid = buffer(f[1], "vp_valid");
     const Image& primitive = buffer(f[1], "vp_gbuffer_primitive_id");
     const Image& q = buffer(f[1], "bmfr_previous_pixel");
-    const VisualPolarMap map = make_visual_polar_map(96, 96, {48.0f, 48.0f}, 64, 64);
+    // frame 1's map: BMFR's staircase clip gives its fovea columns frame 1's row counts
+    const VisualPolarMap map =
+        sparse_vp_map(parse_sparse_params(Params(), "visual-polar"), 96, 96, 1);
+    CHECK(map.staircase_block == 32);
     double worst_u = 0.0, worst_t = 0.0;
     int traced = 0;
     for (int y = 0; y < valid.height; ++y)

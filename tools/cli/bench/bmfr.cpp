@@ -8,7 +8,8 @@
 //   error  frames 0 .. N-1 of the moving sequence at the error size; at frames K-1, 2K-1, ...
 //          the noisy image (`radiance`) and the denoised one (`final`) against the reference of
 //          the same frame at S samples per pixel, in display space (clamped, sRGB): RMSE and
-//          SSIM (SPEC §10); the temporal error over all consecutive frames.
+//          SSIM (SPEC §10) of BMFR as SPEC §9, with bmfr_emission=separate and with
+//          bmfr_block=64; the temporal error over all consecutive frames.
 #include "tools/cli/bench/bmfr.h"
 
 #include <malloc.h>
@@ -117,28 +118,43 @@ void print_errors(const Scene& scene, const BenchBmfrOptions& o, Progress& progr
     s.width = o.error_width;
     s.height = o.error_height;
     s.frame_count = o.frames;
-    // BMFR as SPEC §9 (the whole radiance demodulated) and with the emission seen directly kept
-    // out of the fit (bmfr_emission=separate)
-    std::vector<Image> noisy, denoised, separate;
-    for (const char* emission : {"include", "separate"}) {
-        s.params = Params(
-            std::map<std::string, std::string>{{"denoise", "bmfr"}, {"bmfr_emission", emission}});
-        const bool first = std::string(emission) == "include";
+    // BMFR as SPEC §9 (the whole radiance demodulated), with the emission seen directly kept out
+    // of the fit (bmfr_emission=separate), and with P2's 64 x 64 blocks (bmfr_block=64)
+    struct Variant {
+        const char* label;
+        std::map<std::string, std::string> params;
+        std::vector<Image> frames;
+    };
+    std::vector<Variant> variants = {{"BMFR", {}, {}},
+                                     {"BMFR+E", {{"bmfr_emission", "separate"}}, {}},
+                                     {"BMFR 64", {{"bmfr_block", "64"}}, {}}};
+    std::vector<Image> noisy;
+    for (std::size_t v = 0; v < variants.size(); ++v) {
+        std::map<std::string, std::string> params = variants[v].params;
+        params["denoise"] = "bmfr";
+        s.params = Params(params);
         render_each(&scene, "pathtrace", s, [&](FrameResult& f) {
-            if (first) noisy.push_back(to_display(f.find("radiance")->image));
-            (first ? denoised : separate).push_back(to_display(f.find("final")->image));
-            progress.update(0.05 * static_cast<double>(f.frame + 1) / o.frames +
-                            (first ? 0 : 0.05));
+            if (v == 0) noisy.push_back(to_display(f.find("radiance")->image));
+            variants[v].frames.push_back(to_display(f.find("final")->image));
+            progress.update(0.05 *
+                            (static_cast<double>(v) + static_cast<double>(f.frame + 1) / o.frames));
         });
     }
     progress.clear();
     std::printf(
         "\nerror: %s %dx%d, %d frames moving, every %dth frame against pathtrace-reference at "
-        "%d spp (display space); BMFR as SPEC §9, and BMFR+E with bmfr_emission=separate\n",
+        "%d spp (display space); BMFR as SPEC §9, BMFR+E with bmfr_emission=separate, BMFR 64 "
+        "with bmfr_block=64 (P2 §6.1)\n",
         o.scene.c_str(), o.error_width, o.error_height, o.frames, o.every, o.reference_spp);
-    std::printf("  %6s %11s %11s %11s %11s %11s %11s %14s\n", "frame", "RMSE noisy", "RMSE BMFR",
-                "RMSE BMFR+E", "SSIM noisy", "SSIM BMFR", "SSIM BMFR+E", "ref. std. err.");
-    double sums[6] = {0, 0, 0, 0, 0, 0};
+    std::printf("  %6s %11s", "frame", "RMSE noisy");
+    for (const Variant& v : variants)
+        std::printf(" %11s", ("RMSE " + std::string(v.label)).c_str());
+    std::printf(" %11s", "SSIM noisy");
+    for (const Variant& v : variants)
+        std::printf(" %11s", ("SSIM " + std::string(v.label)).c_str());
+    std::printf(" %14s\n", "ref. std. err.");
+    const std::size_t columns = 2 * (1 + variants.size());
+    std::vector<double> sums(columns, 0.0);
     int count = 0;
     std::vector<int> compared;
     for (int f = o.every - 1; f < o.frames; f += o.every) compared.push_back(f);
@@ -150,8 +166,8 @@ void print_errors(const Scene& scene, const BenchBmfrOptions& o, Progress& progr
         r.params =
             Params(std::map<std::string, std::string>{{"spp", std::to_string(o.reference_spp)}});
         r.progress = [&](double x) {
-            progress.update(0.1 + 0.9 * (static_cast<double>(i) + x) /
-                                      static_cast<double>(compared.size()));
+            progress.update(0.15 + 0.85 * (static_cast<double>(i) + x) /
+                                       static_cast<double>(compared.size()));
         };
         Image reference;
         double standard_error = 0.0;
@@ -162,25 +178,28 @@ void print_errors(const Scene& scene, const BenchBmfrOptions& o, Progress& progr
         });
         progress.clear();
         const auto index = static_cast<std::size_t>(f);
-        const double e[6] = {std::sqrt(mse(reference, noisy[index])),
-                             std::sqrt(mse(reference, denoised[index])),
-                             std::sqrt(mse(reference, separate[index])),
-                             ssim(luma(reference), luma(noisy[index])),
-                             ssim(luma(reference), luma(denoised[index])),
-                             ssim(luma(reference), luma(separate[index]))};
-        for (int k = 0; k < 6; ++k) sums[k] += e[k];
+        // RMSE of the noisy image and each variant, then their SSIM
+        std::vector<double> e = {std::sqrt(mse(reference, noisy[index]))};
+        for (const Variant& v : variants) e.push_back(std::sqrt(mse(reference, v.frames[index])));
+        e.push_back(ssim(luma(reference), luma(noisy[index])));
+        for (const Variant& v : variants) e.push_back(ssim(luma(reference), luma(v.frames[index])));
+        for (std::size_t k = 0; k < columns; ++k) sums[k] += e[k];
         ++count;
-        std::printf("  %6d %11.5f %11.5f %11.5f %11.4f %11.4f %11.4f %14.5f\n", f, e[0], e[1], e[2],
-                    e[3], e[4], e[5], standard_error);
+        std::printf("  %6d", f);
+        for (std::size_t k = 0; k < columns; ++k)
+            std::printf(k < columns / 2 ? " %11.5f" : " %11.4f", e[k]);
+        std::printf(" %14.5f\n", standard_error);
         std::fflush(stdout);
     }
-    if (count > 0)
-        std::printf("  %6s %11.5f %11.5f %11.5f %11.4f %11.4f %11.4f\n", "mean", sums[0] / count,
-                    sums[1] / count, sums[2] / count, sums[3] / count, sums[4] / count,
-                    sums[5] / count);
-    std::printf(
-        "  temporal error: noisy %.5f, BMFR %.5f, BMFR+E %.5f (mean |luma(t) - luma(t-1)|)\n",
-        temporal_error(noisy), temporal_error(denoised), temporal_error(separate));
+    if (count > 0) {
+        std::printf("  %6s", "mean");
+        for (std::size_t k = 0; k < columns; ++k)
+            std::printf(k < columns / 2 ? " %11.5f" : " %11.4f", sums[k] / count);
+        std::printf("\n");
+    }
+    std::printf("  temporal error (mean |luma(t) - luma(t-1)|): noisy %.5f", temporal_error(noisy));
+    for (const Variant& v : variants) std::printf(", %s %.5f", v.label, temporal_error(v.frames));
+    std::printf("\n");
 }
 
 }  // namespace

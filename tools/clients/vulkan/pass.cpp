@@ -141,6 +141,13 @@ void PassContext::write(int frame, const std::string& name, const Image& image) 
         write_binary32(out + file, image.data);
 }
 
+void PassContext::require_bmfr_block_32(const std::string& pass) const {
+    const std::string block = param("bmfr_block", "32");
+    if (block != "32")
+        throw std::runtime_error(pass + ": bmfr_block=" + block +
+                                 " is not ported (the shaders fit 32 x 32 blocks)");
+}
+
 void PassContext::write_resolve_decisions(int frame, const std::vector<float>& decisions,
                                           int levels) const {
     const std::size_t pixels = decisions.size() / 4;

@@ -75,6 +75,9 @@ struct PassContext {
     const json* previous_frame(const json& frame) const;
     /// Writes `image` as frame `frame`'s buffer `name` of the dump.
     void write(int frame, const std::string& name, const Image& image) const;
+    /// Throws std::runtime_error naming `pass` when the case's BMFR blocks are not the authors'
+    /// 32 x 32 (bmfr_block=64: the BMFR shaders' workgroups and offsets are written for 32).
+    void require_bmfr_block_32(const std::string& pass) const;
     /// Writes a resolve's decisions, `decisions` holding 4 values per screen pixel (i0, j0, then
     /// the levels), as frame `frame`'s resolve_tap (i0, j0) and, when `levels` > 0,
     /// resolve_mip_level (the next `levels` values).

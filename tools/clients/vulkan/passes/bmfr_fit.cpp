@@ -4,8 +4,8 @@
 // out, one workgroup per block of the frame's shifted 32x32 grid. The block matrix lives in a
 // scratch buffer in the case's bmfr_storage precision (binary16 by default, as the authors).
 // On a Visual-Polar buffer (a bundle with vp_valid) it reads vp_gbuffer_* and vp_valid, and the
-// host computes each column's row count n_c (docs/visual-polar.md; the shader takes the staircase
-// from them).
+// host computes each column's row count n_c of the frame (passes/vp_rows.h: the triangular clip
+// or BMFR's staircase; the shader takes each block column's phi height from them).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "tools/clients/vulkan/pass.h"
+#include "tools/clients/vulkan/passes/vp_rows.h"
 
 namespace fovref_client {
 namespace {
@@ -38,18 +39,6 @@ bool half_storage(const PassContext& ctx) {
     return storage == "half";
 }
 
-// The Visual-Polar row count n_c of column c of a w x h buffer: the fovea's columns c < i_f =
-// round(0.24 w) have clamp(ceil(h (c + 1/2) / i_f - 1/2), 1, h) rows (the triangular clip), the
-// periphery's h (docs/visual-polar.md).
-int vp_column_rows(int width, int height, int column) {
-    const int fovea_columns = std::clamp(static_cast<int>(std::lround(0.24 * width)), 1, width - 1);
-    if (column >= fovea_columns) return height;
-    const float t = static_cast<float>(height) * (static_cast<float>(column) + 0.5f) /
-                        static_cast<float>(fovea_columns) -
-                    0.5f;
-    return std::clamp(static_cast<int>(std::ceil(t)), 1, height);
-}
-
 // Fits every block of one frame and writes its two buffers.
 void fit_frame(PassContext& ctx, const json& frame, bool half, bool jenkins) {
     const bool visual_polar = PassContext::has(frame, "vp_valid");
@@ -68,13 +57,10 @@ void fit_frame(PassContext& ctx, const json& frame, bool half, bool jenkins) {
     // ceil(h / 32) rows of cells, and n_c per column for the staircase)
     const int cells_x = (width + block_size - 1) / block_size + 1;
     const int cells_y = (height + block_size - 1) / block_size + (visual_polar ? 0 : 1);
-    std::vector<std::int32_t> column_rows(1, 0);
-    if (visual_polar) {
-        column_rows.resize(static_cast<std::size_t>(width));
-        for (int c = 0; c < width; ++c) column_rows[c] = vp_column_rows(width, height, c);
-    }
-    const int blocks = cells_x * cells_y;
     const int frame_index = frame.at("frame").get<int>();
+    std::vector<std::int32_t> column_rows(1, 0);
+    if (visual_polar) column_rows = vp_column_rows(ctx, width, height, frame_index);
+    const int blocks = cells_x * cells_y;
     Image weights{cells_x, cells_y, weight_count,
                   std::vector<float>(static_cast<std::size_t>(blocks) * weight_count, 0.0f)};
     Image range{cells_x, cells_y, range_count,
@@ -95,6 +81,7 @@ void fit_frame(PassContext& ctx, const json& frame, bool half, bool jenkins) {
 }
 
 int run(PassContext& ctx) {
+    ctx.require_bmfr_block_32("bmfr_fit");
     const bool half = half_storage(ctx);
     const std::string hash = ctx.param("bmfr_noise_hash", "jenkins");
     if (hash != "jenkins" && hash != "wang")

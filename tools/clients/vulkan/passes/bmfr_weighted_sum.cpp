@@ -50,6 +50,7 @@ void weighted_sum_frame(PassContext& ctx, const json& frame) {
 }
 
 int run(PassContext& ctx) {
+    ctx.require_bmfr_block_32("bmfr_weighted_sum");
     ctx.notes["precise"] =
         "the squares w^2, the feature scaling and the weighted sum (binary32 "
         "in the oracle's order, no contraction)";

@@ -3,16 +3,17 @@
 // frame that has it. Two dispatches per frame: the phi-only pyramid, one workgroup per column
 // (shaders/vp_resolve_mips.comp), then the lookup, one invocation per pixel
 // (shaders/vp_resolve.comp). The map's constants (i_f, s, s P(u0)) and each column's row count
-// n_i (the buffer's layout, shared with the trace) are computed once on the host, as a renderer
-// would; the gaze is the case's `gaze` parameter (default the screen centre); `gaze_track` is
-// refused. The dump also holds the decisions each pixel took, resolve_tap and (mip)
-// resolve_mip_level, which the diff judges against the oracle's margins.
+// n_i of the frame (passes/vp_rows.h: the triangular clip, or BMFR's staircase) are computed on
+// the host, as a renderer would; the gaze is the case's `gaze` parameter (default the screen
+// centre); `gaze_track` is refused. The dump also holds the decisions each pixel took, resolve_tap
+// and (mip) resolve_mip_level, which the diff judges against the oracle's margins.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
 #include "tools/clients/vulkan/pass.h"
+#include "tools/clients/vulkan/passes/vp_rows.h"
 
 namespace fovref_client {
 namespace {
@@ -65,22 +66,9 @@ VpResolveParameters map_parameters(const PassContext& ctx, int width, int height
     return m;
 }
 
-/// n_i of each column: the fovea's triangular clip clamp(ceil(h (i + 1/2) / i_f - 1/2), 1, h),
-/// h in the periphery.
-std::vector<std::int32_t> column_rows(const VpResolveParameters& m) {
-    std::vector<std::int32_t> rows(static_cast<std::size_t>(m.width), m.height);
-    for (int i = 0; i < m.fovea_columns; ++i) {
-        const float t = static_cast<float>(m.height) * (static_cast<float>(i) + 0.5f) /
-                            static_cast<float>(m.fovea_columns) -
-                        0.5f;
-        rows[static_cast<std::size_t>(i)] = std::clamp(static_cast<int>(std::ceil(t)), 1, m.height);
-    }
-    return rows;
-}
-
 /// One frame: the pyramid (level 0 the buffer, the others zero until built), then the lookup;
 /// `decisions` receives 4 values per pixel (vp_resolve.comp's).
-Image resolve_frame(PassContext& ctx, const Image& colour, const Image& valid,
+Image resolve_frame(PassContext& ctx, int frame, const Image& colour, const Image& valid,
                     std::vector<float>& decisions, bool& mip) {
     if (colour.channels < 1 || colour.channels > 4)
         throw std::runtime_error("vp_resolve: vp_color has " + std::to_string(colour.channels) +
@@ -89,7 +77,7 @@ Image resolve_frame(PassContext& ctx, const Image& colour, const Image& valid,
         throw std::runtime_error(
             "vp_resolve: vp_valid is not a 1-channel buffer of vp_color's size");
     VpResolveParameters m = map_parameters(ctx, colour.width, colour.height, colour.channels);
-    std::vector<std::int32_t> rows = column_rows(m);
+    std::vector<std::int32_t> rows = vp_column_rows(ctx, m.width, m.height, frame);
     // Levels until every column has one row; level k is w x ceil(h / 2^k)
     std::size_t texels = 0;
     m.levels = 1;
@@ -126,8 +114,9 @@ int run(PassContext& ctx) {
         if (output.empty() || !PassContext::has(frame, "vp_color")) continue;
         std::vector<float> decisions;
         bool mip = false;
-        const Image result = resolve_frame(ctx, ctx.read(frame, "vp_color"),
-                                           ctx.read(frame, "vp_valid"), decisions, mip);
+        const Image result =
+            resolve_frame(ctx, frame.at("frame").get<int>(), ctx.read(frame, "vp_color"),
+                          ctx.read(frame, "vp_valid"), decisions, mip);
         ctx.write(frame.at("frame").get<int>(), output, result);
         ctx.write_resolve_decisions(frame.at("frame").get<int>(), decisions, mip ? 2 : 0);
         ++frames;
