@@ -4,6 +4,7 @@
 
 #include "ref/bmfr/probe.h"
 #include "ref/bmfr/stages.h"
+#include "ref/filters/stages.h"
 #include "ref/raster/stages.h"
 #include "ref/trace/stages.h"
 #include "ref/visual_polar/stages.h"
@@ -39,11 +40,19 @@ Pipeline linear_falloff_pipeline(const Scene*, const RenderSettings& settings) {
     const BmfrSettings bmfr = parse_bmfr_params(settings.params);
     const bool separate = bmfr.enabled && bmfr.params.separate_emission;
     if (separate) trace.emission = "sparse_emission";
+    // P5's linear fall-off with blur: the ramp on the image the fill (or BMFR) makes
+    const bool blur = frames->params.blur;
+    const std::string image = blur ? "unblurred" : "final";
     Pipeline p;
     p.add(rasterize_stage_def("primary_visibility", raster)).add(falloff_mask_stage_def(frames));
     p.add(pathtrace_stage_def(trace));
-    p.add(fill_stage_def(frames, bmfr.enabled ? "filled" : "final", separate));
-    if (bmfr.enabled) add_bmfr_stages(p, {bmfr, "filled", "filled_emission", "final"});
+    p.add(fill_stage_def(frames, bmfr.enabled ? "filled" : image, separate));
+    if (bmfr.enabled) add_bmfr_stages(p, {bmfr, "filled", "filled_emission", image});
+    if (blur)
+        p.add(blur_horizontal_stage_def(frames->params.ramp, image, "blur_horizontal",
+                                        blur_geometry_of(frames)))
+            .add(blur_vertical_stage_def(frames->params.ramp, "blur_horizontal", "final",
+                                         blur_geometry_of(frames)));
     p.final_outputs = {"final"};
     return p;
 }

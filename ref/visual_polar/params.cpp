@@ -38,6 +38,12 @@ std::vector<ParamSpec> sparse_param_specs(const std::string& mode) {
         specs.push_back({"falloff_periphery_deg", "20",
                          "p_l: the probability reaches falloff_min at this eccentricity"});
         specs.push_back({"falloff_min", "0.2", "P_p: the sampling probability beyond p_l"});
+        specs.push_back({"blur", "off",
+                         "the P5 blur ramp on the final image: 'on' (P5's linear fall-off with "
+                         "blur, its geometry the Visual-Polar preset's for this screen and gaze) "
+                         "or 'off'"});
+        specs.push_back({"blur_sigma_deg", "0.564", "blur ramp: as in visual-polar"});
+        specs.push_back({"blur_full_deg", "30", "blur ramp: as in visual-polar"});
         specs.push_back(
             {"fill", "push-pull", "unsampled pixels: 'push-pull' (Koskela §4.4.3) or 'black'"});
     }
@@ -99,6 +105,9 @@ SparseParams parse_sparse_params(const Params& params, const std::string& mode) 
         p.falloff.fovea_deg = params.get_float(specs, "falloff_fovea_deg", 0.0f, 180.0f);
         p.falloff.periphery_deg = params.get_float(specs, "falloff_periphery_deg", 0.0f, 180.0f);
         p.falloff.periphery_probability = params.get_float(specs, "falloff_min", 0.0f, 1.0f);
+        p.blur = params.get_bool(specs, "blur");
+        p.ramp.sigma_deg = params.get_float(specs, "blur_sigma_deg", 0.0f, 10.0f);
+        p.ramp.full_deg = params.get_float(specs, "blur_full_deg", 6.0f, 1000.0f);
         if (!(p.falloff.periphery_deg > p.falloff.fovea_deg))
             throw Error(
                 "parameters 'falloff_periphery_deg' and 'falloff_fovea_deg': p_l must be "

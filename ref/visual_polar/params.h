@@ -34,7 +34,9 @@ struct SparseParams {
     // Visual-Polar
     int buffer_width = 0, buffer_height = 0;  ///< 0: the preset, round(W/1.5), round(H/1.5)
     bool mip_resolve = true;                  ///< `resolve=mip` (phi mips), else `bilinear`
-    bool blur = true;                         ///< `blur=on`: the P5 blur ramp after pass 2
+    /// `blur=on`: the P5 blur ramp after pass 2 (Visual-Polar, default on) or on the final
+    /// image (linear fall-off, default off)
+    bool blur = true;
     /// BMFR's staircase clip (`vp_clip=staircase` with `denoise=bmfr`, P5 Fig. 4b): the BMFR
     /// block edge (`bmfr_block`, 32 or 64) the fovea's row counts follow; 0: the triangular clip
     int staircase_block = 0;

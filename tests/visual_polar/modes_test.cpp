@@ -10,6 +10,7 @@
 #include <cstring>
 #include <map>
 
+#include "ref/filters/blur_ramp.h"
 #include "ref/metrics/metrics.h"
 #include "ref/modes/modes.h"
 #include "ref/scene/procedural.h"
@@ -93,6 +94,27 @@ TEST_CASE("VP modes: linear fall-off that samples every pixel is the path tracer
             CHECK(counter(a[static_cast<std::size_t>(k)], "pixels_sampled") == 64 * 48);
             CHECK(same_bits(buffer(a[static_cast<std::size_t>(k)], "final"),
                             buffer(b[static_cast<std::size_t>(k)], "final")));
+        }
+    }
+}
+
+TEST_CASE("VP modes: linear fall-off with blur (P5's comparison) is the P5 blur ramp of the "
+          "unblurred image, with the Visual-Polar preset's geometry") {
+    for (const char* denoise : {"none", "bmfr"}) {
+        CAPTURE(denoise);
+        const std::vector<FrameResult> plain =
+            run("cornell", "linear-falloff", 160, 90, 2, {{"denoise", denoise}});
+        const std::vector<FrameResult> blurred =
+            run("cornell", "linear-falloff", 160, 90, 2, {{"denoise", denoise}, {"blur", "on"}});
+        const SparseParams params = parse_sparse_params(Params(), "visual-polar");
+        for (int k = 0; k < 2; ++k) {
+            const auto f = static_cast<std::size_t>(k);
+            const Image& image = buffer(plain[f], "final");
+            CHECK(same_bits(buffer(blurred[f], "unblurred"), image));
+            const Image expected = blur_ramp(
+                params.ramp, blur_ramp_geometry(sparse_vp_map(params, 160, 90, k)), image);
+            CHECK(same_bits(buffer(blurred[f], "final"), expected));
+            CHECK_FALSE(same_bits(expected, image));  // the periphery is blurred
         }
     }
 }

@@ -196,6 +196,10 @@ struct Method {
     const char* mode;
     ParamMap params;
     const char* samples;  ///< the counter of samples per frame; "" = W x H
+    /// At VP's sample budget: linear fall-off with falloff_min solved, or (`reduced`) the screen
+    /// space path tracer at a resolution of VP's samples, upscaled bilinearly to W x H
+    bool equal_budget = false;
+    bool reduced = false;
 };
 
 std::vector<Method> error_methods() {
@@ -216,8 +220,48 @@ std::vector<Method> error_methods() {
          "linear-falloff + BMFR at VP's budget (falloff_min solved)",
          "linear-falloff",
          {{"denoise", "bmfr"}},
-         "pixels_sampled"},
+         "pixels_sampled",
+         true},
+        {"LFb=VP",
+         "linear-falloff + BMFR + P5's blur ramp at VP's budget",
+         "linear-falloff",
+         {{"denoise", "bmfr"}, {"blur", "on"}},
+         "pixels_sampled",
+         true},
+        {"Cart=VP",
+         "screen space + BMFR at VP's budget (fewer pixels, bilinear up)",
+         "pathtrace",
+         {{"denoise", "bmfr"}},
+         "",
+         true,
+         true},
     };
+}
+
+// `image` (w x h) upscaled to W x H bilinearly: pixel centres at + 1/2, the source point
+// ((x + 1/2) w / W - 1/2, (y + 1/2) h / H - 1/2) clamped to the source's pixel centres.
+Image upscale_bilinear(const Image& image, int width, int height) {
+    Image out(width, height, image.channels);
+    const auto source = [](int x, int to, int from) {
+        const double s = (x + 0.5) * from / to - 0.5;
+        return std::clamp(s, 0.0, static_cast<double>(from - 1));
+    };
+    for (int y = 0; y < height; ++y) {
+        const double sy = source(y, height, image.height);
+        const int y0 = static_cast<int>(sy), y1 = std::min(y0 + 1, image.height - 1);
+        const double fy = sy - y0;
+        for (int x = 0; x < width; ++x) {
+            const double sx = source(x, width, image.width);
+            const int x0 = static_cast<int>(sx), x1 = std::min(x0 + 1, image.width - 1);
+            const double fx = sx - x0;
+            for (int c = 0; c < image.channels; ++c) {
+                const double top = image.at(x0, y0, c) * (1 - fx) + image.at(x1, y0, c) * fx;
+                const double bottom = image.at(x0, y1, c) * (1 - fx) + image.at(x1, y1, c) * fx;
+                out.at(x, y, c) = static_cast<float>(top * (1 - fy) + bottom * fy);
+            }
+        }
+    }
+    return out;
 }
 
 // P_p of linear fall-off whose expected samples equal `samples` (E[samples] = A + B P_p: L is
@@ -243,6 +287,7 @@ struct MethodRuns {
     std::vector<std::vector<Image>> finals;
     std::vector<double> samples;
     double periphery_probability = 0.0;  ///< LF=VP's P_p
+    Size reduced{0, 0};                  ///< Cart=VP's screen
 };
 
 MethodRuns render_methods(const Scene& scene, const RenderSettings& s, Size size,
@@ -251,18 +296,27 @@ MethodRuns render_methods(const Scene& scene, const RenderSettings& s, Size size
     runs.finals.resize(methods.size());
     runs.samples.assign(methods.size(), 0.0);
     for (std::size_t m = 0; m < methods.size(); ++m) {
-        if (m == 3) {
+        RenderSettings r = s;
+        if (methods[m].equal_budget && !methods[m].reduced) {
             runs.periphery_probability = equal_budget_probability(scene, size, runs.samples[1]);
             char value[32];
             std::snprintf(value, sizeof value, "%.6f", runs.periphery_probability);
             methods[m].params["falloff_min"] = value;
+        } else if (methods[m].reduced) {
+            // W' x H' = VP's samples, the screen's aspect kept (to a pixel)
+            const double scale = std::sqrt(runs.samples[1] / size.pixels());
+            r.width = std::max(16, static_cast<int>(std::lround(size.width * scale)));
+            r.height = std::max(16, static_cast<int>(std::lround(size.height * scale)));
+            runs.reduced = {r.width, r.height};
         }
-        RenderSettings r = s;
         r.params = Params(methods[m].params);
         render_each(&scene, methods[m].mode, r, [&](FrameResult& f) {
-            runs.finals[m].push_back(to_display(f.find("final")->image));
+            const Image& final_image = f.find("final")->image;
+            runs.finals[m].push_back(to_display(
+                methods[m].reduced ? upscale_bilinear(final_image, size.width, size.height)
+                                   : final_image));
             runs.samples[m] += *methods[m].samples == '\0'
-                                   ? size.pixels()
+                                   ? static_cast<double>(r.width) * r.height
                                    : static_cast<double>(f.counters.get(methods[m].samples));
             progress.update((static_cast<double>(m) * s.frame_count + f.frame + 1) / units);
         });
@@ -284,9 +338,10 @@ void print_budgets(const BenchVisualPolarOptions& o, Size size, float distance,
     std::printf(
         "  budgets: VP traces %.2fx the samples of screen space; linear-falloff with its defaults "
         "%.2fx; LF=VP is linear-falloff with P_p = %.4f, so that its expected samples equal VP's "
-        "(P5's comparison at equal sample budget): measured %.3fx VP's\n",
+        "(P5's comparison at equal sample budget): measured %.3fx VP's (LFb=VP the same with the "
+        "blur ramp); Cart=VP renders %dx%d (%.3fx VP's samples) and upscales bilinearly\n",
         samples[1] / samples[0], samples[2] / samples[0], runs.periphery_probability,
-        samples[3] / samples[1]);
+        samples[3] / samples[1], runs.reduced.width, runs.reduced.height, samples[5] / samples[1]);
 }
 
 // The errors summed over the compared frames, per method (and per ring).
