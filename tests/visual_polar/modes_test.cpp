@@ -98,8 +98,9 @@ TEST_CASE("VP modes: linear fall-off that samples every pixel is the path tracer
     }
 }
 
-TEST_CASE("VP modes: linear fall-off with blur (P5's comparison) is the P5 blur ramp of the "
-          "unblurred image, with the Visual-Polar preset's geometry") {
+TEST_CASE(
+    "VP modes: linear fall-off with blur (P5's comparison) is the P5 blur ramp of the "
+    "unblurred image, with the Visual-Polar preset's geometry") {
     for (const char* denoise : {"none", "bmfr"}) {
         CAPTURE(denoise);
         const std::vector<FrameResult> plain =
