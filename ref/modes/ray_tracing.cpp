@@ -84,11 +84,8 @@ std::vector<PixelFunction> ground_truth_pixel_functions(const Params&) {
 
 std::vector<ParamSpec> pathtrace_param_specs() {
     std::vector<ParamSpec> specs = {
-        {"fill_rule", "d3d", "rasterizer fill rule of the primary visibility: 'd3d' or 'gl'"},
-        {"max_bounces", "1",
-         "secondary rays per path: 1 = the sources' four rays per pixel (primary, two shadow "
-         "rays, one secondary); more with Russian roulette"},
-        {"rr", "0.8", "Russian-roulette continuation probability from the second bounce on"}};
+        {"fill_rule", "d3d", "rasterizer fill rule of the primary visibility: 'd3d' or 'gl'"}};
+    for (ParamSpec& spec : path_param_specs()) specs.push_back(std::move(spec));
     for (ParamSpec& spec : bmfr_param_specs()) specs.push_back(std::move(spec));
     return specs;
 }
@@ -127,6 +124,7 @@ std::vector<ParamSpec> pathtrace_reference_param_specs() {
     return {{"spp", "1024", "samples per pixel (1..65536); --resume DIR continues an earlier run"},
             {"max_bounces", "1", "secondary rays per path, as pathtrace"},
             {"rr", "0.8", "Russian-roulette continuation probability, as pathtrace"},
+            {"mis", "off", "multiple importance sampling, as pathtrace"},
             {"reference_jitter", "per-pixel",
              "primary-ray jitter: 'per-pixel' (one sequence rotated per pixel, coverage errors "
              "uncorrelated along edges) or 'shared' (the same jitter in every pixel); "

@@ -25,6 +25,25 @@ void facing_normals(const SurfacePoint& surface, glm::vec3 towards, glm::vec3& n
                                                        : surface.shading_normal;
 }
 
+// MIS: what a secondary ray (unit `direction`, sampled with solid-angle density p_bsdf) adds
+// when it hits `surface`: an emissive triangle's Le seen from its front, weighted by the power
+// heuristic against NEE's density d^2 / (N A cos_l) of that point; 0 for any other surface.
+glm::vec3 mis_emitter_hit(const Scene& scene, const SurfacePoint& surface, const Hit& hit,
+                          glm::vec3 direction, float p_bsdf) {
+    const Material& material = scene.materials[static_cast<std::size_t>(surface.material)];
+    const glm::vec3 e = material.emission;
+    if (!(e.x > 0.0f || e.y > 0.0f || e.z > 0.0f)) return glm::vec3(0.0f);
+    const float cos_light = -glm::dot(surface.geometric_normal, direction);
+    if (!(cos_light > 0.0f)) return glm::vec3(0.0f);  // its back: it emits from its front only
+    const std::size_t base = 3 * static_cast<std::size_t>(hit.primitive);
+    const glm::vec3 cross = glm::cross(scene.positions[base + 1] - scene.positions[base],
+                                       scene.positions[base + 2] - scene.positions[base]);
+    const float area = 0.5f * std::sqrt(glm::dot(cross, cross));
+    const float p_light =
+        hit.t * hit.t / (static_cast<float>(scene.lights.size()) * area * cos_light);
+    return e * mis_power_weight(p_bsdf, p_light);
+}
+
 }  // namespace
 
 glm::vec3 cosine_direction(glm::vec3 n, float u1, float u2) {
@@ -37,10 +56,15 @@ glm::vec3 cosine_direction(glm::vec3 n, float u1, float u2) {
     return t * (r * dm::cos(phi)) + s * (r * dm::sin(phi)) + n * z;
 }
 
+float mis_power_weight(float a, float b) {
+    const float a2 = a * a, b2 = b * b;
+    return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 1.0f;
+}
+
 glm::vec3 sample_one_light(const Scene& scene, const Bvh& bvh, const SurfacePoint& surface,
                            glm::vec3 n_g, glm::vec3 n_s, std::uint32_t frame, std::uint32_t pixel,
                            std::uint32_t dimension, ShadingStats& stats, const Bsdf* glossy,
-                           glm::vec3 v) {
+                           glm::vec3 v, bool mis) {
     if (scene.lights.empty()) return glm::vec3(0.0f);
     const auto count = static_cast<std::uint32_t>(scene.lights.size());
     // Uniform choice: floor(u N), clamped (u < 1, but u N may round up to N).
@@ -72,11 +96,21 @@ glm::vec3 sample_one_light(const Scene& scene, const Bvh& bvh, const SurfacePoin
     }
     const glm::vec3 origin = surface.position + n_g * (shadow_epsilon_scale * scene.scene_scale);
     if (!shadow_visible(bvh, origin, y, stats)) return glm::vec3(0.0f);
+    // MIS against the BSDF's density for an emissive triangle, which a secondary ray can hit:
+    // p_l = d^2 / (N A cos_l), p_b = cos / pi or the glossy BSDF's
+    float weight = 1.0f;
+    if (mis && light.type == Light::Type::triangle) {
+        const float cos_light = -glm::dot(light_normal, to_light) / d;
+        const float p_light = d2 / (static_cast<float>(count) * area * cos_light);
+        const float p_bsdf = glossy ? bsdf_pdf(*glossy, to_light / d, v) : cos_surface * inv_pi;
+        weight = mis_power_weight(p_light, p_bsdf);
+    }
     // f Le G / (pdf of the choice 1 / N), the point's pdf 1 / A folded into G.
     if (glossy)
         return bsdf_eval(*glossy, to_light / d, v) * light.intensity *
-               (geometry * static_cast<float>(count));
-    return surface.albedo * inv_pi * light.intensity * (geometry * static_cast<float>(count));
+               (geometry * static_cast<float>(count) * weight);
+    return surface.albedo * inv_pi * light.intensity *
+           (geometry * static_cast<float>(count) * weight);
 }
 
 glm::vec3 pathtrace_pixel(const Scene& scene, const Bvh& bvh, const PathTraceParams& params,
@@ -103,9 +137,11 @@ glm::vec3 pathtrace_pixel(const Scene& scene, const Bvh& bvh, const PathTracePar
         const Bsdf bsdf = make_bsdf(material, surface.albedo, n_s);
         const glm::vec3 v = incoming / std::sqrt(glm::dot(incoming, incoming));
         ++stats.shading.shaded;
+        // MIS only where the secondary ray is the competing strategy (not at the last vertex)
+        const bool mis = params.mis && k < params.max_bounces;
         radiance +=
             throughput * sample_one_light(scene, bvh, surface, n_g, n_s, f, pixel, base,
-                                          stats.shading, bsdf.glossy() ? &bsdf : nullptr, v);
+                                          stats.shading, bsdf.glossy() ? &bsdf : nullptr, v, mis);
         if (k == params.max_bounces) break;
         const bool black =
             !(surface.albedo.x > 0.0f || surface.albedo.y > 0.0f || surface.albedo.z > 0.0f);
@@ -152,6 +188,12 @@ glm::vec3 pathtrace_pixel(const Scene& scene, const Bvh& bvh, const PathTracePar
         }
         surface = surface_at(scene, hit.primitive, hit.u, hit.v);
         incoming = -ray.direction;
+        if (params.mis) {
+            // the density of the direction just sampled (n_s is still the vertex's)
+            const float p_bsdf = bsdf.glossy() ? bsdf_pdf(bsdf, ray.direction, v)
+                                               : glm::dot(n_s, ray.direction) * inv_pi;
+            radiance += throughput * mis_emitter_hit(scene, surface, hit, ray.direction, p_bsdf);
+        }
         facing_normals(surface, incoming, n_g, n_s);
     }
     return radiance;
@@ -183,7 +225,10 @@ std::vector<ParamSpec> path_param_specs() {
     return {{"max_bounces", "1",
              "secondary rays per path: 1 = the sources' four rays per sample (primary, two "
              "shadow rays, one secondary); more with Russian roulette"},
-            {"rr", "0.8", "Russian-roulette continuation probability from the second bounce on"}};
+            {"rr", "0.8", "Russian-roulette continuation probability from the second bounce on"},
+            {"mis", "off",
+             "multiple importance sampling of emissive triangles: 'off' (NEE only, SPEC §8) or "
+             "'power' (NEE and the secondary ray, power heuristic, as Koskela P2's path tracer)"}};
 }
 
 PathTraceParams parse_path_params(const Params& params, const std::vector<ParamSpec>& specs,
@@ -191,6 +236,10 @@ PathTraceParams parse_path_params(const Params& params, const std::vector<ParamS
     PathTraceParams path;
     path.max_bounces = params.get_int(specs, "max_bounces", 1, 64);
     path.rr = params.get_float(specs, "rr", 0.01f, 1.0f);
+    const std::string mis = params.get_string(specs, "mis");
+    if (mis != "off" && mis != "power")
+        throw Error("parameter 'mis': expected 'off' or 'power', got '" + mis + "'");
+    path.mis = mis == "power";
     if (rr_needs_bounces && path.max_bounces == 1 && params.given("rr"))
         throw Error("parameter 'rr' applies from the second bounce on: add max_bounces=2 or more");
     return path;
