@@ -1,6 +1,8 @@
 #include "ref/log_polar/map.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 
 #include "ref/core/dmath.h"
@@ -88,6 +90,22 @@ LogPolarMap make_log_polar_map(const LogPolarParams& params, int screen_width, i
         map.gaze_radius = display_distance_px * dm::tan(params.gaze_angle);
         map.composite = std::min(
             1.0f, kernel_forward(map.kernel, dm::log(1.0f + map.gaze_radius) / map.log_radius_max));
+    }
+
+    // Lund §3.3.5: with R the diagonal, a centred gaze's farthest corner lies at R / 2, so only
+    // the share f = (K(l(R / 2) / L) - G) / (1 - G) of the columns is on screen; the buffer is
+    // widened to ceil(w / f) columns
+    if (params.widen && params.radius == RadiusMode::diagonal && map.composite < 1.0f) {
+        const float rho = dm::log(1.0f + 0.5f * map.radius_max) / map.log_radius_max;
+        const float used = (kernel_forward(map.kernel, rho) - map.composite) /
+                           std::max(1.0f - map.composite, 0x1p-24f);
+        if (used > 0.0f && used < 1.0f) {
+            const double wide = std::ceil(static_cast<double>(size.width) / used);
+            check_limit("parameter 'lp_widen': the widened log-polar buffer",
+                        static_cast<std::uint64_t>(wide) * static_cast<std::uint64_t>(size.height),
+                        input_limits().max_image_pixels, "texels", "FOVREF_MAX_IMAGE_PIXELS");
+            map.width = static_cast<int>(wide);
+        }
     }
     return map;
 }

@@ -50,6 +50,11 @@ struct LogPolarParams {
     RadiusMode radius = RadiusMode::diagonal;
     /// a_G, the gaze buffer's angular radius in radians (Lund §3.3.3); 0 = no gaze buffer.
     float gaze_angle = 0.0f;
+    /// Lund §3.3.5's widening (`lp_widen=on`, L = diagonal only): the buffer is made wider by
+    /// the share of its columns a centred gaze leaves off screen, so that the columns on screen
+    /// are as many as the unwidened buffer's; the extra columns map beyond the farthest corner
+    /// and are not traced.
+    bool widen = false;
     bool operator==(const LogPolarParams&) const = default;
 };
 

@@ -82,6 +82,10 @@ std::vector<ParamSpec> foveated_param_specs(const FoveationPreset& preset) {
          "(farthest screen corner from the gaze)"},
         {"gaze_angle", number_text(m.gaze_angle),
          "a_G in radians: the gaze buffer's angular radius (composite foveation); 0: none"},
+        {"lp_widen", "off",
+         "Lund §3.3.5: 'on' widens the buffer (L=diagonal) by the share of its columns that a "
+         "centred gaze leaves off screen (not traced), so as many columns cover the screen as "
+         "without it; 'off'"},
         gaze_param_specs()[0],
         gaze_param_specs()[1],
         {"primary", preset.primary,
@@ -125,6 +129,7 @@ FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset
     } else {
         m.kernel = power_kernel(params.get_float(specs, "alpha", 1.0f, 64.0f), "parameter 'alpha'");
     }
+    m.widen = params.get_bool(specs, "lp_widen");
     const std::string radius = params.get_string(specs, "L");
     if (radius == "diagonal")
         m.radius = RadiusMode::diagonal;
@@ -132,6 +137,10 @@ FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset
         m.radius = RadiusMode::corners;
     else
         throw Error("parameter 'L': '" + radius + "' is neither 'diagonal' nor 'corners'");
+    if (m.widen && m.radius != RadiusMode::diagonal)
+        throw Error(
+            "parameter 'lp_widen': widening applies to L=diagonal (with L=corners every "
+            "column is on screen)");
     parse_gaze_params(params, specs, parsed.gaze, parsed.gaze_track);
     const std::string filters = params.get_string(specs, "filters");
     std::size_t start = 0;

@@ -11,6 +11,8 @@
 #include "ref/core/error.h"
 #include "ref/log_polar/map.h"
 #include "ref/log_polar/params.h"
+#include "ref/modes/modes.h"
+#include "ref/scene/procedural.h"
 #include "tests/image/image_test_util.h"
 
 using namespace fovref;
@@ -511,4 +513,43 @@ TEST_CASE(
         CHECK(std::abs(independent - ours) <= 8);
         CHECK(std::fabs(traced - share) < 0.05);
     }
+}
+
+TEST_CASE(
+    "log-polar: Lund §3.3.5's widening (lp_widen=on): as many columns on screen as the "
+    "unwidened buffer has, the rest beyond the farthest corner") {
+    for (const std::string preset : {"fov", "kfov", "cfov"}) {
+        CAPTURE(preset);
+        LogPolarParams params = preset_params(preset);
+        const float d_px = display_distance(720);
+        const LogPolarMap plain = make_log_polar_map(params, 1280, 720, {640, 360}, d_px);
+        params.widen = true;
+        const LogPolarMap wide = make_log_polar_map(params, 1280, 720, {640, 360}, d_px);
+        CHECK(wide.height == plain.height);
+        CHECK(wide.width > plain.width);
+        // binary64, independently: the used share f = (K(ln(1 + D/2) / ln(1 + D)) - G) / (1 - G)
+        const double diagonal = std::sqrt(1280.0 * 1280.0 + 720.0 * 720.0);
+        const double rho = std::log1p(diagonal / 2) / std::log1p(diagonal);
+        const double alpha = params.kernel.alpha, g = plain.composite;
+        const double used = (std::pow(rho, alpha) - g) / (1.0 - g);
+        CHECK(std::fabs(wide.width - plain.width / used) <= 1.0);
+        // a centred gaze's farthest corner maps to the unwidened width (within a column)
+        CHECK(lp_forward(wide, {0.0f, 0.0f}).x == doctest::Approx(plain.width).epsilon(1e-3));
+    }
+    // the columns beyond the corner are off screen, never traced
+    const Scene scene = make_procedural_scene("cornell");
+    RenderSettings s;
+    s.width = 160;
+    s.height = 90;
+    s.params = Params(std::map<std::string, std::string>{{"lp_widen", "on"}});
+    const FrameResult f = render(&scene, "kfov", s).at(0);
+    s.params = Params();
+    const FrameResult g = render(&scene, "kfov", s).at(0);
+    CHECK(f.counters.get("buffer_width") > g.counters.get("buffer_width"));
+    CHECK(f.counters.get("texels_traced") > g.counters.get("texels_traced"));
+    CHECK(f.counters.get("texels_traced") + f.counters.get("texels_off_screen") ==
+          f.counters.get("buffer_width") * f.counters.get("buffer_height"));
+    s.params = Params(std::map<std::string, std::string>{{"lp_widen", "on"}, {"L", "corners"}});
+    CHECK(test::contains(test::error_message([&] { render(&scene, "kfov", s); }),
+                         "parameter 'lp_widen'"));
 }
