@@ -408,6 +408,8 @@ void BundleWriter::commit() {
     manifest["canonical_data"] =
         "SHA-256 of row-major, top-row-first, little-endian binary32, channels interleaved";
     if (!s.scene_export.empty()) manifest["scene_export"] = s.scene_export + "/scene.json";
+    if (!s.options.effective_params.empty())
+        manifest["effective_params"] = json(s.options.effective_params);
     manifest["frames"] = s.frames;
     write_file_atomic((s.staging / "manifest.json").string(), manifest.dump(1) + "\n");
 

@@ -49,6 +49,10 @@ struct BundleOptions {
     /// f000_name.f32, binary32 little-endian, channels interleaved, top row first, recorded as
     /// "raw_file" (for clients without an EXR reader, such as the Vulkan client).
     bool raw_copies = false;
+    /// Every parameter of the case's mode with the value the render used (the case's, else the
+    /// mode's default), written as the manifest's "effective_params" when not empty (`golden
+    /// export`): a port reads its settings from the bundle instead of the mode's defaults.
+    std::map<std::string, std::string> effective_params;
 };
 
 /// Loads scenes for cases once each: a procedural name, an absolute path, or a path relative to

@@ -27,7 +27,18 @@ assert len(raw) == 4 * b["width"] * b["height"] * 2, len(raw)
 # the PFM buffers have no raw copy; every stage that ran has its seconds
 assert all("raw_file" not in x for x in f["buffers"] if x["channels"] in (1, 3))
 assert all(s["seconds"] >= 0 for s in f["stages"] if s["ran"]), f["stages"]
+# every parameter of the mode with the value used: cfov's defaults (sigma 1.4, a_G 0.2) and the
+# case's own (none given here but the size)
+p = m["effective_params"]
+# (defaults as the binary32 value's 9 significant digits: "1.39999998" reads back as 1.4f)
+assert abs(float(p["sigma"]) - 1.4) < 1e-6 and abs(float(p["gaze_angle"]) - 0.2) < 1e-6, p
+assert p["resolve"] == "bilinear" and p["L"] == "diagonal", p
+assert set(p) >= {"alpha", "L", "lp_aspect", "filters", "taa"}, sorted(p)
 PY
+expect 0 "export with --param" -- "$FOVREF" golden export cornell-cfov "$TMP/param" --width 40 --height 24 --param sigma=2 --dir "$SRC/golden" --quiet
+checks=$((checks + 1))
+python3 -c "import json, sys; p = json.load(open('$TMP/param/manifest.json'))['effective_params']; sys.exit(0 if p['sigma'] == '2' else 1)" ||
+  { echo "FAIL: effective_params lacks the given sigma"; failures=$((failures + 1)); }
 SIZE=$(python3 -c "import json; b = [b for b in json.load(open('$TMP/raw/manifest.json'))['frames'][0]['buffers'] if b['name'] == 'lp_screen_point'][0]; print('%dx%dx2' % (b['width'], b['height']))")
 expect 0 "the raw copy's values are the EXR's" -- "$FOVREF" diff "$TMP/raw/f000_lp_screen_point.exr" "$TMP/raw/f000_lp_screen_point.f32" --raw-size "$SIZE"
 expect 2 "export unknown case" -- "$FOVREF" golden export nope "$TMP/x" --dir "$SRC/golden"

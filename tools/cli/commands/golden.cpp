@@ -227,6 +227,9 @@ int run_golden_export(const GoldenOptions& o, const GoldenExportOptions& e) {
     options.previews_for_all = true;
     options.raw_copies = e.raw_copies;
     options.include_timings = e.timings;
+    for (const ParamSpec& spec : find_mode(c.mode).params)
+        options.effective_params[spec.name] =
+            c.params.given(spec.name) ? c.params.values().at(spec.name) : spec.default_value;
     BundleWriter writer(e.directory, c, options);
     if (e.with_scene) writer.add_scene(*scene, "scene");
     Progress progress("golden export " + c.name, o.quiet);
