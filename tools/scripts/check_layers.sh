@@ -35,7 +35,7 @@ layers=(
   "metrics scene"
   "stage"
   "bvh building_blocks golden filters gaze"
-  "raster"
+  "raster frustum"
   "trace"
   "log_polar"
   "visual_polar"

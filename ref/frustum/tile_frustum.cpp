@@ -1,0 +1,239 @@
+#include "ref/frustum/tile_frustum.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "ref/bvh/watertight.h"
+
+namespace fovref {
+
+namespace {
+
+// HLSL's min and max: when one operand is NaN, the other
+float hlsl_min(float a, float b) { return std::fmin(a, b); }
+float hlsl_max(float a, float b) { return std::fmax(a, b); }
+
+bool closer(float t, std::int32_t primitive, const Hit& best) {
+    return best.primitive < 0 || t < best.t || (t == best.t && primitive < best.primitive);
+}
+
+}  // namespace
+
+TileFrustum tile_frustum(const Camera& camera, int width, int height, int x0, int y0, int x1,
+                         int y1) {
+    const float tan_half = tan_half_vfov(camera);
+    const float w = static_cast<float>(width), h = static_cast<float>(height);
+    // the primary rays' screen-plane coordinates (primary_ray_direction)
+    const auto a = [&](int x) {
+        return ((2.0f * static_cast<float>(x)) / w - 1.0f) * tan_half * (w / h);
+    };
+    const auto sy = [&](int y) { return ((2.0f * static_cast<float>(y)) / h - 1.0f) * tan_half; };
+    TileFrustum f;
+    f.origin = camera.position;
+    f.right = camera.right;
+    f.up = camera.up;
+    f.view = camera.forward;
+    f.a0 = a(x0);
+    f.a1 = a(x1);
+    f.b0 = -sy(y1);
+    f.b1 = -sy(y0);
+    f.width_factor = (f.a1 - f.a0) * 0.5f;
+    f.height_factor = (f.b1 - f.b0) * 0.5f;
+    f.direction = f.view + ((f.a0 + f.a1) * 0.5f) * f.right + ((f.b0 + f.b1) * 0.5f) * f.up;
+    return f;
+}
+
+bool lund_box_test(const TileFrustum& f, glm::vec3 lo, glm::vec3 hi) {
+    // d: the box's farthest point from the camera along V
+    float d = -std::numeric_limits<float>::infinity();
+    for (int k = 0; k < 8; ++k) {
+        const glm::vec3 corner{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
+        d = std::max(d, glm::dot(corner - f.origin, f.view));
+    }
+    // eq. 3.14 and 3.15
+    const float w_c = d * f.width_factor, h_c = d * f.height_factor;
+    const glm::vec3 bias{std::fabs(w_c * f.right.x) + std::fabs(h_c * f.up.x),
+                         std::fabs(w_c * f.right.y) + std::fabs(h_c * f.up.y),
+                         std::fabs(w_c * f.right.z) + std::fabs(h_c * f.up.z)};
+    // Listing 3.1
+    const glm::vec3 o = f.origin;
+    const glm::vec3 id{1.0f / f.direction.x, 1.0f / f.direction.y, 1.0f / f.direction.z};
+    const float t1 = (lo.x - bias.x - o.x) * id.x, t2 = (hi.x + bias.x - o.x) * id.x;
+    const float t3 = (lo.y - bias.y - o.y) * id.y, t4 = (hi.y + bias.y - o.y) * id.y;
+    const float t5 = (lo.z - bias.z - o.z) * id.z, t6 = (hi.z + bias.z - o.z) * id.z;
+    const float tmin = hlsl_max(hlsl_max(hlsl_min(t1, t2), hlsl_min(t3, t4)), hlsl_min(t5, t6));
+    const float tmax = hlsl_min(hlsl_min(hlsl_max(t1, t2), hlsl_max(t3, t4)), hlsl_max(t5, t6));
+    return tmax >= 0.0f && tmin <= tmax;
+}
+
+bool exact_box_test(const TileFrustum& f, glm::vec3 lo_f, glm::vec3 hi_f) {
+    const glm::dvec3 lo(lo_f), hi(hi_f), o(f.origin);
+    const glm::dvec3 r(f.right), u(f.up), v(f.view);
+    const double as[4] = {f.a0, f.a1, f.a1, f.a0}, bs[4] = {f.b0, f.b0, f.b1, f.b1};
+    glm::dvec3 edges[4];
+    for (int i = 0; i < 4; ++i) edges[i] = v + as[i] * r + bs[i] * u;
+    std::vector<glm::dvec3> axes = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int i = 0; i < 4; ++i) axes.push_back(glm::cross(edges[i], edges[(i + 1) % 4]));
+    for (int k = 0; k < 3; ++k)
+        for (int i = 0; i < 4; ++i) {
+            glm::dvec3 axis(0.0);
+            axis[k] = 1.0;
+            axes.push_back(glm::cross(axis, edges[i]));
+        }
+    const double inf = std::numeric_limits<double>::infinity();
+    for (const glm::dvec3& n : axes) {
+        if (glm::dot(n, n) == 0.0) continue;
+        double box_min = inf, box_max = -inf;
+        for (int k = 0; k < 8; ++k) {
+            const glm::dvec3 c{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
+            box_min = std::min(box_min, glm::dot(n, c));
+            box_max = std::max(box_max, glm::dot(n, c));
+        }
+        // the pyramid: the apex and the half-lines along its edges
+        const double apex = glm::dot(n, o);
+        bool up = true, down = true;
+        for (const glm::dvec3& e : edges) {
+            const double s = glm::dot(n, e);
+            up = up && s >= 0.0;
+            down = down && s <= 0.0;
+        }
+        const double pyramid_min = up ? apex : -inf, pyramid_max = down ? apex : inf;
+        if (box_max < pyramid_min || box_min > pyramid_max) return false;
+    }
+    return true;
+}
+
+namespace {
+
+struct Culler {
+    const Bvh& bvh;
+    const TileFrustum& frustum;
+    const CullOptions& options;
+    TileCulling& out;
+
+    bool test(const BvhNode& node) {
+        ++out.nodes_tested;
+        return options.exact ? exact_box_test(frustum, node.bounds_min, node.bounds_max)
+                             : lund_box_test(frustum, node.bounds_min, node.bounds_max);
+    }
+    // Visits node `index`, whose box passed the test; returns whether it stays in the tree
+    bool keep(std::uint32_t index) {
+        const BvhNode& node = bvh.nodes[index];
+        if (node.count > 0) {
+            out.kept[index] = 1;
+            return true;
+        }
+        bool any = false;
+        for (const std::uint32_t child : {node.first, node.first + 1})
+            if (test(bvh.nodes[child]) && keep(child)) any = true;
+        if (!any && options.trim) {
+            ++out.nodes_trimmed;
+            return false;
+        }
+        out.kept[index] = 1;
+        return true;
+    }
+    int kept_children(std::uint32_t index) const {
+        const BvhNode& node = bvh.nodes[index];
+        if (node.count > 0) return 0;
+        return out.kept[node.first] + out.kept[node.first + 1];
+    }
+    // Counts the tree below `index` (kept), bridging nodes with one kept child
+    void count(std::uint32_t index) {
+        const BvhNode& node = bvh.nodes[index];
+        if (node.count > 0) {
+            ++out.nodes_kept;
+            ++out.leaves_kept;
+            out.triangles_kept += node.count;
+            return;
+        }
+        if (options.bridge && kept_children(index) == 1)
+            ++out.nodes_bridged;
+        else
+            ++out.nodes_kept;
+        for (const std::uint32_t child : {node.first, node.first + 1})
+            if (out.kept[child]) count(child);
+    }
+};
+
+}  // namespace
+
+TileCulling cull_bvh(const Bvh& bvh, const TileFrustum& frustum, const CullOptions& options) {
+    TileCulling out;
+    out.kept.assign(bvh.nodes.size(), 0);
+    if (bvh.nodes.empty()) return out;
+    Culler c{bvh, frustum, options, out};
+    if (!(c.test(bvh.nodes[0]) && c.keep(0))) return out;
+    // Entry point: down from the root while a node has exactly one kept child
+    std::uint32_t entry = 0;
+    while (options.entry && c.kept_children(entry) == 1) {
+        const BvhNode& node = bvh.nodes[entry];
+        entry = out.kept[node.first] ? node.first : node.first + 1;
+        ++out.entry_depth;
+    }
+    out.entry = entry;
+    c.count(entry);
+    return out;
+}
+
+namespace {
+
+// Whether the ray's segment [t_min, t_max] meets box [lo, hi] widened by a relative 2^-20 (a
+// slab test in binary64 that errs on the side of visiting: it only prunes the traversal)
+bool segment_meets_box(const Ray& ray, glm::vec3 lo_f, glm::vec3 hi_f) {
+    const glm::dvec3 o(ray.origin), d(ray.direction);
+    double t0 = std::max(0.0, static_cast<double>(ray.t_min)), t1 = ray.t_max;
+    for (int k = 0; k < 3; ++k) {
+        const double pad = (std::fabs(lo_f[k]) + std::fabs(hi_f[k]) + 1.0) * 0x1p-20;
+        const double lo = lo_f[k] - pad, hi = hi_f[k] + pad;
+        if (d[k] == 0.0) {
+            if (o[k] < lo || o[k] > hi) return false;
+            continue;
+        }
+        double a = (lo - o[k]) / d[k], b = (hi - o[k]) / d[k];
+        if (a > b) std::swap(a, b);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, b);
+        if (t0 > t1) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+Hit trace_culled(const Bvh& bvh, const TileCulling& culling, const Ray& ray) {
+    Hit best;
+    const glm::vec3 o = ray.origin, d = ray.direction;
+    const bool valid = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) &&
+                       std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z) &&
+                       (d.x != 0.0f || d.y != 0.0f || d.z != 0.0f) && !std::isnan(ray.t_min) &&
+                       !std::isnan(ray.t_max);
+    if (!valid || bvh.nodes.empty() || !culling.kept[culling.entry]) return best;
+    const WatertightRay r = make_watertight_ray(
+        o, d, ray.t_min, std::min(ray.t_max, std::numeric_limits<float>::max()));
+    // Every kept node from the entry point down (the closest hit with its tie-break does not
+    // depend on the order)
+    std::vector<std::uint32_t> stack = {culling.entry};
+    while (!stack.empty()) {
+        const std::uint32_t n = stack.back();
+        stack.pop_back();
+        const BvhNode& node = bvh.nodes[n];
+        if (!segment_meets_box(ray, node.bounds_min, node.bounds_max)) continue;
+        if (node.count == 0) {
+            for (const std::uint32_t child : {node.first, node.first + 1})
+                if (culling.kept[child]) stack.push_back(child);
+            continue;
+        }
+        for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+            float t, u, v;
+            const glm::vec3* p = &bvh.triangle_corners[3 * static_cast<std::size_t>(k)];
+            if (!intersect_watertight(r, p[0], p[1], p[2], t, u, v)) continue;
+            const auto primitive = static_cast<std::int32_t>(bvh.primitives[k]);
+            if (closer(t, primitive, best)) best = Hit{t, primitive, u, v};
+        }
+    }
+    return best;
+}
+
+}  // namespace fovref

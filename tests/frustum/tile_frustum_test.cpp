@@ -1,0 +1,146 @@
+// Tile frustum culling (ref/frustum/tile_frustum.h, Lund §3.7, §4.5): the frustum of a tile by
+// hand, Lund's biased-box test against the exact one, and on every procedural scene the primary
+// rays traced through each tile's culled BVH against the full BVH: is Lund's culling
+// conservative?
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdint>
+
+#include "ref/bvh/bvh.h"
+#include "ref/core/rng.h"
+#include "ref/frustum/tile_frustum.h"
+#include "ref/scene/camera.h"
+#include "ref/scene/procedural.h"
+
+using namespace fovref;
+
+TEST_CASE("tile frustum: centre ray, factors, and the two box tests by hand") {
+    // 90 degrees vertically on a 4 x 4 screen: t = 1, the plane at depth 1 spans [-1, 1] both ways
+    const Camera camera = look_at({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 90.0f);
+    const TileFrustum f = tile_frustum(camera, 4, 4, 2, 0, 4, 2);  // the top-right quarter
+    CHECK(f.a0 == 0.0f);
+    CHECK(f.a1 == doctest::Approx(1.0f));
+    CHECK(f.b0 == 0.0f);
+    CHECK(f.b1 == doctest::Approx(1.0f));
+    CHECK(f.width_factor == doctest::Approx(0.5f));
+    CHECK(f.direction.z == doctest::Approx(-1.0f));  // V component 1, V = -z
+    CHECK(f.direction.x == doctest::Approx(0.5f));
+    CHECK(f.direction.y == doctest::Approx(0.5f));
+    // A box around the centre ray at depth 10; one at the same depth in the bottom-left
+    // quarter; one behind the camera; one just inside the frustum's corner (x = y = 9.9 at
+    // depth 10, the frustum reaching 10)
+    const auto both = [&](glm::vec3 lo, glm::vec3 hi) {
+        return std::make_pair(lund_box_test(f, lo, hi), exact_box_test(f, lo, hi));
+    };
+    CHECK(both({4.5f, 4.5f, -10.5f}, {5.5f, 5.5f, -9.5f}) == std::make_pair(true, true));
+    CHECK(both({-6.0f, -6.0f, -10.5f}, {-4.0f, -4.0f, -9.5f}) == std::make_pair(false, false));
+    CHECK_FALSE(both({-1.0f, -1.0f, 5.0f}, {1.0f, 1.0f, 6.0f}).second);
+    CHECK(both({9.8f, 9.8f, -10.0f}, {9.9f, 9.9f, -9.99f}) == std::make_pair(true, true));
+    // Lund's test keeps more than the exact one: a long box below the frustum (y < 0, where the
+    // tile has b >= 0) from depth 2 to 20; its biased box, widened by the cross-section at the
+    // farthest depth (10 along x and y), holds the centre ray's point (1, 1, -2) at depth 2
+    CHECK(both({2.5f, -1.0f, -20.0f}, {3.0f, -0.5f, -2.0f}) == std::make_pair(true, false));
+}
+
+TEST_CASE("tile frustum: Lund's test keeps every box the exact test keeps (random boxes)") {
+    const Camera camera = look_at({0.3f, 1.2f, 4.0f}, {-0.5f, 0.2f, -1.0f}, {0, 1, 0}, 50.0f);
+    std::int64_t exact_kept = 0, lund_kept = 0, lost = 0;
+    for (std::uint32_t i = 0; i < 20000; ++i) {
+        const int tx = static_cast<int>(i % 8), ty = static_cast<int>((i / 8) % 5);
+        const TileFrustum f =
+            tile_frustum(camera, 128, 80, 16 * tx, 16 * ty, 16 * tx + 16, 16 * ty + 16);
+        const glm::vec3 c{20.0f * rand_unit(1, i, 0) - 10.0f, 20.0f * rand_unit(1, i, 1) - 10.0f,
+                          20.0f * rand_unit(1, i, 2) - 14.0f};
+        const glm::vec3 half{0.05f + 2.0f * rand_unit(1, i, 3), 0.05f + 2.0f * rand_unit(1, i, 4),
+                             0.05f + 2.0f * rand_unit(1, i, 5)};
+        const bool exact = exact_box_test(f, c - half, c + half);
+        const bool lund = lund_box_test(f, c - half, c + half);
+        exact_kept += exact;
+        lund_kept += lund;
+        lost += exact && !lund;
+    }
+    MESSAGE("20000 boxes: exact keeps " << exact_kept << ", Lund keeps " << lund_kept
+                                        << ", Lund culls " << lost << " the exact test keeps");
+    CHECK(lost == 0);
+    CHECK(lund_kept > exact_kept);  // conservative, at a cost
+    CHECK(exact_kept > 100);
+}
+
+TEST_CASE(
+    "tile frustum: on every procedural scene every primary ray hits through its tile's "
+    "culled BVH what it hits through the whole BVH") {
+    for (const std::string name :
+         {"cornell", "sphere-grid", "checker-room", "glossy-floor", "million"}) {
+        CAPTURE(name);
+        const Scene scene = make_procedural_scene(name);
+        const Bvh bvh = build_bvh(scene.positions);
+        const Camera camera = camera_at(scene, 0.0f);
+        const int width = 64, height = 36, tile = 16;
+        const float tan_half = tan_half_vfov(camera);
+        std::int64_t rays = 0, lost_lund = 0, lost_exact = 0, kept_lund = 0, kept_exact = 0;
+        std::int64_t triangles_lund = 0, triangles_exact = 0;
+        for (int y0 = 0; y0 < height; y0 += tile)
+            for (int x0 = 0; x0 < width; x0 += tile) {
+                const int x1 = std::min(x0 + tile, width), y1 = std::min(y0 + tile, height);
+                const TileFrustum f = tile_frustum(camera, width, height, x0, y0, x1, y1);
+                CullOptions lund_options, exact_options;
+                exact_options.exact = true;
+                const TileCulling lund = cull_bvh(bvh, f, lund_options);
+                const TileCulling exact = cull_bvh(bvh, f, exact_options);
+                kept_lund += lund.nodes_kept;
+                kept_exact += exact.nodes_kept;
+                triangles_lund += lund.triangles_kept;
+                triangles_exact += exact.triangles_kept;
+                for (int y = y0; y < y1; ++y)
+                    for (int x = x0; x < x1; ++x) {
+                        Ray ray;
+                        ray.origin = camera.position;
+                        ray.direction = primary_ray_direction(camera, tan_half, width, height,
+                                                              static_cast<float>(x) + 0.5f,
+                                                              static_cast<float>(y) + 0.5f);
+                        TraceStats stats;
+                        const Hit full = trace_closest(bvh, ray, stats);
+                        ++rays;
+                        lost_lund += !(trace_culled(bvh, lund, ray) == full);
+                        lost_exact += !(trace_culled(bvh, exact, ray) == full);
+                    }
+            }
+        MESSAGE(name << ": " << rays << " rays; nodes kept Lund " << kept_lund << ", exact "
+                     << kept_exact << "; triangles kept Lund " << triangles_lund << ", exact "
+                     << triangles_exact << "; hits lost Lund " << lost_lund << ", exact "
+                     << lost_exact);
+        CHECK(lost_lund == 0);
+        CHECK(lost_exact == 0);
+        CHECK(triangles_lund >= triangles_exact);
+    }
+}
+
+TEST_CASE(
+    "tile frustum: trimming, the entry point and bridging change the tree, not its "
+    "triangles") {
+    const Scene scene = make_procedural_scene("sphere-grid");
+    const Bvh bvh = build_bvh(scene.positions);
+    const Camera camera = camera_at(scene, 0.0f);
+    const TileFrustum f = tile_frustum(camera, 64, 36, 48, 20, 64, 36);
+    CullOptions none;
+    none.trim = none.entry = none.bridge = false;
+    const TileCulling plain = cull_bvh(bvh, f, none);
+    const TileCulling all = cull_bvh(bvh, f);
+    CHECK(plain.triangles_kept == all.triangles_kept);
+    CHECK(plain.leaves_kept == all.leaves_kept);
+    CHECK(plain.entry == 0u);
+    CHECK(plain.nodes_trimmed == 0);
+    CHECK(plain.nodes_bridged == 0);
+    CHECK(all.nodes_kept + all.nodes_bridged + all.nodes_trimmed <=
+          plain.nodes_kept + all.nodes_trimmed);
+    CHECK(all.nodes_kept < plain.nodes_kept);
+    CHECK(all.bytes() == all.nodes_kept * 32);
+    MESSAGE("sphere-grid, one corner tile: "
+            << plain.nodes_kept
+            << " nodes kept without the "
+               "optimisations, "
+            << all.nodes_kept << " with them (" << all.nodes_trimmed << " trimmed, "
+            << all.nodes_bridged << " bridged, entry at depth " << all.entry_depth << "); "
+            << all.triangles_kept << " triangles");
+}
