@@ -5,6 +5,7 @@
 #include "ref/bmfr/probe.h"
 #include "ref/bmfr/stages.h"
 #include "ref/core/error.h"
+#include "ref/frustum/stages.h"
 #include "ref/raster/stages.h"
 #include "ref/temporal/stages.h"
 #include "ref/trace/basic_params.h"
@@ -41,6 +42,9 @@ Pipeline basic_pipeline(const Scene*, const RenderSettings& settings) {
         p.add(raycast_stage_def(bvh, taa_frame_jitter(taa)));
     p.add(shade_stage_def("shade_direct", "gbuffer_", taa.enabled() ? "shaded" : "final", bvh));
     if (taa.enabled()) p.add(taa_stage_def(taa, {"shaded", "gbuffer_view_depth", "", "final"}));
+    // Lund's tile frustum culling (docs/frustum.md): its buffers only when asked for
+    const FrustumSettings frustum = parse_frustum_params(settings.params);
+    if (frustum.enabled) p.add(frustum_cull_stage_def(frustum, bvh));
     p.final_outputs = {"final"};
     return p;
 }
@@ -156,6 +160,7 @@ ModeInfo basic_mode() {
         "one ray per pixel centre, Lambertian shading with one shadow ray per light (Lund §3.1)";
     m.params = basic_param_specs();
     for (ParamSpec& spec : taa_param_specs()) m.params.push_back(std::move(spec));
+    for (ParamSpec& spec : frustum_param_specs()) m.params.push_back(std::move(spec));
     m.build = basic_pipeline;
     m.explain = explain_basic_taa;
     m.pixel_functions = basic_pixel_functions;

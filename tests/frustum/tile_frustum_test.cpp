@@ -6,12 +6,17 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <map>
+#include <string>
 
 #include "ref/bvh/bvh.h"
 #include "ref/core/rng.h"
 #include "ref/frustum/tile_frustum.h"
+#include "ref/modes/modes.h"
 #include "ref/scene/camera.h"
 #include "ref/scene/procedural.h"
+#include "tests/image/image_test_util.h"
 
 using namespace fovref;
 
@@ -143,4 +148,43 @@ TEST_CASE(
             << all.nodes_kept << " with them (" << all.nodes_trimmed << " trimmed, "
             << all.nodes_bridged << " bridged, entry at depth " << all.entry_depth << "); "
             << all.triangles_kept << " triangles");
+}
+
+TEST_CASE(
+    "frustum_cull stage (basic, frustum=lund|exact): per-tile buffers, no hit lost, the "
+    "image unchanged, parameters checked") {
+    const Scene scene = make_procedural_scene("checker-room");
+    RenderSettings s;
+    s.width = 100;
+    s.height = 60;
+    s.requested = {"all"};
+    const FrameResult plain = render(&scene, "basic", s).at(0);
+    CHECK(plain.find("frustum_tiles") == nullptr);
+    for (const std::string test : {"lund", "exact"}) {
+        CAPTURE(test);
+        s.params =
+            Params(std::map<std::string, std::string>{{"frustum", test}, {"tile_size", "32"}});
+        const FrameResult f = render(&scene, "basic", s).at(0);
+        const Image& tiles = f.find("frustum_tiles")->image;
+        CHECK(tiles.width == 4);  // ceil(100 / 32)
+        CHECK(tiles.height == 2);
+        CHECK(tiles.channels == 6);
+        CHECK(f.counters.get("frustum_tiles") == 8);
+        CHECK(f.counters.get("frustum_hits_lost") == 0);
+        for (const float lost : f.find("frustum_hit_lost")->image.data) REQUIRE(lost == 0.0f);
+        const Image& a = f.find("final")->image;
+        const Image& b = plain.find("final")->image;
+        CHECK(std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)) == 0);
+        double triangles = 0.0;
+        for (int k = 0; k < 8; ++k) triangles += tiles.data[static_cast<std::size_t>(6 * k + 2)];
+        CHECK(triangles == static_cast<double>(f.counters.get("frustum_triangles_kept")));
+    }
+    const auto message = [&](std::map<std::string, std::string> params) {
+        RenderSettings r = s;
+        r.params = Params(std::move(params));
+        return test::error_message([&] { render(&scene, "basic", r); });
+    };
+    CHECK(test::contains(message({{"tile_size", "16"}}), "add frustum=lund"));
+    CHECK(test::contains(message({{"frustum", "hunt"}}), "parameter 'frustum'"));
+    CHECK(test::contains(message({{"frustum", "lund"}, {"tile_size", "0"}}), "tile_size"));
 }
