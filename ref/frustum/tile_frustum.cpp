@@ -202,7 +202,19 @@ bool segment_meets_box(const Ray& ray, glm::vec3 lo_f, glm::vec3 hi_f) {
 
 }  // namespace
 
-Hit trace_culled(const Bvh& bvh, const TileCulling& culling, const Ray& ray) {
+TileCulling keep_everything(const Bvh& bvh) {
+    TileCulling all;
+    all.kept.assign(bvh.nodes.size(), 1);
+    for (const BvhNode& node : bvh.nodes) {
+        ++all.nodes_kept;
+        if (node.count == 0) continue;
+        ++all.leaves_kept;
+        all.triangles_kept += node.count;
+    }
+    return all;
+}
+
+Hit trace_culled(const Bvh& bvh, const TileCulling& culling, const Ray& ray, TraceStats* stats) {
     Hit best;
     const glm::vec3 o = ray.origin, d = ray.direction;
     const bool valid = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) &&
@@ -220,6 +232,7 @@ Hit trace_culled(const Bvh& bvh, const TileCulling& culling, const Ray& ray) {
         stack.pop_back();
         const BvhNode& node = bvh.nodes[n];
         if (!segment_meets_box(ray, node.bounds_min, node.bounds_max)) continue;
+        if (stats) ++stats->nodes_visited;
         if (node.count == 0) {
             for (const std::uint32_t child : {node.first, node.first + 1})
                 if (culling.kept[child]) stack.push_back(child);
@@ -228,10 +241,15 @@ Hit trace_culled(const Bvh& bvh, const TileCulling& culling, const Ray& ray) {
         for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
             float t, u, v;
             const glm::vec3* p = &bvh.triangle_corners[3 * static_cast<std::size_t>(k)];
+            if (stats) ++stats->triangles_tested;
             if (!intersect_watertight(r, p[0], p[1], p[2], t, u, v)) continue;
             const auto primitive = static_cast<std::int32_t>(bvh.primitives[k]);
             if (closer(t, primitive, best)) best = Hit{t, primitive, u, v};
         }
+    }
+    if (stats) {
+        ++stats->rays;
+        stats->hits += best.hit() ? 1 : 0;
     }
     return best;
 }

@@ -90,7 +90,15 @@ TileCulling cull_bvh(const Bvh& bvh, const TileFrustum& frustum, const CullOptio
 
 /// The closest hit of `ray` among the triangles of the culled tree's kept leaves, with
 /// trace_closest's watertight test and tie-break (lowest t, then lowest primitive id): the same
-/// hit as trace_closest wherever the culling kept the triangle it hits.
-Hit trace_culled(const Bvh& bvh, const TileCulling& culling, const Ray& ray);
+/// hit as trace_closest wherever the culling kept the triangle it hits. A depth-first BVH2
+/// traversal from the entry node over the kept nodes whose box the ray's segment meets (a
+/// binary64 slab test on the box widened by 2^-20 relative: it may visit a node it need not,
+/// never skip one it must). `stats` (optional) counts the nodes visited and triangles tested.
+Hit trace_culled(const Bvh& bvh, const TileCulling& culling, const Ray& ray,
+                 TraceStats* stats = nullptr);
+
+/// The culling that keeps the whole tree (every node, entry at the root): trace_culled over it
+/// traverses the BVH2 unculled, the baseline of `fovref bench frustum`.
+TileCulling keep_everything(const Bvh& bvh);
 
 }  // namespace fovref

@@ -22,6 +22,7 @@
 #include "ref/golden/bundle.h"
 #include "tools/cli/bench/bmfr.h"
 #include "tools/cli/bench/foveation.h"
+#include "tools/cli/bench/frustum.h"
 #include "tools/cli/bench/metrics.h"
 #include "tools/cli/bench/rays.h"
 #include "tools/cli/bench/temporal.h"
@@ -66,6 +67,8 @@ const char* const app_footer =
     "Embree)\n"
     "  fovref bench metrics [--size WxH]      metric times (vs scikit-image's SSIM)\n"
     "  fovref bench foveation [--scene S]     foveated modes' stage times vs basic, rays traced\n"
+    "  fovref bench frustum [--scene S]       tile frustum culling: cull time, traversal, hits "
+    "lost\n"
     "  fovref bench temporal [--scene S]      TAA cost per frame; errors and flicker with and "
     "without TAA\n"
     "  fovref bench bmfr [--scene S]          path tracer + BMFR phase times; error before/after "
@@ -109,6 +112,7 @@ struct Options {
     BenchMetricsOptions bench_metrics;
     BenchFoveationOptions bench_foveation;
     BenchTemporalOptions bench_temporal;
+    BenchFrustumOptions bench_frustum;
     BenchBmfrOptions bench_bmfr;
     BenchVisualPolarOptions bench_visual_polar;
     GoldenOptions golden;
@@ -129,9 +133,9 @@ struct Options {
 void share_quiet(Options& o) {
     o.scene_export.quiet = o.render.quiet = o.rays_trace.quiet = o.rays_make.quiet =
         o.bench_rays.quiet = o.density.quiet = o.bench_foveation.quiet = o.bench_temporal.quiet =
-            o.bench_bmfr.quiet = o.bench_visual_polar.quiet = o.golden.quiet = o.probe.quiet =
-                o.evaluate.quiet = o.diff.quiet = o.denoise.quiet = o.sweep.quiet = o.stress.quiet =
-                    o.quiet;
+            o.bench_frustum.quiet = o.bench_bmfr.quiet = o.bench_visual_polar.quiet =
+                o.golden.quiet = o.probe.quiet = o.evaluate.quiet = o.diff.quiet = o.denoise.quiet =
+                    o.sweep.quiet = o.stress.quiet = o.quiet;
 }
 
 // The commands that do the work (no subcommands of their own), each with its run function.
@@ -210,6 +214,12 @@ void add_bench_commands(CLI::App& app, Options& o, Commands& commands) {
         "errors of moving and static sequences with and without TAA, depth vs clamping");
     add_bench_temporal_options(*temporal, o.bench_temporal);
     commands.emplace_back(temporal, [&o] { return run_bench_temporal(o.bench_temporal); });
+    CLI::App* frustum = bench->add_subcommand(
+        "frustum",
+        "Lund's tile frustum culling on the CPU: culling time, culled trees, primary-ray "
+        "traversal through them against the unculled BVH, hits lost (docs/frustum.md)");
+    add_bench_frustum_options(*frustum, o.bench_frustum);
+    commands.emplace_back(frustum, [&o] { return run_bench_frustum(o.bench_frustum); });
     CLI::App* bmfr = bench->add_subcommand(
         "bmfr",
         "path tracer and BMFR phase times per 720p frame, and the error before and after "
