@@ -5,6 +5,7 @@
 #include "ref/bmfr/probe.h"
 #include "ref/bmfr/stages.h"
 #include "ref/core/error.h"
+#include "ref/frustum/probe.h"
 #include "ref/frustum/stages.h"
 #include "ref/raster/stages.h"
 #include "ref/temporal/stages.h"
@@ -66,6 +67,8 @@ void explain_basic_taa(const ProbeContext& c, ProbeReport& report) {
     explain_with_taa(c, report, explain_basic,
                      {static_cast<float>(c.settings->width) * 0.5f,
                       static_cast<float>(c.settings->height) * 0.5f});
+    const FrustumSettings frustum = parse_frustum_params(c.settings->params);
+    if (frustum.enabled) explain_frustum_pixel(c, frustum, report);
 }
 
 // ---- ground truth ---------------------------------------------------------------------------

@@ -44,4 +44,10 @@ rows=$(grep -cE '^  (cornell|sphere-grid) ' <<<"$OUT")
 bad=$(grep -E '^  (cornell|sphere-grid) ' <<<"$OUT" | awk '$NF != 0' | wc -l)
 [ "$rows" -eq 10 ] && [ "$bad" -eq 0 ] || { echo "FAIL: bench frustum rows $rows, lost-hit rows $bad"; failures=$((failures + 1)); }
 expect 2 "bench frustum bad tile size" -- "$FOVREF" bench frustum --tile-size 0
+# the probe explains a pixel's tile: its frustum, its culled tree, the path to its hit's leaf
+expect 0 "probe with frustum culling" -- "$FOVREF" probe --scene cornell --mode basic --width 64 --height 36 --pixel 30,20 --param frustum=lund
+contains "[frustum_cull] the pixel's tile and its culled BVH" "the section"
+contains "tile         (0, 0): pixels 0..31 x 0..31" "the tile"
+contains "the same through the culled tree" "the hit kept"
+contains "leaf, box" "the path to the hit's leaf"
 finish
