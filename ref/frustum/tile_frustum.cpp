@@ -69,39 +69,45 @@ bool lund_box_test(const TileFrustum& f, glm::vec3 lo, glm::vec3 hi) {
 
 bool exact_box_test(const TileFrustum& f, glm::vec3 lo_f, glm::vec3 hi_f) {
     const glm::dvec3 lo(lo_f), hi(hi_f), o(f.origin);
+    // the apex inside the box: they meet
+    if (o.x >= lo.x && o.x <= hi.x && o.y >= lo.y && o.y <= hi.y && o.z >= lo.z && o.z <= hi.z)
+        return true;
+    // the pyramid = the 4 half-spaces n_i . (p - C) >= 0 of its side faces, oriented inwards
     const glm::dvec3 r(f.right), u(f.up), v(f.view);
     const double as[4] = {f.a0, f.a1, f.a1, f.a0}, bs[4] = {f.b0, f.b0, f.b1, f.b1};
-    glm::dvec3 edges[4];
+    glm::dvec3 edges[4], normals[4];
     for (int i = 0; i < 4; ++i) edges[i] = v + as[i] * r + bs[i] * u;
-    std::vector<glm::dvec3> axes = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-    for (int i = 0; i < 4; ++i) axes.push_back(glm::cross(edges[i], edges[(i + 1) % 4]));
-    for (int k = 0; k < 3; ++k)
-        for (int i = 0; i < 4; ++i) {
-            glm::dvec3 axis(0.0);
-            axis[k] = 1.0;
-            axes.push_back(glm::cross(axis, edges[i]));
-        }
-    const double inf = std::numeric_limits<double>::infinity();
-    for (const glm::dvec3& n : axes) {
-        if (glm::dot(n, n) == 0.0) continue;
-        double box_min = inf, box_max = -inf;
-        for (int k = 0; k < 8; ++k) {
-            const glm::dvec3 c{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
-            box_min = std::min(box_min, glm::dot(n, c));
-            box_max = std::max(box_max, glm::dot(n, c));
-        }
-        // the pyramid: the apex and the half-lines along its edges
-        const double apex = glm::dot(n, o);
-        bool up = true, down = true;
-        for (const glm::dvec3& e : edges) {
-            const double s = glm::dot(n, e);
-            up = up && s >= 0.0;
-            down = down && s <= 0.0;
-        }
-        const double pyramid_min = up ? apex : -inf, pyramid_max = down ? apex : inf;
-        if (box_max < pyramid_min || box_min > pyramid_max) return false;
+    const glm::dvec3 centre = (edges[0] + edges[2]) * 0.5;
+    for (int i = 0; i < 4; ++i) {
+        normals[i] = glm::cross(edges[i], edges[(i + 1) % 4]);
+        if (glm::dot(normals[i], centre) < 0.0) normals[i] = -normals[i];
     }
-    return true;
+    // Otherwise they meet exactly when some face of the box keeps a point after clipping by the 4
+    // half-spaces (the pyramid is unbounded, so what of it lies in the box crosses the box's
+    // surface unless the apex is inside)
+    const auto corner = [&](int k) {
+        return glm::dvec3{(k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z};
+    };
+    static const int faces[6][4] = {{0, 2, 6, 4}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                                    {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 5, 7, 6}};
+    for (const auto& face : faces) {
+        std::vector<glm::dvec3> polygon = {corner(face[0]), corner(face[1]), corner(face[2]),
+                                           corner(face[3])};
+        for (const glm::dvec3& n : normals) {
+            std::vector<glm::dvec3> clipped;
+            for (std::size_t k = 0; k < polygon.size(); ++k) {
+                const glm::dvec3 a = polygon[k], b = polygon[(k + 1) % polygon.size()];
+                const double da = glm::dot(n, a - o), db = glm::dot(n, b - o);
+                if (da >= 0.0) clipped.push_back(a);
+                if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0))
+                    clipped.push_back(a + (b - a) * (da / (da - db)));
+            }
+            polygon = std::move(clipped);
+            if (polygon.empty()) break;
+        }
+        if (!polygon.empty()) return true;
+    }
+    return false;
 }
 
 namespace {

@@ -24,11 +24,11 @@
 //   frustum lies within z w_F <= d w_F of the centre ray along R (and d h_F along U), so the
 //   biased box holds the centre ray's point at depth z: the test keeps every box the frustum
 //   meets, up to rounding (tests/frustum/tile_frustum_test.cpp measures it).
-// The exact test (exact_box_test): in binary64, the box and the pyramid are convex; they are
-//   disjoint exactly when one of the separating-axis candidates separates their projections: the
-//   box's 3 face normals, the pyramid's 4 side-face normals, and the cross products of the box's
-//   3 edge directions with the pyramid's 4 edge directions (a projection of the unbounded pyramid
-//   is a half-line or the whole line).
+// The exact test (exact_box_test), binary64: the box meets the pyramid when the apex C lies in
+//   the box, or when one of the box's 6 faces keeps a point after clipping (Sutherland-Hodgman)
+//   by the pyramid's 4 side half-spaces n_i . (p - C) >= 0 (n_i the side faces' normals turned
+//   inwards): the pyramid is unbounded, so what of it lies in the box reaches the box's surface
+//   unless the apex is inside. Touching counts as meeting.
 #pragma once
 
 #include <cstdint>

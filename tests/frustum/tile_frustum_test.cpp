@@ -73,6 +73,96 @@ TEST_CASE("tile frustum: Lund's test keeps every box the exact test keeps (rando
 }
 
 TEST_CASE(
+    "tile frustum: where Lund's test could fail, it does not: wide fields of view, wide "
+    "tiles, boxes straddling the camera plane or behind it, 1e-2 to 1e2 in size") {
+    std::int64_t exact_kept = 0, lund_kept = 0, lost = 0, straddling = 0;
+    for (std::uint32_t i = 0; i < 50000; ++i) {
+        const float fov = 20.0f + 150.0f * rand_unit(2, i, 9);
+        const glm::vec3 target{rand_unit(2, i, 10) * 2 - 1, rand_unit(2, i, 11) * 2 - 1,
+                               rand_unit(2, i, 12) * 2 - 1};
+        const Camera camera = look_at({0, 0, 0}, target, {0.3f, 1, 0.1f}, fov);
+        const int size = 1 + static_cast<int>(64 * rand_unit(2, i, 13));
+        const int x0 = static_cast<int>(63 * rand_unit(2, i, 14));
+        const int y0 = static_cast<int>(35 * rand_unit(2, i, 15));
+        const TileFrustum f =
+            tile_frustum(camera, 64, 36, x0, y0, std::min(x0 + size, 64), std::min(y0 + size, 36));
+        const float scale = std::pow(10.0f, 4.0f * rand_unit(2, i, 16) - 2.0f);
+        const glm::vec3 c{(rand_unit(2, i, 0) * 2 - 1) * scale,
+                          (rand_unit(2, i, 1) * 2 - 1) * scale,
+                          (rand_unit(2, i, 2) * 2 - 1) * scale};
+        const glm::vec3 h{rand_unit(2, i, 3) * scale, rand_unit(2, i, 4) * scale,
+                          rand_unit(2, i, 5) * scale};
+        const bool exact = exact_box_test(f, c - h, c + h), lund = lund_box_test(f, c - h, c + h);
+        exact_kept += exact;
+        lund_kept += lund;
+        lost += exact && !lund;
+        float near = INFINITY, far = -INFINITY;
+        for (int k = 0; k < 8; ++k) {
+            const glm::vec3 q{(k & 1) ? c.x + h.x : c.x - h.x, (k & 2) ? c.y + h.y : c.y - h.y,
+                              (k & 4) ? c.z + h.z : c.z - h.z};
+            near = std::min(near, glm::dot(q - f.origin, f.view));
+            far = std::max(far, glm::dot(q - f.origin, f.view));
+        }
+        straddling += near < 0.0f && far > 0.0f;
+    }
+    MESSAGE("50000 boxes (" << straddling << " straddling the camera plane): exact keeps "
+                            << exact_kept << ", Lund keeps " << lund_kept << ", Lund culls " << lost
+                            << " the exact test keeps");
+    CHECK(lost == 0);
+    CHECK(straddling > 10000);
+}
+
+TEST_CASE("tile frustum: the exact test against sampling (120 boxes, a 120-degree camera)") {
+    // a box it keeps has no separating direction among 20000 sampled ones; one it culls has no
+    // point inside the frustum among 20000 sampled ones
+    const Camera camera = look_at({0, 0, 0}, {0.4f, -0.3f, -1.0f}, {0, 1, 0}, 120.0f);
+    const TileFrustum f = tile_frustum(camera, 64, 36, 0, 0, 40, 20);
+    const glm::dvec3 e[4] = {glm::dvec3(f.view + f.a0 * f.right + f.b0 * f.up),
+                             glm::dvec3(f.view + f.a1 * f.right + f.b0 * f.up),
+                             glm::dvec3(f.view + f.a1 * f.right + f.b1 * f.up),
+                             glm::dvec3(f.view + f.a0 * f.right + f.b1 * f.up)};
+    int kept = 0, culled = 0;
+    for (std::uint32_t i = 0; i < 120; ++i) {
+        const glm::vec3 c{rand_unit(3, i, 0) * 8 - 4, rand_unit(3, i, 1) * 8 - 4,
+                          rand_unit(3, i, 2) * 8 - 4};
+        const glm::vec3 h{0.05f + rand_unit(3, i, 3), 0.05f + rand_unit(3, i, 4),
+                          0.05f + rand_unit(3, i, 5)};
+        const glm::vec3 lo = c - h, hi = c + h;
+        if (exact_box_test(f, lo, hi)) {
+            ++kept;
+            for (std::uint32_t k = 0; k < 20000; ++k) {
+                const glm::dvec3 n{rand_unit(4, k, 0) * 2 - 1, rand_unit(4, k, 1) * 2 - 1,
+                                   rand_unit(4, k, 2) * 2 - 1};
+                bool inside_dual = true, below = true;
+                for (const glm::dvec3& edge : e)
+                    inside_dual = inside_dual && glm::dot(n, edge) >= 0;
+                for (int q = 0; q < 8 && inside_dual; ++q) {
+                    const glm::dvec3 p{(q & 1) ? hi.x : lo.x, (q & 2) ? hi.y : lo.y,
+                                       (q & 4) ? hi.z : lo.z};
+                    below = below && glm::dot(n, p - glm::dvec3(f.origin)) < 0;
+                }
+                REQUIRE_FALSE((inside_dual && below));
+            }
+        } else {
+            ++culled;
+            for (std::uint32_t k = 0; k < 20000; ++k) {
+                const glm::dvec3 p{lo.x + (hi.x - lo.x) * rand_unit(5, k, 0),
+                                   lo.y + (hi.y - lo.y) * rand_unit(5, k, 1),
+                                   lo.z + (hi.z - lo.z) * rand_unit(5, k, 2)};
+                const glm::dvec3 d = p - glm::dvec3(f.origin);
+                const double z = glm::dot(d, glm::dvec3(f.view));
+                if (!(z > 0)) continue;
+                const double a = glm::dot(d, glm::dvec3(f.right)) / z;
+                const double b = glm::dot(d, glm::dvec3(f.up)) / z;
+                REQUIRE_FALSE((a >= f.a0 && a <= f.a1 && b >= f.b0 && b <= f.b1));
+            }
+        }
+    }
+    CHECK(kept > 10);
+    CHECK(culled > 10);
+}
+
+TEST_CASE(
     "tile frustum: on every procedural scene every primary ray hits through its tile's "
     "culled BVH what it hits through the whole BVH") {
     for (const std::string name :
