@@ -20,8 +20,8 @@ struct FrustumState : StageState {
 std::vector<ParamSpec> frustum_param_specs() {
     return {{"frustum", "off",
              "tile frustum culling of the BVH (Lund §3.7; docs/frustum.md): 'off', 'lund' (his "
-             "biased-box test) or 'exact' (separating axes); writes frustum_tiles and "
-             "frustum_hit_lost"},
+             "biased-box test) or 'exact' (the box's faces clipped against the tile's pyramid); "
+             "writes frustum_tiles and frustum_hit_lost"},
             {"tile_size", "32", "frustum culling: tile edge in pixels (1 .. 4096)"},
             {"frustum_trim", "on", "frustum culling: remove inner nodes left without children"},
             {"frustum_entry", "on",

@@ -2,9 +2,10 @@
 // culled view of the BVH, and the check that it loses no primary-ray hit.
 //
 //   frustum_cull  (nothing) -> frustum_tiles (one texel per tile: nodes kept, leaves kept,
-//                  triangles kept, entry node, entry depth, nodes tested), frustum_hit_lost
-//                  (W x H: 1 where the pixel-centre primary ray's closest hit through its tile's
-//                  culled tree differs from the whole BVH's)
+//                  triangles kept, entry node, entry depth, nodes tested; binary32, exact up to
+//                  2^24, the entry node of a tree of more than 16.7 M nodes rounded),
+//                  frustum_hit_lost (W x H: 1 where the pixel-centre primary ray's closest hit
+//                  through its tile's culled tree differs from the whole BVH's)
 //
 // Counters: frustum_tiles, frustum_nodes_tested, frustum_nodes_kept, frustum_triangles_kept,
 // frustum_hits_lost.

@@ -57,8 +57,17 @@ glm::vec3 cosine_direction(glm::vec3 n, float u1, float u2) {
 }
 
 float mis_power_weight(float a, float b) {
-    const float a2 = a * a, b2 = b * b;
-    return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 1.0f;
+    // Through the ratio of the smaller to the larger density, so that neither square overflows
+    // (a sliver of a light seen edge-on has a huge light density) nor underflows to 0 for both
+    if (!(a > 0.0f)) return b > 0.0f ? 0.0f : 1.0f;
+    if (!(b > 0.0f)) return 1.0f;
+    if (std::isinf(a) && std::isinf(b)) return 0.5f;
+    if (a >= b) {
+        const float r = b / a;
+        return 1.0f / (1.0f + r * r);
+    }
+    const float r = a / b;
+    return (r * r) / (1.0f + r * r);
 }
 
 glm::vec3 sample_one_light(const Scene& scene, const Bvh& bvh, const SurfacePoint& surface,

@@ -95,7 +95,9 @@ glm::vec3 sample_one_light(const Scene& scene, const Bvh& bvh, const SurfacePoin
                            bool mis = false);
 
 /// The power heuristic's weight of the strategy with density `a` against one with `b`:
-/// a^2 / (a^2 + b^2) (1 when both are 0).
+/// a^2 / (a^2 + b^2), computed as 1 / (1 + r^2) with r = b / a when a >= b, else r^2 / (1 + r^2)
+/// with r = a / b (binary32; no square overflows or underflows): 0 when a = 0 < b, 1 when b = 0,
+/// and 1/2 for two infinite densities.
 float mis_power_weight(float a, float b);
 
 /// The radiance of one path from G-buffer pixel (x, y) (black for background). `emission`

@@ -144,9 +144,14 @@ TEST_CASE(
     "MIS (mis=power): the power heuristic, the same expectation as NEE alone, less noise "
     "on a glossy floor, and no change without emissive triangles") {
     CHECK(mis_power_weight(1.0f, 1.0f) == 0.5f);
-    CHECK(mis_power_weight(3.0f, 1.0f) == 0.9f);
+    CHECK(mis_power_weight(3.0f, 1.0f) == doctest::Approx(0.9f).epsilon(1e-6));
+    CHECK(mis_power_weight(1.0f, 3.0f) == doctest::Approx(0.1f).epsilon(1e-6));
     CHECK(mis_power_weight(0.0f, 2.0f) == 0.0f);
     CHECK(mis_power_weight(0.0f, 0.0f) == 1.0f);
+    // no overflow: a light density of 1e30 against a BSDF's 0.3, and the complement
+    CHECK(mis_power_weight(1e30f, 0.3f) == 1.0f);
+    CHECK(mis_power_weight(0.3f, 1e30f) == 0.0f);
+    CHECK(mis_power_weight(1e-30f, 1e-30f) == 0.5f);
     // glossy-floor: two emissive triangles and a point light, seen in the glossy floor
     const Scene glossy = make_procedural_scene("glossy-floor");
     const auto render_mis = [](const Scene& scene, const char* mis, int spp, const char* mode) {

@@ -13,8 +13,8 @@
 //   frame_resolve: pass 2 (resolve), then gaussian_lerp.comp where the case has the lerp.
 //
 // Every stage's buffers are written under the bundle's names, so `fovref diff` compares them
-// all. Refused with a message: kfr and primary=raster, TAA, gaze_track, internal AA, post-AA,
-// the mip resolve.
+// all. Refused with a message: kfr and primary=raster, TAA, gaze_track, lp_widen, internal AA,
+// post-AA, the mip resolve.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -84,7 +84,7 @@ MapSettings map_settings(const PassContext& ctx) {
         throw std::runtime_error("frame: mode '" + mode +
                                  "' is not a log-polar mode with primary rays (fov, kfov, cfov, "
                                  "ckfov)");
-    for (const char* refused : {"taa", "gaze_track"})
+    for (const char* refused : {"taa", "gaze_track", "lp_widen"})
         if (!ctx.param(refused, "").empty() && ctx.param(refused, "") != "off")
             throw std::runtime_error(std::string("frame: parameter '") + refused +
                                      "' is not ported by this pass");
