@@ -104,13 +104,10 @@ std::vector<ParamSpec> foveated_param_specs(const FoveationPreset& preset) {
     };
 }
 
-FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset& preset) {
-    const std::vector<ParamSpec> specs = foveated_param_specs(preset);
-    FoveatedParams parsed;
-    LogPolarParams& m = parsed.map;
-    m.sigma = params.get_float(specs, "sigma", 0.01f, 1024.0f);
-    m.lp_aspect = params.get_float(specs, "lp_aspect", 0.0f, 1000.0f);
-    m.gaze_angle = params.get_float(specs, "gaze_angle", 0.0f, 1.5f);
+namespace {
+
+// The kernel: x^alpha, Meng's polynomial (beta) or one of his named kernels (kernel=sine|exp).
+Kernel parse_kernel(const Params& params, const std::vector<ParamSpec>& specs) {
     const std::vector<float> beta = params.get_float_list(specs, "beta");
     const std::string family = params.get_string(specs, "kernel");
     if (family != "power" && family != "sine" && family != "exp")
@@ -119,30 +116,20 @@ FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset
         if (params.given("alpha") || !beta.empty())
             throw Error("parameter 'kernel' = '" + family +
                         "' takes no 'alpha' or 'beta' (they shape the power kernel)");
-        m.kernel = named_kernel(family == "sine" ? KernelKind::sine : KernelKind::exponential);
-    } else if (!beta.empty()) {
+        return named_kernel(family == "sine" ? KernelKind::sine : KernelKind::exponential);
+    }
+    if (!beta.empty()) {
         if (params.given("alpha"))
             throw Error(
                 "parameters 'alpha' and 'beta' both given: a kernel is x^alpha or a "
                 "polynomial, not both");
-        m.kernel = polynomial_kernel(beta, "parameter 'beta'");
-    } else {
-        m.kernel = power_kernel(params.get_float(specs, "alpha", 1.0f, 64.0f), "parameter 'alpha'");
+        return polynomial_kernel(beta, "parameter 'beta'");
     }
-    m.widen = params.get_bool(specs, "lp_widen");
-    const std::string radius = params.get_string(specs, "L");
-    if (radius == "diagonal")
-        m.radius = RadiusMode::diagonal;
-    else if (radius == "corners")
-        m.radius = RadiusMode::corners;
-    else
-        throw Error("parameter 'L': '" + radius + "' is neither 'diagonal' nor 'corners'");
-    if (m.widen && m.radius != RadiusMode::diagonal)
-        throw Error(
-            "parameter 'lp_widen': widening applies to L=diagonal (with L=corners every "
-            "column is on screen)");
-    parse_gaze_params(params, specs, parsed.gaze, parsed.gaze_track);
-    const std::string filters = params.get_string(specs, "filters");
+    return power_kernel(params.get_float(specs, "alpha", 1.0f, 64.0f), "parameter 'alpha'");
+}
+
+// The comma-separated filters: internal_aa, lerp, post_aa.
+void parse_filters(const std::string& filters, FoveatedParams& parsed) {
     std::size_t start = 0;
     while (start < filters.size()) {
         const std::size_t comma = std::min(filters.find(',', start), filters.size());
@@ -158,6 +145,32 @@ FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset
                         "' is not a filter (internal_aa, lerp, post_aa)");
         start = comma + 1;
     }
+}
+
+}  // namespace
+
+FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset& preset) {
+    const std::vector<ParamSpec> specs = foveated_param_specs(preset);
+    FoveatedParams parsed;
+    LogPolarParams& m = parsed.map;
+    m.sigma = params.get_float(specs, "sigma", 0.01f, 1024.0f);
+    m.lp_aspect = params.get_float(specs, "lp_aspect", 0.0f, 1000.0f);
+    m.gaze_angle = params.get_float(specs, "gaze_angle", 0.0f, 1.5f);
+    m.kernel = parse_kernel(params, specs);
+    m.widen = params.get_bool(specs, "lp_widen");
+    const std::string radius = params.get_string(specs, "L");
+    if (radius == "diagonal")
+        m.radius = RadiusMode::diagonal;
+    else if (radius == "corners")
+        m.radius = RadiusMode::corners;
+    else
+        throw Error("parameter 'L': '" + radius + "' is neither 'diagonal' nor 'corners'");
+    if (m.widen && m.radius != RadiusMode::diagonal)
+        throw Error(
+            "parameter 'lp_widen': widening applies to L=diagonal (with L=corners every "
+            "column is on screen)");
+    parse_gaze_params(params, specs, parsed.gaze, parsed.gaze_track);
+    parse_filters(params.get_string(specs, "filters"), parsed);
     const std::string resolve = params.get_string(specs, "resolve");
     if (resolve == "mip")
         parsed.mip_resolve = true;

@@ -98,6 +98,53 @@ void add_gbuffer(ToleranceTable& table, const std::string& prefix, const std::st
                "motion (not measured here: the OpenGL client writes no motion)");
 }
 
+// Pass 2's threshold decisions (resolve_tap, resolve_mip_level) and the oracle's margins of them.
+void add_resolve_decisions(ToleranceTable& table) {
+    table.buffers["resolve_tap"] = decision(
+        "resolve_tap_margin", {2e-3},
+        "pass 2's first tap (column, row) is floor of the sampling point's coordinates in "
+        "texels, which the GPU's forward map (log, atan2; 4 ulp and 2^-20) moves by about 1e-3 "
+        "texel (measured 7e-4 on lavapipe at 1280x720): a flip where the oracle's coordinate "
+        "lies within 2e-3 texel of an integer (resolve_tap_margin) is near-threshold and changes "
+        "no pixel (the blend is continuous across it); any other flip is a bug");
+    table.buffers["resolve_mip_level"] = decision(
+        "resolve_mip_margin", {1e-5},
+        "the mip level read first is floor(lambda), lambda = log2(max(s_u, s_v)) of the texels "
+        "per pixel: the GPU's log2 (4 ulp of |lambda| <= 12: 6e-6) and the few ulps of s_u's "
+        "pow and ln (2e-6 / ln 2) move lambda by up to 1e-5 (measured 1.2e-6 on lavapipe): a "
+        "flip where the oracle's lambda lies within 1e-5 of an integer (resolve_mip_margin) is "
+        "near-threshold and changes no pixel (the levels' lerp is continuous); any other flip "
+        "is a bug");
+    table.buffers["resolve_tap_margin"] = values(
+        2e-3, 0.0, 4,
+        "the oracle's distance of pass 2's sampling point from where its tap changes (the diff "
+        "reads the golden's to judge resolve_tap; a port need not write it); 1e30 where pass 2 "
+        "read no buffer (within 4 ulp)");
+    table.buffers["resolve_mip_margin"] = values(
+        1e-5, 0.0, 4,
+        "the oracle's distance of lambda from where the mip level changes (the diff reads the "
+        "golden's to judge resolve_mip_level; a port need not write it); 1e30 where none (within 4 "
+        "ulp)");
+}
+
+// TAA's depth, margins and ages.
+void add_taa(ToleranceTable& table) {
+    table.buffers["taa_view_depth"] =
+        values(0.0, 3e-4, 0, "the depth of the texel pass 2 sampled: as lp_gbuffer_view_depth");
+    table.buffers["taa_margin"] = values(
+        4e-3, 0.0, 0,
+        "the oracle's distances of TAA's decisions from their thresholds (the diff reads the "
+        "golden's to judge taa_age's flips; a port need not write it): the depth test's within "
+        "3e-4 relative, the reprojected point's within 4e-3 px; 1e30 where no such decision was "
+        "made");
+    table.buffers["taa_age"] = integers(
+        0.02,
+        "an age restarts where the depth test |z' - z_h| <= tau z' or the clamp decides "
+        "differently; with depths within 3e-4 relative that happens only where the difference "
+        "lies within 3e-4 of tau, at the edges of the rejected regions: 2% of the edge pixels; "
+        "a port whose scene sits on the threshold over a whole surface needs its own file");
+}
+
 // The foveation buffers: the mappings' screen points, masks, ray counts, shading and pass 2.
 void add_foveation(ToleranceTable& table) {
     const std::string a = gpu_arithmetic;
@@ -146,45 +193,8 @@ void add_foveation(ToleranceTable& table) {
     for (const char* screen :
          {"resolved", "taa_color", "lerp_filtered", "blur_horizontal", "filled", "final"})
         table.buffers[screen] = values(2e-3, 1e-3, 0, resolve_reason);
-    table.buffers["resolve_tap"] = decision(
-        "resolve_tap_margin", {2e-3},
-        "pass 2's first tap (column, row) is floor of the sampling point's coordinates in "
-        "texels, which the GPU's forward map (log, atan2; 4 ulp and 2^-20) moves by about 1e-3 "
-        "texel (measured 7e-4 on lavapipe at 1280x720): a flip where the oracle's coordinate "
-        "lies within 2e-3 texel of an integer (resolve_tap_margin) is near-threshold and changes "
-        "no pixel (the blend is continuous across it); any other flip is a bug");
-    table.buffers["resolve_mip_level"] = decision(
-        "resolve_mip_margin", {1e-5},
-        "the mip level read first is floor(lambda), lambda = log2(max(s_u, s_v)) of the texels "
-        "per pixel: the GPU's log2 (4 ulp of |lambda| <= 12: 6e-6) and the few ulps of s_u's "
-        "pow and ln (2e-6 / ln 2) move lambda by up to 1e-5 (measured 1.2e-6 on lavapipe): a "
-        "flip where the oracle's lambda lies within 1e-5 of an integer (resolve_mip_margin) is "
-        "near-threshold and changes no pixel (the levels' lerp is continuous); any other flip "
-        "is a bug");
-    table.buffers["resolve_tap_margin"] = values(
-        2e-3, 0.0, 4,
-        "the oracle's distance of pass 2's sampling point from where its tap changes (the diff "
-        "reads the golden's to judge resolve_tap; a port need not write it); 1e30 where pass 2 "
-        "read no buffer (within 4 ulp)");
-    table.buffers["resolve_mip_margin"] = values(
-        1e-5, 0.0, 4,
-        "the oracle's distance of lambda from where the mip level changes (the diff reads the "
-        "golden's to judge resolve_mip_level; a port need not write it); 1e30 where none (within 4 "
-        "ulp)");
-    table.buffers["taa_view_depth"] =
-        values(0.0, 3e-4, 0, "the depth of the texel pass 2 sampled: as lp_gbuffer_view_depth");
-    table.buffers["taa_margin"] = values(
-        4e-3, 0.0, 0,
-        "the oracle's distances of TAA's decisions from their thresholds (the diff reads the "
-        "golden's to judge taa_age's flips; a port need not write it): the depth test's within "
-        "3e-4 relative, the reprojected point's within 4e-3 px; 1e30 where no such decision was "
-        "made");
-    table.buffers["taa_age"] = integers(
-        0.02,
-        "an age restarts where the depth test |z' - z_h| <= tau z' or the clamp decides "
-        "differently; with depths within 3e-4 relative that happens only where the difference "
-        "lies within 3e-4 of tau, at the edges of the rejected regions: 2% of the edge pixels; "
-        "a port whose scene sits on the threshold over a whole surface needs its own file");
+    add_resolve_decisions(table);
+    add_taa(table);
 }
 
 // BMFR's phases (screen or Visual-Polar) and the path-traced radiance they denoise.

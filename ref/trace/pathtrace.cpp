@@ -44,6 +44,28 @@ glm::vec3 mis_emitter_hit(const Scene& scene, const SurfacePoint& surface, const
     return e * mis_power_weight(p_bsdf, p_light);
 }
 
+// The secondary direction of vertex k: a glossy BSDF's lobe mixture (throughput times its
+// weight) or cosine-weighted about n_s. False when the glossy reflection points below the shading
+// surface.
+bool sample_secondary(const Bsdf& bsdf, glm::vec3 n_s, glm::vec3 v, std::uint32_t frame,
+                      std::uint32_t pixel, int k, glm::vec3& direction, glm::vec3& throughput) {
+    const std::uint32_t base = 6u * static_cast<std::uint32_t>(k);
+    if (!bsdf.glossy()) {
+        direction = cosine_direction(n_s, rand_unit(frame, pixel, base + 3),
+                                     rand_unit(frame, pixel, base + 4));
+        return true;
+    }
+    // The lobe choice uses its own dimensions (65536 + k), so that diffuse paths keep the
+    // numbers they had before glossy materials were sampled.
+    glm::vec3 weight;
+    if (!bsdf_sample(bsdf, v, rand_unit(frame, pixel, 65536u + static_cast<std::uint32_t>(k)),
+                     rand_unit(frame, pixel, base + 3), rand_unit(frame, pixel, base + 4),
+                     direction, weight))
+        return false;
+    throughput *= weight;
+    return true;
+}
+
 }  // namespace
 
 glm::vec3 cosine_direction(glm::vec3 n, float u1, float u2) {
@@ -171,22 +193,8 @@ glm::vec3 pathtrace_pixel(const Scene& scene, const Bvh& bvh, const PathTracePar
         }
         Ray ray;
         ray.origin = surface.position + n_g * epsilon;
-        if (bsdf.glossy()) {
-            // The lobe choice uses its own dimensions (65536 + k), so that diffuse paths keep
-            // the numbers they had before glossy materials were sampled.
-            glm::vec3 weight;
-            if (!bsdf_sample(bsdf, v, rand_unit(f, pixel, 65536u + static_cast<std::uint32_t>(k)),
-                             rand_unit(f, pixel, base + 3), rand_unit(f, pixel, base + 4),
-                             ray.direction, weight)) {
-                ++stats.ended_below;
-                break;
-            }
-            throughput *= weight;
-        } else {
-            ray.direction =
-                cosine_direction(n_s, rand_unit(f, pixel, base + 3), rand_unit(f, pixel, base + 4));
-        }
-        if (!(glm::dot(ray.direction, n_g) > 0.0f)) {  // below the geometric surface: absorbed
+        if (!sample_secondary(bsdf, n_s, v, f, pixel, k, ray.direction, throughput) ||
+            !(glm::dot(ray.direction, n_g) > 0.0f)) {  // below the geometric surface: absorbed
             ++stats.ended_below;
             break;
         }

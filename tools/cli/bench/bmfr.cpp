@@ -113,22 +113,17 @@ void print_external_cost(const BenchBmfrOptions& o, Progress& progress) {
     times.print();
 }
 
-void print_errors(const Scene& scene, const BenchBmfrOptions& o, Progress& progress) {
-    RenderSettings s;
-    s.width = o.error_width;
-    s.height = o.error_height;
-    s.frame_count = o.frames;
-    // BMFR as SPEC §9 (the whole radiance demodulated), with the emission seen directly kept out
-    // of the fit (bmfr_emission=separate), and with P2's 64 x 64 blocks (bmfr_block=64)
-    struct Variant {
-        const char* label;
-        std::map<std::string, std::string> params;
-        std::vector<Image> frames;
-    };
-    std::vector<Variant> variants = {{"BMFR", {}, {}},
-                                     {"BMFR+E", {{"bmfr_emission", "separate"}}, {}},
-                                     {"BMFR 64", {{"bmfr_block", "64"}}, {}}};
-    std::vector<Image> noisy;
+// BMFR as SPEC §9 (the whole radiance demodulated), with the emission seen directly kept out of
+// the fit (bmfr_emission=separate), and with P2's 64 x 64 blocks (bmfr_block=64)
+struct Variant {
+    const char* label;
+    std::map<std::string, std::string> params;
+    std::vector<Image> frames;  ///< final, display space
+};
+
+// Renders every variant's sequence with `s`; `noisy` gets the first one's 1-spp radiance.
+void render_variants(const Scene& scene, RenderSettings s, std::vector<Variant>& variants,
+                     std::vector<Image>& noisy, Progress& progress) {
     for (std::size_t v = 0; v < variants.size(); ++v) {
         std::map<std::string, std::string> params = variants[v].params;
         params["denoise"] = "bmfr";
@@ -136,10 +131,22 @@ void print_errors(const Scene& scene, const BenchBmfrOptions& o, Progress& progr
         render_each(&scene, "pathtrace", s, [&](FrameResult& f) {
             if (v == 0) noisy.push_back(to_display(f.find("radiance")->image));
             variants[v].frames.push_back(to_display(f.find("final")->image));
-            progress.update(0.05 *
-                            (static_cast<double>(v) + static_cast<double>(f.frame + 1) / o.frames));
+            progress.update(
+                0.05 * (static_cast<double>(v) + static_cast<double>(f.frame + 1) / s.frame_count));
         });
     }
+}
+
+void print_errors(const Scene& scene, const BenchBmfrOptions& o, Progress& progress) {
+    RenderSettings s;
+    s.width = o.error_width;
+    s.height = o.error_height;
+    s.frame_count = o.frames;
+    std::vector<Variant> variants = {{"BMFR", {}, {}},
+                                     {"BMFR+E", {{"bmfr_emission", "separate"}}, {}},
+                                     {"BMFR 64", {{"bmfr_block", "64"}}, {}}};
+    std::vector<Image> noisy;
+    render_variants(scene, s, variants, noisy, progress);
     progress.clear();
     std::printf(
         "\nerror: %s %dx%d, %d frames moving, every %dth frame against pathtrace-reference at "

@@ -128,6 +128,67 @@ void add_bench_frustum_options(CLI::App& c, BenchFrustumOptions& o) {
         ->check(CLI::Range(1, 4096));
 }
 
+namespace {
+
+// Every pixel-centre primary ray through the BVH4 trace_closest the renderer uses: the hits
+// the culled traces must reproduce; returns the seconds it took.
+double reference_hits(const Bvh& bvh, const Camera& camera, int width, int height,
+                      std::vector<Hit>& reference) {
+    const float tan_half = tan_half_vfov(camera);
+    reference.assign(static_cast<std::size_t>(width) * height, Hit{});
+    TraceStats stats;
+    const auto start = BenchClock::now();
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            Ray ray;
+            ray.origin = camera.position;
+            ray.direction =
+                primary_ray_direction(camera, tan_half, width, height, static_cast<float>(x) + 0.5f,
+                                      static_cast<float>(y) + 0.5f);
+            reference[static_cast<std::size_t>(y) * width + x] = trace_closest(bvh, ray, stats);
+        }
+    return seconds_since(start);
+}
+
+// One table row: the screen in tiles of size pixels, each tile's BVH2 culled by Lund's test
+// (exact false) or the exact one, then every tile's rays through its culled tree.
+void print_culled_row(const std::string& name, const Bvh& bvh, const Camera& camera, int width,
+                      int height, int size, bool exact, const std::vector<Hit>& reference,
+                      double rays) {
+    const int tiles_x = (width + size - 1) / size, tiles_y = (height + size - 1) / size;
+    std::vector<TileCulling> cullings;
+    CullOptions options;
+    options.exact = exact;
+    const auto start = BenchClock::now();
+    for (int ty = 0; ty < tiles_y; ++ty)
+        for (int tx = 0; tx < tiles_x; ++tx)
+            cullings.push_back(cull_bvh(
+                bvh,
+                tile_frustum(camera, width, height, tx * size, ty * size,
+                             std::min(tx * size + size, width), std::min(ty * size + size, height)),
+                options));
+    const double cull_seconds = seconds_since(start);
+    std::int64_t nodes = 0, triangles = 0, bytes = 0;
+    for (const TileCulling& c : cullings) {
+        nodes += c.nodes_kept;
+        triangles += c.triangles_kept;
+        bytes += c.bytes();
+    }
+    const TraceRun culled = trace_tiles(
+        bvh, camera, width, height, size, reference, [&](int tx, int ty) -> const TileCulling& {
+            return cullings[static_cast<std::size_t>(ty * tiles_x + tx)];
+        });
+    std::printf("  %-14s %5d %6s %6d %9.1f %11lld %11lld %9.2f %11.1f %10s %10.1f %10s %6lld\n",
+                name.c_str(), size, exact ? "exact" : "lund", tiles_x * tiles_y, 1e3 * cull_seconds,
+                static_cast<long long>(nodes), static_cast<long long>(triangles),
+                static_cast<double>(bytes) / 1048576.0,
+                static_cast<double>(culled.stats.nodes_visited) / rays, "-", 1e3 * culled.seconds,
+                "-", static_cast<long long>(culled.lost));
+    std::fflush(stdout);
+}
+
+}  // namespace
+
 int run_bench_frustum(const BenchFrustumOptions& o) {
     std::printf(
         "fovref bench frustum: Lund's tile frustum culling on the CPU, %dx%d, one thread; every "
@@ -142,22 +203,8 @@ int run_bench_frustum(const BenchFrustumOptions& o) {
         const Scene scene = load_scene(o.scenes[si]);
         const Bvh bvh = build_bvh(scene.positions);
         const Camera camera = camera_at(scene, 0.0f);
-        const float tan_half = tan_half_vfov(camera);
-        // the reference hits and the BVH4's time
-        std::vector<Hit> reference(static_cast<std::size_t>(o.width) * o.height);
-        TraceStats bvh4;
-        const auto start4 = BenchClock::now();
-        for (int y = 0; y < o.height; ++y)
-            for (int x = 0; x < o.width; ++x) {
-                Ray ray;
-                ray.origin = camera.position;
-                ray.direction = primary_ray_direction(camera, tan_half, o.width, o.height,
-                                                      static_cast<float>(x) + 0.5f,
-                                                      static_cast<float>(y) + 0.5f);
-                reference[static_cast<std::size_t>(y) * o.width + x] =
-                    trace_closest(bvh, ray, bvh4);
-            }
-        const double bvh4_seconds = seconds_since(start4);
+        std::vector<Hit> reference;
+        const double bvh4_seconds = reference_hits(bvh, camera, o.width, o.height, reference);
         const TileCulling all = keep_everything(bvh);
         const TraceRun unculled = trace_tiles(bvh, camera, o.width, o.height, o.width, reference,
                                               [&](int, int) -> const TileCulling& { return all; });
@@ -170,42 +217,9 @@ int run_bench_frustum(const BenchFrustumOptions& o) {
             static_cast<double>(unculled.stats.nodes_visited) / rays, 1e3 * unculled.seconds, "-",
             1e3 * bvh4_seconds, static_cast<long long>(unculled.lost));
         for (const int size : o.tile_sizes)
-            for (const bool exact : {false, true}) {
-                const int tiles_x = (o.width + size - 1) / size,
-                          tiles_y = (o.height + size - 1) / size;
-                std::vector<TileCulling> cullings;
-                CullOptions options;
-                options.exact = exact;
-                const auto start = BenchClock::now();
-                for (int ty = 0; ty < tiles_y; ++ty)
-                    for (int tx = 0; tx < tiles_x; ++tx)
-                        cullings.push_back(
-                            cull_bvh(bvh,
-                                     tile_frustum(camera, o.width, o.height, tx * size, ty * size,
-                                                  std::min(tx * size + size, o.width),
-                                                  std::min(ty * size + size, o.height)),
-                                     options));
-                const double cull_seconds = seconds_since(start);
-                std::int64_t nodes = 0, triangles = 0, bytes = 0;
-                for (const TileCulling& c : cullings) {
-                    nodes += c.nodes_kept;
-                    triangles += c.triangles_kept;
-                    bytes += c.bytes();
-                }
-                const TraceRun culled =
-                    trace_tiles(bvh, camera, o.width, o.height, size, reference,
-                                [&](int tx, int ty) -> const TileCulling& {
-                                    return cullings[static_cast<std::size_t>(ty * tiles_x + tx)];
-                                });
-                std::printf(
-                    "  %-14s %5d %6s %6d %9.1f %11lld %11lld %9.2f %11.1f %10s %10.1f %10s %6lld\n",
-                    o.scenes[si].c_str(), size, exact ? "exact" : "lund", tiles_x * tiles_y,
-                    1e3 * cull_seconds, static_cast<long long>(nodes),
-                    static_cast<long long>(triangles), static_cast<double>(bytes) / 1048576.0,
-                    static_cast<double>(culled.stats.nodes_visited) / rays, "-",
-                    1e3 * culled.seconds, "-", static_cast<long long>(culled.lost));
-                std::fflush(stdout);
-            }
+            for (const bool exact : {false, true})
+                print_culled_row(o.scenes[si], bvh, camera, o.width, o.height, size, exact,
+                                 reference, rays);
         for (const int size : o.tile_sizes)
             print_buffer_tiles(o.scenes[si], scene, bvh, camera, o.width, o.height, size);
         progress.update(static_cast<double>(si + 1) / static_cast<double>(o.scenes.size()));
