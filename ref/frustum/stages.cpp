@@ -32,11 +32,9 @@ std::vector<ParamSpec> frustum_param_specs() {
 FrustumSettings parse_frustum_params(const Params& params) {
     const std::vector<ParamSpec> specs = frustum_param_specs();
     FrustumSettings s;
-    const std::string mode = params.get_string(specs, "frustum");
-    if (mode != "off" && mode != "lund" && mode != "exact")
-        throw Error("parameter 'frustum': expected 'off', 'lund' or 'exact', got '" + mode + "'");
-    s.enabled = mode != "off";
-    s.options.exact = mode == "exact";
+    const std::size_t mode = params.get_choice(specs, "frustum", {"off", "lund", "exact"});
+    s.enabled = mode != 0;        // lund or exact
+    s.options.exact = mode == 2;  // exact
     s.tile_size = params.get_int(specs, "tile_size", 1, 4096);
     s.options.trim = params.get_bool(specs, "frustum_trim");
     s.options.entry = params.get_bool(specs, "frustum_entry");

@@ -110,8 +110,7 @@ namespace {
 Kernel parse_kernel(const Params& params, const std::vector<ParamSpec>& specs) {
     const std::vector<float> beta = params.get_float_list(specs, "beta");
     const std::string family = params.get_string(specs, "kernel");
-    if (family != "power" && family != "sine" && family != "exp")
-        throw Error("parameter 'kernel': expected 'power', 'sine' or 'exp', got '" + family + "'");
+    params.get_choice(specs, "kernel", {"power", "sine", "exp"});  // validates
     if (family != "power") {
         if (params.given("alpha") || !beta.empty())
             throw Error("parameter 'kernel' = '" + family +
@@ -183,11 +182,7 @@ FoveatedParams parse_foveated_params(const Params& params, const FoveationPreset
         throw Error("parameter 'primary': '" + primary + "' is neither 'ray' nor 'raster'");
     parsed.raster.fill_rule =
         parse_fill_rule(params.get_string(specs, "fill_rule"), "parameter 'fill_rule'");
-    const std::string jitter = params.get_string(specs, "raster_jitter");
-    if (jitter != "raster" && jitter != "lookup")
-        throw Error("parameter 'raster_jitter': expected 'raster' or 'lookup', got '" + jitter +
-                    "'");
-    parsed.jitter_raster = jitter == "raster";
+    parsed.jitter_raster = params.get_choice(specs, "raster_jitter", {"raster", "lookup"}) == 0;
     if (!parsed.deferred && params.given("raster_jitter"))
         throw Error("parameter 'raster_jitter' applies to primary=raster only");
     if (!parsed.deferred && params.given("fill_rule"))

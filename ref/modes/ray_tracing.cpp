@@ -141,14 +141,12 @@ std::vector<ParamSpec> pathtrace_reference_param_specs() {
 Pipeline pathtrace_reference_pipeline(const Scene*, const RenderSettings& settings) {
     const std::vector<ParamSpec> specs = pathtrace_reference_param_specs();
     const int spp = settings.params.get_int(specs, "spp", 1, 65536);
-    const std::string jitter = settings.params.get_string(specs, "reference_jitter");
-    if (jitter != "per-pixel" && jitter != "shared")
-        throw Error("parameter 'reference_jitter': expected 'per-pixel' or 'shared', got '" +
-                    jitter + "'");
+    const bool shared_jitter =
+        settings.params.get_choice(specs, "reference_jitter", {"per-pixel", "shared"}) == 1;
     Pipeline p;
     p.add(pathtrace_reference_stage_def(
         parse_path_params(settings.params, specs, false), spp,
-        jitter == "shared" ? ReferenceJitter::shared : ReferenceJitter::per_pixel,
+        shared_jitter ? ReferenceJitter::shared : ReferenceJitter::per_pixel,
         std::make_shared<BvhCache>()));
     p.final_outputs = p.all_outputs();
     return p;

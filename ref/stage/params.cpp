@@ -118,6 +118,17 @@ std::vector<float> Params::get_float_list(const std::vector<ParamSpec>& specs,
     return values;
 }
 
+std::size_t Params::get_choice(const std::vector<ParamSpec>& specs, const std::string& key,
+                               const std::vector<std::string>& choices) const {
+    const std::string text = get_string(specs, key);
+    std::string expected;
+    for (std::size_t i = 0; i < choices.size(); ++i) {
+        if (choices[i] == text) return i;
+        expected += (i == 0 ? "'" : i + 1 == choices.size() ? " or '" : ", '") + choices[i] + "'";
+    }
+    throw Error("parameter '" + key + "': expected " + expected + ", got '" + text + "'");
+}
+
 bool Params::get_bool(const std::vector<ParamSpec>& specs, const std::string& key) const {
     const std::string text = get_string(specs, key);
     if (text == "1" || text == "true" || text == "on") return true;

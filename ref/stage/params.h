@@ -45,6 +45,10 @@ public:
     int get_int(const std::vector<ParamSpec>& specs, const std::string& key, int min,
                 int max) const;
     bool get_bool(const std::vector<ParamSpec>& specs, const std::string& key) const;
+    /// The index in `choices` of the value; any other value throws
+    /// fovref::Error("parameter 'name': expected 'a', 'b' or 'c', got 'x'").
+    std::size_t get_choice(const std::vector<ParamSpec>& specs, const std::string& key,
+                           const std::vector<std::string>& choices) const;
     /// A comma-separated list of finite numbers ("0, 0.5,0.5"; spaces allowed around commas);
     /// empty text gives an empty list.
     std::vector<float> get_float_list(const std::vector<ParamSpec>& specs,

@@ -253,10 +253,7 @@ PathTraceParams parse_path_params(const Params& params, const std::vector<ParamS
     PathTraceParams path;
     path.max_bounces = params.get_int(specs, "max_bounces", 1, 64);
     path.rr = params.get_float(specs, "rr", 0.01f, 1.0f);
-    const std::string mis = params.get_string(specs, "mis");
-    if (mis != "off" && mis != "power")
-        throw Error("parameter 'mis': expected 'off' or 'power', got '" + mis + "'");
-    path.mis = mis == "power";
+    path.mis = params.get_choice(specs, "mis", {"off", "power"}) == 1;
     if (rr_needs_bounces && path.max_bounces == 1 && params.given("rr"))
         throw Error("parameter 'rr' applies from the second bounce on: add max_bounces=2 or more");
     return path;

@@ -65,10 +65,7 @@ std::vector<ParamSpec> sparse_param_specs(const std::string& mode) {
 namespace {
 
 bool parse_fill(const Params& params, const std::vector<ParamSpec>& specs) {
-    const std::string fill = params.get_string(specs, "fill");
-    if (fill == "push-pull") return true;
-    if (fill == "black") return false;
-    throw Error("parameter 'fill': expected 'push-pull' or 'black', got '" + fill + "'");
+    return params.get_choice(specs, "fill", {"push-pull", "black"}) == 0;
 }
 
 }  // namespace
@@ -80,22 +77,17 @@ SparseParams parse_sparse_params(const Params& params, const std::string& mode) 
     if (mode == "visual-polar" || mode == "visual-polar-basic") {
         p.buffer_width = params.get_int(specs, "buffer_width", 0, 16384);
         p.buffer_height = params.get_int(specs, "buffer_height", 0, 16384);
-        const std::string resolve = params.get_string(specs, "resolve");
-        if (resolve != "mip" && resolve != "bilinear")
-            throw Error("parameter 'resolve': expected 'mip' or 'bilinear', got '" + resolve + "'");
-        p.mip_resolve = resolve == "mip";
+        p.mip_resolve = params.get_choice(specs, "resolve", {"mip", "bilinear"}) == 0;
         p.blur = params.get_bool(specs, "blur");
         if (mode == "visual-polar") {
-            const std::string clip = params.get_string(specs, "vp_clip");
-            if (clip != "staircase" && clip != "triangle")
-                throw Error("parameter 'vp_clip': expected 'staircase' or 'triangle', got '" +
-                            clip + "'");
+            const bool staircase =
+                params.get_choice(specs, "vp_clip", {"staircase", "triangle"}) == 0;
             // BMFR's own parameters (denoise, bmfr_block) are validated by the BMFR stages;
             // the clip follows the blocks only when BMFR runs
             const auto raw = [&params](const char* key, const char* fallback) {
                 return params.given(key) ? params.values().at(key) : std::string(fallback);
             };
-            if (clip == "staircase" && raw("denoise", "bmfr") == "bmfr")
+            if (staircase && raw("denoise", "bmfr") == "bmfr")
                 p.staircase_block = raw("bmfr_block", "32") == "64" ? 64 : 32;
         }
         p.ramp.sigma_deg = params.get_float(specs, "blur_sigma_deg", 0.0f, 10.0f);
@@ -115,11 +107,7 @@ SparseParams parse_sparse_params(const Params& params, const std::string& mode) 
         p.fill = parse_fill(params, specs);
     }
     if (mode == "linear-falloff" || mode == "acuity") {
-        const std::string model = params.get_string(specs, "eccentricity");
-        if (model != "exact" && model != "linear")
-            throw Error("parameter 'eccentricity': expected 'exact' or 'linear', got '" + model +
-                        "'");
-        p.exact_eccentricity = model == "exact";
+        p.exact_eccentricity = params.get_choice(specs, "eccentricity", {"exact", "linear"}) == 0;
     }
     if (mode == "acuity") {
         p.samples = params.get_int(specs, "samples", 0, 1 << 28);

@@ -149,6 +149,13 @@ TEST_CASE("params: typed getters reject malformed and out-of-range values by nam
     CHECK_FALSE(p.get_bool(specs, "taa"));
     p.set_from_assignment("taa=maybe");
     CHECK_THROWS_AS(p.get_bool(specs, "taa"), Error);
+    // a choice: the index of the value, any other value named with the choices
+    CHECK(p.get_choice(specs, "rings", {"3", "7.5", "9"}) == 1);
+    CHECK(p.get_choice(specs, "alpha", {"9"}) == 0);
+    CHECK_THROWS_WITH_AS(p.get_choice(specs, "taa", {"off", "depth", "clamp"}),
+                         "parameter 'taa': expected 'off', 'depth' or 'clamp', got 'maybe'", Error);
+    CHECK_THROWS_WITH_AS(p.get_choice(specs, "taa", {"off", "on"}),
+                         "parameter 'taa': expected 'off' or 'on', got 'maybe'", Error);
     CHECK_THROWS_AS(p.set_from_assignment("novalue"), Error);
     CHECK_THROWS_AS(p.set_from_assignment("=3"), Error);
     Params unknown;
