@@ -39,20 +39,33 @@ enum class BmfrNoiseHash {
     wang      ///< Thomas Wang's hash (`bmfr_noise_hash=wang`)
 };
 
+/// How the QR's sums (column norms and dot products over a block's rows) are added up.
+enum class BmfrSums {
+    binary64,  ///< in binary64, rows in order, rounded to float once (default; exact products)
+    workgroup  ///< as the authors' fitter kernel on 256 work items (`bmfr_sums=workgroup`):
+               ///< work item t adds rows t, t + 256, t + 512, ... in float, then their
+               ///< parallel_reduction_sum (bmfr_workgroup_sum)
+};
+
 /// The denoiser's parameters; the defaults are the authors' (SPEC §9).
 struct BmfrParams {
     BmfrStorage storage = BmfrStorage::half;
     float position_limit_squared = 0.01f;  ///< phase I: |P' - P|^2 below this (scene units^2)
     float normal_limit_squared = 0.25f;    ///< phase I: |n' - n|^2 below this
     float albedo_floor = 0.01f;            ///< demodulation divides by max(albedo, this)
-    float noisy_alpha_min = 0.2f;          ///< phase I: alpha = max(1 / (spp + 1), this)
-    float filtered_alpha_min = 0.1f;       ///< phase III: alpha = max(1 / spp, this)
-    float noise_amount = 0.01f;            ///< stochastic regularisation amplitude
+    /// Remodulation multiplies by max(albedo, this): albedo_floor, the demodulation's inverse
+    /// (default, SPEC §9), or 0, the albedo itself as the authors' accumulate_filtered_data
+    /// kernel (bmfr_remodulate=albedo).
+    float remodulation_floor = 0.01f;
+    float noisy_alpha_min = 0.2f;     ///< phase I: alpha = max(1 / (spp + 1), this)
+    float filtered_alpha_min = 0.1f;  ///< phase III: alpha = max(1 / spp, this)
+    float noise_amount = 0.01f;       ///< stochastic regularisation amplitude
     /// Phase I's reprojection of a point behind the previous camera (clip w < 0): false, no
     /// history (default, bmfr_behind_camera=reject); true, divided by the negative w as the
     /// authors' code does (bmfr_behind_camera=project; w = 0 has no history either way).
     bool project_behind_camera = false;
     BmfrNoiseHash noise_hash = BmfrNoiseHash::jenkins;  ///< its hash
+    BmfrSums sums = BmfrSums::binary64;                 ///< the QR's sums (bmfr_sums)
     /// The block edge (bmfr_block): 32, the authors' (their code supports no other), or 64,
     /// which P2 §6.1 found best in quality. A block has block^2 rows; the noise's seed strides
     /// by block^2 as the authors' BLOCK_EDGE_LENGTH * BLOCK_EDGE_LENGTH; the grid's offsets are
@@ -308,17 +321,27 @@ struct BmfrBlockMatrix {
 /// Gathers block (cell_x, cell_y) of `grid` (mirrored borders) in the authors' order: every value
 /// stored (storage precision); features 4..9 scaled with the block's min and max of the stored
 /// values ((v - min) / (max - min) when max - min > 1, else v - min) and stored again; then the
-/// noise 0.01 2 (r - 0.5) added in float to features 1..9, r = wang_hash(s) / 4294967295.0f,
-/// s = pixel_in_block + feature 1024 + frame 13 1024 (`noise` false: none, for tests).
-/// Visual-Polar: rows without data (grid.source false, or `valid` 0) are zero rows, left out of
-/// the ranges and given no noise (a block without any data has ranges 0).
+/// noise 0.01 2 (r - 0.5) added in float to features 1..9, r = hash(s) / 4294967295.0f (the
+/// params' noise_hash), s = pixel_in_block + feature 1024 + frame 13 1024 (`noise` false: none, for
+/// tests). Visual-Polar: rows without data (grid.source false, or `valid` 0) are zero rows, left
+/// out of the ranges and given no noise (a block without any data has ranges 0).
 void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_x, int cell_y,
                        const Image& accumulated, const Image& world_position, const Image& normal,
                        int frame, bool noise, BmfrBlockMatrix& out, const Image* valid = nullptr);
 
+/// The work items of the authors' fitter kernel (their LOCAL_SIZE), for bmfr_sums=workgroup.
+constexpr int bmfr_workgroup_size = 256;
+
+/// The authors' parallel_reduction_sum of 256 float partial sums (bmfr.cl), in their order:
+/// s_t += (s_t+64 + s_t+128) + s_t+192 for t < 64; s_t += (((s_t+8 + s_t+16) + s_t+24) + ...)
+/// + s_t+56 for t < 8; the result (((s_0 + s_1) + s_2) + ...) + s_7.
+float bmfr_workgroup_sum(const float* partial);
+
 /// The augmented Householder QR of a gathered block and the back substitution (SPEC §9 item 7),
 /// in place: columns 0..12, pivot row c = min(column, 10); s = sum over rows > c of x^2 and the
-/// dot products d_j = u . a_j (rows >= c) in binary64, row order, rounded to float;
+/// dot products d_j = u . a_j (rows >= c) in binary64, row order, rounded to float (or, with
+/// bmfr_sums=workgroup, float products added by work item t = row mod 256 in row order, then
+/// bmfr_workgroup_sum);
 /// r = sqrt(s + x_c x_c), u_c = x_c - r, |u|^2 = s + u_c u_c; a_ij -= ((2 u_i) d_j) / |u|^2,
 /// each updated value rounded to the storage precision; the column itself becomes r (float) at
 /// row c and 0 below. |u|^2 = 0 leaves the columns as they are (counted for columns 0..9).

@@ -19,6 +19,14 @@ std::vector<ParamSpec> bmfr_param_specs(const char* denoise_default) {
              "the stochastic regularisation's integer hash: 'jenkins' (Bob Jenkins' six-shift "
              "hash, the authors' bmfr.cl random()) or 'wang' (Thomas Wang's, fovref's before; "
              "docs/bmfr.md)"},
+            {"bmfr_sums", "binary64",
+             "the QR's column norms and dot products: 'binary64' (rows in order, rounded once) "
+             "or 'workgroup' (in float, in the order of the authors' fitter on 256 work items; "
+             "docs/bmfr.md)"},
+            {"bmfr_remodulate", "floor",
+             "remodulation: 'floor' multiplies by max(albedo, 0.01), the inverse of the "
+             "demodulation (SPEC §9), or 'albedo' by the albedo itself, as the authors' "
+             "accumulate_filtered_data (a pixel of albedo below 0.01 comes out darker)"},
             {"bmfr_gamma", "0.454545",
              "the remodulation's display exponent: '0.454545' (the authors' constant) or "
              "'1/2.2' (0.45454547, fovref's before); docs/bmfr.md"},
@@ -58,6 +66,11 @@ BmfrSettings parse_bmfr_params(const Params& params, const char* denoise_default
         throw Error("parameter 'bmfr_noise_hash': expected 'jenkins' or 'wang', got '" + hash +
                     "'");
     s.params.noise_hash = hash == "jenkins" ? BmfrNoiseHash::jenkins : BmfrNoiseHash::wang;
+    s.params.sums = params.get_choice(specs, "bmfr_sums", {"binary64", "workgroup"}) == 0
+                        ? BmfrSums::binary64
+                        : BmfrSums::workgroup;
+    if (params.get_choice(specs, "bmfr_remodulate", {"floor", "albedo"}) == 1)
+        s.params.remodulation_floor = 0.0f;
     const std::string gamma = params.get_string(specs, "bmfr_gamma");
     if (gamma != "0.454545" && gamma != "1/2.2")
         throw Error("parameter 'bmfr_gamma': expected '0.454545' or '1/2.2', got '" + gamma + "'");

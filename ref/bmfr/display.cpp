@@ -99,7 +99,7 @@ Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Ima
     Image out(filtered.width, filtered.height, 3);
     for (std::size_t i = 0; i < out.data.size(); ++i) {
         const float a = std::isfinite(albedo.data[i]) ? albedo.data[i] : 0.0f;
-        float linear = std::max(0.0f, filtered.data[i]) * std::max(a, params.albedo_floor);
+        float linear = std::max(0.0f, filtered.data[i]) * std::max(a, params.remodulation_floor);
         if (separate && std::isfinite(emission.data[i])) linear = linear + emission.data[i];
         linear = std::max(0.0f, linear);
         // x >= 1 gives x^g >= 1, clamped to 1: no need to evaluate it

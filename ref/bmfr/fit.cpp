@@ -2,6 +2,7 @@
 // Householder QR, and the weighted sum (SPEC §9 items 3-8).
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "ref/bmfr/bmfr.h"
 #include "ref/bmfr/half.h"
@@ -27,16 +28,13 @@ glm::vec3 load3(const Image& image, int x, int y) {
     return {p[0], p[1], p[2]};
 }
 
-// One Householder reflection of columns col + 1 .. 12 (bmfr_solve_block), over the rows
-// c .. rows - 1 (rows = B^2) of the row-major block matrix `a` (stride 16). The loops run over
-// columns J0 .. 15, J0 = col + 1 rounded down to a multiple of 4, a compile-time constant so that
-// they vectorise: the other columns get d_j = 0, which leaves them unchanged (storing a stored
-// value again changes nothing).
+// The dot products u . a_j of columns J0 .. 15 over the rows c .. rows - 1 of the row-major block
+// matrix `a` (stride 16), u_c = uc and u_i = a_i,col below: binary64, row order, rounded to float
+// (bmfr_sums=binary64). J0, col + 1 rounded down to a multiple of 4, is a compile-time constant so
+// that the loops vectorise; only columns col + 1 .. 12 are kept.
 template <int J0>
-void reflect_columns(float* a, int rows, int col, int c, float uc, float u_length_squared,
-                     bool half) {
+void binary64_dots(const float* a, int rows, int col, int c, float uc, float* dot) {
     constexpr int stride = bmfr_matrix_stride;
-    // The dot products u . a_j (binary64, row order)
     double d[stride] = {};
     for (int j = J0; j < stride; ++j)
         d[j] = static_cast<double>(uc) * static_cast<double>(a[c * stride + j]);
@@ -45,9 +43,17 @@ void reflect_columns(float* a, int rows, int col, int c, float uc, float u_lengt
         const float* row = &a[i * stride];
         for (int j = J0; j < stride; ++j) d[j] += u * static_cast<double>(row[j]);
     }
-    float dot[stride] = {};
     for (int j = col + 1; j < bmfr_column_count; ++j) dot[j] = static_cast<float>(d[j]);
-    // a_ij -= ((2 u_i) d_j) / |u|^2 as the authors, rounded to the storage precision
+}
+
+// The Householder reflection of columns J0 .. 15 over the rows c .. rows - 1 with the dot
+// products `dot` (0 outside col + 1 .. 12, which leaves those columns unchanged: storing a stored
+// value again changes nothing): a_ij -= ((2 u_i) d_j) / |u|^2 as the authors, rounded to the
+// storage precision; the column col becomes 0 below row c.
+template <int J0>
+void reflect_columns(float* a, int rows, int col, int c, float uc, float u_length_squared,
+                     const float* dot, bool half) {
+    constexpr int stride = bmfr_matrix_stride;
     for (int i = c; i < rows; ++i) {
         float* row = &a[i * stride];
         const float u2 = 2.0f * (i == c ? uc : row[col]);
@@ -55,6 +61,32 @@ void reflect_columns(float* a, int rows, int col, int c, float uc, float u_lengt
         if (half) round_to_half_span<J0>(row);
         if (i > c) row[col] = 0.0f;
     }
+}
+
+// The sum over rows first .. rows - 1 of x_i y_i, (x_i, y_i) = factors(i), in the order `sums`
+// names: binary64 products (exact) added in row order and rounded once, or float products added
+// in the authors' work-group order.
+template <typename Factors>
+float block_dot(BmfrSums sums, int first, int rows, Factors factors) {
+    if (sums == BmfrSums::binary64) {
+        double sum = 0.0;
+        for (int i = first; i < rows; ++i) {
+            const auto [x, y] = factors(i);
+            sum += static_cast<double>(x) * static_cast<double>(y);
+        }
+        return static_cast<float>(sum);
+    }
+    float partial[bmfr_workgroup_size];
+    for (int t = 0; t < bmfr_workgroup_size; ++t) {
+        float p = 0.0f;
+        for (int i = t; i < rows; i += bmfr_workgroup_size)
+            if (i >= first) {
+                const auto [x, y] = factors(i);
+                p = p + x * y;
+            }
+        partial[t] = p;
+    }
+    return bmfr_workgroup_sum(partial);
 }
 
 }  // namespace
@@ -218,6 +250,23 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
     }
 }
 
+float bmfr_workgroup_sum(const float* partial) {
+    // parallel_reduction_sum of the authors' bmfr.cl: s[t] += (s[t + 64] + s[t + 128]) +
+    // s[t + 192] for t < 64; s[t] += ((((((s[t + 8] + s[t + 16]) + ...) + s[t + 56]) for t < 8;
+    // then ((((((s[0] + s[1]) + s[2]) + ...) + s[7]
+    float s[bmfr_workgroup_size];
+    std::copy(partial, partial + bmfr_workgroup_size, s);
+    for (int t = 0; t < 64; ++t) s[t] = s[t] + ((s[t + 64] + s[t + 128]) + s[t + 192]);
+    for (int t = 0; t < 8; ++t) {
+        float rest = s[t + 8];
+        for (int k = 2; k < 8; ++k) rest = rest + s[t + 8 * k];
+        s[t] = s[t] + rest;
+    }
+    float sum = s[0];
+    for (int t = 1; t < 8; ++t) sum = sum + s[t];
+    return sum;
+}
+
 BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
     BmfrBlockFit fit;
     std::copy(m.feature_min, m.feature_min + bmfr_scaled_count, fit.feature_min);
@@ -226,13 +275,11 @@ BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
     constexpr int stride = bmfr_matrix_stride;
     for (int col = 0; col < bmfr_column_count; ++col) {
         const int c = std::min(col, bmfr_feature_count);
-        // The norm of the column below the pivot row (binary64, row order)
-        double s_sum = 0.0;
-        for (int i = c + 1; i < m.rows; ++i) {
-            const double x = a[i * stride + col];
-            s_sum += x * x;
-        }
-        const auto s = static_cast<float>(s_sum);
+        // The norm of the column below the pivot row (bmfr_sums: binary64 in row order, or the
+        // authors' work-group order in float)
+        const float s = block_dot(params.sums, c + 1, m.rows, [&](int i) {
+            return std::pair{a[i * stride + col], a[i * stride + col]};
+        });
         const float xc = a[c * stride + col];
         const float r = std::sqrt(s + xc * xc);
         const float uc = xc - r;
@@ -247,11 +294,25 @@ BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
         // storing a stored value again leaves it unchanged.
         const int j0 = (col + 1) & ~3;
         const bool half = params.storage == BmfrStorage::half;
+        float dot[stride] = {};
+        if (params.sums == BmfrSums::binary64) {
+            switch (j0) {
+                case 0: binary64_dots<0>(a, m.rows, col, c, uc, dot); break;
+                case 4: binary64_dots<4>(a, m.rows, col, c, uc, dot); break;
+                case 8: binary64_dots<8>(a, m.rows, col, c, uc, dot); break;
+                default: binary64_dots<12>(a, m.rows, col, c, uc, dot); break;
+            }
+        } else {
+            for (int j = col + 1; j < bmfr_column_count; ++j)
+                dot[j] = block_dot(params.sums, c, m.rows, [&](int i) {
+                    return std::pair{a[i * stride + j], i == c ? uc : a[i * stride + col]};
+                });
+        }
         switch (j0) {
-            case 0: reflect_columns<0>(a, m.rows, col, c, uc, u_length_squared, half); break;
-            case 4: reflect_columns<4>(a, m.rows, col, c, uc, u_length_squared, half); break;
-            case 8: reflect_columns<8>(a, m.rows, col, c, uc, u_length_squared, half); break;
-            default: reflect_columns<12>(a, m.rows, col, c, uc, u_length_squared, half); break;
+            case 0: reflect_columns<0>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
+            case 4: reflect_columns<4>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
+            case 8: reflect_columns<8>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
+            default: reflect_columns<12>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
         }
         // The diagonal stays in float (the authors keep R in local float memory)
         a[c * stride + col] = r;

@@ -214,7 +214,9 @@ void explain_display(const ProbeContext& c, const BmfrParams& params, const Bmfr
     report.sections.push_back(p);
 
     ProbeSection r{"bmfr_remodulate",
-                   "display = clamp((max(albedo, floor) max(0, x) + e)^g, 0, 1), g = bmfr_gamma",
+                   "display = clamp((max(albedo, floor) max(0, x) + e)^g, 0, 1), g = bmfr_gamma, "
+                   "floor = " +
+                       probe_float(params.remodulation_floor) + " (bmfr_remodulate)",
                    {}};
     Image one(1, 1, 3), albedo(1, 1, 3), emission;
     for (int ch = 0; ch < 3; ++ch) {

@@ -686,3 +686,96 @@ TEST_CASE(
     p.set("bmfr_gamma", "2.2");
     CHECK_THROWS_WITH_AS(parse_bmfr_params(p, "none"), doctest::Contains("bmfr_gamma"), Error);
 }
+
+TEST_CASE(
+    "bmfr_workgroup_sum: the authors' parallel_reduction_sum order, checked on sums that "
+    "every other order rounds differently") {
+    std::vector<float> partial(bmfr_workgroup_size, 0.0f);
+    for (int t = 0; t < bmfr_workgroup_size; ++t) partial[static_cast<std::size_t>(t)] = 1.0f;
+    CHECK(bmfr_workgroup_sum(partial.data()) == 256.0f);
+    // step 1: s_0 + ((s_64 + s_128) + s_192): 1 + -1e8 rounds to -1e8 (the binary32 spacing
+    // there is 8), so the 1 is lost; in row order (or binary64) the sum is 1
+    std::fill(partial.begin(), partial.end(), 0.0f);
+    partial[0] = 1e8f, partial[64] = 1.0f, partial[128] = -1e8f;
+    CHECK(bmfr_workgroup_sum(partial.data()) == 0.0f);
+    partial[64] = 0.0f, partial[192] = 1.0f;  // (0 + -1e8) + 1 = -1e8: lost again
+    CHECK(bmfr_workgroup_sum(partial.data()) == 0.0f);
+    partial[0] = 1.0f, partial[128] = 0.0f, partial[192] = 0.0f;
+    partial[64] = 1e8f, partial[192] = -1e8f;  // 1 + ((1e8 + 0) + -1e8) = 1: kept
+    CHECK(bmfr_workgroup_sum(partial.data()) == 1.0f);
+    // step 2 for t < 8: s_t + (((s_t+8 + s_t+16) + ...) + s_t+56)
+    std::fill(partial.begin(), partial.end(), 0.0f);
+    partial[3] = 1.0f, partial[11] = 1e8f, partial[19] = -1e8f;  // 1 + ((1e8 - 1e8) + ...) = 1
+    CHECK(bmfr_workgroup_sum(partial.data()) == 1.0f);
+    partial[3] = 1e8f, partial[11] = 1.0f, partial[19] = -1e8f;  // 1e8 + ((1 - 1e8) ...) = 0
+    CHECK(bmfr_workgroup_sum(partial.data()) == 0.0f);
+    // step 3: ((((((s_0 + s_1) + s_2) + ...): 1e8 + 1 + -1e8 in t order loses the 1
+    std::fill(partial.begin(), partial.end(), 0.0f);
+    partial[0] = 1e8f, partial[1] = 1.0f, partial[2] = -1e8f;
+    CHECK(bmfr_workgroup_sum(partial.data()) == 0.0f);
+    partial[0] = 1e8f, partial[1] = -1e8f, partial[2] = 1.0f;  // (1e8 - 1e8) + 1 = 1
+    CHECK(bmfr_workgroup_sum(partial.data()) == 1.0f);
+}
+
+TEST_CASE(
+    "bmfr_sums=workgroup: the QR's sums in the authors' order change the weights' last bits "
+    "only; the parameter selects it") {
+    Frame f = wall(64, 48, 0.03f, glm::vec3(0.6f, 0.0f, 0.8f), 1.0f);
+    for (int i = 0; i < 64 * 48 * 3; ++i)
+        f.radiance.data[static_cast<std::size_t>(i)] =
+            0.25f + 0.2f * rand_unit(3u, static_cast<std::uint32_t>(i), 0u);
+    const auto run = [&](BmfrSums sums) {
+        BmfrParams params;
+        params.sums = sums;
+        BmfrHistory history;
+        BmfrStats stats;
+        return bmfr_denoise_frame(params, f.radiance, f.albedo, Image{}, f.normal, f.world,
+                                  ViewProjection{}, 2, history, stats);
+    };
+    const BmfrFrame ours = run(BmfrSums::binary64), authors = run(BmfrSums::workgroup);
+    CHECK_FALSE(bit_equal(ours.fit.weights, authors.fit.weights));
+    double worst = 0.0;
+    for (std::size_t i = 0; i < ours.fitted.data.size(); ++i)
+        worst = std::max(
+            worst, static_cast<double>(std::fabs(ours.fitted.data[i] - authors.fitted.data[i])));
+    MESSAGE("binary64 vs workgroup sums: max |fitted difference| = " << worst);
+    CHECK(worst > 0.0);
+    CHECK(worst < 1e-3);
+    Params p;
+    p.set("denoise", "bmfr");
+    CHECK(parse_bmfr_params(p, "none").params.sums == BmfrSums::binary64);
+    p.set("bmfr_sums", "workgroup");
+    CHECK(parse_bmfr_params(p, "none").params.sums == BmfrSums::workgroup);
+    p.set("bmfr_sums", "float");
+    CHECK_THROWS_WITH_AS(parse_bmfr_params(p, "none"),
+                         doctest::Contains("'bmfr_sums': expected 'binary64' or 'workgroup'"),
+                         Error);
+}
+
+TEST_CASE(
+    "bmfr_remodulate: max(albedo, 0.01) by default (the demodulation's inverse), the albedo "
+    "itself with 'albedo' (the authors' kernel)") {
+    Image filtered(3, 1, 3, 0.25f), albedo(3, 1, 3);
+    for (int ch = 0; ch < 3; ++ch) {
+        albedo.at(0, 0, ch) = 0.0f;    // background: no albedo
+        albedo.at(1, 0, ch) = 0.004f;  // below the floor
+        albedo.at(2, 0, ch) = 0.5f;    // above it: the same either way
+    }
+    BmfrParams params;
+    CHECK(params.remodulation_floor == 0.01f);
+    const Image floor = bmfr_remodulate(params, filtered, albedo, Image());
+    Params p;
+    p.set("denoise", "bmfr");
+    p.set("bmfr_remodulate", "albedo");
+    params = parse_bmfr_params(p, "none").params;
+    CHECK(params.remodulation_floor == 0.0f);
+    const Image raw = bmfr_remodulate(params, filtered, albedo, Image());
+    // (0.01 * 0.25)^0.454545 = 0.065652, (0.004 * 0.25)^0.454545 = 0.043288: by hand
+    CHECK(floor.at(0, 0, 0) == doctest::Approx(0.065652).epsilon(1e-4));
+    CHECK(floor.at(1, 0, 0) == floor.at(0, 0, 0));
+    CHECK(raw.at(0, 0, 0) == 0.0f);
+    CHECK(raw.at(1, 0, 0) == doctest::Approx(0.043288).epsilon(1e-4));
+    CHECK(raw.at(2, 0, 1) == floor.at(2, 0, 1));
+    p.set("bmfr_remodulate", "clamp");
+    CHECK_THROWS_WITH_AS(parse_bmfr_params(p, "none"), doctest::Contains("bmfr_remodulate"), Error);
+}

@@ -84,4 +84,30 @@ checks=$((checks + 1))
 expect 0 "bench bmfr --input" -- "$FOVREF" bench bmfr --input authors --demodulated -q
 contains "BMFR (all phases)" "the phases timed"
 contains "bmfr_fit" "per phase"
+# tools/scripts/bmfr_authors_compare.py writes the cameras as matrices for the authors' code and
+# for fovref: its view-projection (docs/bmfr.md's formula in numpy binary32) must be fovref's
+# bit for bit, else the comparison would measure the transcription
+"$PY" - "$SRC/tools/scripts" <<'PYEOF' || { echo "FAIL: writing the matrices"; exit 1; }
+import importlib.util, json, os, shutil, sys
+spec = importlib.util.spec_from_file_location("compare", sys.argv[1] + "/bmfr_authors_compare.py")
+compare = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(compare)
+shutil.copytree("ours", "matrices")
+shutil.copyfile("seq/f003_gbuffer_albedo.pfm", "matrices/f003_gbuffer_albedo.pfm")  # removed above
+cams = json.load(open("ours/cameras.json"))
+cams["frames"] = [{"view_projection": compare.view_projection(f["camera"], 64, 40)}
+                  for f in cams["frames"]]
+json.dump(cams, open("matrices/cameras.json", "w"))
+PYEOF
+expect 0 "the script's matrices" -- "$FOVREF" denoise bmfr matrices den-matrices --output \
+  bmfr_accumulated_noisy,bmfr_taa --param bmfr_position_limit_squared=0.02 \
+  --param bmfr_normal_limit_squared=0.3 -q
+for b in bmfr_accumulated_noisy bmfr_taa; do
+  checks=$((checks + 1))
+  cmp -s "den-ours/f003_$b.pfm" "den-matrices/f003_$b.pfm" ||
+    { echo "FAIL: frame 3 $b differs with the script's matrices"; failures=$((failures + 1)); }
+done
+expect 1 "the comparison without the authors' code" -- "$PY" \
+  "$SRC/tools/scripts/bmfr_authors_compare.py" --authors "$TMP/no-such-checkout" --fovref "$FOVREF"
+contains "opencl/bmfr.cpp is missing" "names the file it needs"
 finish

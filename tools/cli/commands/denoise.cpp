@@ -345,7 +345,10 @@ void add_denoise_options(CLI::App& c, DenoiseOptions& o) {
         ->required();
     c.add_option("--param", o.params,
                  "bmfr_storage=half|float, bmfr_position_limit_squared=V, "
-                 "bmfr_normal_limit_squared=V, bmfr_emission=separate|include");
+                 "bmfr_normal_limit_squared=V, bmfr_emission=separate|include, "
+                 "bmfr_block=32|64, bmfr_noise_hash=jenkins|wang, bmfr_sums=binary64|workgroup, "
+                 "bmfr_gamma=0.454545|1/2.2, bmfr_remodulate=floor|albedo, "
+                 "bmfr_behind_camera=reject|project (`fovref modes`; docs/bmfr.md)");
     c.add_flag("--demodulated", o.demodulated,
                "fNNN_radiance already holds colour / max(albedo, 0.01), as the BMFR authors' "
                "input does: it is taken as the illumination (not divided again)");

@@ -19,6 +19,15 @@ float display_exponent(const PassContext& ctx) {
     return gamma == "0.454545" ? 0.454545f : 1.0f / 2.2f;
 }
 
+// max(albedo, floor) multiplies: 0.01 (bmfr_remodulate=floor, default) or 0 (albedo).
+float remodulation_floor(const PassContext& ctx) {
+    const std::string remodulate = ctx.param("bmfr_remodulate", "floor");
+    if (remodulate != "floor" && remodulate != "albedo")
+        throw std::runtime_error("bmfr_remodulate must be 'floor' or 'albedo', got '" + remodulate +
+                                 "'");
+    return remodulate == "floor" ? 0.01f : 0.0f;
+}
+
 struct RemodulatePush {
     std::int32_t width, height, separate_emission;
     float albedo_floor, inverse_gamma;
@@ -47,8 +56,8 @@ void remodulate_frame(PassContext& ctx, const json& frame, bool separate) {
             "bmfr_remodulate: the albedo or emission does not match bmfr_accumulated_filtered");
     Image display{filtered.width, filtered.height, 3,
                   std::vector<float>(filtered.data.size(), 0.0f)};
-    const RemodulatePush push{filtered.width, filtered.height, separate ? 1 : 0, 0.01f,
-                              display_exponent(ctx)};
+    const RemodulatePush push{filtered.width, filtered.height, separate ? 1 : 0,
+                              remodulation_floor(ctx), display_exponent(ctx)};
     ctx.dispatch("bmfr_remodulate",
                  {host(filtered.data), host(albedo.data), host(emission.data), host(display.data)},
                  &push, sizeof push, groups(filtered.width, 8), groups(filtered.height, 8));
