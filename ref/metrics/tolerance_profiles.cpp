@@ -205,8 +205,8 @@ void add_path_tracing(ToleranceTable& table) {
         "and changes the whole pixel; 0.2% of the pixels (an estimate: issue 30 measures it), the "
         "rest within the shading's 1e-3";
     for (const char* radiance :
-         {"radiance", "emission", "vp_radiance", "vp_emission", "acuity_radiance",
-          "sparse_radiance", "bmfr_illumination", "bmfr_accumulated_noisy"})
+         {"radiance", "emission", "vp_radiance", "vp_emission", "lp_radiance", "lp_emission",
+          "acuity_radiance", "sparse_radiance", "bmfr_illumination", "bmfr_accumulated_noisy"})
         table.buffers[radiance] = shares(1e-3, 1e-3, 0.002, path_reason);
     table.buffers["bmfr_accept"] = integers(
         0.05,
@@ -245,7 +245,7 @@ void add_path_tracing(ToleranceTable& table) {
     // Path-traced images and what follows them carry the paths' flips, after BMFR the fit's
     // error (replacing the entries above for a golden that path traces or runs BMFR)
     for (const char* after :
-         {"final", "vp_color", "resolved", "blur_horizontal", "filled", "acuity_sum"}) {
+         {"final", "vp_color", "lp_color", "resolved", "blur_horizontal", "filled", "acuity_sum"}) {
         table.path_traced[after] =
             shares(2e-3, 1e-3, 0.002, path_reason + "; then pass 2's and the filters' means");
         table.denoised[after] =
@@ -387,8 +387,8 @@ ToleranceTable tolerance_profile(const std::string& name, const std::vector<std:
             return std::find(golden.begin(), golden.end(), buffer) != golden.end();
         };
         const bool denoised = has("bmfr_taa");
-        const bool path_traced = has("radiance") || has("vp_radiance") || has("sparse_radiance") ||
-                                 has("acuity_radiance");
+        const bool path_traced = has("radiance") || has("vp_radiance") || has("lp_radiance") ||
+                                 has("sparse_radiance") || has("acuity_radiance");
         const std::map<std::string, Tolerance>* over = denoised      ? &table.denoised
                                                        : path_traced ? &table.path_traced
                                                                      : nullptr;

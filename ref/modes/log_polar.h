@@ -25,6 +25,11 @@
 //
 //   stereo-lp:    stereo_trace -> stereo_shade (each eye's camera) -> resolve [-> taa_source
 //                   -> taa, per eye] -> final; ray_positions
+//
+//   log-polar-pathtrace (Koskela P5 §4.3's log-polar method): lp_trace -> lp_pathtrace (one
+//                   path per traced texel) -> lp_radiance, lp_emission -> BMFR's stages on the
+//                   buffer (rows wrap around: the angle) -> lp_color -> resolve -> final;
+//                   ray_positions (ref/modes/log_polar_pathtrace.cpp)
 // clang-format on
 //
 // Buffers: lp_* are buffer texels (stereo: both eyes side by side), gaze_* a window of the
@@ -41,5 +46,7 @@ namespace fovref {
 ModeInfo foveated_mode(const std::string& preset, const std::string& what);
 /// Gupta's stereo-lp: both eyes side by side (ref/log_polar/stereo.h).
 ModeInfo stereo_mode();
+/// Path tracing in Meng's kernel log-polar buffer, denoised by BMFR there (Koskela P5 §4.3).
+ModeInfo log_polar_pathtrace_mode();
 
 }  // namespace fovref

@@ -29,6 +29,7 @@ std::vector<ModeInfo> make_modes() {
         pathtrace_reference_mode(),
         visual_polar_mode(),
         visual_polar_basic_mode(),
+        log_polar_pathtrace_mode(),
         linear_falloff_mode(),
         acuity_mode(),
     };

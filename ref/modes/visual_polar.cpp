@@ -23,27 +23,6 @@ std::vector<ParamSpec> visual_polar_param_specs(bool path_traced) {
 
 // ---- visual-polar, visual-polar-basic --------------------------------------------------------
 
-// The path tracer over the traced texels, denoised by BMFR in Visual-Polar space by default.
-void add_vp_path_tracing(Pipeline& p, const RenderSettings& settings,
-                         std::shared_ptr<SparseFrames> frames, std::shared_ptr<BvhCache> bvh) {
-    PathTraceStage trace;
-    trace.name = "vp_pathtrace";
-    trace.gbuffer = "vp_gbuffer_";
-    trace.mask = "vp_valid";
-    trace.path = parse_path_params(settings.params, visual_polar_param_specs(true));
-    trace.bvh = std::move(bvh);
-    const BmfrSettings bmfr = parse_bmfr_params(settings.params, "bmfr");
-    trace.radiance = bmfr.enabled ? "vp_radiance" : "vp_color";
-    if (bmfr.enabled) trace.emission = "vp_emission";
-    p.add(pathtrace_stage_def(trace));
-    if (!bmfr.enabled) return;
-    BmfrWiring wiring{bmfr, "vp_radiance", "vp_emission", "vp_color"};
-    wiring.gbuffer = "vp_gbuffer_";
-    wiring.valid = "vp_valid";
-    wiring.map = [frames](const FrameContext& ctx, int frame) { return frames->map(ctx, frame); };
-    add_bmfr_stages(p, wiring);
-}
-
 Pipeline vp_pipeline(const RenderSettings& settings, bool path_traced) {
     std::shared_ptr<SparseFrames> frames =
         sparse_frames(settings.params, path_traced ? "visual-polar" : "visual-polar-basic");
@@ -53,7 +32,9 @@ Pipeline vp_pipeline(const RenderSettings& settings, bool path_traced) {
     Pipeline p;
     p.add(vp_trace_stage_def(frames, bvh));
     if (path_traced)
-        add_vp_path_tracing(p, settings, frames, bvh);
+        add_polar_path_tracing(
+            p, settings.params, visual_polar_param_specs(true), "vp",
+            [frames](const FrameContext& ctx, int frame) { return frames->map(ctx, frame); }, bvh);
     else
         p.add(shade_stage_def("vp_shade", "vp_gbuffer_", "vp_color", bvh));
     const SparseParams& params = frames->params;
@@ -126,6 +107,28 @@ ModeInfo sparse_mode(std::string name, std::string description) {
 }
 
 }  // namespace
+
+void add_polar_path_tracing(Pipeline& p, const Params& params, const std::vector<ParamSpec>& specs,
+                            const std::string& family,
+                            std::function<VisualPolarMap(const FrameContext&, int frame)> map,
+                            std::shared_ptr<BvhCache> bvh) {
+    PathTraceStage trace;
+    trace.name = family + "_pathtrace";
+    trace.gbuffer = family + "_gbuffer_";
+    trace.mask = family + "_valid";
+    trace.path = parse_path_params(params, specs);
+    trace.bvh = std::move(bvh);
+    const BmfrSettings bmfr = parse_bmfr_params(params, "bmfr");
+    trace.radiance = family + (bmfr.enabled ? "_radiance" : "_color");
+    if (bmfr.enabled) trace.emission = family + "_emission";
+    p.add(pathtrace_stage_def(trace));
+    if (!bmfr.enabled) return;
+    BmfrWiring wiring{bmfr, family + "_radiance", family + "_emission", family + "_color"};
+    wiring.gbuffer = family + "_gbuffer_";
+    wiring.valid = family + "_valid";
+    wiring.map = std::move(map);
+    add_bmfr_stages(p, wiring);
+}
 
 ModeInfo visual_polar_mode() {
     ModeInfo m = sparse_mode("visual-polar",

@@ -13,11 +13,28 @@
 // Buffers: vp_* are Visual-Polar texels, the rest screen images.
 #pragma once
 
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ref/bvh/bvh_cache.h"
 #include "ref/stage/pipeline.h"
+#include "ref/visual_polar/map.h"
 
 namespace fovref {
 
 ModeInfo visual_polar_mode();
 ModeInfo visual_polar_basic_mode();
+
+/// Path tracing on a polar buffer's traced texels and BMFR on the buffer (the Visual-Polar
+/// buffer, family "vp", or a log-polar one seen as a polar buffer, "lp"): the stage
+/// <family>_pathtrace over <family>_gbuffer_* where <family>_valid is set, -> <family>_color;
+/// with denoise=bmfr (parsed from `params` as `specs` declare it) -> <family>_radiance,
+/// <family>_emission, then BMFR's stages with the frame's map `map` -> <family>_color.
+void add_polar_path_tracing(Pipeline& pipeline, const Params& params,
+                            const std::vector<ParamSpec>& specs, const std::string& family,
+                            std::function<VisualPolarMap(const FrameContext&, int frame)> map,
+                            std::shared_ptr<BvhCache> bvh);
 
 }  // namespace fovref

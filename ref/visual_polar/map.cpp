@@ -70,6 +70,17 @@ glm::ivec2 visual_polar_buffer_size(int screen_width, int screen_height) {
             static_cast<int>(std::lround(screen_height / 1.5))};
 }
 
+VisualPolarMap vp_log_polar_map(const LogPolarMap& map) {
+    VisualPolarMap m;
+    m.screen_width = map.screen_width;
+    m.screen_height = map.screen_height;
+    m.gaze = map.gaze;
+    m.width = map.width;
+    m.height = map.height;
+    m.log_polar = map;
+    return m;
+}
+
 VisualPolarMap make_visual_polar_map(int screen_width, int screen_height, glm::vec2 gaze, int width,
                                      int height) {
     if (screen_width < 1 || screen_height < 1 || width < 2 || height < 1)
@@ -116,10 +127,9 @@ int vp_column_rows(const VisualPolarMap& m, int i) {
 }
 
 bool VisualPolarMap::same_forward(const VisualPolarMap& o) const {
-    VisualPolarMap a = *this, b = o;
-    a.staircase_block = b.staircase_block = 0;
-    a.staircase_offset = b.staircase_offset = 0;
-    return a == b;
+    return screen_width == o.screen_width && screen_height == o.screen_height && gaze == o.gaze &&
+           width == o.width && height == o.height && fovea_columns == o.fovea_columns &&
+           scale == o.scale && fovea_radius == o.fovea_radius && log_polar == o.log_polar;
 }
 
 float vp_column_radius(const VisualPolarMap& m, int i) {
@@ -132,6 +142,12 @@ float vp_column_radius(const VisualPolarMap& m, int i) {
 }
 
 bool vp_inverse(const VisualPolarMap& m, int i, int j, glm::vec2& screen) {
+    if (m.log_polar) {
+        if (j < 0 || j >= m.height) return false;
+        screen =
+            lp_inverse(*m.log_polar, {static_cast<float>(i) + 0.5f, static_cast<float>(j) + 0.5f});
+        return true;
+    }
     const int rows = vp_column_rows(m, i);
     if (j >= rows) return false;
     const float theta = two_pi * (static_cast<float>(j) + 0.5f) / static_cast<float>(rows);
@@ -161,6 +177,7 @@ void vp_polar(const VisualPolarMap& m, glm::vec2 p, float& r, float& theta) {
 }  // namespace
 
 glm::vec2 vp_forward(const VisualPolarMap& m, glm::vec2 p) {
+    if (m.log_polar) return lp_forward(*m.log_polar, p);
     float r = 0.0f, theta = 0.0f;
     vp_polar(m, p, r, theta);
     const float u = vp_forward_radius(m, r);
@@ -172,6 +189,10 @@ glm::vec2 vp_forward(const VisualPolarMap& m, glm::vec2 p) {
 }
 
 glm::vec2 vp_forward_angle(const VisualPolarMap& m, glm::vec2 p) {
+    if (m.log_polar) {
+        const glm::vec2 uv = lp_forward(*m.log_polar, p);
+        return {uv.x, uv.y / static_cast<float>(m.height)};
+    }
     float r = 0.0f, theta = 0.0f;
     vp_polar(m, p, r, theta);
     return {vp_forward_radius(m, r), theta / two_pi};

@@ -27,8 +27,10 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+#include <optional>
 
 #include "ref/filters/blur_ramp.h"
+#include "ref/log_polar/map.h"
 
 namespace fovref {
 
@@ -55,6 +57,11 @@ struct VisualPolarMap {
     /// x offset o of the frame's block grid.
     int staircase_block = 0;
     int staircase_offset = 0;
+    /// A log-polar buffer seen as a polar buffer (vp_log_polar_map), for BMFR on log-polar
+    /// texels (P5's log-polar + BMFR comparison): the columns are the log-polar map's u and every
+    /// column has all h rows; vp_forward, vp_forward_angle and vp_inverse use lp_forward and
+    /// lp_inverse. The Visual-Polar members (fovea, scale) are 0 and nothing else applies.
+    std::optional<LogPolarMap> log_polar;
     bool operator==(const VisualPolarMap&) const = default;
     /// Whether the forward map (u, r, theta of a screen point) is the same as `other`'s: every
     /// member but the clip, which changes only row counts.
@@ -66,6 +73,9 @@ struct VisualPolarMap {
 VisualPolarMap make_visual_polar_map(int screen_width, int screen_height, glm::vec2 gaze, int width,
                                      int height);
 
+/// The log-polar map `map` as a polar buffer (VisualPolarMap::log_polar): its screen, gaze and
+/// buffer size, no fovea (every column has h rows), t = v / h the angle as a fraction of the turn.
+VisualPolarMap vp_log_polar_map(const LogPolarMap& map);
 /// The preset's buffer size: round(W / 1.5) x round(H / 1.5).
 glm::ivec2 visual_polar_buffer_size(int screen_width, int screen_height);
 

@@ -81,4 +81,9 @@ expect 0 "bench visual-polar" -- "$FOVREF" bench visual-polar --width 96 --heigh
   --repeats 1 --frames 2 --every 2 --spp 2 --error-size 64x36
 contains "speed-up screen / VP" "bench: speed-up row"
 contains "RMSE per ring" "bench: ring errors"
+contains "LP      log-polar + BMFR" "bench: P5's log-polar method"
+# log-polar-pathtrace: probe --texel explains the BMFR block of a traced texel (recomputed, exit 0)
+expect 0 "probe a log-polar-pathtrace texel" -- "$FOVREF" probe --scene cornell \
+  --mode log-polar-pathtrace --width 64 --height 48 --frame 1 --texel 20,10
+contains "[bmfr_fit] the BMFR block of this texel" "the block that denoised it"
 finish

@@ -24,7 +24,8 @@
 //          with its default sample budget (printed: screen W x H, VP texels_traced, linear-falloff
 //          pixels_sampled), and linear-falloff once more at VP's budget (P5's comparison): P_p
 //          such that the expected count sum L(e) over the pixels (linear in P_p) equals VP's mean
-//          texels_traced. VP's final image
+//          texels_traced; P5 §4.3's log-polar method (log-polar-pathtrace) and visual-polar with
+//          its buffer scaled to LP's texels_traced. VP's final image
 //          includes its blur ramp, a deliberate loss of peripheral detail the reference lacks.
 #include "tools/cli/bench/visual_polar.h"
 
@@ -48,6 +49,7 @@
 #include "ref/scene/camera.h"
 #include "ref/scene/scene.h"
 #include "ref/scene/scene_file.h"
+#include "ref/visual_polar/map.h"
 #include "ref/visual_polar/sparse_sampling.h"
 #include "tools/cli/common/cli_common.h"
 #include "tools/cli/common/progress.h"
@@ -200,6 +202,9 @@ struct Method {
     /// space path tracer at a resolution of VP's samples, upscaled bilinearly to W x H
     bool equal_budget = false;
     bool reduced = false;
+    /// Visual-Polar at LP's budget (P5 §4.3: as many texels as the log-polar method): the
+    /// preset's buffer scaled by sqrt(LP's samples / VP's)
+    bool vp_at_lp = false;
 };
 
 std::vector<Method> error_methods() {
@@ -234,6 +239,21 @@ std::vector<Method> error_methods() {
          {{"denoise", "bmfr"}},
          "",
          true,
+         true},
+        // P5 §4.3's log-polar method (Meng's sigma = 1.8, alpha = 4), and Visual-Polar given as
+        // many texels, as P5 did
+        {"LP",
+         "log-polar + BMFR (log-polar-pathtrace)",
+         "log-polar-pathtrace",
+         {},
+         "texels_traced"},
+        {"VP=LP",
+         "Visual-Polar + BMFR at LP's budget (buffer scaled)",
+         "visual-polar",
+         {},
+         "texels_traced",
+         false,
+         false,
          true},
     };
 }
@@ -288,6 +308,7 @@ struct MethodRuns {
     std::vector<double> samples;
     double periphery_probability = 0.0;  ///< LF=VP's P_p
     Size reduced{0, 0};                  ///< Cart=VP's screen
+    Size vp_buffer{0, 0};                ///< VP=LP's buffer
 };
 
 MethodRuns render_methods(const Scene& scene, const RenderSettings& s, Size size,
@@ -302,6 +323,15 @@ MethodRuns render_methods(const Scene& scene, const RenderSettings& s, Size size
             char value[32];
             std::snprintf(value, sizeof value, "%.6f", runs.periphery_probability);
             methods[m].params["falloff_min"] = value;
+        } else if (methods[m].vp_at_lp) {
+            // the preset's buffer (round(W / 1.5) x round(H / 1.5)) scaled so that VP traces
+            // about as many texels as LP (index 6) did
+            const glm::ivec2 preset = visual_polar_buffer_size(size.width, size.height);
+            const double scale = std::sqrt(runs.samples[6] / runs.samples[1]);
+            runs.vp_buffer = {std::max(8, static_cast<int>(std::lround(preset.x * scale))),
+                              std::max(8, static_cast<int>(std::lround(preset.y * scale)))};
+            methods[m].params["buffer_width"] = std::to_string(runs.vp_buffer.width);
+            methods[m].params["buffer_height"] = std::to_string(runs.vp_buffer.height);
         } else if (methods[m].reduced) {
             // W' x H' = VP's samples, the screen's aspect kept (to a pixel)
             const double scale = std::sqrt(runs.samples[1] / size.pixels());
@@ -339,9 +369,13 @@ void print_budgets(const BenchVisualPolarOptions& o, Size size, float distance,
         "  budgets: VP traces %.2fx the samples of screen space; linear-falloff with its defaults "
         "%.2fx; LF=VP is linear-falloff with P_p = %.4f, so that its expected samples equal VP's "
         "(P5's comparison at equal sample budget): measured %.3fx VP's (LFb=VP the same with the "
-        "blur ramp); Cart=VP renders %dx%d (%.3fx VP's samples) and upscales bilinearly\n",
+        "blur ramp); Cart=VP renders %dx%d (%.3fx VP's samples) and upscales bilinearly; LP "
+        "traces %.2fx VP's samples, and VP=LP is visual-polar with a %dx%d buffer: %.3fx LP's "
+        "(P5 §4.3 gave Visual-Polar the log-polar method's texel count)\n",
         samples[1] / samples[0], samples[2] / samples[0], runs.periphery_probability,
-        samples[3] / samples[1], runs.reduced.width, runs.reduced.height, samples[5] / samples[1]);
+        samples[3] / samples[1], runs.reduced.width, runs.reduced.height, samples[5] / samples[1],
+        samples[6] / samples[1], runs.vp_buffer.width, runs.vp_buffer.height,
+        samples[7] / samples[6]);
 }
 
 // The errors summed over the compared frames, per method (and per ring).
