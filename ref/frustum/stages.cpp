@@ -5,6 +5,8 @@
 
 #include "ref/core/error.h"
 #include "ref/scene/camera.h"
+#include "ref/scene/surface.h"
+#include "ref/trace/direct_light.h"
 
 namespace fovref {
 
@@ -13,9 +15,59 @@ namespace {
 struct FrustumState : StageState {
     FrustumSettings settings;
     std::shared_ptr<BvhCache> bvh;
+    std::string prefix;
+    std::function<FrustumRegion(const FrameContext&)> region;
+};
+
+// The light whose shadow rays are culled: `light`, or the first point light (-1: none).
+int shadow_light(const Scene& scene, int light) {
+    if (light >= 0) {
+        if (light >= static_cast<int>(scene.lights.size()) ||
+            scene.lights[static_cast<std::size_t>(light)].type != Light::Type::point)
+            throw Error("parameter 'frustum_light': light " + std::to_string(light) +
+                        " is not a point light of the scene (it has " +
+                        std::to_string(scene.lights.size()) + " lights)");
+        return light;
+    }
+    for (std::size_t l = 0; l < scene.lights.size(); ++l)
+        if (scene.lights[l].type == Light::Type::point) return static_cast<int>(l);
+    throw Error(
+        "parameter 'frustum_shadow': the scene has no point light (shadow frusta need one)");
+}
+
+void write_tile(Image& tiles, int tx, int ty, const TileCulling& c) {
+    float* t = &tiles.data[tiles.index(tx, ty)];
+    t[0] = static_cast<float>(c.nodes_kept);
+    t[1] = static_cast<float>(c.leaves_kept);
+    t[2] = static_cast<float>(c.triangles_kept);
+    t[3] = static_cast<float>(c.entry);
+    t[4] = static_cast<float>(c.entry_depth);
+    t[5] = static_cast<float>(c.nodes_tested);
+}
+
+const std::vector<std::string> tile_channels = {"nodes_kept", "leaves_kept", "triangles_kept",
+                                                "entry",      "entry_depth", "nodes_tested"};
+
+// What the stage counts over a frame.
+struct FrustumTotals {
+    std::int64_t tested = 0, kept = 0, triangles = 0, hits_lost = 0;
+    std::int64_t shadow_rays = 0, shadow_unculled = 0, shadow_kept = 0, shadow_lost = 0;
 };
 
 }  // namespace
+bool shadow_ray_of(const Scene& scene, const Hit& hit, glm::vec3 eye, glm::vec3 light, Ray& ray) {
+    const SurfacePoint s = surface_at(scene, hit.primitive, hit.u, hit.v);
+    const bool front = glm::dot(s.geometric_normal, eye - s.position) >= 0.0f;
+    const glm::vec3 n_g = front ? s.geometric_normal : -s.geometric_normal;
+    const glm::vec3 to_light = light - s.position;
+    if (!(glm::dot(to_light, to_light) > min_light_distance2) || glm::dot(n_g, to_light) <= 0.0f)
+        return false;
+    ray.origin = s.position + n_g * (shadow_epsilon_scale * scene.scene_scale);
+    ray.direction = light - ray.origin;
+    ray.t_min = 0.0f;
+    ray.t_max = shadow_t_max;
+    return true;
+}
 
 std::vector<ParamSpec> frustum_param_specs() {
     return {{"frustum", "off",
@@ -26,7 +78,14 @@ std::vector<ParamSpec> frustum_param_specs() {
             {"frustum_trim", "on", "frustum culling: remove inner nodes left without children"},
             {"frustum_entry", "on",
              "frustum culling: start at the deepest node holding every kept leaf"},
-            {"frustum_bridge", "on", "frustum culling: replace nodes left with one child"}};
+            {"frustum_bridge", "on", "frustum culling: replace nodes left with one child"},
+            {"frustum_shadow", "off",
+             "frustum culling: 'on' also culls each tile's shadow rays towards a point light "
+             "with a frustum whose apex is the light (frustum_shadow_tiles, "
+             "frustum_shadow_lost)"},
+            {"frustum_light", "-1",
+             "frustum_shadow: the index of the point light in the scene's lights (-1: the first "
+             "point light)"}};
 }
 
 FrustumSettings parse_frustum_params(const Params& params) {
@@ -39,8 +98,13 @@ FrustumSettings parse_frustum_params(const Params& params) {
     s.options.trim = params.get_bool(specs, "frustum_trim");
     s.options.entry = params.get_bool(specs, "frustum_entry");
     s.options.bridge = params.get_bool(specs, "frustum_bridge");
+    s.shadow = params.get_bool(specs, "frustum_shadow");
+    s.light = params.get_int(specs, "frustum_light", -1, 1 << 20);
+    if (s.light >= 0 && !s.shadow && params.given("frustum_light"))
+        throw Error("parameter 'frustum_light' applies to frustum_shadow=on");
     if (!s.enabled)
-        for (const char* key : {"tile_size", "frustum_trim", "frustum_entry", "frustum_bridge"})
+        for (const char* key : {"tile_size", "frustum_trim", "frustum_entry", "frustum_bridge",
+                                "frustum_shadow", "frustum_light"})
             if (params.given(key))
                 throw Error(std::string("parameter '") + key +
                             "' applies to frustum culling: add frustum=lund or frustum=exact");
@@ -53,69 +117,124 @@ void frustum_cull_stage(FrameContext& ctx) {
     const Bvh& bvh = s.bvh->get(*ctx.scene, counters);
     const int width = ctx.settings->width, height = ctx.settings->height,
               size = s.settings.tile_size;
-    const int tiles_x = (width + size - 1) / size, tiles_y = (height + size - 1) / size;
-    Image tiles(tiles_x, tiles_y, 6, 0.0f);
-    Image lost(width, height, 1, 0.0f);
+    const FrustumRegion region = s.region ? s.region(ctx) : FrustumRegion{0, 0, width, height, {}};
+    const int tiles_x = (region.width + size - 1) / size,
+              tiles_y = (region.height + size - 1) / size;
+    Image tiles(tiles_x, tiles_y, 6, 0.0f), shadow_tiles;
+    Image lost(region.width, region.height, 1, 0.0f), shadow_lost;
+    const int light = s.settings.shadow ? shadow_light(*ctx.scene, s.settings.light) : -1;
+    if (light >= 0) {
+        shadow_tiles = Image(tiles_x, tiles_y, 6, 0.0f);
+        shadow_lost = Image(region.width, region.height, 1, 0.0f);
+    }
     const float tan_half = tan_half_vfov(ctx.camera);
-    std::int64_t tested = 0, kept = 0, triangles = 0, hits_lost = 0;
+    FrustumTotals total;
+    std::vector<Ray> shadow_rays;
+    std::vector<glm::vec3> shadow_origins;
+    std::vector<glm::ivec2> shadow_pixels;
     for (int ty = 0; ty < tiles_y; ++ty) {
         for (int tx = 0; tx < tiles_x; ++tx) {
+            // the tile in the region's pixels, and on the screen
             const int x0 = tx * size, y0 = ty * size;
-            const int x1 = std::min(x0 + size, width), y1 = std::min(y0 + size, height);
-            const TileFrustum f = tile_frustum(ctx.camera, width, height, x0, y0, x1, y1);
+            const int x1 = std::min(x0 + size, region.width),
+                      y1 = std::min(y0 + size, region.height);
+            const TileFrustum f = tile_frustum(ctx.camera, width, height, region.x0 + x0,
+                                               region.y0 + y0, region.x0 + x1, region.y0 + y1);
             const TileCulling c = cull_bvh(bvh, f, s.settings.options);
-            float* t = &tiles.data[tiles.index(tx, ty)];
-            t[0] = static_cast<float>(c.nodes_kept);
-            t[1] = static_cast<float>(c.leaves_kept);
-            t[2] = static_cast<float>(c.triangles_kept);
-            t[3] = static_cast<float>(c.entry);
-            t[4] = static_cast<float>(c.entry_depth);
-            t[5] = static_cast<float>(c.nodes_tested);
-            tested += c.nodes_tested;
-            kept += c.nodes_kept;
-            triangles += c.triangles_kept;
-            // The check: every pixel-centre primary ray of the tile, culled against whole
+            write_tile(tiles, tx, ty, c);
+            total.tested += c.nodes_tested;
+            total.kept += c.nodes_kept;
+            total.triangles += c.triangles_kept;
+            shadow_rays.clear();
+            shadow_origins.clear();
+            shadow_pixels.clear();
+            // The check: every traced pixel-centre primary ray of the tile, culled against whole
             for (int y = y0; y < y1; ++y)
                 for (int x = x0; x < x1; ++x) {
+                    const glm::vec2 centre{static_cast<float>(region.x0 + x) + 0.5f,
+                                           static_cast<float>(region.y0 + y) + 0.5f};
+                    if (region.traced && !region.traced(centre)) continue;
                     Ray ray;
                     ray.origin = ctx.camera.position;
                     ray.direction = primary_ray_direction(ctx.camera, tan_half, width, height,
-                                                          static_cast<float>(x) + 0.5f,
-                                                          static_cast<float>(y) + 0.5f);
+                                                          centre.x, centre.y);
                     TraceStats stats;
-                    if (!(trace_culled(bvh, c, ray) == trace_closest(bvh, ray, stats))) {
+                    const Hit whole = trace_closest(bvh, ray, stats);
+                    if (!(trace_culled(bvh, c, ray) == whole)) {
                         lost.at(x, y) = 1.0f;
-                        ++hits_lost;
+                        ++total.hits_lost;
+                    }
+                    Ray shadow;
+                    if (light >= 0 && whole.hit() &&
+                        shadow_ray_of(*ctx.scene, whole, ctx.camera.position,
+                                      ctx.scene->lights[static_cast<std::size_t>(light)].position,
+                                      shadow)) {
+                        shadow_rays.push_back(shadow);
+                        shadow_origins.push_back(shadow.origin);
+                        shadow_pixels.push_back({x, y});
                     }
                 }
+            if (light < 0 || shadow_rays.empty()) continue;  // no shadow ray: no frustum
+            // The tile's shadow rays through the culled tree of their frustum (apex the light)
+            TileFrustum sf;
+            const bool culled = shadow_frustum(
+                ctx.scene->lights[static_cast<std::size_t>(light)].position, shadow_origins, sf);
+            const TileCulling sc =
+                culled ? cull_bvh(bvh, sf, s.settings.options) : keep_everything(bvh);
+            write_tile(shadow_tiles, tx, ty, sc);
+            total.shadow_unculled += culled ? 0 : 1;
+            total.shadow_kept += sc.nodes_kept;
+            for (std::size_t k = 0; k < shadow_rays.size(); ++k) {
+                TraceStats stats;
+                const bool whole = trace_any(bvh, shadow_rays[k], stats);
+                ++total.shadow_rays;
+                if (trace_culled(bvh, sc, shadow_rays[k]).hit() != whole) {
+                    shadow_lost.at(shadow_pixels[k].x, shadow_pixels[k].y) = 1.0f;
+                    ++total.shadow_lost;
+                }
+            }
         }
         ctx.report(static_cast<double>(ty + 1) / tiles_y);
     }
-    counters.add("frustum_tiles", static_cast<std::int64_t>(tiles_x) * tiles_y);
-    counters.add("frustum_nodes_tested", tested);
-    counters.add("frustum_nodes_kept", kept);
-    counters.add("frustum_triangles_kept", triangles);
-    counters.add("frustum_hits_lost", hits_lost);
+    const std::string& p = s.prefix;
+    counters.add(p + "tiles", static_cast<std::int64_t>(tiles_x) * tiles_y);
+    counters.add(p + "nodes_tested", total.tested);
+    counters.add(p + "nodes_kept", total.kept);
+    counters.add(p + "triangles_kept", total.triangles);
+    counters.add(p + "hits_lost", total.hits_lost);
     ctx.note = std::to_string(tiles_x) + "x" + std::to_string(tiles_y) + " tiles of " +
                std::to_string(size) + " px, " + (s.settings.options.exact ? "exact" : "Lund's") +
-               " test: " + std::to_string(kept) + " nodes kept in all, " +
-               std::to_string(hits_lost) + " primary hits lost";
-    ctx.output(
-        "tiles", BufferKind::scalar,
-        {"nodes_kept", "leaves_kept", "triangles_kept", "entry", "entry_depth", "nodes_tested"},
-        std::move(tiles));
+               " test: " + std::to_string(total.kept) + " nodes kept in all, " +
+               std::to_string(total.hits_lost) + " primary hits lost";
+    ctx.output("tiles", BufferKind::scalar, tile_channels, std::move(tiles));
     ctx.output("hit_lost", BufferKind::id, {"lost"}, std::move(lost));
+    if (light < 0) return;
+    counters.add(p + "shadow_rays", total.shadow_rays);
+    counters.add(p + "shadow_tiles_unculled", total.shadow_unculled);
+    counters.add(p + "shadow_nodes_kept", total.shadow_kept);
+    counters.add(p + "shadow_lost", total.shadow_lost);
+    ctx.note += "; light " + std::to_string(light) +
+                "'s shadow frusta: " + std::to_string(total.shadow_kept) + " nodes kept, " +
+                std::to_string(total.shadow_rays) + " shadow rays, " +
+                std::to_string(total.shadow_lost) + " occlusions lost";
+    ctx.output("shadow_tiles", BufferKind::scalar, tile_channels, std::move(shadow_tiles));
+    ctx.output("shadow_lost", BufferKind::id, {"lost"}, std::move(shadow_lost));
 }
 
-StageDef frustum_cull_stage_def(const FrustumSettings& settings, std::shared_ptr<BvhCache> bvh) {
+StageDef frustum_cull_stage_def(const FrustumSettings& settings, std::shared_ptr<BvhCache> bvh,
+                                const std::string& prefix,
+                                std::function<FrustumRegion(const FrameContext&)> region) {
     auto state = std::make_shared<FrustumState>();
     state->settings = settings;
     state->bvh = std::move(bvh);
-    return {"frustum_cull",
-            {},
-            {{"tiles", "frustum_tiles"}, {"hit_lost", "frustum_hit_lost"}},
-            frustum_cull_stage,
-            state};
+    state->prefix = prefix;
+    state->region = std::move(region);
+    std::vector<Port> outputs = {{"tiles", prefix + "tiles"}, {"hit_lost", prefix + "hit_lost"}};
+    if (settings.shadow) {
+        outputs.emplace_back("shadow_tiles", prefix + "shadow_tiles");
+        outputs.emplace_back("shadow_lost", prefix + "shadow_lost");
+    }
+    return {prefix + "cull", {}, std::move(outputs), frustum_cull_stage, state};
 }
 
 }  // namespace fovref

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include "ref/bvh/watertight.h"
 
@@ -42,6 +44,59 @@ TileFrustum tile_frustum(const Camera& camera, int width, int height, int x0, in
     f.height_factor = (f.b1 - f.b0) * 0.5f;
     f.direction = f.view + ((f.a0 + f.a1) * 0.5f) * f.right + ((f.b0 + f.b1) * 0.5f) * f.up;
     return f;
+}
+
+bool shadow_frustum(glm::vec3 light, const std::vector<glm::vec3>& points, TileFrustum& f) {
+    if (points.empty()) return false;
+    const glm::dvec3 l(light);
+    glm::dvec3 sum(0.0);
+    for (const glm::vec3& p : points) {
+        const glm::dvec3 d = glm::dvec3(p) - l;
+        const double length = std::sqrt(glm::dot(d, d));
+        if (!(length > 0.0) || !std::isfinite(length)) return false;
+        sum += d / length;
+    }
+    const double sum_length = std::sqrt(glm::dot(sum, sum));
+    if (!(sum_length > 0.0)) return false;
+    const glm::dvec3 v = sum / sum_length;
+    // the axis least aligned with V, then R and U (orthonormal, rounded once each)
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+        if (std::fabs(v[k]) < std::fabs(v[axis])) axis = k;
+    glm::dvec3 e(0.0);
+    e[axis] = 1.0;
+    const glm::dvec3 r = glm::normalize(glm::cross(v, e));
+    const glm::dvec3 u = glm::cross(r, v);
+    double a0 = INFINITY, a1 = -INFINITY, b0 = INFINITY, b1 = -INFINITY;
+    for (const glm::vec3& p : points) {
+        const glm::dvec3 d = glm::dvec3(p) - l;
+        const double depth = glm::dot(d, v);
+        if (!(depth > 0x1p-20 * std::sqrt(glm::dot(d, d)))) return false;
+        const double a = glm::dot(d, r) / depth, b = glm::dot(d, u) / depth;
+        a0 = std::min(a0, a), a1 = std::max(a1, a), b0 = std::min(b0, b), b1 = std::max(b1, b);
+    }
+    const double margin_a = (a1 - a0) * 0x1p-16 + 0x1p-20, margin_b = (b1 - b0) * 0x1p-16 + 0x1p-20;
+    const auto down = [](double x) {
+        const auto f32 = static_cast<float>(x);
+        return static_cast<double>(f32) <= x ? f32 : std::nextafter(f32, -INFINITY);
+    };
+    const auto up = [](double x) {
+        const auto f32 = static_cast<float>(x);
+        return static_cast<double>(f32) >= x ? f32 : std::nextafter(f32, INFINITY);
+    };
+    f = TileFrustum{};
+    f.origin = light;
+    f.view = glm::vec3(v);
+    f.right = glm::vec3(r);
+    f.up = glm::vec3(u);
+    f.a0 = down(a0 - margin_a);
+    f.a1 = up(a1 + margin_a);
+    f.b0 = down(b0 - margin_b);
+    f.b1 = up(b1 + margin_b);
+    f.width_factor = (f.a1 - f.a0) * 0.5f;
+    f.height_factor = (f.b1 - f.b0) * 0.5f;
+    f.direction = f.view + ((f.a0 + f.a1) * 0.5f) * f.right + ((f.b0 + f.b1) * 0.5f) * f.up;
+    return true;
 }
 
 bool lund_box_test(const TileFrustum& f, glm::vec3 lo, glm::vec3 hi) {
@@ -207,6 +262,49 @@ bool segment_meets_box(const Ray& ray, glm::vec3 lo_f, glm::vec3 hi_f) {
 }
 
 }  // namespace
+
+std::vector<BvhNode> culled_tree(const Bvh& bvh, const TileCulling& culling,
+                                 const CullOptions& options) {
+    std::vector<BvhNode> tree;
+    if (bvh.nodes.empty() || culling.kept.size() != bvh.nodes.size() ||
+        !culling.kept[culling.entry])
+        return tree;
+    const auto kept_children = [&](std::uint32_t n) {
+        const BvhNode& node = bvh.nodes[n];
+        return node.count > 0 ? 0 : culling.kept[node.first] + culling.kept[node.first + 1];
+    };
+    // the node bridging leads to from n: down while a node has exactly one kept child
+    const auto resolve = [&](std::uint32_t n) {
+        while (options.bridge && kept_children(n) == 1) {
+            const BvhNode& node = bvh.nodes[n];
+            n = culling.kept[node.first] ? node.first : node.first + 1;
+        }
+        return n;
+    };
+    BvhNode empty;
+    empty.bounds_min = glm::vec3(std::numeric_limits<float>::infinity());
+    empty.bounds_max = glm::vec3(-std::numeric_limits<float>::infinity());
+    // (record index, BVH2 node) of the inner nodes whose children are still to be placed
+    std::vector<std::pair<std::size_t, std::uint32_t>> queue;
+    const auto place = [&](std::uint32_t n) {
+        tree.push_back(bvh.nodes[n]);
+        if (bvh.nodes[n].count == 0) queue.emplace_back(tree.size() - 1, n);
+    };
+    place(resolve(culling.entry));
+    for (std::size_t q = 0; q < queue.size(); ++q) {
+        const auto [record, n] = queue[q];
+        const BvhNode& node = bvh.nodes[n];
+        tree[record].first = static_cast<std::uint32_t>(tree.size());
+        tree[record].count = 0;
+        for (const std::uint32_t child : {node.first, node.first + 1}) {
+            if (culling.kept[child])
+                place(resolve(child));
+            else
+                tree.push_back(empty);
+        }
+    }
+    return tree;
+}
 
 TileCulling keep_everything(const Bvh& bvh) {
     TileCulling all;

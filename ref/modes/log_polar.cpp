@@ -6,6 +6,7 @@
 
 #include "ref/core/error.h"
 #include "ref/filters/stages.h"
+#include "ref/frustum/stages.h"
 #include "ref/log_polar/deferred_sample.h"
 #include "ref/log_polar/probe.h"
 #include "ref/log_polar/stages.h"
@@ -20,7 +21,7 @@ namespace {
 
 // The buffers' G-buffers (traced, or sampled from the rasterized screen), their shading and the
 // buffer-space filter.
-void add_buffer_stages(Pipeline& p, const LogPolarStage& lp) {
+void add_buffer_stages(Pipeline& p, const LogPolarStage& lp, const FrustumSettings& frustum) {
     const FoveatedParams& params = lp.frames->params;
     const bool composite = params.map.gaze_angle > 0.0f;
     if (params.deferred)
@@ -31,6 +32,19 @@ void add_buffer_stages(Pipeline& p, const LogPolarStage& lp) {
     else
         p.add(lp_trace_stage_def(lp));
     if (composite) p.add(gaze_trace_stage_def(lp));
+    if (frustum.enabled) {
+        // Lund's tile frustum culling over the gaze buffer's window: tiles from its corner,
+        // the pixels inside the gaze circle checked (docs/frustum.md)
+        const auto frames = lp.frames;
+        p.add(frustum_cull_stage_def(
+            frustum, lp.bvh, "gaze_frustum_", [frames](const FrameContext& ctx) {
+                const LogPolarMap map = frames->map(ctx);
+                const ScreenWindow w = gaze_window(map);
+                return FrustumRegion{w.x0, w.y0, w.width, w.height, [map](glm::vec2 centre) {
+                                         return inside_gaze_circle(map, centre);
+                                     }};
+            }));
+    }
     p.add(shade_stage_def("lp_shade", "lp_gbuffer_", "lp_color", lp.bvh));
     if (composite)
         p.add(shade_stage_def("gaze_shade", "gaze_gbuffer_", "gaze_color", lp.bvh,
@@ -82,8 +96,13 @@ Pipeline foveated_pipeline(const std::string& preset, const RenderSettings& sett
     const TaaSettings taa = parse_taa_params(settings.params);
     lp.bvh = std::make_shared<BvhCache>();
     lp.jitter = taa_frame_jitter(taa);
+    const FrustumSettings frustum = parse_frustum_params(settings.params);
+    if (frustum.enabled && !(lp.frames->params.map.gaze_angle > 0.0f))
+        throw Error(
+            "parameter 'frustum': the log-polar modes cull the tiles of the gaze buffer, which "
+            "needs gaze_angle > 0 (cfov, ckfov); for the screen's tiles use mode basic");
     Pipeline p;
-    add_buffer_stages(p, lp);
+    add_buffer_stages(p, lp, frustum);
     add_screen_stages(p, lp, taa);
     p.add(ray_positions_stage_def(lp));
     p.final_outputs = {"final"};
@@ -240,6 +259,7 @@ ModeInfo foveated_mode(const std::string& preset_name, const std::string& what) 
     m.description = what + " (" + preset.source + ")";
     m.params = foveated_param_specs(preset);
     for (ParamSpec& spec : taa_param_specs()) m.params.push_back(std::move(spec));
+    for (ParamSpec& spec : frustum_param_specs()) m.params.push_back(std::move(spec));
     m.build = [preset_name](const Scene*, const RenderSettings& settings) {
         return foveated_pipeline(preset_name, settings);
     };

@@ -1,5 +1,6 @@
 # rays make/trace and the benchmark's smoke run (figures are not checked: benchmarks are not tests).
 source "$(dirname "$0")/lib.bash"
+PY=$(command -v /usr/bin/python3 || command -v python3)
 expect 0 "make camera rays" -- "$FOVREF" rays make cornell "$TMP/r.bin" --camera --width 16 --height 9
 check_file "$TMP/r.bin" "camera rays"
 [ "$(stat -c %s "$TMP/r.bin")" = $((16 * 9 * 32)) ] || { echo "FAIL: ray file size"; failures=$((failures+1)); }
@@ -37,12 +38,13 @@ fi
 expect 2 "bench --explain out of range" -- "$FOVREF" bench rays --scene cornell --explain -1
 expect 0 "basic via raster" -- "$FOVREF" render --scene cornell --mode basic --primary raster --width 16 --height 9 --out "$TMP/br" -q
 expect 2 "bad --primary" -- "$FOVREF" render --scene cornell --mode basic --primary gpu --out "$TMP/bp"
-# tile frustum culling: every row (screen tiles and cfov buffer tiles) lost 0
+# tile frustum culling: every row (screen tiles, cfov buffer tiles, sphere-grid's shadow frusta;
+# cornell has no point light) lost 0
 expect 0 "bench frustum" -- "$FOVREF" bench frustum --scene cornell sphere-grid --width 64 --height 36 --tile-size 16 32 -q
 checks=$((checks + 1))
 rows=$(grep -cE '^  (cornell|sphere-grid) ' <<<"$OUT")
 bad=$(grep -E '^  (cornell|sphere-grid) ' <<<"$OUT" | awk '$NF != 0' | wc -l)
-[ "$rows" -eq 18 ] && [ "$bad" -eq 0 ] || { echo "FAIL: bench frustum rows $rows, lost-hit rows $bad"; failures=$((failures + 1)); }
+[ "$rows" -eq 22 ] && [ "$bad" -eq 0 ] || { echo "FAIL: bench frustum rows $rows, lost-hit rows $bad"; failures=$((failures + 1)); }
 expect 2 "bench frustum bad tile size" -- "$FOVREF" bench frustum --tile-size 0
 # the probe explains a pixel's tile: its frustum, its culled tree, the path to its hit's leaf
 expect 0 "probe with frustum culling" -- "$FOVREF" probe --scene cornell --mode basic --width 64 --height 36 --pixel 30,20 --param frustum=lund
@@ -50,4 +52,37 @@ contains "[frustum_cull] the pixel's tile and its culled BVH" "the section"
 contains "tile         (0, 0): pixels 0..31 x 0..31" "the tile"
 contains "the same through the culled tree" "the hit kept"
 contains "leaf, box" "the path to the hit's leaf"
+# rays cull: the culled trees for a GPU; the files agree with the manifest and with each other
+expect 0 "rays cull" -- "$FOVREF" rays cull sphere-grid "$TMP/rc" --width 64 --height 36 \
+  --tile-size 16 --shadow -q
+checks=$((checks + 1))
+"$PY" - "$TMP/rc" <<'PYEOF' || { echo "FAIL: rays cull files"; failures=$((failures + 1)); }
+import json, os, struct, sys
+d = sys.argv[1]
+m = json.load(open(os.path.join(d, "manifest.json")))
+assert os.path.getsize(os.path.join(d, "triangles.bin")) == 40 * m["triangles"]
+for prefix, total in (("", m["nodes"]), ("shadow_", m["shadow"]["nodes"])):
+    tiles = open(os.path.join(d, prefix + "tiles.bin"), "rb").read()
+    nodes = open(os.path.join(d, prefix + "nodes.bin"), "rb").read()
+    assert len(nodes) == 32 * total, (prefix, len(nodes), total)
+    assert len(tiles) == 32 * m["tiles_x"] * m["tiles_y"]
+    at = 0
+    for k in range(m["tiles_x"] * m["tiles_y"]):
+        tx, ty, x0, y0, x1, y1, first, count = struct.unpack_from("<8I", tiles, 32 * k)
+        assert (tx, ty) == (k % m["tiles_x"], k // m["tiles_x"]) and first == at, (k, first, at)
+        assert x0 == 16 * tx and y0 == 16 * ty and x1 == min(x0 + 16, 64) and y1 == min(y0 + 16, 36)
+        for r in range(count):
+            node = struct.unpack_from("<3fI3fI", nodes, 32 * (first + r))
+            if node[7] > 0:
+                assert node[3] + node[7] <= m["triangles"]
+            elif node[0] <= node[4]:  # an inner node's children lie in the tile's records
+                assert node[3] + 1 < count, (k, r, node)
+        at += count
+    assert at == total
+PYEOF
+expect 2 "rays cull --test" -- "$FOVREF" rays cull cornell "$TMP/rc2" --test hunt
+expect 2 "rays cull --shadow without a point light" -- "$FOVREF" rays cull cornell "$TMP/rc3" --shadow
+contains "needs a point light" "names what is missing"
+checks=$((checks + 1))
+[ ! -e "$TMP/rc3" ] || { echo "FAIL: rays cull left $TMP/rc3 behind"; failures=$((failures + 1)); }
 finish

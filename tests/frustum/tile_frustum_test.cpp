@@ -1,7 +1,8 @@
 // Tile frustum culling (ref/frustum/tile_frustum.h, Lund §3.7, §4.5): the frustum of a tile by
 // hand, Lund's biased-box test against the exact one, and on every procedural scene the primary
 // rays traced through each tile's culled BVH against the full BVH: is Lund's culling
-// conservative?
+// conservative? The same for shadow frusta towards a point light and for the composite modes'
+// gaze buffer; the exported culled trees (culled_tree) traversed on their own.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -9,8 +10,11 @@
 #include <cstring>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "ref/bvh/bvh.h"
+#include "ref/bvh/watertight.h"
 #include "ref/core/rng.h"
 #include "ref/frustum/tile_frustum.h"
 #include "ref/modes/modes.h"
@@ -277,4 +281,256 @@ TEST_CASE(
     CHECK(test::contains(message({{"tile_size", "16"}}), "add frustum=lund"));
     CHECK(test::contains(message({{"frustum", "hunt"}}), "parameter 'frustum'"));
     CHECK(test::contains(message({{"frustum", "lund"}, {"tile_size", "0"}}), "tile_size"));
+}
+
+TEST_CASE(
+    "shadow frustum: apex at the light, every point inside, Lund's test conservative on "
+    "random boxes; no frustum for a spread of 90 degrees or more") {
+    const glm::vec3 light{1.0f, 4.0f, 2.0f};
+    std::int64_t boxes = 0, exact_kept = 0, lund_kept = 0, lost = 0;
+    for (std::uint32_t tile = 0; tile < 50; ++tile) {
+        // a tile's shadow-ray origins: a patch of a tilted plane below the light
+        std::vector<glm::vec3> points;
+        const glm::vec3 centre{6.0f * rand_unit(2, tile, 0) - 3.0f, 0.5f * rand_unit(2, tile, 1),
+                               6.0f * rand_unit(2, tile, 2) - 3.0f};
+        const float extent = 0.02f + 1.5f * rand_unit(2, tile, 3);
+        for (std::uint32_t k = 0; k < 40; ++k)
+            points.push_back(centre + extent * glm::vec3(rand_unit(3, tile * 40 + k, 0) - 0.5f,
+                                                         0.3f * rand_unit(3, tile * 40 + k, 1),
+                                                         rand_unit(3, tile * 40 + k, 2) - 0.5f));
+        TileFrustum f;
+        REQUIRE(shadow_frustum(light, points, f));
+        CHECK(f.origin == light);
+        CHECK(std::fabs(glm::dot(f.right, f.view)) < 1e-6f);
+        CHECK(std::fabs(glm::dot(f.up, f.view)) < 1e-6f);
+        CHECK(std::fabs(glm::dot(f.right, f.up)) < 1e-6f);
+        for (const glm::vec3& p : points) {
+            // every point (a zero-size box) is in the pyramid, by both tests
+            REQUIRE(exact_box_test(f, p, p));
+            REQUIRE(lund_box_test(f, p, p));
+        }
+        for (std::uint32_t i = 0; i < 400; ++i, ++boxes) {
+            const auto b = static_cast<std::uint32_t>(boxes);
+            const glm::vec3 c = centre + glm::vec3(8.0f * rand_unit(4, b, 0) - 4.0f,
+                                                   6.0f * rand_unit(4, b, 1) - 1.0f,
+                                                   8.0f * rand_unit(4, b, 2) - 4.0f);
+            const glm::vec3 half{0.02f + 0.5f * rand_unit(4, b, 3),
+                                 0.02f + 0.5f * rand_unit(4, b, 4),
+                                 0.02f + 0.5f * rand_unit(4, b, 5)};
+            const bool exact = exact_box_test(f, c - half, c + half);
+            const bool lund = lund_box_test(f, c - half, c + half);
+            exact_kept += exact;
+            lund_kept += lund;
+            lost += exact && !lund;
+        }
+    }
+    MESSAGE(boxes << " boxes against 50 shadow frusta: exact keeps " << exact_kept
+                  << ", Lund keeps " << lund_kept << ", Lund culls " << lost
+                  << " the exact test keeps");
+    CHECK(lost == 0);
+    CHECK(exact_kept > 100);
+    CHECK(lund_kept >= exact_kept);
+    // no frustum: no point, a point at the light, points on both sides of it
+    TileFrustum f;
+    CHECK_FALSE(shadow_frustum(light, {}, f));
+    CHECK_FALSE(shadow_frustum(light, {light}, f));
+    CHECK_FALSE(shadow_frustum(light, {light + glm::vec3(1, 0, 0), light - glm::vec3(1, 0, 0)}, f));
+    CHECK(shadow_frustum(light, {light + glm::vec3(1, 0, 0), light + glm::vec3(0, 0, 1)}, f));
+}
+
+TEST_CASE(
+    "frustum_shadow=on: on every procedural scene with a point light, every shadow ray's "
+    "occlusion through its tile's shadow frustum is the whole BVH's") {
+    for (const std::string name : {"sphere-grid", "checker-room", "glossy-floor", "million"}) {
+        CAPTURE(name);
+        const Scene scene = make_procedural_scene(name);
+        RenderSettings s;
+        s.width = 64;
+        s.height = 36;
+        s.requested = {"frustum_shadow_lost", "frustum_shadow_tiles"};
+        for (const std::string test : {"lund", "exact"}) {
+            CAPTURE(test);
+            if (name == "million" && test == "exact") continue;  // CI time: Lund's on million
+            s.params = Params(std::map<std::string, std::string>{
+                {"frustum", test}, {"tile_size", "16"}, {"frustum_shadow", "on"}});
+            const FrameResult f = render(&scene, "basic", s).at(0);
+            MESSAGE(name << ", " << test << ": " << f.counters.get("frustum_shadow_rays")
+                         << " shadow rays, " << f.counters.get("frustum_shadow_nodes_kept")
+                         << " nodes kept, " << f.counters.get("frustum_shadow_tiles_unculled")
+                         << " tiles unculled, " << f.counters.get("frustum_shadow_lost")
+                         << " lost");
+            CHECK(f.counters.get("frustum_shadow_rays") > 200);
+            CHECK(f.counters.get("frustum_shadow_lost") == 0);
+            for (const float lost : f.find("frustum_shadow_lost")->image.data)
+                REQUIRE(lost == 0.0f);
+            CHECK(f.find("frustum_shadow_tiles")->image.width == 4);
+        }
+    }
+    // cornell has quad lights only: a clear error; frustum_light must name a point light
+    const Scene cornell = make_procedural_scene("cornell");
+    RenderSettings s;
+    s.width = 32;
+    s.height = 18;
+    s.requested = {"frustum_shadow_lost"};
+    s.params =
+        Params(std::map<std::string, std::string>{{"frustum", "lund"}, {"frustum_shadow", "on"}});
+    CHECK(test::contains(test::error_message([&] { render(&cornell, "basic", s); }),
+                         "the scene has no point light"));
+    s.params = Params(std::map<std::string, std::string>{
+        {"frustum", "lund"}, {"frustum_shadow", "on"}, {"frustum_light", "7"}});
+    CHECK(test::contains(test::error_message([&] { render(&cornell, "basic", s); }),
+                         "parameter 'frustum_light'"));
+}
+
+TEST_CASE(
+    "frustum culling of the composite modes' gaze buffer: tiles over its window, every pixel "
+    "inside the gaze circle checked, no hit lost, the image unchanged; refused without one") {
+    const Scene scene = make_procedural_scene("checker-room");
+    for (const std::string mode : {"cfov", "ckfov"}) {
+        CAPTURE(mode);
+        RenderSettings s;
+        s.width = 160;
+        s.height = 90;
+        s.requested = {"final"};
+        const FrameResult plain = render(&scene, mode, s).at(0);
+        s.requested = {"final", "gaze_frustum_tiles", "gaze_frustum_hit_lost",
+                       "gaze_frustum_shadow_lost"};
+        s.params = Params(std::map<std::string, std::string>{
+            {"frustum", "lund"}, {"tile_size", "8"}, {"frustum_shadow", "on"}});
+        const FrameResult f = render(&scene, mode, s).at(0);
+        const std::int64_t gaze_pixels = f.counters.get("gaze_pixels_traced");
+        MESSAGE(mode << ": " << gaze_pixels << " gaze pixels, "
+                     << f.counters.get("gaze_frustum_tiles") << " tiles, "
+                     << f.counters.get("gaze_frustum_nodes_kept") << " nodes kept, "
+                     << f.counters.get("gaze_frustum_shadow_rays") << " shadow rays");
+        CHECK(gaze_pixels > 100);
+        CHECK(f.counters.get("gaze_frustum_hits_lost") == 0);
+        CHECK(f.counters.get("gaze_frustum_shadow_lost") == 0);
+        // every traced gaze pixel faces checker-room's light or not: at most one shadow ray each
+        CHECK(f.counters.get("gaze_frustum_shadow_rays") <= gaze_pixels);
+        CHECK(f.counters.get("gaze_frustum_shadow_rays") > gaze_pixels / 2);
+        const Image& lost = f.find("gaze_frustum_hit_lost")->image;
+        // the gaze window: a pixel wider than the circle on each side (not clipped here)
+        CHECK(lost.width >= 2 * f.counters.get("gaze_radius_px"));
+        CHECK(lost.height >= 2 * f.counters.get("gaze_radius_px"));
+        CHECK(lost.width < s.width);
+        CHECK(f.find("gaze_frustum_tiles")->image.width == (lost.width + 7) / 8);
+        const Image& a = f.find("final")->image;
+        const Image& b = plain.find("final")->image;
+        CHECK(std::memcmp(a.data.data(), b.data.data(), a.data.size() * sizeof(float)) == 0);
+    }
+    RenderSettings s;
+    s.width = 32;
+    s.height = 18;
+    s.params = Params(std::map<std::string, std::string>{{"frustum", "lund"}});
+    CHECK(test::contains(test::error_message([&] { render(&scene, "kfov", s); }),
+                         "needs gaze_angle > 0"));
+}
+
+namespace {
+
+// The slab test of a ray's segment against a box in binary64, widened like trace_culled's (an
+// empty box, min +inf and max -inf, is never met)
+bool meets(const Ray& ray, glm::vec3 lo, glm::vec3 hi) {
+    double t0 = std::max(0.0, static_cast<double>(ray.t_min)), t1 = ray.t_max;
+    for (int k = 0; k < 3; ++k) {
+        if (!(lo[k] <= hi[k])) return false;
+        const double pad = (std::fabs(lo[k]) + std::fabs(hi[k]) + 1.0) * 0x1p-20;
+        const double o = ray.origin[k], d = ray.direction[k];
+        if (d == 0.0) {
+            if (o < lo[k] - pad || o > hi[k] + pad) return false;
+            continue;
+        }
+        double a = (lo[k] - pad - o) / d, b = (hi[k] + pad - o) / d;
+        if (a > b) std::swap(a, b);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, b);
+        if (t0 > t1) return false;
+    }
+    return true;
+}
+
+// An independent traversal of culled_tree's records (the format `fovref rays cull` writes):
+// from record 0, children at first and first + 1, leaves' triangles in the BVH2's leaf order;
+// the closest hit, lowest t then lowest primitive id. Counts the empty slots it meets.
+Hit trace_records(const Bvh& bvh, const std::vector<BvhNode>& tree, const Ray& ray) {
+    Hit best;
+    if (tree.empty()) return best;
+    const WatertightRay r = make_watertight_ray(ray.origin, ray.direction, ray.t_min, ray.t_max);
+    std::vector<std::uint32_t> stack = {0};
+    while (!stack.empty()) {
+        const BvhNode& node = tree[stack.back()];
+        stack.pop_back();
+        if (!meets(ray, node.bounds_min, node.bounds_max)) continue;
+        if (node.count == 0) {
+            REQUIRE(node.first + 1 < tree.size());
+            stack.push_back(node.first);
+            stack.push_back(node.first + 1);
+            continue;
+        }
+        for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+            float t, u, v;
+            const glm::vec3* p = &bvh.triangle_corners[3 * static_cast<std::size_t>(k)];
+            if (!intersect_watertight(r, p[0], p[1], p[2], t, u, v)) continue;
+            const auto primitive = static_cast<std::int32_t>(bvh.primitives[k]);
+            if (best.primitive < 0 || t < best.t || (t == best.t && primitive < best.primitive))
+                best = Hit{t, primitive, u, v};
+        }
+    }
+    return best;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "culled_tree (what `rays cull` exports): traversed on its own, every tile's records give "
+    "every primary ray the whole BVH's hit, under every option") {
+    for (const std::string name : {"cornell", "sphere-grid", "glossy-floor"}) {
+        CAPTURE(name);
+        const Scene scene = make_procedural_scene(name);
+        const Bvh bvh = build_bvh(scene.positions);
+        const Camera camera = camera_at(scene, 0.0f);
+        const int width = 48, height = 32, tile = 16;
+        const float tan_half = tan_half_vfov(camera);
+        for (int variant = 0; variant < 4; ++variant) {
+            CullOptions options;  // all on; then bridging off, trimming off, entry off
+            options.bridge = variant != 1;
+            options.trim = variant != 2;
+            options.entry = variant != 3;
+            options.exact = variant == 3;
+            CAPTURE(variant);
+            std::int64_t lost = 0, rays = 0;
+            for (int y0 = 0; y0 < height; y0 += tile)
+                for (int x0 = 0; x0 < width; x0 += tile) {
+                    const TileCulling c = cull_bvh(
+                        bvh, tile_frustum(camera, width, height, x0, y0, x0 + tile, y0 + tile),
+                        options);
+                    const std::vector<BvhNode> tree = culled_tree(bvh, c, options);
+                    if (options.bridge && options.trim)
+                        CHECK(static_cast<std::int64_t>(tree.size()) == c.nodes_kept);
+                    else
+                        CHECK(static_cast<std::int64_t>(tree.size()) >= c.nodes_kept);
+                    for (int y = y0; y < y0 + tile; ++y)
+                        for (int x = x0; x < x0 + tile; ++x) {
+                            Ray ray;
+                            ray.origin = camera.position;
+                            ray.direction = primary_ray_direction(camera, tan_half, width, height,
+                                                                  static_cast<float>(x) + 0.5f,
+                                                                  static_cast<float>(y) + 0.5f);
+                            TraceStats stats;
+                            ++rays;
+                            lost +=
+                                !(trace_records(bvh, tree, ray) == trace_closest(bvh, ray, stats));
+                        }
+                }
+            CHECK(rays == width * height);
+            CHECK(lost == 0);
+        }
+    }
+    // nothing kept: no record
+    const Scene scene = make_procedural_scene("cornell");
+    const Bvh bvh = build_bvh(scene.positions);
+    TileCulling none;
+    none.kept.assign(bvh.nodes.size(), 0);
+    CHECK(culled_tree(bvh, none, CullOptions{}).empty());
 }

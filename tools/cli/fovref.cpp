@@ -63,6 +63,7 @@ const char* const app_footer =
     "                [--output a,b] [--out DIR] [--dump DIR]\n"
     "  fovref rays make SCENE RAYS (--camera --width W --height H | --random N [--seed S])\n"
     "  fovref rays trace SCENE RAYS HITS [--any-hit]   closest hits / occlusion of a ray file\n"
+    "  fovref rays cull SCENE DIR [--tile-size N] [--shadow]   each tile's culled BVH2, for a GPU\n"
     "  fovref bench rays [--scene S] [--width W --height H]   BVH and ray throughput (vs "
     "Embree)\n"
     "  fovref bench metrics [--size WxH]      metric times (vs scikit-image's SSIM)\n"
@@ -108,6 +109,7 @@ struct Options {
     RenderOptions render;
     RaysTraceOptions rays_trace;
     RaysMakeOptions rays_make;
+    RaysCullOptions rays_cull;
     BenchRaysOptions bench_rays;
     BenchMetricsOptions bench_metrics;
     BenchFoveationOptions bench_foveation;
@@ -132,10 +134,10 @@ struct Options {
 // either way).
 void share_quiet(Options& o) {
     o.scene_export.quiet = o.render.quiet = o.rays_trace.quiet = o.rays_make.quiet =
-        o.bench_rays.quiet = o.density.quiet = o.bench_foveation.quiet = o.bench_temporal.quiet =
-            o.bench_frustum.quiet = o.bench_bmfr.quiet = o.bench_visual_polar.quiet =
-                o.golden.quiet = o.probe.quiet = o.evaluate.quiet = o.diff.quiet = o.denoise.quiet =
-                    o.sweep.quiet = o.stress.quiet = o.quiet;
+        o.rays_cull.quiet = o.bench_rays.quiet = o.density.quiet = o.bench_foveation.quiet =
+            o.bench_temporal.quiet = o.bench_frustum.quiet = o.bench_bmfr.quiet =
+                o.bench_visual_polar.quiet = o.golden.quiet = o.probe.quiet = o.evaluate.quiet =
+                    o.diff.quiet = o.denoise.quiet = o.sweep.quiet = o.stress.quiet = o.quiet;
 }
 
 // The commands that do the work (no subcommands of their own), each with its run function.
@@ -184,8 +186,15 @@ void add_rays_commands(CLI::App& app, Options& o, Commands& commands) {
     CLI::App* make =
         rays->add_subcommand("make", "write a camera's primary rays or fixed-seed random rays");
     add_rays_make_options(*make, o.rays_make);
+    CLI::App* cull = rays->add_subcommand(
+        "cull",
+        "write each screen tile's frustum-culled BVH2 (Lund's or the exact test; optionally the "
+        "shadow frusta towards a point light) for a GPU to load, traverse or diff: "
+        "docs/frustum.md");
+    add_rays_cull_options(*cull, o.rays_cull);
     commands.emplace_back(trace, [&o] { return run_rays_trace(o.rays_trace); });
     commands.emplace_back(make, [&o] { return run_rays_make(o.rays_make); });
+    commands.emplace_back(cull, [&o] { return run_rays_cull(o.rays_cull); });
 }
 
 void add_bench_commands(CLI::App& app, Options& o, Commands& commands) {

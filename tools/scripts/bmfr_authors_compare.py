@@ -21,7 +21,10 @@ directory and runs it on the OpenCL device 0 of platform 0 (PoCL on a machine wi
    as `denoise bmfr --demodulated` input (cameras.json with "view_projection", row-major).
 3. The authors' code is built with these edits only: the image size, FRAME_COUNT and the input
    path, EXR output instead of 8-bit PNG (so differences below 1/255 are measurable), and two
-   edits for OpenImageIO 2.4 (the namespace alias and ImageInput::open's unique_ptr), in C++17.
+   edits for OpenImageIO 2.4 (the namespace alias and ImageInput::open's unique_ptr), in C++17;
+   with --fix-race also their read/write race at the border removed: accumulate_noisy_data
+   reads the frame's colour from a copy taken before it runs (without it, a work item that
+   gathers a mirrored border pixel may read the colour its owner already accumulated).
 4. `fovref denoise bmfr --demodulated` with the authors' behaviour where fovref's default
    differs: bmfr_behind_camera=project, bmfr_sums=workgroup (the QR's sums in the order of
    their fitter kernel), bmfr_remodulate=albedo (no 0.01 floor when remodulating);
@@ -128,6 +131,10 @@ def main():
     parser.add_argument("--storage", default="half", choices=["half", "float"],
                         help="the block matrix's storage on both sides (the authors' "
                              "USE_HALF_PRECISION_IN_TMP_DATA, fovref's bmfr_storage)")
+    parser.add_argument("--fix-race", action="store_true",
+                        help="remove the authors' read/write race at the border: "
+                             "accumulate_noisy_data reads the frame's colour from a copy taken "
+                             "before it runs")
     parser.add_argument("--fovref-defaults", action="store_true",
                         help="fovref's own bmfr_sums and bmfr_remodulate (binary64, floor) "
                              "instead of the authors' (workgroup, albedo)")
@@ -222,6 +229,32 @@ def main():
         if code.count(old) != 1:
             fail("the authors' bmfr.cpp is not the version this script knows: '%s'" % old)
         code = code.replace(old, new)
+    if o.fix_race:
+        for old, new in [
+            ("        accum_noisy_kernel.setArg(arg_index++, sizeof(cl_int), &frame);\n",
+             "        accum_noisy_kernel.setArg(arg_index++, sizeof(cl_int), &frame);\n"
+             "        accum_noisy_kernel.setArg(arg_index++, noisy_copy);\n"
+             "        queue.enqueueCopyBuffer(*noisy_buffer.current(), noisy_copy, 0, 0,\n"
+             "            IMAGE_WIDTH * IMAGE_HEIGHT * 3 * sizeof(cl_float));\n"),
+            ("    cl::Buffer accept_buffer(",
+             "    cl::Buffer noisy_copy(context, CL_MEM_READ_WRITE, OUTPUT_SIZE * 3 * "
+             "sizeof(cl_float));\n    cl::Buffer accept_buffer("),
+        ]:
+            if code.count(old) != 1:
+                fail("the authors' bmfr.cpp is not the version this script knows: '%s'" % old)
+            code = code.replace(old, new)
+        kernel = open(os.path.join(build, "bmfr.cl")).read()
+        for old, new in [
+            ("      const float2 pixel_offset,\n      const int frame_number) {",
+             "      const float2 pixel_offset,\n      const int frame_number,\n"
+             "      const __global float* restrict noisy_copy) {"),
+            ("   float3 current_color = load_float3(current_noisy, linear_pixel);",
+             "   float3 current_color = load_float3(noisy_copy, linear_pixel);"),
+        ]:
+            if kernel.count(old) != 1:
+                fail("the authors' bmfr.cl is not the version this script knows: '%s'" % old)
+            kernel = kernel.replace(old, new)
+        open(os.path.join(build, "bmfr.cl"), "w").write(kernel)
     open(os.path.join(build, "bmfr.cpp"), "w").write(code)
     print("building the authors' code ...")
     run(["g++", "-std=c++17", "-O2", "-DUNIX", "-o", "bmfr", "bmfr.cpp", "CLUtils/CLUtils.cpp",
@@ -266,7 +299,7 @@ def main():
                                                      row["interior_max"], row["border_rms"],
                                                      row["border_max"]))
     if o.json:
-        json.dump({"scene": o.scene, "width": width, "height": height, "hash": o.hash, "storage": o.storage, "fovref_params": params,
+        json.dump({"scene": o.scene, "width": width, "height": height, "hash": o.hash, "storage": o.storage, "fix_race": o.fix_race, "fovref_params": params,
                    "border": b, "frames": rows}, open(o.json, "w"), indent=1)
 
 
