@@ -19,22 +19,6 @@ struct FrustumState : StageState {
     std::function<FrustumRegion(const FrameContext&)> region;
 };
 
-// The light whose shadow rays are culled: `light`, or the first point light (-1: none).
-int shadow_light(const Scene& scene, int light) {
-    if (light >= 0) {
-        if (light >= static_cast<int>(scene.lights.size()) ||
-            scene.lights[static_cast<std::size_t>(light)].type != Light::Type::point)
-            throw Error("parameter 'frustum_light': light " + std::to_string(light) +
-                        " is not a point light of the scene (it has " +
-                        std::to_string(scene.lights.size()) + " lights)");
-        return light;
-    }
-    for (std::size_t l = 0; l < scene.lights.size(); ++l)
-        if (scene.lights[l].type == Light::Type::point) return static_cast<int>(l);
-    throw Error(
-        "parameter 'frustum_shadow': the scene has no point light (shadow frusta need one)");
-}
-
 void write_tile(Image& tiles, int tx, int ty, const TileCulling& c) {
     float* t = &tiles.data[tiles.index(tx, ty)];
     t[0] = static_cast<float>(c.nodes_kept);
@@ -55,6 +39,21 @@ struct FrustumTotals {
 };
 
 }  // namespace
+int shadow_light(const Scene& scene, int light, const std::string& light_option,
+                 const std::string& shadow_option) {
+    if (light >= 0) {
+        if (light >= static_cast<int>(scene.lights.size()) ||
+            scene.lights[static_cast<std::size_t>(light)].type != Light::Type::point)
+            throw Error(light_option + ": light " + std::to_string(light) +
+                        " is not a point light of the scene (it has " +
+                        std::to_string(scene.lights.size()) + " lights)");
+        return light;
+    }
+    for (std::size_t l = 0; l < scene.lights.size(); ++l)
+        if (scene.lights[l].type == Light::Type::point) return static_cast<int>(l);
+    throw Error(shadow_option + ": the scene has no point light (shadow frusta need one)");
+}
+
 bool shadow_ray_of(const Scene& scene, const Hit& hit, glm::vec3 eye, glm::vec3 light, Ray& ray) {
     const SurfacePoint s = surface_at(scene, hit.primitive, hit.u, hit.v);
     const bool front = glm::dot(s.geometric_normal, eye - s.position) >= 0.0f;
@@ -122,7 +121,10 @@ void frustum_cull_stage(FrameContext& ctx) {
               tiles_y = (region.height + size - 1) / size;
     Image tiles(tiles_x, tiles_y, 6, 0.0f), shadow_tiles;
     Image lost(region.width, region.height, 1, 0.0f), shadow_lost;
-    const int light = s.settings.shadow ? shadow_light(*ctx.scene, s.settings.light) : -1;
+    const int light = s.settings.shadow
+                          ? shadow_light(*ctx.scene, s.settings.light, "parameter 'frustum_light'",
+                                         "parameter 'frustum_shadow'")
+                          : -1;
     if (light >= 0) {
         shadow_tiles = Image(tiles_x, tiles_y, 6, 0.0f);
         shadow_lost = Image(region.width, region.height, 1, 0.0f);

@@ -50,6 +50,12 @@ struct FrustumRegion {
     std::function<bool(glm::vec2 centre)> traced;
 };
 
+/// The point light whose shadow rays are culled: light `light` (it must be a point light), or
+/// with -1 the scene's first point light. Throws fovref::Error naming `light_option` or, without
+/// a point light, `shadow_option`.
+int shadow_light(const Scene& scene, int light, const std::string& light_option,
+                 const std::string& shadow_option);
+
 /// The shadow ray of primary hit `hit` (seen from `eye`) towards point light `light`, as
 /// shade_direct casts it: origin offset along the geometric normal turned to the viewer by
 /// shadow_epsilon_scale x the scene's scale, towards the light, t in [0, shadow_t_max]. False

@@ -82,7 +82,7 @@ for prefix, total in (("", m["nodes"]), ("shadow_", m["shadow"]["nodes"])):
 PYEOF
 expect 2 "rays cull --test" -- "$FOVREF" rays cull cornell "$TMP/rc2" --test hunt
 expect 2 "rays cull --shadow without a point light" -- "$FOVREF" rays cull cornell "$TMP/rc3" --shadow
-contains "needs a point light" "names what is missing"
+contains "rays cull: --shadow: the scene has no point light" "names the option and what is missing"
 checks=$((checks + 1))
 [ ! -e "$TMP/rc3" ] || { echo "FAIL: rays cull left $TMP/rc3 behind"; failures=$((failures + 1)); }
 finish

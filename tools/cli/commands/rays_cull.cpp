@@ -64,19 +64,6 @@ void add_tree(Trees& t, int tx, int ty, int x0, int y0, int x1, int y1,
     ++t.tiles_written;
 }
 
-int point_light_of(const Scene& scene, int light) {
-    if (light >= 0) {
-        if (light >= static_cast<int>(scene.lights.size()) ||
-            scene.lights[static_cast<std::size_t>(light)].type != Light::Type::point)
-            throw Error("rays cull: --light " + std::to_string(light) +
-                        " is not a point light of the scene");
-        return light;
-    }
-    for (std::size_t l = 0; l < scene.lights.size(); ++l)
-        if (scene.lights[l].type == Light::Type::point) return static_cast<int>(l);
-    throw Error("rays cull: --shadow needs a point light; the scene has none");
-}
-
 }  // namespace
 
 void add_rays_cull_options(CLI::App& c, RaysCullOptions& o) {
@@ -114,7 +101,8 @@ int run_rays_cull(const RaysCullOptions& o) {
     if (o.light >= 0 && !o.shadow) throw Error("rays cull: --light applies with --shadow");
     OutputDirectory out("OUT_DIR", o.out_dir);
     const Scene scene = load_cli_scene(o.scene);
-    const int light = o.shadow ? point_light_of(scene, o.light) : -1;
+    const int light =
+        o.shadow ? shadow_light(scene, o.light, "rays cull: --light", "rays cull: --shadow") : -1;
     Progress progress("rays cull", o.quiet);
     const Bvh bvh = build_bvh(scene.positions);
     const Camera camera = camera_at(scene, o.time);
