@@ -32,13 +32,87 @@ void write_tile(Image& tiles, int tx, int ty, const TileCulling& c) {
 const std::vector<std::string> tile_channels = {"nodes_kept", "leaves_kept", "triangles_kept",
                                                 "entry",      "entry_depth", "nodes_tested"};
 
-// What the stage counts over a frame.
-struct FrustumTotals {
+// What the stage writes and counts over a frame.
+struct FrustumFrame {
+    Image tiles, lost, shadow_tiles, shadow_lost;
     std::int64_t tested = 0, kept = 0, triangles = 0, hits_lost = 0;
-    std::int64_t shadow_rays = 0, shadow_unculled = 0, shadow_kept = 0, shadow_lost = 0;
+    std::int64_t shadow_rays = 0, shadow_unculled = 0, shadow_kept = 0, shadow_lost_count = 0;
 };
 
+// A shadow ray and the pixel (of the region) it belongs to.
+struct ShadowRay {
+    Ray ray;
+    glm::ivec2 pixel;
+};
+
+// Tile (tx, ty) of the region: its culled tree, every traced pixel-centre primary ray through it
+// against the whole BVH, and (light >= 0) the shadow rays of the tile's hits collected.
+void cull_primary_tile(const FrameContext& ctx, const Bvh& bvh, const FrustumSettings& settings,
+                       const FrustumRegion& region, int tx, int ty, int light, FrustumFrame& out,
+                       std::vector<ShadowRay>& shadows) {
+    const int width = ctx.settings->width, height = ctx.settings->height, size = settings.tile_size;
+    // the tile in the region's pixels, and on the screen
+    const int x0 = tx * size, y0 = ty * size;
+    const int x1 = std::min(x0 + size, region.width), y1 = std::min(y0 + size, region.height);
+    const TileFrustum f = tile_frustum(ctx.camera, width, height, region.x0 + x0, region.y0 + y0,
+                                       region.x0 + x1, region.y0 + y1);
+    const TileCulling c = cull_bvh(bvh, f, settings.options);
+    write_tile(out.tiles, tx, ty, c);
+    out.tested += c.nodes_tested;
+    out.kept += c.nodes_kept;
+    out.triangles += c.triangles_kept;
+    const float tan_half = tan_half_vfov(ctx.camera);
+    shadows.clear();
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            const glm::vec2 centre{static_cast<float>(region.x0 + x) + 0.5f,
+                                   static_cast<float>(region.y0 + y) + 0.5f};
+            if (region.traced && !region.traced(centre)) continue;
+            Ray ray;
+            ray.origin = ctx.camera.position;
+            ray.direction =
+                primary_ray_direction(ctx.camera, tan_half, width, height, centre.x, centre.y);
+            TraceStats stats;
+            const Hit whole = trace_closest(bvh, ray, stats);
+            if (!(trace_culled(bvh, c, ray) == whole)) {
+                out.lost.at(x, y) = 1.0f;
+                ++out.hits_lost;
+            }
+            ShadowRay shadow{{}, {x, y}};
+            if (light >= 0 && whole.hit() &&
+                shadow_ray_of(*ctx.scene, whole, ctx.camera.position,
+                              ctx.scene->lights[static_cast<std::size_t>(light)].position,
+                              shadow.ray))
+                shadows.push_back(shadow);
+        }
+}
+
+// Tile (tx, ty)'s shadow rays through the culled tree of their frustum (apex the light), against
+// trace_any over the whole BVH. No shadow ray: no frustum.
+void cull_shadow_tile(const Bvh& bvh, const CullOptions& options, glm::vec3 light, int tx, int ty,
+                      const std::vector<ShadowRay>& shadows, FrustumFrame& out) {
+    if (shadows.empty()) return;
+    std::vector<glm::vec3> origins;
+    for (const ShadowRay& s : shadows) origins.push_back(s.ray.origin);
+    TileFrustum f;
+    const bool culled = shadow_frustum(light, origins, f);
+    const TileCulling c = culled ? cull_bvh(bvh, f, options) : keep_everything(bvh);
+    write_tile(out.shadow_tiles, tx, ty, c);
+    out.shadow_unculled += culled ? 0 : 1;
+    out.shadow_kept += c.nodes_kept;
+    for (const ShadowRay& s : shadows) {
+        TraceStats stats;
+        const bool whole = trace_any(bvh, s.ray, stats);
+        ++out.shadow_rays;
+        if (trace_culled(bvh, c, s.ray).hit() != whole) {
+            out.shadow_lost.at(s.pixel.x, s.pixel.y) = 1.0f;
+            ++out.shadow_lost_count;
+        }
+    }
+}
+
 }  // namespace
+
 int shadow_light(const Scene& scene, int light, const std::string& light_option,
                  const std::string& shadow_option) {
     if (light >= 0) {
@@ -114,113 +188,57 @@ void frustum_cull_stage(FrameContext& ctx) {
     const FrustumState& s = ctx.state<FrustumState>();
     Counters& counters = ctx.result->counters;
     const Bvh& bvh = s.bvh->get(*ctx.scene, counters);
-    const int width = ctx.settings->width, height = ctx.settings->height,
-              size = s.settings.tile_size;
-    const FrustumRegion region = s.region ? s.region(ctx) : FrustumRegion{0, 0, width, height, {}};
+    const int size = s.settings.tile_size;
+    const FrustumRegion region =
+        s.region ? s.region(ctx)
+                 : FrustumRegion{0, 0, ctx.settings->width, ctx.settings->height, {}};
     const int tiles_x = (region.width + size - 1) / size,
               tiles_y = (region.height + size - 1) / size;
-    Image tiles(tiles_x, tiles_y, 6, 0.0f), shadow_tiles;
-    Image lost(region.width, region.height, 1, 0.0f), shadow_lost;
     const int light = s.settings.shadow
                           ? shadow_light(*ctx.scene, s.settings.light, "parameter 'frustum_light'",
                                          "parameter 'frustum_shadow'")
                           : -1;
+    FrustumFrame out;
+    out.tiles = Image(tiles_x, tiles_y, 6, 0.0f);
+    out.lost = Image(region.width, region.height, 1, 0.0f);
     if (light >= 0) {
-        shadow_tiles = Image(tiles_x, tiles_y, 6, 0.0f);
-        shadow_lost = Image(region.width, region.height, 1, 0.0f);
+        out.shadow_tiles = Image(tiles_x, tiles_y, 6, 0.0f);
+        out.shadow_lost = Image(region.width, region.height, 1, 0.0f);
     }
-    const float tan_half = tan_half_vfov(ctx.camera);
-    FrustumTotals total;
-    std::vector<Ray> shadow_rays;
-    std::vector<glm::vec3> shadow_origins;
-    std::vector<glm::ivec2> shadow_pixels;
+    std::vector<ShadowRay> shadows;
     for (int ty = 0; ty < tiles_y; ++ty) {
         for (int tx = 0; tx < tiles_x; ++tx) {
-            // the tile in the region's pixels, and on the screen
-            const int x0 = tx * size, y0 = ty * size;
-            const int x1 = std::min(x0 + size, region.width),
-                      y1 = std::min(y0 + size, region.height);
-            const TileFrustum f = tile_frustum(ctx.camera, width, height, region.x0 + x0,
-                                               region.y0 + y0, region.x0 + x1, region.y0 + y1);
-            const TileCulling c = cull_bvh(bvh, f, s.settings.options);
-            write_tile(tiles, tx, ty, c);
-            total.tested += c.nodes_tested;
-            total.kept += c.nodes_kept;
-            total.triangles += c.triangles_kept;
-            shadow_rays.clear();
-            shadow_origins.clear();
-            shadow_pixels.clear();
-            // The check: every traced pixel-centre primary ray of the tile, culled against whole
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x) {
-                    const glm::vec2 centre{static_cast<float>(region.x0 + x) + 0.5f,
-                                           static_cast<float>(region.y0 + y) + 0.5f};
-                    if (region.traced && !region.traced(centre)) continue;
-                    Ray ray;
-                    ray.origin = ctx.camera.position;
-                    ray.direction = primary_ray_direction(ctx.camera, tan_half, width, height,
-                                                          centre.x, centre.y);
-                    TraceStats stats;
-                    const Hit whole = trace_closest(bvh, ray, stats);
-                    if (!(trace_culled(bvh, c, ray) == whole)) {
-                        lost.at(x, y) = 1.0f;
-                        ++total.hits_lost;
-                    }
-                    Ray shadow;
-                    if (light >= 0 && whole.hit() &&
-                        shadow_ray_of(*ctx.scene, whole, ctx.camera.position,
-                                      ctx.scene->lights[static_cast<std::size_t>(light)].position,
-                                      shadow)) {
-                        shadow_rays.push_back(shadow);
-                        shadow_origins.push_back(shadow.origin);
-                        shadow_pixels.push_back({x, y});
-                    }
-                }
-            if (light < 0 || shadow_rays.empty()) continue;  // no shadow ray: no frustum
-            // The tile's shadow rays through the culled tree of their frustum (apex the light)
-            TileFrustum sf;
-            const bool culled = shadow_frustum(
-                ctx.scene->lights[static_cast<std::size_t>(light)].position, shadow_origins, sf);
-            const TileCulling sc =
-                culled ? cull_bvh(bvh, sf, s.settings.options) : keep_everything(bvh);
-            write_tile(shadow_tiles, tx, ty, sc);
-            total.shadow_unculled += culled ? 0 : 1;
-            total.shadow_kept += sc.nodes_kept;
-            for (std::size_t k = 0; k < shadow_rays.size(); ++k) {
-                TraceStats stats;
-                const bool whole = trace_any(bvh, shadow_rays[k], stats);
-                ++total.shadow_rays;
-                if (trace_culled(bvh, sc, shadow_rays[k]).hit() != whole) {
-                    shadow_lost.at(shadow_pixels[k].x, shadow_pixels[k].y) = 1.0f;
-                    ++total.shadow_lost;
-                }
-            }
+            cull_primary_tile(ctx, bvh, s.settings, region, tx, ty, light, out, shadows);
+            if (light >= 0)
+                cull_shadow_tile(bvh, s.settings.options,
+                                 ctx.scene->lights[static_cast<std::size_t>(light)].position, tx,
+                                 ty, shadows, out);
         }
         ctx.report(static_cast<double>(ty + 1) / tiles_y);
     }
     const std::string& p = s.prefix;
     counters.add(p + "tiles", static_cast<std::int64_t>(tiles_x) * tiles_y);
-    counters.add(p + "nodes_tested", total.tested);
-    counters.add(p + "nodes_kept", total.kept);
-    counters.add(p + "triangles_kept", total.triangles);
-    counters.add(p + "hits_lost", total.hits_lost);
+    counters.add(p + "nodes_tested", out.tested);
+    counters.add(p + "nodes_kept", out.kept);
+    counters.add(p + "triangles_kept", out.triangles);
+    counters.add(p + "hits_lost", out.hits_lost);
     ctx.note = std::to_string(tiles_x) + "x" + std::to_string(tiles_y) + " tiles of " +
                std::to_string(size) + " px, " + (s.settings.options.exact ? "exact" : "Lund's") +
-               " test: " + std::to_string(total.kept) + " nodes kept in all, " +
-               std::to_string(total.hits_lost) + " primary hits lost";
-    ctx.output("tiles", BufferKind::scalar, tile_channels, std::move(tiles));
-    ctx.output("hit_lost", BufferKind::id, {"lost"}, std::move(lost));
+               " test: " + std::to_string(out.kept) + " nodes kept in all, " +
+               std::to_string(out.hits_lost) + " primary hits lost";
+    ctx.output("tiles", BufferKind::scalar, tile_channels, std::move(out.tiles));
+    ctx.output("hit_lost", BufferKind::id, {"lost"}, std::move(out.lost));
     if (light < 0) return;
-    counters.add(p + "shadow_rays", total.shadow_rays);
-    counters.add(p + "shadow_tiles_unculled", total.shadow_unculled);
-    counters.add(p + "shadow_nodes_kept", total.shadow_kept);
-    counters.add(p + "shadow_lost", total.shadow_lost);
+    counters.add(p + "shadow_rays", out.shadow_rays);
+    counters.add(p + "shadow_tiles_unculled", out.shadow_unculled);
+    counters.add(p + "shadow_nodes_kept", out.shadow_kept);
+    counters.add(p + "shadow_lost", out.shadow_lost_count);
     ctx.note += "; light " + std::to_string(light) +
-                "'s shadow frusta: " + std::to_string(total.shadow_kept) + " nodes kept, " +
-                std::to_string(total.shadow_rays) + " shadow rays, " +
-                std::to_string(total.shadow_lost) + " occlusions lost";
-    ctx.output("shadow_tiles", BufferKind::scalar, tile_channels, std::move(shadow_tiles));
-    ctx.output("shadow_lost", BufferKind::id, {"lost"}, std::move(shadow_lost));
+                "'s shadow frusta: " + std::to_string(out.shadow_kept) + " nodes kept, " +
+                std::to_string(out.shadow_rays) + " shadow rays, " +
+                std::to_string(out.shadow_lost_count) + " occlusions lost";
+    ctx.output("shadow_tiles", BufferKind::scalar, tile_channels, std::move(out.shadow_tiles));
+    ctx.output("shadow_lost", BufferKind::id, {"lost"}, std::move(out.shadow_lost));
 }
 
 StageDef frustum_cull_stage_def(const FrustumSettings& settings, std::shared_ptr<BvhCache> bvh,
