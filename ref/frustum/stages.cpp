@@ -1,6 +1,7 @@
 #include "ref/frustum/stages.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <utility>
 
 #include "ref/core/error.h"
@@ -36,8 +37,19 @@ const std::vector<std::string> tile_channels = {"nodes_kept", "leaves_kept", "tr
 struct FrustumFrame {
     Image tiles, lost, shadow_tiles, shadow_lost;
     std::int64_t tested = 0, kept = 0, triangles = 0, hits_lost = 0;
+    TraceStats culled, whole;  ///< the checked rays through the culled trees / the whole BVH2
+    TileCulling all;           ///< the whole BVH2 (keep_everything)
     std::int64_t shadow_rays = 0, shadow_unculled = 0, shadow_kept = 0, shadow_lost_count = 0;
 };
+
+std::string visits_per_ray(const TraceStats& stats) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f",
+                  stats.rays > 0
+                      ? static_cast<double>(stats.nodes_visited) / static_cast<double>(stats.rays)
+                      : 0.0);
+    return text;
+}
 
 // A shadow ray and the pixel (of the region) it belongs to.
 struct ShadowRay {
@@ -74,7 +86,8 @@ void cull_primary_tile(const FrameContext& ctx, const Bvh& bvh, const FrustumSet
                 primary_ray_direction(ctx.camera, tan_half, width, height, centre.x, centre.y);
             TraceStats stats;
             const Hit whole = trace_closest(bvh, ray, stats);
-            if (!(trace_culled(bvh, c, ray) == whole)) {
+            (void)trace_culled(bvh, out.all, ray, &out.whole);
+            if (!(trace_culled(bvh, c, ray, &out.culled) == whole)) {
                 out.lost.at(x, y) = 1.0f;
                 ++out.hits_lost;
             }
@@ -199,6 +212,7 @@ void frustum_cull_stage(FrameContext& ctx) {
                                          "parameter 'frustum_shadow'")
                           : -1;
     FrustumFrame out;
+    out.all = keep_everything(bvh);
     out.tiles = Image(tiles_x, tiles_y, 6, 0.0f);
     out.lost = Image(region.width, region.height, 1, 0.0f);
     if (light >= 0) {
@@ -222,10 +236,14 @@ void frustum_cull_stage(FrameContext& ctx) {
     counters.add(p + "nodes_kept", out.kept);
     counters.add(p + "triangles_kept", out.triangles);
     counters.add(p + "hits_lost", out.hits_lost);
+    counters.add(p + "rays", out.culled.rays);
+    counters.add(p + "visits_culled", out.culled.nodes_visited);
+    counters.add(p + "visits_unculled", out.whole.nodes_visited);
     ctx.note = std::to_string(tiles_x) + "x" + std::to_string(tiles_y) + " tiles of " +
                std::to_string(size) + " px, " + (s.settings.options.exact ? "exact" : "Lund's") +
                " test: " + std::to_string(out.kept) + " nodes kept in all, " +
-               std::to_string(out.hits_lost) + " primary hits lost";
+               std::to_string(out.hits_lost) + " primary hits lost, BVH2 nodes visited per ray " +
+               visits_per_ray(out.whole) + " unculled, " + visits_per_ray(out.culled) + " culled";
     ctx.output("tiles", BufferKind::scalar, tile_channels, std::move(out.tiles));
     ctx.output("hit_lost", BufferKind::id, {"lost"}, std::move(out.lost));
     if (light < 0) return;

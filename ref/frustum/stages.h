@@ -19,7 +19,10 @@
 // corner.
 //
 // Counters (with the stage's prefix): <prefix>tiles, <prefix>nodes_tested, <prefix>nodes_kept,
-// <prefix>triangles_kept, <prefix>hits_lost; with shadow frusta <prefix>shadow_rays,
+// <prefix>triangles_kept, <prefix>hits_lost, <prefix>rays (the checked primary rays),
+// <prefix>visits_culled and <prefix>visits_unculled (BVH2 nodes those rays visit through their
+// tiles' culled trees and through the whole BVH2, trace_culled); with shadow frusta
+// <prefix>shadow_rays,
 // <prefix>shadow_tiles_unculled, <prefix>shadow_nodes_kept, <prefix>shadow_lost.
 #pragma once
 

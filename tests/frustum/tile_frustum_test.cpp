@@ -265,6 +265,10 @@ TEST_CASE(
         CHECK(tiles.channels == 6);
         CHECK(f.counters.get("frustum_tiles") == 8);
         CHECK(f.counters.get("frustum_hits_lost") == 0);
+        // the traversal with and without culling: every pixel's ray, fewer BVH2 visits culled
+        CHECK(f.counters.get("frustum_rays") == 100 * 60);
+        CHECK(f.counters.get("frustum_visits_culled") > 0);
+        CHECK(f.counters.get("frustum_visits_culled") < f.counters.get("frustum_visits_unculled"));
         for (const float lost : f.find("frustum_hit_lost")->image.data) REQUIRE(lost == 0.0f);
         const Image& a = f.find("final")->image;
         const Image& b = plain.find("final")->image;
