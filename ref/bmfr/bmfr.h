@@ -324,10 +324,17 @@ struct BmfrBlockMatrix {
 /// noise 0.01 2 (r - 0.5) added in float to features 1..9, r = hash(s) / 4294967295.0f (the
 /// params' noise_hash), s = pixel_in_block + feature 1024 + frame 13 1024 (`noise` false: none, for
 /// tests). Visual-Polar: rows without data (grid.source false, or `valid` 0) are zero rows, left
-/// out of the ranges and given no noise (a block without any data has ranges 0).
+/// out of the ranges and given no noise (a block without any data has ranges 0). `noise_table`
+/// (optional): bmfr_noise_table of the frame (the same values, computed once for every block).
 void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_x, int cell_y,
                        const Image& accumulated, const Image& world_position, const Image& normal,
-                       int frame, bool noise, BmfrBlockMatrix& out, const Image* valid = nullptr);
+                       int frame, bool noise, BmfrBlockMatrix& out, const Image* valid = nullptr,
+                       const std::vector<float>* noise_table = nullptr);
+
+/// The regularisation noise of every row (block_pixels of them) and feature 1..9 of frame
+/// `frame`: [row * 9 + feature - 1] = bmfr_regularisation_noise(amount, hash, row, feature,
+/// frame, block_pixels). The pattern is the same in every block, so the fit computes it once.
+std::vector<float> bmfr_noise_table(float amount, BmfrNoiseHash hash, int frame, int block_pixels);
 
 /// The work items of the authors' fitter kernel (their LOCAL_SIZE), for bmfr_sums=workgroup.
 constexpr int bmfr_workgroup_size = 256;

@@ -19,8 +19,15 @@ float clamp_feature(float v) {
     return std::clamp(v, -half_max, half_max);
 }
 
-float store(BmfrStorage storage, float v) {
-    return storage == BmfrStorage::half ? round_to_half(v) : v;
+// A gathered row's columns First .. 15 in the storage precision: round_to_half_span (by F16C
+// where the CPU has it; the same bits), nothing for binary32 storage.
+template <int First>
+void store_row(BmfrStorage storage, float* a) {
+    if (storage != BmfrStorage::half) return;
+#ifdef FOVREF_HALF_F16C
+    if (cpu_has_f16c() && round_to_half_span_f16c<First>(a)) return;
+#endif
+    round_to_half_span<First>(a);
 }
 
 glm::vec3 load3(const Image& image, int x, int y) {
@@ -46,18 +53,30 @@ void binary64_dots(const float* a, int rows, int col, int c, float uc, float* do
     for (int j = col + 1; j < bmfr_column_count; ++j) dot[j] = static_cast<float>(d[j]);
 }
 
+// One row's update a_ij -= ((2 u_i) d_j) / |u|^2 (u2 = 2 u_i), j = J0 .. 15, as the authors,
+// through a local array, so that the row cannot alias d and the loop vectorises (each lane does
+// one element's operations, in the same order).
+template <int J0>
+inline void update_row(float* row, float u2, const float* d, float u_length_squared) {
+    float updated[bmfr_matrix_stride];
+    for (int j = J0; j < bmfr_matrix_stride; ++j)
+        updated[j] = row[j] - (u2 * d[j]) / u_length_squared;
+    std::copy(updated + J0, updated + bmfr_matrix_stride, row + J0);
+}
+
 // The Householder reflection of columns J0 .. 15 over the rows c .. rows - 1 with the dot
 // products `dot` (0 outside col + 1 .. 12, which leaves those columns unchanged: storing a stored
-// value again changes nothing): a_ij -= ((2 u_i) d_j) / |u|^2 as the authors, rounded to the
-// storage precision; the column col becomes 0 below row c.
+// value again changes nothing): update_row, each updated value rounded to the storage
+// precision; the column col becomes 0 below row c.
 template <int J0>
 void reflect_columns(float* a, int rows, int col, int c, float uc, float u_length_squared,
                      const float* dot, bool half) {
     constexpr int stride = bmfr_matrix_stride;
+    float d[stride];
+    std::copy(dot, dot + stride, d);
     for (int i = c; i < rows; ++i) {
         float* row = &a[i * stride];
-        const float u2 = 2.0f * (i == c ? uc : row[col]);
-        for (int j = J0; j < stride; ++j) row[j] = row[j] - (u2 * dot[j]) / u_length_squared;
+        update_row<J0>(row, 2.0f * (i == c ? uc : row[col]), d, u_length_squared);
         if (half) round_to_half_span<J0>(row);
         if (i > c) row[col] = 0.0f;
     }
@@ -87,6 +106,39 @@ float block_dot(BmfrSums sums, int first, int rows, Factors factors) {
         partial[t] = p;
     }
     return bmfr_workgroup_sum(partial);
+}
+
+#ifdef FOVREF_HALF_F16C
+// reflect_columns with binary16 storage on a CPU with F16C: the same operations in the same
+// order (the target only adds instructions; -ffp-contract=off still holds), each row rounded by
+// round_to_half_span_f16c (round_to_half_span where a lane is NaN): the same bits.
+template <int J0>
+__attribute__((target("f16c"))) void reflect_columns_f16c(float* a, int rows, int col, int c,
+                                                          float uc, float u_length_squared,
+                                                          const float* dot) {
+    constexpr int stride = bmfr_matrix_stride;
+    float d[stride];
+    std::copy(dot, dot + stride, d);
+    for (int i = c; i < rows; ++i) {
+        float* row = &a[i * stride];
+        update_row<J0>(row, 2.0f * (i == c ? uc : row[col]), d, u_length_squared);
+        if (!round_to_half_span_f16c<J0>(row)) round_to_half_span<J0>(row);
+        if (i > c) row[col] = 0.0f;
+    }
+}
+#endif
+
+// One reflection (columns J0 .. 15), by the F16C variant where it applies.
+template <int J0>
+void reflect(float* a, int rows, int col, int c, float uc, float u_length_squared, const float* dot,
+             bool half) {
+#ifdef FOVREF_HALF_F16C
+    if (half && cpu_has_f16c()) {
+        reflect_columns_f16c<J0>(a, rows, col, c, uc, u_length_squared, dot);
+        return;
+    }
+#endif
+    reflect_columns<J0>(a, rows, col, c, uc, u_length_squared, dot, half);
 }
 
 }  // namespace
@@ -191,9 +243,19 @@ void bmfr_features(glm::vec3 n, glm::vec3 w, float t[bmfr_feature_count]) {
     t[9] = clamp_feature(w.z * w.z);
 }
 
+std::vector<float> bmfr_noise_table(float amount, BmfrNoiseHash hash, int frame, int block_pixels) {
+    std::vector<float> table(static_cast<std::size_t>(block_pixels) * (bmfr_feature_count - 1));
+    for (int row = 0; row < block_pixels; ++row)
+        for (int f = 1; f < bmfr_feature_count; ++f)
+            table[static_cast<std::size_t>(row) * (bmfr_feature_count - 1) + f - 1] =
+                bmfr_regularisation_noise(amount, hash, row, f, frame, block_pixels);
+    return table;
+}
+
 void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_x, int cell_y,
                        const Image& accumulated, const Image& world_position, const Image& normal,
-                       int frame, bool noise, BmfrBlockMatrix& out, const Image* valid) {
+                       int frame, bool noise, BmfrBlockMatrix& out, const Image* valid,
+                       const std::vector<float>* noise_table) {
     float lo[bmfr_scaled_count], hi[bmfr_scaled_count];
     std::fill(lo, lo + bmfr_scaled_count, half_max);
     std::fill(hi, hi + bmfr_scaled_count, -half_max);
@@ -222,7 +284,7 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
         a[10] = clamp_feature(c.x);
         a[11] = clamp_feature(c.y);
         a[12] = clamp_feature(c.z);
-        for (int col = 0; col < bmfr_column_count; ++col) a[col] = store(params.storage, a[col]);
+        store_row<0>(params.storage, a);  // columns 13 .. 15 are 0 and stay 0
         for (int k = 0; k < bmfr_scaled_count; ++k) {
             lo[k] = std::min(lo[k], a[bmfr_scaled_first + k]);
             hi[k] = std::max(hi[k], a[bmfr_scaled_first + k]);
@@ -237,16 +299,25 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
     // Scale features 4..9 (stored again), then add the regularisation noise to features 1..9 in
     // float: the authors add it as the first Householder column reads the values, whose
     // reflection then stores them
+    const std::vector<float> own_table =
+        noise && !noise_table
+            ? bmfr_noise_table(params.noise_amount, params.noise_hash, frame, rows)
+            : std::vector<float>();
+    const std::vector<float>& table = noise_table ? *noise_table : own_table;
+    FOVREF_CHECK(
+        !noise || table.size() == static_cast<std::size_t>(rows) * (bmfr_feature_count - 1),
+        "bmfr_gather_block: the noise table is not the block's");
     for (int row = 0; row < rows; ++row) {
         if (!data[row]) continue;
         float* a = &out.a[static_cast<std::size_t>(row) * bmfr_matrix_stride];
         for (int k = 0; k < bmfr_scaled_count; ++k)
-            a[bmfr_scaled_first + k] =
-                store(params.storage, bmfr_scale_feature(a[bmfr_scaled_first + k], lo[k], hi[k]));
-        if (noise)
-            for (int f = 1; f < bmfr_feature_count; ++f)
-                a[f] = a[f] + bmfr_regularisation_noise(params.noise_amount, params.noise_hash, row,
-                                                        f, frame, rows);
+            a[bmfr_scaled_first + k] = bmfr_scale_feature(a[bmfr_scaled_first + k], lo[k], hi[k]);
+        // stored again (columns 10 .. 15 are stored values already: rounding keeps them)
+        store_row<bmfr_scaled_first>(params.storage, a);
+        if (noise) {
+            const float* n = &table[static_cast<std::size_t>(row) * (bmfr_feature_count - 1)];
+            for (int f = 1; f < bmfr_feature_count; ++f) a[f] = a[f] + n[f - 1];
+        }
     }
 }
 
@@ -309,10 +380,10 @@ BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
                 });
         }
         switch (j0) {
-            case 0: reflect_columns<0>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
-            case 4: reflect_columns<4>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
-            case 8: reflect_columns<8>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
-            default: reflect_columns<12>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
+            case 0: reflect<0>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
+            case 4: reflect<4>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
+            case 8: reflect<8>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
+            default: reflect<12>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
         }
         // The diagonal stays in float (the authors keep R in local float memory)
         a[c * stride + col] = r;
@@ -350,11 +421,13 @@ BmfrFit bmfr_fit(const BmfrParams& params, const Image& accumulated, const Image
     out.weights = Image(g.cells_x, g.cells_y, bmfr_weight_count);
     out.feature_range = Image(g.cells_x, g.cells_y, 2 * bmfr_scaled_count);
     BmfrBlockMatrix matrix;
+    const std::vector<float> noise =
+        bmfr_noise_table(params.noise_amount, params.noise_hash, frame, g.block * g.block);
     for (int cy = 0; cy < g.cells_y; ++cy)
         for (int cx = 0; cx < g.cells_x; ++cx) {
             if (cy >= g.cells_in_column(cx)) continue;  // above a Visual-Polar staircase step
             bmfr_gather_block(params, g, cx, cy, accumulated, world_position, normal, frame, true,
-                              matrix, space.valid);
+                              matrix, space.valid, &noise);
             const BmfrBlockFit fit = bmfr_solve_block(params, matrix);
             float* w = &out.weights.data[out.weights.index(cx, cy)];
             for (int ch = 0; ch < 3; ++ch)

@@ -48,6 +48,13 @@ std::uint16_t half_from_float(float f) {
     return static_cast<std::uint16_t>(sign | q);  // q = 0x400 is the smallest normal: correct
 }
 
+#ifdef FOVREF_HALF_F16C
+bool cpu_has_f16c() {
+    static const bool has = __builtin_cpu_supports("f16c") != 0;
+    return has;
+}
+#endif
+
 float float_from_half(std::uint16_t h) {
     const std::uint32_t sign = static_cast<std::uint32_t>(h & 0x8000u) << 16;
     const std::uint32_t e = (h >> 10) & 0x1fu;

@@ -1,11 +1,18 @@
 // IEEE-754 binary16 ("half") in integer code (SPEC §9 item 5): BMFR stores its block matrix in
-// binary16, as the authors' OpenCL code does (vstore_half, round to nearest even). No compiler
-// extension or instruction set is used, so the bits are the same on every build.
+// binary16, as the authors' OpenCL code does (vstore_half, round to nearest even). The integer
+// code is the reference and runs everywhere; on x86 CPUs with F16C the fit's row rounding takes
+// the conversion instructions instead (round_to_half_span_f16c), which give the same bits
+// (tests/bmfr/half_test.cpp compares them).
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define FOVREF_HALF_F16C 1
+#endif
 
 namespace fovref {
 
@@ -74,5 +81,36 @@ inline void round_to_half_span(float* v) {
 
 /// round_to_half of 16 consecutive floats in place.
 inline void round_to_half_16(float* v) { round_to_half_span<0>(v); }
+
+#ifdef FOVREF_HALF_F16C
+/// Whether this CPU converts with F16C (the x86 float <-> binary16 instructions).
+bool cpu_has_f16c();
+
+/// round_to_half_span<First> with F16C, the same bits: each lane clamped to [-65504, 65504]
+/// (min and max), converted to binary16 by vcvtps2ph with round to nearest even from the
+/// instruction (not MXCSR) and back by vcvtph2ps, exact IEEE conversions as round_to_half's.
+/// NaN is the one input whose bits the instructions change (a quieted, shortened payload):
+/// when a lane is NaN nothing is written and it returns false (the caller then takes
+/// round_to_half_span). Call only when cpu_has_f16c(); First a multiple of 4.
+template <int First>
+__attribute__((target("f16c"))) inline bool round_to_half_span_f16c(float* v) {
+    static_assert(First % 4 == 0 && First < 16, "whole groups of 4 lanes");
+    constexpr int groups = (16 - First) / 4;
+    __m128 x[groups];
+    __m128 nan = _mm_setzero_ps();
+    for (int k = 0; k < groups; ++k) {
+        x[k] = _mm_loadu_ps(v + First + 4 * k);
+        nan = _mm_or_ps(nan, _mm_cmpunord_ps(x[k], x[k]));
+    }
+    if (_mm_movemask_ps(nan) != 0) return false;
+    const __m128 hi = _mm_set1_ps(half_max), lo = _mm_set1_ps(-half_max);
+    for (int k = 0; k < groups; ++k) {
+        const __m128 clamped = _mm_min_ps(_mm_max_ps(x[k], lo), hi);
+        _mm_storeu_ps(v + First + 4 * k,
+                      _mm_cvtph_ps(_mm_cvtps_ph(clamped, _MM_FROUND_TO_NEAREST_INT)));
+    }
+    return true;
+}
+#endif
 
 }  // namespace fovref

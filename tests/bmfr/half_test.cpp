@@ -132,3 +132,68 @@ TEST_CASE("half_from_float equals the compiler's _Float16 conversion") {
     }
 }
 #endif
+
+#ifdef FOVREF_HALF_F16C
+TEST_CASE(
+    "round_to_half_span_f16c (the F16C path of the fit's rows) gives round_to_half_span's bits "
+    "on 4 M random bit patterns and on every special range, and refuses NaN") {
+    if (!cpu_has_f16c()) {
+        MESSAGE("this CPU has no F16C: the scalar path is the only one (nothing to compare)");
+        return;
+    }
+    std::int64_t compared = 0;
+    const auto compare = [&](const float* values) {
+        float a[16], b[16];
+        std::memcpy(a, values, sizeof a);
+        std::memcpy(b, values, sizeof b);
+        round_to_half_span<0>(a);
+        if (!round_to_half_span_f16c<0>(b)) {
+            // a NaN lane: nothing written, the scalar path decides
+            bool nan = false;
+            for (int k = 0; k < 16; ++k) nan = nan || std::isnan(values[k]);
+            REQUIRE(nan);
+            REQUIRE(std::memcmp(b, values, sizeof b) == 0);
+            return;
+        }
+        REQUIRE(std::memcmp(a, b, sizeof a) == 0);
+        compared += 16;
+    };
+    float v[16];
+    // random bit patterns (every exponent, both signs; NaNs among them)
+    for (std::uint32_t i = 0; i < 250000; ++i) {
+        for (int k = 0; k < 16; ++k) {
+            const std::uint32_t bits = pcg_hash(i * 16u + static_cast<std::uint32_t>(k) + 7u);
+            std::memcpy(&v[k], &bits, sizeof bits);
+        }
+        compare(v);
+    }
+    // the ranges where the two paths could part: subnormal halves, ties, the top of the range,
+    // beyond it, infinities, zeros
+    const float specials[] = {0.0f,       -0.0f,           0x1p-25f,        0x1.8p-25f, 0x1p-24f,
+                              0x1.8p-24f, 0x1p-15f,        0x1.ff8p-15f,    0x1p-14f,   65504.0f,
+                              65519.0f,   65520.0f,        65536.0f,        1e30f,      INFINITY,
+                              -INFINITY,  1.0f + 0x1p-11f, 1.0f + 0x3p-11f, -2049.0f,   1e-40f};
+    for (std::size_t start = 0; start < sizeof specials / sizeof specials[0]; ++start) {
+        for (int k = 0; k < 16; ++k)
+            v[k] = specials[(start + static_cast<std::size_t>(k)) %
+                            (sizeof specials / sizeof specials[0])];
+        compare(v);
+    }
+    // the spans the fit uses (columns 4, 8, 12 .. 15) and a NaN in one of them
+    for (std::uint32_t i = 0; i < 10000; ++i) {
+        float a[16], b[16];
+        for (int k = 0; k < 16; ++k)
+            a[k] = b[k] = 200.0f * (rand_unit(5, i, static_cast<std::uint32_t>(k)) - 0.5f);
+        round_to_half_span<4>(a);
+        REQUIRE(round_to_half_span_f16c<4>(b));
+        REQUIRE(std::memcmp(a, b, sizeof a) == 0);
+        round_to_half_span<12>(a);
+        REQUIRE(round_to_half_span_f16c<12>(b));
+        REQUIRE(std::memcmp(a, b, sizeof a) == 0);
+    }
+    v[3] = NAN;
+    CHECK_FALSE(round_to_half_span_f16c<0>(v));
+    MESSAGE(compared << " values compared bit for bit");
+    CHECK(compared > 3000000);
+}
+#endif
