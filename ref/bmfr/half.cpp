@@ -2,6 +2,10 @@
 
 #include <cstring>
 
+#ifdef FOVREF_HALF_F16C
+#include <cpuid.h>
+#endif
+
 namespace fovref {
 
 namespace {
@@ -49,8 +53,25 @@ std::uint16_t half_from_float(float f) {
 }
 
 #ifdef FOVREF_HALF_F16C
+namespace {
+
+// CPUID leaf 1: F16C (ECX bit 29) and AVX (bit 28), whose VEX encoding F16C uses, with the
+// operating system saving the AVX state (OSXSAVE, bit 27, and XCR0 bits 1 and 2). By hand:
+// clang 14's __builtin_cpu_supports does not know "f16c".
+bool detect_f16c() {
+    unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+    if (!__get_cpuid(1, &eax, &ebx, &ecx, &edx)) return false;
+    const unsigned needed = (1u << 27) | (1u << 28) | (1u << 29);
+    if ((ecx & needed) != needed) return false;
+    unsigned xcr0_low = 0, xcr0_high = 0;
+    __asm__("xgetbv" : "=a"(xcr0_low), "=d"(xcr0_high) : "c"(0));
+    return (xcr0_low & 6u) == 6u;
+}
+
+}  // namespace
+
 bool cpu_has_f16c() {
-    static const bool has = __builtin_cpu_supports("f16c") != 0;
+    static const bool has = detect_f16c();
     return has;
 }
 #endif
