@@ -66,6 +66,9 @@ struct BmfrParams {
     bool project_behind_camera = false;
     BmfrNoiseHash noise_hash = BmfrNoiseHash::jenkins;  ///< its hash
     BmfrSums sums = BmfrSums::binary64;                 ///< the QR's sums (bmfr_sums)
+    /// binary16 storage: round the fit's rows with F16C where the CPU has it (false: always
+    /// the integer code of ref/bmfr/half.h; the same bits, which the tests compare)
+    bool f16c = true;
     /// The block edge (bmfr_block): 32, the authors' (their code supports no other), or 64,
     /// which P2 §6.1 found best in quality. A block has block^2 rows; the noise's seed strides
     /// by block^2 as the authors' BLOCK_EDGE_LENGTH * BLOCK_EDGE_LENGTH; the grid's offsets are

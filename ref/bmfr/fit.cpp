@@ -22,10 +22,10 @@ float clamp_feature(float v) {
 // A gathered row's columns First .. 15 in the storage precision: round_to_half_span (by F16C
 // where the CPU has it; the same bits), nothing for binary32 storage.
 template <int First>
-void store_row(BmfrStorage storage, float* a) {
-    if (storage != BmfrStorage::half) return;
+void store_row(const BmfrParams& params, float* a) {
+    if (params.storage != BmfrStorage::half) return;
 #ifdef FOVREF_HALF_F16C
-    if (cpu_has_f16c() && round_to_half_span_f16c<First>(a)) return;
+    if (params.f16c && cpu_has_f16c() && round_to_half_span_f16c<First>(a)) return;
 #endif
     round_to_half_span<First>(a);
 }
@@ -131,9 +131,10 @@ __attribute__((target("f16c"))) void reflect_columns_f16c(float* a, int rows, in
 // One reflection (columns J0 .. 15), by the F16C variant where it applies.
 template <int J0>
 void reflect(float* a, int rows, int col, int c, float uc, float u_length_squared, const float* dot,
-             bool half) {
+             bool half, bool f16c) {
+    (void)f16c;  // without the F16C path (not x86)
 #ifdef FOVREF_HALF_F16C
-    if (half && cpu_has_f16c()) {
+    if (half && f16c && cpu_has_f16c()) {
         reflect_columns_f16c<J0>(a, rows, col, c, uc, u_length_squared, dot);
         return;
     }
@@ -284,7 +285,8 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
         a[10] = clamp_feature(c.x);
         a[11] = clamp_feature(c.y);
         a[12] = clamp_feature(c.z);
-        store_row<0>(params.storage, a);  // columns 13 .. 15 are 0 and stay 0
+        a[13] = a[14] = a[15] = 0.0f;  // the padding (the matrix is reused between blocks)
+        store_row<0>(params, a);
         for (int k = 0; k < bmfr_scaled_count; ++k) {
             lo[k] = std::min(lo[k], a[bmfr_scaled_first + k]);
             hi[k] = std::max(hi[k], a[bmfr_scaled_first + k]);
@@ -313,7 +315,7 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
         for (int k = 0; k < bmfr_scaled_count; ++k)
             a[bmfr_scaled_first + k] = bmfr_scale_feature(a[bmfr_scaled_first + k], lo[k], hi[k]);
         // stored again (columns 10 .. 15 are stored values already: rounding keeps them)
-        store_row<bmfr_scaled_first>(params.storage, a);
+        store_row<bmfr_scaled_first>(params, a);
         if (noise) {
             const float* n = &table[static_cast<std::size_t>(row) * (bmfr_feature_count - 1)];
             for (int f = 1; f < bmfr_feature_count; ++f) a[f] = a[f] + n[f - 1];
@@ -380,10 +382,18 @@ BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
                 });
         }
         switch (j0) {
-            case 0: reflect<0>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
-            case 4: reflect<4>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
-            case 8: reflect<8>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
-            default: reflect<12>(a, m.rows, col, c, uc, u_length_squared, dot, half); break;
+            case 0:
+                reflect<0>(a, m.rows, col, c, uc, u_length_squared, dot, half, params.f16c);
+                break;
+            case 4:
+                reflect<4>(a, m.rows, col, c, uc, u_length_squared, dot, half, params.f16c);
+                break;
+            case 8:
+                reflect<8>(a, m.rows, col, c, uc, u_length_squared, dot, half, params.f16c);
+                break;
+            default:
+                reflect<12>(a, m.rows, col, c, uc, u_length_squared, dot, half, params.f16c);
+                break;
         }
         // The diagonal stays in float (the authors keep R in local float memory)
         a[c * stride + col] = r;

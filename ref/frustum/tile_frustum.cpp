@@ -65,14 +65,19 @@ bool shadow_frustum(glm::vec3 light, const std::vector<glm::vec3>& points, TileF
         if (std::fabs(v[k]) < std::fabs(v[axis])) axis = k;
     glm::dvec3 e(0.0);
     e[axis] = 1.0;
-    const glm::dvec3 r = glm::normalize(glm::cross(v, e));
-    const glm::dvec3 u = glm::cross(r, v);
+    // the basis as stored (binary32): the bounds are measured in it, so that the pyramid the
+    // tests see (these vectors) holds the points, not a pyramid of the unrounded basis
+    const glm::vec3 vf(v), rf(glm::normalize(glm::cross(v, e)));
+    const glm::vec3 uf(glm::cross(glm::dvec3(rf), v));
+    const glm::dmat3 basis{glm::dvec3(rf), glm::dvec3(uf), glm::dvec3(vf)};  // columns R, U, V
+    const glm::dmat3 to_basis = glm::inverse(basis);
     double a0 = INFINITY, a1 = -INFINITY, b0 = INFINITY, b1 = -INFINITY;
     for (const glm::vec3& p : points) {
         const glm::dvec3 d = glm::dvec3(p) - l;
-        const double depth = glm::dot(d, v);
-        if (!(depth > 0x1p-20 * std::sqrt(glm::dot(d, d)))) return false;
-        const double a = glm::dot(d, r) / depth, b = glm::dot(d, u) / depth;
+        // d = x R + y U + z V: z the depth, (a, b) = (x, y) / z on the plane at depth 1
+        const glm::dvec3 c = to_basis * d;
+        if (!(c.z > 0x1p-20 * std::sqrt(glm::dot(d, d)))) return false;
+        const double a = c.x / c.z, b = c.y / c.z;
         a0 = std::min(a0, a), a1 = std::max(a1, a), b0 = std::min(b0, b), b1 = std::max(b1, b);
     }
     const double margin_a = (a1 - a0) * 0x1p-16 + 0x1p-20, margin_b = (b1 - b0) * 0x1p-16 + 0x1p-20;
@@ -86,9 +91,9 @@ bool shadow_frustum(glm::vec3 light, const std::vector<glm::vec3>& points, TileF
     };
     f = TileFrustum{};
     f.origin = light;
-    f.view = glm::vec3(v);
-    f.right = glm::vec3(r);
-    f.up = glm::vec3(u);
+    f.view = vf;
+    f.right = rf;
+    f.up = uf;
     f.a0 = down(a0 - margin_a);
     f.a1 = up(a1 + margin_a);
     f.b0 = down(b0 - margin_b);
@@ -284,6 +289,8 @@ std::vector<BvhNode> culled_tree(const Bvh& bvh, const TileCulling& culling,
     BvhNode empty;
     empty.bounds_min = glm::vec3(std::numeric_limits<float>::infinity());
     empty.bounds_max = glm::vec3(-std::numeric_limits<float>::infinity());
+    empty.first = culled_tree_empty;
+    empty.count = 0;
     // (record index, BVH2 node) of the inner nodes whose children are still to be placed
     std::vector<std::pair<std::size_t, std::uint32_t>> queue;
     const auto place = [&](std::uint32_t n) {

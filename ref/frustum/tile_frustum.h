@@ -58,9 +58,10 @@ TileFrustum tile_frustum(const Camera& camera, int width, int height, int x0, in
 /// The shadow frustum of a tile towards a point light (docs/frustum.md "Shadow rays"): apex the
 /// light L; V = the mean of the unit directions (p - L) / |p - L| over `points` (the tile's
 /// shadow-ray origins; summed in binary64 in order, normalised, rounded); R = normalise(V x e)
-/// with e the coordinate axis least aligned with V (the lowest index on a tie), U = R x V; the
-/// bounds a0, a1 (b0, b1) the least and largest (p - L) . R / (p - L) . V ((p - L) . U / ...) in
-/// binary64, widened by 2^-16 of their extent plus 2^-20 and rounded outwards to binary32, so the
+/// with e the coordinate axis least aligned with V (the lowest index on a tie), U = R x V, each
+/// rounded to binary32 (the frustum's vectors); with p - L = x R + y U + z V in that rounded
+/// basis (solved in binary64), the bounds a0, a1 (b0, b1) are the least and largest x / z
+/// (y / z), widened by 2^-16 of their extent plus 2^-20 and rounded outwards to binary32, so the
 /// pyramid holds every point and thus every shadow segment from a point to L. False (no
 /// frustum: the tile is traced unculled) without points, or when a point is not in front of L
 /// along V by 2^-20 of its distance (a spread of 90 degrees or more).
@@ -112,11 +113,14 @@ Hit trace_culled(const Bvh& bvh, const TileCulling& culling, const Ray& ray,
 /// bridging leads to from it). A leaf keeps its BVH2 box and triangles (first, count: the BVH2's
 /// leaf order); an inner node has count 0 and its two children at [first] and [first + 1], in
 /// the BVH2's child order, each the kept child (with options.bridge, the node that bridging
-/// leads to from it) or, where that child was culled, an empty slot (box min +inf, max -inf,
-/// which every ray misses; first = count = 0). Children pairs are appended breadth first. Empty
-/// when nothing is kept. Without empty slots the record count is culling.nodes_kept.
+/// leads to from it) or, where that child was culled, an empty slot: count 0 and first =
+/// culled_tree_empty (a traversal skips it; its box is also empty, min +inf, max -inf).
+/// Children pairs are appended breadth first. Empty when nothing is kept. Without empty slots
+/// the record count is culling.nodes_kept.
 std::vector<BvhNode> culled_tree(const Bvh& bvh, const TileCulling& culling,
                                  const CullOptions& options);
+/// The `first` of an empty slot of culled_tree (no node: a culled child).
+inline constexpr std::uint32_t culled_tree_empty = 0xffffffffu;
 
 /// The culling that keeps the whole tree (every node, entry at the root): trace_culled over it
 /// traverses the BVH2 unculled, the baseline of `fovref bench frustum`.

@@ -87,7 +87,8 @@ void add_screen_stages(Pipeline& p, const LogPolarStage& lp, const TaaSettings& 
         p.add(post_aa_stage_def(chain[link], chain[link + 1], post_aa_geometry_of(lp.frames)));
 }
 
-Pipeline foveated_pipeline(const std::string& preset, const RenderSettings& settings) {
+Pipeline foveated_pipeline(const std::string& preset, const Scene* scene,
+                           const RenderSettings& settings) {
     LogPolarStage lp;
     lp.frames = std::make_shared<LogPolarFrames>();
     lp.frames->params = parse_foveated_params(settings.params, find_foveation_preset(preset));
@@ -101,6 +102,9 @@ Pipeline foveated_pipeline(const std::string& preset, const RenderSettings& sett
         throw Error(
             "parameter 'frustum': the log-polar modes cull the tiles of the gaze buffer, which "
             "needs gaze_angle > 0 (cfov, ckfov); for the screen's tiles use mode basic");
+    if (frustum.enabled && frustum.shadow && scene)  // the light checked before any work
+        shadow_light(*scene, frustum.light, "parameter 'frustum_light'",
+                     "parameter 'frustum_shadow'");
     Pipeline p;
     add_buffer_stages(p, lp, frustum);
     add_screen_stages(p, lp, taa);
@@ -260,8 +264,8 @@ ModeInfo foveated_mode(const std::string& preset_name, const std::string& what) 
     m.params = foveated_param_specs(preset);
     for (ParamSpec& spec : taa_param_specs()) m.params.push_back(std::move(spec));
     for (ParamSpec& spec : frustum_param_specs()) m.params.push_back(std::move(spec));
-    m.build = [preset_name](const Scene*, const RenderSettings& settings) {
-        return foveated_pipeline(preset_name, settings);
+    m.build = [preset_name](const Scene* scene, const RenderSettings& settings) {
+        return foveated_pipeline(preset_name, scene, settings);
     };
     m.explain = explain_foveated_taa;
     m.explains_texels = true;

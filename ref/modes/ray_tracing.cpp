@@ -31,7 +31,7 @@ void check_basic_taa(const BasicParams& params, const TaaSettings& taa) {
             "the screen: use clamp-screen");
 }
 
-Pipeline basic_pipeline(const Scene*, const RenderSettings& settings) {
+Pipeline basic_pipeline(const Scene* scene, const RenderSettings& settings) {
     const BasicParams params = parse_basic_params(settings.params);
     const TaaSettings taa = parse_taa_params(settings.params);
     check_basic_taa(params, taa);
@@ -45,6 +45,9 @@ Pipeline basic_pipeline(const Scene*, const RenderSettings& settings) {
     if (taa.enabled()) p.add(taa_stage_def(taa, {"shaded", "gbuffer_view_depth", "", "final"}));
     // Lund's tile frustum culling (docs/frustum.md): its buffers only when asked for
     const FrustumSettings frustum = parse_frustum_params(settings.params);
+    if (frustum.enabled && frustum.shadow && scene)  // the light checked before any work
+        shadow_light(*scene, frustum.light, "parameter 'frustum_light'",
+                     "parameter 'frustum_shadow'");
     if (frustum.enabled) p.add(frustum_cull_stage_def(frustum, bvh));
     p.final_outputs = {"final"};
     return p;

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "ref/bmfr/bmfr.h"
 #include "ref/bmfr/half.h"
 #include "ref/core/rng.h"
 
@@ -195,5 +196,42 @@ TEST_CASE(
     CHECK_FALSE(round_to_half_span_f16c<0>(v));
     MESSAGE(compared << " values compared bit for bit");
     CHECK(compared > 3000000);
+}
+#endif
+
+#ifdef FOVREF_HALF_F16C
+TEST_CASE(
+    "BMFR fit: the F16C path and the integer code give the same bits on whole blocks "
+    "(random and rank-deficient matrices, NaN included)") {
+    if (!cpu_has_f16c()) {
+        MESSAGE("this CPU has no F16C: the integer code is the only path");
+        return;
+    }
+    for (std::uint32_t block = 0; block < 40; ++block) {
+        BmfrBlockMatrix m;
+        m.rows = 1024;
+        m.a.assign(static_cast<std::size_t>(m.rows) * bmfr_matrix_stride, 0.0f);
+        for (int r = 0; r < m.rows; ++r)
+            for (int col = 0; col < bmfr_column_count; ++col) {
+                const float u = rand_unit(7, block * 1024u + static_cast<std::uint32_t>(r),
+                                          static_cast<std::uint32_t>(col));
+                // block 3k: a flat wall (columns 1..9 constant, rank-deficient), 3k + 1: wide
+                // values, 3k + 2: small ones; one NaN in block 10
+                float v = col == 0                     ? 1.0f
+                          : block % 3 == 0 && col < 10 ? 0.25f
+                          : block % 3 == 1             ? 3000.0f * (u - 0.5f)
+                                                       : 1e-3f * u;
+                if (block == 10 && r == 77 && col == 11) v = NAN;
+                m.a[static_cast<std::size_t>(r) * bmfr_matrix_stride + col] = round_to_half(v);
+            }
+        BmfrParams vector_path, integer_path;
+        integer_path.f16c = false;
+        BmfrBlockMatrix a = m, b = m;
+        const BmfrBlockFit fa = bmfr_solve_block(vector_path, a);
+        const BmfrBlockFit fb = bmfr_solve_block(integer_path, b);
+        CAPTURE(block);
+        REQUIRE(std::memcmp(a.a.data(), b.a.data(), a.a.size() * sizeof(float)) == 0);
+        REQUIRE(std::memcmp(fa.weights, fb.weights, sizeof fa.weights) == 0);
+    }
 }
 #endif

@@ -52,8 +52,15 @@ struct Trees {
     std::int64_t tiles_written = 0, tiles_unculled = 0;
 };
 
+// The records one file may hold: 2^27 (4 GiB of nodes), far below uint32 offsets.
+constexpr std::uint64_t max_records = std::uint64_t{1} << 27;
+
 void add_tree(Trees& t, int tx, int ty, int x0, int y0, int x1, int y1,
               const std::vector<BvhNode>& tree) {
+    if (t.records + tree.size() > max_records)
+        throw Error("rays cull: the culled trees would exceed " + std::to_string(max_records) +
+                    " records (4 GiB) at tile (" + std::to_string(tx) + ", " + std::to_string(ty) +
+                    "): use larger tiles or a smaller screen");
     for (const std::uint32_t v : {static_cast<std::uint32_t>(tx), static_cast<std::uint32_t>(ty),
                                   static_cast<std::uint32_t>(x0), static_cast<std::uint32_t>(y0),
                                   static_cast<std::uint32_t>(x1), static_cast<std::uint32_t>(y1),
@@ -90,7 +97,9 @@ void add_rays_cull_options(CLI::App& c, RaysCullOptions& o) {
     c.add_flag("--shadow", o.shadow,
                "also each tile's shadow frustum towards a point light (its apex): the shadow "
                "rays of the tile's pixel-centre primary hits");
-    c.add_option("--light", o.light, "with --shadow: the point light's index (default the first)");
+    c.add_option("--light", o.light,
+                 "with --shadow: the point light's index (default -1: the first point light)")
+        ->check(CLI::Range(-1, 1 << 20));
 }
 
 int run_rays_cull(const RaysCullOptions& o) {
@@ -188,7 +197,8 @@ int run_rays_cull(const RaysCullOptions& o) {
          "BvhNode records, 32 bytes: float32 min x, y, z; uint32 first; float32 max x, y, z; "
          "uint32 count. count > 0: a leaf, triangles first .. first + count - 1 of "
          "triangles.bin; count = 0: an inner node, its children the records first and first + 1 "
-         "of the same tile; an empty slot has min +inf, max -inf (every ray misses it)"},
+         "of the same tile; an empty slot (a culled child) has count 0 and first 0xffffffff: "
+         "skip it (its box is min +inf, max -inf)"},
         {"tiles.bin",
          "per tile, row by row: 8 uint32: tx, ty, x0, y0, x1, y1 (pixel edges), the tile's first "
          "record in nodes.bin, its record count (0: nothing kept); a tile's record 0 is where "
