@@ -1,6 +1,7 @@
 // BMFR's last steps: remodulation and tone mapping, the authors' YCoCg TAA (SPEC §9 items 9-10).
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "ref/bmfr/bmfr.h"
 #include "ref/core/dmath.h"
@@ -97,16 +98,18 @@ Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Ima
                      (!separate || emission.same_shape(filtered)),
                  "bmfr_remodulate: the albedo or emission does not match the image");
     Image out(filtered.width, filtered.height, 3);
+    // the base b per value, then b^g for all at once (pow_fast_array: pow_fast's bits)
     for (std::size_t i = 0; i < out.data.size(); ++i) {
         const float a = std::isfinite(albedo.data[i]) ? albedo.data[i] : 0.0f;
         float linear = std::max(0.0f, filtered.data[i]) * std::max(a, params.remodulation_floor);
         if (separate && std::isfinite(emission.data[i])) linear = linear + emission.data[i];
-        linear = std::max(0.0f, linear);
-        // x >= 1 gives x^g >= 1, clamped to 1: no need to evaluate it
-        out.data[i] = linear >= 1.0f
-                          ? 1.0f
-                          : std::clamp(dm::pow_fast(linear, params.display_exponent), 0.0f, 1.0f);
+        out.data[i] = std::max(0.0f, linear);
     }
+    std::vector<float> powered(out.data.size());
+    dm::pow_fast_array(out.data.data(), params.display_exponent, powered.data(), powered.size());
+    for (std::size_t i = 0; i < out.data.size(); ++i)
+        // b >= 1 gives b^g >= 1, clamped to 1 (its power is not used)
+        out.data[i] = out.data[i] >= 1.0f ? 1.0f : std::clamp(powered[i], 0.0f, 1.0f);
     return out;
 }
 
@@ -172,8 +175,8 @@ bool bmfr_taa_pixel(const BmfrParams& params, const Image& display, const Image&
 
 Image bmfr_linearize(const Image& display) {
     Image out(display.width, display.height, display.channels);
-    for (std::size_t i = 0; i < out.data.size(); ++i)
-        out.data[i] = dm::pow_fast(std::max(display.data[i], 0.0f), 2.2f);
+    for (std::size_t i = 0; i < out.data.size(); ++i) out.data[i] = std::max(display.data[i], 0.0f);
+    dm::pow_fast_array(out.data.data(), 2.2f, out.data.data(), out.data.size());
     return out;
 }
 

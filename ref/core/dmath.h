@@ -38,6 +38,11 @@ float pow(float x, float y);  ///< x^y with C99 special cases (pow_d rounded). M
 /// point. Max error 1 ulp (measured 0.5: tests/core/dmath_test.cpp).
 /// Inputs other than finite x > 0 and finite y, and results outside [2^-149, 2^128), go to pow.
 float pow_fast(float x, float y);
+/// out[i] = pow_fast(x[i], y) for i < n, the same bits: on a CPU with AVX2 four lanes at a time,
+/// each lane doing pow_series's binary64 operations in the same order (no FMA), and every lane it
+/// declines (x not a finite normal > 0, x = 1, y ln x out of range) by pow_fast itself; the rest
+/// by pow_fast. `x` and `out` may be the same array.
+void pow_fast_array(const float* x, float y, float* out, std::size_t n);
 namespace detail {
 /// True when the binary64 value p, known to within 2^-41 relative of a value v (whose binary64
 /// approximation is good to 2^-50), rounds to the same binary32 as v: p is a normal float's

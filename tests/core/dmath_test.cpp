@@ -861,3 +861,33 @@ TEST_CASE("dmath bit-exact replay: checksum of results over fixed inputs") {
     MESSAGE("dmath checksum " << hexu64(h));
     CHECK(h == 0x83135c54b0b97fc3ull);
 }
+
+TEST_CASE(
+    "dmath pow_fast_array: pow_fast's bits for every element (random bit patterns, display "
+    "values, special cases; the AVX2 lanes where the CPU has them), in place too") {
+    std::vector<float> x;
+    for (std::uint32_t i = 0; i < 400000; ++i) {
+        const std::uint32_t bits = fovref::pcg_hash(i * 2654435761u + 11u);
+        x.push_back(std::bit_cast<float>(bits));  // anything
+        x.push_back(fovref::rand_unit(9, i, 0));  // [0, 1): display
+        x.push_back(std::ldexp(fovref::rand_unit(9, i, 1), -(static_cast<int>(i % 140))));
+    }
+    for (const float special : {0.0f, -0.0f, 1.0f, -1.0f, 0x1p-149f, 0x1p-126f, 0x1.fffffep127f,
+                                INFINITY, -INFINITY, NAN, 0.5f, 2.0f, 1e-30f, 3e38f})
+        x.push_back(special);
+    for (const float y : {0.454545f, 2.2f, 1.0f / 2.2f, -1.5f, 7.0f, 0.0f, 300.0f, INFINITY}) {
+        CAPTURE(y);
+        std::vector<float> out(x.size()), in_place = x;
+        fovref::dm::pow_fast_array(x.data(), y, out.data(), x.size());
+        fovref::dm::pow_fast_array(in_place.data(), y, in_place.data(), in_place.size());
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            const float expected = fovref::dm::pow_fast(x[i], y);
+            differ +=
+                std::bit_cast<std::uint32_t>(out[i]) != std::bit_cast<std::uint32_t>(expected);
+            differ +=
+                std::bit_cast<std::uint32_t>(in_place[i]) != std::bit_cast<std::uint32_t>(expected);
+        }
+        CHECK(differ == 0);
+    }
+}
