@@ -53,7 +53,7 @@ contains "tile         (0, 0): pixels 0..31 x 0..31" "the tile"
 contains "the same through the culled tree" "the hit kept"
 contains "leaf, box" "the path to the hit's leaf"
 # rays cull: the culled trees for a GPU; the files agree with the manifest and with each other
-expect 0 "rays cull" -- "$FOVREF" rays cull sphere-grid "$TMP/rc" --width 64 --height 36 \
+expect 0 "rays cull" -- "$FOVREF" rays cull checker-room "$TMP/rc" --width 64 --height 36 \
   --tile-size 16 --shadow -q
 checks=$((checks + 1))
 "$PY" - "$TMP/rc" <<'PYEOF' || { echo "FAIL: rays cull files"; failures=$((failures + 1)); }
