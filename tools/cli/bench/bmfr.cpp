@@ -71,7 +71,7 @@ struct StageTimes {
         if (previous_ms > 0.0 && bmfr > 0.0)
             std::printf(
                 "    %-28s %9.2fx  (issue 33's %.0f ms, measured on another machine before the "
-                "fit's F16C rounding, vectorised row updates and noise table)\n",
+                "fit's and the display's speed-ups)\n",
                 "previous / now", previous_ms / (1e3 * bmfr), previous_ms);
         std::fflush(stdout);
     }
