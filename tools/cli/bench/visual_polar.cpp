@@ -2,18 +2,19 @@
 // screen space):
 //   cost   for each size (1280x1440, one eye of P5's HMD, and 1280x720; or the one --width x
 //          --height), renders 1 + repeats frames of `pathtrace --param denoise=bmfr` (screen
-//          space) and of `visual-polar` (BMFR on by default, gaze at the screen centre, each
-//          mode's default parameters) along the scene's camera path (30 frames per second);
+//          space), of `visual-polar` and of `log-polar-pathtrace` (P5's log-polar method; BMFR
+//          on by default, gaze at the screen centre, each mode's default parameters) along the
+//          scene's camera path (30 frames per second);
 //          frame 0 (BVH build, no history) is not timed; each stage's time is its fastest over
-//          the timed frames. Groups: path tracing = primary_visibility + pathtrace (screen) or
-//          vp_trace + vp_pathtrace (VP); BMFR = every bmfr_* stage except bmfr_output (a copy,
-//          not a phase); rest = every other stage (bmfr_output, and VP's resolve and blur ramp);
-//          total = the sum of them all. Samples per frame: W x H primary paths in screen space,
-//          the counter texels_traced for VP (its buffer's texels less the clipped ones, outside
-//          the screen-shaped region, and those off the screen). Speed-ups are screen / VP per
-//          group, next to P5's ~2.5x for path tracing and BMFR, and the target
-//          (VP path tracing + BMFR >= 2x faster than screen space at 1280x1440) is judged on
-//          both the path tracing + BMFR stages and the whole frame.
+//          the timed frames. Groups: path tracing = primary_visibility + pathtrace (screen),
+//          vp_trace + vp_pathtrace (VP) or lp_trace + lp_pathtrace (LP); BMFR = every bmfr_* stage
+//          except bmfr_output (a copy, not a phase); rest = every other stage (bmfr_output, and
+//          VP's resolve and blur ramp); total = the sum of them all. Samples per frame: W x H
+//          primary paths in screen space, the counter texels_traced for VP (its buffer's texels
+//          less the clipped ones, outside the screen-shaped region, and those off the screen).
+//          Speed-ups are screen / VP per group, next to P5's ~2.5x for path tracing and BMFR, and
+//          the target (VP path tracing + BMFR >= 2x faster than screen space at 1280x1440)
+//          is judged on both the path tracing + BMFR stages and the whole frame.
 //   error  frames 0 .. N-1 of the moving sequence at the error size (default 320x180) with
 //          screen-space BMFR, visual-polar and `linear-falloff --param denoise=bmfr`; at frames
 //          K-1, 2K-1, ... each one's `final` against the pathtrace-reference of the same frame at
@@ -71,7 +72,7 @@ bool is_bmfr_phase(const std::string& stage) {
 
 bool is_trace_stage(const std::string& stage) {
     return stage == "primary_visibility" || stage == "pathtrace" || stage == "vp_trace" ||
-           stage == "vp_pathtrace";
+           stage == "vp_pathtrace" || stage == "lp_trace" || stage == "lp_pathtrace";
 }
 
 // One method at one size: each stage's fastest time over the timed frames, pipeline order, the
@@ -138,12 +139,14 @@ void print_cost(const Scene& scene, const BenchVisualPolarOptions& o,
     for (const Size& size : sizes) {
         const auto part = [&](double offset) {
             return [&, offset](double f) {
-                progress.update((done + size.pixels() * 0.5 * (offset + f)) / all_pixels);
+                progress.update((done + size.pixels() * (offset + f) / 3.0) / all_pixels);
             };
         };
         const MethodCost screen =
             time_method(scene, "pathtrace", {{"denoise", "bmfr"}}, size, o.repeats, part(0.0));
         const MethodCost vp = time_method(scene, "visual-polar", {}, size, o.repeats, part(1.0));
+        const MethodCost lp =
+            time_method(scene, "log-polar-pathtrace", {}, size, o.repeats, part(2.0));
         done += size.pixels();
         progress.clear();
 
@@ -170,6 +173,14 @@ void print_cost(const Scene& scene, const BenchVisualPolarOptions& o,
                     100.0 * static_cast<double>(traced) / pixels, buffer.c_str(), clipped,
                     static_cast<long long>(vp.counters.get("texels_off_screen")), 1e3 * vp.trace,
                     1e3 * vp.bmfr, 1e3 * vp.rest, 1e3 * vp.total);
+        const auto lp_traced = lp.counters.get("texels_traced");
+        const std::string lp_buffer = std::to_string(lp.counters.get("buffer_width")) + "x" +
+                                      std::to_string(lp.counters.get("buffer_height"));
+        std::printf("    %-22s %13lld %6.1f%% %10s %8s %10lld %12.1f %9.1f %9.1f %9.1f\n",
+                    "log-polar + BMFR", static_cast<long long>(lp_traced),
+                    100.0 * static_cast<double>(lp_traced) / pixels, lp_buffer.c_str(), "-",
+                    static_cast<long long>(lp.counters.get("texels_off_screen")), 1e3 * lp.trace,
+                    1e3 * lp.bmfr, 1e3 * lp.rest, 1e3 * lp.total);
         std::printf("    %-22s %13.2fx %7s %10s %8s %10s %11.2fx %8.2fx %9s %8.2fx\n",
                     "speed-up screen / VP", ratio(pixels, static_cast<double>(traced)), "", "", "",
                     "", ratio(screen.trace, vp.trace), ratio(screen.bmfr, vp.bmfr), "-",
@@ -178,6 +189,7 @@ void print_cost(const Scene& scene, const BenchVisualPolarOptions& o,
                     "", "", "", 2.5, 2.5);
         std::printf("    stages, screen space: %s\n", stage_list(screen).c_str());
         std::printf("    stages, Visual-Polar: %s\n", stage_list(vp).c_str());
+        std::printf("    stages, log-polar: %s\n", stage_list(lp).c_str());
         const double stages = ratio(screen.trace + screen.bmfr, vp.trace + vp.bmfr);
         const double whole = ratio(screen.total, vp.total);
         const bool target_size = size.width == 1280 && size.height == 1440;
