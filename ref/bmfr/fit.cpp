@@ -340,66 +340,46 @@ float bmfr_workgroup_sum(const float* partial) {
     return sum;
 }
 
-BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
-    BmfrBlockFit fit;
-    std::copy(m.feature_min, m.feature_min + bmfr_scaled_count, fit.feature_min);
-    std::copy(m.feature_max, m.feature_max + bmfr_scaled_count, fit.feature_max);
-    float* a = m.a.data();
+namespace {
+
+// The dot products u . a_j of columns col + 1 .. 12 over the rows c .. rows - 1 (bmfr_sums:
+// binary64 in row order, over whole groups of 4 columns from j0 = col + 1 rounded down to a
+// multiple of 4 so that the loops vectorise, or the authors' work-group order in float);
+// the other columns get 0, which leaves them unchanged in the reflection.
+void column_dots(const BmfrParams& params, const float* a, int rows, int col, int c, float uc,
+                 float* dot) {
     constexpr int stride = bmfr_matrix_stride;
-    for (int col = 0; col < bmfr_column_count; ++col) {
-        const int c = std::min(col, bmfr_feature_count);
-        // The norm of the column below the pivot row (bmfr_sums: binary64 in row order, or the
-        // authors' work-group order in float)
-        const float s = block_dot(params.sums, c + 1, m.rows, [&](int i) {
-            return std::pair{a[i * stride + col], a[i * stride + col]};
-        });
-        const float xc = a[c * stride + col];
-        const float r = std::sqrt(s + xc * xc);
-        const float uc = xc - r;
-        const float u_length_squared = s + uc * uc;
-        if (!(u_length_squared > 0.0f)) {
-            if (col < bmfr_feature_count) ++fit.reflections_skipped;
-            continue;
+    if (params.sums == BmfrSums::binary64) {
+        switch ((col + 1) & ~3) {
+            case 0: binary64_dots<0>(a, rows, col, c, uc, dot); break;
+            case 4: binary64_dots<4>(a, rows, col, c, uc, dot); break;
+            case 8: binary64_dots<8>(a, rows, col, c, uc, dot); break;
+            default: binary64_dots<12>(a, rows, col, c, uc, dot); break;
         }
-        // The dot products u . a_j of the remaining columns (binary64, row order). The loops
-        // run over whole groups of 4 columns, from j0 (col + 1 rounded down to a multiple of 4)
-        // to 15, so that they vectorise: columns other than col + 1 .. 12 get t_j = 0 below, and
-        // storing a stored value again leaves it unchanged.
-        const int j0 = (col + 1) & ~3;
-        const bool half = params.storage == BmfrStorage::half;
-        float dot[stride] = {};
-        if (params.sums == BmfrSums::binary64) {
-            switch (j0) {
-                case 0: binary64_dots<0>(a, m.rows, col, c, uc, dot); break;
-                case 4: binary64_dots<4>(a, m.rows, col, c, uc, dot); break;
-                case 8: binary64_dots<8>(a, m.rows, col, c, uc, dot); break;
-                default: binary64_dots<12>(a, m.rows, col, c, uc, dot); break;
-            }
-        } else {
-            for (int j = col + 1; j < bmfr_column_count; ++j)
-                dot[j] = block_dot(params.sums, c, m.rows, [&](int i) {
-                    return std::pair{a[i * stride + j], i == c ? uc : a[i * stride + col]};
-                });
-        }
-        switch (j0) {
-            case 0:
-                reflect<0>(a, m.rows, col, c, uc, u_length_squared, dot, half, params.f16c);
-                break;
-            case 4:
-                reflect<4>(a, m.rows, col, c, uc, u_length_squared, dot, half, params.f16c);
-                break;
-            case 8:
-                reflect<8>(a, m.rows, col, c, uc, u_length_squared, dot, half, params.f16c);
-                break;
-            default:
-                reflect<12>(a, m.rows, col, c, uc, u_length_squared, dot, half, params.f16c);
-                break;
-        }
-        // The diagonal stays in float (the authors keep R in local float memory)
-        a[c * stride + col] = r;
+        return;
     }
-    // Back substitution, row 9 to 0, per colour channel, in the authors' order: the row is
-    // divided by its pivot first, w_i = b_i / R_ii - sum_{k > i} (R_ik w_k) / R_ii (k ascending)
+    for (int j = col + 1; j < bmfr_column_count; ++j)
+        dot[j] = block_dot(params.sums, c, rows, [&](int i) {
+            return std::pair{a[i * stride + j], i == c ? uc : a[i * stride + col]};
+        });
+}
+
+// The reflection of columns j0 .. 15, j0 = col + 1 rounded down to a multiple of 4 (reflect).
+void reflect_from(const BmfrParams& params, float* a, int rows, int col, int c, float uc,
+                  float u_length_squared, const float* dot) {
+    const bool half = params.storage == BmfrStorage::half;
+    switch ((col + 1) & ~3) {
+        case 0: reflect<0>(a, rows, col, c, uc, u_length_squared, dot, half, params.f16c); break;
+        case 4: reflect<4>(a, rows, col, c, uc, u_length_squared, dot, half, params.f16c); break;
+        case 8: reflect<8>(a, rows, col, c, uc, u_length_squared, dot, half, params.f16c); break;
+        default: reflect<12>(a, rows, col, c, uc, u_length_squared, dot, half, params.f16c); break;
+    }
+}
+
+// Back substitution, row 9 to 0, per colour channel, in the authors' order: the row is divided
+// by its pivot first, w_i = b_i / R_ii - sum_{k > i} (R_ik w_k) / R_ii (k ascending).
+void back_substitute(const BmfrParams& params, const float* a, BmfrBlockFit& fit) {
+    constexpr int stride = bmfr_matrix_stride;
     for (int ch = 0; ch < 3; ++ch) {
         float* w = fit.weights[ch];
         for (int i = bmfr_feature_count - 1; i >= 0; --i) {
@@ -419,6 +399,37 @@ BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
             w[i] = v;
         }
     }
+}
+
+}  // namespace
+
+BmfrBlockFit bmfr_solve_block(const BmfrParams& params, BmfrBlockMatrix& m) {
+    BmfrBlockFit fit;
+    std::copy(m.feature_min, m.feature_min + bmfr_scaled_count, fit.feature_min);
+    std::copy(m.feature_max, m.feature_max + bmfr_scaled_count, fit.feature_max);
+    float* a = m.a.data();
+    constexpr int stride = bmfr_matrix_stride;
+    for (int col = 0; col < bmfr_column_count; ++col) {
+        const int c = std::min(col, bmfr_feature_count);
+        // The norm of the column below the pivot row (in the order bmfr_sums names)
+        const float s = block_dot(params.sums, c + 1, m.rows, [&](int i) {
+            return std::pair{a[i * stride + col], a[i * stride + col]};
+        });
+        const float xc = a[c * stride + col];
+        const float r = std::sqrt(s + xc * xc);
+        const float uc = xc - r;
+        const float u_length_squared = s + uc * uc;
+        if (!(u_length_squared > 0.0f)) {
+            if (col < bmfr_feature_count) ++fit.reflections_skipped;
+            continue;
+        }
+        float dot[stride] = {};
+        column_dots(params, a, m.rows, col, c, uc, dot);
+        reflect_from(params, a, m.rows, col, c, uc, u_length_squared, dot);
+        // The diagonal stays in float (the authors keep R in local float memory)
+        a[c * stride + col] = r;
+    }
+    back_substitute(params, a, fit);
     return fit;
 }
 

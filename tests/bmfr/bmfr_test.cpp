@@ -529,18 +529,33 @@ TEST_CASE(
     CHECK(clamped.at(2, 2, 1) <= 0.7f + 1e-6f);
 }
 
-TEST_CASE("bmfr: the same inputs give the same bits; half and float storage differ only slightly") {
+namespace {
+
+// A 64 x 48 tilted wall with noisy radiance (0.25 + 0.2 rand), and one frame of BMFR on it with
+// no history (frame 2 of the noise's seed).
+Frame noisy_wall() {
     Frame f = wall(64, 48, 0.03f, glm::vec3(0.6f, 0.0f, 0.8f), 1.0f);
     for (int i = 0; i < 64 * 48 * 3; ++i)
         f.radiance.data[static_cast<std::size_t>(i)] =
             0.25f + 0.2f * rand_unit(3u, static_cast<std::uint32_t>(i), 0u);
+    return f;
+}
+
+BmfrFrame first_frame(const BmfrParams& params, const Frame& f) {
+    BmfrHistory history;
+    BmfrStats stats;
+    return bmfr_denoise_frame(params, f.radiance, f.albedo, Image{}, f.normal, f.world,
+                              ViewProjection{}, 2, history, stats);
+}
+
+}  // namespace
+
+TEST_CASE("bmfr: the same inputs give the same bits; half and float storage differ only slightly") {
+    const Frame f = noisy_wall();
     const auto run = [&](BmfrStorage storage) {
         BmfrParams params;
         params.storage = storage;
-        BmfrHistory history;
-        BmfrStats stats;
-        return bmfr_denoise_frame(params, f.radiance, f.albedo, Image{}, f.normal, f.world,
-                                  ViewProjection{}, 2, history, stats);
+        return first_frame(params, f);
     };
     const BmfrFrame a = run(BmfrStorage::half), b = run(BmfrStorage::half),
                     c = run(BmfrStorage::single);
@@ -720,17 +735,11 @@ TEST_CASE(
 TEST_CASE(
     "bmfr_sums=workgroup: the QR's sums in the authors' order change the weights' last bits "
     "only; the parameter selects it") {
-    Frame f = wall(64, 48, 0.03f, glm::vec3(0.6f, 0.0f, 0.8f), 1.0f);
-    for (int i = 0; i < 64 * 48 * 3; ++i)
-        f.radiance.data[static_cast<std::size_t>(i)] =
-            0.25f + 0.2f * rand_unit(3u, static_cast<std::uint32_t>(i), 0u);
+    const Frame f = noisy_wall();
     const auto run = [&](BmfrSums sums) {
         BmfrParams params;
         params.sums = sums;
-        BmfrHistory history;
-        BmfrStats stats;
-        return bmfr_denoise_frame(params, f.radiance, f.albedo, Image{}, f.normal, f.world,
-                                  ViewProjection{}, 2, history, stats);
+        return first_frame(params, f);
     };
     const BmfrFrame ours = run(BmfrSums::binary64), authors = run(BmfrSums::workgroup);
     CHECK_FALSE(bit_equal(ours.fit.weights, authors.fit.weights));

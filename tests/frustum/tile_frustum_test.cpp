@@ -52,9 +52,26 @@ TEST_CASE("tile frustum: centre ray, factors, and the two box tests by hand") {
     CHECK(both({2.5f, -1.0f, -20.0f}, {3.0f, -0.5f, -2.0f}) == std::make_pair(true, false));
 }
 
+namespace {
+
+// Boxes tested by both tests: how many each keeps, and how many Lund's culls that the exact
+// test keeps (lost hits if it ever happened).
+struct BoxTally {
+    std::int64_t exact_kept = 0, lund_kept = 0, lost = 0;
+    void add(const TileFrustum& f, glm::vec3 lo, glm::vec3 hi) {
+        const bool exact = exact_box_test(f, lo, hi);
+        const bool lund = lund_box_test(f, lo, hi);
+        exact_kept += exact;
+        lund_kept += lund;
+        lost += exact && !lund;
+    }
+};
+
+}  // namespace
+
 TEST_CASE("tile frustum: Lund's test keeps every box the exact test keeps (random boxes)") {
     const Camera camera = look_at({0.3f, 1.2f, 4.0f}, {-0.5f, 0.2f, -1.0f}, {0, 1, 0}, 50.0f);
-    std::int64_t exact_kept = 0, lund_kept = 0, lost = 0;
+    BoxTally tally;
     for (std::uint32_t i = 0; i < 20000; ++i) {
         const int tx = static_cast<int>(i % 8), ty = static_cast<int>((i / 8) % 5);
         const TileFrustum f =
@@ -63,12 +80,9 @@ TEST_CASE("tile frustum: Lund's test keeps every box the exact test keeps (rando
                           20.0f * rand_unit(1, i, 2) - 14.0f};
         const glm::vec3 half{0.05f + 2.0f * rand_unit(1, i, 3), 0.05f + 2.0f * rand_unit(1, i, 4),
                              0.05f + 2.0f * rand_unit(1, i, 5)};
-        const bool exact = exact_box_test(f, c - half, c + half);
-        const bool lund = lund_box_test(f, c - half, c + half);
-        exact_kept += exact;
-        lund_kept += lund;
-        lost += exact && !lund;
+        tally.add(f, c - half, c + half);
     }
+    const auto [exact_kept, lund_kept, lost] = tally;
     MESSAGE("20000 boxes: exact keeps " << exact_kept << ", Lund keeps " << lund_kept
                                         << ", Lund culls " << lost << " the exact test keeps");
     CHECK(lost == 0);
@@ -291,7 +305,8 @@ TEST_CASE(
     "shadow frustum: apex at the light, every point inside, Lund's test conservative on "
     "random boxes; no frustum for a spread of 90 degrees or more") {
     const glm::vec3 light{1.0f, 4.0f, 2.0f};
-    std::int64_t boxes = 0, exact_kept = 0, lund_kept = 0, lost = 0;
+    std::int64_t boxes = 0;
+    BoxTally tally;
     for (std::uint32_t tile = 0; tile < 50; ++tile) {
         // a tile's shadow-ray origins: a patch of a tilted plane below the light
         std::vector<glm::vec3> points;
@@ -321,13 +336,10 @@ TEST_CASE(
             const glm::vec3 half{0.02f + 0.5f * rand_unit(4, b, 3),
                                  0.02f + 0.5f * rand_unit(4, b, 4),
                                  0.02f + 0.5f * rand_unit(4, b, 5)};
-            const bool exact = exact_box_test(f, c - half, c + half);
-            const bool lund = lund_box_test(f, c - half, c + half);
-            exact_kept += exact;
-            lund_kept += lund;
-            lost += exact && !lund;
+            tally.add(f, c - half, c + half);
         }
     }
+    const auto [exact_kept, lund_kept, lost] = tally;
     MESSAGE(boxes << " boxes against 50 shadow frusta: exact keeps " << exact_kept
                   << ", Lund keeps " << lund_kept << ", Lund culls " << lost
                   << " the exact test keeps");

@@ -20,12 +20,7 @@ namespace {
 
 using test::buffer;
 
-std::int64_t counter(const FrameResult& f, const std::string& name) {
-    for (const auto& [key, value] : f.counters.values)
-        if (key == name) return value;
-    FAIL("no counter " << name);
-    return 0;
-}
+using test::counter;
 
 // Meng's map for a 96 x 64 screen (the mode's: sigma 1.8, alpha 4, R from the corners).
 LogPolarMap meng_map(glm::vec2 gaze) {

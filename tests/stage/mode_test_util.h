@@ -5,6 +5,7 @@
 
 #include <doctest/doctest.h>
 
+#include <cstdint>
 #include <cstring>
 #include <map>
 #include <string>
@@ -48,6 +49,14 @@ inline const Image& buffer(const FrameResult& f, const std::string& name) {
     const Buffer* b = f.find(name);
     REQUIRE_MESSAGE(b != nullptr, name);
     return b->image;
+}
+
+/// The counter `name` of a frame (the test fails when it is missing).
+inline std::int64_t counter(const FrameResult& f, const std::string& name) {
+    for (const auto& [key, value] : f.counters.values)
+        if (key == name) return value;
+    FAIL("no counter " << name);
+    return 0;
 }
 
 /// The same shape and the same bits (memcmp: -0 differs from +0, NaNs by their payload).

@@ -34,12 +34,7 @@ std::vector<FrameResult> run(const std::string& scene, const std::string& mode, 
                             first_frame, std::move(state));
 }
 
-std::int64_t counter(const FrameResult& f, const std::string& name) {
-    for (const auto& [key, value] : f.counters.values)
-        if (key == name) return value;
-    FAIL("no counter " << name);
-    return 0;
-}
+using test::counter;
 
 using test::same_bits;
 

@@ -102,72 +102,52 @@ void add_rays_cull_options(CLI::App& c, RaysCullOptions& o) {
         ->check(CLI::Range(-1, 1 << 20));
 }
 
-int run_rays_cull(const RaysCullOptions& o) {
-    RenderSettings check;
-    check.width = o.width;
-    check.height = o.height;
-    validate_settings(check);
-    if (o.light >= 0 && !o.shadow) throw Error("rays cull: --light applies with --shadow");
-    OutputDirectory out("OUT_DIR", o.out_dir);
-    const Scene scene = load_cli_scene(o.scene);
-    const int light =
-        o.shadow ? shadow_light(scene, o.light, "rays cull: --light", "rays cull: --shadow") : -1;
-    Progress progress("rays cull", o.quiet);
-    const Bvh bvh = build_bvh(scene.positions);
-    const Camera camera = camera_at(scene, o.time);
-    CullOptions options;
-    options.exact = o.test == "exact";
-    options.trim = !o.no_trim;
-    options.entry = !o.no_entry;
-    options.bridge = !o.no_bridge;
-    // the triangles in the BVH2's leaf order: 3 corners, then the primitive id
+namespace {
+
+// The triangles in the BVH2's leaf order: 3 corners, then the primitive id.
+std::vector<char> triangle_records(const Bvh& bvh) {
     std::vector<char> triangles;
     for (std::size_t k = 0; k < bvh.primitives.size(); ++k) {
         for (int c = 0; c < 3; ++c)
             for (int a = 0; a < 3; ++a) put_f32(triangles, bvh.triangle_corners[3 * k + c][a]);
         put_u32(triangles, bvh.primitives[k]);
     }
-    Trees primary, shadow;
-    const int size = o.tile_size;
-    const int tiles_x = (o.width + size - 1) / size, tiles_y = (o.height + size - 1) / size;
+    return triangles;
+}
+
+// The shadow tree of tile [x0, x1) x [y0, y1): its pixel-centre primary hits' shadow rays
+// towards `light`, culled by their frustum (none without a shadow ray; the whole tree when the
+// rays spread too wide, counted).
+std::vector<BvhNode> shadow_tree(const Scene& scene, const Bvh& bvh, const Camera& camera,
+                                 int width, int height, int x0, int y0, int x1, int y1,
+                                 glm::vec3 light, const CullOptions& options, Trees& shadow) {
     const float tan_half = tan_half_vfov(camera);
-    for (int ty = 0; ty < tiles_y; ++ty) {
-        for (int tx = 0; tx < tiles_x; ++tx) {
-            const int x0 = tx * size, y0 = ty * size;
-            const int x1 = std::min(x0 + size, o.width), y1 = std::min(y0 + size, o.height);
-            const TileCulling c =
-                cull_bvh(bvh, tile_frustum(camera, o.width, o.height, x0, y0, x1, y1), options);
-            add_tree(primary, tx, ty, x0, y0, x1, y1, culled_tree(bvh, c, options));
-            if (light < 0) continue;
-            const glm::vec3 at = scene.lights[static_cast<std::size_t>(light)].position;
-            std::vector<glm::vec3> origins;
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x) {
-                    Ray ray;
-                    ray.origin = camera.position;
-                    ray.direction = primary_ray_direction(camera, tan_half, o.width, o.height,
-                                                          static_cast<float>(x) + 0.5f,
-                                                          static_cast<float>(y) + 0.5f);
-                    TraceStats stats;
-                    const Hit hit = trace_closest(bvh, ray, stats);
-                    Ray s;
-                    if (hit.hit() && shadow_ray_of(scene, hit, camera.position, at, s))
-                        origins.push_back(s.origin);
-                }
-            std::vector<BvhNode> tree;
-            TileFrustum f;
-            if (origins.empty()) {
-                // no shadow ray: no tree
-            } else if (shadow_frustum(at, origins, f)) {
-                tree = culled_tree(bvh, cull_bvh(bvh, f, options), options);
-            } else {
-                tree = culled_tree(bvh, keep_everything(bvh), options);
-                ++shadow.tiles_unculled;
-            }
-            add_tree(shadow, tx, ty, x0, y0, x1, y1, tree);
+    std::vector<glm::vec3> origins;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
+            Ray ray;
+            ray.origin = camera.position;
+            ray.direction =
+                primary_ray_direction(camera, tan_half, width, height, static_cast<float>(x) + 0.5f,
+                                      static_cast<float>(y) + 0.5f);
+            TraceStats stats;
+            const Hit hit = trace_closest(bvh, ray, stats);
+            Ray s;
+            if (hit.hit() && shadow_ray_of(scene, hit, camera.position, light, s))
+                origins.push_back(s.origin);
         }
-        progress.update(static_cast<double>(ty + 1) / tiles_y);
-    }
+    if (origins.empty()) return {};
+    TileFrustum f;
+    if (shadow_frustum(light, origins, f))
+        return culled_tree(bvh, cull_bvh(bvh, f, options), options);
+    ++shadow.tiles_unculled;
+    return culled_tree(bvh, keep_everything(bvh), options);
+}
+
+// manifest.json: the camera, the options, the counts and the layouts.
+nlohmann::json cull_manifest(const RaysCullOptions& o, const Scene& scene, const Bvh& bvh,
+                             const Camera& camera, const CullOptions& options, int tiles_x,
+                             int tiles_y, int light, const Trees& primary, const Trees& shadow) {
     nlohmann::json m;
     m["format"] = "fovref culled trees 1 (docs/frustum.md)";
     m["scene"] = o.scene;
@@ -179,7 +159,7 @@ int run_rays_cull(const RaysCullOptions& o) {
                    {"up", {camera.up.x, camera.up.y, camera.up.z}},
                    {"forward", {camera.forward.x, camera.forward.y, camera.forward.z}},
                    {"vfov_deg", camera.vfov_deg}};
-    m["tile_size"] = size;
+    m["tile_size"] = o.tile_size;
     m["tiles_x"] = tiles_x;
     m["tiles_y"] = tiles_y;
     m["test"] = o.test;
@@ -212,7 +192,48 @@ int run_rays_cull(const RaysCullOptions& o) {
                        {"tiles_unculled", shadow.tiles_unculled},
                        {"files", "shadow_nodes.bin, shadow_tiles.bin: the layouts above"}};
     }
-    write_file(out.file("triangles.bin"), triangles);
+    return m;
+}
+
+}  // namespace
+
+int run_rays_cull(const RaysCullOptions& o) {
+    RenderSettings check;
+    check.width = o.width;
+    check.height = o.height;
+    validate_settings(check);
+    if (o.light >= 0 && !o.shadow) throw Error("rays cull: --light applies with --shadow");
+    OutputDirectory out("OUT_DIR", o.out_dir);
+    const Scene scene = load_cli_scene(o.scene);
+    const int light =
+        o.shadow ? shadow_light(scene, o.light, "rays cull: --light", "rays cull: --shadow") : -1;
+    Progress progress("rays cull", o.quiet);
+    const Bvh bvh = build_bvh(scene.positions);
+    const Camera camera = camera_at(scene, o.time);
+    CullOptions options;
+    options.exact = o.test == "exact";
+    options.trim = !o.no_trim;
+    options.entry = !o.no_entry;
+    options.bridge = !o.no_bridge;
+    Trees primary, shadow;
+    const int size = o.tile_size;
+    const int tiles_x = (o.width + size - 1) / size, tiles_y = (o.height + size - 1) / size;
+    for (int ty = 0; ty < tiles_y; ++ty) {
+        for (int tx = 0; tx < tiles_x; ++tx) {
+            const int x0 = tx * size, y0 = ty * size;
+            const int x1 = std::min(x0 + size, o.width), y1 = std::min(y0 + size, o.height);
+            const TileCulling c =
+                cull_bvh(bvh, tile_frustum(camera, o.width, o.height, x0, y0, x1, y1), options);
+            add_tree(primary, tx, ty, x0, y0, x1, y1, culled_tree(bvh, c, options));
+            if (light >= 0)
+                add_tree(shadow, tx, ty, x0, y0, x1, y1,
+                         shadow_tree(scene, bvh, camera, o.width, o.height, x0, y0, x1, y1,
+                                     scene.lights[static_cast<std::size_t>(light)].position,
+                                     options, shadow));
+        }
+        progress.update(static_cast<double>(ty + 1) / tiles_y);
+    }
+    write_file(out.file("triangles.bin"), triangle_records(bvh));
     write_file(out.file("nodes.bin"), primary.nodes);
     write_file(out.file("tiles.bin"), primary.tiles);
     if (light >= 0) {
@@ -221,7 +242,9 @@ int run_rays_cull(const RaysCullOptions& o) {
     }
     {
         std::ofstream f(out.file("manifest.json"));
-        f << m.dump(1) << "\n";
+        f << cull_manifest(o, scene, bvh, camera, options, tiles_x, tiles_y, light, primary, shadow)
+                 .dump(1)
+          << "\n";
         if (!f) throw Error(o.out_dir + "/manifest.json: cannot write");
     }
     out.commit();
