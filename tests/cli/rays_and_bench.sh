@@ -38,13 +38,14 @@ fi
 expect 2 "bench --explain out of range" -- "$FOVREF" bench rays --scene cornell --explain -1
 expect 0 "basic via raster" -- "$FOVREF" render --scene cornell --mode basic --primary raster --width 16 --height 9 --out "$TMP/br" -q
 expect 2 "bad --primary" -- "$FOVREF" render --scene cornell --mode basic --primary gpu --out "$TMP/bp"
-# tile frustum culling: every row (screen tiles, cfov buffer tiles, sphere-grid's shadow frusta;
+# tile frustum culling: every row (screen tiles with each test and option, cfov buffer tiles,
+# sphere-grid's shadow frusta;
 # cornell has no point light) lost 0
 expect 0 "bench frustum" -- "$FOVREF" bench frustum --scene cornell sphere-grid --width 64 --height 36 --tile-size 16 32 -q
 checks=$((checks + 1))
 rows=$(grep -cE '^  (cornell|sphere-grid) ' <<<"$OUT")
 bad=$(grep -E '^  (cornell|sphere-grid) ' <<<"$OUT" | awk '$NF != 0' | wc -l)
-[ "$rows" -eq 22 ] && [ "$bad" -eq 0 ] || { echo "FAIL: bench frustum rows $rows, lost-hit rows $bad"; failures=$((failures + 1)); }
+[ "$rows" -eq 34 ] && [ "$bad" -eq 0 ] || { echo "FAIL: bench frustum rows $rows, lost-hit rows $bad"; failures=$((failures + 1)); }
 expect 2 "bench frustum bad tile size" -- "$FOVREF" bench frustum --tile-size 0
 # the probe explains a pixel's tile: its frustum, its culled tree, the path to its hit's leaf
 expect 0 "probe with frustum culling" -- "$FOVREF" probe --scene cornell --mode basic --width 64 --height 36 --pixel 30,20 --param frustum=lund

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
+#include <utility>
 
 #include "ref/bvh/bvh.h"
 #include "ref/core/error.h"
@@ -215,15 +216,13 @@ double reference_hits(const Bvh& bvh, const Camera& camera, int width, int heigh
     return seconds_since(start);
 }
 
-// One table row: the screen in tiles of size pixels, each tile's BVH2 culled by Lund's test
-// (exact false) or the exact one, then every tile's rays through its culled tree.
+// One table row: the screen in tiles of size pixels, each tile's BVH2 culled with `options`
+// (`label` names them), then every tile's rays through its culled tree.
 void print_culled_row(const std::string& name, const Bvh& bvh, const Camera& camera, int width,
-                      int height, int size, bool exact, const std::vector<Hit>& reference,
-                      double rays) {
+                      int height, int size, const CullOptions& options, const char* label,
+                      const std::vector<Hit>& reference, double rays) {
     const int tiles_x = (width + size - 1) / size, tiles_y = (height + size - 1) / size;
     std::vector<TileCulling> cullings;
-    CullOptions options;
-    options.exact = exact;
     const auto start = BenchClock::now();
     for (int ty = 0; ty < tiles_y; ++ty)
         for (int tx = 0; tx < tiles_x; ++tx)
@@ -244,7 +243,7 @@ void print_culled_row(const std::string& name, const Bvh& bvh, const Camera& cam
             return cullings[static_cast<std::size_t>(ty * tiles_x + tx)];
         });
     std::printf("  %-14s %5d %6s %6d %9.1f %11lld %11lld %9.2f %11.1f %10s %10.1f %10s %6lld\n",
-                name.c_str(), size, exact ? "exact" : "lund", tiles_x * tiles_y, 1e3 * cull_seconds,
+                name.c_str(), size, label, tiles_x * tiles_y, 1e3 * cull_seconds,
                 static_cast<long long>(nodes), static_cast<long long>(triangles),
                 static_cast<double>(bytes) / 1048576.0,
                 static_cast<double>(culled.stats.nodes_visited) / rays, "-", 1e3 * culled.seconds,
@@ -281,9 +280,20 @@ int run_bench_frustum(const BenchFrustumOptions& o) {
             static_cast<double>(all.bytes()) / 1048576.0,
             static_cast<double>(unculled.stats.nodes_visited) / rays, 1e3 * unculled.seconds, "-",
             1e3 * bvh4_seconds, static_cast<long long>(unculled.lost));
+        // Lund's test, the exact one, and Lund's with each of his optimisations off
+        CullOptions exact, no_trim, no_entry, no_bridge;
+        exact.exact = true;
+        no_trim.trim = false;
+        no_entry.entry = false;
+        no_bridge.bridge = false;
+        const std::pair<const char*, CullOptions> variants[] = {{"lund", CullOptions{}},
+                                                                {"exact", exact},
+                                                                {"l-trim", no_trim},
+                                                                {"l-entr", no_entry},
+                                                                {"l-brdg", no_bridge}};
         for (const int size : o.tile_sizes)
-            for (const bool exact : {false, true})
-                print_culled_row(o.scenes[si], bvh, camera, o.width, o.height, size, exact,
+            for (const auto& [label, options] : variants)
+                print_culled_row(o.scenes[si], bvh, camera, o.width, o.height, size, options, label,
                                  reference, rays);
         for (const int size : o.tile_sizes)
             print_buffer_tiles(o.scenes[si], scene, bvh, camera, o.width, o.height, size);
@@ -296,7 +306,9 @@ int run_bench_frustum(const BenchFrustumOptions& o) {
     std::printf(
         "  nodes kept and MB sum the tiles' culled trees (32 bytes a node); visits/ray are BVH2 "
         "nodes whose box the ray's segment meets; 'lost' counts rays whose closest hit differs "
-        "from trace_closest's. cfov-l / cfov-e rows: cfov's log-polar buffer (the default preset) "
+        "from trace_closest's. l-trim / l-entr / l-brdg rows: Lund's test with trimming, the "
+        "entry point or bridging off (the others on). cfov-l / cfov-e rows: cfov's log-polar "
+        "buffer (the default preset) "
         "in tiles of that many texels, each tile's frustum the screen rectangle of its traced "
         "texels' points, Lund's or the exact test, visits/ray unculled -> culled and the BVH2 "
         "times over the traced texels' rays. shad-l / shad-e rows (scenes with a point light): "
