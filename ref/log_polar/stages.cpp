@@ -201,7 +201,8 @@ void resolve_stage(FrameContext& ctx) {
                std::to_string(stats.pixels_from_gaze) + " pixels from the gaze buffer, " +
                std::to_string(stats.pixels_from_buffer) + " from the log-polar buffer";
     ctx.output("output", BufferKind::color, {"r", "g", "b"}, std::move(out));
-    output_resolve_decisions(ctx, lp_resolve_decisions(table, gaze, color.width, color.height));
+    if (wants_resolve_decisions(ctx))
+        output_resolve_decisions(ctx, lp_resolve_decisions(table, gaze, color.width, color.height));
 }
 
 StageDef resolve_stage_def(const LogPolarStage& shared, std::string color, std::string output) {
@@ -220,6 +221,13 @@ std::vector<Port> resolve_decision_ports(bool mip) {
         ports.emplace_back("mip_margin", "resolve_mip_margin");
     }
     return ports;
+}
+
+bool wants_resolve_decisions(const FrameContext& ctx) {
+    for (const Port& decision : resolve_decision_ports(true))
+        for (const Port& output : ctx.stage->outputs)
+            if (output.slot == decision.slot && ctx.wants(output.slot)) return true;
+    return false;
 }
 
 void output_resolve_decisions(const FrameContext& ctx, ResolveDecisions d) {
@@ -305,8 +313,9 @@ void stereo_resolve_stage(FrameContext& ctx) {
                (reused ? ", lookups reused" : ", lookups computed");
     ctx.output("output", BufferKind::color, {"r", "g", "b"}, std::move(out));
     const Image& color = ctx.input("color");
-    output_resolve_decisions(ctx,
-                             stereo_resolve_decisions(*frames.forward, color.width, color.height));
+    if (wants_resolve_decisions(ctx))
+        output_resolve_decisions(
+            ctx, stereo_resolve_decisions(*frames.forward, color.width, color.height));
 }
 
 void stereo_internal_aa_stage(FrameContext& ctx) {

@@ -85,6 +85,9 @@ void ray_positions_stage(FrameContext& context);
 std::vector<Port> resolve_decision_ports(bool mip);
 /// Adds a resolve stage's decisions as its outputs (the mip level's when it has them).
 void output_resolve_decisions(const FrameContext& context, ResolveDecisions decisions);
+/// True when one of the running resolve stage's decision buffers is wanted: they cost about as
+/// much as pass 2 itself, so a frame that wants none leaves them out.
+bool wants_resolve_decisions(const FrameContext& context);
 
 /// The gaze buffer's window on the screen in a frame (the gaze shading's ShadeView::window).
 std::function<ScreenWindow(const FrameContext&)> gaze_window_of(

@@ -88,6 +88,12 @@ Buffer& FrameContext::output(const std::string& slot, BufferKind kind,
     return result->add(port->buffer, kind, std::move(channel_names), std::move(image));
 }
 
+bool FrameContext::wants(const std::string& slot) const {
+    if (all_wanted) return true;
+    const std::string& name = buffer_of(slot);
+    return std::find(wanted.begin(), wanted.end(), name) != wanted.end();
+}
+
 const std::string& FrameContext::buffer_of(const std::string& slot) const {
     FOVREF_CHECK(stage != nullptr, "port '" + slot + "' asked for outside a stage");
     if (const Port* port = find_port(stage->outputs, slot)) return port->buffer;
@@ -142,10 +148,14 @@ void Pipeline::validate(const std::string& mode) const {
                      "mode '" + mode + "': final output '" + output + "' is never produced");
 }
 
-std::vector<bool> Pipeline::plan(const std::vector<std::string>& requested) const {
-    std::vector<std::string> wanted = requested.empty() ? final_outputs : requested;
+namespace {
+
+/// The planning walk: needed[k] for each stage, and the buffers wanted (requested and read).
+std::vector<bool> plan_walk(const Pipeline& pipeline, const std::vector<std::string>& requested,
+                            std::vector<std::string>& wanted) {
+    wanted = requested.empty() ? pipeline.final_outputs : requested;
     const bool everything = std::find(wanted.begin(), wanted.end(), "all") != wanted.end();
-    const std::vector<std::string> known = all_outputs();
+    const std::vector<std::string> known = pipeline.all_outputs();
     for (const std::string& name : wanted)
         if (name != "all" && std::find(known.begin(), known.end(), name) == known.end()) {
             std::string list;
@@ -154,17 +164,34 @@ std::vector<bool> Pipeline::plan(const std::vector<std::string>& requested) cons
                         ")");
         }
     // Walk backwards: a stage is needed when one of its outputs is wanted; its inputs then are.
+    const std::vector<StageDef>& stages = pipeline.stages;
     std::vector<bool> needed(stages.size(), everything);
-    if (!everything)
-        for (std::size_t k = stages.size(); k-- > 0;) {
-            const StageDef& stage = stages[k];
-            for (const Port& output : stage.outputs)
-                if (std::find(wanted.begin(), wanted.end(), output.buffer) != wanted.end())
-                    needed[k] = true;
-            if (needed[k])
-                for (const Port& input : stage.inputs) wanted.push_back(input.buffer);
-        }
+    if (everything) {
+        wanted = {"all"};
+        return needed;
+    }
+    for (std::size_t k = stages.size(); k-- > 0;) {
+        const StageDef& stage = stages[k];
+        for (const Port& output : stage.outputs)
+            if (std::find(wanted.begin(), wanted.end(), output.buffer) != wanted.end())
+                needed[k] = true;
+        if (needed[k])
+            for (const Port& input : stage.inputs) wanted.push_back(input.buffer);
+    }
     return needed;
+}
+
+}  // namespace
+
+std::vector<bool> Pipeline::plan(const std::vector<std::string>& requested) const {
+    std::vector<std::string> wanted;
+    return plan_walk(*this, requested, wanted);
+}
+
+std::vector<std::string> Pipeline::wanted_buffers(const std::vector<std::string>& requested) const {
+    std::vector<std::string> wanted;
+    plan_walk(*this, requested, wanted);
+    return wanted;
 }
 
 DebuggerPosition debugger_position;
@@ -176,7 +203,10 @@ FrameResult Pipeline::run_frame(FrameContext& context,
     result.time = context.time;
     context.result = &result;
     context.checked_inputs.clear();
-    const std::vector<bool> needed = plan(requested);
+    std::vector<std::string> wanted;
+    const std::vector<bool> needed = plan_walk(*this, requested, wanted);
+    context.all_wanted = wanted.size() == 1 && wanted[0] == "all";
+    context.wanted = std::move(wanted);
     const auto stage_count = static_cast<double>(stages.size());
     const std::function<void(double)> frame_progress = context.stage_progress;
     for (std::size_t k = 0; k < stages.size(); ++k) {
@@ -199,7 +229,10 @@ FrameResult Pipeline::run_frame(FrameContext& context,
             run.note = context.note;
             for (const Port& output : stages[k].outputs)
                 FOVREF_CHECK(
-                    result.find(output.buffer) != nullptr,
+                    result.find(output.buffer) != nullptr ||
+                        (!context.all_wanted &&
+                         std::find(context.wanted.begin(), context.wanted.end(), output.buffer) ==
+                             context.wanted.end()),
                     "stage '" + stages[k].name + "' did not produce '" + output.buffer + "'");
             for (Buffer& buffer : result.buffers)
                 if (buffer.stage.empty()) buffer.stage = stages[k].name;
@@ -211,6 +244,8 @@ FrameResult Pipeline::run_frame(FrameContext& context,
     }
     context.stage_progress = frame_progress;
     context.result = nullptr;
+    context.wanted.clear();
+    context.all_wanted = true;  // outside run_frame, nothing is skipped
     return result;
 }
 

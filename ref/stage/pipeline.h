@@ -101,6 +101,14 @@ struct FrameContext {
     const std::string& buffer_of(const std::string& slot) const;
     /// The names input() has checked in this frame (reset by Pipeline::run_frame).
     mutable std::vector<std::string> checked_inputs;
+    /// The buffers this frame's plan needs (requested, or read by a stage that runs); set by
+    /// Pipeline::run_frame; outside it `all_wanted` is true and nothing is skipped.
+    std::vector<std::string> wanted;
+    bool all_wanted = true;  ///< every buffer is wanted (`--dump all`, or outside run_frame)
+    /// True when the buffer wired to output `slot` of the running stage is wanted. A stage may
+    /// leave out an output nobody wants when it costs work of its own (pass 2's decision
+    /// buffers); the buffers a stage must always produce are the wanted ones.
+    bool wants(const std::string& slot) const;
     /// For long stages: report progress through the current stage (e.g. after each row).
     void report(double fraction_of_stage) const {
         if (stage_progress) stage_progress(fraction_of_stage);
@@ -164,6 +172,9 @@ struct Pipeline {
     /// Names of the stages needed for `requested` (empty = final outputs, {"all"} = all).
     /// Throws fovref::Error naming an unknown buffer.
     std::vector<bool> plan(const std::vector<std::string>& requested) const;
+    /// The buffers needed for `requested`: those requested and every input of a needed stage
+    /// (in planning order, with repeats); {"all"} when everything is.
+    std::vector<std::string> wanted_buffers(const std::vector<std::string>& requested) const;
     /// Runs the planned stages for one frame.
     FrameResult run_frame(FrameContext& context, const std::vector<std::string>& requested) const;
 };

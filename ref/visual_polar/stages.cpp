@@ -141,7 +141,8 @@ void vp_resolve_stage(FrameContext& ctx) {
                     : std::string("bilinear")) +
                (reused ? ", forward map reused" : ", forward map computed");
     ctx.output("output", BufferKind::color, rgb, std::move(out));
-    output_resolve_decisions(ctx, vp_resolve_decisions(*frames.forward, mip));
+    if (wants_resolve_decisions(ctx))
+        output_resolve_decisions(ctx, vp_resolve_decisions(*frames.forward, mip));
 }
 
 StageDef vp_resolve_stage_def(std::shared_ptr<SparseFrames> frames, std::string output) {

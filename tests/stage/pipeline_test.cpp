@@ -362,3 +362,56 @@ TEST_CASE("pipeline: ports bind a stage's slots to the buffers the wiring names"
     CHECK_THROWS_WITH_AS(writes.run_frame(ctx, {"all"}),
                          doctest::Contains("writes 'elsewhere', which it does not declare"), Error);
 }
+
+namespace {
+
+// A stage with a cheap output and a costly one it computes only when wanted.
+void cheap_and_costly(FrameContext& ctx) {
+    ctx.output("cheap", BufferKind::scalar, {"v"}, Image(1, 1, 1, 1.0f));
+    if (ctx.wants("costly")) ctx.output("costly", BufferKind::scalar, {"v"}, Image(1, 1, 1, 2.0f));
+}
+
+void forgets_out(FrameContext& ctx) { (void)ctx; }
+
+}  // namespace
+
+// A stage may leave out an output nobody wants (FrameContext::wants); one that is wanted must
+// still be produced.
+TEST_CASE("pipeline: a stage leaves out the outputs nobody wants, and only those") {
+    Pipeline p;
+    p.stages.push_back({"both", {}, {"cheap", "costly"}, cheap_and_costly});
+    p.stages.push_back({"reader", {{"in", "cheap"}}, {"out"}, double_in_to_out});
+    p.final_outputs = {"out"};
+    FrameContext ctx;
+    CHECK(ctx.all_wanted);
+    const FrameResult plain = p.run_frame(ctx, {});
+    CHECK(plain.find("out") != nullptr);
+    CHECK(plain.find("costly") == nullptr);
+    CHECK(p.wanted_buffers({}) == std::vector<std::string>{"out", "cheap"});
+    CHECK(p.run_frame(ctx, {"costly"}).find("costly") != nullptr);
+    CHECK(p.run_frame(ctx, {"all"}).find("costly") != nullptr);
+    CHECK(p.wanted_buffers({"all", "out"}) == std::vector<std::string>{"all"});
+    CHECK(ctx.all_wanted);  // reset after the frame
+
+    Pipeline forgetful;
+    forgetful.stages.push_back({"forgets", {}, {"out"}, forgets_out});
+    forgetful.final_outputs = {"out"};
+    CHECK_THROWS_WITH_AS(forgetful.run_frame(ctx, {}),
+                         doctest::Contains("'forgets' did not produce 'out'"), Error);
+
+    // In the modes: pass 2's decision buffers are left out of a plain render and there when asked
+    const Scene scene = load_scene("cornell");
+    RenderSettings s;
+    s.width = 32;
+    s.height = 18;
+    for (const char* mode : {"kfr", "stereo-lp", "visual-polar-basic"}) {
+        INFO(mode);
+        s.requested = {};
+        const FrameResult final_only = render(&scene, mode, s).at(0);
+        CHECK(final_only.find("resolve_tap") == nullptr);
+        s.requested = {"final", "resolve_tap_margin"};
+        const FrameResult asked = render(&scene, mode, s).at(0);
+        CHECK(asked.find("resolve_tap") != nullptr);
+        CHECK(asked.find("resolve_tap_margin") != nullptr);
+    }
+}
