@@ -1,5 +1,7 @@
 #include "ref/filters/blur_ramp.h"
 
+#include <immintrin.h>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -24,11 +26,172 @@ void check_inputs(const BlurRamp& ramp, const BlurRampGeometry& geometry, const 
     FOVREF_CHECK_EQ(image.height, geometry.screen_height, "blur ramp image height");
 }
 
-/// One pass along x (`vertical` false) or y (true).
+constexpr int lanes = 8;  // pixels per AVX group
+constexpr int max_avx_channels = 4;
+
+bool cpu_has_avx() {
+    static const bool has = __builtin_cpu_supports("avx") != 0;
+    return has;
+}
+
+/// Lane by lane: `yes` where `mask` (a comparison's all-ones or zero lanes) is set, else `no`,
+/// bit for bit.
+__attribute__((target("avx"))) inline __m256 select(__m256 mask, __m256 yes, __m256 no) {
+    return _mm256_or_ps(_mm256_and_ps(mask, yes), _mm256_andnot_ps(mask, no));
+}
+
+/// sum + w source (the product rounded first) where `active`, else sum.
+__attribute__((target("avx"))) inline __m256 add_tap(__m256 active, __m256 sum, __m256 w,
+                                                     const float* source) {
+    return select(active, _mm256_add_ps(sum, _mm256_mul_ps(w, _mm256_loadu_ps(source))), sum);
+}
+
+/// blur_ramp_weights for eight pixels, lane by lane: a = exp(-1 / (2 sigma^2)) of each lane
+/// (0 where its radius is 0), its radius, and the group's largest radius Rmax; fills
+/// weights[0 .. Rmax][lane]. Each lane does blur_ramp_weights' operations in its order (the
+/// normalising sum over its own d = -R .. R, a blend leaving it unchanged beyond); a lane's
+/// weights beyond its radius are left finite and never used.
+__attribute__((target("avx"))) void weights_avx(const float* a, __m256 radius, int radius_max,
+                                                float (*weights)[lanes]) {
+    const __m256 av = _mm256_load_ps(a);
+    const __m256 a2 = _mm256_mul_ps(av, av);
+    __m256 w = _mm256_set1_ps(1.0f), g = av;
+    _mm256_store_ps(weights[0], w);
+    for (int d = 1; d <= radius_max; ++d) {
+        w = _mm256_mul_ps(w, g);
+        g = _mm256_mul_ps(g, a2);
+        _mm256_store_ps(weights[d], w);
+    }
+    __m256 sum = _mm256_setzero_ps();
+    for (int d = -radius_max; d <= radius_max; ++d) {
+        const int ad = d < 0 ? -d : d;
+        const __m256 active =
+            _mm256_cmp_ps(_mm256_set1_ps(static_cast<float>(ad)), radius, _CMP_LE_OQ);
+        sum = select(active, _mm256_add_ps(sum, _mm256_load_ps(weights[ad])), sum);
+    }
+    const __m256 inverse = _mm256_div_ps(_mm256_set1_ps(1.0f), sum);
+    for (int d = 0; d <= radius_max; ++d)
+        _mm256_store_ps(weights[d], _mm256_mul_ps(_mm256_load_ps(weights[d]), inverse));
+}
+
+/// The weighted sums of eight pixels over their taps d = -Rmax .. Rmax, for C channels in
+/// planes `plane` floats apart; taps[d + Rmax] is the index of lane 0's source of tap d (the
+/// lanes' sources follow it). A lane adds w_|d| c_d only for |d| <= its radius (select). Writes
+/// sums[c][lane].
+template <int C>
+__attribute__((target("avx"))) void weighted_sums_avx(const float* planes, std::size_t plane,
+                                                      const std::size_t* taps,
+                                                      const float (*weights)[lanes], __m256 radius,
+                                                      int radius_max, float (*sums)[lanes]) {
+    // the channels' sums in registers (named: GCC keeps an array of them in memory)
+    __m256 s0 = _mm256_setzero_ps(), s1 = s0, s2 = s0, s3 = s0;
+    for (int d = -radius_max; d <= radius_max; ++d) {
+        const int ad = d < 0 ? -d : d;
+        const __m256 w = _mm256_load_ps(weights[ad]);
+        const __m256 active =
+            _mm256_cmp_ps(_mm256_set1_ps(static_cast<float>(ad)), radius, _CMP_LE_OQ);
+        const float* source = planes + taps[d + radius_max];
+        s0 = add_tap(active, s0, w, source);
+        if constexpr (C > 1) s1 = add_tap(active, s1, w, source + plane);
+        if constexpr (C > 2) s2 = add_tap(active, s2, w, source + 2 * plane);
+        if constexpr (C > 3) s3 = add_tap(active, s3, w, source + 3 * plane);
+    }
+    const __m256 sum[4] = {s0, s1, s2, s3};
+    for (int c = 0; c < C; ++c) _mm256_store_ps(sums[c], sum[c]);
+}
+
+/// The pass on eight pixels at a time (AVX; used only where the CPU has it, `channels` <= 4).
+/// Each lane does its own pixel's scalar operations in blur_ramp_pixel's order: the sum starts
+/// at 0 and adds w_d c_d (the product rounded, no FMA) for d = -R .. R of that pixel's R. A
+/// group runs d over -Rmax .. Rmax of its largest radius, and a lane whose |d| > R keeps its
+/// sum unchanged (a blend, not a zero weight, so that no value read outside a lane's own taps
+/// can reach it): the same bits as blur_ramp_pixel, lane by lane. Groups whose horizontal taps
+/// would be clamped at the left or right edge, and the last W mod 8 pixels of a row, run
+/// blur_ramp_pixel itself.
+__attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
+                                                  const BlurRampGeometry& geometry,
+                                                  const Image& image, bool vertical, Image& out) {
+    const int width = image.width, height = image.height, channels = image.channels;
+    // The image in planes, so that a lane's taps along x or y are one unaligned load per channel
+    std::vector<float> planes(static_cast<std::size_t>(channels) * width * height);
+    const std::size_t plane = static_cast<std::size_t>(width) * height;
+    for (std::size_t k = 0; k < plane; ++k)
+        for (int c = 0; c < channels; ++c)
+            planes[c * plane + k] = image.data[k * static_cast<std::size_t>(channels) + c];
+
+    alignas(32) float weights[blur_ramp_max_radius + 1][lanes];
+    alignas(32) float radius_f[lanes];
+    alignas(32) float sums[max_avx_channels][lanes];
+    std::size_t taps[2 * blur_ramp_max_radius + 1];
+    int radius[lanes];
+    float last_sigma = 0.0f, last_a = 0.0f;  // sigma > 0 wherever a is used
+    for (int y = 0; y < height; ++y) {
+        int x0 = 0;
+        for (; x0 + lanes <= width; x0 += lanes) {
+            alignas(32) float a[lanes];
+            int radius_max = 0;
+            for (int lane = 0; lane < lanes; ++lane) {
+                const float sigma = blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + lane, y));
+                radius[lane] = blur_ramp_radius(sigma);
+                radius_f[lane] = static_cast<float>(radius[lane]);
+                // a lane copied (radius 0) gets finite dummy weights, computed and never used;
+                // beyond full_deg every pixel has the same sigma, whose exp is kept
+                if (radius[lane] > 0 && !(sigma == last_sigma)) {
+                    last_sigma = sigma;
+                    last_a = dm::exp(-1.0f / (2.0f * sigma * sigma));
+                }
+                a[lane] = radius[lane] > 0 ? last_a : 0.5f;
+                radius_max = std::max(radius_max, radius[lane]);
+            }
+            if (radius_max == 0) continue;  // all copied
+            if (!vertical && (x0 - radius_max < 0 || x0 + lanes - 1 + radius_max >= width)) {
+                for (int lane = 0; lane < lanes; ++lane)
+                    blur_ramp_pixel(ramp, geometry, image, vertical, out, x0 + lane, y);
+                continue;
+            }
+            const __m256 radius_v = _mm256_load_ps(radius_f);
+            weights_avx(a, radius_v, radius_max, weights);
+            // lane 0's source of each tap d: row y + d (clamped) at x0, or row y at x0 + d
+            for (int d = -radius_max; d <= radius_max; ++d)
+                taps[d + radius_max] =
+                    vertical
+                        ? static_cast<std::size_t>(std::clamp(y + d, 0, height - 1)) * width +
+                              static_cast<std::size_t>(x0)
+                        : static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x0 + d);
+            const float* p = planes.data();
+            switch (channels) {
+                case 1:
+                    weighted_sums_avx<1>(p, plane, taps, weights, radius_v, radius_max, sums);
+                    break;
+                case 2:
+                    weighted_sums_avx<2>(p, plane, taps, weights, radius_v, radius_max, sums);
+                    break;
+                case 3:
+                    weighted_sums_avx<3>(p, plane, taps, weights, radius_v, radius_max, sums);
+                    break;
+                default: weighted_sums_avx<4>(p, plane, taps, weights, radius_v, radius_max, sums);
+            }
+            for (int lane = 0; lane < lanes; ++lane) {
+                if (radius[lane] == 0) continue;  // copied
+                float* o = &out.data[out.index(x0 + lane, y)];
+                for (int c = 0; c < channels; ++c) o[c] = sums[c][lane];
+            }
+        }
+        for (int x = x0; x < width; ++x)
+            blur_ramp_pixel(ramp, geometry, image, vertical, out, x, y);
+    }
+}
+
+/// One pass along x (`vertical` false) or y (true): the AVX groups where the CPU has AVX (the
+/// same bits), else blur_ramp_pixel pixel by pixel.
 Image blur_pass(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
-                bool vertical) {
+                bool vertical, bool simd) {
     check_inputs(ramp, geometry, image);
     Image out = image;
+    if (simd && image.channels <= max_avx_channels && cpu_has_avx()) {
+        blur_pass_avx(ramp, geometry, image, vertical, out);
+        return out;
+    }
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < image.width; ++x)
             blur_ramp_pixel(ramp, geometry, image, vertical, out, x, y);
@@ -50,6 +213,24 @@ float blur_ramp_sigma_px(const BlurRamp& ramp, const BlurRampGeometry& geometry,
     return sigma * geometry.scale;
 }
 
+void blur_ramp_weights(float sigma, int radius, float* weights) {
+    // Gaussian weights w_|d| = a^(d^2), a = exp(-1 / (2 sigma^2)), d = 0 .. R, by the
+    // recurrence w_d = w_(d-1) g_d, g_d = g_(d-1) a^2 (g_1 = a): one exp per pixel
+    const float a = dm::exp(-1.0f / (2.0f * sigma * sigma));
+    const float a2 = a * a;
+    weights[0] = 1.0f;
+    float g = a;
+    for (int d = 1; d <= radius; ++d) {
+        weights[d] = weights[d - 1] * g;
+        g = g * a2;
+    }
+    // Normalised: the sum over the taps -R .. R (from -R up), then each weight / sum
+    float weight_sum = 0.0f;
+    for (int d = -radius; d <= radius; ++d) weight_sum += weights[d < 0 ? -d : d];
+    const float inverse = 1.0f / weight_sum;
+    for (int d = 0; d <= radius; ++d) weights[d] = weights[d] * inverse;
+}
+
 int blur_ramp_radius(float sigma_px) {
     if (!(sigma_px > 0.0f)) return 0;
     const float radius = std::ceil(3.0f * sigma_px);
@@ -65,22 +246,8 @@ void blur_ramp_pixel(const BlurRamp& ramp, const BlurRampGeometry& geometry, con
     const int radius = blur_ramp_radius(sigma);
     if (radius == 0) return;  // copied
 
-    // Gaussian weights w_|d| = a^(d^2), a = exp(-1 / (2 sigma^2)), d = 0 .. R, by the
-    // recurrence w_d = w_(d-1) g_d, g_d = g_(d-1) a^2 (g_1 = a): one exp per pixel
     float weights[blur_ramp_max_radius + 1];
-    const float a = dm::exp(-1.0f / (2.0f * sigma * sigma));
-    const float a2 = a * a;
-    weights[0] = 1.0f;
-    float g = a;
-    for (int d = 1; d <= radius; ++d) {
-        weights[d] = weights[d - 1] * g;
-        g = g * a2;
-    }
-    // Normalised: the sum over the taps -R .. R (from -R up), then each weight / sum
-    float weight_sum = 0.0f;
-    for (int d = -radius; d <= radius; ++d) weight_sum += weights[d < 0 ? -d : d];
-    const float inverse = 1.0f / weight_sum;
-    for (int d = 0; d <= radius; ++d) weights[d] = weights[d] * inverse;
+    blur_ramp_weights(sigma, radius, weights);
 
     // The weighted sum over the taps -R .. R, clamped to the border
     const int extent = vertical ? height : width;
@@ -115,17 +282,19 @@ void blur_ramp_pixel(const BlurRamp& ramp, const BlurRampGeometry& geometry, con
 }
 
 Image blur_ramp_horizontal(const BlurRamp& ramp, const BlurRampGeometry& geometry,
-                           const Image& image) {
-    return blur_pass(ramp, geometry, image, false);
+                           const Image& image, bool simd) {
+    return blur_pass(ramp, geometry, image, false, simd);
 }
 
-Image blur_ramp_vertical(const BlurRamp& ramp, const BlurRampGeometry& geometry,
-                         const Image& image) {
-    return blur_pass(ramp, geometry, image, true);
+Image blur_ramp_vertical(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
+                         bool simd) {
+    return blur_pass(ramp, geometry, image, true, simd);
 }
 
-Image blur_ramp(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image) {
-    return blur_ramp_vertical(ramp, geometry, blur_ramp_horizontal(ramp, geometry, image));
+Image blur_ramp(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
+                bool simd) {
+    return blur_ramp_vertical(ramp, geometry, blur_ramp_horizontal(ramp, geometry, image, simd),
+                              simd);
 }
 
 }  // namespace fovref

@@ -58,18 +58,27 @@ float blur_ramp_sigma_px(const BlurRamp& ramp, const BlurRampGeometry& geometry,
 /// sigma_px <= 0.
 int blur_ramp_radius(float sigma_px);
 
+/// The normalised weights w_0 .. w_R of sigma_px and R = blur_ramp_radius(sigma_px) >= 1 (see
+/// above), written to weights[0 .. R].
+void blur_ramp_weights(float sigma_px, int radius, float* weights);
+
 /// Per-pixel work of a pass (along y when `vertical`, else x): pixel (x, y) of `out`, which holds
 /// a copy of `image` (a pixel whose radius is 0 keeps it).
 void blur_ramp_pixel(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
                      bool vertical, Image& out, int x, int y);
 
-/// The horizontal pass on a W x H image (the geometry's screen size), any channel count.
+/// The horizontal pass on a W x H image (the geometry's screen size), any channel count. With
+/// `simd` (the default) and a CPU with AVX, eight pixels at a time for up to 4 channels, each
+/// lane doing blur_ramp_pixel's operations in its order: the same bits as `simd` false, which
+/// runs blur_ramp_pixel pixel by pixel (the readable reference).
 Image blur_ramp_horizontal(const BlurRamp& ramp, const BlurRampGeometry& geometry,
-                           const Image& image);
-/// The vertical pass on a W x H image (the geometry's screen size), any channel count.
+                           const Image& image, bool simd = true);
+/// The vertical pass on a W x H image (the geometry's screen size), any channel count (`simd`:
+/// as blur_ramp_horizontal).
 Image blur_ramp_vertical(const BlurRamp& ramp, const BlurRampGeometry& geometry,
-                         const Image& image);
+                         const Image& image, bool simd = true);
 /// Both passes: horizontal, then vertical.
-Image blur_ramp(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image);
+Image blur_ramp(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
+                bool simd = true);
 
 }  // namespace fovref

@@ -191,10 +191,20 @@ VpForwardTable vp_forward_table(const VisualPolarMap& map) {
     VpForwardTable t;
     t.map = map;
     t.polar = Image(map.screen_width, map.screen_height, 3);
+    t.levels = Image(map.screen_width, map.screen_height, 4);
+    std::vector<int> rows(static_cast<std::size_t>(map.width));
+    for (int i = 0; i < map.width; ++i) rows[static_cast<std::size_t>(i)] = vp_column_rows(map, i);
     for (int y = 0; y < map.screen_height; ++y)
         for (int x = 0; x < map.screen_width; ++x) {
             float* p = &t.polar.data[t.polar.index(x, y)];
             vp_polar_pixel(map, x, y, p[0], p[1], p[2]);
+            const VpColumns rho = vp_rho_columns(map.width, p[0]);
+            float* level = &t.levels.data[t.levels.index(x, y)];
+            for (int k = 0; k < 2; ++k) {
+                const int n = rows[static_cast<std::size_t>(k == 0 ? rho.i0 : rho.i1)];
+                level[2 * k] = static_cast<float>(n);
+                level[2 * k + 1] = vp_mip_level(n, p[1]);
+            }
         }
     return t;
 }
@@ -208,9 +218,11 @@ void resolve_vp_pixel(const VisualPolarMap& map, const VpMips& mips, Image& out,
 
     // Polar coordinates of the pixel centre (u: vp_forward's, bit for bit)
     float u = 0.0f, r = 0.0f, theta = 0.0f;
+    const float* levels = nullptr;  // the table's (n_k, lambda_k)
     if (table) {
         const float* p = &table->polar.data[table->polar.index(x, y)];
         u = p[0], r = p[1], theta = p[2];
+        levels = &table->levels.data[table->levels.index(x, y)];
     } else {
         vp_polar_pixel(map, x, y, u, r, theta);
     }
@@ -226,7 +238,10 @@ void resolve_vp_pixel(const VisualPolarMap& map, const VpMips& mips, Image& out,
     for (int k = 0; k < rho.count; ++k) {
         const int n = mips.column_rows[static_cast<std::size_t>(columns[k])];
         const float v = static_cast<float>(n) * theta / two_pi;
-        const float lambda = mip ? vp_mip_level(n, r) : 0.0f;
+        float lambda = 0.0f;
+        if (mip)
+            lambda = levels && levels[2 * k] == static_cast<float>(n) ? levels[2 * k + 1]
+                                                                      : vp_mip_level(n, r);
         if (k == 0 && lambda_out) *lambda_out = lambda;
         have[k] = sample_column(mips, columns[k], v, lambda, channels, values[k]);
     }

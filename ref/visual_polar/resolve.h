@@ -118,9 +118,15 @@ bool sample_vp_phi(const Image& color, const Image& valid, int column, int rows,
 /// Each screen pixel's polar coordinates as the resolve computes them (u = vp_forward's u, the
 /// distance r from the gaze, theta), kept by a mode while the map stays the same (a static gaze):
 /// the same bits without the bisection and atan2 per pixel. polar: W x H x 3 (u, r, theta).
+/// levels: W x H x 4, for the pixel's columns i0 and i1 (vp_rho_columns of u): n_0, lambda_0,
+/// n_1, lambda_1, with n_k the column's rows in the map the table was made for and lambda_k =
+/// vp_mip_level(n_k, r) (two logarithms per pixel): the resolve uses lambda_k where the
+/// pyramid's column still has n_k rows (a BMFR staircase changes the fovea's rows between
+/// frames) and computes it otherwise, the same bits either way.
 struct VpForwardTable {
     VisualPolarMap map;
     Image polar;
+    Image levels;
 };
 VpForwardTable vp_forward_table(const VisualPolarMap& map);
 

@@ -233,6 +233,27 @@ TEST_CASE("VP resolve: the forward table kept for a static gaze gives the per-pi
                         resolve_visual_polar(map, mips, b, mip, &table)));
         CHECK(a.pixels_untraced_taps == b.pixels_untraced_taps);
     }
+    // BMFR's staircase moves between frames and the stage keeps the table (the same forward
+    // map): the levels it holds for rows the pyramid no longer has are recomputed, the same bits
+    VisualPolarMap stairs = map;
+    stairs.staircase_block = 8;
+    VpForwardTable kept = vp_forward_table(stairs);
+    int rows_changed = 0;
+    for (int i = 0; i < map.width; ++i)
+        rows_changed += vp_column_rows(stairs, i) != vp_column_rows(map, i);
+    for (const int offset : {3, -2}) {
+        stairs.staircase_offset = offset;
+        int moved = 0;
+        for (int i = 0; i < map.width; ++i)
+            moved += vp_column_rows(stairs, i) != vp_column_rows(kept.map, i);
+        CHECK(moved > 0);
+        kept.map = stairs;
+        const VpMips stair_mips = build_vp_mips(stairs, color, valid);
+        ResolveStats a, b;
+        CHECK(same_bits(resolve_visual_polar(stairs, stair_mips, a, true),
+                        resolve_visual_polar(stairs, stair_mips, b, true, &kept)));
+    }
+    CHECK(rows_changed > 0);
     // a table made for another gaze is refused
     const VpForwardTable other =
         vp_forward_table(make_visual_polar_map(120, 90, {0.0f, 0.0f}, 80, 60));

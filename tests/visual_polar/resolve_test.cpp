@@ -9,6 +9,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <initializer_list>
 #include <limits>
 #include <vector>
@@ -637,5 +638,48 @@ TEST_CASE(
             blur_ramp(ramp, blur_ramp_geometry(map), image),
             blur_ramp_vertical(ramp, blur_ramp_geometry(map),
                                blur_ramp_horizontal(ramp, blur_ramp_geometry(map), image))));
+    }
+}
+
+// The AVX groups (eight pixels, each lane with its own radius) give blur_ramp_pixel's bits, pixel
+// by pixel: sizes that are not multiples of 8, 1 to 5 channels (5: the scalar path only), the
+// gaze inside and off the screen, radii from 1 to the cap of 64 (edge groups fall back to the
+// scalar pixel), and non-finite values, which a lane outside its own taps must never see.
+TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits") {
+    struct Case {
+        int width, height, channels;
+        glm::vec2 gaze;
+        float scale, fovea_deg;
+        BlurRamp ramp;
+    };
+    const Case cases[] = {
+        {77, 45, 3, {30.0f, 20.0f}, 3.0f, 2.0f, BlurRamp{}},
+        {64, 33, 1, {-40.0f, 70.0f}, 5.0f, 1.0f, BlurRamp{2.0f, 12.0f}},
+        {131, 70, 4, {65.0f, 35.0f}, 40.0f, 0.2f, BlurRamp{1.0f, 1.5f}},  // radius capped at 64
+        {41, 29, 5, {10.0f, 10.0f}, 4.0f, 0.5f, BlurRamp{1.0f, 5.0f}},
+        {200, 9, 2, {100.0f, 4.0f}, 1.0f, 3.0f, BlurRamp{0.9f, 60.0f}},
+    };
+    for (const Case& k : cases) {
+        INFO(k.width << "x" << k.height << "x" << k.channels);
+        const BlurRampGeometry geometry{k.width, k.height, k.gaze, k.scale, k.fovea_deg};
+        Image image = random_image(k.width, k.height, k.channels, 9);
+        for (int c = 0; c < k.channels; ++c) image.at(k.width / 2, k.height / 2, c) *= -1.0f;
+        image.at(3, 2, 0) = std::numeric_limits<float>::infinity();
+        image.at(k.width - 2, k.height - 1, 0) = std::numeric_limits<float>::quiet_NaN();
+        for (const bool vertical : {false, true}) {
+            const Image simd = vertical ? blur_ramp_vertical(k.ramp, geometry, image, true)
+                                        : blur_ramp_horizontal(k.ramp, geometry, image, true);
+            const Image scalar = vertical ? blur_ramp_vertical(k.ramp, geometry, image, false)
+                                          : blur_ramp_horizontal(k.ramp, geometry, image, false);
+            CHECK(std::memcmp(simd.data.data(), scalar.data.data(),
+                              scalar.data.size() * sizeof(float)) == 0);
+            // the reference itself: every pixel as blur_ramp_pixel makes it
+            Image by_pixel = image;
+            for (int y = 0; y < k.height; ++y)
+                for (int x = 0; x < k.width; ++x)
+                    blur_ramp_pixel(k.ramp, geometry, image, vertical, by_pixel, x, y);
+            CHECK(std::memcmp(by_pixel.data.data(), scalar.data.data(),
+                              scalar.data.size() * sizeof(float)) == 0);
+        }
     }
 }
