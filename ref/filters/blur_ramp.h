@@ -75,8 +75,8 @@ Image blur_ramp_horizontal(const BlurRamp& ramp, const BlurRampGeometry& geometr
                            const Image& image, bool simd = true);
 /// The vertical pass on a W x H image (the geometry's screen size), any channel count (`simd`:
 /// as blur_ramp_horizontal).
-Image blur_ramp_vertical(const BlurRamp& ramp, const BlurRampGeometry& geometry,
-                         const Image& image, bool simd = true);
+Image blur_ramp_vertical(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
+                         bool simd = true);
 /// Both passes: horizontal, then vertical.
 Image blur_ramp(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
                 bool simd = true);
