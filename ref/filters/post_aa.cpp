@@ -1,5 +1,7 @@
 #include "ref/filters/post_aa.h"
 
+#include <immintrin.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -12,6 +14,150 @@ namespace fovref {
 namespace {
 
 constexpr int max_eta = 39;  // t = 1: 3 + 2 ceil(0.9 / 0.05)
+constexpr int lanes = 8;     // pixels per AVX group
+
+bool cpu_has_avx() {
+    static const bool has = __builtin_cpu_supports("avx") != 0;
+    return has;
+}
+
+/// The cache of size eta, made on first use.
+PostAaRowCache& row_cache(std::vector<PostAaRowCache>& cache, int eta, int width, int channels) {
+    PostAaRowCache& r = cache[static_cast<std::size_t>(eta)];
+    if (r.eta == 0) {
+        r.eta = eta;
+        r.value.assign(static_cast<std::size_t>(eta) * width * channels, 0.0f);
+        r.row.assign(static_cast<std::size_t>(eta) * width, -1);
+    }
+    return r;
+}
+
+/// The running sums of 8 C contiguous floats in C registers (named: GCC keeps an array of them
+/// in memory): add(w, p) does s += w p[8c ..] (the product rounded first) for each register c.
+template <int C>
+struct Sums {
+    __m256 s0, s1, s2, s3;
+    __attribute__((target("avx"))) Sums() : s0(_mm256_setzero_ps()), s1(s0), s2(s0), s3(s0) {}
+    __attribute__((target("avx"))) void add(__m256 w, const float* p) {
+        s0 = _mm256_add_ps(s0, _mm256_mul_ps(w, _mm256_loadu_ps(p)));
+        if constexpr (C > 1) s1 = _mm256_add_ps(s1, _mm256_mul_ps(w, _mm256_loadu_ps(p + 8)));
+        if constexpr (C > 2) s2 = _mm256_add_ps(s2, _mm256_mul_ps(w, _mm256_loadu_ps(p + 16)));
+        if constexpr (C > 3) s3 = _mm256_add_ps(s3, _mm256_mul_ps(w, _mm256_loadu_ps(p + 24)));
+    }
+    __attribute__((target("avx"))) void store(float* p) const {
+        _mm256_storeu_ps(p, s0);
+        if constexpr (C > 1) _mm256_storeu_ps(p + 8, s1);
+        if constexpr (C > 2) _mm256_storeu_ps(p + 16, s2);
+        if constexpr (C > 3) _mm256_storeu_ps(p + 24, s3);
+    }
+};
+
+/// Eight pixels x0 .. x0 + 7 of row y, computed as if all were of kernel size r.eta, C
+/// channels: post_aa_cached_pixel's value for each, lane by lane, written to result[0 .. 8 C).
+/// The 8 C floats of the group are contiguous in the image, in the cache and in each source row
+/// shifted by dx, and every lane has the same weights, so each of the C registers does one
+/// lane's scalar operations in order (0, then + g w, the product rounded). Near the left and
+/// right edges the row is first copied with its clamped neighbours (the values post_aa_row
+/// reads). The cache's entries are those the scalar pixels would make, and are read or made the
+/// same way; a group whose row is cached for some lanes only makes it again for all eight (a
+/// row sum is the same computation whenever it is made, so an entry keeps its bits).
+template <int C>
+__attribute__((target("avx"))) void post_aa_group_avx(const Image& in, const std::vector<float>& g,
+                                                      PostAaRowCache& r, float* result, int x0,
+                                                      int y) {
+    const int width = in.width, eta = r.eta, half = (eta - 1) / 2;
+    const bool clamped = x0 - half < 0 || x0 + lanes - 1 + half >= width;
+    float padded[(lanes + max_eta - 1) * C];  // lane 0's taps from dx = -half on
+    Sums<C> sum;
+    int previous = -1, slot = 0;
+    for (int dy = -half; dy <= half; ++dy) {
+        const int yy = std::clamp(y + dy, 0, in.height - 1);
+        if (previous < 0)
+            slot = yy % eta;
+        else if (yy != previous)
+            slot = slot + 1 == eta ? 0 : slot + 1;  // yy = previous + 1
+        previous = yy;
+        const std::size_t k = static_cast<std::size_t>(slot) * width + x0;
+        float* row = &r.value[k * C];
+        bool cached = true;
+        for (int lane = 0; lane < lanes; ++lane) cached = cached && r.row[k + lane] == yy;
+        if (!cached) {
+            const float* source = &in.data[(static_cast<std::size_t>(yy) * width + x0) * C];
+            if (clamped) {
+                for (int i = 0; i < lanes + 2 * half; ++i) {
+                    const int xx = std::clamp(x0 - half + i, 0, width - 1);
+                    for (int c = 0; c < C; ++c) padded[i * C + c] = in.at(xx, yy, c);
+                }
+                source = padded + half * C;
+            }
+            Sums<C> acc;
+            for (int dx = -half; dx <= half; ++dx)
+                acc.add(_mm256_set1_ps(g[static_cast<std::size_t>(dx + half)]),
+                        source + static_cast<std::ptrdiff_t>(dx) * C);
+            acc.store(row);
+            for (int lane = 0; lane < lanes; ++lane) r.row[k + lane] = yy;
+        }
+        sum.add(_mm256_set1_ps(g[static_cast<std::size_t>(dy + half)]), row);
+    }
+    sum.store(result);
+}
+
+/// One group of eight pixels of row y with their kernel sizes eta[lane]: each size present runs
+/// post_aa_group_avx for the whole group, and its lanes take their values from it (a group of
+/// one size writes straight to the image); a lane of size 0 is copied.
+template <int C>
+__attribute__((target("avx"))) void post_aa_lanes_avx(
+    const Image& in, const std::vector<std::vector<float>>& weights,
+    std::vector<PostAaRowCache>& cache, const int* eta, Image& out, int x0, int y) {
+    float* o = &out.data[out.index(x0, y)];
+    bool same = true;
+    for (int lane = 0; lane < lanes; ++lane) same = same && eta[lane] == eta[0];
+    if (same && eta[0] > 0) {
+        post_aa_group_avx<C>(in, weights[static_cast<std::size_t>(eta[0])],
+                             row_cache(cache, eta[0], in.width, C), o, x0, y);
+        return;
+    }
+    float result[lanes * C];
+    for (int lane = 0; lane < lanes; ++lane) {
+        const int e = eta[lane];
+        bool first = true;  // the first lane of its size
+        for (int before = 0; before < lane; ++before) first = first && eta[before] != e;
+        if (!first) continue;
+        if (e > 0)
+            post_aa_group_avx<C>(in, weights[static_cast<std::size_t>(e)],
+                                 row_cache(cache, e, in.width, C), result, x0, y);
+        const float* from = e > 0 ? result : &in.data[in.index(x0, y)];
+        for (int other = lane; other < lanes; ++other)
+            if (eta[other] == e)
+                for (int c = 0; c < C; ++c) o[other * C + c] = from[other * C + c];
+    }
+}
+
+/// post_aa's rows with AVX groups (the CPU has AVX, 1 to 4 channels): groups of eight pixels
+/// run post_aa_lanes_avx, the last W mod 8 pixels of a row post_aa_cached_pixel; the pixels run
+/// row by row, so the cache is used as by the scalar pass.
+void post_aa_rows_avx(const Image& in, glm::vec2 gaze, float radius_max,
+                      const std::vector<std::vector<float>>& weights,
+                      std::vector<PostAaRowCache>& cache, Image& out) {
+    const int width = in.width;
+    int eta[lanes];
+    for (int y = 0; y < in.height; ++y) {
+        int x0 = 0;
+        for (; x0 + lanes <= width; x0 += lanes) {
+            for (int lane = 0; lane < lanes; ++lane)
+                eta[lane] =
+                    post_aa_size(gaze_distance(gaze, pixel_centre(x0 + lane, y)) / radius_max);
+            switch (in.channels) {
+                case 1: post_aa_lanes_avx<1>(in, weights, cache, eta, out, x0, y); break;
+                case 2: post_aa_lanes_avx<2>(in, weights, cache, eta, out, x0, y); break;
+                case 3: post_aa_lanes_avx<3>(in, weights, cache, eta, out, x0, y); break;
+                default: post_aa_lanes_avx<4>(in, weights, cache, eta, out, x0, y);
+            }
+        }
+        for (int x = x0; x < width; ++x)
+            post_aa_cached_pixel(in, gaze, radius_max, weights, cache, out, x, y);
+    }
+}
 
 }  // namespace
 
@@ -69,13 +215,17 @@ void post_aa_pixel(const Image& in, glm::vec2 gaze, float radius_max,
     for (int c = 0; c < in.channels; ++c) out.at(x, y, c) = sum[c];
 }
 
-Image post_aa(const Image& in, glm::vec2 gaze, float radius_max) {
+Image post_aa(const Image& in, glm::vec2 gaze, float radius_max, bool simd) {
     FOVREF_CHECK(in.channels <= 4, "post anti-aliasing of more than 4 channels");
     std::vector<std::vector<float>> weights(max_eta + 1);
     for (int eta = 3; eta <= max_eta; eta += 2)
         weights[static_cast<std::size_t>(eta)] = post_aa_weights(eta);
     Image out(in.width, in.height, in.channels, 0.0f);
     std::vector<PostAaRowCache> cache(max_eta + 1);
+    if (simd && cpu_has_avx()) {
+        post_aa_rows_avx(in, gaze, radius_max, weights, cache, out);
+        return out;
+    }
     for (int y = 0; y < in.height; ++y)
         for (int x = 0; x < in.width; ++x)
             post_aa_cached_pixel(in, gaze, radius_max, weights, cache, out, x, y);
@@ -93,12 +243,7 @@ void post_aa_cached_pixel(const Image& in, glm::vec2 gaze, float radius_max,
         return;
     }
     const std::vector<float>& g = weights[static_cast<std::size_t>(eta)];
-    PostAaRowCache& r = cache[static_cast<std::size_t>(eta)];
-    if (r.eta == 0) {
-        r.eta = eta;
-        r.value.assign(static_cast<std::size_t>(eta) * width * channels, 0.0f);
-        r.row.assign(static_cast<std::size_t>(eta) * width, -1);
-    }
+    PostAaRowCache& r = row_cache(cache, eta, width, channels);
     const int half = (eta - 1) / 2;
     float sum[4] = {0, 0, 0, 0};
     int previous = -1, slot = 0;

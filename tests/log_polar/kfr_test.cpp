@@ -117,10 +117,13 @@ TEST_CASE("post AA: the size eta, normalised weights, a filtered impulse by hand
 
 TEST_CASE("post AA: the pass (row sums kept) equals post_aa_pixel bit for bit at every pixel") {
     // Random images of 1-4 channels, screens shorter and narrower than the kernels (heavy
-    // clamping), gazes inside, on the edge and far off screen (every size up to 39).
+    // clamping), gazes inside, on the edge and far off screen (every size up to 39), an infinite
+    // and a NaN value; the AVX groups (eight pixels, of one size or mixed, clamped at the left and
+    // right edges or not) and the scalar pass alike.
     test::SplitMix64 rng(11);
     for (const auto& shape :
-         {std::tuple{80, 45, 3}, std::tuple{7, 5, 1}, std::tuple{41, 12, 4}, std::tuple{1, 30, 2}})
+         {std::tuple{80, 45, 3}, std::tuple{7, 5, 1}, std::tuple{41, 12, 4}, std::tuple{1, 30, 2},
+          std::tuple{133, 36, 3}, std::tuple{96, 17, 2}})
         for (const glm::vec2& gaze :
              {glm::vec2{40.5f, 20.0f}, glm::vec2{0.0f, 44.0f}, glm::vec2{-300.0f, 900.0f}})
             for (const float radius : {60.0f, 25.0f}) {
@@ -130,7 +133,14 @@ TEST_CASE("post AA: the pass (row sums kept) equals post_aa_pixel bit for bit at
                 Image in(w, h, channels, 0.0f);
                 for (float& v : in.data)
                     v = static_cast<float>(rng.below(1 << 20)) * 0x1p-18f - 1.0f;
+                if (w > 50) {
+                    in.at(w / 3, h / 2, 0) = std::numeric_limits<float>::infinity();
+                    in.at(w - 3, h / 3, channels - 1) = std::numeric_limits<float>::quiet_NaN();
+                }
                 const Image out = post_aa(in, gaze, radius);
+                const Image scalar = post_aa(in, gaze, radius, false);
+                CHECK(std::memcmp(out.data.data(), scalar.data.data(),
+                                  out.data.size() * sizeof(float)) == 0);
                 std::vector<std::vector<float>> weights(40);
                 for (int eta = 3; eta <= 39; eta += 2)
                     weights[static_cast<std::size_t>(eta)] = post_aa_weights(eta);
