@@ -121,9 +121,8 @@ TEST_CASE("post AA: the pass (row sums kept) equals post_aa_pixel bit for bit at
     // and a NaN value; the AVX groups (eight pixels, of one size or mixed, clamped at the left and
     // right edges or not) and the scalar pass alike.
     test::SplitMix64 rng(11);
-    for (const auto& shape :
-         {std::tuple{80, 45, 3}, std::tuple{7, 5, 1}, std::tuple{41, 12, 4}, std::tuple{1, 30, 2},
-          std::tuple{133, 36, 3}, std::tuple{96, 17, 2}})
+    for (const auto& shape : {std::tuple{80, 45, 3}, std::tuple{7, 5, 1}, std::tuple{41, 12, 4},
+                              std::tuple{1, 30, 2}, std::tuple{133, 36, 3}, std::tuple{96, 17, 2}})
         for (const glm::vec2& gaze :
              {glm::vec2{40.5f, 20.0f}, glm::vec2{0.0f, 44.0f}, glm::vec2{-300.0f, 900.0f}})
             for (const float radius : {60.0f, 25.0f}) {
