@@ -76,7 +76,7 @@ void resolve_mip_pixel(const LogPolarMap& map, const std::vector<MipLevel>& mips
     float a[4] = {0, 0, 0, 0}, b[4] = {0, 0, 0, 0};
     const auto sample = [&](int level, float* value) {
         const MipLevel& m = mips[static_cast<std::size_t>(level)];
-        const float scale = dm::exp2(static_cast<float>(-level));  // exact: a power of two
+        const float scale = 1.0f / static_cast<float>(1 << level);  // exact: 2^-level
         return sample_lp_bilinear(m.color, m.valid, {uv.x * scale, uv.y * scale}, value);
     };
     const bool have_a = sample(l0, a);

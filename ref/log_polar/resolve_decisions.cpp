@@ -56,7 +56,7 @@ ResolveDecisions lp_resolve_decisions(const ForwardTable& table, const GazeInput
                 d.mip_margin.at(x, y) = floor_margin(lambda, 1, levels - 1);
             }
             // (u, v) / 2^l0, exact: a power of two
-            const float scale = dm::exp2(static_cast<float>(-l0));
+            const float scale = 1.0f / static_cast<float>(1 << l0);  // exact: 2^-l0
             const glm::vec2 uv = table.uv[k] * scale;
             const glm::ivec2 n = size[static_cast<std::size_t>(l0)];
             const TapDecision tap = lp_tap_decision(uv, n.x, n.y);
