@@ -78,7 +78,7 @@ __attribute__((target("avx"))) void weights_avx(const float* a, __m256 radius, i
 /// planes `plane` floats apart; taps[d + Rmax] is the index of lane 0's source of tap d (the
 /// lanes' sources follow it). A lane adds w_|d| c_d only for |d| <= its radius (select). Writes
 /// sums[c][lane].
-template <int C>
+template <int C, bool Uniform>
 __attribute__((target("avx"))) void weighted_sums_avx(const float* planes, std::size_t plane,
                                                       const std::size_t* taps,
                                                       const float (*weights)[lanes], __m256 radius,
@@ -88,8 +88,10 @@ __attribute__((target("avx"))) void weighted_sums_avx(const float* planes, std::
     for (int d = -radius_max; d <= radius_max; ++d) {
         const int ad = d < 0 ? -d : d;
         const __m256 w = _mm256_load_ps(weights[ad]);
+        // every lane's radius is radius_max (Uniform): every tap is active
         const __m256 active =
-            _mm256_cmp_ps(_mm256_set1_ps(static_cast<float>(ad)), radius, _CMP_LE_OQ);
+            Uniform ? _mm256_castsi256_ps(_mm256_set1_epi32(-1))
+                    : _mm256_cmp_ps(_mm256_set1_ps(static_cast<float>(ad)), radius, _CMP_LE_OQ);
         const float* source = planes + taps[d + radius_max];
         s0 = add_tap(active, s0, w, source);
         if constexpr (C > 1) s1 = add_tap(active, s1, w, source + plane);
@@ -110,7 +112,8 @@ __attribute__((target("avx"))) void weighted_sums_avx(const float* planes, std::
 /// blur_ramp_pixel itself.
 __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
                                                   const BlurRampGeometry& geometry,
-                                                  const Image& image, bool vertical, Image& out) {
+                                                  const Image& image, bool vertical, Image& out,
+                                                  const BlurRampTable* table) {
     const int width = image.width, height = image.height, channels = image.channels;
     // The image in planes, so that a lane's taps along x or y are one unaligned load per channel
     std::vector<float> planes(static_cast<std::size_t>(channels) * width * height);
@@ -131,16 +134,19 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
             alignas(32) float a[lanes];
             int radius_max = 0;
             for (int lane = 0; lane < lanes; ++lane) {
-                const float sigma = blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + lane, y));
+                const float* kept =
+                    table ? &table->sigma_a.data[table->sigma_a.index(x0 + lane, y)] : nullptr;
+                const float sigma =
+                    kept ? kept[0] : blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + lane, y));
                 radius[lane] = blur_ramp_radius(sigma);
                 radius_f[lane] = static_cast<float>(radius[lane]);
                 // a lane copied (radius 0) gets finite dummy weights, computed and never used;
                 // beyond full_deg every pixel has the same sigma, whose exp is kept
-                if (radius[lane] > 0 && !(sigma == last_sigma)) {
+                if (radius[lane] > 0 && !kept && !(sigma == last_sigma)) {
                     last_sigma = sigma;
                     last_a = dm::exp(-1.0f / (2.0f * sigma * sigma));
                 }
-                a[lane] = radius[lane] > 0 ? last_a : 0.5f;
+                a[lane] = radius[lane] == 0 ? 0.5f : kept ? kept[1] : last_a;
                 radius_max = std::max(radius_max, radius[lane]);
             }
             if (radius_max == 0) continue;  // all copied
@@ -158,18 +164,21 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
                         ? static_cast<std::size_t>(std::clamp(y + d, 0, height - 1)) * width +
                               static_cast<std::size_t>(x0)
                         : static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x0 + d);
-            const float* p = planes.data();
-            switch (channels) {
-                case 1:
-                    weighted_sums_avx<1>(p, plane, taps, weights, radius_v, radius_max, sums);
-                    break;
-                case 2:
-                    weighted_sums_avx<2>(p, plane, taps, weights, radius_v, radius_max, sums);
-                    break;
-                case 3:
-                    weighted_sums_avx<3>(p, plane, taps, weights, radius_v, radius_max, sums);
-                    break;
-                default: weighted_sums_avx<4>(p, plane, taps, weights, radius_v, radius_max, sums);
+            bool uniform = true;  // every lane of the group has the radius radius_max
+            for (int lane = 0; lane < lanes; ++lane)
+                uniform = uniform && radius[lane] == radius_max;
+            const auto run = [&](auto sums_of) {
+                sums_of(planes.data(), plane, taps, weights, radius_v, radius_max, sums);
+            };
+            switch (channels * 2 + (uniform ? 1 : 0)) {
+                case 2: run(weighted_sums_avx<1, false>); break;
+                case 3: run(weighted_sums_avx<1, true>); break;
+                case 4: run(weighted_sums_avx<2, false>); break;
+                case 5: run(weighted_sums_avx<2, true>); break;
+                case 6: run(weighted_sums_avx<3, false>); break;
+                case 7: run(weighted_sums_avx<3, true>); break;
+                case 8: run(weighted_sums_avx<4, false>); break;
+                default: run(weighted_sums_avx<4, true>);
             }
             for (int lane = 0; lane < lanes; ++lane) {
                 if (radius[lane] == 0) continue;  // copied
@@ -185,11 +194,13 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
 /// One pass along x (`vertical` false) or y (true): the AVX groups where the CPU has AVX (the
 /// same bits), else blur_ramp_pixel pixel by pixel.
 Image blur_pass(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
-                bool vertical, bool simd) {
+                bool vertical, bool simd, const BlurRampTable* table) {
     check_inputs(ramp, geometry, image);
+    FOVREF_CHECK(!table || table->made_for(ramp, geometry),
+                 "a blur ramp table made for another ramp or geometry");
     Image out = image;
     if (simd && image.channels <= max_avx_channels && cpu_has_avx()) {
-        blur_pass_avx(ramp, geometry, image, vertical, out);
+        blur_pass_avx(ramp, geometry, image, vertical, out, table);
         return out;
     }
     for (int y = 0; y < image.height; ++y)
@@ -282,13 +293,29 @@ void blur_ramp_pixel(const BlurRamp& ramp, const BlurRampGeometry& geometry, con
 }
 
 Image blur_ramp_horizontal(const BlurRamp& ramp, const BlurRampGeometry& geometry,
-                           const Image& image, bool simd) {
-    return blur_pass(ramp, geometry, image, false, simd);
+                           const Image& image, bool simd, const BlurRampTable* table) {
+    return blur_pass(ramp, geometry, image, false, simd, table);
 }
 
 Image blur_ramp_vertical(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
-                         bool simd) {
-    return blur_pass(ramp, geometry, image, true, simd);
+                         bool simd, const BlurRampTable* table) {
+    return blur_pass(ramp, geometry, image, true, simd, table);
+}
+
+bool BlurRampTable::made_for(const BlurRamp& r, const BlurRampGeometry& g) const {
+    return ramp == r && geometry == g;
+}
+
+BlurRampTable blur_ramp_table(const BlurRamp& ramp, const BlurRampGeometry& geometry) {
+    BlurRampTable table{ramp, geometry, Image(geometry.screen_width, geometry.screen_height, 2)};
+    for (int y = 0; y < geometry.screen_height; ++y)
+        for (int x = 0; x < geometry.screen_width; ++x) {
+            const float sigma = blur_ramp_sigma_px(ramp, geometry, pixel_centre(x, y));
+            table.sigma_a.at(x, y, 0) = sigma;
+            table.sigma_a.at(x, y, 1) =
+                blur_ramp_radius(sigma) > 0 ? dm::exp(-1.0f / (2.0f * sigma * sigma)) : 0.0f;
+        }
+    return table;
 }
 
 Image blur_ramp(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,

@@ -47,7 +47,19 @@ struct BlurRampGeometry {
     glm::vec2 gaze{0.0f};
     float scale = 1.0f;      ///< s, pixels per model degree
     float fovea_deg = 0.0f;  ///< e_f, model degrees
+    bool operator==(const BlurRampGeometry&) const = default;
 };
+
+/// Each pixel's sigma_px and a = dm::exp(-1 / (2 sigma_px^2)) (0 where the radius is 0) for one
+/// ramp and geometry, which the blur stages keep while both stay the same (a static gaze): the
+/// AVX passes then read them instead of computing an exp per pixel, the same bits.
+struct BlurRampTable {
+    BlurRamp ramp;
+    BlurRampGeometry geometry;
+    Image sigma_a;  ///< W x H x 2: sigma_px, a
+    bool made_for(const BlurRamp& ramp, const BlurRampGeometry& geometry) const;
+};
+BlurRampTable blur_ramp_table(const BlurRamp& ramp, const BlurRampGeometry& geometry);
 
 inline constexpr int blur_ramp_max_radius = 64;  ///< cap on the kernel radius, pixels
 
@@ -70,13 +82,15 @@ void blur_ramp_pixel(const BlurRamp& ramp, const BlurRampGeometry& geometry, con
 /// The horizontal pass on a W x H image (the geometry's screen size), any channel count. With
 /// `simd` (the default) and a CPU with AVX, eight pixels at a time for up to 4 channels, each
 /// lane doing blur_ramp_pixel's operations in its order: the same bits as `simd` false, which
-/// runs blur_ramp_pixel pixel by pixel (the readable reference).
+/// runs blur_ramp_pixel pixel by pixel (the readable reference). `table` (optional, made for this
+/// ramp and geometry) gives the AVX groups each pixel's sigma and exp.
 Image blur_ramp_horizontal(const BlurRamp& ramp, const BlurRampGeometry& geometry,
-                           const Image& image, bool simd = true);
-/// The vertical pass on a W x H image (the geometry's screen size), any channel count (`simd`:
-/// as blur_ramp_horizontal).
+                           const Image& image, bool simd = true,
+                           const BlurRampTable* table = nullptr);
+/// The vertical pass on a W x H image (the geometry's screen size), any channel count (`simd`,
+/// `table`: as blur_ramp_horizontal).
 Image blur_ramp_vertical(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
-                         bool simd = true);
+                         bool simd = true, const BlurRampTable* table = nullptr);
 /// Both passes: horizontal, then vertical.
 Image blur_ramp(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
                 bool simd = true);

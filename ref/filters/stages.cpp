@@ -1,6 +1,7 @@
 #include "ref/filters/stages.h"
 
 #include <memory>
+#include <optional>
 #include <utility>
 
 #include "ref/filters/gaussian_lerp.h"
@@ -24,6 +25,19 @@ struct PostAaState : StageState {
 struct BlurState : StageState {
     BlurRamp ramp;
     FrameBlurGeometry geometry;
+    // The last frame's geometry, and the table made when a frame repeats it (a static gaze); a
+    // moving gaze never makes one
+    std::optional<BlurRampGeometry> last;
+    std::optional<BlurRampTable> table;
+    /// The table for this frame's geometry, or null when the geometry differs from the last
+    /// frame's.
+    const BlurRampTable* table_for(const BlurRampGeometry& g) {
+        const bool repeated = last && *last == g;
+        last = g;
+        if (!repeated) return nullptr;
+        if (!table || !table->made_for(ramp, g)) table = blur_ramp_table(ramp, g);
+        return &*table;
+    }
 };
 
 std::shared_ptr<BlurState> blur_state(const BlurRamp& ramp, FrameBlurGeometry geometry) {
@@ -74,9 +88,12 @@ StageDef post_aa_stage_def(const std::string& input, const std::string& output,
 }
 
 void blur_horizontal_stage(FrameContext& ctx) {
-    const BlurState& state = ctx.state<BlurState>();
+    BlurState& state = ctx.state<BlurState>();
+    const BlurRampGeometry g = state.geometry(ctx);
+    const BlurRampTable* table = state.table_for(g);
+    ctx.note = table ? "sigma and exp per pixel kept" : "sigma and exp per pixel computed";
     ctx.output("output", BufferKind::color, rgb,
-               blur_ramp_horizontal(state.ramp, state.geometry(ctx), ctx.input("input")));
+               blur_ramp_horizontal(state.ramp, g, ctx.input("input"), true, table));
 }
 
 StageDef blur_horizontal_stage_def(const BlurRamp& ramp, const std::string& input,
@@ -89,9 +106,12 @@ StageDef blur_horizontal_stage_def(const BlurRamp& ramp, const std::string& inpu
 }
 
 void blur_vertical_stage(FrameContext& ctx) {
-    const BlurState& state = ctx.state<BlurState>();
+    BlurState& state = ctx.state<BlurState>();
+    const BlurRampGeometry g = state.geometry(ctx);
+    const BlurRampTable* table = state.table_for(g);
+    ctx.note = table ? "sigma and exp per pixel kept" : "sigma and exp per pixel computed";
     ctx.output("output", BufferKind::color, rgb,
-               blur_ramp_vertical(state.ramp, state.geometry(ctx), ctx.input("input")));
+               blur_ramp_vertical(state.ramp, g, ctx.input("input"), true, table));
 }
 
 StageDef blur_vertical_stage_def(const BlurRamp& ramp, const std::string& input,

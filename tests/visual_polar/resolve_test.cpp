@@ -14,6 +14,7 @@
 #include <limits>
 #include <vector>
 
+#include "ref/core/error.h"
 #include "ref/filters/blur_ramp.h"
 #include "ref/visual_polar/map.h"
 #include "ref/visual_polar/resolve.h"
@@ -645,7 +646,7 @@ TEST_CASE(
 // by pixel: sizes that are not multiples of 8, 1 to 5 channels (5: the scalar path only), the
 // gaze inside and off the screen, radii from 1 to the cap of 64 (edge groups fall back to the
 // scalar pixel), and non-finite values, which a lane outside its own taps must never see.
-TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits") {
+TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits, with and without the kept table") {
     struct Case {
         int width, height, channels;
         glm::vec2 gaze;
@@ -673,6 +674,13 @@ TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits") {
                                           : blur_ramp_horizontal(k.ramp, geometry, image, false);
             CHECK(std::memcmp(simd.data.data(), scalar.data.data(),
                               scalar.data.size() * sizeof(float)) == 0);
+            // with the per-pixel sigma and exp kept (a static gaze)
+            const BlurRampTable table = blur_ramp_table(k.ramp, geometry);
+            const Image kept = vertical
+                                   ? blur_ramp_vertical(k.ramp, geometry, image, true, &table)
+                                   : blur_ramp_horizontal(k.ramp, geometry, image, true, &table);
+            CHECK(std::memcmp(kept.data.data(), scalar.data.data(),
+                              scalar.data.size() * sizeof(float)) == 0);
             // the reference itself: every pixel as blur_ramp_pixel makes it
             Image by_pixel = image;
             for (int y = 0; y < k.height; ++y)
@@ -682,4 +690,16 @@ TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits") {
                               scalar.data.size() * sizeof(float)) == 0);
         }
     }
+}
+
+TEST_CASE("VP blur: a table is refused for another geometry") {
+    const BlurRampGeometry geometry{40, 20, {10.0f, 10.0f}, 3.0f, 1.0f};
+    BlurRampGeometry moved = geometry;
+    moved.gaze.x += 1.0f;
+    const BlurRampTable table = blur_ramp_table(BlurRamp{}, moved);
+    CHECK(table.made_for(BlurRamp{}, moved));
+    CHECK_FALSE(table.made_for(BlurRamp{}, geometry));
+    CHECK_THROWS_WITH_AS(
+        blur_ramp_horizontal(BlurRamp{}, geometry, random_image(40, 20, 3, 2), true, &table),
+        doctest::Contains("another ramp or geometry"), Error);
 }
