@@ -44,17 +44,10 @@ const std::vector<float>& cdf_table() {
 
 }  // namespace
 
-float vp_cdf(float e) {
-    if (!(e > 0.0f)) return 0.0f;
-    if (e >= vp_inverse_cdf(1.0f)) return 1.0f;
-    // The first 16 steps of the bisection below read P at their midpoints (dyadic, exact in
-    // float) from the table: the same comparisons, so the same bracket
-    const std::vector<float>& table = cdf_table();
-    int lo_k = 0, hi_k = 1 << cdf_table_bits;
-    for (int step = 0; step < cdf_table_bits; ++step) {
-        const int mid = (lo_k + hi_k) / 2;
-        (table[static_cast<std::size_t>(mid)] < e ? lo_k : hi_k) = mid;
-    }
+namespace {
+
+/// The bisection of vp_cdf from its first 16 steps' bracket [lo_k, hi_k] / 65536 on.
+float bisect_cdf(float e, int lo_k, int hi_k) {
     constexpr float scale = 1.0f / static_cast<float>(1 << cdf_table_bits);
     float lo = static_cast<float>(lo_k) * scale, hi = static_cast<float>(hi_k) * scale;
     for (int step = cdf_table_bits; step < 64; ++step) {
@@ -63,6 +56,59 @@ float vp_cdf(float e) {
         (vp_inverse_cdf(mid) < e ? lo : hi) = mid;
     }
     return 0.5f * (lo + hi);
+}
+
+/// The first 16 steps of the bisection (vp_cdf's table): lo_k, hi_k with P(lo_k / 65536) < e
+/// <= P(hi_k / 65536) (0 < e < P(1)).
+void table_bracket(float e, int& lo_k, int& hi_k) {
+    const std::vector<float>& table = cdf_table();
+    lo_k = 0, hi_k = 1 << cdf_table_bits;
+    for (int step = 0; step < cdf_table_bits; ++step) {
+        const int mid = (lo_k + hi_k) / 2;
+        (table[static_cast<std::size_t>(mid)] < e ? lo_k : hi_k) = mid;
+    }
+}
+
+}  // namespace
+
+float vp_cdf_bisection(float e) {
+    if (!(e > 0.0f)) return 0.0f;
+    if (e >= vp_inverse_cdf(1.0f)) return 1.0f;
+    int lo_k = 0, hi_k = 0;
+    table_bracket(e, lo_k, hi_k);
+    return bisect_cdf(e, lo_k, hi_k);
+}
+
+float vp_cdf(float e) {
+    if (!(e > 0.0f)) return 0.0f;
+    if (e >= vp_inverse_cdf(1.0f)) return 1.0f;
+    int lo_k = 0, hi_k = 0;
+    table_bracket(e, lo_k, hi_k);
+    if (lo_k >= 1) {
+        // The bracket's floats are at least 2^-39 apart, so the bisection reaches adjacent
+        // floats within its 48 remaining steps: it ends at the largest float u of [lo, hi) with
+        // P(u) < e (P non-decreasing), which a guess reaches by moves of one float.
+        const std::vector<float>& table = cdf_table();
+        constexpr float scale = 1.0f / static_cast<float>(1 << cdf_table_bits);
+        const float lo = static_cast<float>(lo_k) * scale, hi = static_cast<float>(hi_k) * scale;
+        const float p_lo = table[static_cast<std::size_t>(lo_k)];
+        const float p_hi = table[static_cast<std::size_t>(hi_k)];
+        const float last = std::nextafter(hi, 0.0f);  // the bracket's largest float below hi
+        float u = std::clamp(lo + (hi - lo) * ((e - p_lo) / (p_hi - p_lo)), lo, last);
+        for (int move = 0; move < 8; ++move) {
+            if (!(vp_inverse_cdf(u) < e)) {
+                u = std::nextafter(u, 0.0f);  // u > lo: P(lo) < e
+                continue;
+            }
+            const float next = std::nextafter(u, 2.0f);
+            if (vp_inverse_cdf(next) < e) {
+                u = next;  // next < hi: P(hi) >= e
+                continue;
+            }
+            return 0.5f * (u + next);
+        }
+    }
+    return bisect_cdf(e, lo_k, hi_k);
 }
 
 glm::ivec2 visual_polar_buffer_size(int screen_width, int screen_height) {
