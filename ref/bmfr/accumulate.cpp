@@ -157,8 +157,7 @@ BmfrTaps bmfr_vp_taps(const VisualPolarMap& map, glm::vec2 q) {
             const float v = q.y * static_cast<float>(rows) - 0.5f;
             const float fv0 = std::floor(v);
             fy = v - fv0;
-            const int m = static_cast<int>(fv0) % rows;
-            y0 = m < 0 ? m + rows : m;
+            y0 = vp_wrap_row(static_cast<int>(fv0), rows);
             y1 = y0 + 1 == rows ? 0 : y0 + 1;
         }
         t.x[side] = c, t.y[side] = y0, t.w[side] = wx * (1.0f - fy);

@@ -79,7 +79,7 @@ bool vp_taa_pixel(const BmfrParams& params, const Image& display, const Image& y
             if (sx < 0 || sx >= width) return false;
             const int rows = vp_column_rows(map, sx);
             const int base = std::min(static_cast<int>(t * static_cast<float>(rows)), rows - 1);
-            sy = ((base + dy) % rows + rows) % rows;
+            sy = vp_wrap_row(base + dy, rows);
             return space.valid->at(sx, sy) != 0.0f;
         },
         [&](int k) {

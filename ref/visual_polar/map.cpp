@@ -163,7 +163,7 @@ int vp_triangle_rows(const VisualPolarMap& m, int i) {
     return std::clamp(static_cast<int>(std::ceil(t)), 1, m.height);
 }
 
-int vp_column_rows(const VisualPolarMap& m, int i) {
+int vp_fovea_column_rows(const VisualPolarMap& m, int i) {
     if (m.staircase_block <= 0 || i >= m.fovea_columns) return vp_triangle_rows(m, i);
     // The block column of i (BMFR's grid: x + B/2 - o >= 0 for |o| <= B/2) and its last column
     // in the buffer, where the (nondecreasing) triangle is largest

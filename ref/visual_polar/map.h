@@ -87,9 +87,20 @@ VisualPolarMap vp_log_polar_map(const LogPolarMap& map);
 /// The preset's buffer size: round(W / 1.5) x round(H / 1.5).
 glm::ivec2 visual_polar_buffer_size(int screen_width, int screen_height);
 
+/// Rows of fovea column i < i_f: the triangular clip's, or BMFR's staircase's.
+int vp_fovea_column_rows(const VisualPolarMap& map, int column);
 /// Rows of column i that carry data: n_i in the fovea (the triangular clip, or BMFR's
-/// staircase), h in the periphery.
-int vp_column_rows(const VisualPolarMap& map, int column);
+/// staircase), h in the periphery (inline: the per-texel passes ask for it at every tap).
+inline int vp_column_rows(const VisualPolarMap& map, int column) {
+    return column >= map.fovea_columns ? map.height : vp_fovea_column_rows(map, column);
+}
+/// j mod rows in [0, rows) (rows > 0) for any j, the remainder of a division only where j lies
+/// outside [0, rows): the row of a wrapped lookup.
+inline int vp_wrap_row(int j, int rows) {
+    if (j >= 0 && j < rows) return j;
+    const int m = j % rows;
+    return m < 0 ? m + rows : m;
+}
 /// The triangular clip's rows of column i, clamp(ceil(h (i + 1/2) / i_f - 1/2), 1, h) in the
 /// fovea, h beyond.
 int vp_triangle_rows(const VisualPolarMap& map, int column);

@@ -147,8 +147,7 @@ VpRows vp_phi_rows(int rows, float v) {
     const float t = v - 0.5f;
     const float j0f = std::floor(t);
     r.fv = t - j0f;
-    r.j0 = static_cast<int>(j0f) % rows;
-    if (r.j0 < 0) r.j0 += rows;
+    r.j0 = vp_wrap_row(static_cast<int>(j0f), rows);
     r.j1 = r.j0 + 1 == rows ? 0 : r.j0 + 1;
     return r;
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
+#include <limits>
 
 #include "ref/visual_polar/map.h"
 
@@ -156,4 +157,22 @@ TEST_CASE("visual-polar: P in float is non-decreasing over the floats of [0, 1]"
     CHECK(decreases == 0);
     // the branch point: the square root below u0, the polynomial above
     CHECK(vp_inverse_cdf(std::nextafter(vp_u0, 1.0f)) >= vp_inverse_cdf(vp_u0));
+}
+
+TEST_CASE("visual-polar: vp_wrap_row is j mod rows in [0, rows) for every j") {
+    for (const int rows : {1, 2, 7, 480})
+        for (int j = -3 * rows - 2; j <= 3 * rows + 2; ++j) {
+            INFO(j << " mod " << rows);
+            CHECK(vp_wrap_row(j, rows) == ((j % rows) + rows) % rows);
+        }
+    CHECK(vp_wrap_row(std::numeric_limits<int>::min(), 7) ==
+          ((std::numeric_limits<int>::min() % 7) + 7) % 7);
+    // vp_column_rows: h beyond the fovea, the clip's inside (the inline shortcut and the fovea's)
+    VisualPolarMap m = make_visual_polar_map(320, 180, {160.0f, 90.0f}, 213, 120);
+    m.staircase_block = 32;
+    m.staircase_offset = 5;
+    for (int i = 0; i < m.width; ++i)
+        CHECK(vp_column_rows(m, i) ==
+              (i >= m.fovea_columns ? m.height : vp_fovea_column_rows(m, i)));
+    CHECK(vp_fovea_column_rows(m, m.fovea_columns) == m.height);
 }
