@@ -9,6 +9,7 @@
 #include "ref/core/block_offsets.h"
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
+#include "ref/core/simd.h"
 
 namespace fovref {
 
@@ -25,7 +26,8 @@ template <int First>
 void store_row(const BmfrParams& params, float* a) {
     if (params.storage != BmfrStorage::half) return;
 #ifdef FOVREF_HALF_F16C
-    if (params.f16c && cpu_has_f16c() && round_to_half_span_f16c<First>(a)) return;
+    if (params.f16c && simd_allowed() && cpu_has_f16c() && round_to_half_span_f16c<First>(a))
+        return;
 #endif
     round_to_half_span<First>(a);
 }
@@ -134,7 +136,7 @@ void reflect(float* a, int rows, int col, int c, float uc, float u_length_square
              bool half, bool f16c) {
     (void)f16c;  // without the F16C path (not x86)
 #ifdef FOVREF_HALF_F16C
-    if (half && f16c && cpu_has_f16c()) {
+    if (half && f16c && simd_allowed() && cpu_has_f16c()) {
         reflect_columns_f16c<J0>(a, rows, col, c, uc, u_length_squared, dot);
         return;
     }

@@ -12,6 +12,7 @@
 // half to even for |t| < 2^51; it is a plain IEEE addition and subtraction, which no
 // value-preserving compiler may fold.
 #include "ref/core/dmath.h"
+#include "ref/core/simd.h"
 
 #include <bit>
 #include <cmath>  // std::sqrt only
@@ -638,8 +639,8 @@ __attribute__((target("avx2"))) std::size_t pow_fast_avx2(const float* x, float 
 }  // namespace
 
 void pow_fast_array(const float* x, float y, float* out, std::size_t n) {
-    static const bool has_avx2 = __builtin_cpu_supports("avx2") != 0;
-    const std::size_t done = has_avx2 && !float_not_finite(y) ? pow_fast_avx2(x, y, out, n) : 0;
+    const bool avx2 = simd_allowed() && cpu_has_avx2();
+    const std::size_t done = avx2 && !float_not_finite(y) ? pow_fast_avx2(x, y, out, n) : 0;
     for (std::size_t i = done; i < n; ++i) out[i] = pow_fast(x[i], y);
 }
 
@@ -722,8 +723,8 @@ __attribute__((target("avx2"))) std::size_t PowFixed::apply_avx2(const float* x,
 }
 
 void PowFixed::apply(const float* x, float* out, std::size_t n) const {
-    static const bool has_avx2 = __builtin_cpu_supports("avx2") != 0;
-    const std::size_t done = tabled_ && has_avx2 ? apply_avx2(x, out, n) : 0;
+    const bool avx2 = simd_allowed() && cpu_has_avx2();
+    const std::size_t done = tabled_ && avx2 ? apply_avx2(x, out, n) : 0;
     for (std::size_t i = done; i < n; ++i) out[i] = (*this)(x[i]);
 }
 

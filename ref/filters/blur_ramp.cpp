@@ -9,6 +9,7 @@
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
+#include "ref/core/simd.h"
 #include "ref/core/vec.h"
 
 namespace fovref {
@@ -28,11 +29,6 @@ void check_inputs(const BlurRamp& ramp, const BlurRampGeometry& geometry, const 
 
 constexpr int lanes = 8;  // pixels per AVX group
 constexpr int max_avx_channels = 4;
-
-bool cpu_has_avx() {
-    static const bool has = __builtin_cpu_supports("avx") != 0;
-    return has;
-}
 
 /// Lane by lane: `yes` where `mask` (a comparison's all-ones or zero lanes) is set, else `no`,
 /// bit for bit.
@@ -167,19 +163,15 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
             bool uniform = true;  // every lane of the group has the radius radius_max
             for (int lane = 0; lane < lanes; ++lane)
                 uniform = uniform && radius[lane] == radius_max;
-            const auto run = [&](auto sums_of) {
-                sums_of(planes.data(), plane, taps, weights, radius_v, radius_max, sums);
-            };
-            switch (channels * 2 + (uniform ? 1 : 0)) {
-                case 2: run(weighted_sums_avx<1, false>); break;
-                case 3: run(weighted_sums_avx<1, true>); break;
-                case 4: run(weighted_sums_avx<2, false>); break;
-                case 5: run(weighted_sums_avx<2, true>); break;
-                case 6: run(weighted_sums_avx<3, false>); break;
-                case 7: run(weighted_sums_avx<3, true>); break;
-                case 8: run(weighted_sums_avx<4, false>); break;
-                default: run(weighted_sums_avx<4, true>);
-            }
+            using SumsOf = void (*)(const float*, std::size_t, const std::size_t*,
+                                    const float(*)[lanes], __m256, int, float(*)[lanes]);
+            static constexpr SumsOf kernels[8] = {
+                weighted_sums_avx<1, false>, weighted_sums_avx<1, true>,
+                weighted_sums_avx<2, false>, weighted_sums_avx<2, true>,
+                weighted_sums_avx<3, false>, weighted_sums_avx<3, true>,
+                weighted_sums_avx<4, false>, weighted_sums_avx<4, true>};
+            kernels[(channels - 1) * 2 + (uniform ? 1 : 0)](planes.data(), plane, taps, weights,
+                                                            radius_v, radius_max, sums);
             for (int lane = 0; lane < lanes; ++lane) {
                 if (radius[lane] == 0) continue;  // copied
                 float* o = &out.data[out.index(x0 + lane, y)];
@@ -199,7 +191,8 @@ Image blur_pass(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Im
     FOVREF_CHECK(!table || table->made_for(ramp, geometry),
                  "a blur ramp table made for another ramp or geometry");
     Image out = image;
-    if (simd && image.channels <= max_avx_channels && cpu_has_avx()) {
+    if (simd && image.channels >= 1 && image.channels <= max_avx_channels && simd_allowed() &&
+        cpu_has_avx()) {
         blur_pass_avx(ramp, geometry, image, vertical, out, table);
         return out;
     }
@@ -249,6 +242,16 @@ int blur_ramp_radius(float sigma_px) {
                                                               : static_cast<int>(radius);
 }
 
+namespace {
+
+/// The floats from a pixel to its tap d along the pass: d pixels, clamped to the border unless
+/// every tap lies `inside`.
+std::ptrdiff_t tap_offset(bool inside, int position, int d, int extent, std::ptrdiff_t stride) {
+    return (inside ? d : std::clamp(position + d, 0, extent - 1) - position) * stride;
+}
+
+}  // namespace
+
 void blur_ramp_pixel(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
                      bool vertical, Image& out, int x, int y) {
     const int width = image.width, height = image.height, channels = image.channels;
@@ -267,15 +270,12 @@ void blur_ramp_pixel(const BlurRamp& ramp, const BlurRampGeometry& geometry, con
     const int position = vertical ? y : x;
     const float* centre_pixel = &image.data[image.index(x, y)];
     const bool inside = position - radius >= 0 && position + radius < extent;
-    const auto offset = [&](int d) -> std::ptrdiff_t {
-        return (inside ? d : std::clamp(position + d, 0, extent - 1) - position) * stride;
-    };
     float* o = &out.data[out.index(x, y)];
     if (channels == 3) {  // the colour images of the modes: sums kept in registers
         float m0 = 0.0f, m1 = 0.0f, m2 = 0.0f;
         for (int d = -radius; d <= radius; ++d) {
             const float weight = weights[d < 0 ? -d : d];
-            const float* source = centre_pixel + offset(d);
+            const float* source = centre_pixel + tap_offset(inside, position, d, extent, stride);
             m0 += weight * source[0];
             m1 += weight * source[1];
             m2 += weight * source[2];
@@ -286,7 +286,7 @@ void blur_ramp_pixel(const BlurRamp& ramp, const BlurRampGeometry& geometry, con
     std::vector<float> mean(static_cast<std::size_t>(channels), 0.0f);
     for (int d = -radius; d <= radius; ++d) {
         const float weight = weights[d < 0 ? -d : d];
-        const float* source = centre_pixel + offset(d);
+        const float* source = centre_pixel + tap_offset(inside, position, d, extent, stride);
         for (int c = 0; c < channels; ++c) mean[static_cast<std::size_t>(c)] += weight * source[c];
     }
     for (int c = 0; c < channels; ++c) o[c] = mean[static_cast<std::size_t>(c)];

@@ -7,6 +7,7 @@
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
+#include "ref/core/simd.h"
 #include "ref/core/vec.h"
 
 namespace fovref {
@@ -15,11 +16,6 @@ namespace {
 
 constexpr int max_eta = 39;  // t = 1: 3 + 2 ceil(0.9 / 0.05)
 constexpr int lanes = 8;     // pixels per AVX group
-
-bool cpu_has_avx() {
-    static const bool has = __builtin_cpu_supports("avx") != 0;
-    return has;
-}
 
 /// The cache of size eta, made on first use.
 PostAaRowCache& row_cache(std::vector<PostAaRowCache>& cache, int eta, int width, int channels) {
@@ -222,7 +218,7 @@ Image post_aa(const Image& in, glm::vec2 gaze, float radius_max, bool simd) {
         weights[static_cast<std::size_t>(eta)] = post_aa_weights(eta);
     Image out(in.width, in.height, in.channels, 0.0f);
     std::vector<PostAaRowCache> cache(max_eta + 1);
-    if (simd && cpu_has_avx()) {
+    if (simd && in.channels >= 1 && simd_allowed() && cpu_has_avx()) {
         post_aa_rows_avx(in, gaze, radius_max, weights, cache, out);
         return out;
     }

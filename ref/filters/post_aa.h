@@ -42,9 +42,10 @@ void post_aa_pixel(const Image& in, glm::vec2 gaze, float radius_max,
                    const std::vector<std::vector<float>>& weights, Image& out, int x, int y);
 
 /// The filter: an image of `in`'s size and channels (post_aa_cached_pixel, row by row). With
-/// `simd` (the default) and a CPU with AVX, eight pixels of one kernel size at a time where their
-/// rows need no clamp along x, each lane doing post_aa_cached_pixel's operations in its order:
-/// the same bits as `simd` false (the readable reference).
+/// `simd` (the default), simd_allowed() and a CPU with AVX, eight pixels at a time (once per
+/// kernel size among them; near the left and right edges from a copy of the row with its clamped
+/// neighbours), each lane doing post_aa_cached_pixel's operations in its order: the same bits as
+/// `simd` false (the readable reference), NaN payloads aside (docs/determinism.md).
 Image post_aa(const Image& in, glm::vec2 gaze, float radius_max, bool simd = true);
 
 /// The row sums (post_aa_row) of one kernel size eta, kept for the last eta rows each column

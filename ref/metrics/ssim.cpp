@@ -8,6 +8,7 @@
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
+#include "ref/core/simd.h"
 #include "ref/metrics/metrics.h"
 
 namespace fovref {
@@ -116,11 +117,6 @@ __attribute__((target("avx"))) void filter_row_taps5_avx(double* __restrict dst,
         const double* r_rest[6] = {nullptr, r1 + x, r2 + x, r3 + x, r4 + x, r5 + x};
         filter_row_taps5(dst + x, centre + x, l_rest, r_rest, w, n - x);
     }
-}
-
-bool cpu_has_avx() {
-    static const bool has = __builtin_cpu_supports("avx") != 0;
-    return has;
 }
 
 }  // namespace
@@ -286,7 +282,8 @@ SsimMap ssim_map(const Image& a, const Image& b, const SsimSettings& settings) {
     // map value is the same whatever the strip width: strips only change the loop order.
     constexpr std::size_t strip = 512;
     const auto map_width = static_cast<std::size_t>(map.width);
-    const SsimKernel kernel{half_window.data(), r, settings.allow_avx && cpu_has_avx()};
+    const SsimKernel kernel{half_window.data(), r,
+                            settings.allow_avx && simd_allowed() && cpu_has_avx()};
     SsimStrip work(kernel, std::min(strip, map_width));
     for (std::size_t x0 = 0; x0 < map_width; x0 += work.strip_width) {
         const std::size_t n = std::min(work.strip_width, map_width - x0);

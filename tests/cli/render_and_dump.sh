@@ -20,6 +20,16 @@ check_file "$TMP/depth/f000_splat_depth.pfm" "--output"
 expect 0 "mode without scene" -- "$FOVREF" render --mode halton --out "$TMP/halton" --quiet
 check_file "$TMP/halton/f000_halton_offsets.exr" "halton"
 
+# --scalar: the SIMD paths off (post-AA, the blur ramp), the same bits
+for mode in kfr visual-polar-basic; do
+  expect 0 "$mode" -- "$FOVREF" render --scene cornell --mode $mode --width 96 --height 54 --out "$TMP/simd-$mode" --quiet
+  expect 0 "$mode --scalar" -- "$FOVREF" render --scene cornell --mode $mode --width 96 --height 54 --scalar --out "$TMP/scalar-$mode" --quiet
+  checks=$((checks + 1))
+  if ! cmp -s "$TMP/simd-$mode/f000_final.pfm" "$TMP/scalar-$mode/f000_final.pfm"; then
+    echo "FAIL: $mode --scalar changed the final image"; failures=$((failures + 1))
+  fi
+done
+
 expect 2 "unknown mode" -- "$FOVREF" render --scene cornell --mode nope --out "$TMP/bad1"
 contains "unknown mode" "unknown mode"
 expect 2 "unknown parameter" -- "$FOVREF" render --scene cornell --mode splat --param alpha=2 --out "$TMP/bad2"

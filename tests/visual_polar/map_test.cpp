@@ -159,7 +159,7 @@ TEST_CASE("visual-polar: P in float is non-decreasing over the floats of [0, 1]"
     CHECK(vp_inverse_cdf(std::nextafter(vp_u0, 1.0f)) >= vp_inverse_cdf(vp_u0));
 }
 
-TEST_CASE("visual-polar: vp_wrap_row is j mod rows in [0, rows) for every j") {
+TEST_CASE("visual-polar: vp_wrap_row is j mod rows, from 0 to rows - 1, for every j") {
     for (const int rows : {1, 2, 7, 480})
         for (int j = -3 * rows - 2; j <= 3 * rows + 2; ++j) {
             INFO(j << " mod " << rows);

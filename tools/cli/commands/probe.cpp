@@ -103,7 +103,8 @@ DebugPlan debug_plan(const ProbeOptions& o, const ResolvedCase& c, const ProbeRe
         args.insert(args.end(), {"--frames", std::to_string(o.frame + 1)});
     for (const auto& [key, value] : run.params.values())
         args.insert(args.end(), {"--param", key + "=" + value});
-    args.insert(args.end(), {"--out", "/tmp/fovref-debug", "-q"});
+    // --scalar: the per-pixel functions run at every pixel (no SIMD path covers any)
+    args.insert(args.end(), {"--out", "/tmp/fovref-debug", "--scalar", "-q"});
     plan.command = debugger_command(o.debugger, program, args, plan.breakpoints);
     return plan;
 }

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "ref/core/error.h"
+#include "ref/core/simd.h"
 #include "ref/image/image_io.h"
 #include "ref/modes/modes.h"
 #include "tools/cli/common/cli_common.h"
@@ -135,6 +136,10 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     c.add_flag("--with-scene", o.with_scene,
                "also write the scene into DIR/scene of --out and --dump (OBJ + MTL + "
                "textures + scene.json; OBJ triangle k is primitive id k)");
+    c.add_flag("--scalar", o.scalar,
+               "run every pass's scalar reference code, without its SIMD path (the same bits, "
+               "slower): a debugger's breakpoint in a per-pixel function then stops at every "
+               "pixel (`probe --debugger` adds it)");
 }
 
 namespace {
@@ -210,6 +215,7 @@ int run_render(const RenderOptions& given) {
     parse_frames(o);
     if (o.out_dir.empty() && o.dump_dir.empty())
         throw Error("render: give --out DIR and/or --dump DIR");
+    if (o.scalar) set_simd_allowed(false);
     // The outputs checked before any work (BundleWriter stages and swaps each in at the end)
     for (const auto& [option, dir] : {std::pair{"--out", o.out_dir}, {"--dump", o.dump_dir}})
         if (!dir.empty()) check_output_directory(option, dir);

@@ -23,6 +23,7 @@ struct RenderOptions : CaseOptions {
     std::string out_dir;               ///< the final (or --output) buffers
     std::string dump_dir;              ///< every buffer
     bool with_scene = false;           ///< also the scene files into DIR/scene of --out and --dump
+    bool scalar = false;               ///< --scalar: the SIMD paths off (ref/core/simd.h)
     bool quiet = false;
 };
 

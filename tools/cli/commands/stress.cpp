@@ -218,7 +218,9 @@ void parameter_limits(std::vector<Row>& rows, bool fast) {
         r.expect_refused = s.refused;
         try {
             bool same = true;
-            const FrameResult f = render_twice(scene, s.mode, 64, 36, {{s.key, s.value}}, {}, same);
+            // every buffer, pass 2's decisions too (a plain render leaves them out)
+            const FrameResult f =
+                render_twice(scene, s.mode, 64, 36, {{s.key, s.value}}, {"all"}, same);
             r.deterministic = same;
             r.finite = frame_finite(f);
         } catch (const Error& e) {
@@ -346,7 +348,7 @@ void tiny_screens(std::vector<Row>& rows, bool fast) {
             r.may_refuse = true;  // with a message naming the limit (Visual-Polar: buffer 2x1)
             try {
                 bool same = true;
-                const FrameResult f = render_twice(scene, mode, w, h, {}, {}, same);
+                const FrameResult f = render_twice(scene, mode, w, h, {}, {"all"}, same);
                 r.deterministic = same;
                 r.finite = frame_finite(f);
             } catch (const Error& e) {
