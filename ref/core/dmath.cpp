@@ -478,20 +478,40 @@ float exp2(float x) {
     return static_cast<float>(scale_pow2(v, static_cast<int>(kd)));
 }
 
-float log(float x) { return static_cast<float>(log_d(x)); }
+namespace {
+bool ln_series(float xf, double& ln_x);  // below, beside pow_series
+}  // namespace
+
+// log and log2 of a float: ln_series's binary64 value where it lies more than 2^-38 (relative)
+// from every float rounding boundary, which its error (below 2^-46) cannot cross, so it rounds
+// to the same float as the double-double below; the rest (about 1 input in 8192, x = 1, the
+// subnormals and the special values) takes the double-double.
+float log(float x) {
+    double ln_x = 0.0;
+    if (ln_series(x, ln_x) && detail::rounds_like_truth(std::fabs(ln_x)))
+        return static_cast<float>(ln_x);
+    return static_cast<float>(log_d(x));
+}
 
 float log10(float x) { return static_cast<float>(log10_d(x)); }
 
 // log2 = log * (1/ln2) in double-double; for x = 2^k the product is k(1 + O(2^-84)), which
 // rounds to exactly k.
+double log2_d(double x) {
+    if (is_nan(x)) return x + x;
+    if (x < 0.0) return kNaN;
+    if (x == 0.0) return -kInf;
+    if (x == kInf) return kInf;
+    return mul_dd(log_dd(x), kInvLn2, kInvLn2Lo).hi;
+}
+
 float log2(float x) {
-    double xd = x;
-    if (is_nan(xd)) return x + x;
-    if (xd < 0.0) return std::numeric_limits<float>::quiet_NaN();
-    if (xd == 0.0) return -std::numeric_limits<float>::infinity();
-    if (xd == kInf) return x;
-    DD l = mul_dd(log_dd(xd), kInvLn2, kInvLn2Lo);
-    return static_cast<float>(l.hi);
+    double ln_x = 0.0;
+    if (ln_series(x, ln_x)) {  // the fast path of log (above)
+        const double p = ln_x * kInvLn2;
+        if (detail::rounds_like_truth(std::fabs(p))) return static_cast<float>(p);
+    }
+    return static_cast<float>(log2_d(x));
 }
 
 namespace {
@@ -501,9 +521,12 @@ namespace {
 /// Relative error below 2^-41 (docs/determinism.md): ln of the mantissa by the atanh series to
 /// s^17 (first omitted term below 2^-51 absolute), t = y ln x to about |t| 2^-50 absolute,
 /// e^r by Taylor to r^10 (r^11/11! < 2^-42 relative for |r| <= ln2/2), Horner roundings 2^-52.
-bool pow_series(float xf, float yf, double t_min, double t_max, double& out) {
+/// ln x in plain binary64 for a finite normal float x > 0 other than 1; false for other x.
+/// Relative error below 2^-46: ln of the mantissa by the atanh series to s^17 (first omitted term
+/// below 2^-51 absolute, |ln m| >= |s|), then e ln 2 + ln m (cancellation at most a factor 2).
+bool ln_series(float xf, double& ln_x) {
     const u32 xb = bits_of(xf);
-    if (xb - 0x00800000u >= 0x7f000000u || float_not_finite(yf) || xf == 1.0f) return false;
+    if (xb - 0x00800000u >= 0x7f000000u || xf == 1.0f) return false;
     // x = m 2^e, m in [sqrt(1/2), sqrt(2))
     int e = static_cast<int>(xb >> 23) - 127;
     double m = static_cast<double>(float_of((xb & 0x007fffffu) | 0x3f800000u));  // [1, 2)
@@ -523,8 +546,15 @@ bool pow_series(float xf, float yf, double t_min, double t_max, double& out) {
     q = 2.0 / 5.0 + z * q;
     q = 2.0 / 3.0 + z * q;
     const double ln_m = 2.0 * s + s * (z * q);
+    // ln x = e ln 2 + ln m
+    ln_x = static_cast<double>(e) * (kLn2Hi + kLn2Lo) + ln_m;
+    return true;
+}
+
+bool pow_series(float xf, float yf, double t_min, double t_max, double& out) {
+    double ln_x = 0.0;
+    if (float_not_finite(yf) || !ln_series(xf, ln_x)) return false;
     // t = y ln x = y (e ln 2 + ln m)
-    const double ln_x = static_cast<double>(e) * (kLn2Hi + kLn2Lo) + ln_m;
     const double t = static_cast<double>(yf) * ln_x;
     if (!(t >= t_min && t <= t_max)) return false;
     // e^t = 2^k e^r, r = t - k ln 2 in [-ln2/2, ln2/2]

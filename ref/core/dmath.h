@@ -118,6 +118,7 @@ inline float degrees(float radians) { return radians * 57.2957795130823208768f; 
 // 4 ulp in double against libm's long double functions (measured below 0.85 ulp in the same test).
 double exp_d(double x);
 double log_d(double x);
+double log2_d(double x);  ///< log base 2 in double-double, rounded once to double
 double log10_d(double x);
 double pow_d(double x, double y);  ///< C99 F.9.4.4 special cases; log in double-double.
 

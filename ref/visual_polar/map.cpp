@@ -1,7 +1,9 @@
 #include "ref/visual_polar/map.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <initializer_list>
 #include <vector>
 
@@ -79,28 +81,76 @@ float vp_cdf_bisection(float e) {
     return bisect_cdf(e, lo_k, hi_k);
 }
 
+namespace {
+
+// vp_cdf's way into the table: e's bucket b = floor(e * buckets / P(1)) (binary64) gives a
+// bracket [lo_b, hi_b] of table indices with P(lo_b / 65536) < e <= P(hi_b / 65536) for every e of
+// the bucket (bounds taken half a bucket wider than the bucket); the search then runs on the few
+// indices in between. P is non-decreasing, so this ends at the same (lo_k, lo_k + 1) as
+// table_bracket's 16 steps from [0, 65536]: lo_k is the largest k with P(k / 65536) < e.
+constexpr int cdf_bucket_count = 16384;
+struct CdfBuckets {
+    double scale = 0.0;  // buckets per degree
+    std::vector<int> lo, hi;
+};
+
+const CdfBuckets& cdf_buckets() {
+    static const CdfBuckets buckets = [] {
+        const std::vector<float>& table = cdf_table();
+        const int last = 1 << cdf_table_bits;
+        CdfBuckets b;
+        b.scale = static_cast<double>(cdf_bucket_count) / static_cast<double>(table.back());
+        b.lo.resize(cdf_bucket_count);
+        b.hi.resize(cdf_bucket_count);
+        int lo = 0, hi = 0;
+        for (int k = 0; k < cdf_bucket_count; ++k) {
+            const double e_lo = (static_cast<double>(k) - 0.5) / b.scale;
+            const double e_hi = (static_cast<double>(k) + 1.5) / b.scale;
+            while (lo + 1 <= last && static_cast<double>(table[lo + 1]) < e_lo) ++lo;
+            while (hi < last && static_cast<double>(table[hi]) < e_hi) ++hi;
+            b.lo[static_cast<std::size_t>(k)] = lo;  // 0, or P(lo / 65536) < e_lo
+            b.hi[static_cast<std::size_t>(k)] = hi;  // 65536, or P(hi / 65536) >= e_hi
+        }
+        return b;
+    }();
+    return buckets;
+}
+
+// The float after and before a finite float u > 0.
+float next_up(float u) { return std::bit_cast<float>(std::bit_cast<std::uint32_t>(u) + 1u); }
+float next_down(float u) { return std::bit_cast<float>(std::bit_cast<std::uint32_t>(u) - 1u); }
+
+}  // namespace
+
 float vp_cdf(float e) {
     if (!(e > 0.0f)) return 0.0f;
     if (e >= vp_inverse_cdf(1.0f)) return 1.0f;
-    int lo_k = 0, hi_k = 0;
-    table_bracket(e, lo_k, hi_k);
+    // table_bracket's result through e's bucket
+    const std::vector<float>& table = cdf_table();
+    const CdfBuckets& buckets = cdf_buckets();
+    const auto b = static_cast<std::size_t>(
+        std::min(static_cast<int>(static_cast<double>(e) * buckets.scale), cdf_bucket_count - 1));
+    int lo_k = buckets.lo[b], hi_k = buckets.hi[b];
+    while (hi_k - lo_k > 1) {
+        const int mid = (lo_k + hi_k) / 2;
+        (table[static_cast<std::size_t>(mid)] < e ? lo_k : hi_k) = mid;
+    }
     if (lo_k >= 1) {
         // The bracket's floats are at least 2^-39 apart, so the bisection reaches adjacent
         // floats within its 48 remaining steps: it ends at the largest float u of [lo, hi) with
         // P(u) < e (P non-decreasing), which a guess reaches by moves of one float.
-        const std::vector<float>& table = cdf_table();
         constexpr float scale = 1.0f / static_cast<float>(1 << cdf_table_bits);
         const float lo = static_cast<float>(lo_k) * scale, hi = static_cast<float>(hi_k) * scale;
         const float p_lo = table[static_cast<std::size_t>(lo_k)];
         const float p_hi = table[static_cast<std::size_t>(hi_k)];
-        const float last = std::nextafter(hi, 0.0f);  // the bracket's largest float below hi
+        const float last = next_down(hi);  // the bracket's largest float below hi
         float u = std::clamp(lo + (hi - lo) * ((e - p_lo) / (p_hi - p_lo)), lo, last);
         for (int move = 0; move < 8; ++move) {
             if (!(vp_inverse_cdf(u) < e)) {
-                u = std::nextafter(u, 0.0f);  // u > lo: P(lo) < e
+                u = next_down(u);  // u > lo: P(lo) < e
                 continue;
             }
-            const float next = std::nextafter(u, 2.0f);
+            const float next = next_up(u);
             if (vp_inverse_cdf(next) < e) {
                 u = next;  // next < hi: P(hi) >= e
                 continue;

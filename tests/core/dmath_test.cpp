@@ -307,6 +307,39 @@ TEST_CASE("dmath accuracy: log, log2, log10") {
         log_input);
 }
 
+// log and log2 of a float take a binary64 series where its value lies far from every float
+// rounding boundary (dmath.cpp): the same bits as the double-double (log_d, log2_d) rounded to
+// float, on every 4099th bit pattern (NaNs, infinities, subnormals, negatives included), floats
+// next to 1 and next to powers of two. A one-off check of every one of the 2^32 patterns found
+// no difference either.
+TEST_CASE("dmath log, log2: the fast path gives the double-double's bits") {
+    std::uint64_t mismatches = 0, checked = 0;
+    const auto check = [&](float x) {
+        ++checked;
+        const float ln = dm::log(x), ln_ref = static_cast<float>(dm::log_d(x));
+        const float l2 = dm::log2(x), l2_ref = static_cast<float>(dm::log2_d(x));
+        if (std::bit_cast<std::uint32_t>(ln) != std::bit_cast<std::uint32_t>(ln_ref) ||
+            std::bit_cast<std::uint32_t>(l2) != std::bit_cast<std::uint32_t>(l2_ref))
+            if (++mismatches <= 5) MESSAGE("log/log2 of " << x << ": " << ln << " " << l2);
+    };
+    for (std::uint64_t bits = 0; bits <= 0xffffffffull; bits += 4099)
+        check(std::bit_cast<float>(static_cast<std::uint32_t>(bits)));
+    for (int k = -149; k <= 127; ++k) {
+        const float p = std::ldexp(1.0f, k);
+        check(p);
+        check(std::nextafter(p, 0.0f));
+        check(std::nextafter(p, 2.0f * p + 1.0f));
+        CHECK(dm::log2(p) == static_cast<float>(k));
+    }
+    float up = 1.0f, down = 1.0f;
+    for (int n = 0; n < 4096; ++n) {
+        up = std::nextafter(up, 2.0f), down = std::nextafter(down, 0.0f);
+        check(up), check(down);
+    }
+    CHECK(checked > 1000000);
+    CHECK(mismatches == 0);
+}
+
 TEST_CASE("dmath accuracy: pow") {
     measure_float2(
         "pow", 106, [](float x, float y) { return dm::pow(x, y); },
