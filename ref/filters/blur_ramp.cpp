@@ -47,8 +47,9 @@ __attribute__((target("avx"))) inline __m256 add_tap(__m256 active, __m256 sum, 
 /// weights[0 .. Rmax][lane]. Each lane does blur_ramp_weights' operations in its order (the
 /// normalising sum over its own d = -R .. R, a blend leaving it unchanged beyond); a lane's
 /// weights beyond its radius are left finite and never used.
-__attribute__((target("avx"))) void weights_avx(const float* a, __m256 radius, int radius_max,
-                                                float (*weights)[lanes]) {
+__attribute__((target("avx"))) void weights_avx(const float* a, const float* radius_f,
+                                                int radius_max, float (*weights)[lanes]) {
+    const __m256 radius = _mm256_load_ps(radius_f);
     const __m256 av = _mm256_load_ps(a);
     const __m256 a2 = _mm256_mul_ps(av, av);
     __m256 w = _mm256_set1_ps(1.0f), g = av;
@@ -77,8 +78,10 @@ __attribute__((target("avx"))) void weights_avx(const float* a, __m256 radius, i
 template <int C, bool Uniform>
 __attribute__((target("avx"))) void weighted_sums_avx(const float* planes, std::size_t plane,
                                                       const std::size_t* taps,
-                                                      const float (*weights)[lanes], __m256 radius,
-                                                      int radius_max, float (*sums)[lanes]) {
+                                                      const float (*weights)[lanes],
+                                                      const float* radius_f, int radius_max,
+                                                      float (*sums)[lanes]) {
+    const __m256 radius = _mm256_load_ps(radius_f);
     // the channels' sums in registers (named: GCC keeps an array of them in memory)
     __m256 s0 = _mm256_setzero_ps(), s1 = s0, s2 = s0, s3 = s0;
     for (int d = -radius_max; d <= radius_max; ++d) {
@@ -151,8 +154,7 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
                     blur_ramp_pixel(ramp, geometry, image, vertical, out, x0 + lane, y);
                 continue;
             }
-            const __m256 radius_v = _mm256_load_ps(radius_f);
-            weights_avx(a, radius_v, radius_max, weights);
+            weights_avx(a, radius_f, radius_max, weights);
             // lane 0's source of each tap d: row y + d (clamped) at x0, or row y at x0 + d
             for (int d = -radius_max; d <= radius_max; ++d)
                 taps[d + radius_max] =
@@ -164,14 +166,14 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
             for (int lane = 0; lane < lanes; ++lane)
                 uniform = uniform && radius[lane] == radius_max;
             using SumsOf = void (*)(const float*, std::size_t, const std::size_t*,
-                                    const float(*)[lanes], __m256, int, float(*)[lanes]);
+                                    const float(*)[lanes], const float*, int, float(*)[lanes]);
             static constexpr SumsOf kernels[8] = {
                 weighted_sums_avx<1, false>, weighted_sums_avx<1, true>,
                 weighted_sums_avx<2, false>, weighted_sums_avx<2, true>,
                 weighted_sums_avx<3, false>, weighted_sums_avx<3, true>,
                 weighted_sums_avx<4, false>, weighted_sums_avx<4, true>};
             kernels[(channels - 1) * 2 + (uniform ? 1 : 0)](planes.data(), plane, taps, weights,
-                                                            radius_v, radius_max, sums);
+                                                            radius_f, radius_max, sums);
             for (int lane = 0; lane < lanes; ++lane) {
                 if (radius[lane] == 0) continue;  // copied
                 float* o = &out.data[out.index(x0 + lane, y)];
