@@ -54,6 +54,7 @@ ModeTimes time_mode(const Scene& scene, const std::string& mode, const Params& p
     s.frame_count = 1 + o.repeats;
     s.time_step = 0.0f;  // a static camera: every frame does the same work
     s.params = params;
+    if (!o.gaze_track.empty() && mode != "basic") s.params.set("gaze_track", o.gaze_track);
     s.progress = [&](double f) { progress.update(done + f * step); };
     ModeTimes t;
     t.frame = 1e300;
@@ -109,6 +110,11 @@ void add_bench_foveation_options(CLI::App& c, BenchFoveationOptions& o) {
                  "foveated mode (repeatable; default: fov, kfov, cfov, ckfov, kfr, stereo-lp, "
                  "visual-polar-basic (as vp-basic) and cfov with the lerp filter)");
     c.add_flag("--stages", o.stages, "also print each stage's own fastest time under its row");
+    c.add_option("--gaze-track", o.gaze_track,
+                 "gaze track for the foveated modes (frame,x,y per line, docs/foveation.md): a "
+                 "moving gaze, whose maps and pass 2 tables are made again each frame (default: "
+                 "the gaze at the centre)")
+        ->check(CLI::ExistingFile);
 }
 
 namespace {
@@ -154,10 +160,12 @@ std::string lund_share(const Row& row, bool traced) {
 }
 
 void print_header(const BenchFoveationOptions& o) {
+    const std::string gaze =
+        o.gaze_track.empty() ? "gaze at the centre" : "gaze moving along " + o.gaze_track;
     std::printf(
-        "fovref bench foveation: %dx%d, gaze at the centre, one thread; each stage the "
-        "fastest of %d frames (the first frame, which builds the BVH, is not timed)\n",
-        o.width, o.height, o.repeats);
+        "fovref bench foveation: %dx%d, %s, one thread; each stage the fastest of %d frames (the "
+        "first frame, which builds the BVH, is not timed)\n",
+        o.width, o.height, gaze.c_str(), o.repeats);
     std::printf(
         "trace = ray generation + tracing of the buffers; target = 0.8 x (basic's primary "
         "rays / the mode's); pass 2 + filters share: target <= 15%% (issue 33: <= 12%% for "

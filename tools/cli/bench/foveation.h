@@ -24,6 +24,9 @@ struct BenchFoveationOptions {
     std::vector<std::string> modes;
     /// Also print each stage's own fastest time under its mode's row (where the time goes).
     bool stages = false;
+    /// A gaze track (`gaze_track=FILE` of the foveated modes): the gaze moves from frame to
+    /// frame, so the maps and pass 2's tables are made again each frame; empty: the centre.
+    std::string gaze_track;
     bool quiet = false;
 };
 
