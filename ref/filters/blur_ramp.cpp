@@ -27,6 +27,10 @@ void check_inputs(const BlurRamp& ramp, const BlurRampGeometry& geometry, const 
     FOVREF_CHECK_EQ(image.height, geometry.screen_height, "blur ramp image height");
 }
 
+/// The weights' base a = exp(-1 / (2 sigma^2)), 2 sigma first, then times sigma (one exp per
+/// pixel: blur_ramp_weights, the AVX groups and the table all take it from here).
+float blur_ramp_a(float sigma) { return dm::exp(-1.0f / (2.0f * sigma * sigma)); }
+
 constexpr int lanes = 8;  // pixels per AVX group
 constexpr int max_avx_channels = 4;
 
@@ -143,7 +147,7 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
                 // beyond full_deg every pixel has the same sigma, whose exp is kept
                 if (radius[lane] > 0 && !kept && !(sigma == last_sigma)) {
                     last_sigma = sigma;
-                    last_a = dm::exp(-1.0f / (2.0f * sigma * sigma));
+                    last_a = blur_ramp_a(sigma);
                 }
                 a[lane] = radius[lane] == 0 ? 0.5f : kept ? kept[1] : last_a;
                 radius_max = std::max(radius_max, radius[lane]);
@@ -222,7 +226,7 @@ float blur_ramp_sigma_px(const BlurRamp& ramp, const BlurRampGeometry& geometry,
 void blur_ramp_weights(float sigma, int radius, float* weights) {
     // Gaussian weights w_|d| = a^(d^2), a = exp(-1 / (2 sigma^2)), d = 0 .. R, by the
     // recurrence w_d = w_(d-1) g_d, g_d = g_(d-1) a^2 (g_1 = a): one exp per pixel
-    const float a = dm::exp(-1.0f / (2.0f * sigma * sigma));
+    const float a = blur_ramp_a(sigma);
     const float a2 = a * a;
     weights[0] = 1.0f;
     float g = a;
@@ -314,8 +318,7 @@ BlurRampTable blur_ramp_table(const BlurRamp& ramp, const BlurRampGeometry& geom
         for (int x = 0; x < geometry.screen_width; ++x) {
             const float sigma = blur_ramp_sigma_px(ramp, geometry, pixel_centre(x, y));
             table.sigma_a.at(x, y, 0) = sigma;
-            table.sigma_a.at(x, y, 1) =
-                blur_ramp_radius(sigma) > 0 ? dm::exp(-1.0f / (2.0f * sigma * sigma)) : 0.0f;
+            table.sigma_a.at(x, y, 1) = blur_ramp_radius(sigma) > 0 ? blur_ramp_a(sigma) : 0.0f;
         }
     return table;
 }

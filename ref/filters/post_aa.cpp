@@ -17,6 +17,21 @@ namespace {
 constexpr int max_eta = 39;  // t = 1: 3 + 2 ceil(0.9 / 0.05)
 constexpr int lanes = 8;     // pixels per AVX group
 
+/// The slot (yy mod eta) of each row yy a pixel's window reads, rows top to bottom: the first by
+/// a division, the next ones by a step (a clamped row at the edge repeats its slot).
+struct RowSlots {
+    int eta;
+    int previous = -1, slot = 0;
+    int next(int yy) {
+        if (previous < 0)
+            slot = yy % eta;
+        else if (yy != previous)
+            slot = slot + 1 == eta ? 0 : slot + 1;  // yy = previous + 1
+        previous = yy;
+        return slot;
+    }
+};
+
 /// The cache of size eta, made on first use.
 PostAaRowCache& row_cache(std::vector<PostAaRowCache>& cache, int eta, int width, int channels) {
     PostAaRowCache& r = cache[static_cast<std::size_t>(eta)];
@@ -65,14 +80,10 @@ __attribute__((target("avx"))) void post_aa_group_avx(const Image& in, const std
     const bool clamped = x0 - half < 0 || x0 + lanes - 1 + half >= width;
     float padded[(lanes + max_eta - 1) * C];  // lane 0's taps from dx = -half on
     Sums<C> sum;
-    int previous = -1, slot = 0;
+    RowSlots slots{eta};
     for (int dy = -half; dy <= half; ++dy) {
         const int yy = std::clamp(y + dy, 0, in.height - 1);
-        if (previous < 0)
-            slot = yy % eta;
-        else if (yy != previous)
-            slot = slot + 1 == eta ? 0 : slot + 1;  // yy = previous + 1
-        previous = yy;
+        const int slot = slots.next(yy);
         const std::size_t k = static_cast<std::size_t>(slot) * width + x0;
         float* row = &r.value[k * C];
         bool cached = true;
@@ -242,14 +253,10 @@ void post_aa_cached_pixel(const Image& in, glm::vec2 gaze, float radius_max,
     PostAaRowCache& r = row_cache(cache, eta, width, channels);
     const int half = (eta - 1) / 2;
     float sum[4] = {0, 0, 0, 0};
-    int previous = -1, slot = 0;
+    RowSlots slots{eta};
     for (int dy = -half; dy <= half; ++dy) {
         const int yy = std::clamp(y + dy, 0, in.height - 1);
-        if (previous < 0)
-            slot = yy % eta;
-        else if (yy != previous)
-            slot = slot + 1 == eta ? 0 : slot + 1;  // yy = previous + 1
-        previous = yy;
+        const int slot = slots.next(yy);
         const std::size_t k = static_cast<std::size_t>(slot) * width + x;
         float* row = &r.value[k * channels];
         if (r.row[k] != yy) {

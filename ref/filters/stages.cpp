@@ -40,6 +40,18 @@ struct BlurState : StageState {
     }
 };
 
+// Either blur pass as a stage: the frame's geometry, the table kept while it repeats.
+void run_blur_pass(FrameContext& ctx, bool vertical) {
+    BlurState& state = ctx.state<BlurState>();
+    const BlurRampGeometry g = state.geometry(ctx);
+    const BlurRampTable* table = state.table_for(g);
+    ctx.note = table ? "sigma and exp per pixel kept" : "sigma and exp per pixel computed";
+    const Image& input = ctx.input("input");
+    ctx.output("output", BufferKind::color, rgb,
+               vertical ? blur_ramp_vertical(state.ramp, g, input, true, table)
+                        : blur_ramp_horizontal(state.ramp, g, input, true, table));
+}
+
 std::shared_ptr<BlurState> blur_state(const BlurRamp& ramp, FrameBlurGeometry geometry) {
     auto state = std::make_shared<BlurState>();
     state->ramp = ramp;
@@ -87,14 +99,7 @@ StageDef post_aa_stage_def(const std::string& input, const std::string& output,
     return {"post_aa", {{"input", input}}, {{"output", output}}, post_aa_stage, state};
 }
 
-void blur_horizontal_stage(FrameContext& ctx) {
-    BlurState& state = ctx.state<BlurState>();
-    const BlurRampGeometry g = state.geometry(ctx);
-    const BlurRampTable* table = state.table_for(g);
-    ctx.note = table ? "sigma and exp per pixel kept" : "sigma and exp per pixel computed";
-    ctx.output("output", BufferKind::color, rgb,
-               blur_ramp_horizontal(state.ramp, g, ctx.input("input"), true, table));
-}
+void blur_horizontal_stage(FrameContext& ctx) { run_blur_pass(ctx, false); }
 
 StageDef blur_horizontal_stage_def(const BlurRamp& ramp, const std::string& input,
                                    const std::string& output, FrameBlurGeometry geometry) {
@@ -105,14 +110,7 @@ StageDef blur_horizontal_stage_def(const BlurRamp& ramp, const std::string& inpu
             blur_state(ramp, std::move(geometry))};
 }
 
-void blur_vertical_stage(FrameContext& ctx) {
-    BlurState& state = ctx.state<BlurState>();
-    const BlurRampGeometry g = state.geometry(ctx);
-    const BlurRampTable* table = state.table_for(g);
-    ctx.note = table ? "sigma and exp per pixel kept" : "sigma and exp per pixel computed";
-    ctx.output("output", BufferKind::color, rgb,
-               blur_ramp_vertical(state.ramp, g, ctx.input("input"), true, table));
-}
+void blur_vertical_stage(FrameContext& ctx) { run_blur_pass(ctx, true); }
 
 StageDef blur_vertical_stage_def(const BlurRamp& ramp, const std::string& input,
                                  const std::string& output, FrameBlurGeometry geometry) {

@@ -88,10 +88,10 @@ Buffer& FrameContext::output(const std::string& slot, BufferKind kind,
     return result->add(port->buffer, kind, std::move(channel_names), std::move(image));
 }
 
-bool FrameContext::wants(const std::string& slot) const {
-    if (all_wanted) return true;
-    const std::string& name = buffer_of(slot);
-    return std::find(wanted.begin(), wanted.end(), name) != wanted.end();
+bool FrameContext::wants(const std::string& slot) const { return wants_buffer(buffer_of(slot)); }
+
+bool FrameContext::wants_buffer(const std::string& name) const {
+    return all_wanted || std::find(wanted.begin(), wanted.end(), name) != wanted.end();
 }
 
 const std::string& FrameContext::buffer_of(const std::string& slot) const {
@@ -229,10 +229,7 @@ FrameResult Pipeline::run_frame(FrameContext& context,
             run.note = context.note;
             for (const Port& output : stages[k].outputs)
                 FOVREF_CHECK(
-                    result.find(output.buffer) != nullptr ||
-                        (!context.all_wanted &&
-                         std::find(context.wanted.begin(), context.wanted.end(), output.buffer) ==
-                             context.wanted.end()),
+                    result.find(output.buffer) != nullptr || !context.wants_buffer(output.buffer),
                     "stage '" + stages[k].name + "' did not produce '" + output.buffer + "'");
             for (Buffer& buffer : result.buffers)
                 if (buffer.stage.empty()) buffer.stage = stages[k].name;

@@ -109,6 +109,8 @@ struct FrameContext {
     /// leave out an output nobody wants when it costs work of its own (pass 2's decision
     /// buffers); the buffers a stage must always produce are the wanted ones.
     bool wants(const std::string& slot) const;
+    /// True when frame buffer `name` is wanted (wants() of the port wired to it).
+    bool wants_buffer(const std::string& name) const;
     /// For long stages: report progress through the current stage (e.g. after each row).
     void report(double fraction_of_stage) const {
         if (stage_progress) stage_progress(fraction_of_stage);

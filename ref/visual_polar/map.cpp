@@ -60,15 +60,21 @@ float bisect_cdf(float e, int lo_k, int hi_k) {
     return 0.5f * (lo + hi);
 }
 
-/// The first 16 steps of the bisection (vp_cdf's table): lo_k, hi_k with P(lo_k / 65536) < e
-/// <= P(hi_k / 65536) (0 < e < P(1)).
-void table_bracket(float e, int& lo_k, int& hi_k) {
+/// Halves [lo_k, hi_k] (P(lo_k / 65536) < e <= P(hi_k / 65536)) on the table's values until
+/// hi_k = lo_k + 1: from [0, 65536], the bisection's first 16 steps.
+void narrow_bracket(float e, int& lo_k, int& hi_k) {
     const std::vector<float>& table = cdf_table();
-    lo_k = 0, hi_k = 1 << cdf_table_bits;
-    for (int step = 0; step < cdf_table_bits; ++step) {
+    while (hi_k - lo_k > 1) {
         const int mid = (lo_k + hi_k) / 2;
         (table[static_cast<std::size_t>(mid)] < e ? lo_k : hi_k) = mid;
     }
+}
+
+/// The first 16 steps of the bisection (vp_cdf's table): lo_k, hi_k with P(lo_k / 65536) < e
+/// <= P(hi_k / 65536) (0 < e < P(1)).
+void table_bracket(float e, int& lo_k, int& hi_k) {
+    lo_k = 0, hi_k = 1 << cdf_table_bits;
+    narrow_bracket(e, lo_k, hi_k);
 }
 
 }  // namespace
@@ -131,10 +137,7 @@ float vp_cdf(float e) {
     const auto b = static_cast<std::size_t>(
         std::min(static_cast<int>(static_cast<double>(e) * buckets.scale), cdf_bucket_count - 1));
     int lo_k = buckets.lo[b], hi_k = buckets.hi[b];
-    while (hi_k - lo_k > 1) {
-        const int mid = (lo_k + hi_k) / 2;
-        (table[static_cast<std::size_t>(mid)] < e ? lo_k : hi_k) = mid;
-    }
+    narrow_bracket(e, lo_k, hi_k);
     if (lo_k >= 1) {
         // The bracket's floats are at least 2^-39 apart, so the bisection reaches adjacent
         // floats within its 48 remaining steps: it ends at the largest float u of [lo, hi) with
