@@ -1,17 +1,17 @@
 #!/usr/bin/env bash
 # fovref fuzzing with libFuzzer: one target per loader (tests/fuzz/fuzz_*.cpp), built by the
-# `fuzz` preset (clang++ with -fsanitize=fuzzer,address,undefined) into build/fuzz.
+# `asan` preset (clang++ with -fsanitize=fuzzer,address,undefined) into build/asan.
 #
 #   tools/scripts/fuzz.sh --ci                 every target, a fixed seed and a fixed number of runs
 #                                      (about a minute in all); the test command runs this
 #   tools/scripts/fuzz.sh --minutes N [T...]   each target (or the named ones) for N minutes, with a
-#                                      corpus kept in build/fuzz/corpus/<target> between runs
+#                                      corpus kept in build/asan/corpus/<target> between runs
 #
 # Seeds: the repository's own files (golden bundles, the hand-written scene, golden/cases.json),
 # files the release build's fovref writes (scene exports, ray files), and the regression inputs
 # of tests/fuzz/regressions/<target> (every finding of the hardening issue; each is also run once
 # on its own). A crash, a sanitizer report, an exception other than fovref::Error, a timeout
-# (10 s) or a leak fails the run; the input is left in build/fuzz/artifacts/ and named here.
+# (10 s) or a leak fails the run; the input is left in build/asan/artifacts/ and named here.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
@@ -29,10 +29,10 @@ while [ $# -gt 0 ]; do
   shift
 done
 
-build=build/fuzz
+build=build/asan
 if [ ! -x "$build/fuzz_pfm" ]; then
-  cmake --preset fuzz >/dev/null
-  cmake --build --preset fuzz
+  cmake --preset asan >/dev/null
+  cmake --build --preset asan --target fuzzers
 fi
 fovref=build/gcc-O2/fovref
 if [ ! -x "$fovref" ]; then
