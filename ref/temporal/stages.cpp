@@ -20,6 +20,7 @@ struct TaaStageState : StageState {
 struct TaaSourceState : StageState {
     LogPolarStage shared;
     TaaSettings taa;
+    TaaSourceTable table;  ///< kept while the map repeats
 };
 
 // Halton point index of this frame, -1 when the jitter is off.
@@ -77,7 +78,9 @@ void taa_stage(FrameContext& ctx) {
     const TaaInputs in{color, depth, ctx.camera, gaze, bounds};
     Image out, age, margin;
     TaaStats stats;
-    taa(state.taa.params, in, state.history, out, age, stats, &margin);
+    // The decision margins only when asked for (diff, probe, --dump all): a pass of its own.
+    const bool margins = ctx.wants("margin");
+    taa(state.taa.params, in, state.history, out, age, stats, margins ? &margin : nullptr);
     add_taa_counters(ctx, state.taa, stats);
     const int index = jitter_index(ctx, state.taa);
     ctx.note = std::string(taa_mode_name(state.taa.mode)) +
@@ -88,7 +91,8 @@ void taa_stage(FrameContext& ctx) {
     state.history = next_taa_state(out, age, depth, ctx.camera);
     ctx.output("output", BufferKind::color, {"r", "g", "b"}, std::move(out));
     ctx.output("age", BufferKind::scalar, {"age"}, std::move(age));
-    ctx.output("margin", BufferKind::scalar, {"depth", "reprojection"}, std::move(margin));
+    if (margins)
+        ctx.output("margin", BufferKind::scalar, {"depth", "reprojection"}, std::move(margin));
 }
 
 StageDef taa_stage_def(const TaaSettings& taa, const TaaPorts& ports,
@@ -118,9 +122,10 @@ void taa_source_stage(FrameContext& ctx) {
         colors.emplace(TaaBoxColors{ctx.input("lp_color"),
                                     in.gaze_valid ? &ctx.input("gaze_color") : nullptr,
                                     ctx.input("resolved")});
+    if (!taa_source_table_fits(state.table, in)) state.table = taa_source_table(in);
     TaaSourceOutputs out = taa_source_pass(in, ctx.input("lp_depth"),
                                            in.gaze_valid ? &ctx.input("gaze_depth") : nullptr,
-                                           colors ? &*colors : nullptr);
+                                           colors ? &*colors : nullptr, &state.table);
     const bool deferred = frames.params.deferred;
     ctx.note = std::string("the texel pass 2 sampled (nearest traced tap): ") +
                (deferred ? "its 3x3 box in the buffer"

@@ -19,6 +19,7 @@ struct StereoTaaSourceState : StageState {
     StereoStage shared;
     TaaSettings taa;
     std::array<std::optional<ForwardTable>, 2> eye_forward;  ///< each eye's map
+    std::array<TaaSourceTable, 2> eye_sources;               ///< kept while each eye's map repeats
 };
 
 struct StereoTaaState : StageState {
@@ -69,8 +70,11 @@ void stereo_taa_source_stage(FrameContext& ctx) {
         const Image screen =
             boxes ? image_columns(ctx.input("resolved"), e * eye_width, eye_width) : Image();
         const TaaBoxColors colors{lp_color, nullptr, screen};
-        const TaaSourceOutputs out = taa_source_pass({maps[eye], *table, valid, nullptr}, lp_depth,
-                                                     nullptr, boxes ? &colors : nullptr);
+        const TaaBufferInputs in{maps[eye], *table, valid, nullptr};
+        TaaSourceTable& sources = state.eye_sources[eye];
+        if (!taa_source_table_fits(sources, in)) sources = taa_source_table(in);
+        const TaaSourceOutputs out =
+            taa_source_pass(in, lp_depth, nullptr, boxes ? &colors : nullptr, &sources);
         set_image_columns(depth, e * eye_width, out.depth);
         if (boxes) set_image_columns(bounds, e * eye_width, out.bounds);
     }

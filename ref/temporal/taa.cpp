@@ -5,6 +5,7 @@
 
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
+#include "ref/temporal/taa_avx.h"
 
 namespace fovref {
 
@@ -301,8 +302,13 @@ void taa(const TaaParams& params, const TaaInputs& in, const TaaState& previous,
     age = Image(width, height, 1, 0.0f);
     if (margin) *margin = Image(width, height, 2, 0.0f);
     const TaaConstants constants = taa_constants(in, previous);
+    // Eight pixels at a time where the AVX path covers the frame (the same bits: taa_avx.h);
+    // taa_pixel, the reference, does the rest of each row and every other frame.
+    const bool avx = taa_avx_applies(params, previous, constants);
     for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
+        for (int x = avx ? taa_row_avx(params, in, previous, constants, y, out, age, margin, stats)
+                         : 0;
+             x < width; ++x) {
             const TaaPixelRecord r = taa_pixel(params, in, previous, x, y, out, age, &constants);
             if (margin) {
                 margin->at(x, y, 0) = r.depth_margin;

@@ -1,12 +1,25 @@
 #include "ref/temporal/taa_foveated.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
 #include "ref/log_polar/trace.h"
 
 namespace fovref {
+
+namespace {
+
+// The bilinear weights of the four taps, in tap order.
+void tap_weights(const BilinearLookup& l, float* weights) {
+    weights[0] = (1.0f - l.fu) * (1.0f - l.fv);
+    weights[1] = l.fu * (1.0f - l.fv);
+    weights[2] = (1.0f - l.fu) * l.fv;
+    weights[3] = l.fu * l.fv;
+}
+
+}  // namespace
 
 TaaSource taa_source(const TaaBufferInputs& in, int x, int y) {
     TaaSource s;
@@ -23,8 +36,8 @@ TaaSource taa_source(const TaaBufferInputs& in, int x, int y) {
         in.forward.uv[static_cast<std::size_t>(y) * static_cast<std::size_t>(map.screen_width) +
                       static_cast<std::size_t>(x)];
     const BilinearLookup l = lp_bilinear_taps(in.lp_valid, uv);
-    const float weights[4] = {(1.0f - l.fu) * (1.0f - l.fv), l.fu * (1.0f - l.fv),
-                              (1.0f - l.fu) * l.fv, l.fu * l.fv};
+    float weights[4];
+    tap_weights(l, weights);
     const int is[4] = {l.i0, l.i1, l.i0, l.i1}, js[4] = {l.j0, l.j0, l.j1, l.j1};
     float best = 0.0f;
     for (int k = 0; k < 4; ++k)
@@ -80,9 +93,73 @@ Image texel_boxes(const Image& image, const Image& valid, bool wrap_rows) {
 
 }  // namespace
 
-TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_depth,
-                                 const Image* gaze_depth, const TaaBoxColors* colors) {
+TaaSourceTable taa_source_table(const TaaBufferInputs& in) {
     check_inputs(in);
+    const LogPolarMap& map = in.map;
+    TaaSourceTable table;
+    table.map = map;
+    table.gaze = in.gaze_valid != nullptr;
+    table.pixels.resize(static_cast<std::size_t>(map.screen_width) *
+                        static_cast<std::size_t>(map.screen_height));
+    const ScreenWindow window = gaze_window(map);
+    for (int y = 0; y < map.screen_height; ++y)
+        for (int x = 0; x < map.screen_width; ++x) {
+            const std::size_t p = static_cast<std::size_t>(y) * map.screen_width + x;
+            TaaSourceTable::Pixel& pixel = table.pixels[p];
+            if (table.gaze && inside_gaze_circle(map, pixel_centre(x, y))) {
+                pixel.count = -1;
+                pixel.texel[0] = x - window.x0;
+                pixel.texel[1] = y - window.y0;
+                continue;
+            }
+            // taa_source's choice, the largest traced weight with ties to the first tap, is the
+            // first traced tap of the non-zero weights sorted by weight, then tap order.
+            const BilinearLookup l = lp_bilinear_index(map.width, map.height, in.forward.uv[p]);
+            float weights[4];
+            tap_weights(l, weights);
+            const int is[4] = {l.i0, l.i1, l.i0, l.i1}, js[4] = {l.j0, l.j0, l.j1, l.j1};
+            int order[4], n = 0;
+            for (int k = 0; k < 4; ++k)
+                if (weights[k] > 0.0f) order[n++] = k;  // (a NaN weight is never chosen)
+            for (int a = 1; a < n; ++a)                 // insertion sort: stable
+                for (int b = a; b > 0 && weights[order[b]] > weights[order[b - 1]]; --b)
+                    std::swap(order[b], order[b - 1]);
+            for (int k = 0; k < n; ++k)
+                pixel.texel[pixel.count++] = js[order[k]] * map.width + is[order[k]];
+        }
+    return table;
+}
+
+bool taa_source_table_fits(const TaaSourceTable& table, const TaaBufferInputs& in) {
+    return !table.pixels.empty() && table.map == in.map && table.gaze == (in.gaze_valid != nullptr);
+}
+
+namespace {
+
+// Pixel p's source from the table: its kind and the texel's row-major index in its buffer (the
+// gaze buffer: `gaze_width` wide).
+TaaSource::Kind table_source(const TaaSourceTable::Pixel& pixel, const float* valid, int gaze_width,
+                             std::size_t& texel) {
+    if (pixel.count < 0) {
+        texel = static_cast<std::size_t>(pixel.texel[1]) * static_cast<std::size_t>(gaze_width) +
+                static_cast<std::size_t>(pixel.texel[0]);
+        return TaaSource::Kind::gaze;
+    }
+    for (int k = 0; k < pixel.count; ++k) {
+        texel = static_cast<std::size_t>(pixel.texel[k]);
+        if (valid[texel] != 0.0f) return TaaSource::Kind::buffer;
+    }
+    return TaaSource::Kind::none;
+}
+
+}  // namespace
+
+TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_depth,
+                                 const Image* gaze_depth, const TaaBoxColors* colors,
+                                 const TaaSourceTable* table) {
+    check_inputs(in);
+    FOVREF_CHECK(!table || taa_source_table_fits(*table, in),
+                 "a TAA source table made for another map");
     FOVREF_CHECK(in.gaze_valid == nullptr || gaze_depth != nullptr, "gaze depth missing");
     FOVREF_CHECK(!colors || in.gaze_valid == nullptr || colors->gaze_color != nullptr,
                  "gaze colour missing");
@@ -94,14 +171,27 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
         lp_boxes = texel_boxes(colors->lp_color, in.lp_valid, true);
         if (in.gaze_valid) gaze_boxes = texel_boxes(*colors->gaze_color, *in.gaze_valid, false);
     }
+    const int gaze_width = in.gaze_valid ? in.gaze_valid->width : 0;
     for (int y = 0; y < out.depth.height; ++y)
         for (int x = 0; x < out.depth.width; ++x) {
-            const TaaSource s = taa_source(in, x, y);
-            const bool gaze = s.kind == TaaSource::Kind::gaze;
-            if (s.kind != TaaSource::Kind::none)
-                out.depth.at(x, y) = gaze ? gaze_depth->at(s.i, s.j) : lp_depth.at(s.i, s.j);
+            const std::size_t p = static_cast<std::size_t>(y) * out.depth.width + x;
+            std::size_t texel = 0;
+            TaaSource::Kind kind;
+            if (table) {
+                kind = table_source(table->pixels[p], in.lp_valid.data.data(), gaze_width, texel);
+            } else {
+                const TaaSource s = taa_source(in, x, y);
+                kind = s.kind;
+                texel = static_cast<std::size_t>(s.j) *
+                            static_cast<std::size_t>(kind == TaaSource::Kind::gaze ? gaze_width
+                                                                                   : in.map.width) +
+                        static_cast<std::size_t>(s.i);
+            }
+            const bool gaze = kind == TaaSource::Kind::gaze;
+            if (kind != TaaSource::Kind::none)
+                out.depth.data[p] = gaze ? gaze_depth->data[texel] : lp_depth.data[texel];
             if (!colors) continue;
-            if (s.kind == TaaSource::Kind::none) {
+            if (kind == TaaSource::Kind::none) {
                 for (int c = 0; c < 3; ++c)
                     out.bounds.at(x, y, c) = out.bounds.at(x, y, 3 + c) =
                         colors->screen_color.at(x, y, c);
@@ -109,11 +199,11 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
             }
             // The box, widened to hold pass 2's own value (a mip resolve mixes coarser levels,
             // which can lie outside the level-0 box; bilinear pass 2 lies inside it).
-            const Image& boxes = gaze ? gaze_boxes : lp_boxes;
+            const float* box = &(gaze ? gaze_boxes : lp_boxes).data[texel * 6];
             for (int c = 0; c < 3; ++c) {
                 const float v = colors->screen_color.at(x, y, c);
-                out.bounds.at(x, y, c) = std::min(boxes.at(s.i, s.j, c), v);
-                out.bounds.at(x, y, 3 + c) = std::max(boxes.at(s.i, s.j, 3 + c), v);
+                out.bounds.at(x, y, c) = std::min(box[c], v);
+                out.bounds.at(x, y, 3 + c) = std::max(box[3 + c], v);
             }
         }
     return out;

@@ -18,6 +18,9 @@
 //           a GPU's buffer-space min/max pass would, and read by the pixels.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "ref/log_polar/resolve.h"
 
 namespace fovref {
@@ -51,8 +54,30 @@ struct TaaSourceOutputs {
     Image bounds;  ///< W x H x 6: min r, g, b, max r, g, b (empty without `colors`)
 };
 
-/// The pass: every pixel's source, its depth and, with `colors`, its clamp box.
+/// What taa_source reads from the map alone, per screen pixel, so that a frame only looks up
+/// the validity of a few texels: kept by a stage while the map repeats (a static gaze; TAA's
+/// jitter moves the texels and so the mask, not the map). The same sources as taa_source.
+struct TaaSourceTable {
+    struct Pixel {
+        /// The buffer texels (j W + i) of the bilinear taps with a non-zero weight, the largest
+        /// weight first (ties: the tap order): the source is the first traced one. count -1:
+        /// the gaze buffer's pixel (texel[0], texel[1]).
+        std::int32_t texel[4] = {0, 0, 0, 0};
+        std::int32_t count = 0;
+    };
+    LogPolarMap map;
+    bool gaze = false;          ///< made with a gaze buffer
+    std::vector<Pixel> pixels;  ///< W x H, row-major
+};
+/// The table of `in` (its map and forward table; whether it has a gaze buffer).
+TaaSourceTable taa_source_table(const TaaBufferInputs& in);
+/// Whether `table` was made for `in`'s map and gaze buffer.
+bool taa_source_table_fits(const TaaSourceTable& table, const TaaBufferInputs& in);
+
+/// The pass: every pixel's source, its depth and, with `colors`, its clamp box. `table` (made
+/// for `in`: taa_source_table) replaces the per-pixel taa_source: the same sources.
 TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_depth,
-                                 const Image* gaze_depth, const TaaBoxColors* colors = nullptr);
+                                 const Image* gaze_depth, const TaaBoxColors* colors = nullptr,
+                                 const TaaSourceTable* table = nullptr);
 
 }  // namespace fovref

@@ -85,8 +85,10 @@ void print_cost(const Scene& scene, const BenchTemporalOptions& o, Progress& pro
         "\ncost: %s %dx%d, one thread, fastest of %d frames after an untimed first; camera "
         "moving along the path unless 'static'\n",
         o.scene.c_str(), o.width, o.height, o.repeats);
+    // Issue 33's targets: TAA at most 15% of the rest of a frame with a moving camera, 5% with a
+    // static one (Lund Table 5.2: about 5% on the GPU).
     std::printf("  %-22s %10s %10s %12s  %s\n", "mode + TAA", "frame ms", "TAA ms", "TAA / rest",
-                "target <= 10%");
+                "target (moving <= 15%, static <= 5%)");
     const double step = 1.0 / static_cast<double>(rows.size());
     double done = 0.0;
     for (const auto& [row, time_step] : rows) {
@@ -94,8 +96,10 @@ void print_cost(const Scene& scene, const BenchTemporalOptions& o, Progress& pro
         done += step;
         progress.clear();
         const double share = c.taa / std::max(c.frame - c.taa, 1e-12);
-        std::printf("  %-22s %10.2f %10.2f %11.1f%%  %s\n", row.label.c_str(), 1e3 * c.frame,
-                    1e3 * c.taa, 100.0 * share, share <= 0.10 ? "ok" : "misses");
+        const double target = time_step == 0.0f ? 0.05 : 0.15;
+        std::printf("  %-22s %10.2f %10.2f %11.1f%%  %s (<= %.0f%%)\n", row.label.c_str(),
+                    1e3 * c.frame, 1e3 * c.taa, 100.0 * share, share <= target ? "ok" : "misses",
+                    100.0 * target);
         std::fflush(stdout);
     }
 }

@@ -1,0 +1,173 @@
+// The TAA speed-ups give the reference's bits: the AVX pass (ref/temporal/taa_avx.h) against
+// taa_pixel on frames built to reach every decision (kept, rejected, periphery, behind the
+// previous camera, off screen, NaN and Inf in every input), and the kept source table of the
+// log-polar modes (TaaSourceTable) against the per-pixel taa_source.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "ref/core/simd.h"
+#include "ref/log_polar/map.h"
+#include "ref/log_polar/params.h"
+#include "ref/log_polar/trace.h"
+#include "ref/temporal/taa.h"
+#include "ref/temporal/taa_foveated.h"
+#include "tests/image/image_test_util.h"
+
+using namespace fovref;
+
+namespace {
+
+constexpr float inf = std::numeric_limits<float>::infinity();
+constexpr float nan = std::numeric_limits<float>::quiet_NaN();
+
+// Turns the SIMD paths off for a scope (and back on).
+struct Scalar {
+    Scalar() { set_simd_allowed(false); }
+    ~Scalar() { set_simd_allowed(true); }
+};
+
+float uniform(test::SplitMix64& rng, float lo, float hi) {
+    return lo + (hi - lo) * static_cast<float>(rng.below(1 << 20)) * 0x1p-20f;
+}
+
+// One in `rate` values replaced by a hostile one (NaN, +-Inf, 0, negative).
+float hostile(test::SplitMix64& rng, float v, std::size_t rate) {
+    if (rng.below(rate) != 0) return v;
+    const float values[] = {nan, inf, -inf, 0.0f, -1.0f};
+    return values[rng.below(5)];
+}
+
+Camera turned(float yaw_degrees, glm::vec3 position) {
+    const double a = yaw_degrees * 3.14159265358979323846 / 180.0;
+    const glm::vec3 forward{static_cast<float>(-std::sin(a)), 0.0f,
+                            static_cast<float>(-std::cos(a))};
+    return look_at(position, position + forward, {0, 1, 0}, 50.0f);
+}
+
+struct Run {
+    Image out, age, margin;
+    TaaStats stats;
+};
+
+Run run(const TaaParams& params, const TaaInputs& in, const TaaState& previous) {
+    Run r;
+    taa(params, in, previous, r.out, r.age, r.stats, &r.margin);
+    return r;
+}
+
+void require_same(const Run& a, const Run& b) {
+    REQUIRE(bit_equal(a.out, b.out));
+    REQUIRE(bit_equal(a.age, b.age));
+    REQUIRE(bit_equal(a.margin, b.margin));
+    CHECK(a.stats.kept == b.stats.kept);
+    CHECK(a.stats.rejected == b.stats.rejected);
+    CHECK(a.stats.periphery_kept == b.stats.periphery_kept);
+    CHECK(a.stats.reprojection_skipped == b.stats.reprojection_skipped);
+    CHECK(a.stats.nonfinite_history == b.stats.nonfinite_history);
+}
+
+}  // namespace
+
+TEST_CASE("TAA speed: the AVX pass gives taa_pixel's bits, every decision reached") {
+    if (!cpu_has_avx()) MESSAGE("no AVX on this CPU: both runs take taa_pixel");
+    // 67 columns: eight groups of eight and a scalar tail of three.
+    const int w = 67, h = 29;
+    test::SplitMix64 rng(33);
+    TaaStats total;
+    for (int trial = 0; trial < 6; ++trial) {
+        const bool stationary = trial == 5;
+        Image color(w, h, 3), depth(w, h, 1);
+        TaaState previous;
+        previous.valid = true;
+        previous.history = Image(w, h, 3);
+        previous.age = Image(w, h, 1);
+        previous.depth = Image(w, h, 1);
+        for (float& v : color.data) v = hostile(rng, uniform(rng, 0.0f, 1.0f), 97);
+        for (float& v : previous.history.data) v = hostile(rng, uniform(rng, 0.0f, 1.0f), 89);
+        for (float& v : previous.age.data) v = hostile(rng, uniform(rng, 0.0f, 25.0f), 83);
+        // Depths near 3 (consistent or not within tau) and hostile ones in both frames.
+        for (float& v : depth.data) v = hostile(rng, uniform(rng, 2.0f, 4.0f), 29);
+        for (float& v : previous.depth.data) v = hostile(rng, uniform(rng, 2.0f, 4.0f), 31);
+        // Small turns and steps keep most points on screen; trial 3 turns 100 degrees (points
+        // behind the previous camera), trial 4 steps sideways (points off the screen).
+        const float yaw[] = {0.5f, -2.0f, 4.0f, 100.0f, 0.0f, 0.0f};
+        const glm::vec3 step[] = {{0.0f, 0.0f, -0.1f}, {0.05f, 0.02f, 0.0f}, {0.0f, 0.0f, 0.3f},
+                                  {0.0f, 0.0f, 0.0f},  {1.5f, 0.0f, 0.0f},   {0.0f, 0.0f, 0.0f}};
+        previous.camera = turned(0.0f, {0.0f, 1.0f, 4.0f});
+        const Camera camera = stationary
+                                  ? previous.camera
+                                  : turned(yaw[trial], glm::vec3{0.0f, 1.0f, 4.0f} + step[trial]);
+        TaaParams params;
+        params.tau = trial % 2 == 0 ? 0.2f : 0.01f;
+        params.age_cap = trial == 2 ? 3 : 20;
+        const glm::vec2 gaze{uniform(rng, 0.0f, w), uniform(rng, 0.0f, h)};
+        const TaaInputs in{color, depth, camera, gaze};
+        const Run fast = run(params, in, previous);
+        Run reference;
+        {
+            Scalar scalar;
+            reference = run(params, in, previous);
+        }
+        CAPTURE(trial);
+        require_same(fast, reference);
+        total.kept += reference.stats.kept;
+        total.rejected += reference.stats.rejected;
+        total.periphery_kept += reference.stats.periphery_kept;
+        total.reprojection_skipped += reference.stats.reprojection_skipped;
+        total.nonfinite_history += reference.stats.nonfinite_history;
+    }
+    // The frames reach every decision the AVX path makes.
+    CHECK(total.kept > 500);
+    CHECK(total.rejected > 500);
+    CHECK(total.periphery_kept > 50);
+    CHECK(total.reprojection_skipped > 500);
+    CHECK(total.nonfinite_history > 50);
+}
+
+TEST_CASE("TAA speed: the log-polar source table gives taa_source's sources") {
+    test::SplitMix64 rng(7);
+    for (const char* preset : {"fov", "cfov"}) {
+        CAPTURE(preset);
+        const LogPolarMap map =
+            make_log_polar_map(find_foveation_preset(preset).map, 97, 61, {40.0f, 33.0f}, 60.0f);
+        const ForwardTable forward = forward_table(map);
+        Image lp_valid(map.width, map.height, 1), lp_depth(map.width, map.height, 1);
+        Image lp_color(map.width, map.height, 3), resolved(97, 61, 3);
+        Image gaze_valid, gaze_depth, gaze_color;
+        const bool composite = map.has_gaze_buffer();
+        if (composite) {
+            const ScreenWindow window = gaze_window(map);
+            gaze_valid = Image(window.width, window.height, 1, 1.0f);
+            gaze_depth = Image(window.width, window.height, 1);
+            gaze_color = Image(window.width, window.height, 3);
+            for (float& v : gaze_depth.data) v = uniform(rng, 1.0f, 5.0f);
+            for (float& v : gaze_color.data) v = uniform(rng, 0.0f, 1.0f);
+        }
+        for (float& v : lp_depth.data) v = uniform(rng, 1.0f, 5.0f);
+        for (float& v : lp_color.data) v = uniform(rng, 0.0f, 1.0f);
+        for (float& v : resolved.data) v = uniform(rng, 0.0f, 1.0f);
+        const TaaSourceTable table =
+            taa_source_table({map, forward, lp_valid, composite ? &gaze_valid : nullptr});
+        // The same table for masks that change from frame to frame (TAA's jitter): a quarter of
+        // the texels untraced, then half of them, then almost none.
+        for (const std::size_t untraced : {3u, 1u, 1000000u}) {
+            for (float& v : lp_valid.data) v = rng.below(untraced + 1) == 0 ? 0.0f : 1.0f;
+            const TaaBufferInputs in{map, forward, lp_valid, composite ? &gaze_valid : nullptr};
+            REQUIRE(taa_source_table_fits(table, in));
+            const TaaBoxColors colors{lp_color, composite ? &gaze_color : nullptr, resolved};
+            const Image* gd = composite ? &gaze_depth : nullptr;
+            const TaaSourceOutputs kept = taa_source_pass(in, lp_depth, gd, &colors, &table);
+            const TaaSourceOutputs each = taa_source_pass(in, lp_depth, gd, &colors);
+            REQUIRE(bit_equal(kept.depth, each.depth));
+            REQUIRE(bit_equal(kept.bounds, each.bounds));
+        }
+        // Another map does not fit.
+        const LogPolarMap moved =
+            make_log_polar_map(find_foveation_preset(preset).map, 97, 61, {41.0f, 33.0f}, 60.0f);
+        CHECK_FALSE(taa_source_table_fits(
+            table, {moved, forward_table(moved), lp_valid, composite ? &gaze_valid : nullptr}));
+    }
+}
