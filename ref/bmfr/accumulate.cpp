@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ref/bmfr/accumulate_avx.h"
 #include "ref/bmfr/bmfr.h"
 #include "ref/bmfr/half.h"
 #include "ref/core/error.h"
@@ -305,7 +306,7 @@ void bmfr_accumulate_noisy_pixel(const BmfrParams& params, const Image& illumina
 BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& illumination,
                                        const Image& world_position, const Image& normal,
                                        const BmfrHistory& history, BmfrStats& stats,
-                                       const BmfrSpace& space) {
+                                       const BmfrSpace& space, bool margins) {
     const int width = illumination.width, height = illumination.height;
     check_shape(world_position, width, height, 3, "world_position");
     check_shape(normal, width, height, 3, "normal");
@@ -317,9 +318,15 @@ BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& il
     out.spp = Image(width, height, 1);
     out.accept = Image(width, height, 1);
     out.previous_pixel = Image(width, height, 2);
-    out.accept_margin = Image(width, height, 3);
+    if (margins) out.accept_margin = Image(width, height, 3);
+    // Eight pixels at a time where the AVX path covers the frame (the same bits:
+    // accumulate_avx.h); the reference does the rest of each row and every other frame.
+    const bool avx = bmfr_accumulate_noisy_avx_applies(has_previous, space);
     for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x)
+        for (int x = avx ? bmfr_accumulate_noisy_row_avx(params, illumination, world_position,
+                                                         normal, history, out, y, stats)
+                         : 0;
+             x < width; ++x)
             bmfr_accumulate_noisy_pixel(params, illumination, world_position, normal, history,
                                         has_previous, space, out, x, y, stats);
     return out;
@@ -334,8 +341,12 @@ Image bmfr_accumulate_filtered(const BmfrParams& params, const Image& fitted, co
     check_shape(previous_pixel, width, height, 2, "previous_pixel");
     if (!history.empty()) check_shape(history, width, height, 3, "accumulated_filtered history");
     Image out(width, height, 3);
+    const bool avx = bmfr_accumulate_filtered_avx_applies(history, space);
     for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x)
+        for (int x = avx ? bmfr_accumulate_filtered_row_avx(params, fitted, spp, accept,
+                                                            previous_pixel, history, out, y)
+                         : 0;
+             x < width; ++x)
             bmfr_accumulate_filtered_pixel(params, fitted, spp, accept, previous_pixel, history,
                                            space, out, x, y);
     return out;

@@ -237,11 +237,11 @@ BmfrTaps bmfr_vp_taps(const VisualPolarMap& map, glm::vec2 q);
 /// alpha = max(1 / (spp_h + 1), noisy_alpha_min), out = alpha c + (1 - alpha) h,
 /// spp = min(round_half_even(spp_h) + 1, 255). No history (first frame, behind the camera, no
 /// tap accepted or their weights sum to 0): out = c, spp = 1. A NaN or infinite position or
-/// normal is taken as 0 (counted).
+/// normal is taken as 0 (counted). `margins` false: accept_margin is left empty (not wanted).
 BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& illumination,
                                        const Image& world_position, const Image& normal,
                                        const BmfrHistory& history, BmfrStats& stats,
-                                       const BmfrSpace& space = {});
+                                       const BmfrSpace& space = {}, bool margins = true);
 /// Per-pixel work of phase I: pixel (x, y) of `out` (whose images have the frame's size);
 /// `has_previous`: the history holds a previous frame.
 void bmfr_accumulate_noisy_pixel(const BmfrParams& params, const Image& illumination,

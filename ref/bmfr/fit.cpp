@@ -6,6 +6,7 @@
 
 #include "ref/bmfr/bmfr.h"
 #include "ref/bmfr/half.h"
+#include "ref/bmfr/weighted_sum_avx.h"
 #include "ref/core/block_offsets.h"
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
@@ -482,6 +483,20 @@ Image bmfr_weighted_sum(const BmfrFit& fit, const Image& world_position, const I
                  "bmfr_weighted_sum: the weights, ranges, positions or normals do not match the "
                  "grid");
     Image out(g.width, g.height, 3);
+    if (bmfr_weighted_sum_avx_applies(g)) {
+        // Eight pixels at a time (the same bits: weighted_sum_avx.h), block span by block span;
+        // the reference does each span's last pixels.
+        for (int y = 0; y < g.height; ++y)
+            for (int x = 0; x < g.width;) {
+                const int cell_x = g.cell_of(x, y).x;
+                const int end = std::min(g.width, g.origin(cell_x + 1, 0).x);
+                for (x = bmfr_weighted_sum_span_avx(fit, world_position, normal, out, x, end, y,
+                                                    stats);
+                     x < end; ++x)
+                    bmfr_weighted_sum_pixel(fit, world_position, normal, out, x, y, stats);
+            }
+        return out;
+    }
     for (int y = 0; y < g.height; ++y)
         for (int x = 0; x < g.width; ++x) {
             if (g.visual_polar() && (y >= g.column_rows[static_cast<std::size_t>(x)] ||

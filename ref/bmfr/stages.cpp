@@ -108,8 +108,9 @@ void add_accumulation(const AddBuffer& add, BmfrAccumulation a) {
     add("bmfr_spp", BufferKind::scalar, {"spp"}, std::move(a.spp));
     add("bmfr_accept", BufferKind::scalar, {"mask"}, std::move(a.accept));
     add("bmfr_previous_pixel", BufferKind::scalar, {"x", "y"}, std::move(a.previous_pixel));
-    add("bmfr_accept_margin", BufferKind::scalar, {"position", "normal", "taps"},
-        std::move(a.accept_margin));
+    if (!a.accept_margin.empty())
+        add("bmfr_accept_margin", BufferKind::scalar, {"position", "normal", "taps"},
+            std::move(a.accept_margin));
 }
 
 void add_fit(const AddBuffer& add, Image weights, Image feature_range) {
@@ -177,8 +178,10 @@ void bmfr_accumulate_noisy_stage(FrameContext& ctx) {
     const Image& normal = ctx.input("shading_normal");
     const BmfrSpace space = frame_space(ctx, s);
     BmfrStats stats;
-    BmfrAccumulation a = bmfr_accumulate_noisy(frame_params(ctx, s), ctx.input("bmfr_illumination"),
-                                               world, normal, s.history, stats, space);
+    // The accept margins only when asked for (diff, probe, --dump all).
+    BmfrAccumulation a =
+        bmfr_accumulate_noisy(frame_params(ctx, s), ctx.input("bmfr_illumination"), world, normal,
+                              s.history, stats, space, ctx.wants("bmfr_accept_margin"));
     add_stats(ctx, stats);
     ctx.note = !s.history.valid ? "first frame: no history"
                                 : std::to_string(stats.history_accepted) + " pixels with history";

@@ -1,65 +1,22 @@
 #include "ref/temporal/taa_avx.h"
 
-#include <immintrin.h>
-
 #include <algorithm>
 #include <cstddef>
-#include <limits>
 
+#include "ref/core/avx_lanes.h"
 #include "ref/core/simd.h"
 
 namespace fovref {
 
 namespace {
 
-constexpr int lanes = 8;
+using namespace avx;
 
-#define FOVREF_AVX __attribute__((target("avx"), always_inline))
-
-// Every helper below is inlined into taa_row_avx (never an __m256 across a call from code
-// without AVX, which would cost the transition penalty of the upper halves).
-
-/// `yes` where the comparison mask is set, else `no`, bit for bit.
-FOVREF_AVX inline __m256 select(__m256 mask, __m256 yes, __m256 no) {
-    return _mm256_or_ps(_mm256_and_ps(mask, yes), _mm256_andnot_ps(mask, no));
-}
-FOVREF_AVX inline __m256 less(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
-FOVREF_AVX inline __m256 greater(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
-FOVREF_AVX inline __m256 at_most(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
-FOVREF_AVX inline __m256 at_least(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
-FOVREF_AVX inline __m256 bits_and(__m256 a, __m256 b) { return _mm256_and_ps(a, b); }
-FOVREF_AVX inline __m256 bits_not(__m256 a) {
-    return _mm256_xor_ps(a, _mm256_castsi256_ps(_mm256_set1_epi32(-1)));
-}
-FOVREF_AVX inline __m256 set(float v) { return _mm256_set1_ps(v); }
-/// std::isfinite per lane: |v| < infinity (false for NaN).
-FOVREF_AVX inline __m256 finite(__m256 v) {
-    const __m256 magnitude = _mm256_and_ps(v, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
-    return less(magnitude, set(std::numeric_limits<float>::infinity()));
-}
-/// std::fabs and unary minus: the sign bit cleared or flipped.
-FOVREF_AVX inline __m256 abs(__m256 v) {
-    return _mm256_and_ps(v, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
-}
-FOVREF_AVX inline __m256 negate(__m256 v) {
-    return _mm256_xor_ps(v, _mm256_castsi256_ps(_mm256_set1_epi32(static_cast<int>(0x80000000u))));
-}
-/// std::max(a, b) and std::min(a, b) as the standard defines them: (a < b) ? b : a and
-/// (b < a) ? b : a (the first argument on ties and NaN), and std::max({a, b, c}) and
-/// std::min({a, b, c, d}) (the first largest or smallest, by <).
-FOVREF_AVX inline __m256 std_max(__m256 a, __m256 b) { return select(less(a, b), b, a); }
-FOVREF_AVX inline __m256 std_min(__m256 a, __m256 b) { return select(less(b, a), b, a); }
 /// floor_int of taa.cpp in binary32: the truncation, one less where it exceeds v.
-FOVREF_AVX inline __m256 floor_value(__m256 v) {
+FOVREF_AVX_INLINE __m256 floor_value(__m256 v) {
     const __m256 t = _mm256_round_ps(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
     return select(greater(t, v), _mm256_sub_ps(t, set(1.0f)), t);
 }
-/// Whether tap (x, y) lies on the W x H screen (TaaTaps::on_screen; whole numbers in binary32).
-FOVREF_AVX inline __m256 on_screen(__m256 x, __m256 y, float w, float h) {
-    return bits_and(bits_and(at_least(x, _mm256_setzero_ps()), at_least(y, _mm256_setzero_ps())),
-                    bits_and(less(x, set(w)), less(y, set(h))));
-}
-FOVREF_AVX inline int count(__m256 mask) { return __builtin_popcount(_mm256_movemask_ps(mask)); }
 
 /// One group's reads and writes, lane by lane (row-major images).
 struct Group {
@@ -70,7 +27,7 @@ struct Group {
 };
 
 /// The current colour (and, stationary, the history and age at the pixel) of pixels x .. x + 7.
-FOVREF_AVX inline void load_row(const Image& image, int x, int y, float (*out)[lanes]) {
+FOVREF_AVX_INLINE void load_row(const Image& image, int x, int y, float (*out)[lanes]) {
     const float* p = &image.data[image.index(x, y)];
     for (int l = 0; l < lanes; ++l)
         for (int c = 0; c < 3; ++c) out[c][l] = p[l * 3 + c];
@@ -80,13 +37,13 @@ FOVREF_AVX inline void load_row(const Image& image, int x, int y, float (*out)[l
 /// them a consistent one (kept with age min(max(age', 1) + 1, cap)), the rest of `ok` lanes
 /// beyond the periphery radius (`periphery`) age 2; every other lane is rejected (the current
 /// pixel, age 1). The margins are written by the caller.
-FOVREF_AVX inline void blend_and_write(const TaaParams& params, const Group& g, __m256 ok,
+FOVREF_AVX_INLINE void blend_and_write(const TaaParams& params, const Group& g, __m256 ok,
                                        __m256 keep, __m256 periphery, int x, int y, Image& out,
                                        Image& age) {
     const __m256 age_kept =
         std_min(_mm256_add_ps(std_max(_mm256_load_ps(g.age_previous), set(1.0f)), set(1.0f)),
                 set(static_cast<float>(params.age_cap)));
-    const __m256 reject = bits_not(bits_and(ok, _mm256_or_ps(keep, periphery)));
+    const __m256 reject = negation(both(ok, either(keep, periphery)));
     const __m256 age_new = select(keep, age_kept, set(2.0f));
     const __m256 w = _mm256_div_ps(set(1.0f), age_new);
     const __m256 one_minus_w = _mm256_sub_ps(set(1.0f), w);
@@ -115,9 +72,9 @@ __attribute__((target("avx"))) void stationary_group(const TaaParams& params, co
     load_row(previous.history, x, y, g.history);
     const float* a = &previous.age.data[previous.age.index(x, y)];
     for (int l = 0; l < lanes; ++l) g.age_previous[l] = a[l];
-    const __m256 ok = bits_and(
-        bits_and(finite(_mm256_load_ps(g.history[0])), finite(_mm256_load_ps(g.history[1]))),
-        bits_and(finite(_mm256_load_ps(g.history[2])), finite(_mm256_load_ps(g.age_previous))));
+    const __m256 ok =
+        both(both(finite(_mm256_load_ps(g.history[0])), finite(_mm256_load_ps(g.history[1]))),
+             both(finite(_mm256_load_ps(g.history[2])), finite(_mm256_load_ps(g.age_previous))));
     blend_and_write(params, g, ok, ok, _mm256_setzero_ps(), x, y, out, age);
     const int kept = count(ok);
     stats.kept += kept;
@@ -157,8 +114,8 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
         q[i] = _mm256_add_ps(set(p.o[i]), _mm256_mul_ps(z, d));
     }
     const __m256 previous_depth = q[2];
-    const __m256 reprojected = bits_and(bits_and(greater(z, _mm256_setzero_ps()), finite(z)),
-                                        greater(previous_depth, _mm256_setzero_ps()));
+    const __m256 reprojected = both(both(greater(z, _mm256_setzero_ps()), finite(z)),
+                                    greater(previous_depth, _mm256_setzero_ps()));
     const __m256 px = _mm256_add_ps(_mm256_mul_ps(q[0], _mm256_div_ps(set(p.a.x), previous_depth)),
                                     set(0.5f * w));
     const __m256 py = _mm256_add_ps(_mm256_mul_ps(q[1], _mm256_div_ps(set(p.a.y), previous_depth)),
@@ -184,32 +141,19 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
 
     // taa_taps: a tap on the screen only within a pixel of it.
     const __m256 has_taps =
-        bits_and(bits_and(reprojected, bits_and(greater(px, set(-1.0f)), greater(py, set(-1.0f)))),
-                 bits_and(less(px, set(wf + 1.0f)), less(py, set(hf + 1.0f))));
+        both(both(reprojected, both(greater(px, set(-1.0f)), greater(py, set(-1.0f)))),
+             both(less(px, set(wf + 1.0f)), less(py, set(hf + 1.0f))));
     const __m256 tx = _mm256_sub_ps(select(has_taps, px, _mm256_setzero_ps()), set(0.5f));
     const __m256 ty = _mm256_sub_ps(select(has_taps, py, _mm256_setzero_ps()), set(0.5f));
-    const __m256 tx0 = floor_value(tx), ty0 = floor_value(ty);
-    const __m256 fx = _mm256_sub_ps(tx, tx0), fy = _mm256_sub_ps(ty, ty0);
-    const __m256 gx = _mm256_sub_ps(set(1.0f), fx), gy = _mm256_sub_ps(set(1.0f), fy);
-    const __m256 weights[4] = {_mm256_mul_ps(gx, gy), _mm256_mul_ps(fx, gy), _mm256_mul_ps(gx, fy),
-                               _mm256_mul_ps(fx, fy)};
-    const __m256 tx1 = _mm256_add_ps(tx0, set(1.0f)), ty1 = _mm256_add_ps(ty0, set(1.0f));
-    const __m256 tap_on[4] = {bits_and(has_taps, on_screen(tx0, ty0, wf, hf)),
-                              bits_and(has_taps, on_screen(tx1, ty0, wf, hf)),
-                              bits_and(has_taps, on_screen(tx0, ty1, wf, hf)),
-                              bits_and(has_taps, on_screen(tx1, ty1, wf, hf))};
+    BilinearLanes b;
+    bilinear_lanes(tx, ty, floor_value(tx), floor_value(ty), has_taps, wf, hf, b);
 
     // The taps' values and the previous age, lane by lane (zero where a tap is off).
-    alignas(32) int ix0[lanes], iy0[lanes];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(ix0), _mm256_cvttps_epi32(tx0));
-    _mm256_store_si256(reinterpret_cast<__m256i*>(iy0), _mm256_cvttps_epi32(ty0));
     alignas(32) float ppx[lanes];
     _mm256_store_ps(ppx, px);
     alignas(32) float ppy[lanes];
     _mm256_store_ps(ppy, py);
     alignas(32) float taps[4][4][lanes] = {};  // [tap][r, g, b, depth][lane]
-    const int tap_mask[4] = {_mm256_movemask_ps(tap_on[0]), _mm256_movemask_ps(tap_on[1]),
-                             _mm256_movemask_ps(tap_on[2]), _mm256_movemask_ps(tap_on[3])};
     const int taps_mask = _mm256_movemask_ps(has_taps);
     const Image& history = previous.history;
     for (int l = 0; l < lanes; ++l) {
@@ -218,10 +162,10 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
         // Tap t is (x0 + (t & 1), y0 + (t >> 1)); the index is taken modulo 2^64, right for
         // every tap on the screen even where x0 or y0 is -1.
         const std::size_t first =
-            static_cast<std::size_t>(iy0[l]) * static_cast<std::size_t>(width) +
-            static_cast<std::size_t>(ix0[l]);
+            static_cast<std::size_t>(b.y0[l]) * static_cast<std::size_t>(width) +
+            static_cast<std::size_t>(b.x0[l]);
         for (int t = 0; t < 4; ++t) {
-            if (!(tap_mask[t] >> l & 1)) continue;
+            if (!(b.on_bits[t] >> l & 1)) continue;
             const std::size_t pixel =
                 first + static_cast<std::size_t>(t >> 1) * static_cast<std::size_t>(width) +
                 static_cast<std::size_t>(t & 1);
@@ -244,13 +188,13 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
     // sample_history: the taps' weighted sums in tap order, then the divisions.
     __m256 sum = _mm256_setzero_ps(), acc[4] = {sum, sum, sum, sum};
     for (int t = 0; t < 4; ++t) {
-        sum = _mm256_add_ps(sum, select(tap_on[t], weights[t], _mm256_setzero_ps()));
+        sum = _mm256_add_ps(sum, select(b.on[t], b.weight[t], _mm256_setzero_ps()));
         for (int c = 0; c < 4; ++c)
             acc[c] = _mm256_add_ps(
-                acc[c], select(tap_on[t], _mm256_mul_ps(weights[t], _mm256_load_ps(taps[t][c])),
+                acc[c], select(b.on[t], _mm256_mul_ps(b.weight[t], _mm256_load_ps(taps[t][c])),
                                _mm256_setzero_ps()));
     }
-    const __m256 sampled = bits_and(has_taps, greater(sum, _mm256_setzero_ps()));
+    const __m256 sampled = both(has_taps, greater(sum, _mm256_setzero_ps()));
     for (int c = 0; c < 3; ++c) _mm256_store_ps(g.history[c], _mm256_div_ps(acc[c], sum));
     const __m256 history_depth = _mm256_div_ps(acc[3], sum);
 
@@ -260,14 +204,12 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
     const __m256 depth_margin =
         select(sampled, _mm256_div_ps(_mm256_sub_ps(tau_z, difference), previous_depth), no_margin);
     const __m256 consistent = at_most(difference, tau_z);
-    const __m256 all_finite = bits_and(
-        bits_and(
-            bits_and(finite(_mm256_load_ps(g.history[0])), finite(_mm256_load_ps(g.history[1]))),
-            bits_and(finite(_mm256_load_ps(g.history[2])), finite(_mm256_load_ps(g.age_previous)))),
+    const __m256 all_finite = both(
+        both(both(finite(_mm256_load_ps(g.history[0])), finite(_mm256_load_ps(g.history[1]))),
+             both(finite(_mm256_load_ps(g.history[2])), finite(_mm256_load_ps(g.age_previous)))),
         finite(history_depth));
-    const __m256 ok = bits_and(sampled, all_finite);
-    const __m256 nonfinite =
-        _mm256_or_ps(bits_not(finite(z)), bits_and(sampled, bits_not(all_finite)));
+    const __m256 ok = both(sampled, all_finite);
+    const __m256 nonfinite = _mm256_or_ps(negation(finite(z)), both(sampled, negation(all_finite)));
 
     // The periphery rule: the pixel centre's distance from the gaze.
     const __m256 gx_ = _mm256_sub_ps(cx, set(in.gaze.x));
@@ -275,8 +217,8 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
     const __m256 gaze_r = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(gx_, gx_), set(gy_ * gy_)));
     const __m256 periphery = greater(gaze_r, set(params.periphery * k.diagonal));
 
-    const __m256 keep = bits_and(ok, consistent);
-    const __m256 periphery_kept = bits_and(bits_and(ok, bits_not(consistent)), periphery);
+    const __m256 keep = both(ok, consistent);
+    const __m256 periphery_kept = both(both(ok, negation(consistent)), periphery);
     blend_and_write(params, g, ok, consistent, periphery, x, y, out, age);
     stats.kept += count(keep);
     stats.periphery_kept += count(periphery_kept);

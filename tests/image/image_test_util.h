@@ -4,13 +4,16 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <system_error>
 
 #include "ref/core/error.h"
+#include "ref/image/image.h"
 
 namespace fovref::test {
 
@@ -33,6 +36,18 @@ struct TempDir {
     /// Writes `bytes` to file(name) and returns that path.
     std::string write(const std::string& name, const std::string& bytes) const;
 };
+
+/// bit_equal, NaN payloads aside: the same shape, every value bit for bit or NaN in both (where
+/// two different NaNs meet in an addition the result's payload depends on the operand order a
+/// compiler chose, docs/determinism.md "SIMD paths").
+inline bool same_bits_nan_aside(const Image& a, const Image& b) {
+    if (!a.same_shape(b)) return false;
+    for (std::size_t i = 0; i < a.data.size(); ++i)
+        if (std::memcmp(&a.data[i], &b.data[i], sizeof(float)) != 0 &&
+            !(std::isnan(a.data[i]) && std::isnan(b.data[i])))
+            return false;
+    return true;
+}
 
 inline void write_bytes(const std::string& path, const std::string& bytes) {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);

@@ -1,0 +1,304 @@
+#include "ref/bmfr/accumulate_avx.h"
+
+#include <cstddef>
+#include <cstdint>
+
+#include "ref/core/avx_lanes.h"
+#include "ref/core/simd.h"
+
+namespace fovref {
+
+namespace {
+
+using namespace avx;
+
+/// Three channels of pixels x .. x + 7 of row y, one array per channel.
+FOVREF_AVX_INLINE void load3_lanes(const Image& image, int x, int y, float (*out)[lanes]) {
+    const float* p = &image.data[image.index(x, y)];
+    for (int l = 0; l < lanes; ++l)
+        for (int c = 0; c < 3; ++c) out[c][l] = p[l * 3 + c];
+}
+
+/// finite_or_zero of accumulate.cpp per lane, counting the replaced values.
+FOVREF_AVX_INLINE __m256 finite_or_zero(const float* v, BmfrStats& stats) {
+    const __m256 value = _mm256_load_ps(v);
+    const __m256 ok = finite(value);
+    stats.nonfinite_inputs += lanes - count(ok);
+    return select(ok, value, zero());
+}
+
+/// distance_squared of accumulate.cpp: d = a - b, then (d.x d.x + d.y d.y) + d.z d.z.
+FOVREF_AVX_INLINE __m256 distance_squared(const float (*a)[lanes], const __m256* b) {
+    __m256 d[3];
+    for (int c = 0; c < 3; ++c) d[c] = _mm256_sub_ps(_mm256_load_ps(a[c]), b[c]);
+    return _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(d[0], d[0]), _mm256_mul_ps(d[1], d[1])),
+                         _mm256_mul_ps(d[2], d[2]));
+}
+
+/// ((m0 p.x + m1 p.y) + m2 p.z) + m3: one row of bmfr_project's product.
+FOVREF_AVX_INLINE __m256 row(const float* m, const __m256* p) {
+    return _mm256_add_ps(
+        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(set(m[0]), p[0]), _mm256_mul_ps(set(m[1]), p[1])),
+                      _mm256_mul_ps(set(m[2]), p[2])),
+        set(m[3]));
+}
+
+/// A tap's history values, lane by lane: world position, normal, accumulated colour, spp.
+struct Taps {
+    alignas(32) float position[4][3][lanes];
+    alignas(32) float normal[4][3][lanes];
+    alignas(32) float color[4][3][lanes];
+    alignas(32) float spp[4][lanes];
+};
+
+__attribute__((target("avx"))) void accumulate_group(
+    const BmfrParams& params, const Image& illumination, const Image& world_position,
+    const Image& normal, const BmfrHistory& history, BmfrAccumulation& out, int x, int y,
+    BmfrStats& stats) {
+    const int width = illumination.width, height = illumination.height;
+    const float wf = static_cast<float>(width), hf = static_cast<float>(height);
+    alignas(32) float c[3][lanes], pa[3][lanes], na[3][lanes];
+    load3_lanes(illumination, x, y, c);
+    load3_lanes(world_position, x, y, pa);
+    load3_lanes(normal, x, y, na);
+    __m256 p[3], n[3];
+    for (int k = 0; k < 3; ++k) p[k] = finite_or_zero(pa[k], stats);
+    for (int k = 0; k < 3; ++k) n[k] = finite_or_zero(na[k], stats);
+
+    // bmfr_project with the previous camera.
+    const float* m = history.view_projection.m.data();
+    const __m256 cx = row(m, p), cy = row(m + 4, p), cw = row(m + 12, p);
+    const __m256 w_ok = params.project_behind_camera ? not_equal(cw, zero()) : greater(cw, zero());
+    const __m256 qx = _mm256_sub_ps(
+        _mm256_mul_ps(_mm256_mul_ps(_mm256_add_ps(_mm256_div_ps(cx, cw), set(1.0f)), set(0.5f)),
+                      set(wf)),
+        set(params.pixel_offset.x));
+    const __m256 qy = _mm256_sub_ps(
+        _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(set(1.0f), _mm256_div_ps(cy, cw)), set(0.5f)),
+                      set(hf)),
+        set(params.pixel_offset.y));
+    const __m256 reprojected = both(w_ok, both(finite(qx), finite(qy)));
+    stats.history_off_screen += lanes - count(reprojected);
+
+    // bmfr_taps (q finite where reprojected; elsewhere a point whose taps are never read).
+    const __m256 tx = select(reprojected, std_min(std_max(qx, set(-1e6f)), set(1e6f)), set(-1e6f));
+    const __m256 ty = select(reprojected, std_min(std_max(qy, set(-1e6f)), set(1e6f)), set(-1e6f));
+    BilinearLanes b;
+    bilinear_lanes(tx, ty, floor(tx), floor(ty), reprojected, wf, hf, b);
+
+    // The history at the taps inside the image, lane by lane (zero elsewhere).
+    Taps t = {};
+    for (int l = 0; l < lanes; ++l)
+        for (int k = 0; k < 4; ++k) {
+            if (!(b.on_bits[k] >> l & 1)) continue;
+            const std::size_t i =
+                static_cast<std::size_t>(b.y0[l] + (k >> 1)) * static_cast<std::size_t>(width) +
+                static_cast<std::size_t>(b.x0[l] + (k & 1));
+            for (int ch = 0; ch < 3; ++ch) {
+                t.position[k][ch][l] = history.world_position.data[3 * i + ch];
+                t.normal[k][ch][l] = history.normal.data[3 * i + ch];
+                t.color[k][ch][l] = history.accumulated_noisy.data[3 * i + ch];
+            }
+            t.spp[k][l] = history.spp.data[i];
+        }
+
+    // accepted_taps: the position test, then the normal test, with their margins.
+    const __m256 no_margin = set(bmfr_no_margin);
+    const __m256 position_limit = set(params.position_limit_squared);
+    const __m256 normal_limit = set(params.normal_limit_squared);
+    __m256 margin[3] = {no_margin, no_margin, no_margin};
+    __m256 accepted[4];
+    for (int k = 0; k < 4; ++k) {
+        const __m256 dp = distance_squared(t.position[k], p);
+        margin[0] = select(b.on[k],
+                           std_min(margin[0], _mm256_div_ps(abs(_mm256_sub_ps(position_limit, dp)),
+                                                            position_limit)),
+                           margin[0]);
+        const __m256 near = both(b.on[k], less(dp, position_limit));
+        const __m256 dn = distance_squared(t.normal[k], n);
+        margin[1] = select(
+            near,
+            std_min(margin[1], _mm256_div_ps(abs(_mm256_sub_ps(normal_limit, dn)), normal_limit)),
+            margin[1]);
+        accepted[k] = both(near, less(dn, normal_limit));
+    }
+    // The reprojected index's distance from the nearest integer.
+    margin[2] =
+        select(reprojected,
+               std_min(std_min(std_min(_mm256_sub_ps(qx, floor(qx)), _mm256_sub_ps(ceil(qx), qx)),
+                               _mm256_sub_ps(qy, floor(qy))),
+                       _mm256_sub_ps(ceil(qy), qy)),
+               no_margin);
+
+    // blend_noisy_history over the accepted taps, in tap order.
+    __m256 h[3] = {zero(), zero(), zero()}, h_spp = zero(), total = zero(), mask = zero();
+    for (int k = 0; k < 4; ++k) {
+        const __m256 w = b.weight[k];
+        for (int ch = 0; ch < 3; ++ch)
+            h[ch] = _mm256_add_ps(
+                h[ch],
+                select(accepted[k], _mm256_mul_ps(w, _mm256_load_ps(t.color[k][ch])), zero()));
+        h_spp = _mm256_add_ps(
+            h_spp, select(accepted[k], _mm256_mul_ps(w, _mm256_load_ps(t.spp[k])), zero()));
+        total = _mm256_add_ps(total, select(accepted[k], w, zero()));
+        mask = _mm256_add_ps(mask, select(accepted[k], set(static_cast<float>(1 << k)), zero()));
+    }
+    const __m256 has_history = both(reprojected, greater(total, zero()));
+    stats.history_accepted += count(has_history);
+    stats.history_rejected += count(reprojected) - count(has_history);
+    for (int ch = 0; ch < 3; ++ch) h[ch] = _mm256_div_ps(h[ch], total);
+    h_spp = _mm256_div_ps(h_spp, total);
+
+    // alpha, the blend, the sample count rounded half to even (round_half_even).
+    const __m256 alpha = std_max(_mm256_div_ps(set(1.0f), _mm256_add_ps(h_spp, set(1.0f))),
+                                 set(params.noisy_alpha_min));
+    const __m256 beta = _mm256_sub_ps(set(1.0f), alpha);
+    alignas(32) float acc[3][lanes], spp[lanes], accept[lanes], previous[2][lanes],
+        margins[3][lanes];
+    for (int ch = 0; ch < 3; ++ch) {
+        const __m256 current = _mm256_load_ps(c[ch]);
+        _mm256_store_ps(acc[ch], select(has_history,
+                                        _mm256_add_ps(_mm256_mul_ps(alpha, current),
+                                                      _mm256_mul_ps(beta, h[ch])),
+                                        current));
+    }
+    const __m256 r = floor(h_spp);
+    const __m256 d = _mm256_sub_ps(h_spp, r);
+    // fmod(r, 2) != 0 for a whole r (d = 1/2 only for |r| < 2^23): r - 2 floor(r / 2) != 0.
+    const __m256 odd = not_equal(
+        _mm256_sub_ps(r, _mm256_mul_ps(set(2.0f), floor(_mm256_mul_ps(r, set(0.5f))))), zero());
+    const __m256 up = either(greater(d, set(0.5f)), both(equal(d, set(0.5f)), odd));
+    const __m256 rounded = select(up, _mm256_add_ps(r, set(1.0f)), r);
+    _mm256_store_ps(
+        spp,
+        select(has_history, std_min(_mm256_add_ps(rounded, set(1.0f)), set(255.0f)), set(1.0f)));
+    _mm256_store_ps(accept, select(has_history, mask, zero()));
+    _mm256_store_ps(previous[0], select(reprojected, qx, set(bmfr_behind_camera.x)));
+    _mm256_store_ps(previous[1], select(reprojected, qy, set(bmfr_behind_camera.y)));
+    for (int k = 0; k < 3; ++k) _mm256_store_ps(margins[k], margin[k]);
+
+    float* o_acc = &out.accumulated.data[out.accumulated.index(x, y)];
+    float* o_spp = &out.spp.data[out.spp.index(x, y)];
+    float* o_accept = &out.accept.data[out.accept.index(x, y)];
+    float* o_previous = &out.previous_pixel.data[out.previous_pixel.index(x, y)];
+    float* o_margin = out.accept_margin.data.empty()
+                          ? nullptr
+                          : &out.accept_margin.data[out.accept_margin.index(x, y)];
+    for (int l = 0; l < lanes; ++l) {
+        for (int ch = 0; ch < 3; ++ch) o_acc[3 * l + ch] = acc[ch][l];
+        o_spp[l] = spp[l];
+        o_accept[l] = accept[l];
+        o_previous[2 * l] = previous[0][l];
+        o_previous[2 * l + 1] = previous[1][l];
+        if (o_margin)
+            for (int ch = 0; ch < 3; ++ch) o_margin[3 * l + ch] = margins[ch][l];
+    }
+}
+
+// Phase III (bmfr_accumulate_filtered_pixel) for pixels x .. x + 7: the history blended over
+// the taps phase I accepted that lie inside the image, then alpha = max(1 / spp, min).
+__attribute__((target("avx"))) void filtered_group(const BmfrParams& params, const Image& fitted,
+                                                   const Image& spp, const Image& accept,
+                                                   const Image& previous_pixel,
+                                                   const Image& history, Image& out, int x, int y) {
+    const int width = fitted.width, height = fitted.height;
+    const float wf = static_cast<float>(width), hf = static_cast<float>(height);
+    alignas(32) float c[3][lanes], q[2][lanes];
+    load3_lanes(fitted, x, y, c);
+    const float* pp = &previous_pixel.data[previous_pixel.index(x, y)];
+    for (int l = 0; l < lanes; ++l) q[0][l] = pp[2 * l], q[1][l] = pp[2 * l + 1];
+    // The accepted-tap bits 0 .. 15 (anything else: none), as all-ones lanes per tap.
+    alignas(32) std::int32_t accepted_bits[4][lanes];
+    const float* bits_in = &accept.data[accept.index(x, y)];
+    for (int l = 0; l < lanes; ++l) {
+        const float value = bits_in[l];
+        const unsigned mask = value >= 0.0f && value < 16.0f ? static_cast<unsigned>(value) : 0u;
+        for (int k = 0; k < 4; ++k) accepted_bits[k][l] = (mask >> k & 1u) ? -1 : 0;
+    }
+    // bmfr_taps(q): a non-finite coordinate goes far off, a finite one is clamped to +-1e6.
+    __m256 tap_x0, tap_y0;
+    {
+        const __m256 qx = _mm256_load_ps(q[0]), qy = _mm256_load_ps(q[1]);
+        tap_x0 = select(finite(qx), std_min(std_max(qx, set(-1e6f)), set(1e6f)), set(-1e6f));
+        tap_y0 = select(finite(qy), std_min(std_max(qy, set(-1e6f)), set(1e6f)), set(-1e6f));
+    }
+    BilinearLanes b;
+    const __m256 all = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+    bilinear_lanes(tap_x0, tap_y0, floor(tap_x0), floor(tap_y0), all, wf, hf, b);
+    __m256 used[4];
+    int used_bits[4];
+    for (int k = 0; k < 4; ++k) {
+        used[k] = both(b.on[k], _mm256_load_ps(reinterpret_cast<const float*>(accepted_bits[k])));
+        used_bits[k] = bits(used[k]);
+    }
+    alignas(32) float taps[4][3][lanes] = {};
+    for (int l = 0; l < lanes; ++l)
+        for (int k = 0; k < 4; ++k) {
+            if (!(used_bits[k] >> l & 1)) continue;
+            const float* p = &history.data[history.index(b.x0[l] + (k & 1), b.y0[l] + (k >> 1))];
+            for (int ch = 0; ch < 3; ++ch) taps[k][ch][l] = p[ch];
+        }
+    // blend_accepted: the sums in tap order, renormalised.
+    __m256 h[3] = {zero(), zero(), zero()}, total = zero();
+    for (int k = 0; k < 4; ++k) {
+        for (int ch = 0; ch < 3; ++ch)
+            h[ch] = _mm256_add_ps(
+                h[ch],
+                select(used[k], _mm256_mul_ps(b.weight[k], _mm256_load_ps(taps[k][ch])), zero()));
+        total = _mm256_add_ps(total, select(used[k], b.weight[k], zero()));
+    }
+    const __m256 blended = greater(total, zero());
+    const __m256 alpha =
+        std_max(_mm256_div_ps(set(1.0f), _mm256_loadu_ps(&spp.data[spp.index(x, y)])),
+                set(params.filtered_alpha_min));
+    const __m256 beta = _mm256_sub_ps(set(1.0f), alpha);
+    alignas(32) float o[3][lanes];
+    for (int ch = 0; ch < 3; ++ch) {
+        const __m256 current = _mm256_load_ps(c[ch]);
+        _mm256_store_ps(o[ch],
+                        select(blended,
+                               _mm256_add_ps(_mm256_mul_ps(alpha, current),
+                                             _mm256_mul_ps(beta, _mm256_div_ps(h[ch], total))),
+                               current));
+    }
+    float* dst = &out.data[out.index(x, y)];
+    for (int l = 0; l < lanes; ++l)
+        for (int ch = 0; ch < 3; ++ch) dst[3 * l + ch] = o[ch][l];
+}
+
+}  // namespace
+
+bool bmfr_accumulate_noisy_avx_applies(bool has_previous, const BmfrSpace& space) {
+    return has_previous && !space.map && simd_allowed() && cpu_has_avx();
+}
+
+int bmfr_accumulate_noisy_row_avx(const BmfrParams& params, const Image& illumination,
+                                  const Image& world_position, const Image& normal,
+                                  const BmfrHistory& history, BmfrAccumulation& out, int y,
+                                  BmfrStats& stats) {
+    const int groups = illumination.width / lanes;
+    for (int group = 0; group < groups; ++group)
+        accumulate_group(params, illumination, world_position, normal, history, out, group * lanes,
+                         y, stats);
+    return groups * lanes;
+}
+
+}  // namespace fovref
+
+namespace fovref {
+
+bool bmfr_accumulate_filtered_avx_applies(const Image& history, const BmfrSpace& space) {
+    return !history.empty() && !space.map && simd_allowed() && cpu_has_avx();
+}
+
+int bmfr_accumulate_filtered_row_avx(const BmfrParams& params, const Image& fitted,
+                                     const Image& spp, const Image& accept,
+                                     const Image& previous_pixel, const Image& history, Image& out,
+                                     int y) {
+    const int groups = fitted.width / lanes;
+    for (int group = 0; group < groups; ++group)
+        filtered_group(params, fitted, spp, accept, previous_pixel, history, out, group * lanes, y);
+    return groups * lanes;
+}
+
+}  // namespace fovref

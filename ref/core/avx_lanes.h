@@ -1,0 +1,98 @@
+// Lane-by-lane helpers for the AVX paths that must give their scalar reference's bits (eight
+// binary32 lanes, docs/determinism.md "SIMD paths"): comparisons, selects, and the standard
+// library's std::max, std::min, std::isfinite, std::fabs and std::floor with their exact
+// semantics (the first argument on ties and NaN, as the standard defines them). Each helper is
+// forced inline into the caller, which must itself be compiled for AVX
+// (`__attribute__((target("avx")))`) and must not pass an __m256 to code without AVX.
+#pragma once
+
+#include <immintrin.h>
+
+#include <limits>
+
+namespace fovref::avx {
+
+constexpr int lanes = 8;
+
+#define FOVREF_AVX_INLINE __attribute__((target("avx"), always_inline)) inline
+
+FOVREF_AVX_INLINE __m256 set(float v) { return _mm256_set1_ps(v); }
+FOVREF_AVX_INLINE __m256 zero() { return _mm256_setzero_ps(); }
+/// `yes` where the comparison mask is set, else `no`, bit for bit.
+FOVREF_AVX_INLINE __m256 select(__m256 mask, __m256 yes, __m256 no) {
+    return _mm256_or_ps(_mm256_and_ps(mask, yes), _mm256_andnot_ps(mask, no));
+}
+/// Ordered comparisons (false where either lane is NaN), as C++'s <, >, <=, >=, ==.
+FOVREF_AVX_INLINE __m256 less(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
+FOVREF_AVX_INLINE __m256 greater(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
+FOVREF_AVX_INLINE __m256 at_most(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_LE_OQ); }
+FOVREF_AVX_INLINE __m256 at_least(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_GE_OQ); }
+FOVREF_AVX_INLINE __m256 equal(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_EQ_OQ); }
+/// C++'s != (true where either lane is NaN).
+FOVREF_AVX_INLINE __m256 not_equal(__m256 a, __m256 b) { return _mm256_cmp_ps(a, b, _CMP_NEQ_UQ); }
+FOVREF_AVX_INLINE __m256 both(__m256 a, __m256 b) { return _mm256_and_ps(a, b); }
+FOVREF_AVX_INLINE __m256 either(__m256 a, __m256 b) { return _mm256_or_ps(a, b); }
+FOVREF_AVX_INLINE __m256 negation(__m256 a) {
+    return _mm256_xor_ps(a, _mm256_castsi256_ps(_mm256_set1_epi32(-1)));
+}
+/// std::isfinite: |v| < infinity (false for NaN).
+FOVREF_AVX_INLINE __m256 finite(__m256 v) {
+    const __m256 magnitude = _mm256_and_ps(v, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
+    return less(magnitude, set(std::numeric_limits<float>::infinity()));
+}
+/// std::fabs and unary minus: the sign bit cleared or flipped (NaN payloads kept).
+FOVREF_AVX_INLINE __m256 abs(__m256 v) {
+    return _mm256_and_ps(v, _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff)));
+}
+FOVREF_AVX_INLINE __m256 negate(__m256 v) {
+    return _mm256_xor_ps(v, _mm256_castsi256_ps(_mm256_set1_epi32(static_cast<int>(0x80000000u))));
+}
+/// std::max(a, b) = (a < b) ? b : a and std::min(a, b) = (b < a) ? b : a; chained left to right
+/// they give std::max({a, b, c, ...}) and std::min({...}) (the first largest or smallest).
+FOVREF_AVX_INLINE __m256 std_max(__m256 a, __m256 b) { return select(less(a, b), b, a); }
+FOVREF_AVX_INLINE __m256 std_min(__m256 a, __m256 b) { return select(less(b, a), b, a); }
+/// std::floor and std::ceil (exact: roundps).
+FOVREF_AVX_INLINE __m256 floor(__m256 v) {
+    return _mm256_round_ps(v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+}
+FOVREF_AVX_INLINE __m256 ceil(__m256 v) {
+    return _mm256_round_ps(v, _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC);
+}
+/// The lanes set in a comparison mask.
+FOVREF_AVX_INLINE int count(__m256 mask) { return __builtin_popcount(_mm256_movemask_ps(mask)); }
+FOVREF_AVX_INLINE int bits(__m256 mask) { return _mm256_movemask_ps(mask); }
+
+/// The four bilinear taps of eight points (tx, ty) whose corners (x0, y0), the floors of tx and
+/// ty, the caller computes (each pass its own way, bit-equal to its scalar code): f = t - x0,
+/// the weights (1 - fx)(1 - fy), fx (1 - fy), (1 - fx) fy, fx fy of the taps (x0, y0),
+/// (x0 + 1, y0), (x0, y0 + 1), (x0 + 1, y0 + 1), which of them lie on a W x H image (in the
+/// `valid` lanes only: elsewhere the corner may be anything), and the corners as integers.
+struct BilinearLanes {
+    __m256 weight[4], on[4];
+    int on_bits[4];  ///< on[k]'s lanes as bits
+    alignas(32) int x0[lanes], y0[lanes];
+};
+FOVREF_AVX_INLINE void bilinear_lanes(__m256 tx, __m256 ty, __m256 x0, __m256 y0, __m256 valid,
+                                      float width, float height, BilinearLanes& b) {
+    const __m256 fx = _mm256_sub_ps(tx, x0), fy = _mm256_sub_ps(ty, y0);
+    const __m256 gx = _mm256_sub_ps(set(1.0f), fx), gy = _mm256_sub_ps(set(1.0f), fy);
+    b.weight[0] = _mm256_mul_ps(gx, gy);
+    b.weight[1] = _mm256_mul_ps(fx, gy);
+    b.weight[2] = _mm256_mul_ps(gx, fy);
+    b.weight[3] = _mm256_mul_ps(fx, fy);
+    const __m256 x1 = _mm256_add_ps(x0, set(1.0f)), y1 = _mm256_add_ps(y0, set(1.0f));
+    const __m256 xs[2] = {x0, x1}, ys[2] = {y0, y1};
+    for (int k = 0; k < 4; ++k) {
+        const __m256 x = xs[k & 1], y = ys[k >> 1];
+        b.on[k] = both(both(valid, both(at_least(x, zero()), at_least(y, zero()))),
+                       both(less(x, set(width)), less(y, set(height))));
+        b.on_bits[k] = bits(b.on[k]);
+    }
+    // Lanes outside `valid` convert a safe 0 (their corners may be far off or NaN).
+    _mm256_store_si256(reinterpret_cast<__m256i*>(b.x0),
+                       _mm256_cvttps_epi32(select(valid, x0, zero())));
+    _mm256_store_si256(reinterpret_cast<__m256i*>(b.y0),
+                       _mm256_cvttps_epi32(select(valid, y0, zero())));
+}
+
+}  // namespace fovref::avx

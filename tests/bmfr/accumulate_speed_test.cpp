@@ -1,0 +1,200 @@
+// BMFR's phase I and III with AVX (ref/bmfr/accumulate_avx.h) give bmfr_accumulate_noisy_pixel's
+// and bmfr_accumulate_filtered_pixel's bits on frames built to reach every decision: taps
+// accepted, rejected by position or by normal, off the image, behind the previous camera (both
+// bmfr_behind_camera settings), NaN and Inf in the current and the history buffers, sample
+// counts whose blend lies at x.5 (round half to even), corrupted accept bits and coordinates.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "ref/bmfr/bmfr.h"
+#include "ref/core/simd.h"
+#include "tests/image/image_test_util.h"
+
+using namespace fovref;
+
+namespace {
+
+constexpr float inf = std::numeric_limits<float>::infinity();
+constexpr float quiet_nan = std::numeric_limits<float>::quiet_NaN();
+
+float uniform(test::SplitMix64& rng, float lo, float hi) {
+    return lo + (hi - lo) * static_cast<float>(rng.below(1 << 20)) * 0x1p-20f;
+}
+
+// One in `rate` values replaced by NaN, +-Inf or 0.
+float hostile(test::SplitMix64& rng, float v, std::size_t rate) {
+    if (rng.below(rate) != 0) return v;
+    const float values[] = {quiet_nan, inf, -inf, 0.0f};
+    return values[rng.below(4)];
+}
+
+bool bit_equal_value(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+BmfrAccumulation accumulate(const BmfrParams& params, const Image& illumination, const Image& world,
+                            const Image& normal, const BmfrHistory& history, BmfrStats& stats,
+                            bool simd) {
+    set_simd_allowed(simd);
+    BmfrAccumulation a = bmfr_accumulate_noisy(params, illumination, world, normal, history, stats);
+    set_simd_allowed(true);
+    return a;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "bmfr phases I and III: the AVX paths give the reference's bits, every decision reached") {
+    if (!cpu_has_avx()) MESSAGE("no AVX on this CPU: both runs take the reference");
+    const int w = 67, h = 29;  // eight groups of eight and a tail of three per row
+    test::SplitMix64 rng(12);
+    BmfrStats seen;
+    std::int64_t half_counts = 0, blended = 0;
+    for (int trial = 0; trial < 6; ++trial) {
+        CAPTURE(trial);
+        const Camera camera = look_at({0.0f, 1.0f, 4.0f}, {0.0f, 1.0f, 0.0f}, {0, 1, 0}, 50.0f);
+        const float tan_half = tan_half_vfov(camera);
+        // The previous camera: a small step (most points reproject near their pixel), a step
+        // through the scene (points behind it), a sideways step (points off the image).
+        const glm::vec3 steps[] = {{0.02f, 0.0f, 0.0f}, {0.0f, 0.01f, 0.05f}, {0.0f, 0.0f, -3.0f},
+                                   {1.0f, 0.0f, 0.0f},  {0.0f, 0.0f, 0.0f},   {0.0f, 0.0f, -3.0f}};
+        const Camera previous =
+            look_at(camera.position + steps[trial], glm::vec3{0.0f, 1.0f, 0.0f} + steps[trial],
+                    {0, 1, 0}, 50.0f);
+        Image illumination(w, h, 3), world(w, h, 3), normal(w, h, 3);
+        BmfrHistory history;
+        history.valid = true;
+        history.view_projection = view_projection(previous, w, h);
+        history.world_position = Image(w, h, 3);
+        history.normal = Image(w, h, 3);
+        history.accumulated_noisy = Image(w, h, 3);
+        history.spp = Image(w, h, 1);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const glm::vec3 d =
+                    primary_ray_direction(camera, tan_half, w, h, static_cast<float>(x) + 0.5f,
+                                          static_cast<float>(y) + 0.5f);
+                const glm::vec3 p = camera.position + uniform(rng, 2.0f, 5.0f) * d;
+                const glm::vec3 n{uniform(rng, -0.3f, 0.3f), 1.0f, uniform(rng, -0.3f, 0.3f)};
+                // The history: the same point and normal, moved by up to 0.1 and 0.6 (the
+                // limits are 0.1 and 0.5 in distance): some taps pass both tests, some not.
+                for (int c = 0; c < 3; ++c) {
+                    world.at(x, y, c) = hostile(rng, p[c], 211);
+                    normal.at(x, y, c) = hostile(rng, n[c], 211);
+                    history.world_position.at(x, y, c) =
+                        hostile(rng, p[c] + uniform(rng, -0.06f, 0.06f), 197);
+                    history.normal.at(x, y, c) =
+                        hostile(rng, n[c] + uniform(rng, -0.35f, 0.35f), 197);
+                    illumination.at(x, y, c) = hostile(rng, uniform(rng, 0.0f, 4.0f), 193);
+                    history.accumulated_noisy.at(x, y, c) =
+                        hostile(rng, uniform(rng, 0.0f, 4.0f), 191);
+                }
+                // Whole counts, and half ones now and then: blends that land on x.5.
+                history.spp.at(x, y) = hostile(
+                    rng, static_cast<float>(1 + rng.below(40)) + (rng.below(8) == 0 ? 0.5f : 0.0f),
+                    181);
+            }
+        BmfrParams params;
+        params.project_behind_camera = trial == 5;
+        params.pixel_offset = trial == 1 ? glm::vec2(0.25f, 0.75f) : glm::vec2(0.5f);
+        BmfrStats fast_stats, reference_stats;
+        const BmfrAccumulation fast =
+            accumulate(params, illumination, world, normal, history, fast_stats, true);
+        const BmfrAccumulation reference =
+            accumulate(params, illumination, world, normal, history, reference_stats, false);
+        REQUIRE(test::same_bits_nan_aside(fast.accumulated, reference.accumulated));
+        REQUIRE(test::same_bits_nan_aside(fast.spp, reference.spp));
+        REQUIRE(test::same_bits_nan_aside(fast.accept, reference.accept));
+        REQUIRE(test::same_bits_nan_aside(fast.previous_pixel, reference.previous_pixel));
+        REQUIRE(test::same_bits_nan_aside(fast.accept_margin, reference.accept_margin));
+        CHECK(fast_stats.nonfinite_inputs == reference_stats.nonfinite_inputs);
+        CHECK(fast_stats.history_accepted == reference_stats.history_accepted);
+        CHECK(fast_stats.history_rejected == reference_stats.history_rejected);
+        CHECK(fast_stats.history_off_screen == reference_stats.history_off_screen);
+        // Phase III on phase I's decisions, some of them corrupted (a foreign buffer).
+        Image fitted(w, h, 3), filtered_history(w, h, 3);
+        for (float& v : fitted.data) v = hostile(rng, uniform(rng, 0.0f, 4.0f), 193);
+        for (float& v : filtered_history.data) v = hostile(rng, uniform(rng, 0.0f, 4.0f), 191);
+        Image accept = reference.accept, previous_pixel = reference.previous_pixel;
+        const float odd_bits[] = {17.0f, -1.0f, 3.7f, quiet_nan, 15.0f, 16.0f};
+        for (float& v : accept.data)
+            if (rng.below(53) == 0) v = odd_bits[rng.below(6)];
+        for (float& v : previous_pixel.data) v = hostile(rng, v, 101);
+        Image filtered[2];
+        for (const bool simd : {true, false}) {
+            set_simd_allowed(simd);
+            filtered[simd ? 0 : 1] = bmfr_accumulate_filtered(params, fitted, reference.spp, accept,
+                                                              previous_pixel, filtered_history);
+            set_simd_allowed(true);
+        }
+        REQUIRE(test::same_bits_nan_aside(filtered[0], filtered[1]));
+        for (std::size_t i = 0; i < fitted.data.size(); ++i)
+            if (!bit_equal_value(filtered[1].data[i], fitted.data[i])) ++blended;
+
+        seen.nonfinite_inputs += reference_stats.nonfinite_inputs;
+        seen.history_accepted += reference_stats.history_accepted;
+        seen.history_rejected += reference_stats.history_rejected;
+        seen.history_off_screen += reference_stats.history_off_screen;
+        // Pixels whose history is one whole tap at (x, y) holding a count x.5: the blend is
+        // x.5 exactly, rounded half to even.
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const float qx = reference.previous_pixel.at(x, y, 0);
+                const float qy = reference.previous_pixel.at(x, y, 1);
+                if (qx != std::floor(qx) || qy != std::floor(qy) || qx < 0.0f || qy < 0.0f ||
+                    qx >= static_cast<float>(w) || qy >= static_cast<float>(h) ||
+                    (static_cast<int>(reference.accept.at(x, y)) & 1) == 0)
+                    continue;
+                const float s = history.spp.at(static_cast<int>(qx), static_cast<int>(qy));
+                if (s - std::floor(s) == 0.5f) ++half_counts;
+            }
+    }
+    CHECK(seen.nonfinite_inputs > 20);
+    CHECK(seen.history_accepted > 500);
+    CHECK(seen.history_rejected > 500);
+    CHECK(seen.history_off_screen > 500);
+    CHECK(half_counts > 20);
+    CHECK(blended > 500);  // phase III blends its history in, not just copies the fit
+}
+
+TEST_CASE("bmfr weighted sum: the AVX path gives the reference's bits, block by block") {
+    // 150 x 37: block spans cut at every frame's offset, groups of eight and scalar ends.
+    const int w = 150, h = 37;
+    test::SplitMix64 rng(5);
+    std::int64_t nonfinite = 0;
+    for (int frame = 0; frame < 4; ++frame) {
+        CAPTURE(frame);
+        BmfrFit fit;
+        fit.grid = bmfr_grid(w, h, frame * 5);
+        fit.weights = Image(fit.grid.cells_x, fit.grid.cells_y, bmfr_weight_count);
+        fit.feature_range = Image(fit.grid.cells_x, fit.grid.cells_y, 2 * bmfr_scaled_count);
+        // Weights, one in 97 huge (sums that overflow: counted and set to 0).
+        for (float& v : fit.weights.data)
+            v = rng.below(97) == 0 ? 3e38f : uniform(rng, -2.0f, 2.0f);
+        // Ranges: lo, then hi = lo + a span below or above 1 (the scaling's two branches).
+        for (int cy = 0; cy < fit.grid.cells_y; ++cy)
+            for (int cx = 0; cx < fit.grid.cells_x; ++cx)
+                for (int k = 0; k < bmfr_scaled_count; ++k) {
+                    const float lo = uniform(rng, -3.0f, 1.0f);
+                    fit.feature_range.at(cx, cy, k) = lo;
+                    fit.feature_range.at(cx, cy, bmfr_scaled_count + k) =
+                        lo + uniform(rng, 0.2f, 6.0f);
+                }
+        Image world(w, h, 3), normal(w, h, 3);
+        for (float& v : world.data) v = hostile(rng, uniform(rng, -3.0f, 4.0f), 89);
+        for (float& v : normal.data) v = hostile(rng, uniform(rng, -1.0f, 1.0f), 89);
+        world.data[7] = 1e20f;  // a square beyond the binary16 range: clamped
+        Image sums[2];
+        BmfrStats stats[2];
+        for (const bool simd : {true, false}) {
+            set_simd_allowed(simd);
+            sums[simd ? 0 : 1] = bmfr_weighted_sum(fit, world, normal, stats[simd ? 0 : 1]);
+            set_simd_allowed(true);
+        }
+        REQUIRE(test::same_bits_nan_aside(sums[0], sums[1]));
+        CHECK(stats[0].fit_nonfinite == stats[1].fit_nonfinite);
+        nonfinite += stats[1].fit_nonfinite;
+    }
+    CHECK(nonfinite > 20);
+}
