@@ -6,6 +6,7 @@
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
 #include "ref/log_polar/mip_resolve.h"
+#include "ref/log_polar/resolve_avx.h"
 #include "ref/log_polar/trace.h"
 
 namespace fovref {
@@ -177,8 +178,12 @@ Image resolve_log_polar(const LogPolarMap& map, const ResolveInputs& in, Resolve
     FOVREF_CHECK_EQ(in.buffer_valid.width, map.width, "validity mask width");
     if (in.gaze.image) FOVREF_CHECK(in.gaze.window == gaze_window(map), "a gaze buffer's window");
     Image out(map.screen_width, map.screen_height, in.buffer.channels, 0.0f);
+    // Eight pixels at a time where the AVX path covers the resolve (the same bits:
+    // resolve_avx.h); resolve_pixel, the reference, does the rest.
+    const bool avx = resolve_avx_applies(map, in, table);
     for (int y = 0; y < map.screen_height; ++y)
-        for (int x = 0; x < map.screen_width; ++x)
+        for (int x = avx ? resolve_row_avx(map, in, *table, out, y, stats) : 0;
+             x < map.screen_width; ++x)
             resolve_pixel(map, in, out, x, y, stats, nullptr, table);
     return out;
 }

@@ -1,0 +1,23 @@
+// Pass 2's bilinear resolve eight screen pixels at a time with AVX: the same bits as
+// resolve_pixel, which stays the readable reference (docs/foveation.md, "The screen passes made
+// faster"). Each lane computes lp_bilinear_index from the forward table's (u, v) and, where all
+// four taps are traced (most pixels), sample_lp_bilinear's two lerps in u and the lerp in v in
+// their order; a lane with an untraced tap, and every group that touches the gaze circle, runs
+// the reference. The taps' values and validity are read lane by lane.
+#pragma once
+
+#include "ref/log_polar/resolve.h"
+
+namespace fovref {
+
+/// Whether resolve_row_avx covers a resolve: a forward table, a 3-channel buffer at least 3
+/// rows high, simd_allowed() and AVX.
+bool resolve_avx_applies(const LogPolarMap& map, const ResolveInputs& in,
+                         const ForwardTable* table);
+
+/// Pixels 0 .. 8 floor(W / 8) - 1 of screen row y as resolve_pixel computes them (the counters
+/// in `stats`); returns the pixels done. Only where resolve_avx_applies.
+int resolve_row_avx(const LogPolarMap& map, const ResolveInputs& in, const ForwardTable& table,
+                    Image& out, int y, ResolveStats& stats);
+
+}  // namespace fovref
