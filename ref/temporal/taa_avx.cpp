@@ -63,6 +63,67 @@ FOVREF_AVX_INLINE void blend_and_write(const TaaParams& params, const Group& g, 
     }
 }
 
+/// The `taa_margin` channels of pixels x .. x + 7 (when wanted).
+FOVREF_AVX_INLINE void write_margins(Image* margin, int x, int y, __m256 depth,
+                                     __m256 reprojection) {
+    if (!margin) return;
+    alignas(32) float dm[lanes], rm[lanes];
+    _mm256_store_ps(dm, depth);
+    _mm256_store_ps(rm, reprojection);
+    float* m = &margin->data[margin->index(x, y)];
+    for (int l = 0; l < lanes; ++l) {
+        m[l * 2] = dm[l];
+        m[l * 2 + 1] = rm[l];
+    }
+}
+
+/// clamp_history of taa.cpp for pixels x .. x + 7: the history (g.history, replaced) clamped
+/// per channel, glm::clamp = min(max(h, lo), hi), to the box of `in.bounds` (clamp-buffer) or
+/// of the current 3x3 neighbourhood (clamp-screen: lo = hi = the pixel, then glm::min and
+/// glm::max with the nine neighbours, rows and columns clamped to the screen, row by row, in
+/// clamp_to_neighbourhood's order). Returns the lanes where the clamp moved the history.
+FOVREF_AVX_INLINE __m256 clamp_group(const TaaInputs& in, int x, int y, Group& g) {
+    __m256 lo[3], hi[3];
+    if (in.bounds) {
+        alignas(32) float box[6][lanes];
+        const float* b = &in.bounds->data[in.bounds->index(x, y)];
+        for (int l = 0; l < lanes; ++l)
+            for (int c = 0; c < 6; ++c) box[c][l] = b[6 * l + c];
+        for (int c = 0; c < 3; ++c) {
+            lo[c] = _mm256_load_ps(box[c]);
+            hi[c] = _mm256_load_ps(box[3 + c]);
+        }
+    } else {
+        // Rows y - 1 .. y + 1 and columns x - 1 .. x + 8, clamped, one array per channel.
+        const Image& color = in.color;
+        float rows[3][3][lanes + 2];
+        for (int r = 0; r < 3; ++r) {
+            const int sy = std::clamp(y + r - 1, 0, color.height - 1);
+            for (int i = 0; i < lanes + 2; ++i) {
+                const float* v =
+                    &color.data[color.index(std::clamp(x + i - 1, 0, color.width - 1), sy)];
+                for (int c = 0; c < 3; ++c) rows[r][c][i] = v[c];
+            }
+        }
+        for (int c = 0; c < 3; ++c) lo[c] = hi[c] = _mm256_loadu_ps(&rows[1][c][1]);
+        for (int r = 0; r < 3; ++r)
+            for (int dx = 0; dx < 3; ++dx)
+                for (int c = 0; c < 3; ++c) {
+                    const __m256 v = _mm256_loadu_ps(&rows[r][c][dx]);
+                    lo[c] = std_min(lo[c], v);  // glm::min(a, b) = (b < a) ? b : a
+                    hi[c] = std_max(hi[c], v);  // glm::max(a, b) = (a < b) ? b : a
+                }
+    }
+    __m256 unchanged = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+    for (int c = 0; c < 3; ++c) {
+        const __m256 h = _mm256_load_ps(g.history[c]);
+        const __m256 clamped = std_min(std_max(h, lo[c]), hi[c]);
+        unchanged = both(unchanged, equal(clamped, h));
+        _mm256_store_ps(g.history[c], clamped);
+    }
+    return negation(unchanged);
+}
+
 // Stationary camera: the history and age at the pixel itself, never rejected for depth.
 __attribute__((target("avx"))) void stationary_group(const TaaParams& params, const TaaInputs& in,
                                                      const TaaState& previous, int x, int y,
@@ -83,8 +144,8 @@ __attribute__((target("avx"))) void stationary_group(const TaaParams& params, co
     stats.nonfinite_history += lanes - kept;
 }
 
-// Moving camera, depth rejection: taa_reproject, border_distance, sample_history, the depth test
-// and the periphery rule of taa.cpp, lane by lane.
+// Moving camera: taa_reproject, border_distance, sample_history, then the depth test and the
+// periphery rule (depth rejection) or the clamp (clamp_group) of taa.cpp, lane by lane.
 __attribute__((target("avx"))) void moving_group(const TaaParams& params, const TaaInputs& in,
                                                  const TaaState& previous, const TaaConstants& k,
                                                  int x, int y, Image& out, Image& age,
@@ -198,11 +259,14 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
     for (int c = 0; c < 3; ++c) _mm256_store_ps(g.history[c], _mm256_div_ps(acc[c], sum));
     const __m256 history_depth = _mm256_div_ps(acc[3], sum);
 
-    // The depth test and its margin.
+    // The depth test and its margin (the margin in depth rejection only).
+    const bool clamp = params.rejection == TaaRejection::clamp;
     const __m256 tau_z = _mm256_mul_ps(set(params.tau), previous_depth);
     const __m256 difference = abs(_mm256_sub_ps(previous_depth, history_depth));
     const __m256 depth_margin =
-        select(sampled, _mm256_div_ps(_mm256_sub_ps(tau_z, difference), previous_depth), no_margin);
+        clamp ? no_margin
+              : select(sampled, _mm256_div_ps(_mm256_sub_ps(tau_z, difference), previous_depth),
+                       no_margin);
     const __m256 consistent = at_most(difference, tau_z);
     const __m256 all_finite = both(
         both(both(finite(_mm256_load_ps(g.history[0])), finite(_mm256_load_ps(g.history[1]))),
@@ -210,6 +274,18 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
         finite(history_depth));
     const __m256 ok = both(sampled, all_finite);
     const __m256 nonfinite = _mm256_or_ps(negation(finite(z)), both(sampled, negation(all_finite)));
+
+    if (clamp) {
+        // Karis's clamp (clamp_history): never rejected for depth, no periphery rule.
+        const __m256 moved = clamp_group(in, x, y, g);
+        blend_and_write(params, g, ok, ok, zero(), x, y, out, age);
+        stats.clamped += count(both(ok, moved));
+        stats.kept += count(ok) - count(both(ok, moved));
+        stats.rejected += lanes - count(ok);
+        stats.nonfinite_history += count(nonfinite);
+        write_margins(margin, x, y, depth_margin, reprojection_margin);
+        return;
+    }
 
     // The periphery rule: the pixel centre's distance from the gaze.
     const __m256 gx_ = _mm256_sub_ps(cx, set(in.gaze.x));
@@ -224,23 +300,13 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
     stats.periphery_kept += count(periphery_kept);
     stats.rejected += lanes - count(keep) - count(periphery_kept);
     stats.nonfinite_history += count(nonfinite);
-    if (margin) {
-        alignas(32) float dm[lanes], rm[lanes];
-        _mm256_store_ps(dm, depth_margin);
-        _mm256_store_ps(rm, reprojection_margin);
-        float* m = &margin->data[margin->index(x, y)];
-        for (int l = 0; l < lanes; ++l) {
-            m[l * 2] = dm[l];
-            m[l * 2 + 1] = rm[l];
-        }
-    }
+    write_margins(margin, x, y, depth_margin, reprojection_margin);
 }
 
 }  // namespace
 
-bool taa_avx_applies(const TaaParams& params, const TaaState& previous, const TaaConstants& k) {
-    return previous.valid && (k.stationary || params.rejection == TaaRejection::depth) &&
-           simd_allowed() && cpu_has_avx();
+bool taa_avx_applies(const TaaState& previous) {
+    return previous.valid && simd_allowed() && cpu_has_avx();
 }
 
 int taa_row_avx(const TaaParams& params, const TaaInputs& in, const TaaState& previous,

@@ -1,19 +1,20 @@
 // The TAA pass eight pixels at a time with AVX: the same bits as taa_pixel, which stays the
-// readable reference (docs/temporal.md, "Speed"). It covers the two cases that make a frame's
-// TAA cost: a stationary camera (every mode: the history at the pixel) and a moving camera with
-// depth rejection (reprojection, the bilinear history and depth, the depth test, the periphery
-// rule). Each lane performs taa_pixel's binary32 operations in its order; a tap off the screen
-// adds a selected +0 instead of being skipped, which leaves every sum's bits unchanged (a sum
-// that starts at +0 is never -0). The taps and the previous age are read lane by lane.
+// readable reference (docs/temporal.md, "Benchmark"). It covers every frame with a history: a
+// stationary camera (every mode: the history at the pixel) and a moving camera (reprojection,
+// the bilinear history and depth, then the depth test and the periphery rule, or the clamp to
+// the 3x3 neighbourhood or to the buffer-space boxes). Each lane performs taa_pixel's binary32
+// operations in its order; a tap off the screen adds a selected +0 instead of being skipped, which
+// leaves every sum's bits unchanged (a sum that starts at +0 is never -0). The taps and the
+// previous age are read lane by lane.
 #pragma once
 
 #include "ref/temporal/taa.h"
 
 namespace fovref {
 
-/// Whether taa_row_avx covers a frame with these parameters and history: a valid history, a
-/// stationary camera or depth rejection, simd_allowed() and a CPU with AVX.
-bool taa_avx_applies(const TaaParams& params, const TaaState& previous, const TaaConstants& k);
+/// Whether taa_row_avx covers a frame with this history: a valid one, simd_allowed() and a CPU
+/// with AVX.
+bool taa_avx_applies(const TaaState& previous);
 
 /// Pixels 0 .. 8 floor(W / 8) - 1 of row y as taa_pixel computes them: `out`, `age` and (when
 /// not null) `margin` written, the decisions counted in `stats`. Returns the pixels done; the

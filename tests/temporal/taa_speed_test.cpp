@@ -1,6 +1,7 @@
 // The TAA speed-ups give the reference's bits: the AVX pass (ref/temporal/taa_avx.h) against
-// taa_pixel on frames built to reach every decision (kept, rejected, periphery, behind the
-// previous camera, off screen, NaN and Inf in every input), and the kept source table of the
+// taa_pixel on frames built to reach every decision in every rejection mode (kept, rejected,
+// periphery, clamped to the 3x3 neighbourhood or to given boxes, behind the previous camera, off
+// screen, NaN and Inf in every input), and the kept source table of the
 // log-polar modes (TaaSourceTable) against the per-pixel taa_source.
 #include <doctest/doctest.h>
 
@@ -65,6 +66,7 @@ void require_same(const Run& a, const Run& b) {
     CHECK(a.stats.kept == b.stats.kept);
     CHECK(a.stats.rejected == b.stats.rejected);
     CHECK(a.stats.periphery_kept == b.stats.periphery_kept);
+    CHECK(a.stats.clamped == b.stats.clamped);
     CHECK(a.stats.reprojection_skipped == b.stats.reprojection_skipped);
     CHECK(a.stats.nonfinite_history == b.stats.nonfinite_history);
 }
@@ -104,25 +106,41 @@ TEST_CASE("TAA speed: the AVX pass gives taa_pixel's bits, every decision reache
         params.tau = trial % 2 == 0 ? 0.2f : 0.01f;
         params.age_cap = trial == 2 ? 3 : 20;
         const glm::vec2 gaze{uniform(rng, 0.0f, w), uniform(rng, 0.0f, h)};
-        const TaaInputs in{color, depth, camera, gaze};
-        const Run fast = run(params, in, previous);
-        Run reference;
-        {
-            Scalar scalar;
-            reference = run(params, in, previous);
-        }
+        // Boxes for clamp-buffer: around the colour, some empty or reversed, some hostile.
+        Image bounds(w, h, 6);
+        for (int p = 0; p < w * h; ++p)
+            for (int c = 0; c < 3; ++c) {
+                const float v = color.data[static_cast<std::size_t>(3 * p + c)];
+                bounds.data[static_cast<std::size_t>(6 * p + c)] =
+                    hostile(rng, v - uniform(rng, -0.05f, 0.3f), 151);
+                bounds.data[static_cast<std::size_t>(6 * p + 3 + c)] =
+                    hostile(rng, v + uniform(rng, -0.05f, 0.3f), 151);
+            }
         CAPTURE(trial);
-        require_same(fast, reference);
-        total.kept += reference.stats.kept;
-        total.rejected += reference.stats.rejected;
-        total.periphery_kept += reference.stats.periphery_kept;
-        total.reprojection_skipped += reference.stats.reprojection_skipped;
-        total.nonfinite_history += reference.stats.nonfinite_history;
+        for (const int mode : {0, 1, 2}) {  // depth, clamp-screen, clamp-buffer
+            CAPTURE(mode);
+            params.rejection = mode == 0 ? TaaRejection::depth : TaaRejection::clamp;
+            const TaaInputs in{color, depth, camera, gaze, mode == 2 ? &bounds : nullptr};
+            const Run fast = run(params, in, previous);
+            Run reference;
+            {
+                Scalar scalar;
+                reference = run(params, in, previous);
+            }
+            require_same(fast, reference);
+            total.kept += reference.stats.kept;
+            total.rejected += reference.stats.rejected;
+            total.clamped += reference.stats.clamped;
+            total.periphery_kept += reference.stats.periphery_kept;
+            total.reprojection_skipped += reference.stats.reprojection_skipped;
+            total.nonfinite_history += reference.stats.nonfinite_history;
+        }
     }
     // The frames reach every decision the AVX path makes.
     CHECK(total.kept > 500);
     CHECK(total.rejected > 500);
     CHECK(total.periphery_kept > 50);
+    CHECK(total.clamped > 500);
     CHECK(total.reprojection_skipped > 500);
     CHECK(total.nonfinite_history > 50);
 }
