@@ -321,7 +321,7 @@ BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& il
     if (margins) out.accept_margin = Image(width, height, 3);
     // Eight pixels at a time where the AVX path covers the frame (the same bits:
     // accumulate_avx.h); the reference does the rest of each row and every other frame.
-    const bool avx = bmfr_accumulate_noisy_avx_applies(has_previous, space);
+    const bool avx = bmfr_accumulate_noisy_avx_applies(has_previous, space, illumination);
     for (int y = 0; y < height; ++y)
         for (int x = avx ? bmfr_accumulate_noisy_row_avx(params, illumination, world_position,
                                                          normal, history, out, y, stats)
@@ -341,7 +341,7 @@ Image bmfr_accumulate_filtered(const BmfrParams& params, const Image& fitted, co
     check_shape(previous_pixel, width, height, 2, "previous_pixel");
     if (!history.empty()) check_shape(history, width, height, 3, "accumulated_filtered history");
     Image out(width, height, 3);
-    const bool avx = bmfr_accumulate_filtered_avx_applies(history, space);
+    const bool avx = bmfr_accumulate_filtered_avx_applies(history, space, fitted);
     for (int y = 0; y < height; ++y)
         for (int x = avx ? bmfr_accumulate_filtered_row_avx(params, fitted, spp, accept,
                                                             previous_pixel, history, out, y)

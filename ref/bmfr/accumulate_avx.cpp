@@ -268,8 +268,11 @@ __attribute__((target("avx"))) void filtered_group(const BmfrParams& params, con
 
 }  // namespace
 
-bool bmfr_accumulate_noisy_avx_applies(bool has_previous, const BmfrSpace& space) {
-    return has_previous && !space.map && simd_allowed() && cpu_has_avx();
+bool bmfr_accumulate_noisy_avx_applies(bool has_previous, const BmfrSpace& space,
+                                       const Image& illumination) {
+    // The lanes read a 3-channel illumination directly (the other buffers' shapes are checked).
+    return has_previous && !space.map && illumination.channels == 3 && simd_allowed() &&
+           cpu_has_avx();
 }
 
 int bmfr_accumulate_noisy_row_avx(const BmfrParams& params, const Image& illumination,
@@ -287,8 +290,10 @@ int bmfr_accumulate_noisy_row_avx(const BmfrParams& params, const Image& illumin
 
 namespace fovref {
 
-bool bmfr_accumulate_filtered_avx_applies(const Image& history, const BmfrSpace& space) {
-    return !history.empty() && !space.map && simd_allowed() && cpu_has_avx();
+bool bmfr_accumulate_filtered_avx_applies(const Image& history, const BmfrSpace& space,
+                                          const Image& fitted) {
+    return !history.empty() && !space.map && fitted.channels == 3 && simd_allowed() &&
+           cpu_has_avx();
 }
 
 int bmfr_accumulate_filtered_row_avx(const BmfrParams& params, const Image& fitted,

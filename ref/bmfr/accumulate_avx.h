@@ -13,9 +13,10 @@
 
 namespace fovref {
 
-/// Whether bmfr_accumulate_noisy_row_avx covers a frame: screen space, a previous frame,
-/// simd_allowed() and a CPU with AVX.
-bool bmfr_accumulate_noisy_avx_applies(bool has_previous, const BmfrSpace& space);
+/// Whether bmfr_accumulate_noisy_row_avx covers a frame: screen space, a previous frame, a
+/// 3-channel illumination, simd_allowed() and a CPU with AVX.
+bool bmfr_accumulate_noisy_avx_applies(bool has_previous, const BmfrSpace& space,
+                                       const Image& illumination);
 
 /// Pixels 0 .. 8 floor(W / 8) - 1 of row y as bmfr_accumulate_noisy_pixel computes them (every
 /// buffer of `out`, accept_margin when allocated; the counters in `stats`). Returns the pixels
@@ -26,8 +27,9 @@ int bmfr_accumulate_noisy_row_avx(const BmfrParams& params, const Image& illumin
                                   BmfrStats& stats);
 
 /// Phase III the same way (bmfr_accumulate_filtered_pixel's bits): screen space with a history,
-/// simd_allowed() and AVX.
-bool bmfr_accumulate_filtered_avx_applies(const Image& history, const BmfrSpace& space);
+/// a 3-channel fit, simd_allowed() and AVX.
+bool bmfr_accumulate_filtered_avx_applies(const Image& history, const BmfrSpace& space,
+                                          const Image& fitted);
 int bmfr_accumulate_filtered_row_avx(const BmfrParams& params, const Image& fitted,
                                      const Image& spp, const Image& accept,
                                      const Image& previous_pixel, const Image& history, Image& out,

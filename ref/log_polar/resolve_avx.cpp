@@ -94,7 +94,11 @@ __attribute__((target("avx"))) bool resolve_group(const LogPolarMap& map, const 
 
 bool resolve_avx_applies(const LogPolarMap& map, const ResolveInputs& in,
                          const ForwardTable* table) {
-    return table && in.buffer.channels == 3 && map.height >= 3 && simd_allowed() && cpu_has_avx();
+    // The lanes read the buffer and a one-channel mask of the map's size directly (the reference
+    // checks the shapes as it reads, and throws).
+    return table && in.buffer.channels == 3 && map.height >= 3 && in.buffer.height == map.height &&
+           in.buffer_valid.channels == 1 && in.buffer_valid.height == map.height &&
+           simd_allowed() && cpu_has_avx();
 }
 
 int resolve_row_avx(const LogPolarMap& map, const ResolveInputs& in, const ForwardTable& table,

@@ -11,7 +11,7 @@
 namespace fovref {
 
 /// Whether resolve_row_avx covers a resolve: a forward table, a 3-channel buffer at least 3
-/// rows high, simd_allowed() and AVX.
+/// rows high and a one-channel mask of the map's size, simd_allowed() and AVX.
 bool resolve_avx_applies(const LogPolarMap& map, const ResolveInputs& in,
                          const ForwardTable* table);
 

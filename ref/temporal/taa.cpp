@@ -304,7 +304,7 @@ void taa(const TaaParams& params, const TaaInputs& in, const TaaState& previous,
     const TaaConstants constants = taa_constants(in, previous);
     // Eight pixels at a time where the AVX path covers the frame (the same bits: taa_avx.h);
     // taa_pixel, the reference, does the rest of each row, the first frame and --scalar.
-    const bool avx = taa_avx_applies(previous);
+    const bool avx = taa_avx_applies(in, previous);
     for (int y = 0; y < height; ++y)
         for (int x = avx ? taa_row_avx(params, in, previous, constants, y, out, age, margin, stats)
                          : 0;

@@ -305,8 +305,10 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
 
 }  // namespace
 
-bool taa_avx_applies(const TaaState& previous) {
-    return previous.valid && simd_allowed() && cpu_has_avx();
+bool taa_avx_applies(const TaaInputs& in, const TaaState& previous) {
+    // The lanes read one-channel depths and ages directly (taa() checks the other shapes).
+    return previous.valid && in.depth.channels == 1 && previous.depth.channels == 1 &&
+           previous.age.channels == 1 && simd_allowed() && cpu_has_avx();
 }
 
 int taa_row_avx(const TaaParams& params, const TaaInputs& in, const TaaState& previous,

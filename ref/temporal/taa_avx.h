@@ -12,9 +12,9 @@
 
 namespace fovref {
 
-/// Whether taa_row_avx covers a frame with this history: a valid one, simd_allowed() and a CPU
-/// with AVX.
-bool taa_avx_applies(const TaaState& previous);
+/// Whether taa_row_avx covers a frame: a valid history, one-channel depths and ages,
+/// simd_allowed() and a CPU with AVX.
+bool taa_avx_applies(const TaaInputs& in, const TaaState& previous);
 
 /// Pixels 0 .. 8 floor(W / 8) - 1 of row y as taa_pixel computes them: `out`, `age` and (when
 /// not null) `margin` written, the decisions counted in `stats`. Returns the pixels done; the

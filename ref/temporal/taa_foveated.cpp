@@ -172,6 +172,8 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
         if (in.gaze_valid) gaze_boxes = texel_boxes(*colors->gaze_color, *in.gaze_valid, false);
     }
     const int gaze_width = in.gaze_valid ? in.gaze_valid->width : 0;
+    // The table's texel indices address a one-channel mask (the stages' masks always are).
+    if (in.lp_valid.channels != 1) table = nullptr;
     for (int y = 0; y < out.depth.height; ++y)
         for (int x = 0; x < out.depth.width; ++x) {
             const std::size_t p = static_cast<std::size_t>(y) * out.depth.width + x;

@@ -9,7 +9,9 @@
 #include <cstring>
 #include <limits>
 
+#include "ref/bmfr/accumulate_avx.h"
 #include "ref/bmfr/bmfr.h"
+#include "ref/bmfr/weighted_sum_avx.h"
 #include "ref/core/simd.h"
 #include "tests/image/image_test_util.h"
 
@@ -24,11 +26,11 @@ float uniform(test::SplitMix64& rng, float lo, float hi) {
     return lo + (hi - lo) * static_cast<float>(rng.below(1 << 20)) * 0x1p-20f;
 }
 
-// One in `rate` values replaced by NaN, +-Inf or 0.
+// One in `rate` values replaced by NaN, +-Inf, +-0 or a subnormal.
 float hostile(test::SplitMix64& rng, float v, std::size_t rate) {
     if (rng.below(rate) != 0) return v;
-    const float values[] = {quiet_nan, inf, -inf, 0.0f};
-    return values[rng.below(4)];
+    const float values[] = {quiet_nan, inf, -inf, 0.0f, -0.0f, 1e-40f};
+    return values[rng.below(6)];
 }
 
 bool bit_equal_value(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
@@ -98,6 +100,8 @@ TEST_CASE(
         BmfrParams params;
         params.project_behind_camera = trial == 5;
         params.pixel_offset = trial == 1 ? glm::vec2(0.25f, 0.75f) : glm::vec2(0.5f);
+        // The AVX paths run (where the CPU has it).
+        CHECK(bmfr_accumulate_noisy_avx_applies(true, BmfrSpace{}, illumination) == cpu_has_avx());
         BmfrStats fast_stats, reference_stats;
         const BmfrAccumulation fast =
             accumulate(params, illumination, world, normal, history, fast_stats, true);
@@ -121,6 +125,8 @@ TEST_CASE(
         for (float& v : accept.data)
             if (rng.below(53) == 0) v = odd_bits[rng.below(6)];
         for (float& v : previous_pixel.data) v = hostile(rng, v, 101);
+        CHECK(bmfr_accumulate_filtered_avx_applies(filtered_history, BmfrSpace{}, fitted) ==
+              cpu_has_avx());
         Image filtered[2];
         for (const bool simd : {true, false}) {
             set_simd_allowed(simd);
@@ -158,7 +164,7 @@ TEST_CASE(
     CHECK(blended > 500);  // phase III blends its history in, not just copies the fit
 }
 
-TEST_CASE("bmfr weighted sum: the AVX path gives the reference's bits, block by block") {
+TEST_CASE("bmfr weighted sum: the AVX path gives the reference's bits, block by block (B 32, 64)") {
     // 150 x 37: block spans cut at every frame's offset, groups of eight and scalar ends.
     const int w = 150, h = 37;
     test::SplitMix64 rng(5);
@@ -166,7 +172,8 @@ TEST_CASE("bmfr weighted sum: the AVX path gives the reference's bits, block by 
     for (int frame = 0; frame < 4; ++frame) {
         CAPTURE(frame);
         BmfrFit fit;
-        fit.grid = bmfr_grid(w, h, frame * 5);
+        fit.grid = bmfr_grid(w, h, frame * 5, nullptr, frame % 2 == 0 ? 32 : 64);
+        CHECK(bmfr_weighted_sum_avx_applies(fit.grid) == cpu_has_avx());
         fit.weights = Image(fit.grid.cells_x, fit.grid.cells_y, bmfr_weight_count);
         fit.feature_range = Image(fit.grid.cells_x, fit.grid.cells_y, 2 * bmfr_scaled_count);
         // Weights, one in 97 huge (sums that overflow: counted and set to 0).

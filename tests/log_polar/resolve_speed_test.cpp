@@ -10,6 +10,7 @@
 #include "ref/log_polar/map.h"
 #include "ref/log_polar/params.h"
 #include "ref/log_polar/resolve.h"
+#include "ref/log_polar/resolve_avx.h"
 #include "ref/log_polar/trace.h"
 #include "tests/image/image_test_util.h"
 
@@ -44,6 +45,7 @@ TEST_CASE("resolve speed: the AVX pass 2 gives resolve_pixel's bits") {
                     gaze = gaze_input(map, &gaze_image);
                 }
                 const ResolveInputs in{buffer, valid, gaze};
+                CHECK(resolve_avx_applies(map, in, &table) == cpu_has_avx());
                 Image out[2];
                 ResolveStats stats[2];
                 for (const bool simd : {true, false}) {

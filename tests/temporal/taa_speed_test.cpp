@@ -14,6 +14,7 @@
 #include "ref/log_polar/params.h"
 #include "ref/log_polar/trace.h"
 #include "ref/temporal/taa.h"
+#include "ref/temporal/taa_avx.h"
 #include "ref/temporal/taa_foveated.h"
 #include "tests/image/image_test_util.h"
 
@@ -34,11 +35,11 @@ float uniform(test::SplitMix64& rng, float lo, float hi) {
     return lo + (hi - lo) * static_cast<float>(rng.below(1 << 20)) * 0x1p-20f;
 }
 
-// One in `rate` values replaced by a hostile one (NaN, +-Inf, 0, negative).
+// One in `rate` values replaced by a hostile one (NaN, +-Inf, +-0, a subnormal, negative).
 float hostile(test::SplitMix64& rng, float v, std::size_t rate) {
     if (rng.below(rate) != 0) return v;
-    const float values[] = {nan, inf, -inf, 0.0f, -1.0f};
-    return values[rng.below(5)];
+    const float values[] = {nan, inf, -inf, 0.0f, -0.0f, 1e-40f, -1.0f};
+    return values[rng.below(7)];
 }
 
 Camera turned(float yaw_degrees, glm::vec3 position) {
@@ -121,7 +122,13 @@ TEST_CASE("TAA speed: the AVX pass gives taa_pixel's bits, every decision reache
             CAPTURE(mode);
             params.rejection = mode == 0 ? TaaRejection::depth : TaaRejection::clamp;
             const TaaInputs in{color, depth, camera, gaze, mode == 2 ? &bounds : nullptr};
+            // The AVX path runs (where the CPU has it), with and without the margins.
+            CHECK(taa_avx_applies(in, previous) == cpu_has_avx());
             const Run fast = run(params, in, previous);
+            Run no_margins;
+            taa(params, in, previous, no_margins.out, no_margins.age, no_margins.stats);
+            REQUIRE(test::same_bits_nan_aside(no_margins.out, fast.out));
+            REQUIRE(test::same_bits_nan_aside(no_margins.age, fast.age));
             Run reference;
             {
                 Scalar scalar;
