@@ -12,13 +12,6 @@ namespace {
 
 using namespace avx;
 
-/// Three channels of pixels x .. x + 7 of row y, one array per channel.
-FOVREF_AVX_INLINE void load3_lanes(const Image& image, int x, int y, float (*out)[lanes]) {
-    const float* p = &image.data[image.index(x, y)];
-    for (int l = 0; l < lanes; ++l)
-        for (int c = 0; c < 3; ++c) out[c][l] = p[l * 3 + c];
-}
-
 /// finite_or_zero of accumulate.cpp per lane, counting the replaced values.
 FOVREF_AVX_INLINE __m256 finite_or_zero(const float* v, BmfrStats& stats) {
     const __m256 value = _mm256_load_ps(v);
@@ -51,43 +44,28 @@ struct Taps {
     alignas(32) float spp[4][lanes];
 };
 
-__attribute__((target("avx"))) void accumulate_group(
-    const BmfrParams& params, const Image& illumination, const Image& world_position,
-    const Image& normal, const BmfrHistory& history, BmfrAccumulation& out, int x, int y,
-    BmfrStats& stats) {
-    const int width = illumination.width, height = illumination.height;
-    const float wf = static_cast<float>(width), hf = static_cast<float>(height);
-    alignas(32) float c[3][lanes], pa[3][lanes], na[3][lanes];
-    load3_lanes(illumination, x, y, c);
-    load3_lanes(world_position, x, y, pa);
-    load3_lanes(normal, x, y, na);
-    __m256 p[3], n[3];
-    for (int k = 0; k < 3; ++k) p[k] = finite_or_zero(pa[k], stats);
-    for (int k = 0; k < 3; ++k) n[k] = finite_or_zero(na[k], stats);
-
-    // bmfr_project with the previous camera.
-    const float* m = history.view_projection.m.data();
+/// bmfr_project with the previous camera: the reprojected index q = (qx, qy), and the lanes that
+/// have one (in front of the camera, or behind with project_behind_camera, and finite).
+FOVREF_AVX_INLINE __m256 project_lanes(const BmfrParams& params, const ViewProjection& vp,
+                                       const __m256* p, float wf, float hf, __m256& qx,
+                                       __m256& qy) {
+    const float* m = vp.m.data();
     const __m256 cx = row(m, p), cy = row(m + 4, p), cw = row(m + 12, p);
     const __m256 w_ok = params.project_behind_camera ? not_equal(cw, zero()) : greater(cw, zero());
-    const __m256 qx = _mm256_sub_ps(
+    qx = _mm256_sub_ps(
         _mm256_mul_ps(_mm256_mul_ps(_mm256_add_ps(_mm256_div_ps(cx, cw), set(1.0f)), set(0.5f)),
                       set(wf)),
         set(params.pixel_offset.x));
-    const __m256 qy = _mm256_sub_ps(
+    qy = _mm256_sub_ps(
         _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(set(1.0f), _mm256_div_ps(cy, cw)), set(0.5f)),
                       set(hf)),
         set(params.pixel_offset.y));
-    const __m256 reprojected = both(w_ok, both(finite(qx), finite(qy)));
-    stats.history_off_screen += lanes - count(reprojected);
+    return both(w_ok, both(finite(qx), finite(qy)));
+}
 
-    // bmfr_taps (q finite where reprojected; elsewhere a point whose taps are never read).
-    const __m256 tx = select(reprojected, std_min(std_max(qx, set(-1e6f)), set(1e6f)), set(-1e6f));
-    const __m256 ty = select(reprojected, std_min(std_max(qy, set(-1e6f)), set(1e6f)), set(-1e6f));
-    BilinearLanes b;
-    bilinear_lanes(tx, ty, floor(tx), floor(ty), reprojected, wf, hf, b);
-
-    // The history at the taps inside the image, lane by lane (zero elsewhere).
-    Taps t = {};
+/// The history at the taps inside the image, lane by lane (zero elsewhere).
+FOVREF_AVX_INLINE void gather_taps(const BmfrHistory& history, const BilinearLanes& b, int width,
+                                   Taps& t) {
     for (int l = 0; l < lanes; ++l)
         for (int k = 0; k < 4; ++k) {
             if (!(b.on_bits[k] >> l & 1)) continue;
@@ -101,13 +79,15 @@ __attribute__((target("avx"))) void accumulate_group(
             }
             t.spp[k][l] = history.spp.data[i];
         }
+}
 
-    // accepted_taps: the position test, then the normal test, with their margins.
-    const __m256 no_margin = set(bmfr_no_margin);
+/// accepted_taps: the position test, then the normal test, each tap's bit in `accepted`, and
+/// their margins (margin[0], margin[1], from bmfr_no_margin).
+FOVREF_AVX_INLINE void accept_lanes(const BmfrParams& params, const Taps& t, const BilinearLanes& b,
+                                    const __m256* p, const __m256* n, __m256* accepted,
+                                    __m256* margin) {
     const __m256 position_limit = set(params.position_limit_squared);
     const __m256 normal_limit = set(params.normal_limit_squared);
-    __m256 margin[3] = {no_margin, no_margin, no_margin};
-    __m256 accepted[4];
     for (int k = 0; k < 4; ++k) {
         const __m256 dp = distance_squared(t.position[k], p);
         margin[0] = select(b.on[k],
@@ -122,6 +102,71 @@ __attribute__((target("avx"))) void accumulate_group(
             margin[1]);
         accepted[k] = both(near, less(dn, normal_limit));
     }
+}
+
+/// round_half_even of accumulate.cpp: floor, up above 1/2 or at 1/2 from an odd whole number
+/// (fmod(r, 2) != 0 for a whole r, as r - 2 floor(r / 2) != 0; d = 1/2 only for |r| < 2^23).
+FOVREF_AVX_INLINE __m256 round_half_even(__m256 v) {
+    const __m256 r = floor(v);
+    const __m256 d = _mm256_sub_ps(v, r);
+    const __m256 odd = not_equal(
+        _mm256_sub_ps(r, _mm256_mul_ps(set(2.0f), floor(_mm256_mul_ps(r, set(0.5f))))), zero());
+    const __m256 up = either(greater(d, set(0.5f)), both(equal(d, set(0.5f)), odd));
+    return select(up, _mm256_add_ps(r, set(1.0f)), r);
+}
+
+/// Phase I's values of eight pixels, one array per channel, as they are written.
+struct PhaseOne {
+    alignas(32) float accumulated[3][lanes], spp[lanes], accept[lanes], previous[2][lanes],
+        margin[3][lanes];
+};
+
+/// Writes `v` to pixels x .. x + 7 of `out`'s buffers (accept_margin when allocated).
+FOVREF_AVX_INLINE void write_lanes(const PhaseOne& v, BmfrAccumulation& out, int x, int y) {
+    store3_lanes(v.accumulated, &out.accumulated.data[out.accumulated.index(x, y)]);
+    float* o_spp = &out.spp.data[out.spp.index(x, y)];
+    float* o_accept = &out.accept.data[out.accept.index(x, y)];
+    float* o_previous = &out.previous_pixel.data[out.previous_pixel.index(x, y)];
+    for (int l = 0; l < lanes; ++l) {
+        o_spp[l] = v.spp[l];
+        o_accept[l] = v.accept[l];
+        o_previous[2 * l] = v.previous[0][l];
+        o_previous[2 * l + 1] = v.previous[1][l];
+    }
+    if (!out.accept_margin.data.empty())
+        store3_lanes(v.margin, &out.accept_margin.data[out.accept_margin.index(x, y)]);
+}
+
+__attribute__((target("avx"))) void accumulate_group(
+    const BmfrParams& params, const Image& illumination, const Image& world_position,
+    const Image& normal, const BmfrHistory& history, BmfrAccumulation& out, int x, int y,
+    BmfrStats& stats) {
+    const int width = illumination.width, height = illumination.height;
+    const float wf = static_cast<float>(width), hf = static_cast<float>(height);
+    alignas(32) float c[3][lanes], pa[3][lanes], na[3][lanes];
+    load3_lanes(&illumination.data[illumination.index(x, y)], c);
+    load3_lanes(&world_position.data[world_position.index(x, y)], pa);
+    load3_lanes(&normal.data[normal.index(x, y)], na);
+    __m256 p[3], n[3];
+    for (int k = 0; k < 3; ++k) p[k] = finite_or_zero(pa[k], stats);
+    for (int k = 0; k < 3; ++k) n[k] = finite_or_zero(na[k], stats);
+
+    __m256 qx, qy;
+    const __m256 reprojected = project_lanes(params, history.view_projection, p, wf, hf, qx, qy);
+    stats.history_off_screen += lanes - count(reprojected);
+
+    // bmfr_taps (q finite where reprojected; elsewhere a point whose taps are never read).
+    const __m256 tx = select(reprojected, std_min(std_max(qx, set(-1e6f)), set(1e6f)), set(-1e6f));
+    const __m256 ty = select(reprojected, std_min(std_max(qy, set(-1e6f)), set(1e6f)), set(-1e6f));
+    BilinearLanes b;
+    bilinear_lanes(tx, ty, floor(tx), floor(ty), reprojected, wf, hf, b);
+    Taps t = {};
+    gather_taps(history, b, width, t);
+
+    const __m256 no_margin = set(bmfr_no_margin);
+    __m256 margin[3] = {no_margin, no_margin, no_margin};
+    __m256 accepted[4];
+    accept_lanes(params, t, b, p, n, accepted, margin);
     // The reprojected index's distance from the nearest integer.
     margin[2] =
         select(reprojected,
@@ -149,50 +194,27 @@ __attribute__((target("avx"))) void accumulate_group(
     for (int ch = 0; ch < 3; ++ch) h[ch] = _mm256_div_ps(h[ch], total);
     h_spp = _mm256_div_ps(h_spp, total);
 
-    // alpha, the blend, the sample count rounded half to even (round_half_even).
+    // alpha, the blend, the sample count.
     const __m256 alpha = std_max(_mm256_div_ps(set(1.0f), _mm256_add_ps(h_spp, set(1.0f))),
                                  set(params.noisy_alpha_min));
     const __m256 beta = _mm256_sub_ps(set(1.0f), alpha);
-    alignas(32) float acc[3][lanes], spp[lanes], accept[lanes], previous[2][lanes],
-        margins[3][lanes];
+    PhaseOne v;
     for (int ch = 0; ch < 3; ++ch) {
         const __m256 current = _mm256_load_ps(c[ch]);
-        _mm256_store_ps(acc[ch], select(has_history,
-                                        _mm256_add_ps(_mm256_mul_ps(alpha, current),
-                                                      _mm256_mul_ps(beta, h[ch])),
-                                        current));
+        _mm256_store_ps(v.accumulated[ch], select(has_history,
+                                                  _mm256_add_ps(_mm256_mul_ps(alpha, current),
+                                                                _mm256_mul_ps(beta, h[ch])),
+                                                  current));
     }
-    const __m256 r = floor(h_spp);
-    const __m256 d = _mm256_sub_ps(h_spp, r);
-    // fmod(r, 2) != 0 for a whole r (d = 1/2 only for |r| < 2^23): r - 2 floor(r / 2) != 0.
-    const __m256 odd = not_equal(
-        _mm256_sub_ps(r, _mm256_mul_ps(set(2.0f), floor(_mm256_mul_ps(r, set(0.5f))))), zero());
-    const __m256 up = either(greater(d, set(0.5f)), both(equal(d, set(0.5f)), odd));
-    const __m256 rounded = select(up, _mm256_add_ps(r, set(1.0f)), r);
     _mm256_store_ps(
-        spp,
-        select(has_history, std_min(_mm256_add_ps(rounded, set(1.0f)), set(255.0f)), set(1.0f)));
-    _mm256_store_ps(accept, select(has_history, mask, zero()));
-    _mm256_store_ps(previous[0], select(reprojected, qx, set(bmfr_behind_camera.x)));
-    _mm256_store_ps(previous[1], select(reprojected, qy, set(bmfr_behind_camera.y)));
-    for (int k = 0; k < 3; ++k) _mm256_store_ps(margins[k], margin[k]);
-
-    float* o_acc = &out.accumulated.data[out.accumulated.index(x, y)];
-    float* o_spp = &out.spp.data[out.spp.index(x, y)];
-    float* o_accept = &out.accept.data[out.accept.index(x, y)];
-    float* o_previous = &out.previous_pixel.data[out.previous_pixel.index(x, y)];
-    float* o_margin = out.accept_margin.data.empty()
-                          ? nullptr
-                          : &out.accept_margin.data[out.accept_margin.index(x, y)];
-    for (int l = 0; l < lanes; ++l) {
-        for (int ch = 0; ch < 3; ++ch) o_acc[3 * l + ch] = acc[ch][l];
-        o_spp[l] = spp[l];
-        o_accept[l] = accept[l];
-        o_previous[2 * l] = previous[0][l];
-        o_previous[2 * l + 1] = previous[1][l];
-        if (o_margin)
-            for (int ch = 0; ch < 3; ++ch) o_margin[3 * l + ch] = margins[ch][l];
-    }
+        v.spp,
+        select(has_history, std_min(_mm256_add_ps(round_half_even(h_spp), set(1.0f)), set(255.0f)),
+               set(1.0f)));
+    _mm256_store_ps(v.accept, select(has_history, mask, zero()));
+    _mm256_store_ps(v.previous[0], select(reprojected, qx, set(bmfr_behind_camera.x)));
+    _mm256_store_ps(v.previous[1], select(reprojected, qy, set(bmfr_behind_camera.y)));
+    for (int k = 0; k < 3; ++k) _mm256_store_ps(v.margin[k], margin[k]);
+    write_lanes(v, out, x, y);
 }
 
 // Phase III (bmfr_accumulate_filtered_pixel) for pixels x .. x + 7: the history blended over
@@ -204,7 +226,7 @@ __attribute__((target("avx"))) void filtered_group(const BmfrParams& params, con
     const int width = fitted.width, height = fitted.height;
     const float wf = static_cast<float>(width), hf = static_cast<float>(height);
     alignas(32) float c[3][lanes], q[2][lanes];
-    load3_lanes(fitted, x, y, c);
+    load3_lanes(&fitted.data[fitted.index(x, y)], c);
     const float* pp = &previous_pixel.data[previous_pixel.index(x, y)];
     for (int l = 0; l < lanes; ++l) q[0][l] = pp[2 * l], q[1][l] = pp[2 * l + 1];
     // The accepted-tap bits 0 .. 15 (anything else: none), as all-ones lanes per tap.
@@ -261,9 +283,7 @@ __attribute__((target("avx"))) void filtered_group(const BmfrParams& params, con
                                              _mm256_mul_ps(beta, _mm256_div_ps(h[ch], total))),
                                current));
     }
-    float* dst = &out.data[out.index(x, y)];
-    for (int l = 0; l < lanes; ++l)
-        for (int ch = 0; ch < 3; ++ch) dst[3 * l + ch] = o[ch][l];
+    store3_lanes(o, &out.data[out.index(x, y)]);
 }
 
 }  // namespace

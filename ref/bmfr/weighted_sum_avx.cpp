@@ -22,10 +22,8 @@ __attribute__((target("avx"))) void weighted_sum_group(const float* w, const flo
                                                        const Image& normal, Image& out, int x,
                                                        int y, BmfrStats& stats) {
     alignas(32) float n[3][lanes], p[3][lanes];
-    const float* ns = &normal.data[normal.index(x, y)];
-    const float* ps = &world_position.data[world_position.index(x, y)];
-    for (int l = 0; l < lanes; ++l)
-        for (int c = 0; c < 3; ++c) n[c][l] = ns[3 * l + c], p[c][l] = ps[3 * l + c];
+    load3_lanes(&normal.data[normal.index(x, y)], n);
+    load3_lanes(&world_position.data[world_position.index(x, y)], p);
     // bmfr_features, then the block's scaling of features 4 .. 9 (bmfr_scale_feature).
     __m256 t[bmfr_feature_count];
     t[0] = set(1.0f);
@@ -51,9 +49,7 @@ __attribute__((target("avx"))) void weighted_sum_group(const float* w, const flo
         sum = select(ok, sum, zero());
         _mm256_store_ps(o[ch], std_max(sum, zero()));
     }
-    float* dst = &out.data[out.index(x, y)];
-    for (int l = 0; l < lanes; ++l)
-        for (int ch = 0; ch < 3; ++ch) dst[3 * l + ch] = o[ch][l];
+    store3_lanes(o, &out.data[out.index(x, y)]);
 }
 
 }  // namespace

@@ -62,6 +62,17 @@ FOVREF_AVX_INLINE __m256 ceil(__m256 v) {
 FOVREF_AVX_INLINE int count(__m256 mask) { return __builtin_popcount(_mm256_movemask_ps(mask)); }
 FOVREF_AVX_INLINE int bits(__m256 mask) { return _mm256_movemask_ps(mask); }
 
+/// Eight pixels of three interleaved channels (p: the first pixel's first value) as one array
+/// per channel (the lanes' layout), and back.
+inline void load3_lanes(const float* p, float (*out)[lanes]) {
+    for (int l = 0; l < lanes; ++l)
+        for (int c = 0; c < 3; ++c) out[c][l] = p[l * 3 + c];
+}
+inline void store3_lanes(const float (*in)[lanes], float* p) {
+    for (int l = 0; l < lanes; ++l)
+        for (int c = 0; c < 3; ++c) p[l * 3 + c] = in[c][l];
+}
+
 /// The four bilinear taps of eight points (tx, ty) whose corners (x0, y0), the floors of tx and
 /// ty, the caller computes (each pass its own way, bit-equal to its scalar code): f = t - x0,
 /// the weights (1 - fx)(1 - fy), fx (1 - fy), (1 - fx) fy, fx fy of the taps (x0, y0),

@@ -21,25 +21,14 @@ const char* taa_decision_name(TaaDecision decision) {
     return "?";
 }
 
-namespace {
-
-// floor(v) for a finite v in (-2^31, 2^31) whose floor is a float: the same value as std::floor
-// (and the same zero: v here is never -0), without SSE2's long rounding sequence.
-int floor_int(float v) {
-    const int i = static_cast<int>(v);  // truncation towards zero
-    return static_cast<float>(i) > v ? i - 1 : i;
-}
-
-}  // namespace
-
 bool taa_taps(int width, int height, glm::vec2 q, TaaTaps& t) {
     // Taps further than one pixel outside the screen have no weight on it (and far-off points
     // would overflow an int).
     if (!(q.x > -1.0f && q.y > -1.0f && q.x < static_cast<float>(width) + 1.0f &&
           q.y < static_cast<float>(height) + 1.0f))
         return false;
-    const float sx = q.x - 0.5f, sy = q.y - 0.5f;  // in (-1.5, W + 0.5): floor_int applies
-    const int x0 = floor_int(sx), y0 = floor_int(sy);
+    const float sx = q.x - 0.5f, sy = q.y - 0.5f;  // in (-1.5, W + 0.5): taa_floor_int applies
+    const int x0 = taa_floor_int(sx), y0 = taa_floor_int(sy);
     const float fx = sx - static_cast<float>(x0), fy = sy - static_cast<float>(y0);
     t = {{x0, x0 + 1, x0, x0 + 1},
          {y0, y0, y0 + 1, y0 + 1},
@@ -213,8 +202,8 @@ bool previous_history(const TaaParams& params, const TaaInputs& in, const TaaSta
         r.depth_margin =
             (params.tau * r.previous_depth - std::fabs(r.previous_depth - r.history_depth)) /
             r.previous_depth;
-    const int px = std::clamp(floor_int(r.previous_point.x), 0, in.color.width - 1);
-    const int py = std::clamp(floor_int(r.previous_point.y), 0, in.color.height - 1);
+    const int px = std::clamp(taa_floor_int(r.previous_point.x), 0, in.color.width - 1);
+    const int py = std::clamp(taa_floor_int(r.previous_point.y), 0, in.color.height - 1);
     r.age_previous = previous.age.at(px, py);
     consistent = std::fabs(r.previous_depth - r.history_depth) <= params.tau * r.previous_depth;
     r.decision = TaaDecision::kept;

@@ -78,6 +78,13 @@ enum class TaaDecision {
 };
 const char* taa_decision_name(TaaDecision decision);
 
+/// floor(v) for a finite v in (-2^31, 2^31) whose floor is a float: the same value as
+/// std::floor (and the same zero: v here is never -0), without SSE2's long rounding sequence.
+inline int taa_floor_int(float v) {
+    const int i = static_cast<int>(v);  // truncation towards zero
+    return static_cast<float>(i) > v ? i - 1 : i;
+}
+
 /// A bilinear sample at screen point q (pixel centres at +1/2) of `image`, over the taps that
 /// lie on the screen, renormalised; `out` gets image.channels values. Returns the weight of the
 /// taps used (0: none on screen, `out` zero). Taps: (x0, y0), (x0 + 1, y0), (x0, y0 + 1),

@@ -12,7 +12,7 @@ namespace {
 
 using namespace avx;
 
-/// floor_int of taa.cpp in binary32: the truncation, one less where it exceeds v.
+/// taa_floor_int (taa.h) in binary32: the truncation, one less where it exceeds v.
 FOVREF_AVX_INLINE __m256 floor_value(__m256 v) {
     const __m256 t = _mm256_round_ps(v, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC);
     return select(greater(t, v), _mm256_sub_ps(t, set(1.0f)), t);
@@ -25,13 +25,6 @@ struct Group {
     alignas(32) float age_previous[lanes];
     alignas(32) float z[lanes];
 };
-
-/// The current colour (and, stationary, the history and age at the pixel) of pixels x .. x + 7.
-FOVREF_AVX_INLINE void load_row(const Image& image, int x, int y, float (*out)[lanes]) {
-    const float* p = &image.data[image.index(x, y)];
-    for (int l = 0; l < lanes; ++l)
-        for (int c = 0; c < 3; ++c) out[c][l] = p[l * 3 + c];
-}
 
 /// The blend and its writes, shared by both cases: `ok` lanes have a usable history, `keep` of
 /// them a consistent one (kept with age min(max(age', 1) + 1, cap)), the rest of `ok` lanes
@@ -55,12 +48,9 @@ FOVREF_AVX_INLINE void blend_and_write(const TaaParams& params, const Group& g, 
         _mm256_store_ps(result[c], select(reject, current, blended));
     }
     _mm256_store_ps(result_age, select(reject, set(1.0f), age_new));
-    float* o = &out.data[out.index(x, y)];
+    store3_lanes(result, &out.data[out.index(x, y)]);
     float* a = &age.data[age.index(x, y)];
-    for (int l = 0; l < lanes; ++l) {
-        for (int c = 0; c < 3; ++c) o[l * 3 + c] = result[c][l];
-        a[l] = result_age[l];
-    }
+    for (int l = 0; l < lanes; ++l) a[l] = result_age[l];
 }
 
 /// The `taa_margin` channels of pixels x .. x + 7 (when wanted).
@@ -129,8 +119,8 @@ __attribute__((target("avx"))) void stationary_group(const TaaParams& params, co
                                                      const TaaState& previous, int x, int y,
                                                      Image& out, Image& age, TaaStats& stats) {
     Group g;
-    load_row(in.color, x, y, g.current);
-    load_row(previous.history, x, y, g.history);
+    load3_lanes(&in.color.data[in.color.index(x, y)], g.current);
+    load3_lanes(&previous.history.data[previous.history.index(x, y)], g.history);
     const float* a = &previous.age.data[previous.age.index(x, y)];
     for (int l = 0; l < lanes; ++l) g.age_previous[l] = a[l];
     const __m256 ok =
@@ -144,23 +134,14 @@ __attribute__((target("avx"))) void stationary_group(const TaaParams& params, co
     stats.nonfinite_history += lanes - kept;
 }
 
-// Moving camera: taa_reproject, border_distance, sample_history, then the depth test and the
-// periphery rule (depth rejection) or the clamp (clamp_group) of taa.cpp, lane by lane.
-__attribute__((target("avx"))) void moving_group(const TaaParams& params, const TaaInputs& in,
-                                                 const TaaState& previous, const TaaConstants& k,
-                                                 int x, int y, Image& out, Image& age,
-                                                 Image* margin, TaaStats& stats) {
-    const TaaReprojection& p = k.reprojection;
-    const int width = in.color.width, height = in.color.height;
+/// taa_reproject for pixels x .. x + 7 of row y at view depths z: their centres' x (cx), the
+/// points p' = (px, py) and their previous view depth; returns the lanes reprojected (a surface,
+/// z finite, in front of the previous camera).
+FOVREF_AVX_INLINE __m256 reproject_lanes(const TaaReprojection& p, int x, int y, __m256 z,
+                                         __m256& cx, __m256& px, __m256& py,
+                                         __m256& previous_depth) {
     const float w = static_cast<float>(p.width), h = static_cast<float>(p.height);
-    Group g;
-    load_row(in.color, x, y, g.current);
-    const float* zs = &in.depth.data[in.depth.index(x, y)];
-    for (int l = 0; l < lanes; ++l) g.z[l] = zs[l];
-    const __m256 z = _mm256_load_ps(g.z);
-
-    // taa_reproject.
-    const __m256 cx = _mm256_add_ps(
+    cx = _mm256_add_ps(
         _mm256_cvtepi32_ps(_mm256_setr_epi32(x, x + 1, x + 2, x + 3, x + 4, x + 5, x + 6, x + 7)),
         set(0.5f));
     const float cy = static_cast<float>(y) + 0.5f;
@@ -174,51 +155,44 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
                                        set(sy * p.u[i]));
         q[i] = _mm256_add_ps(set(p.o[i]), _mm256_mul_ps(z, d));
     }
-    const __m256 previous_depth = q[2];
-    const __m256 reprojected = both(both(greater(z, _mm256_setzero_ps()), finite(z)),
-                                    greater(previous_depth, _mm256_setzero_ps()));
-    const __m256 px = _mm256_add_ps(_mm256_mul_ps(q[0], _mm256_div_ps(set(p.a.x), previous_depth)),
-                                    set(0.5f * w));
-    const __m256 py = _mm256_add_ps(_mm256_mul_ps(q[1], _mm256_div_ps(set(p.a.y), previous_depth)),
-                                    set(0.5f * h));
+    previous_depth = q[2];
+    px = _mm256_add_ps(_mm256_mul_ps(q[0], _mm256_div_ps(set(p.a.x), previous_depth)),
+                       set(0.5f * w));
+    py = _mm256_add_ps(_mm256_mul_ps(q[1], _mm256_div_ps(set(p.a.y), previous_depth)),
+                       set(0.5f * h));
+    return both(both(greater(z, zero()), finite(z)), greater(previous_depth, zero()));
+}
 
-    // border_distance(p', -1/2, -1/2, W + 1/2, H + 1/2).
-    const float wf = static_cast<float>(width), hf = static_cast<float>(height);
+/// The reprojection margin: border_distance(p', -1/2, -1/2, W + 1/2, H + 1/2) where reprojected,
+/// taa_no_margin elsewhere.
+FOVREF_AVX_INLINE __m256 reprojection_margin(__m256 px, __m256 py, __m256 reprojected, float wf,
+                                             float hf) {
     const __m256 x0 = set(-0.5f), y0 = set(-0.5f), x1 = set(wf + 0.5f), y1 = set(hf + 0.5f);
-    const __m256 dx =
-        std_max(std_max(_mm256_sub_ps(x0, px), _mm256_sub_ps(px, x1)), _mm256_setzero_ps());
-    const __m256 dy =
-        std_max(std_max(_mm256_sub_ps(y0, py), _mm256_sub_ps(py, y1)), _mm256_setzero_ps());
-    const __m256 outside =
-        _mm256_or_ps(greater(dx, _mm256_setzero_ps()), greater(dy, _mm256_setzero_ps()));
+    const __m256 dx = std_max(std_max(_mm256_sub_ps(x0, px), _mm256_sub_ps(px, x1)), zero());
+    const __m256 dy = std_max(std_max(_mm256_sub_ps(y0, py), _mm256_sub_ps(py, y1)), zero());
+    const __m256 outside = either(greater(dx, zero()), greater(dy, zero()));
     const __m256 outside_distance =
         negate(_mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy))));
     const __m256 inside_distance = std_min(
         std_min(std_min(_mm256_sub_ps(px, x0), _mm256_sub_ps(x1, px)), _mm256_sub_ps(py, y0)),
         _mm256_sub_ps(y1, py));
-    const __m256 no_margin = set(taa_no_margin);
-    const __m256 reprojection_margin =
-        select(reprojected, select(outside, outside_distance, inside_distance), no_margin);
+    return select(reprojected, select(outside, outside_distance, inside_distance),
+                  set(taa_no_margin));
+}
 
-    // taa_taps: a tap on the screen only within a pixel of it.
-    const __m256 has_taps =
-        both(both(reprojected, both(greater(px, set(-1.0f)), greater(py, set(-1.0f)))),
-             both(less(px, set(wf + 1.0f)), less(py, set(hf + 1.0f))));
-    const __m256 tx = _mm256_sub_ps(select(has_taps, px, _mm256_setzero_ps()), set(0.5f));
-    const __m256 ty = _mm256_sub_ps(select(has_taps, py, _mm256_setzero_ps()), set(0.5f));
-    BilinearLanes b;
-    bilinear_lanes(tx, ty, floor_value(tx), floor_value(ty), has_taps, wf, hf, b);
-
-    // The taps' values and the previous age, lane by lane (zero where a tap is off).
-    alignas(32) float ppx[lanes];
+/// The history's colour and depth at the taps on the screen ([tap][r, g, b, depth][lane], zero
+/// where a tap is off) and the previous age of the pixel under p' (clamped to the screen; p' lies
+/// within a pixel of it), lane by lane for the lanes with taps.
+FOVREF_AVX_INLINE void gather_history(const TaaState& previous, const BilinearLanes& b,
+                                      __m256 has_taps, __m256 px, __m256 py,
+                                      float (*taps)[4][lanes], float* age_previous) {
+    const int width = previous.history.width, height = previous.history.height;
+    alignas(32) float ppx[lanes], ppy[lanes];
     _mm256_store_ps(ppx, px);
-    alignas(32) float ppy[lanes];
     _mm256_store_ps(ppy, py);
-    alignas(32) float taps[4][4][lanes] = {};  // [tap][r, g, b, depth][lane]
-    const int taps_mask = _mm256_movemask_ps(has_taps);
-    const Image& history = previous.history;
+    const int taps_mask = bits(has_taps);
     for (int l = 0; l < lanes; ++l) {
-        g.age_previous[l] = 0.0f;
+        age_previous[l] = 0.0f;
         if (!(taps_mask >> l & 1)) continue;
         // Tap t is (x0 + (t & 1), y0 + (t >> 1)); the index is taken modulo 2^64, right for
         // every tap on the screen even where x0 or y0 is -1.
@@ -230,39 +204,73 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
             const std::size_t pixel =
                 first + static_cast<std::size_t>(t >> 1) * static_cast<std::size_t>(width) +
                 static_cast<std::size_t>(t & 1);
-            const float* c = &history.data[pixel * 3];
+            const float* c = &previous.history.data[pixel * 3];
             taps[t][0][l] = c[0];
             taps[t][1][l] = c[1];
             taps[t][2][l] = c[2];
             taps[t][3][l] = previous.depth.data[pixel];
         }
-        // The previous age: the pixel under p' (clamped to the screen; p' lies within a pixel).
-        const auto floor_int = [](float v) {
-            const int i = static_cast<int>(v);
-            return static_cast<float>(i) > v ? i - 1 : i;
-        };
-        const int ax = std::clamp(floor_int(ppx[l]), 0, width - 1);
-        const int ay = std::clamp(floor_int(ppy[l]), 0, height - 1);
-        g.age_previous[l] = previous.age.at(ax, ay);
+        const int ax = std::clamp(taa_floor_int(ppx[l]), 0, width - 1);
+        const int ay = std::clamp(taa_floor_int(ppy[l]), 0, height - 1);
+        age_previous[l] = previous.age.at(ax, ay);
     }
+}
 
-    // sample_history: the taps' weighted sums in tap order, then the divisions.
-    __m256 sum = _mm256_setzero_ps(), acc[4] = {sum, sum, sum, sum};
+/// sample_history's sums over the taps on the screen, in tap order, then the divisions: the
+/// history colour into `history`, its depth into `depth`; returns the weights' sum.
+FOVREF_AVX_INLINE __m256 sample_lanes(const BilinearLanes& b, const float (*taps)[4][lanes],
+                                      float (*history)[lanes], __m256& depth) {
+    __m256 sum = zero(), acc[4] = {sum, sum, sum, sum};
     for (int t = 0; t < 4; ++t) {
-        sum = _mm256_add_ps(sum, select(b.on[t], b.weight[t], _mm256_setzero_ps()));
+        sum = _mm256_add_ps(sum, select(b.on[t], b.weight[t], zero()));
         for (int c = 0; c < 4; ++c)
             acc[c] = _mm256_add_ps(
-                acc[c], select(b.on[t], _mm256_mul_ps(b.weight[t], _mm256_load_ps(taps[t][c])),
-                               _mm256_setzero_ps()));
+                acc[c],
+                select(b.on[t], _mm256_mul_ps(b.weight[t], _mm256_load_ps(taps[t][c])), zero()));
     }
-    const __m256 sampled = both(has_taps, greater(sum, _mm256_setzero_ps()));
-    for (int c = 0; c < 3; ++c) _mm256_store_ps(g.history[c], _mm256_div_ps(acc[c], sum));
-    const __m256 history_depth = _mm256_div_ps(acc[3], sum);
+    for (int c = 0; c < 3; ++c) _mm256_store_ps(history[c], _mm256_div_ps(acc[c], sum));
+    depth = _mm256_div_ps(acc[3], sum);
+    return sum;
+}
+
+// Moving camera: taa_reproject, border_distance, sample_history, then the depth test and the
+// periphery rule (depth rejection) or the clamp (clamp_group) of taa.cpp, lane by lane.
+__attribute__((target("avx"))) void moving_group(const TaaParams& params, const TaaInputs& in,
+                                                 const TaaState& previous, const TaaConstants& k,
+                                                 int x, int y, Image& out, Image& age,
+                                                 Image* margin, TaaStats& stats) {
+    const float wf = static_cast<float>(in.color.width), hf = static_cast<float>(in.color.height);
+    Group g;
+    load3_lanes(&in.color.data[in.color.index(x, y)], g.current);
+    const float* zs = &in.depth.data[in.depth.index(x, y)];
+    for (int l = 0; l < lanes; ++l) g.z[l] = zs[l];
+    const __m256 z = _mm256_load_ps(g.z);
+
+    __m256 cx, px, py, previous_depth;
+    const __m256 reprojected = reproject_lanes(k.reprojection, x, y, z, cx, px, py, previous_depth);
+    const __m256 border = reprojection_margin(px, py, reprojected, wf, hf);
+
+    // taa_taps: a tap on the screen only within a pixel of it.
+    const __m256 has_taps =
+        both(both(reprojected, both(greater(px, set(-1.0f)), greater(py, set(-1.0f)))),
+             both(less(px, set(wf + 1.0f)), less(py, set(hf + 1.0f))));
+    const __m256 tx = _mm256_sub_ps(select(has_taps, px, zero()), set(0.5f));
+    const __m256 ty = _mm256_sub_ps(select(has_taps, py, zero()), set(0.5f));
+    BilinearLanes b;
+    bilinear_lanes(tx, ty, floor_value(tx), floor_value(ty), has_taps, wf, hf, b);
+    alignas(32) float taps[4][4][lanes] = {};
+    gather_history(previous, b, has_taps, px, py, taps, g.age_previous);
+
+    // sample_history: the weighted sums in tap order, then the divisions.
+    __m256 history_depth;
+    const __m256 sum = sample_lanes(b, taps, g.history, history_depth);
+    const __m256 sampled = both(has_taps, greater(sum, zero()));
 
     // The depth test and its margin (the margin in depth rejection only).
     const bool clamp = params.rejection == TaaRejection::clamp;
     const __m256 tau_z = _mm256_mul_ps(set(params.tau), previous_depth);
     const __m256 difference = abs(_mm256_sub_ps(previous_depth, history_depth));
+    const __m256 no_margin = set(taa_no_margin);
     const __m256 depth_margin =
         clamp ? no_margin
               : select(sampled, _mm256_div_ps(_mm256_sub_ps(tau_z, difference), previous_depth),
@@ -283,13 +291,13 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
         stats.kept += count(ok) - count(both(ok, moved));
         stats.rejected += lanes - count(ok);
         stats.nonfinite_history += count(nonfinite);
-        write_margins(margin, x, y, depth_margin, reprojection_margin);
+        write_margins(margin, x, y, depth_margin, border);
         return;
     }
 
     // The periphery rule: the pixel centre's distance from the gaze.
     const __m256 gx_ = _mm256_sub_ps(cx, set(in.gaze.x));
-    const float gy_ = cy - in.gaze.y;
+    const float gy_ = (static_cast<float>(y) + 0.5f) - in.gaze.y;
     const __m256 gaze_r = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(gx_, gx_), set(gy_ * gy_)));
     const __m256 periphery = greater(gaze_r, set(params.periphery * k.diagonal));
 
@@ -300,7 +308,7 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
     stats.periphery_kept += count(periphery_kept);
     stats.rejected += lanes - count(keep) - count(periphery_kept);
     stats.nonfinite_history += count(nonfinite);
-    write_margins(margin, x, y, depth_margin, reprojection_margin);
+    write_margins(margin, x, y, depth_margin, border);
 }
 
 }  // namespace
