@@ -293,83 +293,96 @@ FOVREF_FORCE_INLINE ChildRef nearer_of_two(const BvhWideNode& node, const float 
     return child(node, i0);
 }
 
-/// Ordered depth-first traversal of the BVH4. At a wide node the 4 children's boxes are tested
-/// at once; the children hit are sorted by entry distance (the lower slot first on ties), the
-/// nearest is visited next and the others are pushed, farthest first, with their entry
-/// distances. One and two children hit (the common cases) take short paths that give the same
-/// order as the general insertion sort, so the counters (nodes visited, triangles tested) do
-/// not depend on which path ran. `visit_leaf(first, count)` tests a leaf's triangles and
+/// Each wide node pushes at most 3 children and is at most bvh_max_depth + 1 levels deep.
+constexpr int traversal_stack_size = 3 * (bvh_max_depth + 1) + 1;
+
+/// One step of the ordered depth-first traversal of the BVH4: visits `current` and chooses the
+/// next, from the boxes still to visit on `stack` (with their entry distances) and the cull
+/// distance t_hi; returns false when the traversal is over. At a wide node the 4 children's boxes
+/// are tested at once; the children hit are sorted by entry distance (the lower slot first on
+/// ties), the nearest is visited next and the others are pushed, farthest first, with their
+/// entry distances. One and two children hit (the common cases) take short paths that give the
+/// same order as the general insertion sort, so the counters (nodes visited, triangles tested)
+/// do not depend on which path ran. `visit_leaf(first, count)` tests a leaf's triangles and
 /// returns the new cull distance t_hi (or a negative infinity to stop, used by any-hit queries).
+/// The next node has been prefetched, so a caller that interleaves the steps of several rays
+/// (trace_closest_interleaved) hides its load behind the other rays' steps. The state is passed
+/// as separate references so that a single ray's loop (traverse) keeps it in registers.
+template <class LeafVisitor>
+FOVREF_FORCE_INLINE bool traverse_step(const BvhWideNode* nodes, const BvhTriangleBlock* blocks,
+                                       const BoxRay& r, StackEntry* stack, int& stack_size,
+                                       ChildRef& current, float& t_hi, LeafVisitor&& visit_leaf) {
+    if (current.count > 0) {
+        t_hi = visit_leaf(current.first, current.count);
+        if (t_hi == -inf) return false;
+    } else {
+        const BvhWideNode& node = nodes[current.first];
+        alignas(16) float entries[4];
+        const unsigned mask = child_entries(node, r, t_hi, entries);
+        // Prefetch the children hit: on incoherent rays, where the predictor misses the branch
+        // below, a child's load then starts as soon as the mask is known, and a pushed child is
+        // in cache when it is popped (measured: +10-20 % on incoherent rays, -4 % on coherent
+        // ones, where the loads were already under way).
+        for (unsigned m = mask; m != 0; m &= m - 1)
+            prefetch_child(nodes, blocks, child(node, std::countr_zero(m)));
+        // The children hit, by mask. One or two children (the common cases) branch to code with
+        // constant slots, so the next node's address waits for a predicted branch, not for the
+        // box test (a coherent ray stream predicts well).
+        switch (mask) {
+            case 0x0: break;  // none: pop
+            case 0x1: current = child(node, 0); return true;
+            case 0x2: current = child(node, 1); return true;
+            case 0x4: current = child(node, 2); return true;
+            case 0x8: current = child(node, 3); return true;
+            case 0x3: current = nearer_of_two(node, entries, 0, 1, stack, stack_size); return true;
+            case 0x5: current = nearer_of_two(node, entries, 0, 2, stack, stack_size); return true;
+            case 0x9: current = nearer_of_two(node, entries, 0, 3, stack, stack_size); return true;
+            case 0x6: current = nearer_of_two(node, entries, 1, 2, stack, stack_size); return true;
+            case 0xa: current = nearer_of_two(node, entries, 1, 3, stack, stack_size); return true;
+            case 0xc: current = nearer_of_two(node, entries, 2, 3, stack, stack_size); return true;
+            default: {
+                // Three or four: take them in slot order, inserting each into place by entry
+                // (strict '<': equal entries keep slot order).
+                StackEntry hit[4];
+                int hits = 0;
+                for (unsigned m = mask; m != 0; m &= m - 1) {
+                    const int i = std::countr_zero(m);
+                    StackEntry e{child(node, i), entries[i]};
+                    int j = hits++;
+                    for (; j > 0 && e.entry < hit[j - 1].entry; --j) hit[j] = hit[j - 1];
+                    hit[j] = e;
+                }
+                for (int j = hits - 1; j > 0; --j) stack[stack_size++] = hit[j];
+                current = hit[0].child;
+                return true;
+            }
+        }
+    }
+    // Pop the next box that may still hold a hit.
+    while (stack_size > 0) {
+        const StackEntry e = stack[--stack_size];
+        if (e.entry <= t_hi) {
+            current = e.child;
+            return true;
+        }
+    }
+    return false;
+}
+
+/// The whole traversal of one ray from the root with cull distance t_hi; the nodes and leaves
+/// visited are added to `stats`.
 template <class LeafVisitor>
 FOVREF_FORCE_INLINE void traverse(const Bvh& bvh, const BoxRay& r, float t_hi, TraceStats& stats,
                                   LeafVisitor&& visit_leaf) {
     const BvhWideNode* nodes = bvh.wide_nodes.data();
     const BvhTriangleBlock* blocks = bvh.triangle_blocks.data();
-    // Each wide node pushes at most 3 children and is at most bvh_max_depth + 1 levels deep.
-    StackEntry stack[3 * (bvh_max_depth + 1) + 1];
+    StackEntry stack[traversal_stack_size];
     int stack_size = 0;
     ChildRef current{0, 0};
     std::int64_t visited = 0;  // counted locally, added to `stats` once at the end
-    while (true) {
+    do {
         ++visited;
-        if (current.count > 0) {
-            t_hi = visit_leaf(current.first, current.count);
-            if (t_hi == -inf) break;
-        } else {
-            const BvhWideNode& node = nodes[current.first];
-            alignas(16) float entries[4];
-            const unsigned mask = child_entries(node, r, t_hi, entries);
-            // Prefetch the children hit: on incoherent rays, where the predictor misses the
-            // branch below, a child's load then starts as soon as the mask is known, and a
-            // pushed child is in cache when it is popped (measured: +10-20 % on incoherent
-            // rays, -4 % on coherent ones, where the loads were already under way).
-            for (unsigned m = mask; m != 0; m &= m - 1)
-                prefetch_child(nodes, blocks, child(node, std::countr_zero(m)));
-            // The children hit, by mask. One or two children (the common cases) branch to
-            // code with constant slots, so the next node's address waits for a predicted
-            // branch, not for the box test (a coherent ray stream predicts well).
-            switch (mask) {
-                case 0x0: break;  // none: pop
-                case 0x1: current = child(node, 0); continue;
-                case 0x2: current = child(node, 1); continue;
-                case 0x4: current = child(node, 2); continue;
-                case 0x8: current = child(node, 3); continue;
-                case 0x3: current = nearer_of_two(node, entries, 0, 1, stack, stack_size); continue;
-                case 0x5: current = nearer_of_two(node, entries, 0, 2, stack, stack_size); continue;
-                case 0x9: current = nearer_of_two(node, entries, 0, 3, stack, stack_size); continue;
-                case 0x6: current = nearer_of_two(node, entries, 1, 2, stack, stack_size); continue;
-                case 0xa: current = nearer_of_two(node, entries, 1, 3, stack, stack_size); continue;
-                case 0xc: current = nearer_of_two(node, entries, 2, 3, stack, stack_size); continue;
-                default: {
-                    // Three or four: take them in slot order, inserting each into place by entry
-                    // (strict '<': equal entries keep slot order).
-                    StackEntry hit[4];
-                    int hits = 0;
-                    for (unsigned m = mask; m != 0; m &= m - 1) {
-                        const int i = std::countr_zero(m);
-                        StackEntry e{child(node, i), entries[i]};
-                        int j = hits++;
-                        for (; j > 0 && e.entry < hit[j - 1].entry; --j) hit[j] = hit[j - 1];
-                        hit[j] = e;
-                    }
-                    for (int j = hits - 1; j > 0; --j) stack[stack_size++] = hit[j];
-                    current = hit[0].child;
-                    continue;
-                }
-            }
-        }
-        // Pop the next box that may still hold a hit.
-        bool found = false;
-        while (stack_size > 0) {
-            const StackEntry e = stack[--stack_size];
-            if (e.entry <= t_hi) {
-                current = e.child;
-                found = true;
-                break;
-            }
-        }
-        if (!found) break;
-    }
+    } while (traverse_step(nodes, blocks, r, stack, stack_size, current, t_hi, visit_leaf));
     stats.nodes_visited += visited;
 }
 
@@ -378,19 +391,29 @@ inline bool closer(float t, std::int32_t primitive, const Hit& best) {
     return best.primitive < 0 || t < best.t || (t == best.t && primitive < best.primitive);
 }
 
-}  // namespace
-
-Hit trace_closest(const Bvh& bvh, const Ray& ray, TraceStats& stats) {
-    ++stats.rays;
+/// A closest-hit query on a BVH with nodes: the ray's constants, the best hit so far, the
+/// triangles tested, and the leaf visitor of traverse_step.
+struct ClosestQuery {
+    TraversalRay r;
     Hit best;
-    if (bvh.nodes.empty() || !ray_is_valid(ray)) return best;
-    const TraversalRay r = make_traversal_ray(bvh, ray);
-    const BvhTriangleBlock* blocks = bvh.triangle_blocks.data();
-    const std::uint32_t* primitives = bvh.primitives.data();
-    const float t_hi_none = widen_up(r.t_max);
-    std::int64_t tested = 0;
-    traverse(bvh, r.box, t_hi_none, stats, [&](std::uint32_t first, std::uint32_t count) {
-        // The leaf's triangles, a block of 4 at a time; the hits reduced in the SPEC §3 order.
+    float t_hi_none = 0.0f;   ///< the cull distance while nothing is hit
+    std::int64_t tested = 0;  ///< triangles tested
+    const BvhTriangleBlock* blocks = nullptr;
+    const std::uint32_t* primitives = nullptr;
+
+    /// Starts the query of a valid ray (ray_is_valid).
+    void start(const Bvh& bvh, const Ray& ray) {
+        r = make_traversal_ray(bvh, ray);
+        best = Hit{};
+        t_hi_none = widen_up(r.t_max);
+        tested = 0;
+        blocks = bvh.triangle_blocks.data();
+        primitives = bvh.primitives.data();
+    }
+
+    /// A leaf's triangles, a block of 4 at a time; the hits reduced in the SPEC §3 order.
+    /// Returns the new cull distance.
+    FOVREF_FORCE_INLINE float operator()(std::uint32_t first, std::uint32_t count) {
         tested += count;
         const std::uint32_t end = first + count;
         for (std::uint32_t block = first / 4; 4 * block < end; ++block) {
@@ -404,10 +427,91 @@ Hit trace_closest(const Bvh& bvh, const Ray& ray, TraceStats& stats) {
             }
         }
         return best.hit() ? widen_up(best.t) : t_hi_none;
-    });
-    stats.triangles_tested += tested;
-    if (best.hit()) ++stats.hits;
-    return best;
+    }
+
+    /// Adds the finished query's counts to `stats`.
+    void finish(TraceStats& stats) const {
+        stats.triangles_tested += tested;
+        if (best.hit()) ++stats.hits;
+    }
+};
+
+/// Rays whose traversals trace_closest_interleaved interleaves: enough that a node's load has
+/// the other rays' steps to arrive in (16 was fastest on million's incoherent rays of
+/// `fovref bench rays`, against 4, 8, 10 and 12; docs/bvh.md, "Interleaved queries").
+constexpr int interleaved_lanes = 16;
+
+}  // namespace
+
+Hit trace_closest(const Bvh& bvh, const Ray& ray, TraceStats& stats) {
+    ++stats.rays;
+    if (bvh.nodes.empty() || !ray_is_valid(ray)) return Hit{};
+    ClosestQuery query;
+    query.start(bvh, ray);
+    traverse(bvh, query.r.box, query.t_hi_none, stats, query);
+    query.finish(stats);
+    return query.best;
+}
+
+void trace_closest_interleaved(const Bvh& bvh, const Ray* rays, std::size_t count, Hit* hits,
+                               TraceStats& stats) {
+    if (bvh.nodes.empty()) {
+        for (std::size_t i = 0; i < count; ++i) hits[i] = trace_closest(bvh, rays[i], stats);
+        return;
+    }
+    // Each lane traces one ray at a time; the lanes take one traversal step each in turn.
+    struct Lane {
+        ClosestQuery query;
+        StackEntry stack[traversal_stack_size];
+        int stack_size = 0;
+        ChildRef current{0, 0};
+        float t_hi = 0.0f;
+        std::int64_t visited = 0;
+        std::size_t ray = 0;
+        bool busy = false;
+    };
+    Lane lanes[interleaved_lanes];
+    std::size_t next = 0;
+    // Gives `lane` the next valid ray (an invalid one misses without a traversal, as in
+    // trace_closest); false when no ray is left.
+    const auto start = [&](Lane& lane) {
+        for (; next < count; ++next) {
+            ++stats.rays;
+            if (!ray_is_valid(rays[next])) {
+                hits[next] = Hit{};
+                continue;
+            }
+            lane.ray = next++;
+            lane.query.start(bvh, rays[lane.ray]);
+            lane.stack_size = 0;
+            lane.current = ChildRef{0, 0};  // the root
+            lane.t_hi = lane.query.t_hi_none;
+            lane.visited = 0;
+            return true;
+        }
+        return false;
+    };
+    int busy = 0;
+    for (Lane& lane : lanes) {
+        lane.busy = start(lane);
+        busy += lane.busy ? 1 : 0;
+    }
+    const BvhWideNode* nodes = bvh.wide_nodes.data();
+    const BvhTriangleBlock* blocks = bvh.triangle_blocks.data();
+    while (busy > 0) {
+        for (Lane& lane : lanes) {
+            if (!lane.busy) continue;
+            ++lane.visited;
+            if (traverse_step(nodes, blocks, lane.query.r.box, lane.stack, lane.stack_size,
+                              lane.current, lane.t_hi, lane.query))
+                continue;
+            stats.nodes_visited += lane.visited;
+            lane.query.finish(stats);
+            hits[lane.ray] = lane.query.best;
+            lane.busy = start(lane);
+            busy -= lane.busy ? 0 : 1;
+        }
+    }
 }
 
 bool trace_any(const Bvh& bvh, const Ray& ray, TraceStats& stats) {

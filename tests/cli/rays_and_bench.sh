@@ -8,6 +8,16 @@ expect 0 "trace" -- "$FOVREF" rays trace cornell "$TMP/r.bin" "$TMP/h.bin"
 [ "$(stat -c %s "$TMP/h.bin")" = $((16 * 9 * 16)) ] || { echo "FAIL: hit file size"; failures=$((failures+1)); }
 expect 0 "make random rays" -- "$FOVREF" rays make sphere-grid "$TMP/q.bin" --random 500 --seed 9
 expect 0 "any-hit" -- "$FOVREF" rays trace sphere-grid "$TMP/q.bin" "$TMP/o.bin" --any-hit
+# Interleaved closest hits: the same hit file, byte for byte, and the same counts.
+expect 0 "trace one at a time" -- "$FOVREF" rays trace sphere-grid "$TMP/q.bin" "$TMP/q1.bin"
+ONE="$OUT"
+expect 0 "trace interleaved" -- "$FOVREF" rays trace sphere-grid "$TMP/q.bin" "$TMP/q16.bin" --interleave
+checks=$((checks + 1))
+cmp -s "$TMP/q1.bin" "$TMP/q16.bin" || { echo "FAIL: --interleave changed the hits"; failures=$((failures+1)); }
+checks=$((checks + 1))
+[ "$(grep -o 'traced.*tested' <<<"$ONE")" = "$(grep -o 'traced.*tested' <<<"$OUT")" ] || { echo "FAIL: --interleave changed the counts"; failures=$((failures+1)); }
+expect 2 "--interleave with --any-hit" -- "$FOVREF" rays trace sphere-grid "$TMP/q.bin" "$TMP/qa.bin" --any-hit --interleave
+contains "--interleave applies to closest-hit queries" "--interleave with --any-hit"
 [ "$(stat -c %s "$TMP/o.bin")" = $((500 * 4)) ] || { echo "FAIL: occlusion file size"; failures=$((failures+1)); }
 : > "$TMP/empty.bin"
 expect 0 "empty ray file" -- "$FOVREF" rays trace cornell "$TMP/empty.bin" "$TMP/eh.bin"

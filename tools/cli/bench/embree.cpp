@@ -46,6 +46,22 @@ RTCRayHit embree_ray(const Ray& ray) {
     return rh;
 }
 
+Hit fovref_hit(const RTCRayHit& rh) {
+    Hit h;
+    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+        h.t = rh.ray.tfar;
+        h.primitive = static_cast<std::int32_t>(rh.hit.primID);
+        h.u = rh.hit.u;
+        h.v = rh.hit.v;
+    }
+    return h;
+}
+
+// Embree marks an occluded ray by setting tfar to -inf.
+std::uint8_t is_blocked(const RTCRay& ray) {
+    return ray.tfar == -std::numeric_limits<float>::infinity() ? 1 : 0;
+}
+
 }  // namespace
 
 EmbreeScene::EmbreeScene(const std::vector<glm::vec3>& positions)
@@ -98,15 +114,31 @@ void EmbreeScene::intersect(const std::vector<Ray>& rays, std::vector<Hit>& hits
     for (std::size_t i = 0; i < rays.size(); ++i) {
         RTCRayHit rh = embree_ray(rays[i]);
         rtcIntersect1(impl_->scene, &context, &rh);
-        Hit h;
-        if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
-            h.t = rh.ray.tfar;
-            h.primitive = static_cast<std::int32_t>(rh.hit.primID);
-            h.u = rh.hit.u;
-            h.v = rh.hit.v;
-        }
-        hits[i] = h;
+        hits[i] = fovref_hit(rh);
     }
+}
+
+void EmbreeScene::intersect_stream(const std::vector<Ray>& rays, std::vector<Hit>& hits) const {
+    std::vector<RTCRayHit> stream(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) stream[i] = embree_ray(rays[i]);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect1M(impl_->scene, &context, stream.data(), static_cast<unsigned>(stream.size()),
+                   sizeof(RTCRayHit));
+    hits.resize(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = fovref_hit(stream[i]);
+}
+
+void EmbreeScene::occluded_stream(const std::vector<Ray>& rays,
+                                  std::vector<std::uint8_t>& blocked) const {
+    std::vector<RTCRay> stream(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) stream[i] = embree_ray(rays[i]).ray;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcOccluded1M(impl_->scene, &context, stream.data(), static_cast<unsigned>(stream.size()),
+                  sizeof(RTCRay));
+    blocked.resize(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) blocked[i] = is_blocked(stream[i]);
 }
 
 void EmbreeScene::occluded(const std::vector<Ray>& rays, std::vector<std::uint8_t>& blocked) const {
@@ -116,8 +148,7 @@ void EmbreeScene::occluded(const std::vector<Ray>& rays, std::vector<std::uint8_
     for (std::size_t i = 0; i < rays.size(); ++i) {
         RTCRay ray = embree_ray(rays[i]).ray;
         rtcOccluded1(impl_->scene, &context, &ray);
-        // Embree marks an occluded ray by setting tfar to -inf.
-        blocked[i] = ray.tfar == -std::numeric_limits<float>::infinity() ? 1 : 0;
+        blocked[i] = is_blocked(ray);
     }
 }
 

@@ -28,6 +28,11 @@ public:
     void intersect(const std::vector<Ray>& rays, std::vector<Hit>& hits) const;
     /// Occlusion with rtcOccluded1.
     void occluded(const std::vector<Ray>& rays, std::vector<std::uint8_t>& blocked) const;
+    /// The same answers from Embree's stream API: all rays in one rtcIntersect1M /
+    /// rtcOccluded1M call (Embree then orders the work itself; the rays are converted first, as
+    /// the one-at-a-time calls convert each ray).
+    void intersect_stream(const std::vector<Ray>& rays, std::vector<Hit>& hits) const;
+    void occluded_stream(const std::vector<Ray>& rays, std::vector<std::uint8_t>& blocked) const;
 
 private:
     struct Impl;

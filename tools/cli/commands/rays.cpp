@@ -22,6 +22,10 @@ void add_rays_trace_options(CLI::App& c, RaysTraceOptions& o) {
     c.add_option("HITS", o.hits_path, "output: 16-byte hit records, or 4-byte occlusion flags")
         ->required();
     c.add_flag("--any-hit", o.any_hit, "occlusion queries (shadow rays) instead of closest hits");
+    c.add_flag("--interleave", o.interleave,
+               "closest hits with 16 rays' traversals interleaved: the same hits and counts, "
+               "faster for incoherent rays over a large scene, slower for coherent rays or a "
+               "small scene (docs/bvh.md, \"Interleaved queries\")");
 }
 
 void add_rays_make_options(CLI::App& c, RaysMakeOptions& o) {
@@ -43,6 +47,8 @@ void add_rays_make_options(CLI::App& c, RaysMakeOptions& o) {
 }
 
 int run_rays_trace(const RaysTraceOptions& o) {
+    if (o.interleave && o.any_hit)
+        throw Error("rays trace: --interleave applies to closest-hit queries, not --any-hit");
     const Scene scene = load_cli_scene(o.scene);
     const std::vector<Ray> rays = read_rays(o.rays_path);
     Progress progress("rays trace", o.quiet);
@@ -60,10 +66,14 @@ int run_rays_trace(const RaysTraceOptions& o) {
         write_occlusion(o.hits_path, occluded);
     } else {
         std::vector<Hit> hits(rays.size());
-        for (std::size_t k = 0; k < rays.size(); ++k) {
-            hits[k] = trace_closest(bvh, rays[k], stats);
-            if (k % step == 0)
-                progress.update(static_cast<double>(k) / static_cast<double>(rays.size()));
+        for (std::size_t k = 0; k < rays.size(); k += step) {
+            const std::size_t n = std::min(step, rays.size() - k);
+            if (o.interleave)
+                trace_closest_interleaved(bvh, rays.data() + k, n, hits.data() + k, stats);
+            else
+                for (std::size_t i = k; i < k + n; ++i)
+                    hits[i] = trace_closest(bvh, rays[i], stats);
+            progress.update(static_cast<double>(k) / static_cast<double>(rays.size()));
         }
         progress.finish();
         write_hits(o.hits_path, hits);

@@ -13,10 +13,11 @@ class App;
 namespace fovref {
 
 struct RaysTraceOptions {
-    std::string scene;      ///< procedural scene name or scene file
-    std::string rays_path;  ///< input: 8 x binary32 per ray
-    std::string hits_path;  ///< output: 16-byte hit records, or 4-byte occlusion flags
-    bool any_hit = false;   ///< occlusion queries instead of closest hits
+    std::string scene;        ///< procedural scene name or scene file
+    std::string rays_path;    ///< input: 8 x binary32 per ray
+    std::string hits_path;    ///< output: 16-byte hit records, or 4-byte occlusion flags
+    bool any_hit = false;     ///< occlusion queries instead of closest hits
+    bool interleave = false;  ///< closest hits by trace_closest_interleaved (docs/bvh.md)
     bool quiet = false;
 };
 
