@@ -848,7 +848,9 @@ void check_interleaved(const Bvh& bvh, const std::vector<Ray>& rays) {
 }  // namespace
 
 TEST_CASE("interleaved closest-hit queries give trace_closest's hits and counts bit for bit") {
-    for (const char* name : {"cornell", "checker-room", "glossy-floor", "sphere-grid", "million"}) {
+    // million is left out: its build would add ~10 s to the -O0 and sanitizer runs, and the
+    // lanes' bookkeeping does not depend on the tree's size (sphere-grid's BVH2 is 20 levels deep).
+    for (const char* name : {"cornell", "checker-room", "glossy-floor", "sphere-grid"}) {
         CAPTURE(name);
         const SceneBvh& s = scene_bvh(name);
         // Fewer rays than lanes, a few more, and many (lanes finish at different times and
