@@ -1,6 +1,8 @@
 #include "ref/log_polar/resolve_avx.h"
 
 #include <cstddef>
+#include <cstdint>
+#include <limits>
 
 #include "ref/core/avx_lanes.h"
 #include "ref/core/simd.h"
@@ -16,14 +18,36 @@ FOVREF_AVX_INLINE __m256 lerp(__m256 a, __m256 b, __m256 t) {
     return _mm256_add_ps(a, _mm256_mul_ps(t, _mm256_sub_ps(b, a)));
 }
 
+// The lanes of pixels x .. x + 7 of row y that read the gaze buffer (reads_gaze_buffer).
+int gaze_lanes(const LogPolarMap& map, const GazeInput& gaze, int x, int y) {
+    int mask = 0;
+    for (int l = 0; l < lanes; ++l) mask |= reads_gaze_buffer(map, gaze, x + l, y) ? 1 << l : 0;
+    return mask;
+}
+
+// Pixels x .. x + 7 of row y, all inside the gaze circle: gaze_pixel's copies, one row of the
+// gaze buffer (the circle lies inside the buffer's window, so the 8 pixels are consecutive there).
+void copy_gaze_group(const GazeInput& gaze, Image& out, int x, int y, ResolveStats& stats) {
+    const float* from =
+        &gaze.image->data[gaze.image->index(x - gaze.window.x0, y - gaze.window.y0)];
+    float* to = &out.at(x, y, 0);
+    for (int k = 0; k < 3 * lanes; ++k) to[k] = from[k];
+    stats.pixels_from_gaze += lanes;
+}
+
 // Pixels x .. x + 7 of row y. Returns false (nothing written) when the group needs the
-// reference for all its pixels: a pixel reads the gaze buffer, or a (u, v) lies outside the
-// range lp_bilinear_index accepts (the reference then throws).
-__attribute__((target("avx"))) bool resolve_group(const LogPolarMap& map, const ResolveInputs& in,
-                                                  const ForwardTable& table, Image& out, int x,
-                                                  int y, ResolveStats& stats) {
-    for (int l = 0; l < lanes; ++l)
-        if (reads_gaze_buffer(map, in.gaze, x + l, y)) return false;
+// reference for all its pixels: some but not all of its pixels read the gaze buffer (or all do
+// from a buffer that is not 3-channel), or a (u, v) lies outside the range lp_bilinear_index
+// accepts (the reference then throws).
+__attribute__((target("avx2"))) bool resolve_group(const LogPolarMap& map, const ResolveInputs& in,
+                                                   const ForwardTable& table, Image& out, int x,
+                                                   int y, ResolveStats& stats) {
+    const int gaze = gaze_lanes(map, in.gaze, x, y);
+    if (gaze == 0xff && in.gaze.image->channels == 3) {
+        copy_gaze_group(in.gaze, out, x, y, stats);
+        return true;
+    }
+    if (gaze != 0) return false;
     const int w = map.width, h = map.height;
     const float wf = static_cast<float>(w), hf = static_cast<float>(h);
     alignas(32) float u[lanes], v[lanes];
@@ -49,33 +73,30 @@ __attribute__((target("avx"))) bool resolve_group(const LogPolarMap& map, const 
                select(at_least(j0_raw, set(hf)), _mm256_sub_ps(j0_raw, set(hf)), j0_raw));
     const __m256 j0_next = _mm256_add_ps(j0, set(1.0f));
     const __m256 j1 = select(equal(j0_next, set(hf)), zero(), j0_next);
-    alignas(32) int ci[2][lanes], rj[2][lanes];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(ci[0]), _mm256_cvttps_epi32(i0));
-    _mm256_store_si256(reinterpret_cast<__m256i*>(ci[1]), _mm256_cvttps_epi32(i1));
-    _mm256_store_si256(reinterpret_cast<__m256i*>(rj[0]), _mm256_cvttps_epi32(j0));
-    _mm256_store_si256(reinterpret_cast<__m256i*>(rj[1]), _mm256_cvttps_epi32(j1));
-
-    // The taps (i0, j0), (i1, j0), (i0, j1), (i1, j1) and their validity, lane by lane (all
-    // inside the buffer); a lane with an untraced tap is left to the reference.
-    alignas(32) float taps[4][3][lanes], traced[4][lanes];
+    // The taps' texels j w + i: (i0, j0), (i1, j0), (i0, j1), (i1, j1), all inside the buffer;
+    // their validity and colours gathered (AVX2), a lane with an untraced tap left to the
+    // reference.
+    const __m256i width = _mm256_set1_epi32(w);
+    const __m256i ci0 = _mm256_cvttps_epi32(i0), ci1 = _mm256_cvttps_epi32(i1);
+    const __m256i start0 = _mm256_mullo_epi32(_mm256_cvttps_epi32(j0), width);
+    const __m256i start1 = _mm256_mullo_epi32(_mm256_cvttps_epi32(j1), width);
+    const __m256i texels[4] = {_mm256_add_epi32(start0, ci0), _mm256_add_epi32(start0, ci1),
+                               _mm256_add_epi32(start1, ci0), _mm256_add_epi32(start1, ci1)};
     const float* valid = in.buffer_valid.data.data();
     const float* buffer = in.buffer.data.data();
-    for (int l = 0; l < lanes; ++l)
-        for (int k = 0; k < 4; ++k) {
-            const std::size_t texel =
-                static_cast<std::size_t>(rj[k >> 1][l]) * static_cast<std::size_t>(w) +
-                static_cast<std::size_t>(ci[k & 1][l]);
-            traced[k][l] = valid[texel];
-            for (int c = 0; c < 3; ++c) taps[k][c][l] = buffer[3 * texel + c];
-        }
-    __m256 all = not_equal(_mm256_load_ps(traced[0]), zero());
-    for (int k = 1; k < 4; ++k) all = both(all, not_equal(_mm256_load_ps(traced[k]), zero()));
+    __m256 taps[4][3];
+    __m256 all = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+    for (int k = 0; k < 4; ++k) {
+        all = both(all, not_equal(_mm256_i32gather_ps(valid, texels[k], 4), zero()));
+        const __m256i first = _mm256_add_epi32(_mm256_add_epi32(texels[k], texels[k]), texels[k]);
+        for (int c = 0; c < 3; ++c) taps[k][c] = _mm256_i32gather_ps(buffer + c, first, 4);
+    }
     const int all_traced = bits(all);
     alignas(32) float result[3][lanes];
     const __m256 row1 = greater(fv, zero());
     for (int c = 0; c < 3; ++c) {
-        const __m256 r0 = lerp(_mm256_load_ps(taps[0][c]), _mm256_load_ps(taps[1][c]), fu);
-        const __m256 r1 = lerp(_mm256_load_ps(taps[2][c]), _mm256_load_ps(taps[3][c]), fu);
+        const __m256 r0 = lerp(taps[0][c], taps[1][c], fu);
+        const __m256 r1 = lerp(taps[2][c], taps[3][c], fu);
         _mm256_store_ps(result[c], select(row1, lerp(r0, r1, fv), r0));
     }
     float* o = &out.data[out.index(x, y)];
@@ -95,10 +116,12 @@ __attribute__((target("avx"))) bool resolve_group(const LogPolarMap& map, const 
 bool resolve_avx_applies(const LogPolarMap& map, const ResolveInputs& in,
                          const ForwardTable* table) {
     // The lanes read the buffer and a one-channel mask of the map's size directly (the reference
-    // checks the shapes as it reads, and throws).
+    // checks the shapes as it reads, and throws); the gathers' indices 3 (j w + i) are int32.
+    const std::int64_t texels = static_cast<std::int64_t>(map.width) * map.height;
     return table && in.buffer.channels == 3 && map.height >= 3 && in.buffer.height == map.height &&
            in.buffer_valid.channels == 1 && in.buffer_valid.height == map.height &&
-           simd_allowed() && cpu_has_avx();
+           3 * texels <= std::numeric_limits<std::int32_t>::max() && simd_allowed() &&
+           cpu_has_avx2();
 }
 
 int resolve_row_avx(const LogPolarMap& map, const ResolveInputs& in, const ForwardTable& table,

@@ -1,9 +1,11 @@
-// Pass 2's bilinear resolve eight screen pixels at a time with AVX: the same bits as
+// Pass 2's bilinear resolve eight screen pixels at a time with AVX2: the same bits as
 // resolve_pixel, which stays the readable reference (docs/foveation.md, "The screen passes made
 // faster"). Each lane computes lp_bilinear_index from the forward table's (u, v) and, where all
 // four taps are traced (most pixels), sample_lp_bilinear's two lerps in u and the lerp in v in
-// their order; a lane with an untraced tap, and every group that touches the gaze circle, runs
-// the reference. The taps' values and validity are read lane by lane.
+// their order; the taps' values and validity are gathered (AVX2 gathers: plain loads). A lane
+// with an untraced tap, and every group that straddles the gaze circle's edge, runs the
+// reference; a group inside the circle copies its 8 pixels from the gaze buffer as gaze_pixel
+// does.
 #pragma once
 
 #include "ref/log_polar/resolve.h"
@@ -11,7 +13,8 @@
 namespace fovref {
 
 /// Whether resolve_row_avx covers a resolve: a forward table, a 3-channel buffer at least 3
-/// rows high and a one-channel mask of the map's size, simd_allowed() and AVX.
+/// rows high (3 w h within int32) and a one-channel mask of the map's size, simd_allowed() and
+/// AVX2.
 bool resolve_avx_applies(const LogPolarMap& map, const ResolveInputs& in,
                          const ForwardTable* table);
 

@@ -1,7 +1,8 @@
-// Pass 2's bilinear resolve with AVX (ref/log_polar/resolve_avx.h) gives resolve_pixel's bits:
-// fov and cfov maps (with and without a gaze buffer), screens whose width is not a multiple of
-// eight, masks with untraced texels (the lanes the reference takes over), buffer values of every
-// sign (NaN payloads aside, docs/determinism.md), and the same counters.
+// Pass 2's bilinear resolve with AVX2 (ref/log_polar/resolve_avx.h) gives resolve_pixel's bits:
+// fov and cfov maps (with and without a gaze buffer: groups inside its circle, across its edge
+// and outside it), screens whose width is not a multiple of eight, masks with untraced texels
+// (the lanes the reference takes over), buffer values of every sign (NaN payloads aside,
+// docs/determinism.md), and the same counters.
 #include <doctest/doctest.h>
 
 #include <limits>
@@ -17,7 +18,7 @@
 using namespace fovref;
 
 TEST_CASE("resolve speed: the AVX pass 2 gives resolve_pixel's bits") {
-    if (!cpu_has_avx()) MESSAGE("no AVX on this CPU: both runs take resolve_pixel");
+    if (!cpu_has_avx2()) MESSAGE("no AVX2 on this CPU: both runs take resolve_pixel");
     test::SplitMix64 rng(2);
     const auto uniform = [&](float lo, float hi) {
         return lo + (hi - lo) * static_cast<float>(rng.below(1 << 20)) * 0x1p-20f;
@@ -45,7 +46,7 @@ TEST_CASE("resolve speed: the AVX pass 2 gives resolve_pixel's bits") {
                     gaze = gaze_input(map, &gaze_image);
                 }
                 const ResolveInputs in{buffer, valid, gaze};
-                CHECK(resolve_avx_applies(map, in, &table) == cpu_has_avx());
+                CHECK(resolve_avx_applies(map, in, &table) == cpu_has_avx2());
                 Image out[2];
                 ResolveStats stats[2];
                 for (const bool simd : {true, false}) {
