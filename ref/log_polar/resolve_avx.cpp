@@ -20,6 +20,10 @@ FOVREF_AVX_INLINE __m256 lerp(__m256 a, __m256 b, __m256 t) {
 
 // The lanes of pixels x .. x + 7 of row y that read the gaze buffer (reads_gaze_buffer).
 int gaze_lanes(const LogPolarMap& map, const GazeInput& gaze, int x, int y) {
+    // A group outside the gaze buffer's window has none (reads_gaze_buffer's own first test).
+    const ScreenWindow& w = gaze.window;
+    if (!gaze.image || y < w.y0 || y >= w.y0 + w.height || x + lanes <= w.x0 || x >= w.x0 + w.width)
+        return 0;
     int mask = 0;
     for (int l = 0; l < lanes; ++l) mask |= reads_gaze_buffer(map, gaze, x + l, y) ? 1 << l : 0;
     return mask;
