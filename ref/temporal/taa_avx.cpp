@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
+#include <limits>
 
 #include "ref/core/avx_lanes.h"
 #include "ref/core/simd.h"
@@ -180,53 +182,52 @@ FOVREF_AVX_INLINE __m256 reprojection_margin(__m256 px, __m256 py, __m256 reproj
                   set(taa_no_margin));
 }
 
-/// The history's colour and depth at the taps on the screen ([tap][r, g, b, depth][lane], zero
-/// where a tap is off) and the previous age of the pixel under p' (clamped to the screen; p' lies
-/// within a pixel of it), lane by lane for the lanes with taps.
-FOVREF_AVX_INLINE void gather_history(const TaaState& previous, const BilinearLanes& b,
-                                      __m256 has_taps, __m256 px, __m256 py,
-                                      float (*taps)[4][lanes], float* age_previous) {
+/// The history's colour and depth at the taps on the screen ([tap][r, g, b, depth], zero where a
+/// tap is off) and the previous age of the pixel under p' (clamped to the screen; p' lies within
+/// a pixel of it; zero in the lanes without taps), gathered (AVX2: plain loads of the same
+/// floats). Tap t is (x0 + (t & 1), y0 + (t >> 1)); the int32 indices are those of the taps on
+/// the screen (taa_avx_applies checks that 3 W H fits), the others are never loaded.
+__attribute__((target("avx2"), always_inline)) inline void gather_history(
+    const TaaState& previous, const BilinearLanes& b, __m256 has_taps, __m256 px, __m256 py,
+    __m256 (&taps)[4][4], float* age_previous) {
     const int width = previous.history.width, height = previous.history.height;
-    alignas(32) float ppx[lanes], ppy[lanes];
-    _mm256_store_ps(ppx, px);
-    _mm256_store_ps(ppy, py);
-    const int taps_mask = bits(has_taps);
-    for (int l = 0; l < lanes; ++l) {
-        age_previous[l] = 0.0f;
-        if (!(taps_mask >> l & 1)) continue;
-        // Tap t is (x0 + (t & 1), y0 + (t >> 1)); the index is taken modulo 2^64, right for
-        // every tap on the screen even where x0 or y0 is -1.
-        const std::size_t first =
-            static_cast<std::size_t>(b.y0[l]) * static_cast<std::size_t>(width) +
-            static_cast<std::size_t>(b.x0[l]);
-        for (int t = 0; t < 4; ++t) {
-            if (!(b.on_bits[t] >> l & 1)) continue;
-            const std::size_t pixel =
-                first + static_cast<std::size_t>(t >> 1) * static_cast<std::size_t>(width) +
-                static_cast<std::size_t>(t & 1);
-            const float* c = &previous.history.data[pixel * 3];
-            taps[t][0][l] = c[0];
-            taps[t][1][l] = c[1];
-            taps[t][2][l] = c[2];
-            taps[t][3][l] = previous.depth.data[pixel];
-        }
-        const int ax = std::clamp(taa_floor_int(ppx[l]), 0, width - 1);
-        const int ay = std::clamp(taa_floor_int(ppy[l]), 0, height - 1);
-        age_previous[l] = previous.age.at(ax, ay);
+    const __m256i w = _mm256_set1_epi32(width);
+    const __m256i first = _mm256_add_epi32(
+        _mm256_mullo_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(b.y0)), w),
+        _mm256_load_si256(reinterpret_cast<const __m256i*>(b.x0)));
+    const float* history = previous.history.data.data();
+    for (int t = 0; t < 4; ++t) {
+        const __m256i pixel =
+            _mm256_add_epi32(first, _mm256_set1_epi32((t >> 1) * width + (t & 1)));
+        const __m256i channel0 = _mm256_add_epi32(_mm256_add_epi32(pixel, pixel), pixel);
+        for (int c = 0; c < 3; ++c)
+            taps[t][c] = _mm256_mask_i32gather_ps(zero(), history + c, channel0, b.on[t], 4);
+        taps[t][3] =
+            _mm256_mask_i32gather_ps(zero(), previous.depth.data.data(), pixel, b.on[t], 4);
     }
+    // The age under p': (clamp(floor(p'x), 0, W - 1), clamp(floor(p'y), 0, H - 1)).
+    const __m256i ax = _mm256_min_epi32(
+        _mm256_max_epi32(_mm256_cvttps_epi32(floor_value(px)), _mm256_setzero_si256()),
+        _mm256_set1_epi32(width - 1));
+    const __m256i ay = _mm256_min_epi32(
+        _mm256_max_epi32(_mm256_cvttps_epi32(floor_value(py)), _mm256_setzero_si256()),
+        _mm256_set1_epi32(height - 1));
+    _mm256_store_ps(
+        age_previous,
+        _mm256_mask_i32gather_ps(zero(), previous.age.data.data(),
+                                 _mm256_add_epi32(_mm256_mullo_epi32(ay, w), ax), has_taps, 4));
 }
 
 /// sample_history's sums over the taps on the screen, in tap order, then the divisions: the
 /// history colour into `history`, its depth into `depth`; returns the weights' sum.
-FOVREF_AVX_INLINE __m256 sample_lanes(const BilinearLanes& b, const float (*taps)[4][lanes],
+FOVREF_AVX_INLINE __m256 sample_lanes(const BilinearLanes& b, const __m256 (&taps)[4][4],
                                       float (*history)[lanes], __m256& depth) {
     __m256 sum = zero(), acc[4] = {sum, sum, sum, sum};
     for (int t = 0; t < 4; ++t) {
         sum = _mm256_add_ps(sum, select(b.on[t], b.weight[t], zero()));
         for (int c = 0; c < 4; ++c)
-            acc[c] = _mm256_add_ps(
-                acc[c],
-                select(b.on[t], _mm256_mul_ps(b.weight[t], _mm256_load_ps(taps[t][c])), zero()));
+            acc[c] = _mm256_add_ps(acc[c],
+                                   select(b.on[t], _mm256_mul_ps(b.weight[t], taps[t][c]), zero()));
     }
     for (int c = 0; c < 3; ++c) _mm256_store_ps(history[c], _mm256_div_ps(acc[c], sum));
     depth = _mm256_div_ps(acc[3], sum);
@@ -235,10 +236,10 @@ FOVREF_AVX_INLINE __m256 sample_lanes(const BilinearLanes& b, const float (*taps
 
 // Moving camera: taa_reproject, border_distance, sample_history, then the depth test and the
 // periphery rule (depth rejection) or the clamp (clamp_group) of taa.cpp, lane by lane.
-__attribute__((target("avx"))) void moving_group(const TaaParams& params, const TaaInputs& in,
-                                                 const TaaState& previous, const TaaConstants& k,
-                                                 int x, int y, Image& out, Image& age,
-                                                 Image* margin, TaaStats& stats) {
+__attribute__((target("avx2"))) void moving_group(const TaaParams& params, const TaaInputs& in,
+                                                  const TaaState& previous, const TaaConstants& k,
+                                                  int x, int y, Image& out, Image& age,
+                                                  Image* margin, TaaStats& stats) {
     const float wf = static_cast<float>(in.color.width), hf = static_cast<float>(in.color.height);
     Group g;
     load3_lanes(&in.color.data[in.color.index(x, y)], g.current);
@@ -258,7 +259,7 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
     const __m256 ty = _mm256_sub_ps(select(has_taps, py, zero()), set(0.5f));
     BilinearLanes b;
     bilinear_lanes(tx, ty, floor_value(tx), floor_value(ty), has_taps, wf, hf, b);
-    alignas(32) float taps[4][4][lanes] = {};
+    __m256 taps[4][4];
     gather_history(previous, b, has_taps, px, py, taps, g.age_previous);
 
     // sample_history: the weighted sums in tap order, then the divisions.
@@ -314,9 +315,13 @@ __attribute__((target("avx"))) void moving_group(const TaaParams& params, const 
 }  // namespace
 
 bool taa_avx_applies(const TaaInputs& in, const TaaState& previous) {
-    // The lanes read one-channel depths and ages directly (taa() checks the other shapes).
+    // The lanes read one-channel depths and ages directly (taa() checks the other shapes); the
+    // gathers' indices 3 (y W + x) are int32.
+    const std::int64_t pixels =
+        static_cast<std::int64_t>(previous.history.width) * previous.history.height;
     return previous.valid && in.depth.channels == 1 && previous.depth.channels == 1 &&
-           previous.age.channels == 1 && simd_allowed() && cpu_has_avx();
+           previous.age.channels == 1 && 3 * pixels <= std::numeric_limits<std::int32_t>::max() &&
+           simd_allowed() && cpu_has_avx2();
 }
 
 int taa_row_avx(const TaaParams& params, const TaaInputs& in, const TaaState& previous,
