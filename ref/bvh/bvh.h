@@ -125,7 +125,7 @@ Hit trace_closest(const Bvh& bvh, const Ray& ray, TraceStats& stats);
 /// node loads while the others visit theirs. Each ray takes trace_closest's steps in its order;
 /// only the order in time differs. Faster for incoherent rays over a tree larger than the
 /// last-level cache (1.6x on million's random rays), slower for coherent rays or a small tree,
-/// whose nodes are in cache anyway (0.6-0.75x): docs/bvh.md, "Interleaved queries".
+/// whose nodes are in cache anyway (0.53-0.75x): docs/bvh.md, "Interleaved queries".
 void trace_closest_interleaved(const Bvh& bvh, const Ray* rays, std::size_t count, Hit* hits,
                                TraceStats& stats);
 

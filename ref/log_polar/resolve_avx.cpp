@@ -120,10 +120,13 @@ __attribute__((target("avx2"))) bool resolve_group(const LogPolarMap& map, const
 bool resolve_avx_applies(const LogPolarMap& map, const ResolveInputs& in,
                          const ForwardTable* table) {
     // The lanes read the buffer and a one-channel mask of the map's size directly (the reference
-    // checks the shapes as it reads, and throws); the gathers' indices 3 (j w + i) are int32.
+    // checks the shapes as it reads, and throws); the gathers' indices 3 (j w + i) are int32, and
+    // the tap columns are computed in binary32 (exact up to 2^24).
     const std::int64_t texels = static_cast<std::int64_t>(map.width) * map.height;
-    return table && in.buffer.channels == 3 && map.height >= 3 && in.buffer.height == map.height &&
-           in.buffer_valid.channels == 1 && in.buffer_valid.height == map.height &&
+    return table && in.buffer.channels == 3 && map.height >= 3 && in.buffer.width == map.width &&
+           in.buffer.height == map.height && in.buffer_valid.channels == 1 &&
+           in.buffer_valid.width == map.width && in.buffer_valid.height == map.height &&
+           map.width <= (1 << 24) && map.height <= (1 << 24) &&
            3 * texels <= std::numeric_limits<std::int32_t>::max() && simd_allowed() &&
            cpu_has_avx2();
 }

@@ -13,8 +13,8 @@
 namespace fovref {
 
 /// Whether resolve_row_avx covers a resolve: a forward table, a 3-channel buffer at least 3
-/// rows high (3 w h within int32) and a one-channel mask of the map's size, simd_allowed() and
-/// AVX2.
+/// rows high (3 w h within int32, w and h at most 2^24) and a one-channel mask of the map's size,
+/// simd_allowed() and AVX2.
 bool resolve_avx_applies(const LogPolarMap& map, const ResolveInputs& in,
                          const ForwardTable* table);
 

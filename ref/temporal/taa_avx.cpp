@@ -316,12 +316,15 @@ __attribute__((target("avx2"))) void moving_group(const TaaParams& params, const
 
 bool taa_avx_applies(const TaaInputs& in, const TaaState& previous) {
     // The lanes read one-channel depths and ages directly (taa() checks the other shapes); the
-    // gathers' indices 3 (y W + x) are int32.
+    // gathers' indices 3 (y W + x) are int32, and the taps' corners are computed in binary32
+    // (exact up to 2^24).
     const std::int64_t pixels =
         static_cast<std::int64_t>(previous.history.width) * previous.history.height;
     return previous.valid && in.depth.channels == 1 && previous.depth.channels == 1 &&
-           previous.age.channels == 1 && 3 * pixels <= std::numeric_limits<std::int32_t>::max() &&
-           simd_allowed() && cpu_has_avx2();
+           previous.age.channels == 1 && previous.history.width <= (1 << 24) &&
+           previous.history.height <= (1 << 24) &&
+           3 * pixels <= std::numeric_limits<std::int32_t>::max() && simd_allowed() &&
+           cpu_has_avx2();
 }
 
 int taa_row_avx(const TaaParams& params, const TaaInputs& in, const TaaState& previous,

@@ -854,11 +854,18 @@ TEST_CASE("interleaved closest-hit queries give trace_closest's hits and counts 
         CAPTURE(name);
         const SceneBvh& s = scene_bvh(name);
         // Fewer rays than lanes, a few more, and many (lanes finish at different times and
-        // take new rays); invalid rays at the start, in between and at the end.
+        // take new rays); invalid rays in between (every seventh ray from the seventh on).
         for (std::uint32_t count : {0u, 1u, 5u, 17u, 40u, 3001u}) {
             CAPTURE(count);
             check_interleaved(s.bvh, mixed_rays(s.scene, count));
         }
+        // Invalid rays only, and a batch that starts and ends with a run of them.
+        const std::vector<Ray> invalid(5, make_ray({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}));
+        check_interleaved(s.bvh, invalid);
+        std::vector<Ray> framed = invalid;
+        for (const Ray& ray : mixed_rays(s.scene, 40)) framed.push_back(ray);
+        framed.insert(framed.end(), invalid.begin(), invalid.end());
+        check_interleaved(s.bvh, framed);
     }
     // A tree without nodes: every ray misses, and is counted.
     const SceneBvh& s = scene_bvh("cornell");

@@ -8,10 +8,12 @@ expect 0 "trace" -- "$FOVREF" rays trace cornell "$TMP/r.bin" "$TMP/h.bin"
 [ "$(stat -c %s "$TMP/h.bin")" = $((16 * 9 * 16)) ] || { echo "FAIL: hit file size"; failures=$((failures+1)); }
 expect 0 "make random rays" -- "$FOVREF" rays make sphere-grid "$TMP/q.bin" --random 500 --seed 9
 expect 0 "any-hit" -- "$FOVREF" rays trace sphere-grid "$TMP/q.bin" "$TMP/o.bin" --any-hit
-# Interleaved closest hits: the same hit file, byte for byte, and the same counts.
-expect 0 "trace one at a time" -- "$FOVREF" rays trace sphere-grid "$TMP/q.bin" "$TMP/q1.bin"
+# Interleaved closest hits: the same hit file, byte for byte, and the same counts (5000 rays: a
+# chunk of 4096 and a shorter one, the 16 lanes each taking many rays).
+expect 0 "make more random rays" -- "$FOVREF" rays make sphere-grid "$TMP/m.bin" --random 5000 --seed 3
+expect 0 "trace one at a time" -- "$FOVREF" rays trace sphere-grid "$TMP/m.bin" "$TMP/q1.bin"
 ONE="$OUT"
-expect 0 "trace interleaved" -- "$FOVREF" rays trace sphere-grid "$TMP/q.bin" "$TMP/q16.bin" --interleave
+expect 0 "trace interleaved" -- "$FOVREF" rays trace sphere-grid "$TMP/m.bin" "$TMP/q16.bin" --interleave
 checks=$((checks + 1))
 cmp -s "$TMP/q1.bin" "$TMP/q16.bin" || { echo "FAIL: --interleave changed the hits"; failures=$((failures+1)); }
 checks=$((checks + 1))

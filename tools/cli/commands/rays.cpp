@@ -66,8 +66,11 @@ int run_rays_trace(const RaysTraceOptions& o) {
         write_occlusion(o.hits_path, occluded);
     } else {
         std::vector<Hit> hits(rays.size());
-        for (std::size_t k = 0; k < rays.size(); k += step) {
-            const std::size_t n = std::min(step, rays.size() - k);
+        // Chunks for the progress bar; an interleaved chunk of at least 4096 rays keeps its 16
+        // lanes busy (a lane drains at the chunk's end).
+        const std::size_t chunk = o.interleave ? std::max<std::size_t>(step, 4096) : step;
+        for (std::size_t k = 0; k < rays.size(); k += chunk) {
+            const std::size_t n = std::min(chunk, rays.size() - k);
             if (o.interleave)
                 trace_closest_interleaved(bvh, rays.data() + k, n, hits.data() + k, stats);
             else
