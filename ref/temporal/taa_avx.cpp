@@ -315,7 +315,8 @@ __attribute__((target("avx2"))) void moving_group(const TaaParams& params, const
 }  // namespace
 
 bool taa_avx_applies(const TaaInputs& in, const TaaState& previous) {
-    // The lanes read one-channel depths and ages directly (taa() checks the other shapes); the
+    // A stationary camera's lanes need AVX, a moving one's AVX2 (the gathers). The lanes read
+    // one-channel depths and ages directly (taa() checks the other shapes); the
     // gathers' indices 3 (y W + x) are int32, and the taps' corners are computed in binary32
     // (exact up to 2^24).
     const std::int64_t pixels =
@@ -324,7 +325,7 @@ bool taa_avx_applies(const TaaInputs& in, const TaaState& previous) {
            previous.age.channels == 1 && previous.history.width <= (1 << 24) &&
            previous.history.height <= (1 << 24) &&
            3 * pixels <= std::numeric_limits<std::int32_t>::max() && simd_allowed() &&
-           cpu_has_avx2();
+           (cpu_has_avx2() || (cpu_has_avx() && taa_constants(in, previous).stationary));
 }
 
 int taa_row_avx(const TaaParams& params, const TaaInputs& in, const TaaState& previous,

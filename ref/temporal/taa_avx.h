@@ -1,12 +1,12 @@
-// The TAA pass eight pixels at a time with AVX2: the same bits as taa_pixel, which stays the
-// readable reference (docs/temporal.md, "Benchmark"). It covers every frame with a history: a
-// stationary camera (every mode: the history at the pixel) and a moving camera (reprojection,
-// the bilinear history and depth, then the depth test and the periphery rule, or the clamp to
-// the 3x3 neighbourhood or to the buffer-space boxes). Each lane performs taa_pixel's binary32
-// operations in its order; a tap off the screen adds a selected +0 instead of being skipped, which
-// leaves every sum's bits unchanged (a sum that starts at +0 is never -0). The taps and the
-// previous age are gathered (masked gathers: plain loads of the same floats, none for a tap off
-// the screen).
+// The TAA pass eight pixels at a time with AVX2 (AVX for a stationary camera): the same bits as
+// taa_pixel, which stays the readable reference (docs/temporal.md, "Benchmark"). It covers every
+// frame with a history: a stationary camera (every mode: the history at the pixel) and a moving
+// camera (reprojection, the bilinear history and depth, then the depth test and the periphery rule,
+// or the clamp to the 3x3 neighbourhood or to the buffer-space boxes). Each lane performs
+// taa_pixel's binary32 operations in its order; a tap off the screen adds a selected +0 instead of
+// being skipped, which leaves every sum's bits unchanged (a sum that starts at +0 is never -0). The
+// taps and the previous age are gathered (masked gathers: plain loads of the same floats, none for
+// a tap off the screen).
 #pragma once
 
 #include "ref/temporal/taa.h"
@@ -14,7 +14,7 @@
 namespace fovref {
 
 /// Whether taa_row_avx covers a frame: a valid history, one-channel depths and ages, 3 W H within
-/// int32, simd_allowed() and a CPU with AVX2.
+/// int32 (W, H at most 2^24), simd_allowed() and a CPU with AVX2 (AVX for a stationary camera).
 bool taa_avx_applies(const TaaInputs& in, const TaaState& previous);
 
 /// Pixels 0 .. 8 floor(W / 8) - 1 of row y as taa_pixel computes them: `out`, `age` and (when
