@@ -123,7 +123,7 @@ TEST_CASE("TAA speed: the AVX pass gives taa_pixel's bits, every decision reache
             params.rejection = mode == 0 ? TaaRejection::depth : TaaRejection::clamp;
             const TaaInputs in{color, depth, camera, gaze, mode == 2 ? &bounds : nullptr};
             // The AVX path runs (where the CPU has it), with and without the margins.
-            const bool stationary = taa_constants(in, previous).stationary;
+            CHECK(taa_constants(in, previous).stationary == stationary);
             CHECK(taa_avx_applies(in, previous) ==
                   (cpu_has_avx2() || (cpu_has_avx() && stationary)));
             const Run fast = run(params, in, previous);
