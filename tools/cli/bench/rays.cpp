@@ -142,14 +142,15 @@ struct Row {
     double nodes_per_ray = 0.0, triangles_per_ray = 0.0;
 };
 
+// The Embree columns of a row Embree has no figure for (the G-buffer passes).
+constexpr const char* embree_blank_columns =
+    "             |             |        |        |        |                |            |";
+
 void print_row(const Row& r, bool have_embree) {
     if (r.kind == "raster gbuf" || r.kind == "ray gbuf") {  // G-buffer passes: time, no peer
         std::printf("| %-12s | %-10s | %9zu | %8.1f ms |             |", r.scene.c_str(),
                     r.kind.c_str(), r.rays, 1e3 * r.ref);
-        if (have_embree)
-            std::printf(
-                "             |             |        |        |        |                |          "
-                "  |");
+        if (have_embree) std::printf("%s", embree_blank_columns);
         std::printf("             |\n");
         return;
     }
