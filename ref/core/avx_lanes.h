@@ -3,7 +3,8 @@
 // library's std::max, std::min, std::isfinite, std::fabs and std::floor with their exact
 // semantics (the first argument on ties and NaN, as the standard defines them). Each helper is
 // forced inline into the caller, which must itself be compiled for AVX
-// (`__attribute__((target("avx")))`) and must not pass an __m256 to code without AVX.
+// (`__attribute__((target("avx")))`; AVX2 for the gathers, FOVREF_AVX2_INLINE) and must not pass
+// an __m256 to code without AVX.
 #pragma once
 
 #include <immintrin.h>
@@ -71,6 +72,21 @@ inline void load3_lanes(const float* p, float (*out)[lanes]) {
 inline void store3_lanes(const float (*in)[lanes], float* p) {
     for (int l = 0; l < lanes; ++l)
         for (int c = 0; c < 3; ++c) p[l * 3 + c] = in[c][l];
+}
+
+#define FOVREF_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
+
+/// (AVX2) The row-major indices y * width + x of eight pixels, in int32 (the caller makes sure
+/// that 3 * width * height fits).
+FOVREF_AVX2_INLINE __m256i row_major(__m256i x, __m256i y, int width) {
+    return _mm256_add_epi32(_mm256_mullo_epi32(y, _mm256_set1_epi32(width)), x);
+}
+/// (AVX2) The three interleaved channels of pixels `pixel` of `rgb` (3 floats a pixel) into
+/// out[0 .. 2], in the lanes set in `mask`; +0 in the others, which read nothing: masked gathers,
+/// plain loads of the same floats.
+FOVREF_AVX2_INLINE void gather3_lanes(const float* rgb, __m256i pixel, __m256 mask, __m256* out) {
+    const __m256i first = _mm256_add_epi32(_mm256_add_epi32(pixel, pixel), pixel);
+    for (int c = 0; c < 3; ++c) out[c] = _mm256_mask_i32gather_ps(zero(), rgb + c, first, mask, 4);
 }
 
 /// The four bilinear taps of eight points (tx, ty) whose corners (x0, y0), the floors of tx and

@@ -80,20 +80,17 @@ __attribute__((target("avx2"))) bool resolve_group(const LogPolarMap& map, const
     // The taps' texels j w + i: (i0, j0), (i1, j0), (i0, j1), (i1, j1), all inside the buffer;
     // their validity and colours gathered (AVX2), a lane with an untraced tap left to the
     // reference.
-    const __m256i width = _mm256_set1_epi32(w);
     const __m256i ci0 = _mm256_cvttps_epi32(i0), ci1 = _mm256_cvttps_epi32(i1);
-    const __m256i start0 = _mm256_mullo_epi32(_mm256_cvttps_epi32(j0), width);
-    const __m256i start1 = _mm256_mullo_epi32(_mm256_cvttps_epi32(j1), width);
-    const __m256i texels[4] = {_mm256_add_epi32(start0, ci0), _mm256_add_epi32(start0, ci1),
-                               _mm256_add_epi32(start1, ci0), _mm256_add_epi32(start1, ci1)};
-    const float* valid = in.buffer_valid.data.data();
-    const float* buffer = in.buffer.data.data();
+    const __m256i cj0 = _mm256_cvttps_epi32(j0), cj1 = _mm256_cvttps_epi32(j1);
+    const __m256i texels[4] = {row_major(ci0, cj0, w), row_major(ci1, cj0, w),
+                               row_major(ci0, cj1, w), row_major(ci1, cj1, w)};
+    const __m256 every = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
     __m256 taps[4][3];
-    __m256 all = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+    __m256 all = every;
     for (int k = 0; k < 4; ++k) {
-        all = both(all, not_equal(_mm256_i32gather_ps(valid, texels[k], 4), zero()));
-        const __m256i first = _mm256_add_epi32(_mm256_add_epi32(texels[k], texels[k]), texels[k]);
-        for (int c = 0; c < 3; ++c) taps[k][c] = _mm256_i32gather_ps(buffer + c, first, 4);
+        all = both(
+            all, not_equal(_mm256_i32gather_ps(in.buffer_valid.data.data(), texels[k], 4), zero()));
+        gather3_lanes(in.buffer.data.data(), texels[k], every, taps[k]);
     }
     const int all_traced = bits(all);
     alignas(32) float result[3][lanes];

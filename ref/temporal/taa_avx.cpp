@@ -187,21 +187,17 @@ FOVREF_AVX_INLINE __m256 reprojection_margin(__m256 px, __m256 py, __m256 reproj
 /// a pixel of it; zero in the lanes without taps), gathered (AVX2: plain loads of the same
 /// floats). Tap t is (x0 + (t & 1), y0 + (t >> 1)); the int32 indices are those of the taps on
 /// the screen (taa_avx_applies checks that 3 W H fits), the others are never loaded.
-__attribute__((target("avx2"), always_inline)) inline void gather_history(
-    const TaaState& previous, const BilinearLanes& b, __m256 has_taps, __m256 px, __m256 py,
-    __m256 (&taps)[4][4], float* age_previous) {
+FOVREF_AVX2_INLINE void gather_history(const TaaState& previous, const BilinearLanes& b,
+                                       __m256 has_taps, __m256 px, __m256 py, __m256 (&taps)[4][4],
+                                       float* age_previous) {
     const int width = previous.history.width, height = previous.history.height;
-    const __m256i w = _mm256_set1_epi32(width);
-    const __m256i first = _mm256_add_epi32(
-        _mm256_mullo_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(b.y0)), w),
-        _mm256_load_si256(reinterpret_cast<const __m256i*>(b.x0)));
-    const float* history = previous.history.data.data();
+    const __m256i first =
+        row_major(_mm256_load_si256(reinterpret_cast<const __m256i*>(b.x0)),
+                  _mm256_load_si256(reinterpret_cast<const __m256i*>(b.y0)), width);
     for (int t = 0; t < 4; ++t) {
         const __m256i pixel =
             _mm256_add_epi32(first, _mm256_set1_epi32((t >> 1) * width + (t & 1)));
-        const __m256i channel0 = _mm256_add_epi32(_mm256_add_epi32(pixel, pixel), pixel);
-        for (int c = 0; c < 3; ++c)
-            taps[t][c] = _mm256_mask_i32gather_ps(zero(), history + c, channel0, b.on[t], 4);
+        gather3_lanes(previous.history.data.data(), pixel, b.on[t], taps[t]);
         taps[t][3] =
             _mm256_mask_i32gather_ps(zero(), previous.depth.data.data(), pixel, b.on[t], 4);
     }
@@ -212,10 +208,8 @@ __attribute__((target("avx2"), always_inline)) inline void gather_history(
     const __m256i ay = _mm256_min_epi32(
         _mm256_max_epi32(_mm256_cvttps_epi32(floor_value(py)), _mm256_setzero_si256()),
         _mm256_set1_epi32(height - 1));
-    _mm256_store_ps(
-        age_previous,
-        _mm256_mask_i32gather_ps(zero(), previous.age.data.data(),
-                                 _mm256_add_epi32(_mm256_mullo_epi32(ay, w), ax), has_taps, 4));
+    _mm256_store_ps(age_previous, _mm256_mask_i32gather_ps(zero(), previous.age.data.data(),
+                                                           row_major(ax, ay, width), has_taps, 4));
 }
 
 /// sample_history's sums over the taps on the screen, in tap order, then the divisions: the
