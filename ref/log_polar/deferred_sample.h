@@ -5,37 +5,41 @@
 //   for each texel (i, j) of the w x h buffer, row by row:   deferred_gbuffer_texel(x = i, y = j)
 //     centre (i + 1/2, j + 1/2) -> lp_inverse (the factored table) -> screen point p
 //     p off screen (or inside the gaze circle): no data, valid 0
-//     else pixel (floor(p.x), floor(p.y)) of the W x H G-buffer, every channel copied as it is
+//     else pixel (floor(p.x), floor(p.y)) of the W x H G-buffer, every channel as it is
 //     (its motion vector stays relative to that pixel's centre), valid 1
+//
+// The pass reads only the G-buffer's primitive ids: the pixel's other channels are made again
+// from its primitive (write_rasterized_pixel, the rasterizer's own per-pixel functions), the same
+// bits as the rasterized G-buffer's, so the rasterizer need not run its attribute pass over every
+// pixel for the ~1/4 of them that the buffer samples (docs/foveation.md, "Deferred variant").
 #pragma once
 
 #include "ref/log_polar/trace.h"
+#include "ref/raster/rasterizer.h"
 
 namespace fovref {
 
-/// The screen G-buffer's channels the deferred pass reads (a rasterized G-buffer's).
-struct ScreenGBuffer {
-    const Image& view_depth;
-    const Image& hit_distance;
-    const Image& world_position;
-    const Image& shading_normal;
-    const Image& geometric_normal;
-    const Image& albedo;
-    const Image& material_id;
+/// What lp_sample reads of the rasterized screen: the G-buffer's primitive ids (W x H, -1 =
+/// background) and what makes a pixel's other channels again: the scene, the rasterizer's frame
+/// (its camera, screen, fill rule and sample) and the previous camera (motion).
+struct RasterizedScreen {
+    const Scene& scene;
     const Image& primitive_id;
-    const Image& motion;
+    RasterFrame frame;
+    Camera previous_camera;
+    float previous_tan_half = 0.0f;  ///< tan_half_vfov(previous_camera)
 };
 
 /// Per-texel work of sample_lp_gbuffer; returns the texel's status.
 TexelStatus deferred_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points,
                                    const LogPolarMap& map, const LpInverseTable& table,
-                                   const ScreenGBuffer& screen, int x, int y,
+                                   const RasterizedScreen& screen, int x, int y,
                                    FoveatedTraceStats& stats);
 
-/// The log-polar buffer's G-buffer sampled from the screen G-buffer (W x H).
+/// The log-polar buffer's G-buffer sampled from the rasterized screen (W x H).
 /// `screen_offset` (TAA in the kfr mode, Meng §2.3.2; SPEC §7): the Halton jitter applied after
 /// the inverse transform, o - (1/2, 1/2) screen pixels added to every texel's screen point.
-MaskedGBuffer sample_lp_gbuffer(const LogPolarMap& map, const ScreenGBuffer& screen,
+MaskedGBuffer sample_lp_gbuffer(const LogPolarMap& map, const RasterizedScreen& screen,
                                 Image& screen_points, FoveatedTraceStats& stats,
                                 glm::vec2 screen_offset = glm::vec2(0.0f));
 

@@ -83,18 +83,16 @@ TexelRerun rerun_texel(const ProbeContext& c, const FoveatedParams& params, cons
     TexelRerun r{MaskedGBuffer(m.width, m.height), Image(m.width, m.height, 2, 0.0f)};
     FoveatedTraceStats stats;
     const LpInverseTable table =
-        params.deferred ? lp_inverse_table(m, Offset2{}, {c.jitter.x - 0.5f, c.jitter.y - 0.5f})
-                        : lp_inverse_table(m, c.jitter);
+        params.deferred
+            ? lp_inverse_table(m, Offset2{}, deferred_sample_offset(params.jitter_raster, c.jitter))
+            : lp_inverse_table(m, c.jitter);
     if (params.deferred) {
-        const ScreenGBuffer screen{f.find("gbuffer_view_depth")->image,
-                                   f.find("gbuffer_hit_distance")->image,
-                                   f.find("gbuffer_world_position")->image,
-                                   f.find("gbuffer_shading_normal")->image,
-                                   f.find("gbuffer_geometric_normal")->image,
-                                   f.find("gbuffer_albedo")->image,
-                                   f.find("gbuffer_material_id")->image,
-                                   f.find("gbuffer_primitive_id")->image,
-                                   f.find("gbuffer_motion")->image};
+        RasterSettings raster = params.raster;
+        if (params.jitter_raster) raster.sample = c.jitter;
+        const RasterizedScreen screen{
+            *c.scene, f.find("gbuffer_primitive_id")->image,
+            make_raster_frame(*c.scene, c.camera, m.screen_width, m.screen_height, raster),
+            c.previous_camera, tan_half_vfov(c.previous_camera)};
         r.status = deferred_gbuffer_texel(r.scratch, r.points, m, table, screen, i, j, stats);
     } else {
         r.status = lp_gbuffer_texel(r.scratch, r.points, m, table,
@@ -130,11 +128,17 @@ TexelStatus explain_texel_trace(const ProbeContext& c, const FoveatedParams& par
     trace.add("screen point", point_text(p) + ", r = " + probe_float(gaze_distance(m.gaze, p)) +
                                   " px from the gaze: " + status_text(r.status));
     if (r.status == TexelStatus::traced && params.deferred) {
-        trace.add("sampled pixel", "(" + std::to_string(static_cast<int>(std::floor(p.x))) + ", " +
-                                       std::to_string(static_cast<int>(std::floor(p.y))) +
-                                       ") of the rasterized G-buffer, every channel copied "
-                                       "(`fovref probe --pixel` explains its rasterization)");
+        const int sx = static_cast<int>(std::floor(p.x)), sy = static_cast<int>(std::floor(p.y));
+        trace.add("sampled pixel", "(" + std::to_string(sx) + ", " + std::to_string(sy) +
+                                       ") of the rasterized G-buffer, its channels made again "
+                                       "from its primitive id (`fovref probe --pixel` explains "
+                                       "its rasterization)");
         trace.add("primitive", probe_float(r.scratch.gbuffer.primitive_id.at(i, j)));
+        const bool copy = probe_same_gbuffer(r.scratch.gbuffer, i, j, *c.frame, "gbuffer_", sx, sy);
+        trace.add("G-buffer", std::string("texel: ") +
+                                  (copy ? "bit-identical to the rasterized G-buffer's pixel"
+                                        : "DIFFERS from the rasterized G-buffer's pixel"));
+        if (!copy) report.consistent = false;
     } else if (r.status == TexelStatus::traced) {
         const Ray ray = primary_ray(c.camera, tan_half_vfov(c.camera), m.screen_width,
                                     m.screen_height, p.x, p.y);

@@ -79,13 +79,6 @@ std::string map_note(const LogPolarMap& map) {
            " texels, K = " + kernel_text(map.kernel);
 }
 
-// The screen G-buffer lp_sample reads, from its gbuffer_* inputs.
-ScreenGBuffer screen_gbuffer(const FrameContext& ctx) {
-    return {ctx.input("view_depth"),     ctx.input("hit_distance"),     ctx.input("world_position"),
-            ctx.input("shading_normal"), ctx.input("geometric_normal"), ctx.input("albedo"),
-            ctx.input("material_id"),    ctx.input("primitive_id"),     ctx.input("motion")};
-}
-
 }  // namespace
 
 LogPolarMap LogPolarFrames::map(const FrameContext& ctx) const {
@@ -138,8 +131,23 @@ void lp_sample_stage(FrameContext& ctx) {
     // The TAA jitter: the rasterizer's sample moved (the nearest jittered sample copied), or
     // the texels' points shifted by o - (1/2, 1/2) (raster_jitter=lookup)
     const Offset2 jitter = frame_jitter(ctx, s.jitter);
-    const glm::vec2 offset = deferred_sample_offset(s.frames->params.jitter_raster, jitter);
-    MaskedGBuffer lp = sample_lp_gbuffer(map, screen_gbuffer(ctx), screen_points, stats, offset);
+    const FoveatedParams& params = s.frames->params;
+    const glm::vec2 offset = deferred_sample_offset(params.jitter_raster, jitter);
+    // The rasterizer's frame as gbuffer_raster made it (its settings, its sample under TAA)
+    RasterSettings raster = params.raster;
+    if (params.jitter_raster) raster.sample = jitter;
+    const Scene& scene = *ctx.scene;
+    if (scene.triangle_count() > (std::size_t{1} << 24))
+        throw Error(
+            "mode with primary=raster (kfr): lp_sample reads the rasterized G-buffer's "
+            "primitive ids, which are exact below 2^24 = 16777216 triangles; the scene "
+            "has " +
+            std::to_string(scene.triangle_count()));
+    const RasterizedScreen screen{
+        scene, ctx.input("primitive_id"),
+        make_raster_frame(scene, ctx.camera, ctx.settings->width, ctx.settings->height, raster),
+        ctx.previous_camera, tan_half_vfov(ctx.previous_camera)};
+    MaskedGBuffer lp = sample_lp_gbuffer(map, screen, screen_points, stats, offset);
     add_buffer_counters(ctx, map, stats);
     ctx.note = map_note(map) + ", " + std::to_string(stats.texels_traced) +
                " sampled from the rasterized G-buffer" +
@@ -150,7 +158,11 @@ void lp_sample_stage(FrameContext& ctx) {
 }
 
 StageDef lp_sample_stage_def(const LogPolarStage& shared) {
-    return {"lp_sample", gbuffer_ports(), buffer_outputs(), lp_sample_stage, lp_state(shared)};
+    return {"lp_sample",
+            {{"primitive_id", "gbuffer_primitive_id"}},
+            buffer_outputs(),
+            lp_sample_stage,
+            lp_state(shared)};
 }
 
 void gaze_trace_stage(FrameContext& ctx) {

@@ -103,7 +103,7 @@ std::vector<Port> shading_ports(const std::string& prefix) {
 void output_gbuffer(const FrameContext& ctx, GBuffer g) {
     each_channel(
         g, [&](const char* name, BufferKind kind, std::vector<std::string> channels, Image& image) {
-            ctx.output(name, kind, std::move(channels), std::move(image));
+            if (!image.empty()) ctx.output(name, kind, std::move(channels), std::move(image));
         });
 }
 

@@ -71,7 +71,8 @@ std::vector<Port> gbuffer_ports(const std::string& prefix = "gbuffer_");
 /// The G-buffer view the shading passes read (world_position, shading_normal, geometric_normal,
 /// albedo, material_id, primitive_id) as ports: slot = channel, buffer = prefix + channel.
 std::vector<Port> shading_ports(const std::string& prefix = "gbuffer_");
-/// Writes every channel of `gbuffer` to the running stage's output slot of the same name.
+/// Writes every channel of `gbuffer` to the running stage's output slot of the same name (a
+/// channel left empty is not written: a stage that produces only the wanted channels).
 void output_gbuffer(const FrameContext& context, GBuffer gbuffer);
 
 }  // namespace fovref

@@ -530,6 +530,36 @@ GBuffer resolve_gbuffer(const Scene& scene, const VisibilityBuffer& vis, const C
     return g;
 }
 
+bool write_rasterized_pixel(GBuffer& g, int x, int y, const Scene& scene, const RasterFrame& frame,
+                            const Camera& previous_camera, float previous_tan_half,
+                            float primitive_id, int sx, int sy) {
+    // An id that names no triangle (background, or a buffer altered upstream) writes nothing.
+    if (!(primitive_id >= 0.0f && primitive_id < static_cast<float>(scene.triangle_count())) ||
+        primitive_id != std::floor(primitive_id))
+        return false;
+    const auto primitive = static_cast<std::int32_t>(primitive_id);
+    RasterFragment fragment;
+    if (!raster_fragment(scene, frame, sx, sy, primitive, fragment)) return false;
+    write_gbuffer_sample(g, x, y, pixel_centre(sx, sy), frame.width, frame.height, scene,
+                         frame.camera, previous_camera, previous_tan_half, primitive, fragment.u,
+                         fragment.v);
+    return true;
+}
+
+Image visibility_primitive_ids(const VisibilityBuffer& vis) {
+    Image ids(vis.width, vis.height, 1, -1.0f);
+    for (std::size_t k = 0; k < vis.primitive.size(); ++k)
+        if (vis.primitive[k] >= 0) ids.data[k] = static_cast<float>(vis.primitive[k]);
+    return ids;
+}
+
+Image visibility_view_depth(const VisibilityBuffer& vis) {
+    Image depth(vis.width, vis.height, 1, 0.0f);
+    for (std::size_t k = 0; k < vis.primitive.size(); ++k)
+        if (vis.primitive[k] >= 0) depth.data[k] = vis.depth[k];
+    return depth;
+}
+
 GBuffer rasterize_gbuffer(const Scene& scene, const Camera& camera, const Camera& previous_camera,
                           int width, int height, RasterStats& stats,
                           const RasterSettings& settings) {

@@ -265,6 +265,26 @@ struct RasterFragment {
 bool raster_fragment(const Scene& scene, const RasterFrame& frame, int x, int y,
                      std::int32_t primitive, RasterFragment& fragment);
 
+/// The rasterized G-buffer's channels of screen pixel (sx, sy), made again from its visible
+/// primitive and written to pixel (x, y) of `g` (of any size): raster_fragment at (sx, sy) gives
+/// the (u, v) the visibility pass stored there, then write_gbuffer_sample with the pixel's centre,
+/// as resolve_gbuffer does. The same bits as resolve_gbuffer's pixel (sx, sy), so a pass that
+/// reads a few pixels of the G-buffer (kfr's lp_sample) needs only the primitive ids at full
+/// resolution. `primitive_id` is the stored id (a float); a value that is not a triangle of the
+/// scene (-1: background), or a triangle whose plane the pixel's ray misses, writes nothing and
+/// returns false. `previous_tan_half` = tan_half_vfov(previous_camera).
+bool write_rasterized_pixel(GBuffer& g, int x, int y, const Scene& scene, const RasterFrame& frame,
+                            const Camera& previous_camera, float previous_tan_half,
+                            float primitive_id, int sx, int sy);
+
+/// The visibility pass's primitive ids as the G-buffer channel `primitive_id` (-1: background):
+/// resolve_gbuffer's channel, bit for bit.
+Image visibility_primitive_ids(const VisibilityBuffer& visibility);
+/// The visibility pass's depths as the G-buffer channel `view_depth` (0: background):
+/// resolve_gbuffer's channel, bit for bit (raster_fragment's depth is view_depth of surface_at's
+/// position).
+Image visibility_view_depth(const VisibilityBuffer& visibility);
+
 /// Depth test "less" at pixel (x, y): the fragment wins when its depth is smaller than the stored
 /// one, or equal with a lower primitive id (SPEC §3, §4's tie-break). Writes it and returns true
 /// when it wins.

@@ -149,8 +149,13 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
 
     // What the mode's own explainer says about the pixel, stage by stage.
     if (mode.explain) {
-        ProbeContext context{scene, &s,    &last, frame > 0 ? &previous : nullptr, camera, x,
-                             y,     texel, eye};
+        const Camera previous_camera =
+            scene && frame > 0
+                ? camera_at(*scene, s.time_start + static_cast<float>(frame - 1) * s.time_step)
+                : camera;
+        ProbeContext context{
+            scene, &s,        &last,          frame > 0 ? &previous : nullptr, camera, x, y, texel,
+            eye,   Offset2{}, previous_camera};
         mode.explain(context, report);
     }
     report.sections.push_back(buffers_section(s, last, report));

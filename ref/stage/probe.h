@@ -61,6 +61,9 @@ struct ProbeContext {
     /// The frame's TAA launch offset in a pixel or texel (the centre without TAA; set by the
     /// mode's explainer before it explains the ray generation).
     Offset2 jitter{};
+    /// The camera of frame - 1 as the stages saw it (FrameContext::previous_camera): the camera
+    /// itself on frame 0.
+    Camera previous_camera;
 };
 
 /// Renders frames 0 .. frame of `mode` (every buffer of the last), then explains pixel (x, y),

@@ -296,6 +296,11 @@ void explain_shade_direct(const ProbeContext& c, const Bvh& bvh, ProbeReport& re
 
 bool probe_same_gbuffer(const GBuffer& mine, const FrameResult& f, const std::string& prefix, int x,
                         int y) {
+    return probe_same_gbuffer(mine, x, y, f, prefix, x, y);
+}
+
+bool probe_same_gbuffer(const GBuffer& mine, int x, int y, const FrameResult& f,
+                        const std::string& prefix, int rx, int ry) {
     bool same = true;
     for (const auto& [name, image] :
          {std::pair<const char*, const Image*>{"view_depth", &mine.view_depth},
@@ -308,7 +313,7 @@ bool probe_same_gbuffer(const GBuffer& mine, const FrameResult& f, const std::st
           {"primitive_id", &mine.primitive_id}}) {
         const Image& rendered = f.find(prefix + name)->image;
         for (int k = 0; k < image->channels; ++k) {
-            const float a = image->at(x, y, k), b = rendered.at(x, y, k);
+            const float a = image->at(x, y, k), b = rendered.at(rx, ry, k);
             same = same && std::memcmp(&a, &b, sizeof a) == 0;
         }
     }

@@ -29,6 +29,10 @@ void probe_check(ProbeReport& report, ProbeSection& section, const std::string& 
 /// buffer named prefix + channel ("gbuffer_view_depth", ...).
 bool probe_same_gbuffer(const GBuffer& mine, const FrameResult& frame, const std::string& prefix,
                         int x, int y);
+/// The same for `mine` at (x, y) against the rendered buffers at (rx, ry) (a texel against the
+/// screen pixel it was sampled from).
+bool probe_same_gbuffer(const GBuffer& mine, int x, int y, const FrameResult& frame,
+                        const std::string& prefix, int rx, int ry);
 /// The shading pass's own per-pixel function (shade_basic_pixel) at (x, y) of the rendered
 /// G-buffer named prefix + "world_position", ... (its light samples and random numbers), checked
 /// against buffer `color` at (x, y). `window`: where that buffer lies on the screen (null: it is

@@ -12,6 +12,7 @@
 #include "ref/filters/post_aa.h"
 #include "ref/log_polar/mip_resolve.h"
 #include "ref/modes/modes.h"
+#include "ref/raster/gbuffer.h"
 #include "ref/scene/procedural.h"
 #include "tests/image/image_test_util.h"
 
@@ -158,6 +159,58 @@ TEST_CASE("post AA: the pass (row sums kept) equals post_aa_pixel bit for bit at
             }
 }
 
+TEST_CASE(
+    "kfr: the texels, moving and jittered, equal the G-buffer's pixel; nothing dumped, the same "
+    "bits") {
+    // A moving camera (motion vectors) under TAA's jitter, in the rasterizer (raster_jitter=raster,
+    // the default) or added to the texels' points (lookup). A render that wants only the final
+    // image lets gbuffer_raster skip its attribute pass (only the ids, and TAA's depths, are made):
+    // lp_sample's buffers and the final image must keep their bits.
+    const Scene scene = make_procedural_scene("glossy-floor");
+    for (const char* jitter : {"raster", "lookup"}) {
+        CAPTURE(jitter);
+        RenderSettings s;
+        s.width = 80;
+        s.height = 45;
+        s.frame_count = 3;
+        s.params.set("taa", "depth");
+        s.params.set("raster_jitter", jitter);
+        s.requested = {"all"};
+        const std::vector<FrameResult> all = render(&scene, "kfr", s);
+        s.requested = {"final", "lp_gbuffer_motion", "lp_gbuffer_albedo"};
+        const std::vector<FrameResult> lean = render(&scene, "kfr", s);
+        for (std::size_t k = 0; k < all.size(); ++k) {
+            CAPTURE(k);
+            const FrameResult& f = all[k];
+            const Image& valid = f.find("lp_valid")->image;
+            const Image& points = f.find("lp_screen_point")->image;
+            std::int64_t differing = 0, moving = 0;
+            for (const std::string& channel : gbuffer_names("")) {
+                const Image& lp = f.find("lp_gbuffer_" + channel)->image;
+                const Image& screen = f.find("gbuffer_" + channel)->image;
+                for (int j = 0; j < valid.height; ++j)
+                    for (int i = 0; i < valid.width; ++i) {
+                        if (valid.at(i, j) == 0.0f) continue;
+                        const int x = static_cast<int>(std::floor(points.at(i, j, 0)));
+                        const int y = static_cast<int>(std::floor(points.at(i, j, 1)));
+                        for (int c = 0; c < lp.channels; ++c) {
+                            const float a = lp.at(i, j, c), b = screen.at(x, y, c);
+                            differing += std::memcmp(&a, &b, sizeof a) != 0;
+                            moving += channel == "motion" && std::fabs(a) > 0.01f;
+                        }
+                    }
+            }
+            CHECK(differing == 0);
+            if (k > 0) CHECK(moving > 0);  // the camera moves: the texels' motion is not 0
+            // Without dumps: no attribute channel of the screen G-buffer is made
+            CHECK(lean[k].find("gbuffer_albedo") == nullptr);
+            CHECK(lean[k].find("gbuffer_world_position") == nullptr);
+            for (const char* name : {"final", "lp_gbuffer_motion", "lp_gbuffer_albedo"})
+                CHECK(bit_equal(lean[k].find(name)->image, f.find(name)->image));
+        }
+    }
+}
+
 TEST_CASE("kfr: deferred texels equal the rasterized G-buffer's pixel under their point") {
     const Scene scene = make_procedural_scene("checker-room");
     RenderSettings s;
@@ -170,19 +223,24 @@ TEST_CASE("kfr: deferred texels equal the rasterized G-buffer's pixel under thei
     CHECK(valid.width == 53);  // round(96 / 1.8)
     CHECK(valid.height == 30);
     std::int64_t sampled = 0;
-    for (const char* channel : {"primitive_id", "albedo", "world_position", "motion"}) {
-        const Image& lp = f.find(std::string("lp_gbuffer_") + channel)->image;
-        const Image& screen = f.find(std::string("gbuffer_") + channel)->image;
+    // Every channel, bit for bit: lp_sample makes the pixel again from its primitive id
+    // (write_rasterized_pixel) instead of copying it, which must not show.
+    for (const std::string& channel : gbuffer_names("")) {
+        const Image& lp = f.find("lp_gbuffer_" + channel)->image;
+        const Image& screen = f.find("gbuffer_" + channel)->image;
         for (int j = 0; j < valid.height; ++j)
             for (int i = 0; i < valid.width; ++i) {
                 if (valid.at(i, j) == 0.0f) continue;
                 ++sampled;
                 const int x = static_cast<int>(std::floor(points.at(i, j, 0)));
                 const int y = static_cast<int>(std::floor(points.at(i, j, 1)));
-                for (int c = 0; c < lp.channels; ++c) REQUIRE(lp.at(i, j, c) == screen.at(x, y, c));
+                for (int c = 0; c < lp.channels; ++c) {
+                    const float a = lp.at(i, j, c), b = screen.at(x, y, c);
+                    REQUIRE(std::memcmp(&a, &b, sizeof a) == 0);
+                }
             }
     }
-    CHECK(sampled == 4 * f.counters.get("texels_traced"));
+    CHECK(sampled == 9 * f.counters.get("texels_traced"));
     CHECK(f.counters.get("rays_primary") == 0);  // no primary rays: the rasterizer's G-buffer
     CHECK(f.counters.get("raster_fragments_written") > 0);
     for (const char* name : {"lp_color_aa", "resolved", "final"}) CHECK(f.find(name) != nullptr);

@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <string>
@@ -740,6 +741,70 @@ TEST_CASE("raster: deterministic, bit-equal over two runs") {
     MESSAGE("cornell 64x48 world_position " << canonical_sha256(a.world_position).substr(0, 16)
                                             << " motion "
                                             << canonical_sha256(a.motion).substr(0, 16));
+}
+
+TEST_CASE(
+    "raster: a pixel made again from its id, and the visibility channels, equal "
+    "resolve_gbuffer's") {
+    // kfr's lp_sample reads only the primitive ids and makes the pixels it samples again
+    // (write_rasterized_pixel); the raster stage then outputs the visibility pass's ids and
+    // depths alone (visibility_primitive_ids, visibility_view_depth). All must be resolve_gbuffer's
+    // bits, every channel, motion included, with a jittered sample and a moving camera.
+    const int w = 64, h = 36;
+    for (const char* name : {"cornell", "checker-room", "glossy-floor", "sphere-grid"}) {
+        CAPTURE(name);
+        const Scene scene = make_procedural_scene(name);
+        const Camera camera = camera_at(scene, 0.5f), previous = camera_at(scene, 0.25f);
+        for (const Offset2 sample : {Offset2{}, Offset2{0.8125f, 0.1875f}}) {
+            CAPTURE(sample.x);
+            RasterSettings settings;
+            settings.sample = sample;
+            RasterStats stats;
+            const VisibilityBuffer vis = rasterize_visibility(scene, camera, w, h, stats, settings);
+            const GBuffer g = resolve_gbuffer(scene, vis, camera, previous, stats);
+            CHECK(bit_equal(visibility_primitive_ids(vis), g.primitive_id));
+            CHECK(bit_equal(visibility_view_depth(vis), g.view_depth));
+            const RasterFrame frame = make_raster_frame(scene, camera, w, h, settings);
+            GBuffer again(w, h);
+            int written = 0;
+            for (int j = 0; j < h; ++j)
+                for (int i = 0; i < w; ++i)
+                    written += write_rasterized_pixel(again, i, j, scene, frame, previous,
+                                                      tan_half_vfov(previous),
+                                                      g.primitive_id.at(i, j), i, j);
+            CHECK(written == stats.pixels_covered);
+            CHECK(written > w * h / 3);
+            CHECK(bit_equal(again.view_depth, g.view_depth));
+            CHECK(bit_equal(again.hit_distance, g.hit_distance));
+            CHECK(bit_equal(again.world_position, g.world_position));
+            CHECK(bit_equal(again.shading_normal, g.shading_normal));
+            CHECK(bit_equal(again.geometric_normal, g.geometric_normal));
+            CHECK(bit_equal(again.albedo, g.albedo));
+            CHECK(bit_equal(again.material_id, g.material_id));
+            CHECK(bit_equal(again.primitive_id, g.primitive_id));
+            CHECK(bit_equal(again.motion, g.motion));
+            // Into another pixel of another buffer: the same values (a texel takes the pixel's).
+            GBuffer one(1, 1);
+            const int i = w / 2, j = h / 2;
+            REQUIRE(g.primitive_id.at(i, j) >= 0.0f);
+            CHECK(write_rasterized_pixel(one, 0, 0, scene, frame, previous, tan_half_vfov(previous),
+                                         g.primitive_id.at(i, j), i, j));
+            CHECK(one.albedo.at(0, 0, 1) == g.albedo.at(i, j, 1));
+            CHECK(one.motion.at(0, 0, 0) == g.motion.at(i, j, 0));
+            // Ids that name no triangle write nothing: background, a fraction, past the end,
+            // NaN, infinity.
+            const float n = static_cast<float>(scene.triangle_count());
+            for (const float id :
+                 {-1.0f, 0.5f, n, n + 7.0f, std::numeric_limits<float>::quiet_NaN(),
+                  std::numeric_limits<float>::infinity()}) {
+                GBuffer untouched(1, 1);
+                CHECK_FALSE(write_rasterized_pixel(untouched, 0, 0, scene, frame, previous,
+                                                   tan_half_vfov(previous), id, i, j));
+                CHECK(untouched.primitive_id.at(0, 0) == -1.0f);
+                CHECK(untouched.albedo.at(0, 0, 0) == 0.0f);
+            }
+        }
+    }
 }
 
 // ---- Procedural scenes ----
