@@ -81,6 +81,13 @@ inline void store3_lanes(const float (*in)[lanes], float* p) {
 FOVREF_AVX2_INLINE __m256i row_major(__m256i x, __m256i y, int width) {
     return _mm256_add_epi32(_mm256_mullo_epi32(y, _mm256_set1_epi32(width)), x);
 }
+/// (AVX2) The comparison mask whose lanes are the bits of `lane_bits` (bit l: lane l), the
+/// inverse of bits().
+FOVREF_AVX2_INLINE __m256 mask_of(int lane_bits) {
+    const __m256i each = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    return _mm256_castsi256_ps(
+        _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(lane_bits), each), each));
+}
 /// (AVX2) The three interleaved channels of pixels `pixel` of `rgb` (3 floats a pixel) into
 /// out[0 .. 2], in the lanes set in `mask`; +0 in the others, which read nothing: masked gathers,
 /// plain loads of the same floats.

@@ -6,6 +6,7 @@
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
+#include "ref/log_polar/resolve_avx.h"
 
 namespace fovref {
 
@@ -100,8 +101,12 @@ Image resolve_log_polar_mip(const LogPolarMap& map, const std::vector<MipLevel>&
                      "a forward table made for another map or pyramid");
     FOVREF_CHECK_EQ(mips[0].color.width, map.width, "log-polar buffer width");
     Image out(map.screen_width, map.screen_height, mips[0].color.channels, 0.0f);
+    // Eight pixels at a time where the AVX2 path covers the resolve (the same bits:
+    // resolve_avx.h); resolve_mip_pixel, the reference, does the rest.
+    const bool avx = resolve_mip_avx_applies(map, mips, table);
     for (int y = 0; y < map.screen_height; ++y)
-        for (int x = 0; x < map.screen_width; ++x)
+        for (int x = avx ? resolve_mip_row_avx(map, mips, gaze, *table, out, y, stats) : 0;
+             x < map.screen_width; ++x)
             resolve_mip_pixel(map, mips, gaze, out, x, y, stats, nullptr, table);
     return out;
 }

@@ -8,6 +8,7 @@
 // does.
 #pragma once
 
+#include "ref/log_polar/mip_resolve.h"
 #include "ref/log_polar/resolve.h"
 
 namespace fovref {
@@ -22,5 +23,20 @@ bool resolve_avx_applies(const LogPolarMap& map, const ResolveInputs& in,
 /// in `stats`); returns the pixels done. Only where resolve_avx_applies.
 int resolve_row_avx(const LogPolarMap& map, const ResolveInputs& in, const ForwardTable& table,
                     Image& out, int y, ResolveStats& stats);
+
+/// Whether resolve_mip_row_avx covers a mip resolve: a forward table made for the pyramid,
+/// 3-channel levels with one-channel masks of their size (level 0 the map's, 3 w h within int32,
+/// w and h at most 2^24), simd_allowed() and AVX2.
+bool resolve_mip_avx_applies(const LogPolarMap& map, const std::vector<MipLevel>& mips,
+                             const ForwardTable* table);
+
+/// Pixels 0 .. 8 floor(W / 8) - 1 of screen row y as resolve_mip_pixel computes them, eight at a
+/// time: each lane samples its level l0 and, where resolve_mip_pixel does, l1 (the lanes of one
+/// level together, the level's taps gathered), and lerps them in its order. A lane with an
+/// untraced tap, a level fewer than 3 rows high, or a group straddling the gaze circle's edge
+/// runs the reference. Returns the pixels done. Only where resolve_mip_avx_applies.
+int resolve_mip_row_avx(const LogPolarMap& map, const std::vector<MipLevel>& mips,
+                        const GazeInput& gaze, const ForwardTable& table, Image& out, int y,
+                        ResolveStats& stats);
 
 }  // namespace fovref
