@@ -120,9 +120,13 @@ std::vector<PixelFunction> foveated_pixel_functions(const std::string& preset,
     const PixelArgs texel = PixelArgs::texel;
     std::vector<PixelFunction> functions;
     if (p.deferred) {
+        // The G-buffer pixels' attributes are made in lp_sample (write_rasterized_pixel), not by
+        // the raster stage's attribute pass, which a render without dumps skips.
         functions = raster_pixel_functions("gbuffer_raster", "gbuffer_",
-                                           "the G-buffer pixels lp_sample copies into the texels");
-        functions.push_back({"lp_sample", "fovref::deferred_gbuffer_texel", "", texel, "lp_"});
+                                           "the G-buffer pixels lp_sample samples", false);
+        functions.push_back({"lp_sample", "fovref::deferred_gbuffer_texel",
+                             "makes the sampled pixel's channels again (write_rasterized_pixel)",
+                             texel, "lp_"});
     } else {
         functions.push_back({"lp_trace", "fovref::lp_gbuffer_texel", "", texel, "lp_"});
     }

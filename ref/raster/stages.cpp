@@ -71,8 +71,8 @@ StageDef rasterize_stage_def(std::string name, RasterSettings settings,
 }
 
 std::vector<PixelFunction> raster_pixel_functions(const std::string& stage,
-                                                  const std::string& family,
-                                                  const std::string& why) {
+                                                  const std::string& family, const std::string& why,
+                                                  bool attribute_pass) {
     const std::string tail = why.empty() ? "" : "; " + why;
     const PixelArgs args = family.empty() ? PixelArgs::screen : PixelArgs::texel;
     std::vector<PixelFunction> functions = {
@@ -80,6 +80,7 @@ std::vector<PixelFunction> raster_pixel_functions(const std::string& stage,
          "once per triangle whose snapped coverage contains the centre" + tail, args, family},
         {stage, "fovref::depth_test", "once per fragment found", args, family},
         {stage, "fovref::write_gbuffer_pixel", "the winner's attributes", args, family}};
+    if (!attribute_pass) functions.pop_back();
     for (PixelFunction& f : functions) f.needs_geometry = true;
     return functions;
 }

@@ -5,6 +5,10 @@
 //   rasterize   (nothing)  ->  gbuffer_* (view_depth ... motion, SPEC §4 order; ports named by
 //                              channel, wired to gbuffer_ + channel)
 //
+// The attribute pass (resolve_gbuffer) runs only when a channel other than primitive_id and
+// view_depth is wanted; otherwise the stage outputs those two, as wanted, from the visibility
+// pass (kfr's lp_sample reads only the ids).
+//
 // Counters: raster_triangles_rasterized, raster_fragments_written, and
 // raster_fragments_without_plane_hit when not 0.
 #pragma once
@@ -29,9 +33,11 @@ void add_raster_counters(Counters& counters, const RasterStats& stats);
 
 /// The rasterizer's per-pixel functions in stage `stage` (for `probe --debugger`), at the screen
 /// pixel; with `family` set, at the pixels of that family the probed pixel reads (kfr: the
-/// G-buffer pixels lp_sample copies, family "gbuffer_"), `why` saying what for.
+/// G-buffer pixels lp_sample samples, family "gbuffer_"), `why` saying what for. Without
+/// `attribute_pass` (kfr, whose render without dumps skips it) write_gbuffer_pixel is left out.
 std::vector<PixelFunction> raster_pixel_functions(const std::string& stage,
                                                   const std::string& family = "",
-                                                  const std::string& why = "");
+                                                  const std::string& why = "",
+                                                  bool attribute_pass = true);
 
 }  // namespace fovref
