@@ -11,6 +11,7 @@
 #include "ref/bvh/watertight.h"
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
+#include "ref/raster/fragment_avx.h"
 #include "ref/scene/surface.h"
 
 namespace fovref {
@@ -405,6 +406,25 @@ VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, 
     vis.v.assign(pixels, 0.0f);
     vis.depth.assign(pixels, std::numeric_limits<float>::infinity());
 
+    // The fragments (covered pixel centres) go to raster_fragments_avx eight at a time where it
+    // applies (the same bits as rasterize_fragment's raster_fragment); their depth tests then run
+    // in the order the fragments came, as they would one by one.
+    const bool avx = raster_fragments_avx_applies();
+    RasterSite batch[8];
+    int batched = 0;
+    const auto flush = [&] {
+        RasterFragment fragment[8];
+        bool hit[8];
+        raster_fragments_avx(scene, frame, batch, batched, fragment, hit);
+        for (int l = 0; l < batched; ++l) {
+            ++stats.fragments_tested;
+            if (!hit[l])
+                ++stats.fragments_without_plane_hit;
+            else if (depth_test(vis, batch[l].x, batch[l].y, fragment[l]))
+                ++stats.fragments_written;
+        }
+        batched = 0;
+    };
     const std::size_t n = scene.triangle_count();
     stats.triangles_in += static_cast<std::int64_t>(n);
     for (std::size_t t = 0; t < n; ++t) {
@@ -427,7 +447,12 @@ VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, 
                             setup.polygon[static_cast<std::size_t>(k + 1)], settings.fill_rule);
             const TriangleOutcome outcome = rasterize_fixed_triangle(
                 edges, width, height, stats.coverage_tests, [&](int x, int y) {
-                    rasterize_fragment(scene, frame, primitive, x, y, vis, stats);
+                    if (!avx) {
+                        rasterize_fragment(scene, frame, primitive, x, y, vis, stats);
+                        return;
+                    }
+                    batch[batched++] = {x, y, primitive};
+                    if (batched == 8) flush();
                 });
             if (outcome != TriangleOutcome::degenerate) any_nonzero_area = true;
             if (outcome == TriangleOutcome::rasterized) any_rasterized = true;
@@ -439,6 +464,7 @@ VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, 
         else
             ++stats.triangles_degenerate;
     }
+    if (batched > 0) flush();
     return vis;
 }
 

@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <set>
 #include <sstream>
@@ -18,6 +19,8 @@
 
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
+#include "ref/core/simd.h"
+#include "ref/raster/fragment_avx.h"
 #include "ref/raster/rasterizer.h"
 #include "ref/scene/procedural.h"
 #include "ref/scene/surface.h"
@@ -805,6 +808,89 @@ TEST_CASE(
             }
         }
     }
+}
+
+TEST_CASE("raster: eight fragments at a time (AVX) give raster_fragment's bits") {
+    if (!cpu_has_avx()) MESSAGE("no AVX on this CPU: both runs take raster_fragment");
+    CHECK(raster_fragments_avx_applies() == cpu_has_avx());
+    const auto same_bits = [](const auto& a, const auto& b) {
+        return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof a[0]) == 0;
+    };
+    // The straight camera's centre ray on a 33 x 33 screen is exactly (0, 0, -1): it runs through
+    // the shared corner of a fan and along an edge, where U, V or W is exactly 0 (the lanes that
+    // take the reference); beside them a tilted triangle seen almost edge-on.
+    const Scene fan = make_scene({{{{0, 0, -4}, {2, 0, -4}, {0, 2, -4}}},
+                                  {{{0, 0, -4}, {0, 2, -4}, {-2, -1, -4}}},
+                                  {{{0, 0, -4}, {-2, -1, -4}, {2, 0, -4}}},
+                                  {{{-1, 0, -3}, {1, 0, -3}, {0, 3, -3.0001f}}}},
+                                 4);
+    std::vector<std::pair<Scene, Camera>> cases = {{fan, straight_camera()}};
+    for (const char* name : {"cornell", "sphere-grid", "checker-room", "glossy-floor"}) {
+        Scene scene = make_procedural_scene(name);
+        const Camera camera = camera_at(scene, 0.5f);
+        cases.emplace_back(std::move(scene), camera);
+    }
+    std::int64_t fragments = 0;
+    for (const auto& [scene, camera] : cases) {
+        CAPTURE(scene.name);
+        for (const Offset2& sample : {Offset2{}, Offset2{0.8125f, 0.1875f}})
+            for (const glm::ivec2& size : {glm::ivec2(33, 33), glm::ivec2(70, 39)}) {
+                RasterSettings settings;
+                settings.sample = sample;
+                RasterStats stats[2];
+                VisibilityBuffer vis[2];
+                for (const bool simd : {true, false}) {
+                    set_simd_allowed(simd);
+                    vis[simd ? 0 : 1] = rasterize_visibility(scene, camera, size.x, size.y,
+                                                             stats[simd ? 0 : 1], settings);
+                    set_simd_allowed(true);
+                }
+                CHECK(stats[0] == stats[1]);
+                CHECK(same_bits(vis[0].primitive, vis[1].primitive));
+                CHECK(same_bits(vis[0].u, vis[1].u));
+                CHECK(same_bits(vis[0].v, vis[1].v));
+                CHECK(same_bits(vis[0].depth, vis[1].depth));
+                fragments += stats[1].fragments_tested;
+            }
+    }
+    CHECK(fragments > 10000);
+
+    // The sites one by one against raster_fragment, in batches of 1 to 8 of mixed triangles and
+    // rows, at every pixel of the fan's screen (covered or not: the plane point is extrapolated).
+    if (!raster_fragments_avx_applies()) return;
+    const RasterFrame frame = make_raster_frame(fan, straight_camera(), 33, 33, {});
+    std::vector<RasterSite> sites;
+    for (int y = 0; y < 33; ++y)
+        for (int x = 0; x < 33; ++x)
+            for (std::int32_t p = 0; p < 4; ++p) sites.push_back({x, y, p});
+    std::int64_t hits = 0, compared = 0;
+    for (std::size_t start = 0, count = 1; start < sites.size();
+         start += count, count = count % 8 + 1) {
+        const int n = static_cast<int>(std::min(count, sites.size() - start));
+        RasterFragment mine[8];
+        bool hit[8];
+        raster_fragments_avx(fan, frame, &sites[start], n, mine, hit);
+        for (int l = 0; l < n; ++l) {
+            const RasterSite& site = sites[start + static_cast<std::size_t>(l)];
+            RasterFragment reference;
+            const bool expected =
+                raster_fragment(fan, frame, site.x, site.y, site.primitive, reference);
+            CAPTURE(site.x);
+            CAPTURE(site.y);
+            CAPTURE(site.primitive);
+            REQUIRE(hit[l] == expected);
+            ++compared;
+            if (!expected) continue;
+            ++hits;
+            CHECK(mine[l].primitive == reference.primitive);
+            CHECK(std::memcmp(&mine[l].t, &reference.t, sizeof(float)) == 0);
+            CHECK(std::memcmp(&mine[l].u, &reference.u, sizeof(float)) == 0);
+            CHECK(std::memcmp(&mine[l].v, &reference.v, sizeof(float)) == 0);
+            CHECK(std::memcmp(&mine[l].depth, &reference.depth, sizeof(float)) == 0);
+        }
+    }
+    CHECK(compared == static_cast<std::int64_t>(sites.size()));
+    CHECK(hits > 3000);
 }
 
 // ---- Procedural scenes ----

@@ -1,0 +1,176 @@
+#include "ref/raster/fragment_avx.h"
+
+#include "ref/core/avx_lanes.h"
+#include "ref/core/simd.h"
+
+namespace fovref {
+
+namespace {
+
+using namespace avx;
+
+/// A vector of the scalar code's three components, one register each.
+struct Lanes3 {
+    __m256 x, y, z;
+};
+
+/// v[k] per lane, k given by the masks of k = 0 and k = 1 (else 2).
+FOVREF_AVX_INLINE __m256 pick(const Lanes3& v, __m256 is0, __m256 is1) {
+    return select(is0, v.x, select(is1, v.y, v.z));
+}
+
+/// One component of primary_ray_direction's F + sx R - sy U (before normalising).
+FOVREF_AVX_INLINE __m256 ray_axis(float f, float r, float up, __m256 sx, __m256 sy) {
+    return _mm256_sub_ps(_mm256_add_ps(set(f), _mm256_mul_ps(sx, set(r))),
+                         _mm256_mul_ps(sy, set(up)));
+}
+
+/// One component of surface_at's position a w0 + b u + c v, minus the camera's (view_depth).
+FOVREF_AVX_INLINE __m256 from_camera(__m256 a, __m256 b, __m256 c, __m256 w0, __m256 u, __m256 v,
+                                     float origin) {
+    return _mm256_sub_ps(_mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(a, w0), _mm256_mul_ps(b, u)),
+                                       _mm256_mul_ps(c, v)),
+                         set(origin));
+}
+
+__attribute__((target("avx"))) void fragments(const Scene& scene, const RasterFrame& frame,
+                                              const RasterSite* site, int count,
+                                              RasterFragment* fragment, bool* hit) {
+    // Each lane's pixel centre moved by the frame's sample shift, as raster_fragment computes it,
+    // and its triangle's corners relative to the camera (watertight_edges' A, B, C).
+    const Camera& camera = frame.camera;
+    alignas(32) float column[lanes], row[lanes], corner[3][3][lanes];
+    for (int l = 0; l < lanes; ++l) {
+        const RasterSite& at = site[l < count ? l : 0];
+        column[l] = static_cast<float>(at.x);
+        row[l] = static_cast<float>(at.y);
+        const auto t = static_cast<std::size_t>(at.primitive);
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec3 p = scene.positions[3 * t + static_cast<std::size_t>(k)];
+            corner[k][0][l] = p.x - camera.position.x;
+            corner[k][1][l] = p.y - camera.position.y;
+            corner[k][2][l] = p.z - camera.position.z;
+        }
+    }
+    const float scale = static_cast<float>(raster_subpixel_scale);
+    const float shift_x = static_cast<float>(frame.sample_shift.x) / scale;
+    const float shift_y = static_cast<float>(frame.sample_shift.y) / scale;
+    const __m256 cx = _mm256_add_ps(_mm256_add_ps(_mm256_load_ps(column), set(0.5f)), set(shift_x));
+    const __m256 cy = _mm256_add_ps(_mm256_add_ps(_mm256_load_ps(row), set(0.5f)), set(shift_y));
+    // primary_ray_direction
+    const float w = static_cast<float>(frame.width), h = static_cast<float>(frame.height);
+    const __m256 sx = _mm256_mul_ps(
+        _mm256_mul_ps(_mm256_sub_ps(_mm256_div_ps(_mm256_mul_ps(set(2.0f), cx), set(w)), set(1.0f)),
+                      set(frame.tan_half)),
+        set(w / h));
+    const __m256 sy =
+        _mm256_mul_ps(_mm256_sub_ps(_mm256_div_ps(_mm256_mul_ps(set(2.0f), cy), set(h)), set(1.0f)),
+                      set(frame.tan_half));
+    const Lanes3 raw{ray_axis(camera.forward.x, camera.right.x, camera.up.x, sx, sy),
+                     ray_axis(camera.forward.y, camera.right.y, camera.up.y, sx, sy),
+                     ray_axis(camera.forward.z, camera.right.z, camera.up.z, sx, sy)};
+    const __m256 length = _mm256_sqrt_ps(
+        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(raw.x, raw.x), _mm256_mul_ps(raw.y, raw.y)),
+                      _mm256_mul_ps(raw.z, raw.z)));
+    const Lanes3 d{_mm256_div_ps(raw.x, length), _mm256_div_ps(raw.y, length),
+                   _mm256_div_ps(raw.z, length)};
+    // make_watertight_ray: kz the first axis of the largest |d|, kx and ky the next two, swapped
+    // where d[kz] < 0
+    const __m256 z_is1 = greater(abs(d.y), abs(d.x));
+    const __m256 kz_abs = select(z_is1, abs(d.y), abs(d.x));
+    const __m256 z_is2 = greater(abs(d.z), kz_abs);
+    const __m256 kz0 = negation(either(z_is1, z_is2)), kz1 = both(z_is1, negation(z_is2));
+    const __m256 dz = pick(d, kz0, kz1);
+    const __m256 swap = less(dz, zero());
+    // next[kz]: 0 -> 1, 1 -> 2, 2 -> 0; next[next[kz]]: 0 -> 2, 1 -> 0, 2 -> 1
+    const __m256 next0 = negation(either(kz0, kz1)), next1 = kz0;  // next[kz] == 0, == 1
+    const __m256 after0 = kz1, after1 = negation(either(kz0, kz1));
+    const __m256 kx0 = select(swap, after0, next0), kx1 = select(swap, after1, next1);
+    const __m256 ky0 = select(swap, next0, after0), ky1 = select(swap, next1, after1);
+    const __m256 shear_x = _mm256_div_ps(pick(d, kx0, kx1), dz);
+    const __m256 shear_y = _mm256_div_ps(pick(d, ky0, ky1), dz);
+    const __m256 shear_z = _mm256_div_ps(set(1.0f), dz);
+    // watertight_edges: the corners relative to the camera, sheared
+    __m256 sheared_x[3], sheared_y[3], corner_z[3];
+    for (int k = 0; k < 3; ++k) {
+        const Lanes3 c{_mm256_load_ps(corner[k][0]), _mm256_load_ps(corner[k][1]),
+                       _mm256_load_ps(corner[k][2])};
+        corner_z[k] = pick(c, kz0, kz1);
+        sheared_x[k] = _mm256_sub_ps(pick(c, kx0, kx1), _mm256_mul_ps(shear_x, corner_z[k]));
+        sheared_y[k] = _mm256_sub_ps(pick(c, ky0, ky1), _mm256_mul_ps(shear_y, corner_z[k]));
+    }
+    const __m256 U = _mm256_sub_ps(_mm256_mul_ps(sheared_x[2], sheared_y[1]),
+                                   _mm256_mul_ps(sheared_y[2], sheared_x[1]));
+    const __m256 V = _mm256_sub_ps(_mm256_mul_ps(sheared_x[0], sheared_y[2]),
+                                   _mm256_mul_ps(sheared_y[0], sheared_x[2]));
+    const __m256 W = _mm256_sub_ps(_mm256_mul_ps(sheared_x[1], sheared_y[0]),
+                                   _mm256_mul_ps(sheared_y[1], sheared_x[0]));
+    // A lane with U, V or W exactly 0 takes the reference (its binary64 recomputation)
+    const int reference =
+        bits(either(equal(U, zero()), either(equal(V, zero()), equal(W, zero()))));
+    // intersect_watertight_plane
+    const __m256 det = _mm256_add_ps(_mm256_add_ps(U, V), W);
+    const __m256 T =
+        _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(U, _mm256_mul_ps(shear_z, corner_z[0])),
+                                    _mm256_mul_ps(V, _mm256_mul_ps(shear_z, corner_z[1]))),
+                      _mm256_mul_ps(W, _mm256_mul_ps(shear_z, corner_z[2])));
+    const __m256 rcp_det = _mm256_div_ps(set(1.0f), det);
+    const __m256 hit_t = _mm256_mul_ps(T, rcp_det);
+    const __m256 u = _mm256_mul_ps(V, rcp_det);
+    const __m256 v = _mm256_mul_ps(W, rcp_det);
+    // raster_fragment's tests, the position as surface_at computes it, its view depth
+    const int accepted = bits(both(both(not_equal(det, zero()), greater(hit_t, zero())),
+                                   both(finite(hit_t), both(finite(u), finite(v)))));
+    const __m256 w0 = _mm256_sub_ps(_mm256_sub_ps(set(1.0f), u), v);
+    alignas(32) float position[3][3][lanes];  // corner k's coordinate c, per lane
+    for (int l = 0; l < lanes; ++l) {
+        const auto t = static_cast<std::size_t>(site[l < count ? l : 0].primitive);
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec3 p = scene.positions[3 * t + static_cast<std::size_t>(k)];
+            position[k][0][l] = p.x;
+            position[k][1][l] = p.y;
+            position[k][2][l] = p.z;
+        }
+    }
+    __m256 to[3];
+    for (int c = 0; c < 3; ++c)
+        to[c] = from_camera(_mm256_load_ps(position[0][c]), _mm256_load_ps(position[1][c]),
+                            _mm256_load_ps(position[2][c]), w0, u, v,
+                            c == 0   ? camera.position.x
+                            : c == 1 ? camera.position.y
+                                     : camera.position.z);
+    const __m256 to_x = to[0], to_y = to[1], to_z = to[2];
+    const __m256 depth = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(to_x, set(camera.forward.x)),
+                                                     _mm256_mul_ps(to_y, set(camera.forward.y))),
+                                       _mm256_mul_ps(to_z, set(camera.forward.z)));
+    alignas(32) float out_t[lanes], out_u[lanes], out_v[lanes], out_depth[lanes];
+    _mm256_store_ps(out_t, hit_t);
+    _mm256_store_ps(out_u, u);
+    _mm256_store_ps(out_v, v);
+    _mm256_store_ps(out_depth, depth);
+    for (int l = 0; l < count; ++l) {
+        if (reference >> l & 1) {
+            hit[l] =
+                raster_fragment(scene, frame, site[l].x, site[l].y, site[l].primitive, fragment[l]);
+            continue;
+        }
+        hit[l] = (accepted >> l & 1) != 0;
+        if (!hit[l]) continue;
+        fragment[l].primitive = site[l].primitive;
+        fragment[l].t = out_t[l];
+        fragment[l].u = out_u[l];
+        fragment[l].v = out_v[l];
+        fragment[l].depth = out_depth[l];
+    }
+}
+
+}  // namespace
+
+bool raster_fragments_avx_applies() { return simd_allowed() && cpu_has_avx(); }
+
+void raster_fragments_avx(const Scene& scene, const RasterFrame& frame, const RasterSite* site,
+                          int count, RasterFragment* fragment, bool* hit) {
+    fragments(scene, frame, site, count, fragment, hit);
+}
+
+}  // namespace fovref
