@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "ref/core/error.h"
+#include "ref/raster/fragment_avx.h"
 #include "ref/raster/rasterizer.h"
 
 namespace fovref {
@@ -31,9 +32,44 @@ MaskedGBuffer sample_lp_gbuffer(const LogPolarMap& map, const RasterizedScreen& 
     MaskedGBuffer buffer(map.width, map.height);
     screen_points = Image(map.width, map.height, 2, 0.0f);
     const LpInverseTable table = lp_inverse_table(map, Offset2{}, screen_offset);
+    if (!raster_fragments_avx_applies()) {
+        for (int y = 0; y < map.height; ++y)
+            for (int x = 0; x < map.width; ++x)
+                deferred_gbuffer_texel(buffer, screen_points, map, table, screen, x, y, stats);
+        return buffer;
+    }
+    // deferred_gbuffer_texel with the sampled pixels' fragments computed eight at a time
+    // (raster_fragments_avx: raster_fragment's bits); each texel's writes are its own.
+    RasterSite sites[8];
+    int texels[8][2];
+    int batched = 0;
+    const auto flush = [&] {
+        RasterFragment fragment[8];
+        bool hit[8];
+        raster_fragments_avx(screen.scene, screen.frame, sites, batched, fragment, hit);
+        for (int l = 0; l < batched; ++l)
+            if (hit[l])
+                write_rasterized_fragment(buffer.gbuffer, texels[l][0], texels[l][1], screen.scene,
+                                          screen.frame, screen.previous_camera,
+                                          screen.previous_tan_half, sites[l], fragment[l]);
+        batched = 0;
+    };
     for (int y = 0; y < map.height; ++y)
-        for (int x = 0; x < map.width; ++x)
-            deferred_gbuffer_texel(buffer, screen_points, map, table, screen, x, y, stats);
+        for (int x = 0; x < map.width; ++x) {
+            glm::vec2 p{0.0f};
+            if (begin_texel(buffer, screen_points, map, table, x, y, p, stats) !=
+                TexelStatus::traced)
+                continue;
+            const int sx = static_cast<int>(std::floor(p.x)),
+                      sy = static_cast<int>(std::floor(p.y));
+            if (!rasterized_site(screen.scene, screen.primitive_id.at(sx, sy), sx, sy,
+                                 sites[batched]))
+                continue;
+            texels[batched][0] = x;
+            texels[batched][1] = y;
+            if (++batched == 8) flush();
+        }
+    if (batched > 0) flush();
     return buffer;
 }
 

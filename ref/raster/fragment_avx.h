@@ -17,12 +17,6 @@ namespace fovref {
 /// Whether raster_fragments_avx may run: simd_allowed() and a CPU with AVX.
 bool raster_fragments_avx_applies();
 
-/// A covered pixel centre (x, y) of triangle `primitive`: one fragment to compute.
-struct RasterSite {
-    int x = 0, y = 0;
-    std::int32_t primitive = -1;
-};
-
 /// raster_fragment at site[l] for l < count (1 .. 8): fragment[l] and hit[l] receive what
 /// raster_fragment gives for each (fragment[l] is left as it is where hit[l] is false). Only
 /// where raster_fragments_avx_applies.

@@ -556,19 +556,34 @@ GBuffer resolve_gbuffer(const Scene& scene, const VisibilityBuffer& vis, const C
     return g;
 }
 
-bool write_rasterized_pixel(GBuffer& g, int x, int y, const Scene& scene, const RasterFrame& frame,
-                            const Camera& previous_camera, float previous_tan_half,
-                            float primitive_id, int sx, int sy) {
-    // An id that names no triangle (background, or a buffer altered upstream) writes nothing.
+bool rasterized_site(const Scene& scene, float primitive_id, int sx, int sy, RasterSite& site) {
+    // An id that names no triangle (background, or a buffer altered upstream) has none.
     if (!(primitive_id >= 0.0f && primitive_id < static_cast<float>(scene.triangle_count())) ||
         primitive_id != std::floor(primitive_id))
         return false;
-    const auto primitive = static_cast<std::int32_t>(primitive_id);
+    site = {sx, sy, static_cast<std::int32_t>(primitive_id)};
+    return true;
+}
+
+void write_rasterized_fragment(GBuffer& g, int x, int y, const Scene& scene,
+                               const RasterFrame& frame, const Camera& previous_camera,
+                               float previous_tan_half, const RasterSite& site,
+                               const RasterFragment& fragment) {
+    write_gbuffer_sample(g, x, y, pixel_centre(site.x, site.y), frame.width, frame.height, scene,
+                         frame.camera, previous_camera, previous_tan_half, site.primitive,
+                         fragment.u, fragment.v);
+}
+
+bool write_rasterized_pixel(GBuffer& g, int x, int y, const Scene& scene, const RasterFrame& frame,
+                            const Camera& previous_camera, float previous_tan_half,
+                            float primitive_id, int sx, int sy) {
+    RasterSite site;
     RasterFragment fragment;
-    if (!raster_fragment(scene, frame, sx, sy, primitive, fragment)) return false;
-    write_gbuffer_sample(g, x, y, pixel_centre(sx, sy), frame.width, frame.height, scene,
-                         frame.camera, previous_camera, previous_tan_half, primitive, fragment.u,
-                         fragment.v);
+    if (!rasterized_site(scene, primitive_id, sx, sy, site) ||
+        !raster_fragment(scene, frame, sx, sy, site.primitive, fragment))
+        return false;
+    write_rasterized_fragment(g, x, y, scene, frame, previous_camera, previous_tan_half, site,
+                              fragment);
     return true;
 }
 

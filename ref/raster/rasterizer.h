@@ -265,6 +265,12 @@ struct RasterFragment {
 bool raster_fragment(const Scene& scene, const RasterFrame& frame, int x, int y,
                      std::int32_t primitive, RasterFragment& fragment);
 
+/// A pixel centre (x, y) of triangle `primitive`: one fragment to compute.
+struct RasterSite {
+    int x = 0, y = 0;
+    std::int32_t primitive = -1;
+};
+
 /// The rasterized G-buffer's channels of screen pixel (sx, sy), made again from its visible
 /// primitive and written to pixel (x, y) of `g` (of any size): raster_fragment at (sx, sy) gives
 /// the (u, v) the visibility pass stored there, then write_gbuffer_sample with the pixel's centre,
@@ -276,6 +282,16 @@ bool raster_fragment(const Scene& scene, const RasterFrame& frame, int x, int y,
 bool write_rasterized_pixel(GBuffer& g, int x, int y, const Scene& scene, const RasterFrame& frame,
                             const Camera& previous_camera, float previous_tan_half,
                             float primitive_id, int sx, int sy);
+
+/// write_rasterized_pixel in two steps, for a caller that computes the fragments in batches
+/// (raster_fragments_avx): the site of screen pixel (sx, sy) when `primitive_id` names a triangle
+/// of the scene (false otherwise), and the channels of its fragment written to pixel (x, y) of
+/// `g`.
+bool rasterized_site(const Scene& scene, float primitive_id, int sx, int sy, RasterSite& site);
+void write_rasterized_fragment(GBuffer& g, int x, int y, const Scene& scene,
+                               const RasterFrame& frame, const Camera& previous_camera,
+                               float previous_tan_half, const RasterSite& site,
+                               const RasterFragment& fragment);
 
 /// The visibility pass's primitive ids as the G-buffer channel `primitive_id` (-1: background):
 /// resolve_gbuffer's channel, bit for bit.

@@ -831,7 +831,9 @@ TEST_CASE("raster: eight fragments at a time (AVX) give raster_fragment's bits")
         cases.emplace_back(std::move(scene), camera);
     }
     std::int64_t fragments = 0;
-    for (const auto& [scene, camera] : cases) {
+    for (const auto& entry : cases) {
+        const Scene& scene = entry.first;
+        const Camera& camera = entry.second;
         CAPTURE(scene.name);
         for (const Offset2& sample : {Offset2{}, Offset2{0.8125f, 0.1875f}})
             for (const glm::ivec2& size : {glm::ivec2(33, 33), glm::ivec2(70, 39)}) {
