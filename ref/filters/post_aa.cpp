@@ -70,8 +70,9 @@ struct Sums {
 /// lane's scalar operations in order (0, then + g w, the product rounded). Near the left and
 /// right edges the row is first copied with its clamped neighbours (the values post_aa_row
 /// reads). The cache's entries are those the scalar pixels would make, and are read or made the
-/// same way; a group whose row is cached for some lanes only makes it again for all eight (a
-/// row sum is the same computation whenever it is made, so an entry keeps its bits).
+/// same way, eight at a time: a group's eight entries of a row are made together, so one tag
+/// tells whether they are there (a row sum is the same computation whenever it is made, so an
+/// entry keeps its bits).
 template <int C>
 __attribute__((target("avx"))) void post_aa_group_avx(const Image& in, const std::vector<float>& g,
                                                       PostAaRowCache& r, float* result, int x0,
@@ -86,9 +87,9 @@ __attribute__((target("avx"))) void post_aa_group_avx(const Image& in, const std
         const int slot = slots.next(yy);
         const std::size_t k = static_cast<std::size_t>(slot) * width + x0;
         float* row = &r.value[k * C];
-        bool cached = true;
-        for (int lane = 0; lane < lanes; ++lane) cached = cached && r.row[k + lane] == yy;
-        if (!cached) {
+        // The eight entries of a group are always made together (below), so lane 0's tag is
+        // the group's: the scalar pixels (the last W mod 8 of a row) use other columns.
+        if (r.row[k] != yy) {
             const float* source = &in.data[(static_cast<std::size_t>(yy) * width + x0) * C];
             if (clamped) {
                 for (int i = 0; i < lanes + 2 * half; ++i) {
@@ -143,6 +144,32 @@ __attribute__((target("avx"))) void post_aa_lanes_avx(
 /// post_aa's rows with AVX groups (the CPU has AVX, 1 to 4 channels): groups of eight pixels
 /// run post_aa_lanes_avx, the last W mod 8 pixels of a row post_aa_cached_pixel; the pixels run
 /// row by row, so the cache is used as by the scalar pass.
+/// post_aa_size(gaze_distance(gaze, centre) / radius_max) of pixels x0 .. x0 + 7 of row y, lane
+/// by lane in the scalar order (sqrt and the divisions are correctly rounded, ceil exact).
+__attribute__((target("avx"))) void post_aa_sizes_avx(glm::vec2 gaze, float radius_max, int x0,
+                                                      int y, int* eta) {
+    alignas(32) float column[lanes];
+    for (int lane = 0; lane < lanes; ++lane) column[lane] = static_cast<float>(x0 + lane);
+    const __m256 dx = _mm256_sub_ps(_mm256_add_ps(_mm256_load_ps(column), _mm256_set1_ps(0.5f)),
+                                    _mm256_set1_ps(gaze.x));
+    const float dy = (static_cast<float>(y) + 0.5f) - gaze.y;
+    const __m256 distance =
+        _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_set1_ps(dy * dy)));
+    __m256 t = _mm256_div_ps(distance, _mm256_set1_ps(radius_max));
+    // std::min(t, 1.0f) = (1 < t) ? 1 : t
+    const __m256 one = _mm256_set1_ps(1.0f);
+    t = _mm256_blendv_ps(t, one, _mm256_cmp_ps(one, t, _CMP_LT_OQ));
+    const __m256 steps = _mm256_round_ps(
+        _mm256_div_ps(_mm256_sub_ps(t, _mm256_set1_ps(0.1f)), _mm256_set1_ps(0.05f)),
+        _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC);
+    const int filtered = _mm256_movemask_ps(_mm256_cmp_ps(t, _mm256_set1_ps(0.05f), _CMP_GT_OQ));
+    alignas(32) float step[lanes];
+    _mm256_store_ps(step, steps);
+    for (int lane = 0; lane < lanes; ++lane)
+        eta[lane] =
+            filtered >> lane & 1 ? std::min(3 + 2 * static_cast<int>(step[lane]), max_eta) : 0;
+}
+
 void post_aa_rows_avx(const Image& in, glm::vec2 gaze, float radius_max,
                       const std::vector<std::vector<float>>& weights,
                       std::vector<PostAaRowCache>& cache, Image& out) {
@@ -151,9 +178,7 @@ void post_aa_rows_avx(const Image& in, glm::vec2 gaze, float radius_max,
     for (int y = 0; y < in.height; ++y) {
         int x0 = 0;
         for (; x0 + lanes <= width; x0 += lanes) {
-            for (int lane = 0; lane < lanes; ++lane)
-                eta[lane] =
-                    post_aa_size(gaze_distance(gaze, pixel_centre(x0 + lane, y)) / radius_max);
+            post_aa_sizes_avx(gaze, radius_max, x0, y, eta);
             switch (in.channels) {
                 case 1: post_aa_lanes_avx<1>(in, weights, cache, eta, out, x0, y); break;
                 case 2: post_aa_lanes_avx<2>(in, weights, cache, eta, out, x0, y); break;
