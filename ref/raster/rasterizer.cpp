@@ -79,13 +79,6 @@ struct ClipVertex {
     glm::vec3 view{0.0f};
 };
 
-/// Plane normal . view + offset >= 0 is inside.
-struct ClipPlane {
-    glm::vec3 normal{0.0f};
-    float offset = 0.0f;
-    bool is_near = false;
-};
-
 float plane_distance(const ClipPlane& plane, glm::vec3 view) {
     return plane.normal.x * view.x + plane.normal.y * view.y + plane.normal.z * view.z +
            plane.offset;
@@ -137,11 +130,13 @@ bool all_inside(const Polygon& poly, int count, const ClipPlane& plane) {
     return true;
 }
 
+}  // namespace
+
 /// Near plane z >= near, then the guard band |screen x|, |screen y| <= G, written in view space:
 /// screen x >= -G  <=>  x + (2G/W + 1) k z >= 0, screen x <= G  <=>  (2G/W - 1) k z - x >= 0,
 /// screen y >= -G  <=>  (2G/H + 1) t z - y >= 0, screen y <= G  <=>  (2G/H - 1) t z + y >= 0,
 /// with t = tan_half, k = t W/H (screen y grows along -U).
-std::array<ClipPlane, 5> clip_planes(float near, float tan_half, int width, int height) {
+std::array<ClipPlane, 5> raster_clip_planes(float near, float tan_half, int width, int height) {
     const float w = static_cast<float>(width), h = static_cast<float>(height);
     const float g = raster_guard_band_px;
     const float k = tan_half * (w / h), t = tan_half;
@@ -153,6 +148,8 @@ std::array<ClipPlane, 5> clip_planes(float near, float tan_half, int width, int 
         {{0.0f, 1.0f, (2.0f * g / h - 1.0f) * t}, 0.0f, false},
     }};
 }
+
+namespace {
 
 void check_size(int width, int height) {
     if (width < 1 || height < 1 || width > raster_max_dimension || height > raster_max_dimension)
@@ -285,30 +282,51 @@ RasterFrame make_raster_frame(const Scene& scene, const Camera& camera, int widt
     f.near = std::max(raster_near_factor * scene.scene_scale, raster_min_near);
     f.settings = settings;
     f.sample_shift = raster_sample_shift(settings.sample);
+    f.clip_planes = raster_clip_planes(f.near, f.tan_half, width, height);
     return f;
 }
 
 // ---- Per triangle: view transform, clipping, projection, snapping ----
 
-TriangleSetup setup_triangle(const Scene& scene, const RasterFrame& frame, std::int32_t primitive) {
+void setup_triangle(const Scene& scene, const RasterFrame& frame, std::int32_t primitive,
+                    TriangleSetup& setup) {
     const auto t = static_cast<std::size_t>(primitive);
-    TriangleSetup setup;
-    Polygon poly, scratch;
-    poly[0] = {world_to_view(frame.camera, scene.positions[3 * t])};
-    poly[1] = {world_to_view(frame.camera, scene.positions[3 * t + 1])};
-    poly[2] = {world_to_view(frame.camera, scene.positions[3 * t + 2])};
-    int count = 3;
-    if (!in_view_range(poly[0].view) || !in_view_range(poly[1].view) ||
-        !in_view_range(poly[2].view)) {
+    setup.status = TriangleSetup::Status::ready;
+    setup.near_clipped = setup.guard_clipped = false;
+    setup.count = 0;
+    const glm::vec3 view[3] = {world_to_view(frame.camera, scene.positions[3 * t]),
+                               world_to_view(frame.camera, scene.positions[3 * t + 1]),
+                               world_to_view(frame.camera, scene.positions[3 * t + 2])};
+    if (!in_view_range(view[0]) || !in_view_range(view[1]) || !in_view_range(view[2])) {
         setup.status = TriangleSetup::Status::out_of_range;
-        return setup;
+        return;
     }
 
     // Clip: near plane first (so z > 0 afterwards), then the guard band; each plane only when
-    // some vertex is outside it.
-    const std::array<ClipPlane, 5> planes =
-        clip_planes(frame.near, frame.tan_half, frame.width, frame.height);
-    for (std::size_t k = 0; k < planes.size(); ++k) {
+    // some vertex is outside it. Most triangles are inside every plane and keep their three
+    // corners (the polygon buffers, made only for the others, are then not filled).
+    const std::array<ClipPlane, 5>& planes = frame.clip_planes;
+    std::size_t first_cut = 0;
+    while (first_cut < planes.size() && plane_distance(planes[first_cut], view[0]) >= 0.0f &&
+           plane_distance(planes[first_cut], view[1]) >= 0.0f &&
+           plane_distance(planes[first_cut], view[2]) >= 0.0f)
+        ++first_cut;
+    const FixedPoint shift = frame.sample_shift;
+    const auto project = [&](int k, glm::vec3 v) {
+        FixedPoint& p = setup.polygon[static_cast<std::size_t>(k)];
+        p = snap_to_fixed(view_to_screen(v, frame.tan_half, frame.width, frame.height));
+        p.x -= shift.x;
+        p.y -= shift.y;
+    };
+    if (first_cut == planes.size()) {
+        setup.count = 3;
+        for (int k = 0; k < 3; ++k) project(k, view[k]);
+        return;
+    }
+    Polygon poly, scratch;
+    for (int k = 0; k < 3; ++k) poly[static_cast<std::size_t>(k)] = {view[k]};
+    int count = 3;
+    for (std::size_t k = first_cut; k < planes.size(); ++k) {
         if (all_inside(poly, count, planes[k])) continue;
         count = clip_polygon(poly, count, planes[k], frame.near, scratch);
         poly = scratch;
@@ -316,21 +334,19 @@ TriangleSetup setup_triangle(const Scene& scene, const RasterFrame& frame, std::
         if (count == 0) {
             setup.status =
                 k == 0 ? TriangleSetup::Status::clipped_away : TriangleSetup::Status::offscreen;
-            return setup;
+            return;
         }
     }
 
     // Project and snap; a jittered sample moves the triangle the other way (so the pixel centres
     // sample where the jittered samples lie)
     setup.count = count;
-    const FixedPoint shift = frame.sample_shift;
-    for (int k = 0; k < count; ++k) {
-        FixedPoint& p = setup.polygon[static_cast<std::size_t>(k)];
-        p = snap_to_fixed(view_to_screen(poly[static_cast<std::size_t>(k)].view, frame.tan_half,
-                                         frame.width, frame.height));
-        p.x -= shift.x;
-        p.y -= shift.y;
-    }
+    for (int k = 0; k < count; ++k) project(k, poly[static_cast<std::size_t>(k)].view);
+}
+
+TriangleSetup setup_triangle(const Scene& scene, const RasterFrame& frame, std::int32_t primitive) {
+    TriangleSetup setup;
+    setup_triangle(scene, frame, primitive, setup);
     return setup;
 }
 
@@ -427,9 +443,10 @@ VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, 
     };
     const std::size_t n = scene.triangle_count();
     stats.triangles_in += static_cast<std::int64_t>(n);
+    TriangleSetup setup;  // one for every triangle: its polygon buffer is not cleared each time
     for (std::size_t t = 0; t < n; ++t) {
         const auto primitive = static_cast<std::int32_t>(t);
-        const TriangleSetup setup = setup_triangle(scene, frame, primitive);
+        setup_triangle(scene, frame, primitive, setup);
         switch (setup.status) {
             case TriangleSetup::Status::out_of_range: ++stats.triangles_out_of_range; continue;
             case TriangleSetup::Status::clipped_away: ++stats.triangles_clipped_away; continue;

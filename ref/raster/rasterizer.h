@@ -220,6 +220,18 @@ inline EdgeValues edge_values(const EdgeSetup& e, std::int64_t i, std::int64_t j
 std::int64_t rasterize_triangle_coverage(glm::vec2 a, glm::vec2 b, glm::vec2 c, Image& coverage,
                                          FillRule rule = FillRule::d3d);
 
+/// A clip plane in view space: normal . view + offset >= 0 is inside.
+struct ClipPlane {
+    glm::vec3 normal{0.0f};
+    float offset = 0.0f;
+    bool is_near = false;
+};
+
+/// The planes a triangle is clipped against, in this order: the near plane z >= near, then the
+/// guard band |screen x|, |screen y| <= raster_guard_band_px written in view space
+/// (docs/raster.md).
+std::array<ClipPlane, 5> raster_clip_planes(float near, float tan_half, int width, int height);
+
 /// Per-frame constants of the rasterizer (camera, screen, clip planes).
 struct RasterFrame {
     Camera camera;
@@ -227,7 +239,8 @@ struct RasterFrame {
     float tan_half = 0.0f;
     float near = 0.0f;  ///< near plane distance (docs/raster.md)
     RasterSettings settings;
-    FixedPoint sample_shift;  ///< raster_sample_shift(settings.sample), once per frame
+    FixedPoint sample_shift;               ///< raster_sample_shift(settings.sample), once per frame
+    std::array<ClipPlane, 5> clip_planes;  ///< raster_clip_planes(near, tan_half, width, height)
 };
 
 /// The constants for `camera` and a W x H screen; checks the size and the camera (throws
@@ -247,6 +260,10 @@ struct TriangleSetup {
 
 /// Per-triangle setup of `primitive`: view transform, clipping, projection and snapping.
 TriangleSetup setup_triangle(const Scene& scene, const RasterFrame& frame, std::int32_t primitive);
+/// The same into `setup` (its status, clip flags, count and polygon[0 .. count) written), for the
+/// visibility pass, which keeps one TriangleSetup for all its triangles.
+void setup_triangle(const Scene& scene, const RasterFrame& frame, std::int32_t primitive,
+                    TriangleSetup& setup);
 
 /// A fragment: a covered pixel centre of one triangle with its attribute point.
 struct RasterFragment {
