@@ -212,9 +212,15 @@ FixedPoint snap_to_fixed(glm::vec2 screen) {
     const float scale = static_cast<float>(raster_subpixel_scale);
     const float x = std::min(std::max(screen.x, -g), g);  // NaN-free inputs: clipping ran first
     const float y = std::min(std::max(screen.y, -g), g);
-    // x * 256 is exact (power of two); std::round: halves away from zero.
-    return {static_cast<std::int64_t>(std::round(x * scale)),
-            static_cast<std::int64_t>(std::round(y * scale))};
+    // x * 256 is exact (power of two), and rounded with halves away from zero (std::round):
+    // |x * 256| <= 2^23, so the truncation t and the fraction v - t are exact, and the result is
+    // t, moved one away from zero when |v - t| >= 1/2.
+    const auto round_away = [](float v) {
+        const auto t = static_cast<std::int64_t>(v);
+        const float f = v - static_cast<float>(t);
+        return t + static_cast<std::int64_t>(f >= 0.5f) - static_cast<std::int64_t>(f <= -0.5f);
+    };
+    return {round_away(x * scale), round_away(y * scale)};
 }
 
 EdgeSetup setup_edges(FixedPoint a, FixedPoint b, FixedPoint c, FillRule rule) {

@@ -24,6 +24,7 @@
 #include "ref/raster/rasterizer.h"
 #include "ref/scene/procedural.h"
 #include "ref/scene/surface.h"
+#include "tests/image/image_test_util.h"
 
 using namespace fovref;
 
@@ -188,6 +189,31 @@ TEST_CASE("raster: snapping to 1/256 px, guard-band clamp, halves away from zero
     // 1/512 is exactly half a step: std::round takes it away from zero.
     CHECK(snap_to_fixed({1.0f / 512.0f, -1.0f / 512.0f}) == FixedPoint{1, -1});
     CHECK(snap_to_fixed({1e9f, -1e9f}) == FixedPoint{32768 * 256, -32768 * 256});
+    // Against std::round of the clamped value x 256 (snap_to_fixed rounds by truncation and the
+    // exact fraction): every half step, the floats just below and above it, and random points of
+    // the guard band.
+    const auto reference = [](float v) {
+        return static_cast<std::int64_t>(std::round(
+            std::min(std::max(v, -raster_guard_band_px), raster_guard_band_px) * 256.0f));
+    };
+    test::SplitMix64 rng(5);
+    std::int64_t checked = 0;
+    for (int k = -20000; k <= 20000; ++k) {
+        const float half = (static_cast<float>(k) + 0.5f) / 256.0f;
+        for (const float v : {half, std::nextafter(half, -1e9f), std::nextafter(half, 1e9f),
+                              static_cast<float>(k) * 128.0f / 256.0f + 0.25f / 256.0f}) {
+            const FixedPoint p = snap_to_fixed({v, -v});
+            REQUIRE(p.x == reference(v));
+            REQUIRE(p.y == reference(-v));
+            ++checked;
+        }
+    }
+    for (int k = 0; k < 200000; ++k) {
+        const float v = (static_cast<float>(rng.next() % 2000001) - 1000000.0f) * 0.0345f;
+        REQUIRE(snap_to_fixed({v, 0.0f}).x == reference(v));
+        ++checked;
+    }
+    CHECK(checked > 300000);
 }
 
 // ---- Fill rule ----
