@@ -37,8 +37,9 @@ PostAaRowCache& row_cache(std::vector<PostAaRowCache>& cache, int eta, int width
     PostAaRowCache& r = cache[static_cast<std::size_t>(eta)];
     if (r.eta == 0) {
         r.eta = eta;
-        r.value.assign(static_cast<std::size_t>(eta) * width * channels, 0.0f);
-        r.row.assign(static_cast<std::size_t>(eta) * width, -1);
+        const std::size_t entries = static_cast<std::size_t>(eta) * ((width + 7) / 8) * 8;
+        r.value.assign(entries * channels, 0.0f);
+        r.row.assign(entries, -1);
     }
     return r;
 }
@@ -85,7 +86,7 @@ __attribute__((target("avx"))) void post_aa_group_avx(const Image& in, const std
     for (int dy = -half; dy <= half; ++dy) {
         const int yy = std::clamp(y + dy, 0, in.height - 1);
         const int slot = slots.next(yy);
-        const std::size_t k = static_cast<std::size_t>(slot) * width + x0;
+        const std::size_t k = r.index(slot, x0);  // x0 is a multiple of 8: eight entries
         float* row = &r.value[k * C];
         // The eight entries of a group are always made together (below), so lane 0's tag is
         // the group's: the scalar pixels (the last W mod 8 of a row) use other columns.
@@ -282,7 +283,7 @@ void post_aa_cached_pixel(const Image& in, glm::vec2 gaze, float radius_max,
     for (int dy = -half; dy <= half; ++dy) {
         const int yy = std::clamp(y + dy, 0, in.height - 1);
         const int slot = slots.next(yy);
-        const std::size_t k = static_cast<std::size_t>(slot) * width + x;
+        const std::size_t k = r.index(slot, x);
         float* row = &r.value[k * channels];
         if (r.row[k] != yy) {
             post_aa_row(in, g, x, yy, row);

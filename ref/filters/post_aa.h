@@ -51,10 +51,16 @@ Image post_aa(const Image& in, glm::vec2 gaze, float radius_max, bool simd = tru
 /// The row sums (post_aa_row) of one kernel size eta, kept for the last eta rows each column
 /// asked for: the entry of (x, yy) lives in slot yy mod eta of column x. A window of eta rows
 /// holds eta different rows (or fewer, clamped at the edges), so it never evicts its own rows.
+/// Entries are stored by blocks of eight columns, each block's eta slots together (index):
+/// the rows a group of eight pixels reads lie next to each other.
 struct PostAaRowCache {
     int eta = 0;
-    std::vector<float> value;  ///< eta slots x width x channels
-    std::vector<int> row;      ///< eta slots x width: the row each entry holds (-1: none yet)
+    std::vector<float> value;  ///< entry k (index) at k x channels
+    std::vector<int> row;      ///< the row each entry holds (-1: none yet)
+    /// The entry of slot `slot` of column x: ((x / 8) eta + slot) 8 + x mod 8.
+    std::size_t index(int slot, int x) const {
+        return (static_cast<std::size_t>(x / 8) * eta + slot) * 8 + static_cast<std::size_t>(x % 8);
+    }
 };
 
 /// post_aa's per-pixel work: post_aa_pixel with each row sum computed once per (eta, x, row)
