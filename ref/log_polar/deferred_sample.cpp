@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "ref/core/error.h"
-#include "ref/raster/fragment_avx.h"
+#include "ref/raster/raster_avx.h"
 #include "ref/raster/rasterizer.h"
 
 namespace fovref {

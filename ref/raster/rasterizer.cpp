@@ -11,7 +11,7 @@
 #include "ref/bvh/watertight.h"
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
-#include "ref/raster/fragment_avx.h"
+#include "ref/raster/raster_avx.h"
 #include "ref/scene/surface.h"
 
 namespace fovref {
@@ -449,10 +449,19 @@ VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, 
     };
     const std::size_t n = scene.triangle_count();
     stats.triangles_in += static_cast<std::int64_t>(n);
-    TriangleSetup setup;  // one for every triangle: its polygon buffer is not cleared each time
+    // Set up eight triangles at a time where setup_triangles_avx applies (the others of the
+    // eight: setup_triangle); the setups are kept for all triangles (their polygon buffers are
+    // not cleared each time).
+    TriangleSetup setups[8];
+    bool done[8] = {false, false, false, false, false, false, false, false};
     for (std::size_t t = 0; t < n; ++t) {
         const auto primitive = static_cast<std::int32_t>(t);
-        setup_triangle(scene, frame, primitive, setup);
+        const std::size_t lane = t % 8;
+        if (lane == 0 && avx)
+            setup_triangles_avx(scene, frame, primitive,
+                                static_cast<int>(std::min<std::size_t>(8, n - t)), setups, done);
+        TriangleSetup& setup = setups[lane];
+        if (!done[lane]) setup_triangle(scene, frame, primitive, setup);
         switch (setup.status) {
             case TriangleSetup::Status::out_of_range: ++stats.triangles_out_of_range; continue;
             case TriangleSetup::Status::clipped_away: ++stats.triangles_clipped_away; continue;

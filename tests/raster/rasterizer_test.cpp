@@ -20,7 +20,7 @@
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
 #include "ref/core/simd.h"
-#include "ref/raster/fragment_avx.h"
+#include "ref/raster/raster_avx.h"
 #include "ref/raster/rasterizer.h"
 #include "ref/scene/procedural.h"
 #include "ref/scene/surface.h"
@@ -834,6 +834,80 @@ TEST_CASE(
             }
         }
     }
+}
+
+TEST_CASE("raster: eight triangle setups at a time (AVX) give setup_triangle's") {
+    if (!raster_fragments_avx_applies()) {
+        MESSAGE("no AVX on this CPU: setup_triangle alone");
+        return;
+    }
+    // Random triangles around a camera: most inside every clip plane, some crossing the near
+    // plane or the guard band, behind the camera, beyond the view range, deep or off the side,
+    // tiny ones; with and without a jittered sample, on a small screen and a large one. The scene
+    // scale is set back to 1 so that the far corners do not push the near plane out.
+    test::SplitMix64 rng(11);
+    const auto coordinate = [&](float spread) {
+        return (static_cast<float>(rng.below(2000001)) - 1000000.0f) * (spread / 1000000.0f);
+    };
+    std::vector<Tri> triangles;
+    for (int k = 0; k < 4000; ++k) {
+        const std::size_t kind = rng.below(10);
+        const glm::vec3 centre{coordinate(3.0f), coordinate(2.0f), -0.2f - 6.0f * rng.unit()};
+        Tri t;
+        for (glm::vec3& p : t) {
+            const float spread = kind == 0 ? 40.0f : kind == 1 ? 1e-4f : 0.3f;
+            p = centre + glm::vec3(coordinate(spread), coordinate(spread), coordinate(spread));
+        }
+        if (kind == 2) t[1].z = 1.0f;                               // behind: near clip
+        if (kind == 3) t = {{{-1, -1, 2}, {1, -1, 2}, {0, 1, 3}}};  // behind the camera
+        if (kind == 4) t[2].x = 1e21f;                              // out of view range
+        if (kind == 5) t[0].y = 1e19f;                // in range, outside the guard band
+        if (kind == 7) t[2].z = -50.0f;               // deep
+        if (kind == 8) t[0] = {-10.0f, 0.0f, -1.0f};  // off the side
+        if (kind == 9) t[0].z = -0.99e-4f;  // just in front of the camera, behind the near plane
+        if (kind == 6) t[1].x = 5e4f;       // guard band
+        triangles.push_back(t);
+    }
+    const Scene scene = with_unit_scale(make_scene(triangles));
+    std::int64_t fast = 0, reference = 0;
+    for (const Offset2& sample : {Offset2{}, Offset2{0.3125f, 0.9f}})
+        for (const glm::ivec2& size : {glm::ivec2(64, 36), glm::ivec2(1280, 720)}) {
+            RasterSettings settings;
+            settings.sample = sample;
+            const RasterFrame frame =
+                make_raster_frame(scene, straight_camera(), size.x, size.y, settings);
+            for (std::size_t first = 0; first < triangles.size(); first += 8) {
+                const int count =
+                    static_cast<int>(std::min<std::size_t>(8, triangles.size() - first));
+                TriangleSetup mine[8];
+                bool done[8];
+                setup_triangles_avx(scene, frame, static_cast<std::int32_t>(first), count, mine,
+                                    done);
+                for (int l = 0; l < count; ++l) {
+                    const auto primitive = static_cast<std::int32_t>(first) + l;
+                    const TriangleSetup expected = setup_triangle(scene, frame, primitive);
+                    if (!done[l]) {
+                        ++reference;
+                        // Left to the reference only where it clips (or refuses) the triangle
+                        CHECK((expected.status != TriangleSetup::Status::ready ||
+                               expected.near_clipped || expected.guard_clipped));
+                        continue;
+                    }
+                    ++fast;
+                    CAPTURE(primitive);
+                    CHECK(expected.status == TriangleSetup::Status::ready);
+                    CHECK_FALSE(expected.near_clipped);
+                    CHECK_FALSE(expected.guard_clipped);
+                    REQUIRE(expected.count == 3);
+                    CHECK(mine[l].status == expected.status);
+                    CHECK(mine[l].count == 3);
+                    for (std::size_t k = 0; k < 3; ++k)
+                        CHECK(mine[l].polygon[k] == expected.polygon[k]);
+                }
+            }
+        }
+    CHECK(fast > 4000);
+    CHECK(reference > 5000);
 }
 
 TEST_CASE("raster: eight fragments at a time (AVX) give raster_fragment's bits") {

@@ -1,4 +1,4 @@
-#include "ref/raster/fragment_avx.h"
+#include "ref/raster/raster_avx.h"
 
 #include "ref/core/avx_lanes.h"
 #include "ref/core/simd.h"
@@ -164,7 +164,96 @@ __attribute__((target("avx"))) void fragments(const Scene& scene, const RasterFr
     }
 }
 
+__attribute__((target("avx"))) void setups(const Scene& scene, const RasterFrame& frame,
+                                           std::int32_t first, int count, TriangleSetup* setup,
+                                           bool* done) {
+    const Camera& camera = frame.camera;
+    alignas(32) float corner[3][3][lanes];  // corner k's coordinate c, per lane
+    for (int l = 0; l < lanes; ++l) {
+        const auto t = static_cast<std::size_t>(first + (l < count ? l : 0));
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec3 p = scene.positions[3 * t + static_cast<std::size_t>(k)];
+            corner[k][0][l] = p.x;
+            corner[k][1][l] = p.y;
+            corner[k][2][l] = p.z;
+        }
+    }
+    // world_to_view: d = p - position, (dot(d, R), dot(d, U), dot(d, F)); in range: every
+    // |coordinate| <= raster_max_view_coordinate (NaN fails); inside: every plane_distance >= 0
+    const glm::vec3 axes[3] = {camera.right, camera.up, camera.forward};
+    const float position[3] = {camera.position.x, camera.position.y, camera.position.z};
+    __m256 view[3][3];
+    __m256 fast = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+    for (int k = 0; k < 3; ++k) {
+        __m256 d[3];
+        for (int c = 0; c < 3; ++c)
+            d[c] = _mm256_sub_ps(_mm256_load_ps(corner[k][c]), set(position[c]));
+        for (int a = 0; a < 3; ++a) {
+            view[k][a] = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(d[0], set(axes[a].x)),
+                                                     _mm256_mul_ps(d[1], set(axes[a].y))),
+                                       _mm256_mul_ps(d[2], set(axes[a].z)));
+            fast = both(fast, at_most(abs(view[k][a]), set(raster_max_view_coordinate)));
+        }
+        for (const ClipPlane& plane : frame.clip_planes) {
+            const __m256 distance = _mm256_add_ps(
+                _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(set(plane.normal.x), view[k][0]),
+                                            _mm256_mul_ps(set(plane.normal.y), view[k][1])),
+                              _mm256_mul_ps(set(plane.normal.z), view[k][2])),
+                set(plane.offset));
+            fast = both(fast, at_least(distance, zero()));
+        }
+    }
+    const int ready = bits(fast) & ((1 << count) - 1);
+    for (int l = 0; l < count; ++l) done[l] = (ready >> l & 1) != 0;
+    if (ready == 0) return;
+    // view_to_screen, then snap_to_fixed: clamped to the guard band, x 256 (exact), rounded
+    // with halves away from zero (truncation and the exact fraction; |x 256| <= 2^23)
+    const float w = static_cast<float>(frame.width), h = static_cast<float>(frame.height);
+    const float kx = frame.tan_half * (w / h);
+    const float g = raster_guard_band_px, scale = static_cast<float>(raster_subpixel_scale);
+    alignas(32) float snapped[3][2][lanes];
+    for (int k = 0; k < 3; ++k) {
+        const __m256 sx = _mm256_div_ps(view[k][0], view[k][2]);
+        const __m256 sy = _mm256_div_ps(negate(view[k][1]), view[k][2]);
+        const __m256 screen[2] = {
+            _mm256_mul_ps(
+                _mm256_mul_ps(_mm256_add_ps(_mm256_div_ps(sx, set(kx)), set(1.0f)), set(0.5f)),
+                set(w)),
+            _mm256_mul_ps(
+                _mm256_mul_ps(_mm256_add_ps(_mm256_div_ps(sy, set(frame.tan_half)), set(1.0f)),
+                              set(0.5f)),
+                set(h))};
+        for (int c = 0; c < 2; ++c) {
+            const __m256 v =
+                _mm256_mul_ps(std_min(std_max(screen[c], set(-g)), set(g)), set(scale));
+            const __m256 truncated =
+                _mm256_cvtepi32_ps(_mm256_cvttps_epi32(select(fast, v, zero())));
+            const __m256 fraction = _mm256_sub_ps(v, truncated);
+            const __m256 up = _mm256_and_ps(at_least(fraction, set(0.5f)), set(1.0f));
+            const __m256 down = _mm256_and_ps(at_most(fraction, set(-0.5f)), set(1.0f));
+            _mm256_store_ps(snapped[k][c], _mm256_sub_ps(_mm256_add_ps(truncated, up), down));
+        }
+    }
+    const FixedPoint shift = frame.sample_shift;
+    for (int l = 0; l < count; ++l) {
+        if (!done[l]) continue;
+        TriangleSetup& s = setup[l];
+        s.status = TriangleSetup::Status::ready;
+        s.near_clipped = s.guard_clipped = false;
+        s.count = 3;
+        for (int k = 0; k < 3; ++k)
+            s.polygon[static_cast<std::size_t>(k)] = {
+                static_cast<std::int64_t>(snapped[k][0][l]) - shift.x,
+                static_cast<std::int64_t>(snapped[k][1][l]) - shift.y};
+    }
+}
+
 }  // namespace
+
+void setup_triangles_avx(const Scene& scene, const RasterFrame& frame, std::int32_t first,
+                         int count, TriangleSetup* setup, bool* done) {
+    setups(scene, frame, first, count, setup, done);
+}
 
 bool raster_fragments_avx_applies() { return simd_allowed() && cpu_has_avx(); }
 
