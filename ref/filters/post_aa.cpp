@@ -173,13 +173,29 @@ __attribute__((target("avx"))) void post_aa_sizes_avx(glm::vec2 gaze, float radi
 
 void post_aa_rows_avx(const Image& in, glm::vec2 gaze, float radius_max,
                       const std::vector<std::vector<float>>& weights,
-                      std::vector<PostAaRowCache>& cache, Image& out) {
+                      std::vector<PostAaRowCache>& cache, Image& out, PostAaSizes* sizes) {
     const int width = in.width;
+    // The sizes from the table when it was made for this frame's gaze, else computed (and kept
+    // in the table when there is one)
+    const bool read = sizes && sizes->made_for(gaze, radius_max, width, in.height);
+    if (sizes && !read) {
+        *sizes = PostAaSizes{gaze, radius_max, width, in.height, {}};
+        sizes->eta.assign(static_cast<std::size_t>(width) * in.height, 0);
+    }
     int eta[lanes];
     for (int y = 0; y < in.height; ++y) {
         int x0 = 0;
         for (; x0 + lanes <= width; x0 += lanes) {
-            post_aa_sizes_avx(gaze, radius_max, x0, y, eta);
+            unsigned char* kept =
+                sizes ? &sizes->eta[static_cast<std::size_t>(y) * width + x0] : nullptr;
+            if (read) {
+                for (int lane = 0; lane < lanes; ++lane) eta[lane] = kept[lane];
+            } else {
+                post_aa_sizes_avx(gaze, radius_max, x0, y, eta);
+                if (kept)
+                    for (int lane = 0; lane < lanes; ++lane)
+                        kept[lane] = static_cast<unsigned char>(eta[lane]);
+            }
             switch (in.channels) {
                 case 1: post_aa_lanes_avx<1>(in, weights, cache, eta, out, x0, y); break;
                 case 2: post_aa_lanes_avx<2>(in, weights, cache, eta, out, x0, y); break;
@@ -248,7 +264,12 @@ void post_aa_pixel(const Image& in, glm::vec2 gaze, float radius_max,
     for (int c = 0; c < in.channels; ++c) out.at(x, y, c) = sum[c];
 }
 
-Image post_aa(const Image& in, glm::vec2 gaze, float radius_max, bool simd) {
+bool PostAaSizes::made_for(glm::vec2 g, float r, int w, int h) const {
+    // Equal values give the same sizes (-0 and +0 alike); a NaN gaze never matches.
+    return !eta.empty() && gaze == g && radius_max == r && width == w && height == h;
+}
+
+Image post_aa(const Image& in, glm::vec2 gaze, float radius_max, bool simd, PostAaSizes* sizes) {
     FOVREF_CHECK(in.channels <= 4, "post anti-aliasing of more than 4 channels");
     std::vector<std::vector<float>> weights(max_eta + 1);
     for (int eta = 3; eta <= max_eta; eta += 2)
@@ -256,7 +277,7 @@ Image post_aa(const Image& in, glm::vec2 gaze, float radius_max, bool simd) {
     Image out(in.width, in.height, in.channels, 0.0f);
     std::vector<PostAaRowCache> cache(max_eta + 1);
     if (simd && in.channels >= 1 && simd_allowed() && cpu_has_avx()) {
-        post_aa_rows_avx(in, gaze, radius_max, weights, cache, out);
+        post_aa_rows_avx(in, gaze, radius_max, weights, cache, out, sizes);
         return out;
     }
     for (int y = 0; y < in.height; ++y)

@@ -41,12 +41,26 @@ void post_aa_row(const Image& in, const std::vector<float>& g, int x, int yy, fl
 void post_aa_pixel(const Image& in, glm::vec2 gaze, float radius_max,
                    const std::vector<std::vector<float>>& weights, Image& out, int x, int y);
 
+/// Each pixel's kernel size (post_aa_size at its centre) for one gaze, R and screen, which the
+/// post-AA stage keeps while they stay the same (a static gaze): the AVX pass then reads the
+/// sizes instead of computing a square root and two divisions per pixel, the same values.
+struct PostAaSizes {
+    glm::vec2 gaze{0.0f};
+    float radius_max = 0.0f;
+    int width = 0, height = 0;
+    std::vector<unsigned char> eta;  ///< W x H, row-major; empty: not made yet
+    bool made_for(glm::vec2 gaze, float radius_max, int width, int height) const;
+};
+
 /// The filter: an image of `in`'s size and channels (post_aa_cached_pixel, row by row). With
 /// `simd` (the default), simd_allowed() and a CPU with AVX, eight pixels at a time (once per
 /// kernel size among them; near the left and right edges from a copy of the row with its clamped
 /// neighbours), each lane doing post_aa_cached_pixel's operations in its order: the same bits as
-/// `simd` false (the readable reference), NaN payloads aside (docs/determinism.md).
-Image post_aa(const Image& in, glm::vec2 gaze, float radius_max, bool simd = true);
+/// `simd` false (the readable reference), NaN payloads aside (docs/determinism.md). `sizes`
+/// (optional, AVX pass only): read when made for this gaze, R and size, else made as the pass
+/// computes the sizes (the next frame with the same gaze reads them).
+Image post_aa(const Image& in, glm::vec2 gaze, float radius_max, bool simd = true,
+              PostAaSizes* sizes = nullptr);
 
 /// The row sums (post_aa_row) of one kernel size eta, kept for the last eta rows each column
 /// asked for: the entry of (x, yy) lives in slot yy mod eta of column x. A window of eta rows

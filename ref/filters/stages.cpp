@@ -20,6 +20,7 @@ struct LerpState : StageState {
 
 struct PostAaState : StageState {
     std::function<PostAaGeometry(const FrameContext&)> geometry;
+    PostAaSizes sizes;  ///< the kernel sizes, kept while the gaze and R stay the same
 };
 
 struct BlurState : StageState {
@@ -89,7 +90,9 @@ StageDef gaussian_lerp_stage_def(const std::string& input, const std::string& ou
 
 void post_aa_stage(FrameContext& ctx) {
     const PostAaGeometry g = ctx.state<PostAaState>().geometry(ctx);
-    ctx.output("output", BufferKind::color, rgb, post_aa(ctx.input("input"), g.gaze, g.radius_max));
+    PostAaState& state = ctx.state<PostAaState>();
+    ctx.output("output", BufferKind::color, rgb,
+               post_aa(ctx.input("input"), g.gaze, g.radius_max, true, &state.sizes));
 }
 
 StageDef post_aa_stage_def(const std::string& input, const std::string& output,

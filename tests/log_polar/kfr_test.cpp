@@ -142,6 +142,20 @@ TEST_CASE("post AA: the pass (row sums kept) equals post_aa_pixel bit for bit at
                 const Image scalar = post_aa(in, gaze, radius, false);
                 CHECK(std::memcmp(out.data.data(), scalar.data.data(),
                                   out.data.size() * sizeof(float)) == 0);
+                // The sizes kept by the stage: made by a first frame, read by a second with the
+                // same gaze, made again for another gaze; the same image each time.
+                PostAaSizes sizes;
+                const glm::vec2 frames[3] = {gaze, gaze, gaze + glm::vec2(3.0f, -1.0f)};
+                for (int frame = 0; frame < 3; ++frame) {
+                    const glm::vec2 g = frames[frame];
+                    // Kept from the frame before only for the second frame (the same gaze)
+                    CHECK(sizes.made_for(g, radius, w, h) == (frame == 1 && cpu_has_avx()));
+                    const Image with = post_aa(in, g, radius, true, &sizes);
+                    const Image plain = post_aa(in, g, radius, false);
+                    CHECK(std::memcmp(with.data.data(), plain.data.data(),
+                                      with.data.size() * sizeof(float)) == 0);
+                    CHECK(sizes.made_for(g, radius, w, h) == cpu_has_avx());
+                }
                 std::vector<std::vector<float>> weights(40);
                 for (int eta = 3; eta <= 39; eta += 2)
                     weights[static_cast<std::size_t>(eta)] = post_aa_weights(eta);
