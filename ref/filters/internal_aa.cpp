@@ -1,8 +1,11 @@
 #include "ref/filters/internal_aa.h"
 
+#include <immintrin.h>
+
 #include <algorithm>
 
 #include "ref/core/error.h"
+#include "ref/core/simd.h"
 
 namespace fovref {
 
@@ -28,11 +31,62 @@ void internal_aa_texel(const Image& color, const Image& valid, Image& out, int x
     for (int c = 0; c < color.channels && c < 4; ++c) out.at(x, y, c) = sum[c] / weight;
 }
 
+namespace {
+
+constexpr int lanes = 8;
+
+/// Texels x0 .. x0 + 7 of row y of a 3-channel buffer, where they and all their neighbours are
+/// traced and need no clamp (the caller checks): internal_aa_texel's sums. The 24 floats of the
+/// eight texels are contiguous (as in each neighbouring row and shifted column), and every lane
+/// has the same weights, so each of the three registers does one (texel, channel)'s scalar
+/// operations in order: 0, then + k c per tap (the product rounded), dy = -1 first, left to
+/// right; then / 16, the sum of the nine weights (exact).
+__attribute__((target("avx"))) void filter_group(const Image& color, Image& out, int x0, int y,
+                                                 const int* rows) {
+    static constexpr float k[3][3] = {{1, 2, 1}, {2, 4, 2}, {1, 2, 1}};
+    __m256 sum[3] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
+    for (int dy = 0; dy < 3; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const float* p = &color.data[color.index(x0 + dx, rows[dy])];
+            const __m256 kw = _mm256_set1_ps(k[dy][dx + 1]);
+            for (int r = 0; r < 3; ++r)
+                sum[r] = _mm256_add_ps(sum[r], _mm256_mul_ps(kw, _mm256_loadu_ps(p + 8 * r)));
+        }
+    float* o = &out.data[out.index(x0, y)];
+    for (int r = 0; r < 3; ++r)
+        _mm256_storeu_ps(o + 8 * r, _mm256_div_ps(sum[r], _mm256_set1_ps(16.0f)));
+}
+
+}  // namespace
+
 Image internal_aa(const Image& color, const Image& valid) {
     FOVREF_CHECK(color.channels <= 4, "internal anti-aliasing of more than 4 channels");
-    Image out(color.width, color.height, color.channels, 0.0f);
-    for (int y = 0; y < color.height; ++y)
-        for (int x = 0; x < color.width; ++x) internal_aa_texel(color, valid, out, x, y);
+    FOVREF_CHECK(valid.width == color.width && valid.height == color.height,
+                 "a validity mask of another size than its buffer");
+    const int w = color.width, h = color.height;
+    Image out(w, h, color.channels, 0.0f);
+    // Groups of eight texels of the outer half with every neighbour traced and inside the
+    // buffer's columns take filter_group (AVX, the same bits); the rest internal_aa_texel.
+    const bool avx = color.channels == 3 && valid.channels == 1 && simd_allowed() && cpu_has_avx();
+    for (int y = 0; y < h; ++y) {
+        const int rows[3] = {y == 0 ? h - 1 : y - 1, y, y + 1 == h ? 0 : y + 1};
+        int x = 0;
+        while (x < w) {
+            if (avx && 2 * x >= w && x >= 1 && x + lanes < w) {
+                bool traced = true;
+                for (const int row : rows)
+                    for (int xx = x - 1; xx <= x + lanes && traced; ++xx)
+                        traced = valid.at(xx, row) != 0.0f;
+                if (traced) {
+                    filter_group(color, out, x, y, rows);
+                    x += lanes;
+                    continue;
+                }
+            }
+            internal_aa_texel(color, valid, out, x, y);
+            ++x;
+        }
+    }
     return out;
 }
 

@@ -38,6 +38,32 @@ TEST_CASE("internal AA: outer half only, wrap on v, clamp on u, renormalised ove
     CHECK(out.at(3, 1) == doctest::Approx(sum / 13.0).epsilon(1e-6));
 }
 
+TEST_CASE("internal AA: eight texels at a time (AVX) give internal_aa_texel's bits") {
+    if (!cpu_has_avx()) MESSAGE("no AVX on this CPU: both runs take internal_aa_texel");
+    test::SplitMix64 rng(21);
+    std::int64_t filtered = 0;
+    for (const auto& shape : {std::tuple{80, 45, 3}, std::tuple{711, 40, 3}, std::tuple{19, 3, 3},
+                              std::tuple{33, 1, 3}, std::tuple{64, 9, 1}})
+        for (const std::size_t untraced_rate : {3u, 40u, 1000000u}) {
+            const int w = std::get<0>(shape), h = std::get<1>(shape);
+            const int channels = std::get<2>(shape);
+            Image color(w, h, channels), valid(w, h, 1);
+            for (float& v : color.data)
+                v = static_cast<float>(rng.below(1 << 20)) * 0x1p-17f - 3.0f;
+            color.data[color.data.size() / 2] = std::numeric_limits<float>::infinity();
+            for (float& v : valid.data) v = rng.below(untraced_rate) == 0 ? 0.0f : 1.0f;
+            const Image fast = internal_aa(color, valid);
+            set_simd_allowed(false);
+            const Image reference = internal_aa(color, valid);
+            set_simd_allowed(true);
+            INFO(w, "x", h, "x", channels, " untraced 1/", untraced_rate);
+            CHECK(test::same_bits_nan_aside(fast, reference));
+            for (int y = 0; y < h; ++y)
+                for (int x = w / 2; x < w; ++x) filtered += valid.at(x, y) != 0.0f;
+        }
+    CHECK(filtered > 20000);
+}
+
 TEST_CASE("mip pyramid: sizes, wrapped rows, traced children only, constants exact") {
     Image color(5, 3, 1, 0.0f), valid(5, 3, 1, 1.0f);
     for (int j = 0; j < 3; ++j)
