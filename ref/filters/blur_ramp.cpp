@@ -131,6 +131,9 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
     std::size_t taps[2 * blur_ramp_max_radius + 1];
     int radius[lanes];
     float last_sigma = 0.0f, last_a = 0.0f;  // sigma > 0 wherever a is used
+    // what `weights` holds: the lanes' a and radius it was made for (none yet: radius_max -1)
+    float weights_a[lanes] = {}, weights_radius[lanes] = {};
+    int weights_radius_max = -1;
     for (int y = 0; y < height; ++y) {
         int x0 = 0;
         for (; x0 + lanes <= width; x0 += lanes) {
@@ -158,7 +161,19 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
                     blur_ramp_pixel(ramp, geometry, image, vertical, out, x0 + lane, y);
                 continue;
             }
-            weights_avx(a, radius_f, radius_max, weights);
+            // The weights depend only on each lane's a and radius: a group like the last one
+            // (beyond full_deg every pixel has the same sigma) keeps them.
+            bool same = radius_max == weights_radius_max;
+            for (int lane = 0; lane < lanes; ++lane)
+                same = same && a[lane] == weights_a[lane] && radius_f[lane] == weights_radius[lane];
+            if (!same) {
+                weights_avx(a, radius_f, radius_max, weights);
+                weights_radius_max = radius_max;
+                for (int lane = 0; lane < lanes; ++lane) {
+                    weights_a[lane] = a[lane];
+                    weights_radius[lane] = radius_f[lane];
+                }
+            }
             // lane 0's source of each tap d: row y + d (clamped) at x0, or row y at x0 + d
             for (int d = -radius_max; d <= radius_max; ++d)
                 taps[d + radius_max] =
