@@ -600,68 +600,142 @@ namespace {
 
 // pow_fast_array's AVX2 kernel: pow_series for four lanes (the same operations in the same
 // order), t in [-103.5, 88.8] as pow_fast's; lanes pow_series declines are redone by pow_fast.
+// Two groups of four run side by side (their Horner chains interleaved: each is latency-bound).
 // Returns the number of elements done. y is finite.
+struct PowLanes {
+    __m256d yd, one, two, half, sqrt2, ln2, ln2_hi, ln2_lo, inv_ln2, shifter, t_min, t_max;
+    __m128i low, sign, range, mantissa, one_bits;
+};
+
+// The steps of pow_series for four lanes, in its order: set-up to ln x, then e^t from t.
+struct PowGroup {
+    __m128 xf;
+    int good;
+    __m256d ed, s, z;
+};
+
+__attribute__((target("avx2"), always_inline)) inline PowGroup pow_start(const PowLanes& c,
+                                                                         const float* x) {
+    PowGroup g;
+    g.xf = _mm_loadu_ps(x);
+    const __m128i xb = _mm_castps_si128(g.xf);
+    // a finite normal x > 0 (xb - 0x00800000 < 0x7f000000 unsigned) other than 1
+    const __m128i in_range =
+        _mm_cmplt_epi32(_mm_xor_si128(_mm_sub_epi32(xb, c.low), c.sign), c.range);
+    g.good = _mm_movemask_ps(
+        _mm_and_ps(_mm_castsi128_ps(in_range), _mm_cmpneq_ps(g.xf, _mm_set1_ps(1.0f))));
+    // x = m 2^e, m in [sqrt(1/2), sqrt(2))
+    __m256d ed = _mm256_cvtepi32_pd(_mm_sub_epi32(_mm_srli_epi32(xb, 23), _mm_set1_epi32(127)));
+    __m256d m =
+        _mm256_cvtps_pd(_mm_castsi128_ps(_mm_or_si128(_mm_and_si128(xb, c.mantissa), c.one_bits)));
+    const __m256d big = _mm256_cmp_pd(m, c.sqrt2, _CMP_GE_OQ);
+    m = _mm256_blendv_pd(m, _mm256_mul_pd(m, c.half), big);
+    g.ed = _mm256_blendv_pd(ed, _mm256_add_pd(ed, c.one), big);
+    // ln m = 2 atanh(s)
+    g.s = _mm256_div_pd(_mm256_sub_pd(m, c.one), _mm256_add_pd(m, c.one));
+    g.z = _mm256_mul_pd(g.s, g.s);
+    return g;
+}
+
+__attribute__((target("avx2"), always_inline)) inline __m256d pow_t(const PowLanes& c, PowGroup& g,
+                                                                    __m256d q) {
+    const __m256d ln_m =
+        _mm256_add_pd(_mm256_mul_pd(c.two, g.s), _mm256_mul_pd(g.s, _mm256_mul_pd(g.z, q)));
+    const __m256d ln_x = _mm256_add_pd(_mm256_mul_pd(g.ed, c.ln2), ln_m);
+    const __m256d t = _mm256_mul_pd(c.yd, ln_x);
+    g.good &= _mm256_movemask_pd(_mm256_and_pd(_mm256_cmp_pd(t, c.t_min, _CMP_GE_OQ),
+                                               _mm256_cmp_pd(t, c.t_max, _CMP_LE_OQ)));
+    return t;
+}
+
+// e^t = 2^k e^r: k and r
+__attribute__((target("avx2"), always_inline)) inline __m256d pow_k(const PowLanes& c, __m256d t) {
+    return _mm256_sub_pd(_mm256_add_pd(_mm256_mul_pd(t, c.inv_ln2), c.shifter), c.shifter);
+}
+__attribute__((target("avx2"), always_inline)) inline __m256d pow_r(const PowLanes& c, __m256d t,
+                                                                    __m256d kd) {
+    return _mm256_sub_pd(_mm256_sub_pd(t, _mm256_mul_pd(kd, c.ln2_hi)),
+                         _mm256_mul_pd(kd, c.ln2_lo));
+}
+
+// p 2^k to out (a lane out of range gets any bits here: the caller redoes it)
+__attribute__((target("avx2"), always_inline)) inline void pow_finish(__m256d p, __m256d kd,
+                                                                      float* out) {
+    // 2^k from its exponent bits (k in [-150, 128] for t in range: -1022 <= k <= 1023)
+    const __m128i k = _mm256_cvtpd_epi32(kd);
+    const __m256d scale = _mm256_castsi256_pd(
+        _mm256_slli_epi64(_mm256_cvtepi32_epi64(_mm_add_epi32(k, _mm_set1_epi32(1023))), 52));
+    _mm_storeu_ps(out, _mm256_cvtpd_ps(_mm256_mul_pd(p, scale)));
+}
+
 __attribute__((target("avx2"))) std::size_t pow_fast_avx2(const float* x, float y, float* out,
                                                           std::size_t n) {
-    const __m256d yd = _mm256_set1_pd(static_cast<double>(y));
-    const __m256d one = _mm256_set1_pd(1.0), two = _mm256_set1_pd(2.0), half = _mm256_set1_pd(0.5),
-                  sqrt2 = _mm256_set1_pd(kSqrt2);
-    const __m256d ln2 = _mm256_set1_pd(kLn2Hi + kLn2Lo), ln2_hi = _mm256_set1_pd(kLn2Hi),
-                  ln2_lo = _mm256_set1_pd(kLn2Lo), inv_ln2 = _mm256_set1_pd(kInvLn2);
-    const __m256d shifter = _mm256_set1_pd(0x1.8p52);
-    const __m256d t_min = _mm256_set1_pd(-103.5), t_max = _mm256_set1_pd(88.8);
+    PowLanes c;
+    c.yd = _mm256_set1_pd(static_cast<double>(y));
+    c.one = _mm256_set1_pd(1.0), c.two = _mm256_set1_pd(2.0), c.half = _mm256_set1_pd(0.5);
+    c.sqrt2 = _mm256_set1_pd(kSqrt2);
+    c.ln2 = _mm256_set1_pd(kLn2Hi + kLn2Lo), c.ln2_hi = _mm256_set1_pd(kLn2Hi);
+    c.ln2_lo = _mm256_set1_pd(kLn2Lo), c.inv_ln2 = _mm256_set1_pd(kInvLn2);
+    c.shifter = _mm256_set1_pd(0x1.8p52);
+    c.t_min = _mm256_set1_pd(-103.5), c.t_max = _mm256_set1_pd(88.8);
+    c.low = _mm_set1_epi32(0x00800000), c.sign = _mm_set1_epi32(INT32_MIN);
+    c.range = _mm_set1_epi32(static_cast<int>(0x7f000000u ^ 0x80000000u));
+    c.mantissa = _mm_set1_epi32(0x007fffff), c.one_bits = _mm_set1_epi32(0x3f800000);
     const double qc[8] = {2.0 / 17.0, 2.0 / 15.0, 2.0 / 13.0, 2.0 / 11.0,
                           2.0 / 9.0,  2.0 / 7.0,  2.0 / 5.0,  2.0 / 3.0};
     const double pc[11] = {
         1.0 / 3628800.0, 1.0 / 362880.0, 1.0 / 40320.0, 1.0 / 5040.0, 1.0 / 720.0, 1.0 / 120.0,
         1.0 / 24.0,      1.0 / 6.0,      0.5,           1.0,          1.0};
-    const __m128i low = _mm_set1_epi32(0x00800000), sign = _mm_set1_epi32(INT32_MIN);
-    const __m128i range = _mm_set1_epi32(static_cast<int>(0x7f000000u ^ 0x80000000u));
-    const __m128i mantissa = _mm_set1_epi32(0x007fffff), one_bits = _mm_set1_epi32(0x3f800000);
     std::size_t i = 0;
+    constexpr int G = 4;  // groups of four side by side
+    for (; i + 4 * G <= n; i += 4 * G) {
+        PowGroup g[G];
+        __m256d q[G], t[G], kd[G], r[G], p[G];
+#pragma GCC unroll 4
+        for (int h = 0; h < G; ++h) {
+            g[h] = pow_start(c, x + i + 4 * h);
+            q[h] = _mm256_set1_pd(qc[0]);
+        }
+        for (int k = 1; k < 8; ++k)
+#pragma GCC unroll 4
+            for (int h = 0; h < G; ++h)
+                q[h] = _mm256_add_pd(_mm256_set1_pd(qc[k]), _mm256_mul_pd(g[h].z, q[h]));
+#pragma GCC unroll 4
+        for (int h = 0; h < G; ++h) {
+            t[h] = pow_t(c, g[h], q[h]);
+            kd[h] = pow_k(c, t[h]);
+            r[h] = pow_r(c, t[h], kd[h]);
+            p[h] = _mm256_set1_pd(pc[0]);
+        }
+        for (int k = 1; k < 11; ++k)
+#pragma GCC unroll 4
+            for (int h = 0; h < G; ++h)
+                p[h] = _mm256_add_pd(_mm256_set1_pd(pc[k]), _mm256_mul_pd(r[h], p[h]));
+        float xs[4 * G];  // the inputs, kept: `out` may be `x`
+        int good = 0;
+#pragma GCC unroll 4
+        for (int h = 0; h < G; ++h) {
+            _mm_storeu_ps(xs + 4 * h, g[h].xf);
+            good |= g[h].good << (4 * h);
+        }
+#pragma GCC unroll 4
+        for (int h = 0; h < G; ++h) pow_finish(p[h], kd[h], out + i + 4 * h);
+        for (int lane = 0; lane < 4 * G; ++lane)
+            if (!(good & (1 << lane))) out[i + lane] = pow_fast(xs[lane], y);
+    }
     for (; i + 4 <= n; i += 4) {
-        const __m128 xf = _mm_loadu_ps(x + i);
-        const __m128i xb = _mm_castps_si128(xf);
-        // a finite normal x > 0 (xb - 0x00800000 < 0x7f000000 unsigned) other than 1
-        const __m128i in_range =
-            _mm_cmplt_epi32(_mm_xor_si128(_mm_sub_epi32(xb, low), sign), range);
-        int good = _mm_movemask_ps(
-            _mm_and_ps(_mm_castsi128_ps(in_range), _mm_cmpneq_ps(xf, _mm_set1_ps(1.0f))));
-        // x = m 2^e, m in [sqrt(1/2), sqrt(2))
-        __m256d ed = _mm256_cvtepi32_pd(_mm_sub_epi32(_mm_srli_epi32(xb, 23), _mm_set1_epi32(127)));
-        __m256d m =
-            _mm256_cvtps_pd(_mm_castsi128_ps(_mm_or_si128(_mm_and_si128(xb, mantissa), one_bits)));
-        const __m256d big = _mm256_cmp_pd(m, sqrt2, _CMP_GE_OQ);
-        m = _mm256_blendv_pd(m, _mm256_mul_pd(m, half), big);
-        ed = _mm256_blendv_pd(ed, _mm256_add_pd(ed, one), big);
-        // ln m = 2 atanh(s)
-        const __m256d s = _mm256_div_pd(_mm256_sub_pd(m, one), _mm256_add_pd(m, one));
-        const __m256d z = _mm256_mul_pd(s, s);
+        PowGroup a = pow_start(c, x + i);
         __m256d q = _mm256_set1_pd(qc[0]);
-        for (int k = 1; k < 8; ++k) q = _mm256_add_pd(_mm256_set1_pd(qc[k]), _mm256_mul_pd(z, q));
-        const __m256d ln_m =
-            _mm256_add_pd(_mm256_mul_pd(two, s), _mm256_mul_pd(s, _mm256_mul_pd(z, q)));
-        const __m256d ln_x = _mm256_add_pd(_mm256_mul_pd(ed, ln2), ln_m);
-        const __m256d t = _mm256_mul_pd(yd, ln_x);
-        good &= _mm256_movemask_pd(_mm256_and_pd(_mm256_cmp_pd(t, t_min, _CMP_GE_OQ),
-                                                 _mm256_cmp_pd(t, t_max, _CMP_LE_OQ)));
-        // e^t = 2^k e^r
-        const __m256d kd =
-            _mm256_sub_pd(_mm256_add_pd(_mm256_mul_pd(t, inv_ln2), shifter), shifter);
-        const __m256d r =
-            _mm256_sub_pd(_mm256_sub_pd(t, _mm256_mul_pd(kd, ln2_hi)), _mm256_mul_pd(kd, ln2_lo));
+        for (int k = 1; k < 8; ++k) q = _mm256_add_pd(_mm256_set1_pd(qc[k]), _mm256_mul_pd(a.z, q));
+        const __m256d t = pow_t(c, a, q);
+        const __m256d kd = pow_k(c, t), r = pow_r(c, t, kd);
         __m256d p = _mm256_set1_pd(pc[0]);
         for (int k = 1; k < 11; ++k) p = _mm256_add_pd(_mm256_set1_pd(pc[k]), _mm256_mul_pd(r, p));
-        // 2^k from its exponent bits (k in [-150, 128] for t in range: -1022 <= k <= 1023)
-        // (a lane out of range gets any bits here: it is redone below)
-        const __m128i k = _mm256_cvtpd_epi32(kd);
-        const __m256d scale = _mm256_castsi256_pd(
-            _mm256_slli_epi64(_mm256_cvtepi32_epi64(_mm_add_epi32(k, _mm_set1_epi32(1023))), 52));
-        float xs[4];  // the inputs, kept: `out` may be `x`
-        _mm_storeu_ps(xs, xf);
-        _mm_storeu_ps(out + i, _mm256_cvtpd_ps(_mm256_mul_pd(p, scale)));
+        float xs[4];
+        _mm_storeu_ps(xs, a.xf);
+        pow_finish(p, kd, out + i);
         for (int lane = 0; lane < 4; ++lane)
-            if (!(good & (1 << lane))) out[i + lane] = pow_fast(xs[lane], y);
+            if (!(a.good & (1 << lane))) out[i + lane] = pow_fast(xs[lane], y);
     }
     return i;
 }
