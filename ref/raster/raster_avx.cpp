@@ -37,21 +37,36 @@ __attribute__((target("avx"))) void fragments(const Scene& scene, const RasterFr
                                               const RasterSite* site, int count,
                                               RasterFragment* fragment, bool* hit) {
     // Each lane's pixel centre moved by the frame's sample shift, as raster_fragment computes it,
-    // and its triangle's corners relative to the camera (watertight_edges' A, B, C).
-    const Camera& camera = frame.camera;
-    alignas(32) float column[lanes], row[lanes], corner[3][3][lanes];
+    // and its triangle's corners.
+    alignas(32) float column[lanes], row[lanes];
+    bool one_triangle = true;  // all eight of one triangle (most batches): its corners broadcast
     for (int l = 0; l < lanes; ++l) {
         const RasterSite& at = site[l < count ? l : 0];
         column[l] = static_cast<float>(at.x);
         row[l] = static_cast<float>(at.y);
-        const auto t = static_cast<std::size_t>(at.primitive);
+        one_triangle = one_triangle && at.primitive == site[0].primitive;
+    }
+    __m256 position[3][3];  // corner k's coordinate c
+    if (one_triangle) {
+        const auto t = static_cast<std::size_t>(site[0].primitive);
         for (int k = 0; k < 3; ++k) {
             const glm::vec3 p = scene.positions[3 * t + static_cast<std::size_t>(k)];
-            corner[k][0][l] = p.x - camera.position.x;
-            corner[k][1][l] = p.y - camera.position.y;
-            corner[k][2][l] = p.z - camera.position.z;
+            position[k][0] = set(p.x), position[k][1] = set(p.y), position[k][2] = set(p.z);
         }
+    } else {
+        alignas(32) float corner[3][3][lanes];
+        for (int l = 0; l < lanes; ++l) {
+            const auto t = static_cast<std::size_t>(site[l < count ? l : 0].primitive);
+            for (int k = 0; k < 3; ++k) {
+                const glm::vec3 p = scene.positions[3 * t + static_cast<std::size_t>(k)];
+                corner[k][0][l] = p.x, corner[k][1][l] = p.y, corner[k][2][l] = p.z;
+            }
+        }
+        for (int k = 0; k < 3; ++k)
+            for (int c = 0; c < 3; ++c) position[k][c] = _mm256_load_ps(corner[k][c]);
     }
+    const Camera& camera = frame.camera;
+    const float origin[3] = {camera.position.x, camera.position.y, camera.position.z};
     const float scale = static_cast<float>(raster_subpixel_scale);
     const float shift_x = static_cast<float>(frame.sample_shift.x) / scale;
     const float shift_y = static_cast<float>(frame.sample_shift.y) / scale;
@@ -93,8 +108,9 @@ __attribute__((target("avx"))) void fragments(const Scene& scene, const RasterFr
     // watertight_edges: the corners relative to the camera, sheared
     __m256 sheared_x[3], sheared_y[3], corner_z[3];
     for (int k = 0; k < 3; ++k) {
-        const Lanes3 c{_mm256_load_ps(corner[k][0]), _mm256_load_ps(corner[k][1]),
-                       _mm256_load_ps(corner[k][2])};
+        const Lanes3 c{_mm256_sub_ps(position[k][0], set(origin[0])),
+                       _mm256_sub_ps(position[k][1], set(origin[1])),
+                       _mm256_sub_ps(position[k][2], set(origin[2]))};
         corner_z[k] = pick(c, kz0, kz1);
         sheared_x[k] = _mm256_sub_ps(pick(c, kx0, kx1), _mm256_mul_ps(shear_x, corner_z[k]));
         sheared_y[k] = _mm256_sub_ps(pick(c, ky0, ky1), _mm256_mul_ps(shear_y, corner_z[k]));
@@ -122,23 +138,9 @@ __attribute__((target("avx"))) void fragments(const Scene& scene, const RasterFr
     const int accepted = bits(both(both(not_equal(det, zero()), greater(hit_t, zero())),
                                    both(finite(hit_t), both(finite(u), finite(v)))));
     const __m256 w0 = _mm256_sub_ps(_mm256_sub_ps(set(1.0f), u), v);
-    alignas(32) float position[3][3][lanes];  // corner k's coordinate c, per lane
-    for (int l = 0; l < lanes; ++l) {
-        const auto t = static_cast<std::size_t>(site[l < count ? l : 0].primitive);
-        for (int k = 0; k < 3; ++k) {
-            const glm::vec3 p = scene.positions[3 * t + static_cast<std::size_t>(k)];
-            position[k][0][l] = p.x;
-            position[k][1][l] = p.y;
-            position[k][2][l] = p.z;
-        }
-    }
     __m256 to[3];
     for (int c = 0; c < 3; ++c)
-        to[c] = from_camera(_mm256_load_ps(position[0][c]), _mm256_load_ps(position[1][c]),
-                            _mm256_load_ps(position[2][c]), w0, u, v,
-                            c == 0   ? camera.position.x
-                            : c == 1 ? camera.position.y
-                                     : camera.position.z);
+        to[c] = from_camera(position[0][c], position[1][c], position[2][c], w0, u, v, origin[c]);
     const __m256 to_x = to[0], to_y = to[1], to_z = to[2];
     const __m256 depth = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(to_x, set(camera.forward.x)),
                                                      _mm256_mul_ps(to_y, set(camera.forward.y))),
