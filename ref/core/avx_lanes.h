@@ -96,6 +96,19 @@ FOVREF_AVX2_INLINE void gather3_lanes(const float* rgb, __m256i pixel, __m256 ma
     for (int c = 0; c < 3; ++c) out[c] = _mm256_mask_i32gather_ps(zero(), rgb + c, first, mask, 4);
 }
 
+/// (AVX2) Eight consecutive pixels of three interleaved channels (p: the first pixel's first
+/// value; 24 floats) as one register per channel: the same floats, moved by blends and permutes.
+FOVREF_AVX2_INLINE void split3_lanes(const float* p, __m256* out) {
+    const __m256 m0 = _mm256_loadu_ps(p), m1 = _mm256_loadu_ps(p + 8), m2 = _mm256_loadu_ps(p + 16);
+    // channel c of pixel l is float 3 l + c: m0 holds floats 0..7, m1 8..15, m2 16..23
+    const __m256 r = _mm256_blend_ps(_mm256_blend_ps(m0, m1, 0b10010010), m2, 0b00100100);
+    const __m256 g = _mm256_blend_ps(_mm256_blend_ps(m0, m1, 0b00100100), m2, 0b01001001);
+    const __m256 b = _mm256_blend_ps(_mm256_blend_ps(m0, m1, 0b01001001), m2, 0b10010010);
+    out[0] = _mm256_permutevar8x32_ps(r, _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5));
+    out[1] = _mm256_permutevar8x32_ps(g, _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6));
+    out[2] = _mm256_permutevar8x32_ps(b, _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
+}
+
 /// The four bilinear taps of eight points (tx, ty) whose corners (x0, y0), the floors of tx and
 /// ty, the caller computes (each pass its own way, bit-equal to its scalar code): f = t - x0,
 /// the weights (1 - fx)(1 - fy), fx (1 - fy), (1 - fx) fy, fx fy of the taps (x0, y0),

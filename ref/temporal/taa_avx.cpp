@@ -191,15 +191,31 @@ FOVREF_AVX2_INLINE void gather_history(const TaaState& previous, const BilinearL
                                        __m256 has_taps, __m256 px, __m256 py, __m256 (&taps)[4][4],
                                        float* age_previous) {
     const int width = previous.history.width, height = previous.history.height;
-    const __m256i first =
-        row_major(_mm256_load_si256(reinterpret_cast<const __m256i*>(b.x0)),
-                  _mm256_load_si256(reinterpret_cast<const __m256i*>(b.y0)), width);
-    for (int t = 0; t < 4; ++t) {
-        const __m256i pixel =
-            _mm256_add_epi32(first, _mm256_set1_epi32((t >> 1) * width + (t & 1)));
-        gather3_lanes(previous.history.data.data(), pixel, b.on[t], taps[t]);
-        taps[t][3] =
-            _mm256_mask_i32gather_ps(zero(), previous.depth.data.data(), pixel, b.on[t], 4);
+    // Every tap of every lane on the screen, the lanes' corners side by side in one row (a small
+    // motion, most groups): each tap's eight pixels are consecutive, so their colours and depths
+    // are plain loads of the same floats (the colours' channels sorted out by blends and
+    // permutes).
+    bool row = b.on_bits[0] == 0xff && b.on_bits[1] == 0xff && b.on_bits[2] == 0xff &&
+               b.on_bits[3] == 0xff;
+    for (int l = 1; l < lanes && row; ++l) row = b.x0[l] == b.x0[0] + l && b.y0[l] == b.y0[0];
+    if (row) {
+        for (int t = 0; t < 4; ++t) {
+            const std::size_t pixel = static_cast<std::size_t>(b.y0[0] + (t >> 1)) * width +
+                                      static_cast<std::size_t>(b.x0[0] + (t & 1));
+            split3_lanes(&previous.history.data[3 * pixel], taps[t]);
+            taps[t][3] = _mm256_loadu_ps(&previous.depth.data[pixel]);
+        }
+    } else {
+        const __m256i first =
+            row_major(_mm256_load_si256(reinterpret_cast<const __m256i*>(b.x0)),
+                      _mm256_load_si256(reinterpret_cast<const __m256i*>(b.y0)), width);
+        for (int t = 0; t < 4; ++t) {
+            const __m256i pixel =
+                _mm256_add_epi32(first, _mm256_set1_epi32((t >> 1) * width + (t & 1)));
+            gather3_lanes(previous.history.data.data(), pixel, b.on[t], taps[t]);
+            taps[t][3] =
+                _mm256_mask_i32gather_ps(zero(), previous.depth.data.data(), pixel, b.on[t], 4);
+        }
     }
     // The age under p': (clamp(floor(p'x), 0, W - 1), clamp(floor(p'y), 0, H - 1)).
     const __m256i ax = _mm256_min_epi32(
