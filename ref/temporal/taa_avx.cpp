@@ -74,7 +74,7 @@ FOVREF_AVX_INLINE void write_margins(Image* margin, int x, int y, __m256 depth,
 /// of the current 3x3 neighbourhood (clamp-screen: lo = hi = the pixel, then glm::min and
 /// glm::max with the nine neighbours, rows and columns clamped to the screen, row by row, in
 /// clamp_to_neighbourhood's order). Returns the lanes where the clamp moved the history.
-FOVREF_AVX_INLINE __m256 clamp_group(const TaaInputs& in, int x, int y, Group& g) {
+FOVREF_AVX2_INLINE __m256 clamp_group(const TaaInputs& in, int x, int y, Group& g) {
     __m256 lo[3], hi[3];
     if (in.bounds) {
         alignas(32) float box[6][lanes];
@@ -84,6 +84,22 @@ FOVREF_AVX_INLINE __m256 clamp_group(const TaaInputs& in, int x, int y, Group& g
         for (int c = 0; c < 3; ++c) {
             lo[c] = _mm256_load_ps(box[c]);
             hi[c] = _mm256_load_ps(box[3 + c]);
+        }
+    } else if (x >= 1 && x + lanes < in.color.width) {
+        // No column clamped: each of the nine neighbours' eight pixels are consecutive, plain
+        // loads of the same floats (rows clamped as below), in the same order.
+        const Image& color = in.color;
+        for (int c = 0; c < 3; ++c) lo[c] = hi[c] = _mm256_load_ps(g.current[c]);
+        for (int r = 0; r < 3; ++r) {
+            const int sy = std::clamp(y + r - 1, 0, color.height - 1);
+            for (int dx = 0; dx < 3; ++dx) {
+                __m256 v[3];
+                split3_lanes(&color.data[color.index(x + dx - 1, sy)], v);
+                for (int c = 0; c < 3; ++c) {
+                    lo[c] = std_min(lo[c], v[c]);  // glm::min(a, b) = (b < a) ? b : a
+                    hi[c] = std_max(hi[c], v[c]);  // glm::max(a, b) = (a < b) ? b : a
+                }
+            }
         }
     } else {
         // Rows y - 1 .. y + 1 and columns x - 1 .. x + 8, clamped, one array per channel.
