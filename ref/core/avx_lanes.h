@@ -109,6 +109,17 @@ FOVREF_AVX2_INLINE void split3_lanes(const float* p, __m256* out) {
     out[2] = _mm256_permutevar8x32_ps(b, _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
 }
 
+/// (AVX2) The inverse of split3_lanes: one register per channel stored as eight consecutive
+/// pixels of three interleaved channels at p (24 floats).
+FOVREF_AVX2_INLINE void merge3_lanes(const __m256* in, float* p) {
+    const __m256 r = _mm256_permutevar8x32_ps(in[0], _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5));
+    const __m256 g = _mm256_permutevar8x32_ps(in[1], _mm256_setr_epi32(5, 0, 3, 6, 1, 4, 7, 2));
+    const __m256 b = _mm256_permutevar8x32_ps(in[2], _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
+    _mm256_storeu_ps(p, _mm256_blend_ps(_mm256_blend_ps(r, g, 0b10010010), b, 0b00100100));
+    _mm256_storeu_ps(p + 8, _mm256_blend_ps(_mm256_blend_ps(r, g, 0b00100100), b, 0b01001001));
+    _mm256_storeu_ps(p + 16, _mm256_blend_ps(_mm256_blend_ps(r, g, 0b01001001), b, 0b10010010));
+}
+
 /// The four bilinear taps of eight points (tx, ty) whose corners (x0, y0), the floors of tx and
 /// ty, the caller computes (each pass its own way, bit-equal to its scalar code): f = t - x0,
 /// the weights (1 - fx)(1 - fy), fx (1 - fy), (1 - fx) fy, fx fy of the taps (x0, y0),

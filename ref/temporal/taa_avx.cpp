@@ -25,16 +25,15 @@ struct Group {
     alignas(32) float current[3][lanes];
     alignas(32) float history[3][lanes];
     alignas(32) float age_previous[lanes];
-    alignas(32) float z[lanes];
 };
 
-/// The blend and its writes, shared by both cases: `ok` lanes have a usable history, `keep` of
-/// them a consistent one (kept with age min(max(age', 1) + 1, cap)), the rest of `ok` lanes
-/// beyond the periphery radius (`periphery`) age 2; every other lane is rejected (the current
-/// pixel, age 1). The margins are written by the caller.
-FOVREF_AVX_INLINE void blend_and_write(const TaaParams& params, const Group& g, __m256 ok,
-                                       __m256 keep, __m256 periphery, int x, int y, Image& out,
-                                       Image& age) {
+/// The blend, shared by both cases: `ok` lanes have a usable history, `keep` of them a
+/// consistent one (kept with age min(max(age', 1) + 1, cap)), the rest of `ok` lanes beyond the
+/// periphery radius (`periphery`) age 2; every other lane is rejected (the current pixel, age
+/// 1). The colours go to result[0 .. 2]; returns the ages. The callers write them (and the
+/// margins).
+FOVREF_AVX_INLINE __m256 blend(const TaaParams& params, const Group& g, __m256 ok, __m256 keep,
+                               __m256 periphery, __m256* result) {
     const __m256 age_kept =
         std_min(_mm256_add_ps(std_max(_mm256_load_ps(g.age_previous), set(1.0f)), set(1.0f)),
                 set(static_cast<float>(params.age_cap)));
@@ -42,17 +41,33 @@ FOVREF_AVX_INLINE void blend_and_write(const TaaParams& params, const Group& g, 
     const __m256 age_new = select(keep, age_kept, set(2.0f));
     const __m256 w = _mm256_div_ps(set(1.0f), age_new);
     const __m256 one_minus_w = _mm256_sub_ps(set(1.0f), w);
-    alignas(32) float result[3][lanes], result_age[lanes];
     for (int c = 0; c < 3; ++c) {
         const __m256 current = _mm256_load_ps(g.current[c]);
         const __m256 blended = _mm256_add_ps(
             _mm256_mul_ps(_mm256_load_ps(g.history[c]), one_minus_w), _mm256_mul_ps(current, w));
-        _mm256_store_ps(result[c], select(reject, current, blended));
+        result[c] = select(reject, current, blended);
     }
-    _mm256_store_ps(result_age, select(reject, set(1.0f), age_new));
-    store3_lanes(result, &out.data[out.index(x, y)]);
-    float* a = &age.data[age.index(x, y)];
-    for (int l = 0; l < lanes; ++l) a[l] = result_age[l];
+    return select(reject, set(1.0f), age_new);
+}
+
+/// blend, written lane by lane (AVX).
+FOVREF_AVX_INLINE void blend_and_write(const TaaParams& params, const Group& g, __m256 ok,
+                                       __m256 keep, __m256 periphery, int x, int y, Image& out,
+                                       Image& age) {
+    __m256 result[3];
+    _mm256_storeu_ps(&age.data[age.index(x, y)], blend(params, g, ok, keep, periphery, result));
+    alignas(32) float lanes_of[3][lanes];
+    for (int c = 0; c < 3; ++c) _mm256_store_ps(lanes_of[c], result[c]);
+    store3_lanes(lanes_of, &out.data[out.index(x, y)]);
+}
+
+/// blend, the colours interleaved by merge3_lanes (AVX2).
+FOVREF_AVX2_INLINE void blend_and_write_avx2(const TaaParams& params, const Group& g, __m256 ok,
+                                             __m256 keep, __m256 periphery, int x, int y,
+                                             Image& out, Image& age) {
+    __m256 result[3];
+    _mm256_storeu_ps(&age.data[age.index(x, y)], blend(params, g, ok, keep, periphery, result));
+    merge3_lanes(result, &out.data[out.index(x, y)]);
 }
 
 /// The `taa_margin` channels of pixels x .. x + 7 (when wanted).
@@ -268,10 +283,10 @@ __attribute__((target("avx2"))) void moving_group(const TaaParams& params, const
                                                   Image* margin, TaaStats& stats) {
     const float wf = static_cast<float>(in.color.width), hf = static_cast<float>(in.color.height);
     Group g;
-    load3_lanes(&in.color.data[in.color.index(x, y)], g.current);
-    const float* zs = &in.depth.data[in.depth.index(x, y)];
-    for (int l = 0; l < lanes; ++l) g.z[l] = zs[l];
-    const __m256 z = _mm256_load_ps(g.z);
+    __m256 current[3];
+    split3_lanes(&in.color.data[in.color.index(x, y)], current);
+    for (int c = 0; c < 3; ++c) _mm256_store_ps(g.current[c], current[c]);
+    const __m256 z = _mm256_loadu_ps(&in.depth.data[in.depth.index(x, y)]);
 
     __m256 cx, px, py, previous_depth;
     const __m256 reprojected = reproject_lanes(k.reprojection, x, y, z, cx, px, py, previous_depth);
@@ -313,7 +328,7 @@ __attribute__((target("avx2"))) void moving_group(const TaaParams& params, const
     if (clamp) {
         // Karis's clamp (clamp_history): never rejected for depth, no periphery rule.
         const __m256 moved = clamp_group(in, x, y, g);
-        blend_and_write(params, g, ok, ok, zero(), x, y, out, age);
+        blend_and_write_avx2(params, g, ok, ok, zero(), x, y, out, age);
         stats.clamped += count(both(ok, moved));
         stats.kept += count(ok) - count(both(ok, moved));
         stats.rejected += lanes - count(ok);
@@ -330,7 +345,7 @@ __attribute__((target("avx2"))) void moving_group(const TaaParams& params, const
 
     const __m256 keep = both(ok, consistent);
     const __m256 periphery_kept = both(both(ok, negation(consistent)), periphery);
-    blend_and_write(params, g, ok, consistent, periphery, x, y, out, age);
+    blend_and_write_avx2(params, g, ok, consistent, periphery, x, y, out, age);
     stats.kept += count(keep);
     stats.periphery_kept += count(periphery_kept);
     stats.rejected += lanes - count(keep) - count(periphery_kept);
