@@ -50,21 +50,10 @@ FOVREF_AVX_INLINE __m256 blend(const TaaParams& params, const Group& g, __m256 o
     return select(reject, set(1.0f), age_new);
 }
 
-/// blend, written lane by lane (AVX).
-FOVREF_AVX_INLINE void blend_and_write(const TaaParams& params, const Group& g, __m256 ok,
-                                       __m256 keep, __m256 periphery, int x, int y, Image& out,
-                                       Image& age) {
-    __m256 result[3];
-    _mm256_storeu_ps(&age.data[age.index(x, y)], blend(params, g, ok, keep, periphery, result));
-    alignas(32) float lanes_of[3][lanes];
-    for (int c = 0; c < 3; ++c) _mm256_store_ps(lanes_of[c], result[c]);
-    store3_lanes(lanes_of, &out.data[out.index(x, y)]);
-}
-
 /// blend, the colours interleaved by merge3_lanes (AVX2).
-FOVREF_AVX2_INLINE void blend_and_write_avx2(const TaaParams& params, const Group& g, __m256 ok,
-                                             __m256 keep, __m256 periphery, int x, int y,
-                                             Image& out, Image& age) {
+FOVREF_AVX2_INLINE void blend_and_write(const TaaParams& params, const Group& g, __m256 ok,
+                                        __m256 keep, __m256 periphery, int x, int y, Image& out,
+                                        Image& age) {
     __m256 result[3];
     _mm256_storeu_ps(&age.data[age.index(x, y)], blend(params, g, ok, keep, periphery, result));
     merge3_lanes(result, &out.data[out.index(x, y)]);
@@ -147,24 +136,37 @@ FOVREF_AVX2_INLINE __m256 clamp_group(const TaaInputs& in, int x, int y, Group& 
     return negation(unchanged);
 }
 
-// Stationary camera: the history and age at the pixel itself, never rejected for depth.
-__attribute__((target("avx"))) void stationary_group(const TaaParams& params, const TaaInputs& in,
-                                                     const TaaState& previous, int x, int y,
-                                                     Image& out, Image& age, TaaStats& stats) {
-    Group g;
-    load3_lanes(&in.color.data[in.color.index(x, y)], g.current);
-    load3_lanes(&previous.history.data[previous.history.index(x, y)], g.history);
-    const float* a = &previous.age.data[previous.age.index(x, y)];
-    for (int l = 0; l < lanes; ++l) g.age_previous[l] = a[l];
+// Stationary camera: the history and age at the pixel itself, never rejected for depth. The
+// group's colours and ages are in `g`; the blended colours go to result[0 .. 2]; returns the
+// ages.
+FOVREF_AVX_INLINE __m256 stationary_blend(const TaaParams& params, const Group& g, TaaStats& stats,
+                                          __m256* result) {
     const __m256 ok =
         both(both(finite(_mm256_load_ps(g.history[0])), finite(_mm256_load_ps(g.history[1]))),
              both(finite(_mm256_load_ps(g.history[2])), finite(_mm256_load_ps(g.age_previous))));
-    blend_and_write(params, g, ok, ok, _mm256_setzero_ps(), x, y, out, age);
     const int kept = count(ok);
     stats.kept += kept;
     stats.reprojection_skipped += kept;
     stats.rejected += lanes - kept;
     stats.nonfinite_history += lanes - kept;
+    return blend(params, g, ok, ok, _mm256_setzero_ps(), result);
+}
+
+// A stationary camera's eight pixels, the colours read by split3_lanes and written by
+// merge3_lanes.
+__attribute__((target("avx2"))) void stationary_group(const TaaParams& params, const TaaInputs& in,
+                                                      const TaaState& previous, int x, int y,
+                                                      Image& out, Image& age, TaaStats& stats) {
+    Group g;
+    __m256 v[3];
+    split3_lanes(&in.color.data[in.color.index(x, y)], v);
+    for (int c = 0; c < 3; ++c) _mm256_store_ps(g.current[c], v[c]);
+    split3_lanes(&previous.history.data[previous.history.index(x, y)], v);
+    for (int c = 0; c < 3; ++c) _mm256_store_ps(g.history[c], v[c]);
+    _mm256_store_ps(g.age_previous, _mm256_loadu_ps(&previous.age.data[previous.age.index(x, y)]));
+    __m256 result[3];
+    _mm256_storeu_ps(&age.data[age.index(x, y)], stationary_blend(params, g, stats, result));
+    merge3_lanes(result, &out.data[out.index(x, y)]);
 }
 
 /// taa_reproject for pixels x .. x + 7 of row y at view depths z: their centres' x (cx), the
@@ -328,7 +330,7 @@ __attribute__((target("avx2"))) void moving_group(const TaaParams& params, const
     if (clamp) {
         // Karis's clamp (clamp_history): never rejected for depth, no periphery rule.
         const __m256 moved = clamp_group(in, x, y, g);
-        blend_and_write_avx2(params, g, ok, ok, zero(), x, y, out, age);
+        blend_and_write(params, g, ok, ok, zero(), x, y, out, age);
         stats.clamped += count(both(ok, moved));
         stats.kept += count(ok) - count(both(ok, moved));
         stats.rejected += lanes - count(ok);
@@ -345,7 +347,7 @@ __attribute__((target("avx2"))) void moving_group(const TaaParams& params, const
 
     const __m256 keep = both(ok, consistent);
     const __m256 periphery_kept = both(both(ok, negation(consistent)), periphery);
-    blend_and_write_avx2(params, g, ok, consistent, periphery, x, y, out, age);
+    blend_and_write(params, g, ok, consistent, periphery, x, y, out, age);
     stats.kept += count(keep);
     stats.periphery_kept += count(periphery_kept);
     stats.rejected += lanes - count(keep) - count(periphery_kept);
@@ -356,17 +358,16 @@ __attribute__((target("avx2"))) void moving_group(const TaaParams& params, const
 }  // namespace
 
 bool taa_avx_applies(const TaaInputs& in, const TaaState& previous) {
-    // A stationary camera's lanes need AVX, a moving one's AVX2 (the gathers). The lanes read
-    // one-channel depths and ages directly (taa() checks the other shapes); the
-    // gathers' indices 3 (y W + x) are int32, and the taps' corners are computed in binary32
-    // (exact up to 2^24).
+    // The lanes need AVX2 (the gathers, and the colours' blends and permutes). They read
+    // one-channel depths and ages directly (taa() checks the other shapes); the gathers' indices
+    // 3 (y W + x) are int32, and the taps' corners are computed in binary32 (exact up to 2^24).
     const std::int64_t pixels =
         static_cast<std::int64_t>(previous.history.width) * previous.history.height;
     return previous.valid && in.depth.channels == 1 && previous.depth.channels == 1 &&
            previous.age.channels == 1 && previous.history.width <= (1 << 24) &&
            previous.history.height <= (1 << 24) &&
            3 * pixels <= std::numeric_limits<std::int32_t>::max() && simd_allowed() &&
-           (cpu_has_avx2() || (cpu_has_avx() && taa_constants(in, previous).stationary));
+           cpu_has_avx2();
 }
 
 int taa_row_avx(const TaaParams& params, const TaaInputs& in, const TaaState& previous,

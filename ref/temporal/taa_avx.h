@@ -1,4 +1,4 @@
-// The TAA pass eight pixels at a time with AVX2 (AVX for a stationary camera): the same bits as
+// The TAA pass eight pixels at a time with AVX2: the same bits as
 // taa_pixel, which stays the readable reference (docs/temporal.md, "Benchmark"). It covers every
 // frame with a history: a stationary camera (every mode: the history at the pixel) and a moving
 // camera (reprojection, the bilinear history and depth, then the depth test and the periphery rule,
@@ -6,7 +6,9 @@
 // taa_pixel's binary32 operations in its order; a tap off the screen adds a selected +0 instead of
 // being skipped, which leaves every sum's bits unchanged (a sum that starts at +0 is never -0). The
 // taps and the previous age are gathered (masked gathers: plain loads of the same floats, none for
-// a tap off the screen).
+// a tap off the screen); where every tap of the eight lanes is on the screen and their corners lie
+// side by side in one row, the taps' colours and depths are plain loads, and the colours' channels
+// are sorted out by blends and permutes (split3_lanes; merge3_lanes writes the output).
 #pragma once
 
 #include "ref/temporal/taa.h"
@@ -14,7 +16,7 @@
 namespace fovref {
 
 /// Whether taa_row_avx covers a frame: a valid history, one-channel depths and ages, 3 W H within
-/// int32 (W, H at most 2^24), simd_allowed() and a CPU with AVX2 (AVX for a stationary camera).
+/// int32 (W, H at most 2^24), simd_allowed() and a CPU with AVX2.
 bool taa_avx_applies(const TaaInputs& in, const TaaState& previous);
 
 /// Pixels 0 .. 8 floor(W / 8) - 1 of row y as taa_pixel computes them: `out`, `age` and (when
