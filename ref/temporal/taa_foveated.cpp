@@ -56,6 +56,11 @@ void check_inputs(const TaaBufferInputs& in) {
     FOVREF_CHECK(in.forward.map == in.map, "a forward table made for another map");
     FOVREF_CHECK(in.lp_valid.width == in.map.width && in.lp_valid.height == in.map.height,
                  "validity mask of another size than the buffer");
+    if (in.gaze_valid) {
+        const ScreenWindow window = gaze_window(in.map);
+        FOVREF_CHECK(in.gaze_valid->width == window.width && in.gaze_valid->height == window.height,
+                     "a gaze mask of another size than the gaze buffer's window");
+    }
 }
 
 }  // namespace
@@ -99,17 +104,18 @@ TaaSourceTable taa_source_table(const TaaBufferInputs& in) {
     TaaSourceTable table;
     table.map = map;
     table.gaze = in.gaze_valid != nullptr;
-    table.pixels.resize(static_cast<std::size_t>(map.screen_width) *
-                        static_cast<std::size_t>(map.screen_height));
+    const std::size_t pixels =
+        static_cast<std::size_t>(map.screen_width) * static_cast<std::size_t>(map.screen_height);
+    table.count.assign(pixels, 0);
+    table.first.assign(pixels, 0);
+    table.rest.assign(pixels, {0, 0, 0});
     const ScreenWindow window = gaze_window(map);
     for (int y = 0; y < map.screen_height; ++y)
         for (int x = 0; x < map.screen_width; ++x) {
             const std::size_t p = static_cast<std::size_t>(y) * map.screen_width + x;
-            TaaSourceTable::Pixel& pixel = table.pixels[p];
             if (table.gaze && inside_gaze_circle(map, pixel_centre(x, y))) {
-                pixel.count = -1;
-                pixel.texel[0] = x - window.x0;
-                pixel.texel[1] = y - window.y0;
+                table.count[p] = -1;
+                table.first[p] = (y - window.y0) * window.width + (x - window.x0);
                 continue;
             }
             // taa_source's choice, the largest traced weight with ties to the first tap, is the
@@ -124,29 +130,28 @@ TaaSourceTable taa_source_table(const TaaBufferInputs& in) {
             for (int a = 1; a < n; ++a)                 // insertion sort: stable
                 for (int b = a; b > 0 && weights[order[b]] > weights[order[b - 1]]; --b)
                     std::swap(order[b], order[b - 1]);
+            table.count[p] = static_cast<std::int8_t>(n);
             for (int k = 0; k < n; ++k)
-                pixel.texel[pixel.count++] = js[order[k]] * map.width + is[order[k]];
+                (k == 0 ? table.first[p] : table.rest[p][static_cast<std::size_t>(k - 1)]) =
+                    js[order[k]] * map.width + is[order[k]];
         }
     return table;
 }
 
 bool taa_source_table_fits(const TaaSourceTable& table, const TaaBufferInputs& in) {
-    return !table.pixels.empty() && table.map == in.map && table.gaze == (in.gaze_valid != nullptr);
+    return !table.count.empty() && table.map == in.map && table.gaze == (in.gaze_valid != nullptr);
 }
 
 namespace {
 
-// Pixel p's source from the table: its kind and the texel's row-major index in its buffer (the
-// gaze buffer: `gaze_width` wide).
-TaaSource::Kind table_source(const TaaSourceTable::Pixel& pixel, const float* valid, int gaze_width,
+// Pixel p's source from the table: its kind and the texel's row-major index in its buffer.
+TaaSource::Kind table_source(const TaaSourceTable& table, std::size_t p, const float* valid,
                              std::size_t& texel) {
-    if (pixel.count < 0) {
-        texel = static_cast<std::size_t>(pixel.texel[1]) * static_cast<std::size_t>(gaze_width) +
-                static_cast<std::size_t>(pixel.texel[0]);
-        return TaaSource::Kind::gaze;
-    }
-    for (int k = 0; k < pixel.count; ++k) {
-        texel = static_cast<std::size_t>(pixel.texel[k]);
+    const int count = table.count[p];
+    texel = static_cast<std::size_t>(table.first[p]);
+    if (count < 0) return TaaSource::Kind::gaze;
+    for (int k = 0; k < count; ++k) {
+        if (k > 0) texel = static_cast<std::size_t>(table.rest[p][static_cast<std::size_t>(k - 1)]);
         if (valid[texel] != 0.0f) return TaaSource::Kind::buffer;
     }
     return TaaSource::Kind::none;
@@ -180,7 +185,7 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
             std::size_t texel = 0;
             TaaSource::Kind kind;
             if (table) {
-                kind = table_source(table->pixels[p], in.lp_valid.data.data(), gaze_width, texel);
+                kind = table_source(*table, p, in.lp_valid.data.data(), texel);
             } else {
                 const TaaSource s = taa_source(in, x, y);
                 kind = s.kind;

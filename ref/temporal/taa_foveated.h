@@ -18,6 +18,8 @@
 //           a GPU's buffer-space min/max pass would, and read by the pixels.
 #pragma once
 
+#include <array>
+
 #include <cstdint>
 #include <vector>
 
@@ -57,17 +59,17 @@ struct TaaSourceOutputs {
 /// What taa_source reads from the map alone, per screen pixel, so that a frame only looks up
 /// the validity of a few texels: kept by a stage while the map repeats (a static gaze; TAA's
 /// jitter moves the texels and so the mask, not the map). The same sources as taa_source.
+/// Per screen pixel p (W x H, row-major): the buffer texels (j w + i) of the bilinear taps with a
+/// non-zero weight, the largest weight first (ties: the tap order); the source is the first
+/// traced one. They are stored apart, so that a frame reads five bytes a pixel where the first
+/// tap is traced (most pixels): count[p] taps, the first in first[p], the others in rest[p].
+/// count[p] = -1: the gaze buffer's pixel, first[p] its row-major index in the gaze buffer.
 struct TaaSourceTable {
-    struct Pixel {
-        /// The buffer texels (j W + i) of the bilinear taps with a non-zero weight, the largest
-        /// weight first (ties: the tap order): the source is the first traced one. count -1:
-        /// the gaze buffer's pixel (texel[0], texel[1]).
-        std::int32_t texel[4] = {0, 0, 0, 0};
-        std::int32_t count = 0;
-    };
     LogPolarMap map;
-    bool gaze = false;          ///< made with a gaze buffer
-    std::vector<Pixel> pixels;  ///< W x H, row-major
+    bool gaze = false;  ///< made with a gaze buffer
+    std::vector<std::int8_t> count;
+    std::vector<std::int32_t> first;
+    std::vector<std::array<std::int32_t, 3>> rest;
 };
 /// The table of `in` (its map and forward table; whether it has a gaze buffer).
 TaaSourceTable taa_source_table(const TaaBufferInputs& in);
