@@ -142,9 +142,6 @@ __attribute__((target("avx"))) void post_aa_lanes_avx(
     }
 }
 
-/// post_aa's rows with AVX groups (the CPU has AVX, 1 to 4 channels): groups of eight pixels
-/// run post_aa_lanes_avx, the last W mod 8 pixels of a row post_aa_cached_pixel; the pixels run
-/// row by row, so the cache is used as by the scalar pass.
 /// post_aa_size(gaze_distance(gaze, centre) / radius_max) of pixels x0 .. x0 + 7 of row y, lane
 /// by lane in the scalar order (sqrt and the divisions are correctly rounded, ceil exact).
 __attribute__((target("avx"))) void post_aa_sizes_avx(glm::vec2 gaze, float radius_max, int x0,
@@ -171,6 +168,10 @@ __attribute__((target("avx"))) void post_aa_sizes_avx(glm::vec2 gaze, float radi
             filtered >> lane & 1 ? std::min(3 + 2 * static_cast<int>(step[lane]), max_eta) : 0;
 }
 
+/// post_aa's rows with AVX groups (the CPU has AVX, 1 to 4 channels): groups of eight pixels
+/// run post_aa_lanes_avx, the last W mod 8 pixels of a row post_aa_cached_pixel; the pixels run
+/// row by row, so the cache is used as by the scalar pass. The kernel sizes come from `sizes`
+/// when it was made for this gaze, else post_aa_sizes_avx (and are kept in `sizes`).
 void post_aa_rows_avx(const Image& in, glm::vec2 gaze, float radius_max,
                       const std::vector<std::vector<float>>& weights,
                       std::vector<PostAaRowCache>& cache, Image& out, PostAaSizes* sizes) {

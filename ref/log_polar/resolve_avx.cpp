@@ -129,11 +129,11 @@ __attribute__((target("avx2"))) bool resolve_group(const LogPolarMap& map, const
     return true;
 }
 
-// resolve_mip_pixel's two samples, at level l0 of each lane (`second` false) or at l1
-// (`second` true) in the lanes of `wanted`: for each level among the lanes, the lanes of that
-// level sampled at (u, v) / 2^level (exact) by bilinear_traced_lanes; their values go to out[0 ..
-// 2]. Returns the lanes of `wanted` that need the reference: an untraced tap, a (u, v) that
-// lp_bilinear_index would refuse, or a level fewer than 3 rows high (the single wrap step).
+// One of resolve_mip_pixel's two samples (l0 or l1) in the lanes of `wanted`, each lane at its
+// `level`: for each level among the lanes, the lanes of that level sampled at (u, v) / 2^level
+// (exact) by bilinear_traced_lanes; their values go to out[0 .. 2]. Returns the lanes of
+// `wanted` that need the reference: an untraced tap, a (u, v) that lp_bilinear_index would
+// refuse, or a level fewer than 3 rows high (the single wrap step).
 FOVREF_AVX2_INLINE int sample_levels(const std::vector<MipLevel>& mips, __m256 level, int wanted,
                                      __m256 uu, __m256 vv, __m256* out) {
     int reference = 0;
@@ -241,10 +241,6 @@ int resolve_row_avx(const LogPolarMap& map, const ResolveInputs& in, const Forwa
     }
     return groups * lanes;
 }
-
-}  // namespace fovref
-
-namespace fovref {
 
 bool resolve_mip_avx_applies(const LogPolarMap& map, const std::vector<MipLevel>& mips,
                              const ForwardTable* table) {
