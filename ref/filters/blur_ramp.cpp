@@ -105,6 +105,28 @@ __attribute__((target("avx"))) void weighted_sums_avx(const float* planes, std::
     for (int c = 0; c < C; ++c) _mm256_store_ps(sums[c], sum[c]);
 }
 
+/// A group's weights (weights_avx), kept for the next group: they depend only on each lane's a
+/// and radius, so a group like the last one (beyond full_deg every pixel has the same sigma)
+/// keeps them instead of making them again.
+struct KeptWeights {
+    alignas(32) float w[blur_ramp_max_radius + 1][lanes];
+    float a[lanes] = {}, radius[lanes] = {};  ///< what `w` was made for
+    int radius_max = -1;                      ///< -1: nothing made yet
+    __attribute__((target("avx"))) void make(const float* lane_a, const float* lane_radius,
+                                             int group_radius_max) {
+        bool same = group_radius_max == radius_max;
+        for (int lane = 0; lane < lanes; ++lane)
+            same = same && lane_a[lane] == a[lane] && lane_radius[lane] == radius[lane];
+        if (same) return;
+        weights_avx(lane_a, lane_radius, group_radius_max, w);
+        radius_max = group_radius_max;
+        for (int lane = 0; lane < lanes; ++lane) {
+            a[lane] = lane_a[lane];
+            radius[lane] = lane_radius[lane];
+        }
+    }
+};
+
 /// The pass on eight pixels at a time (AVX; used only where the CPU has it, `channels` <= 4).
 /// Each lane does its own pixel's scalar operations in blur_ramp_pixel's order: the sum starts
 /// at 0 and adds w_d c_d (the product rounded, no FMA) for d = -R .. R of that pixel's R. A
@@ -125,15 +147,12 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
         for (int c = 0; c < channels; ++c)
             planes[c * plane + k] = image.data[k * static_cast<std::size_t>(channels) + c];
 
-    alignas(32) float weights[blur_ramp_max_radius + 1][lanes];
+    KeptWeights weights;
     alignas(32) float radius_f[lanes];
     alignas(32) float sums[max_avx_channels][lanes];
     std::size_t taps[2 * blur_ramp_max_radius + 1];
     int radius[lanes];
     float last_sigma = 0.0f, last_a = 0.0f;  // sigma > 0 wherever a is used
-    // what `weights` holds: the lanes' a and radius it was made for (none yet: radius_max -1)
-    float weights_a[lanes] = {}, weights_radius[lanes] = {};
-    int weights_radius_max = -1;
     for (int y = 0; y < height; ++y) {
         int x0 = 0;
         for (; x0 + lanes <= width; x0 += lanes) {
@@ -161,19 +180,7 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
                     blur_ramp_pixel(ramp, geometry, image, vertical, out, x0 + lane, y);
                 continue;
             }
-            // The weights depend only on each lane's a and radius: a group like the last one
-            // (beyond full_deg every pixel has the same sigma) keeps them.
-            bool same = radius_max == weights_radius_max;
-            for (int lane = 0; lane < lanes; ++lane)
-                same = same && a[lane] == weights_a[lane] && radius_f[lane] == weights_radius[lane];
-            if (!same) {
-                weights_avx(a, radius_f, radius_max, weights);
-                weights_radius_max = radius_max;
-                for (int lane = 0; lane < lanes; ++lane) {
-                    weights_a[lane] = a[lane];
-                    weights_radius[lane] = radius_f[lane];
-                }
-            }
+            weights.make(a, radius_f, radius_max);
             // lane 0's source of each tap d: row y + d (clamped) at x0, or row y at x0 + d
             for (int d = -radius_max; d <= radius_max; ++d)
                 taps[d + radius_max] =
@@ -191,7 +198,7 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
                 weighted_sums_avx<2, false>, weighted_sums_avx<2, true>,
                 weighted_sums_avx<3, false>, weighted_sums_avx<3, true>,
                 weighted_sums_avx<4, false>, weighted_sums_avx<4, true>};
-            kernels[(channels - 1) * 2 + (uniform ? 1 : 0)](planes.data(), plane, taps, weights,
+            kernels[(channels - 1) * 2 + (uniform ? 1 : 0)](planes.data(), plane, taps, weights.w,
                                                             radius_f, radius_max, sums);
             for (int lane = 0; lane < lanes; ++lane) {
                 if (radius[lane] == 0) continue;  // copied

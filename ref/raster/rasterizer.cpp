@@ -414,11 +414,50 @@ void rasterize_fragment(const Scene& scene, const RasterFrame& frame, std::int32
     if (depth_test(visibility, x, y, fragment)) ++stats.fragments_written;
 }
 
-VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, int width,
-                                      int height, RasterStats& stats,
-                                      const RasterSettings& settings) {
-    const RasterFrame frame = make_raster_frame(scene, camera, width, height, settings);
-    check_scene(scene);
+namespace {
+
+/// The visibility pass's fragments (covered pixel centres) on their way to the depth test: with
+/// AVX eight at a time through raster_fragments_avx (the same bits as raster_fragment), their
+/// depth tests then run in the order the fragments came, as they would one by one; without it,
+/// rasterize_fragment each.
+struct FragmentBatch {
+    const Scene& scene;
+    const RasterFrame& frame;
+    VisibilityBuffer& vis;
+    RasterStats& stats;
+    bool avx = raster_fragments_avx_applies();
+    RasterSite site[8];
+    int count = 0;
+
+    FragmentBatch(const Scene& s, const RasterFrame& f, VisibilityBuffer& v, RasterStats& st)
+        : scene(s), frame(f), vis(v), stats(st) {}
+
+    void add(int x, int y, std::int32_t primitive) {
+        if (!avx) {
+            rasterize_fragment(scene, frame, primitive, x, y, vis, stats);
+            return;
+        }
+        site[count++] = {x, y, primitive};
+        if (count == 8) flush();
+    }
+    void flush() {
+        if (count == 0) return;
+        RasterFragment fragment[8];
+        bool hit[8];
+        raster_fragments_avx(scene, frame, site, count, fragment, hit);
+        for (int l = 0; l < count; ++l) {
+            ++stats.fragments_tested;
+            if (!hit[l])
+                ++stats.fragments_without_plane_hit;
+            else if (depth_test(vis, site[l].x, site[l].y, fragment[l]))
+                ++stats.fragments_written;
+        }
+        count = 0;
+    }
+};
+
+/// A visibility buffer of background: primitive -1, depth +inf.
+VisibilityBuffer background_visibility(int width, int height) {
     VisibilityBuffer vis;
     vis.width = width;
     vis.height = height;
@@ -427,26 +466,18 @@ VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, 
     vis.u.assign(pixels, 0.0f);
     vis.v.assign(pixels, 0.0f);
     vis.depth.assign(pixels, std::numeric_limits<float>::infinity());
+    return vis;
+}
 
-    // The fragments (covered pixel centres) go to raster_fragments_avx eight at a time where it
-    // applies (the same bits as rasterize_fragment's raster_fragment); their depth tests then run
-    // in the order the fragments came, as they would one by one.
-    const bool avx = raster_fragments_avx_applies();
-    RasterSite batch[8];
-    int batched = 0;
-    const auto flush = [&] {
-        RasterFragment fragment[8];
-        bool hit[8];
-        raster_fragments_avx(scene, frame, batch, batched, fragment, hit);
-        for (int l = 0; l < batched; ++l) {
-            ++stats.fragments_tested;
-            if (!hit[l])
-                ++stats.fragments_without_plane_hit;
-            else if (depth_test(vis, batch[l].x, batch[l].y, fragment[l]))
-                ++stats.fragments_written;
-        }
-        batched = 0;
-    };
+}  // namespace
+
+VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, int width,
+                                      int height, RasterStats& stats,
+                                      const RasterSettings& settings) {
+    const RasterFrame frame = make_raster_frame(scene, camera, width, height, settings);
+    check_scene(scene);
+    VisibilityBuffer vis = background_visibility(width, height);
+    FragmentBatch batch(scene, frame, vis, stats);
     const std::size_t n = scene.triangle_count();
     stats.triangles_in += static_cast<std::int64_t>(n);
     // Set up eight triangles at a time where setup_triangles_avx applies (the others of the
@@ -457,7 +488,7 @@ VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, 
     for (std::size_t t = 0; t < n; ++t) {
         const auto primitive = static_cast<std::int32_t>(t);
         const std::size_t lane = t % 8;
-        if (lane == 0 && avx)
+        if (lane == 0 && batch.avx)
             setup_triangles_avx(scene, frame, primitive,
                                 static_cast<int>(std::min<std::size_t>(8, n - t)), setups, done);
         TriangleSetup& setup = setups[lane];
@@ -477,15 +508,9 @@ VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, 
             const EdgeSetup edges =
                 setup_edges(setup.polygon[0], setup.polygon[static_cast<std::size_t>(k)],
                             setup.polygon[static_cast<std::size_t>(k + 1)], settings.fill_rule);
-            const TriangleOutcome outcome = rasterize_fixed_triangle(
-                edges, width, height, stats.coverage_tests, [&](int x, int y) {
-                    if (!avx) {
-                        rasterize_fragment(scene, frame, primitive, x, y, vis, stats);
-                        return;
-                    }
-                    batch[batched++] = {x, y, primitive};
-                    if (batched == 8) flush();
-                });
+            const TriangleOutcome outcome =
+                rasterize_fixed_triangle(edges, width, height, stats.coverage_tests,
+                                         [&](int x, int y) { batch.add(x, y, primitive); });
             if (outcome != TriangleOutcome::degenerate) any_nonzero_area = true;
             if (outcome == TriangleOutcome::rasterized) any_rasterized = true;
         }
@@ -496,7 +521,7 @@ VisibilityBuffer rasterize_visibility(const Scene& scene, const Camera& camera, 
         else
             ++stats.triangles_degenerate;
     }
-    if (batched > 0) flush();
+    batch.flush();
     return vis;
 }
 
