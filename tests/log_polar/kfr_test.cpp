@@ -19,6 +19,40 @@
 
 using namespace fovref;
 
+namespace {
+
+/// A kfr frame's traced texels against the rasterized G-buffer pixel under their screen point,
+/// every channel: the (texel, channel) pairs and values compared, the values whose bits differ,
+/// and the motion values above 0.01.
+struct TexelComparison {
+    std::int64_t texel_channels = 0, values = 0, differing = 0, moving = 0;
+};
+TexelComparison compare_texels(const FrameResult& f) {
+    TexelComparison r;
+    const Image& valid = f.find("lp_valid")->image;
+    const Image& points = f.find("lp_screen_point")->image;
+    for (const std::string& channel : gbuffer_names("")) {
+        const Image& lp = f.find("lp_gbuffer_" + channel)->image;
+        const Image& screen = f.find("gbuffer_" + channel)->image;
+        for (int j = 0; j < valid.height; ++j)
+            for (int i = 0; i < valid.width; ++i) {
+                if (valid.at(i, j) == 0.0f) continue;
+                ++r.texel_channels;
+                const int x = static_cast<int>(std::floor(points.at(i, j, 0)));
+                const int y = static_cast<int>(std::floor(points.at(i, j, 1)));
+                for (int c = 0; c < lp.channels; ++c) {
+                    const float a = lp.at(i, j, c), b = screen.at(x, y, c);
+                    ++r.values;
+                    r.differing += std::memcmp(&a, &b, sizeof a) != 0;
+                    r.moving += channel == "motion" && std::fabs(a) > 0.01f;
+                }
+            }
+    }
+    return r;
+}
+
+}  // namespace
+
 TEST_CASE("internal AA: outer half only, wrap on v, clamp on u, renormalised over traced") {
     // 4x3 buffer, value 10 i + j; texels of columns 2, 3 (2 i >= w = 4) are filtered.
     Image color(4, 3, 1, 0.0f), valid(4, 3, 1, 1.0f);
@@ -228,24 +262,8 @@ TEST_CASE(
         for (std::size_t k = 0; k < all.size(); ++k) {
             CAPTURE(k);
             const FrameResult& f = all[k];
-            const Image& valid = f.find("lp_valid")->image;
-            const Image& points = f.find("lp_screen_point")->image;
-            std::int64_t differing = 0, moving = 0;
-            for (const std::string& channel : gbuffer_names("")) {
-                const Image& lp = f.find("lp_gbuffer_" + channel)->image;
-                const Image& screen = f.find("gbuffer_" + channel)->image;
-                for (int j = 0; j < valid.height; ++j)
-                    for (int i = 0; i < valid.width; ++i) {
-                        if (valid.at(i, j) == 0.0f) continue;
-                        const int x = static_cast<int>(std::floor(points.at(i, j, 0)));
-                        const int y = static_cast<int>(std::floor(points.at(i, j, 1)));
-                        for (int c = 0; c < lp.channels; ++c) {
-                            const float a = lp.at(i, j, c), b = screen.at(x, y, c);
-                            differing += std::memcmp(&a, &b, sizeof a) != 0;
-                            moving += channel == "motion" && std::fabs(a) > 0.01f;
-                        }
-                    }
-            }
+            const TexelComparison compared = compare_texels(f);
+            const std::int64_t differing = compared.differing, moving = compared.moving;
             CHECK(differing == 0);
             if (k > 0) CHECK(moving > 0);  // the camera moves: the texels' motion is not 0
             // Without dumps: no attribute channel of the screen G-buffer is made
@@ -267,27 +285,13 @@ TEST_CASE("kfr: deferred texels equal the rasterized G-buffer's pixel under thei
     s.requested = {"all"};
     const FrameResult f = render(&scene, "kfr", s).at(0);
     const Image& valid = f.find("lp_valid")->image;
-    const Image& points = f.find("lp_screen_point")->image;
     CHECK(valid.width == 53);  // round(96 / 1.8)
     CHECK(valid.height == 30);
-    std::int64_t sampled = 0;
     // Every channel, bit for bit: lp_sample makes the pixel again from its primitive id
     // (write_rasterized_pixel) instead of copying it, which must not show.
-    for (const std::string& channel : gbuffer_names("")) {
-        const Image& lp = f.find("lp_gbuffer_" + channel)->image;
-        const Image& screen = f.find("gbuffer_" + channel)->image;
-        for (int j = 0; j < valid.height; ++j)
-            for (int i = 0; i < valid.width; ++i) {
-                if (valid.at(i, j) == 0.0f) continue;
-                ++sampled;
-                const int x = static_cast<int>(std::floor(points.at(i, j, 0)));
-                const int y = static_cast<int>(std::floor(points.at(i, j, 1)));
-                for (int c = 0; c < lp.channels; ++c) {
-                    const float a = lp.at(i, j, c), b = screen.at(x, y, c);
-                    REQUIRE(std::memcmp(&a, &b, sizeof a) == 0);
-                }
-            }
-    }
+    const TexelComparison compared = compare_texels(f);
+    CHECK(compared.differing == 0);
+    const std::int64_t sampled = compared.texel_channels;
     CHECK(sampled == 9 * f.counters.get("texels_traced"));
     CHECK(f.counters.get("rays_primary") == 0);  // no primary rays: the rasterizer's G-buffer
     CHECK(f.counters.get("raster_fragments_written") > 0);

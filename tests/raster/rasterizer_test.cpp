@@ -32,6 +32,19 @@ namespace {
 
 // ---- Helpers ----
 
+/// Every channel of the two G-buffers, bit for bit.
+void check_same_gbuffer(const GBuffer& a, const GBuffer& b) {
+    CHECK(bit_equal(a.view_depth, b.view_depth));
+    CHECK(bit_equal(a.hit_distance, b.hit_distance));
+    CHECK(bit_equal(a.world_position, b.world_position));
+    CHECK(bit_equal(a.shading_normal, b.shading_normal));
+    CHECK(bit_equal(a.geometric_normal, b.geometric_normal));
+    CHECK(bit_equal(a.albedo, b.albedo));
+    CHECK(bit_equal(a.material_id, b.material_id));
+    CHECK(bit_equal(a.primitive_id, b.primitive_id));
+    CHECK(bit_equal(a.motion, b.motion));
+}
+
 using Tri = std::array<glm::vec3, 3>;
 
 /// A scene of the given triangles, material k for triangle k (unless `materials` is 1), flat
@@ -757,15 +770,7 @@ TEST_CASE("raster: deterministic, bit-equal over two runs") {
     const GBuffer a = rasterize_gbuffer(scene, scene.camera, previous, 64, 48, s1);
     const GBuffer b = rasterize_gbuffer(scene, scene.camera, previous, 64, 48, s2);
     CHECK(s1 == s2);
-    CHECK(bit_equal(a.view_depth, b.view_depth));
-    CHECK(bit_equal(a.hit_distance, b.hit_distance));
-    CHECK(bit_equal(a.world_position, b.world_position));
-    CHECK(bit_equal(a.shading_normal, b.shading_normal));
-    CHECK(bit_equal(a.geometric_normal, b.geometric_normal));
-    CHECK(bit_equal(a.albedo, b.albedo));
-    CHECK(bit_equal(a.material_id, b.material_id));
-    CHECK(bit_equal(a.primitive_id, b.primitive_id));
-    CHECK(bit_equal(a.motion, b.motion));
+    check_same_gbuffer(a, b);
     // For comparing builds (g++ / clang++, -O0 / -O2): these must print the same.
     MESSAGE("cornell 64x48 world_position " << canonical_sha256(a.world_position).substr(0, 16)
                                             << " motion "
@@ -803,15 +808,7 @@ TEST_CASE(
                                                       g.primitive_id.at(i, j), i, j);
             CHECK(written == stats.pixels_covered);
             CHECK(written > w * h / 3);
-            CHECK(bit_equal(again.view_depth, g.view_depth));
-            CHECK(bit_equal(again.hit_distance, g.hit_distance));
-            CHECK(bit_equal(again.world_position, g.world_position));
-            CHECK(bit_equal(again.shading_normal, g.shading_normal));
-            CHECK(bit_equal(again.geometric_normal, g.geometric_normal));
-            CHECK(bit_equal(again.albedo, g.albedo));
-            CHECK(bit_equal(again.material_id, g.material_id));
-            CHECK(bit_equal(again.primitive_id, g.primitive_id));
-            CHECK(bit_equal(again.motion, g.motion));
+            check_same_gbuffer(again, g);
             // Into another pixel of another buffer: the same values (a texel takes the pixel's).
             GBuffer one(1, 1);
             const int i = w / 2, j = h / 2;
