@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "ref/core/avx_lanes.h"
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
 #include "ref/core/simd.h"
@@ -40,10 +41,14 @@ __attribute__((target("avx"))) inline __m256 select(__m256 mask, __m256 yes, __m
     return _mm256_or_ps(_mm256_and_ps(mask, yes), _mm256_andnot_ps(mask, no));
 }
 
-/// sum + w source (the product rounded first) where `active`, else sum.
+/// sum + w source (the product rounded first) where `active`, else sum; in every lane when
+/// `Every` (no blend in the sum's dependency chain).
+template <bool Every>
 __attribute__((target("avx"))) inline __m256 add_tap(__m256 active, __m256 sum, __m256 w,
                                                      const float* source) {
-    return select(active, _mm256_add_ps(sum, _mm256_mul_ps(w, _mm256_loadu_ps(source))), sum);
+    const __m256 added = _mm256_add_ps(sum, _mm256_mul_ps(w, _mm256_loadu_ps(source)));
+    if constexpr (Every) return added;
+    return select(active, added, sum);
 }
 
 /// blur_ramp_weights for eight pixels, lane by lane: a = exp(-1 / (2 sigma^2)) of each lane
@@ -76,15 +81,16 @@ __attribute__((target("avx"))) void weights_avx(const float* a, const float* rad
 }
 
 /// The weighted sums of eight pixels over their taps d = -Rmax .. Rmax, for C channels in
-/// planes `plane` floats apart; taps[d + Rmax] is the index of lane 0's source of tap d (the
-/// lanes' sources follow it). A lane adds w_|d| c_d only for |d| <= its radius (select). Writes
-/// sums[c][lane].
+/// planes `plane` floats apart; lane 0's source of tap d is base + offsets[d] (offsets points at
+/// d = 0's entry; the lanes' sources follow it). A lane adds w_|d| c_d only for |d| <= its radius
+/// (select). Writes the sums to dest + c dest_plane in the lanes whose radius is not 0 (the
+/// others keep what dest holds: the copied pixels).
 template <int C, bool Uniform>
-__attribute__((target("avx"))) void weighted_sums_avx(const float* planes, std::size_t plane,
-                                                      const std::size_t* taps,
+__attribute__((target("avx"))) void weighted_sums_avx(const float* base, std::size_t plane,
+                                                      const std::ptrdiff_t* offsets,
                                                       const float (*weights)[lanes],
                                                       const float* radius_f, int radius_max,
-                                                      float (*sums)[lanes]) {
+                                                      float* dest, std::size_t dest_plane) {
     const __m256 radius = _mm256_load_ps(radius_f);
     // the channels' sums in registers (named: GCC keeps an array of them in memory)
     __m256 s0 = _mm256_setzero_ps(), s1 = s0, s2 = s0, s3 = s0;
@@ -95,14 +101,65 @@ __attribute__((target("avx"))) void weighted_sums_avx(const float* planes, std::
         const __m256 active =
             Uniform ? _mm256_castsi256_ps(_mm256_set1_epi32(-1))
                     : _mm256_cmp_ps(_mm256_set1_ps(static_cast<float>(ad)), radius, _CMP_LE_OQ);
-        const float* source = planes + taps[d + radius_max];
-        s0 = add_tap(active, s0, w, source);
-        if constexpr (C > 1) s1 = add_tap(active, s1, w, source + plane);
-        if constexpr (C > 2) s2 = add_tap(active, s2, w, source + 2 * plane);
-        if constexpr (C > 3) s3 = add_tap(active, s3, w, source + 3 * plane);
+        const float* source = base + offsets[d];
+        s0 = add_tap<Uniform>(active, s0, w, source);
+        if constexpr (C > 1) s1 = add_tap<Uniform>(active, s1, w, source + plane);
+        if constexpr (C > 2) s2 = add_tap<Uniform>(active, s2, w, source + 2 * plane);
+        if constexpr (C > 3) s3 = add_tap<Uniform>(active, s3, w, source + 3 * plane);
     }
     const __m256 sum[4] = {s0, s1, s2, s3};
-    for (int c = 0; c < C; ++c) _mm256_store_ps(sums[c], sum[c]);
+    const __m256 blurred = _mm256_cmp_ps(radius, _mm256_setzero_ps(), _CMP_NEQ_UQ);
+    for (int c = 0; c < C; ++c) {
+        float* to = dest + c * dest_plane;
+        _mm256_storeu_ps(to, select(blurred, sum[c], _mm256_loadu_ps(to)));
+    }
+}
+
+/// `count` pixels of `channels` interleaved channels at `from` as planes `plane` floats apart at
+/// `to`, and back: plain copies of the same floats (three channels: eight pixels at a time with
+/// AVX2 where the CPU has it).
+__attribute__((target("avx2"))) void to_planes3_avx2(const float* from, std::size_t count,
+                                                     float* to, std::size_t plane) {
+    std::size_t k = 0;
+    for (; k + lanes <= count; k += lanes) {
+        __m256 rgb[3];
+        avx::split3_lanes(from + 3 * k, rgb);
+        for (int c = 0; c < 3; ++c) _mm256_storeu_ps(to + c * plane + k, rgb[c]);
+    }
+    for (; k < count; ++k)
+        for (int c = 0; c < 3; ++c) to[c * plane + k] = from[3 * k + c];
+}
+__attribute__((target("avx2"))) void from_planes3_avx2(const float* from, std::size_t plane,
+                                                       std::size_t count, float* to) {
+    std::size_t k = 0;
+    for (; k + lanes <= count; k += lanes) {
+        const __m256 rgb[3] = {_mm256_loadu_ps(from + k), _mm256_loadu_ps(from + plane + k),
+                               _mm256_loadu_ps(from + 2 * plane + k)};
+        avx::merge3_lanes(rgb, to + 3 * k);
+    }
+    for (; k < count; ++k)
+        for (int c = 0; c < 3; ++c) to[3 * k + c] = from[c * plane + k];
+}
+void to_planes(const float* from, int channels, std::size_t count, float* to, std::size_t plane) {
+    if (channels == 3 && cpu_has_avx2()) return to_planes3_avx2(from, count, to, plane);
+    for (std::size_t k = 0; k < count; ++k)
+        for (int c = 0; c < channels; ++c) to[c * plane + k] = from[k * channels + c];
+}
+void from_planes(const float* from, std::size_t plane, int channels, std::size_t count, float* to) {
+    if (channels == 3 && cpu_has_avx2()) return from_planes3_avx2(from, plane, count, to);
+    for (std::size_t k = 0; k < count; ++k)
+        for (int c = 0; c < channels; ++c) to[k * channels + c] = from[c * plane + k];
+}
+
+/// blur_ramp_radius of eight sigmas, lane by lane (as floats): 0 where !(sigma > 0), else
+/// min(ceil(3 sigma), blur_ramp_max_radius) (roundps: std::ceil's value).
+__attribute__((target("avx"))) inline __m256 radius_lanes(__m256 sigma) {
+    const __m256 r = _mm256_round_ps(_mm256_mul_ps(_mm256_set1_ps(3.0f), sigma),
+                                     _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC);
+    const __m256 cap = _mm256_set1_ps(static_cast<float>(blur_ramp_max_radius));
+    const __m256 capped = select(_mm256_cmp_ps(r, cap, _CMP_GE_OQ), cap, r);
+    return select(_mm256_cmp_ps(sigma, _mm256_setzero_ps(), _CMP_GT_OQ), capped,
+                  _mm256_setzero_ps());
 }
 
 /// A group's weights (weights_avx), kept for the next group: they depend only on each lane's a
@@ -141,71 +198,80 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
                                                   const BlurRampTable* table) {
     const int width = image.width, height = image.height, channels = image.channels;
     // The image in planes, so that a lane's taps along x or y are one unaligned load per channel
-    std::vector<float> planes(static_cast<std::size_t>(channels) * width * height);
     const std::size_t plane = static_cast<std::size_t>(width) * height;
-    for (std::size_t k = 0; k < plane; ++k)
-        for (int c = 0; c < channels; ++c)
-            planes[c * plane + k] = image.data[k * static_cast<std::size_t>(channels) + c];
+    std::vector<float> planes(static_cast<std::size_t>(channels) * plane);
+    to_planes(image.data.data(), channels, plane, planes.data(), plane);
+    // One output row in planes: the input's row, the groups' sums written over it, then
+    // interleaved into `out` (before the pixels that blur_ramp_pixel writes there itself)
+    std::vector<float> row(static_cast<std::size_t>(channels) * width);
+    std::vector<int> by_pixel;  // the row's groups left to blur_ramp_pixel (their first pixel)
 
     KeptWeights weights;
-    alignas(32) float radius_f[lanes];
-    alignas(32) float sums[max_avx_channels][lanes];
-    std::size_t taps[2 * blur_ramp_max_radius + 1];
-    int radius[lanes];
+    alignas(32) float radius_f[lanes], sigma[lanes], a[lanes];
+    // The taps' offsets from lane 0's pixel, indexed by d = -Rmax .. Rmax around `offset`: d
+    // pixels along x, or rows y + d clamped to the image along y (made once per row)
+    std::ptrdiff_t offsets[2 * blur_ramp_max_radius + 1];
+    const std::ptrdiff_t* offset = offsets + blur_ramp_max_radius;
+    for (int d = -blur_ramp_max_radius; d <= blur_ramp_max_radius; ++d)
+        offsets[d + blur_ramp_max_radius] = d;
     float last_sigma = 0.0f, last_a = 0.0f;  // sigma > 0 wherever a is used
     for (int y = 0; y < height; ++y) {
+        if (vertical)
+            for (int d = -blur_ramp_max_radius; d <= blur_ramp_max_radius; ++d)
+                offsets[d + blur_ramp_max_radius] =
+                    static_cast<std::ptrdiff_t>(std::clamp(y + d, 0, height - 1) - y) * width;
+        const std::size_t row_start = static_cast<std::size_t>(y) * width;
+        for (int c = 0; c < channels; ++c)
+            std::copy_n(planes.data() + c * plane + row_start, width, row.data() + c * width);
+        by_pixel.clear();
         int x0 = 0;
         for (; x0 + lanes <= width; x0 += lanes) {
-            alignas(32) float a[lanes];
-            int radius_max = 0;
-            for (int lane = 0; lane < lanes; ++lane) {
-                const float* kept =
-                    table ? &table->sigma_a.data[table->sigma_a.index(x0 + lane, y)] : nullptr;
-                const float sigma =
-                    kept ? kept[0] : blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + lane, y));
-                radius[lane] = blur_ramp_radius(sigma);
-                radius_f[lane] = static_cast<float>(radius[lane]);
-                // a lane copied (radius 0) gets finite dummy weights, computed and never used;
-                // beyond full_deg every pixel has the same sigma, whose exp is kept
-                if (radius[lane] > 0 && !kept && !(sigma == last_sigma)) {
-                    last_sigma = sigma;
-                    last_a = blur_ramp_a(sigma);
-                }
-                a[lane] = radius[lane] == 0 ? 0.5f : kept ? kept[1] : last_a;
-                radius_max = std::max(radius_max, radius[lane]);
-            }
-            if (radius_max == 0) continue;  // all copied
+            const float* kept = table ? &table->sigma_a.data[table->sigma_a.index(x0, y)] : nullptr;
+            for (int lane = 0; lane < lanes; ++lane)
+                sigma[lane] = kept ? kept[2 * lane]
+                                   : blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + lane, y));
+            const __m256 radius_v = radius_lanes(_mm256_load_ps(sigma));
+            _mm256_store_ps(radius_f, radius_v);
+            // the group's largest radius, and whether every lane has it
+            __m256 largest = _mm256_max_ps(radius_v, _mm256_permute2f128_ps(radius_v, radius_v, 1));
+            largest = _mm256_max_ps(largest, _mm256_permute_ps(largest, 0b01001110));
+            largest = _mm256_max_ps(largest, _mm256_permute_ps(largest, 0b10110001));
+            const float radius_max_f = _mm256_cvtss_f32(largest);
+            if (radius_max_f == 0.0f) continue;  // all copied
+            const bool uniform =
+                _mm256_movemask_ps(_mm256_cmp_ps(radius_v, largest, _CMP_EQ_OQ)) == 0xff;
+            const int radius_max = static_cast<int>(radius_max_f);
             if (!vertical && (x0 - radius_max < 0 || x0 + lanes - 1 + radius_max >= width)) {
-                for (int lane = 0; lane < lanes; ++lane)
-                    blur_ramp_pixel(ramp, geometry, image, vertical, out, x0 + lane, y);
+                by_pixel.push_back(x0);
                 continue;
             }
+            // a lane copied (radius 0) gets finite dummy weights, computed and never used;
+            // beyond full_deg every pixel has the same sigma, whose exp is kept
+            for (int lane = 0; lane < lanes; ++lane) {
+                const bool copied = radius_f[lane] == 0.0f;
+                if (!copied && !kept && !(sigma[lane] == last_sigma)) {
+                    last_sigma = sigma[lane];
+                    last_a = blur_ramp_a(sigma[lane]);
+                }
+                a[lane] = copied ? 0.5f : kept ? kept[2 * lane + 1] : last_a;
+            }
             weights.make(a, radius_f, radius_max);
-            // lane 0's source of each tap d: row y + d (clamped) at x0, or row y at x0 + d
-            for (int d = -radius_max; d <= radius_max; ++d)
-                taps[d + radius_max] =
-                    vertical
-                        ? static_cast<std::size_t>(std::clamp(y + d, 0, height - 1)) * width +
-                              static_cast<std::size_t>(x0)
-                        : static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x0 + d);
-            bool uniform = true;  // every lane of the group has the radius radius_max
-            for (int lane = 0; lane < lanes; ++lane)
-                uniform = uniform && radius[lane] == radius_max;
-            using SumsOf = void (*)(const float*, std::size_t, const std::size_t*,
-                                    const float(*)[lanes], const float*, int, float(*)[lanes]);
+            using SumsOf = void (*)(const float*, std::size_t, const std::ptrdiff_t*,
+                                    const float(*)[lanes], const float*, int, float*, std::size_t);
             static constexpr SumsOf kernels[8] = {
                 weighted_sums_avx<1, false>, weighted_sums_avx<1, true>,
                 weighted_sums_avx<2, false>, weighted_sums_avx<2, true>,
                 weighted_sums_avx<3, false>, weighted_sums_avx<3, true>,
                 weighted_sums_avx<4, false>, weighted_sums_avx<4, true>};
-            kernels[(channels - 1) * 2 + (uniform ? 1 : 0)](planes.data(), plane, taps, weights.w,
-                                                            radius_f, radius_max, sums);
-            for (int lane = 0; lane < lanes; ++lane) {
-                if (radius[lane] == 0) continue;  // copied
-                float* o = &out.data[out.index(x0 + lane, y)];
-                for (int c = 0; c < channels; ++c) o[c] = sums[c][lane];
-            }
+            kernels[(channels - 1) * 2 + (uniform ? 1 : 0)](
+                planes.data() + row_start + x0, plane, offset, weights.w, radius_f, radius_max,
+                row.data() + x0, static_cast<std::size_t>(width));
         }
+        from_planes(row.data(), static_cast<std::size_t>(width), channels,
+                    static_cast<std::size_t>(width), &out.data[out.index(0, y)]);
+        for (const int x : by_pixel)
+            for (int lane = 0; lane < lanes; ++lane)
+                blur_ramp_pixel(ramp, geometry, image, vertical, out, x + lane, y);
         for (int x = x0; x < width; ++x)
             blur_ramp_pixel(ramp, geometry, image, vertical, out, x, y);
     }

@@ -6,6 +6,7 @@
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
+#include "ref/visual_polar/resolve_avx.h"
 
 namespace fovref {
 
@@ -274,8 +275,14 @@ Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, Resolv
     FOVREF_CHECK_EQ(mips.color.size(), static_cast<std::size_t>(vp_mip_last_level(max_rows) + 1),
                     "visual-polar pyramid levels");
     Image out(map.screen_width, map.screen_height, mips.color[0].channels, 0.0f);
+    // Eight pixels at a time where the AVX2 path covers the resolve (the same bits:
+    // resolve_avx.h); resolve_vp_pixel, the reference, does the rest.
+    const bool avx = resolve_vp_avx_applies(map, mips, table);
+    const std::vector<int> last_levels = avx ? vp_last_levels(mips) : std::vector<int>{};
     for (int y = 0; y < map.screen_height; ++y)
-        for (int x = 0; x < map.screen_width; ++x)
+        for (int x = avx ? resolve_vp_row_avx(map, mips, last_levels, *table, mip, out, y, stats)
+                         : 0;
+             x < map.screen_width; ++x)
             resolve_vp_pixel(map, mips, out, x, y, stats, nullptr, mip, table);
     return out;
 }

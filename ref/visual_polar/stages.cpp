@@ -92,11 +92,16 @@ std::function<BlurRampGeometry(const FrameContext&)> blur_geometry_of(
 
 void vp_trace_stage(FrameContext& ctx) {
     const SparseState& s = ctx.state<SparseState>();
-    const VisualPolarMap map = s.frames->map(ctx, ctx.frame);
+    SparseFrames& frames = *s.frames;
+    const VisualPolarMap map = frames.map(ctx, ctx.frame);
     Counters& counters = ctx.result->counters;
     VpTraceStats stats;
     Image points;
-    MaskedGBuffer vp = trace_vp_gbuffer(map, primary_view(ctx, *s.bvh), points, stats);
+    // The texels' statuses and points, made again only when the map changed (a moving gaze,
+    // BMFR's staircase)
+    if (!frames.texels || !(frames.texels->map == map)) frames.texels = vp_texel_table(map);
+    MaskedGBuffer vp =
+        trace_vp_gbuffer(map, primary_view(ctx, *s.bvh), points, stats, &*frames.texels);
     counters.add("buffer_width", map.width);
     counters.add("buffer_height", map.height);
     counters.add("fovea_columns", map.fovea_columns);

@@ -29,6 +29,7 @@
 #include "ref/stage/pipeline.h"
 #include "ref/visual_polar/params.h"
 #include "ref/visual_polar/resolve.h"
+#include "ref/visual_polar/trace.h"
 
 namespace fovref {
 
@@ -38,6 +39,8 @@ namespace fovref {
 struct SparseFrames {
     SparseParams params;
     std::optional<VpForwardTable> forward;
+    /// The trace's texel statuses and points, kept while the map stays the same.
+    std::optional<VpTexelTable> texels;
     /// The Visual-Polar map of frame `frame` (the screen of `context`).
     VisualPolarMap map(const FrameContext& context, int frame) const;
 };

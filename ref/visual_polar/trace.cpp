@@ -32,13 +32,45 @@ VpTexel vp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const Visu
     return status;
 }
 
-MaskedGBuffer trace_vp_gbuffer(const VisualPolarMap& map, const PrimaryView& view,
-                               Image& screen_points, VpTraceStats& stats) {
-    MaskedGBuffer buffer(map.width, map.height);
-    screen_points = Image(map.width, map.height, 2, 0.0f);
+VpTexelTable vp_texel_table(const VisualPolarMap& map) {
+    VpTexelTable table{map, Image(map.width, map.height, 2, 0.0f), {}};
+    table.status.reserve(static_cast<std::size_t>(map.width) * map.height);
     for (int y = 0; y < map.height; ++y)
-        for (int x = 0; x < map.width; ++x)
-            vp_gbuffer_texel(buffer, screen_points, map, view, x, y, stats);
+        for (int x = 0; x < map.width; ++x) {
+            glm::vec2 p{0.0f};
+            table.status.push_back(vp_texel_status(map, x, y, p));
+            table.screen_points.at(x, y, 0) = p.x;
+            table.screen_points.at(x, y, 1) = p.y;
+        }
+    return table;
+}
+
+MaskedGBuffer trace_vp_gbuffer(const VisualPolarMap& map, const PrimaryView& view,
+                               Image& screen_points, VpTraceStats& stats,
+                               const VpTexelTable* table) {
+    MaskedGBuffer buffer(map.width, map.height);
+    if (!table) {
+        screen_points = Image(map.width, map.height, 2, 0.0f);
+        for (int y = 0; y < map.height; ++y)
+            for (int x = 0; x < map.width; ++x)
+                vp_gbuffer_texel(buffer, screen_points, map, view, x, y, stats);
+        return buffer;
+    }
+    // vp_gbuffer_texel with the table's status and point
+    FOVREF_CHECK(table->map == map, "a texel table made for another map");
+    screen_points = table->screen_points;
+    for (int y = 0; y < map.height; ++y)
+        for (int x = 0; x < map.width; ++x) {
+            const VpTexel status = table->status[static_cast<std::size_t>(y) * map.width + x];
+            if (status == VpTexel::clipped) {
+                ++stats.texels_clipped;
+            } else if (status == VpTexel::off_screen) {
+                ++stats.texels_off_screen;
+            } else {
+                const glm::vec2 p{screen_points.at(x, y, 0), screen_points.at(x, y, 1)};
+                trace_texel(buffer, x, y, p, map.screen_width, map.screen_height, view, stats);
+            }
+        }
     return buffer;
 }
 

@@ -33,9 +33,22 @@ struct VpTraceStats {
 VpTexel vp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const VisualPolarMap& map,
                          const PrimaryView& view, int x, int y, VpTraceStats& stats);
 
-/// The Visual-Polar buffer's G-buffer (map.width x map.height) and its texels' screen points.
+/// Each texel's status and screen point as vp_texel_status gives them, for one map: the trace
+/// stage keeps it while the map stays the same (a static gaze), and trace_vp_gbuffer then traces
+/// the same texels through the same points without the inverse map per texel.
+struct VpTexelTable {
+    VisualPolarMap map;
+    Image screen_points;          ///< w x h x 2, as trace_vp_gbuffer writes them
+    std::vector<VpTexel> status;  ///< texel (i, j) at j w + i
+};
+VpTexelTable vp_texel_table(const VisualPolarMap& map);
+
+/// The Visual-Polar buffer's G-buffer (map.width x map.height) and its texels' screen points;
+/// with `table` (made for `map`; a check fails otherwise) the statuses and points are read from
+/// it, the same bits.
 MaskedGBuffer trace_vp_gbuffer(const VisualPolarMap& map, const PrimaryView& view,
-                               Image& screen_points, VpTraceStats& stats);
+                               Image& screen_points, VpTraceStats& stats,
+                               const VpTexelTable* table = nullptr);
 
 /// A G-buffer of points.size() x 1 texels on a W x H screen: texel k holds the closest hit of
 /// the primary ray through points[k].

@@ -10,13 +10,16 @@
 #include <cstring>
 #include <map>
 
+#include "ref/bvh/bvh.h"
 #include "ref/filters/blur_ramp.h"
 #include "ref/metrics/metrics.h"
 #include "ref/modes/modes.h"
+#include "ref/scene/camera.h"
 #include "ref/scene/procedural.h"
 #include "ref/visual_polar/map.h"
 #include "ref/visual_polar/params.h"
 #include "ref/visual_polar/resolve.h"
+#include "ref/visual_polar/trace.h"
 #include "tests/stage/mode_test_util.h"
 
 using namespace fovref;
@@ -60,6 +63,45 @@ TEST_CASE("VP modes: the buffer counters are the map's; clipped and off-screen t
         for (float v : valid.data) traced += v;
         CHECK(traced == static_cast<double>(c.traced));
     }
+}
+
+TEST_CASE("VP trace: the texel table kept for a static gaze gives the per-texel bits") {
+    const Scene scene = make_procedural_scene("cornell");
+    const Bvh bvh = build_bvh(scene.positions);
+    const Camera camera = camera_at(scene, 0.0f);
+    const PrimaryView view(scene, bvh, camera, camera);
+    for (const glm::vec2& gaze : {glm::vec2(70.0f, 40.0f), glm::vec2(-30.0f, 100.0f)})
+        for (const int block : {0, 8}) {
+            CAPTURE(gaze.x);
+            CAPTURE(block);
+            VisualPolarMap map = make_visual_polar_map(120, 90, gaze, 80, 60);
+            map.staircase_block = block;
+            map.staircase_offset = block > 0 ? 3 : 0;
+            const VpTexelTable table = vp_texel_table(map);
+            Image points[2];
+            VpTraceStats stats[2];
+            const MaskedGBuffer plain = trace_vp_gbuffer(map, view, points[0], stats[0]);
+            const MaskedGBuffer kept = trace_vp_gbuffer(map, view, points[1], stats[1], &table);
+            CHECK(same_bits(points[0], points[1]));
+            CHECK(same_bits(plain.valid, kept.valid));
+            for (const auto& [a, b] :
+                 {std::pair{&plain.gbuffer.view_depth, &kept.gbuffer.view_depth},
+                  std::pair{&plain.gbuffer.world_position, &kept.gbuffer.world_position},
+                  std::pair{&plain.gbuffer.primitive_id, &kept.gbuffer.primitive_id},
+                  std::pair{&plain.gbuffer.motion, &kept.gbuffer.motion}})
+                CHECK(same_bits(*a, *b));
+            CHECK(stats[0].texels_traced == stats[1].texels_traced);
+            CHECK(stats[0].texels_clipped == stats[1].texels_clipped);
+            CHECK(stats[0].texels_off_screen == stats[1].texels_off_screen);
+            CHECK(stats[0].texels_traced > 300);
+            CHECK(stats[0].texels_clipped + stats[0].texels_off_screen > 100);
+            // a table made for another map is refused
+            VisualPolarMap other = map;
+            other.gaze.x += 1.0f;
+            Image unused;
+            VpTraceStats more;
+            CHECK_THROWS(trace_vp_gbuffer(other, view, unused, more, &table));
+        }
 }
 
 TEST_CASE("VP modes: a buffer much finer than the screen resolves to nearly the basic image") {

@@ -645,7 +645,8 @@ TEST_CASE(
 // The AVX groups (eight pixels, each lane with its own radius) give blur_ramp_pixel's bits, pixel
 // by pixel: sizes that are not multiples of 8, 1 to 5 channels (5: the scalar path only), the
 // gaze inside and off the screen, radii from 1 to the cap of 64 (edge groups fall back to the
-// scalar pixel), and non-finite values, which a lane outside its own taps must never see.
+// scalar pixel), non-finite values, which a lane outside its own taps must never see, and -0
+// in copied pixels.
 TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits, with and without the kept table") {
     struct Case {
         int width, height, channels;
@@ -667,6 +668,8 @@ TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits, with and without 
         for (int c = 0; c < k.channels; ++c) image.at(k.width / 2, k.height / 2, c) *= -1.0f;
         image.at(3, 2, 0) = std::numeric_limits<float>::infinity();
         image.at(k.width - 2, k.height - 1, 0) = std::numeric_limits<float>::quiet_NaN();
+        // -0 in every seventh value: a copied pixel (radius 0) keeps its sign (0 + 1 (-0) is +0)
+        for (std::size_t i = 0; i < image.data.size(); i += 7) image.data[i] = -0.0f;
         for (const bool vertical : {false, true}) {
             const Image simd = vertical ? blur_ramp_vertical(k.ramp, geometry, image, true)
                                         : blur_ramp_horizontal(k.ramp, geometry, image, true);

@@ -1,0 +1,245 @@
+#include "ref/visual_polar/resolve_avx.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+#include "ref/core/avx_lanes.h"
+#include "ref/core/simd.h"
+
+namespace fovref {
+
+namespace {
+
+using namespace avx;
+
+constexpr float two_pi = 6.28318530717958647692f;  // resolve.cpp's
+
+/// lerp of resolve.cpp: a + t (b - a).
+FOVREF_AVX_INLINE __m256 lerp(__m256 a, __m256 b, __m256 t) {
+    return _mm256_add_ps(a, _mm256_mul_ps(t, _mm256_sub_ps(b, a)));
+}
+
+/// The lanes' column along rho: its index, its rows n_c at level 0 and its last level.
+struct ColumnLanes {
+    __m256i column;
+    __m256i rows;
+    __m256 last;
+};
+
+/// sample_vp_phi at pyramid level `level` in the lanes of `wanted`, each on its own column of
+/// n_c rows at level 0 (rows ceil(n_c / 2^level) there), at v_c * 2^-level: the lanes' values
+/// into out[0 .. 2] (0 where no tap is traced). Returns the lanes with a traced tap; the lanes
+/// whose lookup lies outside the range sample_vp_phi accepts, or whose row needs more than one
+/// wrap, are added to `reference` (the reference's to do).
+FOVREF_AVX2_INLINE int phi_lanes(const VpMips& mips, int level, const ColumnLanes& col, __m256 v,
+                                 int wanted, __m256* out, int& reference) {
+    const std::size_t k = static_cast<std::size_t>(level);
+    const Image& color = mips.color[k];
+    const Image& valid = mips.valid[k];
+    // vp_mip_rows: ceil-halved `level` times = ceil(n / 2^level) (exact in binary32: n <= 2^24)
+    const __m256 rows = _mm256_cvtepi32_ps(_mm256_srl_epi32(
+        _mm256_add_epi32(col.rows, _mm256_set1_epi32((1 << level) - 1)), _mm_cvtsi32_si128(level)));
+    const float scale = 1.0f / static_cast<float>(1 << level);  // exact: 2^-level
+    const __m256 vl = _mm256_mul_ps(v, set(scale));
+    const __m256 mask = mask_of(wanted);
+    const __m256 in_range =
+        both(at_least(vl, negate(rows)), at_most(vl, _mm256_mul_ps(set(2.0f), rows)));
+    // vp_phi_rows: t = v - 1/2, j0 = floor(t) wrapped into [0, rows) (one step of rows, exact),
+    // j1 = (j0 + 1) mod rows, fv = t - floor(t)
+    const __m256 t = _mm256_sub_ps(vl, set(0.5f));
+    const __m256 j0_raw = floor(t);
+    const __m256 fv = _mm256_sub_ps(t, j0_raw);
+    const __m256 j0 = select(less(j0_raw, zero()), _mm256_add_ps(j0_raw, rows),
+                             select(at_least(j0_raw, rows), _mm256_sub_ps(j0_raw, rows), j0_raw));
+    const __m256 wrapped = both(at_least(j0, zero()), less(j0, rows));
+    const __m256 ok = both(mask, both(in_range, wrapped));
+    reference |= wanted & ~bits(ok);
+    const __m256 j0_next = _mm256_add_ps(j0, set(1.0f));
+    const __m256 j1 = select(equal(j0_next, rows), zero(), j0_next);
+    // The taps' texels j w + c, inside the level in the lanes of `ok` (the others read nothing)
+    const int w = color.width;
+    const __m256i taps[2] = {row_major(col.column, _mm256_cvttps_epi32(select(ok, j0, zero())), w),
+                             row_major(col.column, _mm256_cvttps_epi32(select(ok, j1, zero())), w)};
+    const __m256 second = both(ok, greater(fv, zero()));  // weight fv > 0
+    const __m256 traced0 = both(
+        ok, not_equal(_mm256_mask_i32gather_ps(zero(), valid.data.data(), taps[0], ok, 4), zero()));
+    const __m256 traced1 = both(
+        second,
+        not_equal(_mm256_mask_i32gather_ps(zero(), valid.data.data(), taps[1], second, 4), zero()));
+    __m256 c0[3], c1[3];
+    gather3_lanes(color.data.data(), taps[0], traced0, c0);
+    gather3_lanes(color.data.data(), taps[1], traced1, c1);
+    const __m256 both_taps = both(traced0, traced1);
+    for (int c = 0; c < 3; ++c) {
+        const __m256 value = select(both_taps, lerp(c0[c], c1[c], fv),
+                                    select(traced0, c0[c], select(traced1, c1[c], zero())));
+        out[c] = select(ok, value, out[c]);
+    }
+    return bits(either(traced0, traced1));
+}
+
+/// phi_lanes with each lane of `wanted` at its own `level` (a small integer in binary32): the
+/// lanes of one level together. Returns the lanes with a traced tap.
+FOVREF_AVX2_INLINE int level_lanes(const VpMips& mips, __m256 level, const ColumnLanes& col,
+                                   __m256 v, int wanted, __m256* out, int& reference) {
+    int traced = 0;
+    for (int todo = wanted; todo != 0;) {
+        alignas(32) float levels[lanes];
+        _mm256_store_ps(levels, level);
+        const float this_level = levels[__builtin_ctz(static_cast<unsigned>(todo))];
+        const int in_level = bits(equal(level, set(this_level))) & todo;
+        todo &= ~in_level;
+        traced |= phi_lanes(mips, static_cast<int>(this_level), col, v, in_level, out, reference);
+    }
+    return traced;
+}
+
+/// sample_column in the lanes of `wanted`: level floor(lambda) and, where lambda has a fraction
+/// and a next level exists, that level, lerped. Returns the lanes with a value.
+FOVREF_AVX2_INLINE int column_lanes(const VpMips& mips, const ColumnLanes& col, __m256 v,
+                                    __m256 lambda, int wanted, __m256* out, int& reference) {
+    const __m256 l0 = floor(lambda);
+    const __m256 l1 = std_min(_mm256_add_ps(l0, set(1.0f)), col.last);
+    const __m256 f = _mm256_sub_ps(lambda, l0);
+    __m256 a[3] = {zero(), zero(), zero()}, b[3] = {zero(), zero(), zero()};
+    const int have_a = level_lanes(mips, l0, col, v, wanted, a, reference);
+    const int second = bits(both(not_equal(l1, l0), greater(f, zero()))) & wanted;
+    const int have_b = level_lanes(mips, l1, col, v, second, b, reference);
+    const __m256 two = mask_of(have_a & have_b), only_a = mask_of(have_a);
+    for (int c = 0; c < 3; ++c)
+        out[c] = select(two, lerp(a[c], b[c], f), select(only_a, a[c], b[c]));
+    return have_a | have_b;
+}
+
+/// The forward table's level entries (n_0, lambda_0, n_1, lambda_1) of eight consecutive pixels
+/// (p: the first pixel's first value) as one register per entry.
+FOVREF_AVX_INLINE void split4_lanes(const float* p, __m256* out) {
+    __m128 q[lanes];
+    for (int l = 0; l < lanes; ++l) q[l] = _mm_loadu_ps(p + 4 * l);
+    _MM_TRANSPOSE4_PS(q[0], q[1], q[2], q[3]);
+    _MM_TRANSPOSE4_PS(q[4], q[5], q[6], q[7]);
+    for (int e = 0; e < 4; ++e) out[e] = _mm256_set_m128(q[4 + e], q[e]);
+}
+
+// Pixels x .. x + 7 of row y; the lanes the reference must do are done by resolve_vp_pixel.
+__attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, const VpMips& mips,
+                                                   const std::vector<int>& last_levels,
+                                                   const VpForwardTable& table, bool mip,
+                                                   Image& out, int x, int y, ResolveStats& stats) {
+    const std::size_t pixel = static_cast<std::size_t>(y) * map.screen_width + x;
+    __m256 polar[3];
+    split3_lanes(&table.polar.data[3 * pixel], polar);
+    const __m256 u = polar[0], r = polar[1], theta = polar[2];
+    int reference = 0xff & ~bits(both(finite(u), both(finite(r), finite(theta))));
+    if (reference == 0xff) {
+        for (int l = 0; l < lanes; ++l)
+            resolve_vp_pixel(map, mips, out, x + l, y, stats, nullptr, mip, &table);
+        return;
+    }
+    __m256 levels[4];
+    split4_lanes(&table.levels.data[4 * pixel], levels);
+
+    // vp_rho_columns: s = clamp(u, 1/2, w - 1/2) - 1/2, i0 = floor(s), i1 = min(i0 + 1, w - 1)
+    const float wf = static_cast<float>(map.width);
+    const __m256 lo = set(0.5f), hi = set(wf - 0.5f);
+    const __m256 s = _mm256_sub_ps(select(less(u, lo), lo, select(less(hi, u), hi, u)), lo);
+    const __m256 i0 = floor(s);
+    const __m256 fx = _mm256_sub_ps(s, i0);
+    const __m256 i1 = std_min(_mm256_add_ps(i0, set(1.0f)), set(wf - 1.0f));
+    const __m256 finite_lanes = mask_of(0xff & ~reference);
+    const __m256 columns[2] = {select(finite_lanes, i0, zero()), select(finite_lanes, i1, zero())};
+    const int wanted[2] = {0xff & ~reference,
+                           bits(both(not_equal(i1, i0), greater(fx, zero()))) & ~reference};
+
+    // Each column at the pixel's angle on its own rows, at its own phi level
+    __m256 values[2][3] = {{zero(), zero(), zero()}, {zero(), zero(), zero()}};
+    int have[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+        if (wanted[k] == 0) continue;
+        const __m256 mask = mask_of(wanted[k]);
+        ColumnLanes col;
+        col.column = _mm256_cvttps_epi32(columns[k]);
+        col.rows = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), mips.column_rows.data(),
+                                               col.column, _mm256_castps_si256(mask), 4);
+        col.last = _mm256_cvtepi32_ps(_mm256_mask_i32gather_epi32(
+            _mm256_setzero_si256(), last_levels.data(), col.column, _mm256_castps_si256(mask), 4));
+        const __m256 n = _mm256_cvtepi32_ps(col.rows);
+        const __m256 v = _mm256_div_ps(_mm256_mul_ps(n, theta), set(two_pi));
+        __m256 lambda = zero();
+        if (mip) {
+            // The table's level where the pyramid's column still has the table's rows, else
+            // vp_mip_level as the reference computes it
+            const __m256 same = equal(levels[2 * k], n);
+            lambda = select(same, levels[2 * k + 1], zero());
+            const int computed = wanted[k] & ~bits(same);
+            if (computed != 0) {
+                alignas(32) float lambdas[lanes], rows[lanes], radius[lanes];
+                _mm256_store_ps(lambdas, lambda);
+                _mm256_store_ps(rows, n);
+                _mm256_store_ps(radius, r);
+                for (int l = 0; l < lanes; ++l)
+                    if (computed >> l & 1)
+                        lambdas[l] = vp_mip_level(static_cast<int>(rows[l]), radius[l]);
+                lambda = _mm256_load_ps(lambdas);
+            }
+        }
+        have[k] = column_lanes(mips, col, v, lambda, wanted[k], values[k], reference);
+    }
+
+    // Lerp of the columns over those with a value
+    const __m256 two = mask_of(have[0] & have[1]), first = mask_of(have[0]);
+    __m256 result[3];
+    for (int c = 0; c < 3; ++c)
+        result[c] = select(two, lerp(values[0][c], values[1][c], fx),
+                           select(first, values[0][c], values[1][c]));
+    merge3_lanes(result, &out.at(x, y, 0));
+    const int done = 0xff & ~reference;
+    stats.pixels_from_buffer += __builtin_popcount(static_cast<unsigned>(done));
+    stats.pixels_untraced_taps +=
+        __builtin_popcount(static_cast<unsigned>(done & ~(have[0] | have[1])));
+    for (int l = 0; l < lanes; ++l)
+        if (reference >> l & 1)
+            resolve_vp_pixel(map, mips, out, x + l, y, stats, nullptr, mip, &table);
+}
+
+}  // namespace
+
+bool resolve_vp_avx_applies(const VisualPolarMap& map, const VpMips& mips,
+                            const VpForwardTable* table) {
+    // The lanes read every level and its one-channel mask directly (the reference checks the
+    // shapes as it reads, and throws); the gathers' indices 3 (j w + i) are int32, and the rows
+    // and columns are computed in binary32 (exact up to 2^24).
+    const std::int64_t texels = static_cast<std::int64_t>(map.width) * map.height;
+    if (!table || mips.color.empty() || mips.color.size() != mips.valid.size() ||
+        mips.column_rows.size() != static_cast<std::size_t>(map.width) ||
+        mips.color[0].height != map.height || table->polar.channels != 3 ||
+        table->levels.channels != 4 || map.width > (1 << 24) || map.height > (1 << 24) ||
+        3 * texels > std::numeric_limits<std::int32_t>::max() || !simd_allowed() || !cpu_has_avx2())
+        return false;
+    for (std::size_t k = 0; k < mips.color.size(); ++k) {
+        const Image &color = mips.color[k], &valid = mips.valid[k];
+        if (color.channels != 3 || color.width != map.width || valid.channels != 1 ||
+            valid.width != color.width || valid.height != color.height)
+            return false;
+    }
+    return true;
+}
+
+std::vector<int> vp_last_levels(const VpMips& mips) {
+    std::vector<int> last;
+    last.reserve(mips.column_rows.size());
+    for (const int n : mips.column_rows) last.push_back(vp_mip_last_level(n));
+    return last;
+}
+
+int resolve_vp_row_avx(const VisualPolarMap& map, const VpMips& mips,
+                       const std::vector<int>& last_levels, const VpForwardTable& table, bool mip,
+                       Image& out, int y, ResolveStats& stats) {
+    const int groups = map.screen_width / lanes;
+    for (int group = 0; group < groups; ++group)
+        resolve_group(map, mips, last_levels, table, mip, out, group * lanes, y, stats);
+    return groups * lanes;
+}
+
+}  // namespace fovref

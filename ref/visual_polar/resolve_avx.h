@@ -1,0 +1,34 @@
+// Pass 2 of the Visual-Polar modes eight screen pixels at a time with AVX2: the same bits as
+// resolve_vp_pixel, which stays the readable reference (docs/visual-polar.md, "The resolve eight
+// pixels at a time"). Each lane reads its (u, r, theta) and its columns' levels from the forward
+// table, finds its two columns along rho, and on each column samples level floor(lambda) and,
+// where resolve_vp_pixel does, the next one along phi (the lanes of one level together, the
+// taps' masks and colours gathered), with the reference's choices between traced and untraced
+// taps made per lane by masks and its lerps in its order. A lane whose phi lookup lies outside the
+// range sample_vp_phi accepts, and every group with a non-finite table entry, runs the reference.
+#pragma once
+
+#include <vector>
+
+#include "ref/visual_polar/resolve.h"
+
+namespace fovref {
+
+/// Whether resolve_vp_row_avx covers a resolve: a forward table, a pyramid of 3-channel levels
+/// with one-channel masks of their size, all of the map's width (level 0 its height; 3 w h within
+/// int32, w and h at most 2^24), simd_allowed() and AVX2.
+bool resolve_vp_avx_applies(const VisualPolarMap& map, const VpMips& mips,
+                            const VpForwardTable* table);
+
+/// Each column's last pyramid level, vp_mip_last_level(n_i), computed once per resolve for
+/// resolve_vp_row_avx.
+std::vector<int> vp_last_levels(const VpMips& mips);
+
+/// Pixels 0 .. 8 floor(W / 8) - 1 of screen row y as resolve_vp_pixel computes them (with `mip`
+/// and `table`; the counters in `stats`); returns the pixels done. Only where
+/// resolve_vp_avx_applies; `last_levels` from vp_last_levels(mips).
+int resolve_vp_row_avx(const VisualPolarMap& map, const VpMips& mips,
+                       const std::vector<int>& last_levels, const VpForwardTable& table, bool mip,
+                       Image& out, int y, ResolveStats& stats);
+
+}  // namespace fovref

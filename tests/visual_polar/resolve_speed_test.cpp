@@ -1,0 +1,130 @@
+// The Visual-Polar resolve with AVX2 (ref/visual_polar/resolve_avx.h) gives resolve_vp_pixel's
+// bits: maps with the gaze at the centre, near a corner and off screen, screens whose width is not
+// a multiple of eight, BMFR's staircase (levels the table holds for other rows, computed again),
+// the trilinear and the bilinear lookups, masks with untraced texels (one tap, the other, none),
+// buffer values of every sign, infinities (NaN payloads aside, docs/determinism.md), a forward
+// table edited by hand so that lanes leave for the reference, and the same counters.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "ref/core/simd.h"
+#include "ref/visual_polar/map.h"
+#include "ref/visual_polar/resolve.h"
+#include "ref/visual_polar/resolve_avx.h"
+#include "tests/image/image_test_util.h"
+
+using namespace fovref;
+
+namespace {
+
+/// The resolve with the SIMD path and without it (and, with `plain_too`, without the table):
+/// the same bits and counters. Returns the untraced pixels.
+std::int64_t compare_resolves(const VisualPolarMap& map, const VpMips& mips,
+                              const VpForwardTable& table, bool mip, bool plain_too) {
+    CHECK(resolve_vp_avx_applies(map, mips, &table) == cpu_has_avx2());
+    Image out[2];
+    ResolveStats stats[2];
+    for (const bool simd : {true, false}) {
+        set_simd_allowed(simd);
+        out[simd ? 0 : 1] = resolve_visual_polar(map, mips, stats[simd ? 0 : 1], mip, &table);
+        set_simd_allowed(true);
+    }
+    REQUIRE(test::same_bits_nan_aside(out[0], out[1]));
+    CHECK(stats[0].pixels_from_buffer == stats[1].pixels_from_buffer);
+    CHECK(stats[0].pixels_untraced_taps == stats[1].pixels_untraced_taps);
+    if (plain_too) {
+        ResolveStats plain;
+        REQUIRE(test::same_bits_nan_aside(resolve_visual_polar(map, mips, plain, mip), out[1]));
+        CHECK(plain.pixels_untraced_taps == stats[1].pixels_untraced_taps);
+    }
+    return stats[1].pixels_untraced_taps;
+}
+
+}  // namespace
+
+TEST_CASE("VP resolve speed: the AVX resolve gives resolve_vp_pixel's bits") {
+    if (!cpu_has_avx2()) MESSAGE("no AVX2 on this CPU: both runs take resolve_vp_pixel");
+    test::SplitMix64 rng(4);
+    const auto uniform = [&](float lo, float hi) {
+        return lo + (hi - lo) * static_cast<float>(rng.below(1 << 20)) * 0x1p-20f;
+    };
+    std::int64_t untraced = 0;
+    for (const int screen_width : {120, 101})
+        for (const glm::vec2& gaze :
+             {glm::vec2{60.0f, 45.0f}, glm::vec2{12.0f, 80.0f}, glm::vec2{-30.0f, 20.0f}})
+            for (const int block : {0, 8}) {
+                CAPTURE(screen_width);
+                CAPTURE(gaze.x);
+                CAPTURE(block);
+                VisualPolarMap map = make_visual_polar_map(screen_width, 90, gaze, 80, 60);
+                map.staircase_block = block;
+                // The table is made for offset 0; the staircase then moves (offset 3): its
+                // fovea columns' rows change, and the table's levels there are computed again
+                const VpForwardTable made = vp_forward_table(map);
+                map.staircase_offset = block > 0 ? 3 : 0;
+                VpForwardTable table = made;
+                table.map = map;
+                for (const std::size_t untraced_rate : {2u, 7u, 1000000u}) {
+                    Image color(map.width, map.height, 3), valid(map.width, map.height, 1);
+                    for (float& v : color.data) v = uniform(-2.0f, 2.0f);
+                    color.data[5] = std::numeric_limits<float>::quiet_NaN();
+                    color.data[9] = std::numeric_limits<float>::infinity();
+                    for (float& v : valid.data) v = rng.below(untraced_rate) == 0 ? 0.0f : 1.0f;
+                    const VpMips mips = build_vp_mips(map, color, valid);
+                    for (const bool mip : {true, false})
+                        untraced += compare_resolves(map, mips, table, mip, true);
+                }
+            }
+    CHECK(untraced > 100);
+
+    // A table edited by hand: u beyond both clamps and infinite (the group is the reference's),
+    // r of every size (every level, and the clamp at the last), theta past a turn either way
+    // (rows that wrap once; below -n_c - 1 twice: those lanes are the reference's), and rows at
+    // exactly v = j + 1/2 (fv = 0: row j1 must not be read into the result)
+    const VisualPolarMap map = make_visual_polar_map(83, 50, {40.0f, 20.0f}, 55, 33);
+    VpForwardTable table = vp_forward_table(map);
+    const float two_pi = 6.28318530717958647692f;
+    int centred = 0;  // pixels whose first column's v is a row centre
+    for (int y = 0; y < map.screen_height; ++y)
+        for (int x = 0; x < map.screen_width; ++x) {
+            float* p = &table.polar.data[table.polar.index(x, y)];
+            const std::uint64_t kind = rng.below(16);
+            p[0] = kind == 0   ? std::numeric_limits<float>::infinity()
+                   : kind == 1 ? -5.0f
+                               : uniform(-3.0f, static_cast<float>(map.width) + 3.0f);
+            p[1] = rng.below(4) == 0 ? uniform(0.0f, 0.01f) : uniform(0.0f, 200.0f);
+            p[2] = kind == 3 ? uniform(-two_pi, 0.0f) : uniform(0.0f, 2.0f * two_pi);
+            const VpColumns rho = vp_rho_columns(map.width, p[0]);
+            if (kind == 2) {
+                // theta nudged float by float until column i0's v = (n theta) / two_pi is
+                // j + 1/2 exactly (where a few steps find it)
+                const int n = vp_column_rows(map, rho.i0);
+                const float j = static_cast<float>(rng.below(static_cast<std::size_t>(n)));
+                float theta = two_pi * (j + 0.5f) / static_cast<float>(n);
+                for (int step = 0; step < 8; ++step) {
+                    const float v = static_cast<float>(n) * theta / two_pi;
+                    if (v == j + 0.5f) break;
+                    theta = std::nextafter(theta, v < j + 0.5f ? 10.0f : -10.0f);
+                }
+                p[2] = theta;
+                centred += static_cast<float>(n) * theta / two_pi == j + 0.5f;
+            }
+            // the levels as vp_forward_table makes them from the edited (u, r)
+            float* level = &table.levels.data[table.levels.index(x, y)];
+            for (int k = 0; k < 2; ++k) {
+                const int n = vp_column_rows(map, k == 0 ? rho.i0 : rho.i1);
+                level[2 * k] = static_cast<float>(n);
+                level[2 * k + 1] = vp_mip_level(n, p[1]);
+            }
+        }
+    Image color(map.width, map.height, 3), valid(map.width, map.height, 1);
+    for (float& v : color.data)
+        v = rng.below(5) == 0 ? std::numeric_limits<float>::infinity() : uniform(-1.0f, 1.0f);
+    for (float& v : valid.data) v = rng.below(3) == 0 ? 0.0f : 1.0f;
+    const VpMips mips = build_vp_mips(map, color, valid);
+    CHECK(centred > 50);
+    for (const bool mip : {true, false}) compare_resolves(map, mips, table, mip, false);
+}
