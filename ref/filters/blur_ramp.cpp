@@ -115,6 +115,30 @@ __attribute__((target("avx"))) void weighted_sums_avx(const float* base, std::si
     }
 }
 
+/// weighted_sums_avx<3, true> of G groups side by side (lane 0's sources base + 8 k + offsets[d]
+/// for group k) with the same weights: each lane's sum in its order, the groups' 3 G sums in
+/// flight together. Every lane is blurred (its radius is radius_max > 0).
+template <int G>
+__attribute__((target("avx"))) void weighted_sums_run3_avx(const float* base, std::size_t plane,
+                                                           const std::ptrdiff_t* offsets,
+                                                           const float (*weights)[lanes],
+                                                           int radius_max, float* dest,
+                                                           std::size_t dest_plane) {
+    __m256 sums[3 * G];
+    for (__m256& sum : sums) sum = _mm256_setzero_ps();
+    const __m256 every = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+    for (int d = -radius_max; d <= radius_max; ++d) {
+        const __m256 w = _mm256_load_ps(weights[d < 0 ? -d : d]);
+        const float* source = base + offsets[d];
+#pragma GCC unroll 12
+        for (int k = 0; k < 3 * G; ++k)
+            sums[k] = add_tap<true>(every, sums[k], w, source + (k / G) * plane + (k % G) * lanes);
+    }
+#pragma GCC unroll 12
+    for (int k = 0; k < 3 * G; ++k)
+        _mm256_storeu_ps(dest + (k / G) * dest_plane + (k % G) * lanes, sums[k]);
+}
+
 /// `count` pixels of `channels` interleaved channels at `from` as planes `plane` floats apart at
 /// `to`, and back: plain copies of the same floats (three channels: eight pixels at a time with
 /// AVX2 where the CPU has it).
@@ -256,6 +280,36 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
                 a[lane] = copied ? 0.5f : kept ? kept[2 * lane + 1] : last_a;
             }
             weights.make(a, radius_f, radius_max);
+            // The next groups with the same sigma in every lane (beyond full_deg) have the same
+            // weights: four or two groups' sums together (three channels)
+            int run = 0;  // the groups done together, counting this one
+            if (channels == 3 && uniform) {
+                int same = lanes;  // lanes from x0 on with sigma[0]
+                while (same < 4 * lanes && x0 + same < width &&
+                       (kept ? kept[2 * same]
+                             : blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + same, y))) ==
+                           sigma[0])
+                    ++same;
+                for (int lane = 0; lane < lanes; ++lane)
+                    if (!(sigma[lane] == sigma[0])) same = 0;
+                for (const int groups : {4, 2})
+                    if (run == 0 && same >= groups * lanes &&
+                        (vertical || x0 + groups * lanes - 1 + radius_max < width))
+                        run = groups;
+            }
+            if (run > 0) {
+                const float* base = planes.data() + row_start + x0;
+                float* dest = row.data() + x0;
+                const std::size_t row_plane = static_cast<std::size_t>(width);
+                if (run == 4)
+                    weighted_sums_run3_avx<4>(base, plane, offset, weights.w, radius_max, dest,
+                                              row_plane);
+                else
+                    weighted_sums_run3_avx<2>(base, plane, offset, weights.w, radius_max, dest,
+                                              row_plane);
+                x0 += (run - 1) * lanes;
+                continue;
+            }
             using SumsOf = void (*)(const float*, std::size_t, const std::ptrdiff_t*,
                                     const float(*)[lanes], const float*, int, float*, std::size_t);
             static constexpr SumsOf kernels[8] = {

@@ -660,6 +660,8 @@ TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits, with and without 
         {131, 70, 4, {65.0f, 35.0f}, 40.0f, 0.2f, BlurRamp{1.0f, 1.5f}},  // radius capped at 64
         {41, 29, 5, {10.0f, 10.0f}, 4.0f, 0.5f, BlurRamp{1.0f, 5.0f}},
         {200, 9, 2, {100.0f, 4.0f}, 1.0f, 3.0f, BlurRamp{0.9f, 60.0f}},
+        // sigma constant beyond 12 px from the gaze: runs of four and of two groups together
+        {107, 52, 3, {25.0f, 30.0f}, 4.0f, 0.5f, BlurRamp{1.0f, 3.0f}},
     };
     for (const Case& k : cases) {
         INFO(k.width << "x" << k.height << "x" << k.channels);
