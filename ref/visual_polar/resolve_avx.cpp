@@ -20,6 +20,22 @@ FOVREF_AVX_INLINE __m256 lerp(__m256 a, __m256 b, __m256 t) {
     return _mm256_add_ps(a, _mm256_mul_ps(t, _mm256_sub_ps(b, a)));
 }
 
+/// base[index] in the lanes of `mask` by eight scalar loads (on this project's machine no slower
+/// than vgatherdps); the other lanes read base[0], a value the caller never uses.
+FOVREF_AVX2_INLINE __m256 load_lanes(const float* base, __m256i index, __m256 mask) {
+    alignas(32) int at[lanes];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(at),
+                       _mm256_and_si256(index, _mm256_castps_si256(mask)));
+    return _mm256_setr_ps(base[at[0]], base[at[1]], base[at[2]], base[at[3]], base[at[4]],
+                          base[at[5]], base[at[6]], base[at[7]]);
+}
+/// The three interleaved channels of pixels `pixel` of `rgb` into out[0 .. 2] in the lanes of
+/// `mask`, as load_lanes.
+FOVREF_AVX2_INLINE void load3_lanes(const float* rgb, __m256i pixel, __m256 mask, __m256* out) {
+    const __m256i first = _mm256_add_epi32(_mm256_add_epi32(pixel, pixel), pixel);
+    for (int c = 0; c < 3; ++c) out[c] = load_lanes(rgb + c, first, mask);
+}
+
 /// The lanes' column along rho: its index, its rows n_c at level 0 and its last level.
 struct ColumnLanes {
     __m256i column;
@@ -62,14 +78,12 @@ FOVREF_AVX2_INLINE int phi_lanes(const VpMips& mips, int level, const ColumnLane
     const __m256i taps[2] = {row_major(col.column, _mm256_cvttps_epi32(select(ok, j0, zero())), w),
                              row_major(col.column, _mm256_cvttps_epi32(select(ok, j1, zero())), w)};
     const __m256 second = both(ok, greater(fv, zero()));  // weight fv > 0
-    const __m256 traced0 = both(
-        ok, not_equal(_mm256_mask_i32gather_ps(zero(), valid.data.data(), taps[0], ok, 4), zero()));
-    const __m256 traced1 = both(
-        second,
-        not_equal(_mm256_mask_i32gather_ps(zero(), valid.data.data(), taps[1], second, 4), zero()));
+    const __m256 traced0 = both(ok, not_equal(load_lanes(valid.data.data(), taps[0], ok), zero()));
+    const __m256 traced1 =
+        both(second, not_equal(load_lanes(valid.data.data(), taps[1], second), zero()));
     __m256 c0[3], c1[3];
-    gather3_lanes(color.data.data(), taps[0], traced0, c0);
-    gather3_lanes(color.data.data(), taps[1], traced1, c1);
+    load3_lanes(color.data.data(), taps[0], traced0, c0);
+    load3_lanes(color.data.data(), taps[1], traced1, c1);
     const __m256 both_taps = both(traced0, traced1);
     for (int c = 0; c < 3; ++c) {
         const __m256 value = select(both_taps, lerp(c0[c], c1[c], fv),
@@ -160,10 +174,17 @@ __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, co
         const __m256 mask = mask_of(wanted[k]);
         ColumnLanes col;
         col.column = _mm256_cvttps_epi32(columns[k]);
-        col.rows = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), mips.column_rows.data(),
-                                               col.column, _mm256_castps_si256(mask), 4);
-        col.last = _mm256_cvtepi32_ps(_mm256_mask_i32gather_epi32(
-            _mm256_setzero_si256(), last_levels.data(), col.column, _mm256_castps_si256(mask), 4));
+        if (bits(at_least(columns[k], set(static_cast<float>(map.fovea_columns)))) == 0xff) {
+            // every lane in the periphery, whose columns all have h rows (the last column's)
+            col.rows = _mm256_set1_epi32(mips.column_rows.back());
+            col.last = set(static_cast<float>(last_levels.back()));
+        } else {
+            col.rows = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), mips.column_rows.data(),
+                                                   col.column, _mm256_castps_si256(mask), 4);
+            col.last = _mm256_cvtepi32_ps(
+                _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), last_levels.data(), col.column,
+                                            _mm256_castps_si256(mask), 4));
+        }
         const __m256 n = _mm256_cvtepi32_ps(col.rows);
         const __m256 v = _mm256_div_ps(_mm256_mul_ps(n, theta), set(two_pi));
         __m256 lambda = zero();

@@ -3,9 +3,10 @@
 // pixels at a time"). Each lane reads its (u, r, theta) and its columns' levels from the forward
 // table, finds its two columns along rho, and on each column samples level floor(lambda) and,
 // where resolve_vp_pixel does, the next one along phi (the lanes of one level together, the
-// taps' masks and colours gathered), with the reference's choices between traced and untraced
-// taps made per lane by masks and its lerps in its order. A lane whose phi lookup lies outside the
-// range sample_vp_phi accepts, and every group with a non-finite table entry, runs the reference.
+// taps' masks and colours loaded lane by lane). The reference's choices between traced and
+// untraced taps are made per lane by masks, and its lerps in its order. A lane whose phi lookup
+// lies outside the range sample_vp_phi accepts, and every group with a non-finite table entry,
+// runs the reference.
 #pragma once
 
 #include <vector>
