@@ -389,4 +389,45 @@ int taa_row_avx(const TaaParams& params, const TaaInputs& in, const TaaState& pr
     return groups * lanes;
 }
 
+bool texel_boxes_avx_applies(const Image& image, const Image& valid) {
+    return image.channels == 3 && valid.channels == 1 && valid.width == image.width &&
+           valid.height == image.height && image.width >= 10 && simd_allowed() && cpu_has_avx2();
+}
+
+__attribute__((target("avx2"))) int texel_boxes_row_avx(const Image& image, const Image& valid,
+                                                        bool wrap_rows, int sj, Image& boxes) {
+    const int w = image.width, h = image.height;
+    int rows[3];
+    for (int dj = -1; dj <= 1; ++dj)
+        rows[dj + 1] = wrap_rows ? (sj + dj + h) % h : std::clamp(sj + dj, 0, h - 1);
+    int si = 1;
+    for (; si + lanes <= w - 1; si += lanes) {
+        __m256 lo[3], hi[3];
+        split3_lanes(&image.data[image.index(si, sj)], lo);
+        for (int c = 0; c < 3; ++c) hi[c] = lo[c];
+        for (const int j : rows)
+            for (int di = -1; di <= 1; ++di) {
+                // a tap counts where its mask is not 0 (NaN counts, as valid != 0 does)
+                const __m256 traced =
+                    not_equal(_mm256_loadu_ps(&valid.data[valid.index(si + di, j)]), zero());
+                __m256 v[3];
+                split3_lanes(&image.data[image.index(si + di, j)], v);
+                for (int c = 0; c < 3; ++c) {
+                    // std::min(lo, v) = (v < lo) ? v : lo; std::max(hi, v) = (hi < v) ? v : hi
+                    lo[c] = select(both(traced, less(v[c], lo[c])), v[c], lo[c]);
+                    hi[c] = select(both(traced, less(hi[c], v[c])), v[c], hi[c]);
+                }
+            }
+        alignas(32) float box[6][lanes];
+        for (int c = 0; c < 3; ++c) {
+            _mm256_store_ps(box[c], lo[c]);
+            _mm256_store_ps(box[3 + c], hi[c]);
+        }
+        float* to = &boxes.data[boxes.index(si, sj)];
+        for (int l = 0; l < lanes; ++l)
+            for (int c = 0; c < 6; ++c) to[6 * l + c] = box[c][l];
+    }
+    return si;
+}
+
 }  // namespace fovref

@@ -26,4 +26,18 @@ int taa_row_avx(const TaaParams& params, const TaaInputs& in, const TaaState& pr
                 const TaaConstants& k, int y, Image& out, Image& age, Image* margin,
                 TaaStats& stats);
 
+/// Whether texel_boxes_row_avx covers a box pass (clamp-buffer's 3x3 boxes of traced texels,
+/// taa_foveated.h): a 3-channel image and a one-channel mask of its size, at least 10 columns
+/// wide, simd_allowed() and a CPU with AVX2.
+bool texel_boxes_avx_applies(const Image& image, const Image& valid);
+
+/// The boxes of texels 1 .. 8 k of row sj (k = floor((W - 2) / 8): every tap of theirs lies
+/// inside the row's columns, none clamped) as the reference's per-texel box computes them: each
+/// lane starts from its texel, then takes the min and max with each traced tap in the reference's
+/// order (rows sj - 1, sj, sj + 1, wrapped or clamped as the reference does; columns -1, 0, +1),
+/// as std::min and std::max do. Returns 1 + 8 k, the first column left to the reference. Only
+/// where texel_boxes_avx_applies.
+int texel_boxes_row_avx(const Image& image, const Image& valid, bool wrap_rows, int sj,
+                        Image& boxes);
+
 }  // namespace fovref

@@ -6,6 +6,7 @@
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
 #include "ref/log_polar/trace.h"
+#include "ref/temporal/taa_avx.h"
 
 namespace fovref {
 
@@ -71,28 +72,40 @@ namespace {
 // 3x3 neighbourhood of traced texels, starting from the texel itself; columns clamped, rows
 // wrapped (`wrap_rows`, the angle axis) or clamped. Made once per buffer (a GPU's buffer-space
 // min/max pass); the screen pixels then read the box of their source texel.
-Image texel_boxes(const Image& image, const Image& valid, bool wrap_rows) {
-    Image boxes(image.width, image.height, 6, 0.0f);
-    for (int sj = 0; sj < image.height; ++sj)
-        for (int si = 0; si < image.width; ++si) {
-            float lo[3], hi[3];
-            for (int c = 0; c < 3; ++c) lo[c] = hi[c] = image.at(si, sj, c);
-            for (int dj = -1; dj <= 1; ++dj)
-                for (int di = -1; di <= 1; ++di) {
-                    const int i = std::clamp(si + di, 0, image.width - 1);
-                    const int j = wrap_rows ? (sj + dj + image.height) % image.height
-                                            : std::clamp(sj + dj, 0, image.height - 1);
-                    if (valid.at(i, j) == 0.0f) continue;
-                    for (int c = 0; c < 3; ++c) {
-                        lo[c] = std::min(lo[c], image.at(i, j, c));
-                        hi[c] = std::max(hi[c], image.at(i, j, c));
-                    }
-                }
+void texel_box(const Image& image, const Image& valid, bool wrap_rows, int si, int sj,
+               Image& boxes) {
+    float lo[3], hi[3];
+    for (int c = 0; c < 3; ++c) lo[c] = hi[c] = image.at(si, sj, c);
+    for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+            const int i = std::clamp(si + di, 0, image.width - 1);
+            const int j = wrap_rows ? (sj + dj + image.height) % image.height
+                                    : std::clamp(sj + dj, 0, image.height - 1);
+            if (valid.at(i, j) == 0.0f) continue;
             for (int c = 0; c < 3; ++c) {
-                boxes.at(si, sj, c) = lo[c];
-                boxes.at(si, sj, 3 + c) = hi[c];
+                lo[c] = std::min(lo[c], image.at(i, j, c));
+                hi[c] = std::max(hi[c], image.at(i, j, c));
             }
         }
+    for (int c = 0; c < 3; ++c) {
+        boxes.at(si, sj, c) = lo[c];
+        boxes.at(si, sj, 3 + c) = hi[c];
+    }
+}
+
+Image texel_boxes(const Image& image, const Image& valid, bool wrap_rows) {
+    Image boxes(image.width, image.height, 6, 0.0f);
+    // Column 0 by texel_box, then eight texels at a time where the AVX2 path covers the image
+    // (the same bits: taa_avx.h), then the rest by texel_box
+    const bool avx = texel_boxes_avx_applies(image, valid);
+    for (int sj = 0; sj < image.height; ++sj) {
+        int si = 0;
+        if (avx) {
+            texel_box(image, valid, wrap_rows, 0, sj, boxes);
+            si = texel_boxes_row_avx(image, valid, wrap_rows, sj, boxes);
+        }
+        for (; si < image.width; ++si) texel_box(image, valid, wrap_rows, si, sj, boxes);
+    }
     return boxes;
 }
 

@@ -202,3 +202,66 @@ TEST_CASE("TAA speed: the log-polar source table gives taa_source's sources") {
             table, {moved, forward_table(moved), lp_valid, composite ? &gaze_valid : nullptr}));
     }
 }
+
+// clamp-buffer's boxes eight texels at a time (texel_boxes_row_avx) against the reference, through
+// taa_source_pass with the SIMD paths on and off: buffers whose width is not a multiple of eight,
+// wrapped rows (the log-polar buffer) and clamped ones (the gaze buffer), masks with untraced
+// texels (a NaN mask counts as traced), and colours with -0, infinities and NaNs, whose min and max
+// depend on the order of the comparisons.
+TEST_CASE("TAA speed: the AVX texel boxes give the reference's bits") {
+    if (!cpu_has_avx2()) MESSAGE("no AVX2 on this CPU: both runs take the reference");
+    test::SplitMix64 rng(8);
+    for (const int width : {97, 130})
+        for (const char* preset : {"fov", "cfov"}) {
+            CAPTURE(preset);
+            CAPTURE(width);
+            const LogPolarMap map = make_log_polar_map(find_foveation_preset(preset).map, width, 61,
+                                                       {40.0f, 33.0f}, 60.0f);
+            const ForwardTable forward = forward_table(map);
+            const auto fill = [&](Image& image) {
+                for (float& v : image.data) {
+                    const std::size_t kind = rng.below(40);
+                    v = kind == 0   ? -0.0f
+                        : kind == 4 ? 0.0f
+                        : kind == 1 ? std::numeric_limits<float>::infinity()
+                        : kind == 2 ? -std::numeric_limits<float>::infinity()
+                        : kind == 3 ? std::numeric_limits<float>::quiet_NaN()
+                                    : uniform(rng, -1.0f, 1.0f);
+                }
+            };
+            const auto mask = [&](Image& valid) {
+                for (float& v : valid.data) {
+                    const std::size_t kind = rng.below(5);
+                    v = kind == 0   ? 0.0f
+                        : kind == 1 ? std::numeric_limits<float>::quiet_NaN()
+                                    : 1.0f;
+                }
+            };
+            Image lp_valid(map.width, map.height, 1), lp_depth(map.width, map.height, 1, 2.0f);
+            Image lp_color(map.width, map.height, 3), resolved(width, 61, 3);
+            fill(lp_color);
+            fill(resolved);
+            mask(lp_valid);
+            Image gaze_valid, gaze_depth, gaze_color;
+            const bool composite = map.has_gaze_buffer();
+            if (composite) {
+                const ScreenWindow window = gaze_window(map);
+                gaze_valid = Image(window.width, window.height, 1);
+                gaze_depth = Image(window.width, window.height, 1, 3.0f);
+                gaze_color = Image(window.width, window.height, 3);
+                fill(gaze_color);
+                mask(gaze_valid);
+            }
+            const TaaBufferInputs in{map, forward, lp_valid, composite ? &gaze_valid : nullptr};
+            const TaaBoxColors colors{lp_color, composite ? &gaze_color : nullptr, resolved};
+            const Image* gd = composite ? &gaze_depth : nullptr;
+            TaaSourceOutputs out[2];
+            for (const bool simd : {true, false}) {
+                set_simd_allowed(simd);
+                out[simd ? 0 : 1] = taa_source_pass(in, lp_depth, gd, &colors);
+                set_simd_allowed(true);
+            }
+            REQUIRE(test::same_bits_nan_aside(out[0].bounds, out[1].bounds));
+            REQUIRE(bit_equal(out[0].depth, out[1].depth));
+        }
+}
