@@ -88,6 +88,15 @@ FOVREF_AVX2_INLINE __m256 mask_of(int lane_bits) {
     return _mm256_castsi256_ps(
         _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(lane_bits), each), each));
 }
+/// (AVX2) base[index] in the lanes of `mask` by eight scalar loads (on this project's machine no
+/// slower than vgatherdps); the other lanes read base[0], a value the caller must not use.
+FOVREF_AVX2_INLINE __m256 load_lanes(const float* base, __m256i index, __m256 mask) {
+    alignas(32) int at[lanes];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(at),
+                       _mm256_and_si256(index, _mm256_castps_si256(mask)));
+    return _mm256_setr_ps(base[at[0]], base[at[1]], base[at[2]], base[at[3]], base[at[4]],
+                          base[at[5]], base[at[6]], base[at[7]]);
+}
 /// (AVX2) The three interleaved channels of pixels `pixel` of `rgb` (3 floats a pixel) into
 /// out[0 .. 2], in the lanes set in `mask`; +0 in the others, which read nothing: masked gathers,
 /// plain loads of the same floats.

@@ -257,8 +257,17 @@ FOVREF_AVX2_INLINE void gather_history(const TaaState& previous, const BilinearL
     const __m256i ay = _mm256_min_epi32(
         _mm256_max_epi32(_mm256_cvttps_epi32(floor_value(py)), _mm256_setzero_si256()),
         _mm256_set1_epi32(height - 1));
-    _mm256_store_ps(age_previous, _mm256_mask_i32gather_ps(zero(), previous.age.data.data(),
-                                                           row_major(ax, ay, width), has_taps, 4));
+    // (the ages side by side in one row, most groups: a plain load; else lane by lane; a lane
+    // without taps reads an age it never uses: it is rejected)
+    const __m256i at = row_major(ax, ay, width);
+    const __m256i side_by_side = _mm256_add_epi32(_mm256_set1_epi32(_mm256_extract_epi32(at, 0)),
+                                                  _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    const __m256 ages =
+        _mm256_movemask_epi8(_mm256_cmpeq_epi32(at, side_by_side)) == -1
+            ? _mm256_loadu_ps(
+                  &previous.age.data[static_cast<std::size_t>(_mm256_extract_epi32(at, 0))])
+            : load_lanes(previous.age.data.data(), at, has_taps);
+    _mm256_store_ps(age_previous, ages);
 }
 
 /// sample_history's sums over the taps on the screen, in tap order, then the divisions: the

@@ -5,10 +5,11 @@
 // or the clamp to the 3x3 neighbourhood or to the buffer-space boxes). Each lane performs
 // taa_pixel's binary32 operations in its order; a tap off the screen adds a selected +0 instead of
 // being skipped, which leaves every sum's bits unchanged (a sum that starts at +0 is never -0). The
-// taps and the previous age are gathered (masked gathers: plain loads of the same floats, none for
-// a tap off the screen); where every tap of the eight lanes is on the screen and their corners lie
-// side by side in one row, the taps' colours and depths are plain loads, and the colours' channels
-// are sorted out by blends and permutes (split3_lanes; merge3_lanes writes the output).
+// taps are gathered (masked gathers: plain loads of the same floats, none for a tap off the
+// screen); where every tap of the eight lanes is on the screen and their corners lie side by side
+// in one row, the taps' colours and depths are plain loads, and the colours' channels are sorted
+// out by blends and permutes (split3_lanes; merge3_lanes writes the output). The previous ages
+// are one plain load where they lie side by side, else eight scalar loads (load_lanes).
 #pragma once
 
 #include "ref/temporal/taa.h"

@@ -20,15 +20,6 @@ FOVREF_AVX_INLINE __m256 lerp(__m256 a, __m256 b, __m256 t) {
     return _mm256_add_ps(a, _mm256_mul_ps(t, _mm256_sub_ps(b, a)));
 }
 
-/// base[index] in the lanes of `mask` by eight scalar loads (on this project's machine no slower
-/// than vgatherdps); the other lanes read base[0], a value the caller never uses.
-FOVREF_AVX2_INLINE __m256 load_lanes(const float* base, __m256i index, __m256 mask) {
-    alignas(32) int at[lanes];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(at),
-                       _mm256_and_si256(index, _mm256_castps_si256(mask)));
-    return _mm256_setr_ps(base[at[0]], base[at[1]], base[at[2]], base[at[3]], base[at[4]],
-                          base[at[5]], base[at[6]], base[at[7]]);
-}
 /// The three interleaved channels of pixels `pixel` of `rgb` into out[0 .. 2] in the lanes of
 /// `mask`, as load_lanes.
 FOVREF_AVX2_INLINE void load3_lanes(const float* rgb, __m256i pixel, __m256 mask, __m256* out) {
