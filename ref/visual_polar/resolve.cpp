@@ -17,36 +17,52 @@ constexpr int max_channels = 4;  // the per-pixel scratch arrays below
 
 float lerp(float a, float b, float t) { return a + t * (b - a); }
 
-/// Level k + 1 of the pyramid from level k (`rows_k[i]`: column i's rows at level k).
+/// Texel (i, j) of level k + 1 from level k, whose column i has n rows (j < ceil(n / 2)).
+void downsample_texel(const Image& color, const Image& valid, int n, int i, int j, Image& color_out,
+                      Image& valid_out) {
+    const int channels = color.channels;
+    // A column of one row: carried down unchanged.
+    if (n == 1) {
+        valid_out.at(i, 0) = valid.at(i, 0) != 0.0f ? 1.0f : 0.0f;
+        if (valid_out.at(i, 0) != 0.0f)
+            for (int c = 0; c < channels; ++c) color_out.at(i, 0, c) = color.at(i, 0, c);
+        return;
+    }
+    // Rows 2j and (2j + 1) mod n, as a running mean over the traced ones.
+    const int taps[2] = {2 * j, (2 * j + 1) % n};
+    float* mean = &color_out.at(i, j, 0);
+    int count = 0;
+    for (const int row : taps) {
+        if (valid.at(i, row) == 0.0f) continue;
+        ++count;
+        for (int c = 0; c < channels; ++c)
+            mean[c] += (color.at(i, row, c) - mean[c]) / static_cast<float>(count);
+    }
+    if (count > 0) valid_out.at(i, j) = 1.0f;
+}
+
+/// Level k + 1 of the pyramid from level k (`rows_k[i]`: column i's rows at level k), row by row;
+/// eight columns at a time where the AVX2 path covers them (the same bits: resolve_avx.h).
 void downsample_phi(const Image& color, const Image& valid, const std::vector<int>& rows_k,
                     Image& color_out, Image& valid_out) {
     const int w = color.width, channels = color.channels;
     const int h_out = (color.height + 1) / 2;
     color_out = Image(w, h_out, channels, 0.0f);
     valid_out = Image(w, h_out, 1, 0.0f);
-    for (int i = 0; i < w; ++i) {
-        const int n = rows_k[static_cast<std::size_t>(i)];
-        // A column of one row: carried down unchanged.
-        if (n == 1) {
-            valid_out.at(i, 0) = valid.at(i, 0) != 0.0f ? 1.0f : 0.0f;
-            if (valid_out.at(i, 0) != 0.0f)
-                for (int c = 0; c < channels; ++c) color_out.at(i, 0, c) = color.at(i, 0, c);
-            continue;
-        }
-        for (int j = 0; j < (n + 1) / 2; ++j) {
-            // Rows 2j and (2j + 1) mod n, as a running mean over the traced ones.
-            const int taps[2] = {2 * j, (2 * j + 1) % n};
-            float* mean = &color_out.at(i, j, 0);
-            int count = 0;
-            for (const int row : taps) {
-                if (valid.at(i, row) == 0.0f) continue;
-                ++count;
-                for (int c = 0; c < channels; ++c)
-                    mean[c] += (color.at(i, row, c) - mean[c]) / static_cast<float>(count);
+    const bool avx = downsample_avx_applies(color, valid);
+    for (int j = 0; j < h_out; ++j)
+        for (int i = 0; i < w; ++i) {
+            if (avx && i + 8 <= w) {
+                const int done =
+                    downsample_group_avx(color, valid, rows_k, i, j, color_out, valid_out);
+                if (done > 0) {
+                    i += done - 1;
+                    continue;
+                }
             }
-            if (count > 0) valid_out.at(i, j) = 1.0f;
+            const int n = rows_k[static_cast<std::size_t>(i)];
+            if (j < (n + 1) / 2) downsample_texel(color, valid, n, i, j, color_out, valid_out);
         }
-    }
 }
 
 /// The value of one column for a pixel: levels floor(lambda) and floor(lambda) + 1 lerped.

@@ -254,4 +254,36 @@ int resolve_vp_row_avx(const VisualPolarMap& map, const VpMips& mips,
     return groups * lanes;
 }
 
+bool downsample_avx_applies(const Image& color, const Image& valid) {
+    return color.channels == 3 && valid.channels == 1 && valid.width == color.width &&
+           valid.height == color.height && simd_allowed() && cpu_has_avx2();
+}
+
+__attribute__((target("avx2"))) int downsample_group_avx(const Image& color, const Image& valid,
+                                                         const std::vector<int>& rows, int i, int j,
+                                                         Image& color_out, Image& valid_out) {
+    const int n = rows[static_cast<std::size_t>(i)];
+    if (n == 1 || j >= (n + 1) / 2) return 0;
+    for (int l = 1; l < lanes; ++l)
+        if (rows[static_cast<std::size_t>(i + l)] != n) return 0;
+    // Rows 2j and (2j + 1) mod n of the eight columns: side by side in each row
+    const int taps[2] = {2 * j, (2 * j + 1) % n};
+    __m256 mean[3] = {zero(), zero(), zero()};
+    __m256 count = zero();
+    for (const int row : taps) {
+        const __m256 traced = not_equal(_mm256_loadu_ps(&valid.data[valid.index(i, row)]), zero());
+        count = select(traced, _mm256_add_ps(count, set(1.0f)), count);
+        __m256 v[3];
+        split3_lanes(&color.data[color.index(i, row)], v);
+        for (int c = 0; c < 3; ++c)
+            mean[c] = select(
+                traced, _mm256_add_ps(mean[c], _mm256_div_ps(_mm256_sub_ps(v[c], mean[c]), count)),
+                mean[c]);
+    }
+    merge3_lanes(mean, &color_out.data[color_out.index(i, j)]);
+    _mm256_storeu_ps(&valid_out.data[valid_out.index(i, j)],
+                     select(greater(count, zero()), set(1.0f), zero()));
+    return lanes;
+}
+
 }  // namespace fovref

@@ -32,4 +32,15 @@ int resolve_vp_row_avx(const VisualPolarMap& map, const VpMips& mips,
                        const std::vector<int>& last_levels, const VpForwardTable& table, bool mip,
                        Image& out, int y, ResolveStats& stats);
 
+/// Whether downsample_group_avx covers a pyramid level: 3-channel colours, a one-channel mask of
+/// their size, simd_allowed() and AVX2.
+bool downsample_avx_applies(const Image& color, const Image& valid);
+
+/// Texels (i .. i + 7, j) of the next pyramid level (build_vp_mips) where the eight columns have
+/// the same n > 1 rows at this level (`rows`) and j < ceil(n / 2): each lane the reference's
+/// running mean of rows 2j and (2j + 1) mod n, the same operations in its order. Returns 8, or
+/// 0 (nothing written) where the columns differ: the reference's.
+int downsample_group_avx(const Image& color, const Image& valid, const std::vector<int>& rows,
+                         int i, int j, Image& color_out, Image& valid_out);
+
 }  // namespace fovref

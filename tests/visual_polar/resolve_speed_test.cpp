@@ -128,3 +128,41 @@ TEST_CASE("VP resolve speed: the AVX resolve gives resolve_vp_pixel's bits") {
     CHECK(centred > 50);
     for (const bool mip : {true, false}) compare_resolves(map, mips, table, mip, false);
 }
+
+// The pyramid's levels eight columns at a time (downsample_group_avx) give the reference's bits:
+// columns with one row and with the fovea's differing rows (the reference's), odd row counts (the
+// last row wraps onto row 0), masks with untraced texels (none, one or both taps traced), -0 and
+// non-finite values.
+TEST_CASE("VP resolve speed: the AVX pyramid gives build_vp_mips's bits") {
+    if (!cpu_has_avx2()) MESSAGE("no AVX2 on this CPU: both builds take the reference");
+    test::SplitMix64 rng(5);
+    for (const int block : {0, 8})
+        for (const int height : {60, 45}) {
+            CAPTURE(block);
+            CAPTURE(height);
+            VisualPolarMap map = make_visual_polar_map(120, 90, {50.0f, 40.0f}, 83, height);
+            map.staircase_block = block;
+            Image color(map.width, map.height, 3), valid(map.width, map.height, 1);
+            for (float& v : color.data) {
+                const std::size_t kind = rng.below(30);
+                v = kind == 0   ? -0.0f
+                    : kind == 1 ? std::numeric_limits<float>::infinity()
+                    : kind == 2 ? std::numeric_limits<float>::quiet_NaN()
+                                : static_cast<float>(rng.below(1 << 20)) * 0x1p-19f - 1.0f;
+            }
+            for (float& v : valid.data) v = rng.below(3) == 0 ? 0.0f : 1.0f;
+            VpMips mips[2];
+            for (const bool simd : {true, false}) {
+                set_simd_allowed(simd);
+                mips[simd ? 0 : 1] = build_vp_mips(map, color, valid);
+                set_simd_allowed(true);
+            }
+            CHECK(mips[0].column_rows == mips[1].column_rows);
+            REQUIRE(mips[0].color.size() == mips[1].color.size());
+            for (std::size_t k = 0; k < mips[0].color.size(); ++k) {
+                CAPTURE(k);
+                CHECK(test::same_bits_nan_aside(mips[0].color[k], mips[1].color[k]));
+                CHECK(test::same_bits_nan_aside(mips[0].valid[k], mips[1].valid[k]));
+            }
+        }
+}
