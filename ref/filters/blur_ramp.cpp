@@ -69,11 +69,20 @@ __attribute__((target("avx"))) void weights_avx(const float* a, const float* rad
         _mm256_store_ps(weights[d], w);
     }
     __m256 sum = _mm256_setzero_ps();
-    for (int d = -radius_max; d <= radius_max; ++d) {
-        const int ad = d < 0 ? -d : d;
-        const __m256 active =
-            _mm256_cmp_ps(_mm256_set1_ps(static_cast<float>(ad)), radius, _CMP_LE_OQ);
-        sum = select(active, _mm256_add_ps(sum, _mm256_load_ps(weights[ad])), sum);
+    const bool uniform =
+        _mm256_movemask_ps(_mm256_cmp_ps(radius, _mm256_set1_ps(static_cast<float>(radius_max)),
+                                         _CMP_EQ_OQ)) == 0xff;
+    if (uniform) {
+        // every lane's radius is radius_max: every tap is active (no blend in the chain)
+        for (int d = -radius_max; d <= radius_max; ++d)
+            sum = _mm256_add_ps(sum, _mm256_load_ps(weights[d < 0 ? -d : d]));
+    } else {
+        for (int d = -radius_max; d <= radius_max; ++d) {
+            const int ad = d < 0 ? -d : d;
+            const __m256 active =
+                _mm256_cmp_ps(_mm256_set1_ps(static_cast<float>(ad)), radius, _CMP_LE_OQ);
+            sum = select(active, _mm256_add_ps(sum, _mm256_load_ps(weights[ad])), sum);
+        }
     }
     const __m256 inverse = _mm256_div_ps(_mm256_set1_ps(1.0f), sum);
     for (int d = 0; d <= radius_max; ++d)
