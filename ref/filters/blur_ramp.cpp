@@ -217,6 +217,76 @@ struct KeptWeights {
     }
 };
 
+/// The radii of a group's lanes of `sigma` (radius_lanes) into radius_f; returns their largest,
+/// and whether every lane has it.
+__attribute__((target("avx"))) float group_radii(const float* sigma, float* radius_f,
+                                                 bool& uniform) {
+    const __m256 radius = radius_lanes(_mm256_loadu_ps(sigma));
+    _mm256_storeu_ps(radius_f, radius);
+    __m256 largest = _mm256_max_ps(radius, _mm256_permute2f128_ps(radius, radius, 1));
+    largest = _mm256_max_ps(largest, _mm256_permute_ps(largest, 0b01001110));
+    largest = _mm256_max_ps(largest, _mm256_permute_ps(largest, 0b10110001));
+    uniform = _mm256_movemask_ps(_mm256_cmp_ps(radius, largest, _CMP_EQ_OQ)) == 0xff;
+    return _mm256_cvtss_f32(largest);
+}
+
+/// The exp of the last sigma (beyond full_deg every pixel has the same sigma).
+struct KeptExp {
+    float sigma = 0.0f, a = 0.0f;  // sigma > 0 wherever a is used
+    float of(float lane_sigma) {
+        if (!(lane_sigma == sigma)) {
+            sigma = lane_sigma;
+            a = blur_ramp_a(lane_sigma);
+        }
+        return a;
+    }
+};
+
+/// The lanes' a: the table's (`kept`, the group's sigma_a) or the exp of their sigma; a copied
+/// lane (radius 0) gets 0.5, whose finite dummy weights are computed and never used.
+void group_a(const float* kept, const float* sigma, const float* radius_f, KeptExp& exp, float* a) {
+    for (int lane = 0; lane < lanes; ++lane)
+        a[lane] = radius_f[lane] == 0.0f ? 0.5f : kept ? kept[2 * lane + 1] : exp.of(sigma[lane]);
+}
+
+/// How many groups from x0 on are summed with this uniform one (4, 2, or 1): the next groups
+/// whose pixels all have sigma[0], as this group's do (beyond full_deg), so the same weights, with
+/// every tap inside the row along x.
+int groups_alike(const BlurRamp& ramp, const BlurRampGeometry& geometry, const float* kept,
+                 const float* sigma, int x0, int y, int width, int radius_max, bool vertical) {
+    for (int lane = 0; lane < lanes; ++lane)
+        if (!(sigma[lane] == sigma[0])) return 1;
+    int same = lanes;  // pixels from x0 on with sigma[0]
+    while (same < 4 * lanes && x0 + same < width &&
+           (kept ? kept[2 * same]
+                 : blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + same, y))) == sigma[0])
+        ++same;
+    for (const int groups : {4, 2})
+        if (same >= groups * lanes && (vertical || x0 + groups * lanes - 1 + radius_max < width))
+            return groups;
+    return 1;
+}
+
+/// The sums of `run` groups (1, 2 or 4; 2 and 4 uniform, three channels) into dest.
+void sum_groups(int run, bool uniform, int channels, const float* base, std::size_t plane,
+                const std::ptrdiff_t* offsets, const float (*weights)[lanes], const float* radius_f,
+                int radius_max, float* dest, std::size_t dest_plane) {
+    if (run == 4)
+        return weighted_sums_run3_avx<4>(base, plane, offsets, weights, radius_max, dest,
+                                         dest_plane);
+    if (run == 2)
+        return weighted_sums_run3_avx<2>(base, plane, offsets, weights, radius_max, dest,
+                                         dest_plane);
+    using SumsOf = void (*)(const float*, std::size_t, const std::ptrdiff_t*, const float(*)[lanes],
+                            const float*, int, float*, std::size_t);
+    static constexpr SumsOf kernels[8] = {weighted_sums_avx<1, false>, weighted_sums_avx<1, true>,
+                                          weighted_sums_avx<2, false>, weighted_sums_avx<2, true>,
+                                          weighted_sums_avx<3, false>, weighted_sums_avx<3, true>,
+                                          weighted_sums_avx<4, false>, weighted_sums_avx<4, true>};
+    kernels[(channels - 1) * 2 + (uniform ? 1 : 0)](base, plane, offsets, weights, radius_f,
+                                                    radius_max, dest, dest_plane);
+}
+
 /// The pass on eight pixels at a time (AVX; used only where the CPU has it, `channels` <= 4).
 /// Each lane does its own pixel's scalar operations in blur_ramp_pixel's order: the sum starts
 /// at 0 and adds w_d c_d (the product rounded, no FMA) for d = -R .. R of that pixel's R. A
@@ -247,7 +317,7 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
     const std::ptrdiff_t* offset = offsets + blur_ramp_max_radius;
     for (int d = -blur_ramp_max_radius; d <= blur_ramp_max_radius; ++d)
         offsets[d + blur_ramp_max_radius] = d;
-    float last_sigma = 0.0f, last_a = 0.0f;  // sigma > 0 wherever a is used
+    KeptExp exp;
     for (int y = 0; y < height; ++y) {
         if (vertical)
             for (int d = -blur_ramp_max_radius; d <= blur_ramp_max_radius; ++d)
@@ -263,72 +333,25 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
             for (int lane = 0; lane < lanes; ++lane)
                 sigma[lane] = kept ? kept[2 * lane]
                                    : blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + lane, y));
-            const __m256 radius_v = radius_lanes(_mm256_load_ps(sigma));
-            _mm256_store_ps(radius_f, radius_v);
-            // the group's largest radius, and whether every lane has it
-            __m256 largest = _mm256_max_ps(radius_v, _mm256_permute2f128_ps(radius_v, radius_v, 1));
-            largest = _mm256_max_ps(largest, _mm256_permute_ps(largest, 0b01001110));
-            largest = _mm256_max_ps(largest, _mm256_permute_ps(largest, 0b10110001));
-            const float radius_max_f = _mm256_cvtss_f32(largest);
+            bool uniform = false;  // every lane of the group has the radius radius_max
+            const float radius_max_f = group_radii(sigma, radius_f, uniform);
             if (radius_max_f == 0.0f) continue;  // all copied
-            const bool uniform =
-                _mm256_movemask_ps(_mm256_cmp_ps(radius_v, largest, _CMP_EQ_OQ)) == 0xff;
             const int radius_max = static_cast<int>(radius_max_f);
             if (!vertical && (x0 - radius_max < 0 || x0 + lanes - 1 + radius_max >= width)) {
                 by_pixel.push_back(x0);
                 continue;
             }
-            // a lane copied (radius 0) gets finite dummy weights, computed and never used;
-            // beyond full_deg every pixel has the same sigma, whose exp is kept
-            for (int lane = 0; lane < lanes; ++lane) {
-                const bool copied = radius_f[lane] == 0.0f;
-                if (!copied && !kept && !(sigma[lane] == last_sigma)) {
-                    last_sigma = sigma[lane];
-                    last_a = blur_ramp_a(sigma[lane]);
-                }
-                a[lane] = copied ? 0.5f : kept ? kept[2 * lane + 1] : last_a;
-            }
+            group_a(kept, sigma, radius_f, exp, a);
             weights.make(a, radius_f, radius_max);
             // The next groups with the same sigma in every lane (beyond full_deg) have the same
             // weights: four or two groups' sums together (three channels)
-            int run = 0;  // the groups done together, counting this one
-            if (channels == 3 && uniform) {
-                int same = lanes;  // lanes from x0 on with sigma[0]
-                while (same < 4 * lanes && x0 + same < width &&
-                       (kept ? kept[2 * same]
-                             : blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + same, y))) ==
-                           sigma[0])
-                    ++same;
-                for (int lane = 0; lane < lanes; ++lane)
-                    if (!(sigma[lane] == sigma[0])) same = 0;
-                for (const int groups : {4, 2})
-                    if (run == 0 && same >= groups * lanes &&
-                        (vertical || x0 + groups * lanes - 1 + radius_max < width))
-                        run = groups;
-            }
-            if (run > 0) {
-                const float* base = planes.data() + row_start + x0;
-                float* dest = row.data() + x0;
-                const std::size_t row_plane = static_cast<std::size_t>(width);
-                if (run == 4)
-                    weighted_sums_run3_avx<4>(base, plane, offset, weights.w, radius_max, dest,
-                                              row_plane);
-                else
-                    weighted_sums_run3_avx<2>(base, plane, offset, weights.w, radius_max, dest,
-                                              row_plane);
-                x0 += (run - 1) * lanes;
-                continue;
-            }
-            using SumsOf = void (*)(const float*, std::size_t, const std::ptrdiff_t*,
-                                    const float(*)[lanes], const float*, int, float*, std::size_t);
-            static constexpr SumsOf kernels[8] = {
-                weighted_sums_avx<1, false>, weighted_sums_avx<1, true>,
-                weighted_sums_avx<2, false>, weighted_sums_avx<2, true>,
-                weighted_sums_avx<3, false>, weighted_sums_avx<3, true>,
-                weighted_sums_avx<4, false>, weighted_sums_avx<4, true>};
-            kernels[(channels - 1) * 2 + (uniform ? 1 : 0)](
-                planes.data() + row_start + x0, plane, offset, weights.w, radius_f, radius_max,
-                row.data() + x0, static_cast<std::size_t>(width));
+            const int run = channels == 3 && uniform ? groups_alike(ramp, geometry, kept, sigma, x0,
+                                                                    y, width, radius_max, vertical)
+                                                     : 1;
+            sum_groups(run, uniform, channels, planes.data() + row_start + x0, plane, offset,
+                       weights.w, radius_f, radius_max, row.data() + x0,
+                       static_cast<std::size_t>(width));
+            x0 += (run - 1) * lanes;
         }
         from_planes(row.data(), static_cast<std::size_t>(width), channels,
                     static_cast<std::size_t>(width), &out.data[out.index(0, y)]);

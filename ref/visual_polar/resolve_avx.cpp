@@ -64,7 +64,8 @@ FOVREF_AVX2_INLINE int phi_lanes(const VpMips& mips, int level, const ColumnLane
     reference |= wanted & ~bits(ok);
     const __m256 j0_next = _mm256_add_ps(j0, set(1.0f));
     const __m256 j1 = select(equal(j0_next, rows), zero(), j0_next);
-    // The taps' texels j w + c, inside the level in the lanes of `ok` (the others read nothing)
+    // The taps' texels j w + c, inside the level in the lanes of `ok` (the others read texel 0,
+    // whose value they never use)
     const int w = color.width;
     const __m256i taps[2] = {row_major(col.column, _mm256_cvttps_epi32(select(ok, j0, zero())), w),
                              row_major(col.column, _mm256_cvttps_epi32(select(ok, j1, zero())), w)};
@@ -127,6 +128,45 @@ FOVREF_AVX_INLINE void split4_lanes(const float* p, __m256* out) {
     for (int e = 0; e < 4; ++e) out[e] = _mm256_set_m128(q[4 + e], q[e]);
 }
 
+/// The lanes' column `column` (in binary32) in the lanes of `wanted`: its index, its rows and
+/// its last level (constants where every lane lies beyond the fovea, whose columns all have the
+/// last column's h rows).
+FOVREF_AVX2_INLINE ColumnLanes column_of(const VisualPolarMap& map, const VpMips& mips,
+                                         const std::vector<int>& last_levels, __m256 column,
+                                         int wanted) {
+    ColumnLanes col;
+    col.column = _mm256_cvttps_epi32(column);
+    if (bits(at_least(column, set(static_cast<float>(map.fovea_columns)))) == 0xff) {
+        col.rows = _mm256_set1_epi32(mips.column_rows.back());
+        col.last = set(static_cast<float>(last_levels.back()));
+        return col;
+    }
+    const __m256i mask = _mm256_castps_si256(mask_of(wanted));
+    col.rows = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), mips.column_rows.data(),
+                                           col.column, mask, 4);
+    col.last = _mm256_cvtepi32_ps(_mm256_mask_i32gather_epi32(
+        _mm256_setzero_si256(), last_levels.data(), col.column, mask, 4));
+    return col;
+}
+
+/// The lanes' level lambda_c of a column of n rows at screen radius r: the table's (table_n,
+/// table_lambda) where the pyramid's column still has the table's rows, else vp_mip_level as
+/// the reference computes it (lane by lane, in the lanes of `wanted`).
+FOVREF_AVX2_INLINE __m256 level_of(__m256 n, __m256 r, __m256 table_n, __m256 table_lambda,
+                                   int wanted) {
+    const __m256 same = equal(table_n, n);
+    const __m256 lambda = select(same, table_lambda, zero());
+    const int computed = wanted & ~bits(same);
+    if (computed == 0) return lambda;
+    alignas(32) float lambdas[lanes], rows[lanes], radius[lanes];
+    _mm256_store_ps(lambdas, lambda);
+    _mm256_store_ps(rows, n);
+    _mm256_store_ps(radius, r);
+    for (int l = 0; l < lanes; ++l)
+        if (computed >> l & 1) lambdas[l] = vp_mip_level(static_cast<int>(rows[l]), radius[l]);
+    return _mm256_load_ps(lambdas);
+}
+
 // Pixels x .. x + 7 of row y; the lanes the reference must do are done by resolve_vp_pixel.
 __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, const VpMips& mips,
                                                    const std::vector<int>& last_levels,
@@ -162,41 +202,16 @@ __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, co
     int have[2] = {0, 0};
     for (int k = 0; k < 2; ++k) {
         if (wanted[k] == 0) continue;
-        const __m256 mask = mask_of(wanted[k]);
-        ColumnLanes col;
-        col.column = _mm256_cvttps_epi32(columns[k]);
-        if (bits(at_least(columns[k], set(static_cast<float>(map.fovea_columns)))) == 0xff) {
-            // every lane in the periphery, whose columns all have h rows (the last column's)
-            col.rows = _mm256_set1_epi32(mips.column_rows.back());
-            col.last = set(static_cast<float>(last_levels.back()));
-        } else {
-            col.rows = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), mips.column_rows.data(),
-                                                   col.column, _mm256_castps_si256(mask), 4);
-            col.last = _mm256_cvtepi32_ps(
-                _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), last_levels.data(), col.column,
-                                            _mm256_castps_si256(mask), 4));
-        }
+        const ColumnLanes col = column_of(map, mips, last_levels, columns[k], wanted[k]);
         const __m256 n = _mm256_cvtepi32_ps(col.rows);
         const __m256 v = _mm256_div_ps(_mm256_mul_ps(n, theta), set(two_pi));
-        __m256 lambda = zero();
-        if (mip) {
-            // The table's level where the pyramid's column still has the table's rows, else
-            // vp_mip_level as the reference computes it
-            const __m256 same = equal(levels[2 * k], n);
-            lambda = select(same, levels[2 * k + 1], zero());
-            const int computed = wanted[k] & ~bits(same);
-            if (computed != 0) {
-                alignas(32) float lambdas[lanes], rows[lanes], radius[lanes];
-                _mm256_store_ps(lambdas, lambda);
-                _mm256_store_ps(rows, n);
-                _mm256_store_ps(radius, r);
-                for (int l = 0; l < lanes; ++l)
-                    if (computed >> l & 1)
-                        lambdas[l] = vp_mip_level(static_cast<int>(rows[l]), radius[l]);
-                lambda = _mm256_load_ps(lambdas);
-            }
-        }
-        have[k] = column_lanes(mips, col, v, lambda, wanted[k], values[k], reference);
+        const __m256 lambda =
+            mip ? level_of(n, r, levels[2 * k], levels[2 * k + 1], wanted[k]) : zero();
+        // (a level that is not finite, which no table made by vp_forward_table holds, would
+        // never be matched by level_lanes: the reference's)
+        const int bad = wanted[k] & ~bits(finite(lambda));
+        reference |= bad;
+        have[k] = column_lanes(mips, col, v, lambda, wanted[k] & ~bad, values[k], reference);
     }
 
     // Lerp of the columns over those with a value
