@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <utility>
 
+#include "ref/core/simd.h"
 #include "ref/log_polar/stages.h"
 #include "ref/trace/stages.h"
 #include "ref/visual_polar/resolve_decisions.h"
@@ -97,11 +98,18 @@ void vp_trace_stage(FrameContext& ctx) {
     Counters& counters = ctx.result->counters;
     VpTraceStats stats;
     Image points;
-    // The texels' statuses and points, made again only when the map changed (a moving gaze,
-    // BMFR's staircase)
-    if (!frames.texels || !(frames.texels->map == map)) frames.texels = vp_texel_table(map);
-    MaskedGBuffer vp =
-        trace_vp_gbuffer(map, primary_view(ctx, *s.bvh), points, stats, &*frames.texels);
+    // The texels' statuses and points from a table once a frame repeats the last frame's map (a
+    // static gaze; a moving gaze or BMFR's moving staircase never makes one). Not under
+    // `--scalar`: vp_gbuffer_texel then runs for every texel, where a debugger's breakpoint
+    // stops (the table's first frame runs it too).
+    const bool repeated = frames.traced_map && *frames.traced_map == map;
+    frames.traced_map = map;
+    const VpTexelTable* table = nullptr;
+    if (repeated && simd_allowed()) {
+        if (!frames.texels || !(frames.texels->map == map)) frames.texels = vp_texel_table(map);
+        table = &*frames.texels;
+    }
+    MaskedGBuffer vp = trace_vp_gbuffer(map, primary_view(ctx, *s.bvh), points, stats, table);
     counters.add("buffer_width", map.width);
     counters.add("buffer_height", map.height);
     counters.add("fovea_columns", map.fovea_columns);

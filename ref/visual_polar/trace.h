@@ -6,6 +6,7 @@
 //       vp_texel_status: clipped (j >= n_i) or off screen -> no ray, no data, valid 0, counted
 //       else the primary ray through the centre's screen point p (SPEC §1), closest hit, the
 //       texel written by write_gbuffer_sample (motion relative to p), valid 1
+//     (with a VpTexelTable, the statuses and points are read from it: the same texels traced)
 //   trace_point_gbuffer: an N x 1 G-buffer, texel k the primary ray through screen point k
 //     (points off the screen [0, W) x [0, H) are not traced: valid 0, counted off screen)
 //
