@@ -59,6 +59,18 @@ FOVREF_AVX_INLINE __m256 floor(__m256 v) {
 FOVREF_AVX_INLINE __m256 ceil(__m256 v) {
     return _mm256_round_ps(v, _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC);
 }
+/// The lanes of `todo` (bits) whose `values` equal its lowest lane's, taken out of `todo`; that
+/// lane's value in `value`. Repeated until `todo` is 0, it visits each distinct value once (a
+/// NaN lane would never match itself: the caller keeps them out).
+FOVREF_AVX_INLINE int take_equal_lanes(__m256 values, int& todo, float& value) {
+    alignas(32) float each[lanes];
+    _mm256_store_ps(each, values);
+    value = each[__builtin_ctz(static_cast<unsigned>(todo))];
+    const int equal_lanes =
+        _mm256_movemask_ps(_mm256_cmp_ps(values, _mm256_set1_ps(value), _CMP_EQ_OQ)) & todo;
+    todo &= ~equal_lanes;
+    return equal_lanes;
+}
 /// The lanes set in a comparison mask.
 FOVREF_AVX_INLINE int count(__m256 mask) { return __builtin_popcount(_mm256_movemask_ps(mask)); }
 FOVREF_AVX_INLINE int bits(__m256 mask) { return _mm256_movemask_ps(mask); }

@@ -600,8 +600,9 @@ namespace {
 
 // pow_fast_array's AVX2 kernel: pow_series for four lanes (the same operations in the same
 // order), t in [-103.5, 88.8] as pow_fast's; lanes pow_series declines are redone by pow_fast.
-// Two groups of four run side by side (their Horner chains interleaved: each is latency-bound).
-// Returns the number of elements done. y is finite.
+// Four groups of four run side by side (pow_groups<4>: their Horner chains interleaved, each
+// latency-bound), then single groups. pow_fast_avx2 returns the number of elements done; y is
+// finite.
 struct PowLanes {
     __m256d yd, one, two, half, sqrt2, ln2, ln2_hi, ln2_lo, inv_ln2, shifter, t_min, t_max;
     __m128i low, sign, range, mantissa, one_bits;
@@ -668,6 +669,46 @@ __attribute__((target("avx2"), always_inline)) inline void pow_finish(__m256d p,
     _mm_storeu_ps(out, _mm256_cvtpd_ps(_mm256_mul_pd(p, scale)));
 }
 
+// G groups of four lanes side by side: pow_series in each lane, the Horner chains of the groups
+// interleaved; the lanes pow_series declines redone by pow_fast. `out` may be `x`.
+template <int G>
+__attribute__((target("avx2"), always_inline)) inline void pow_groups(
+    const PowLanes& c, const double* qc, const double* pc, const float* x, float y, float* out) {
+    PowGroup g[G];
+    __m256d q[G], t[G], kd[G], r[G], p[G];
+#pragma GCC unroll 4
+    for (int h = 0; h < G; ++h) {
+        g[h] = pow_start(c, x + 4 * h);
+        q[h] = _mm256_set1_pd(qc[0]);
+    }
+    for (int k = 1; k < 8; ++k)
+#pragma GCC unroll 4
+        for (int h = 0; h < G; ++h)
+            q[h] = _mm256_add_pd(_mm256_set1_pd(qc[k]), _mm256_mul_pd(g[h].z, q[h]));
+#pragma GCC unroll 4
+    for (int h = 0; h < G; ++h) {
+        t[h] = pow_t(c, g[h], q[h]);
+        kd[h] = pow_k(c, t[h]);
+        r[h] = pow_r(c, t[h], kd[h]);
+        p[h] = _mm256_set1_pd(pc[0]);
+    }
+    for (int k = 1; k < 11; ++k)
+#pragma GCC unroll 4
+        for (int h = 0; h < G; ++h)
+            p[h] = _mm256_add_pd(_mm256_set1_pd(pc[k]), _mm256_mul_pd(r[h], p[h]));
+    float xs[4 * G];  // the inputs, kept: `out` may be `x`
+    int good = 0;
+#pragma GCC unroll 4
+    for (int h = 0; h < G; ++h) {
+        _mm_storeu_ps(xs + 4 * h, g[h].xf);
+        good |= g[h].good << (4 * h);
+    }
+#pragma GCC unroll 4
+    for (int h = 0; h < G; ++h) pow_finish(p[h], kd[h], out + 4 * h);
+    for (int lane = 0; lane < 4 * G; ++lane)
+        if (!(good & (1 << lane))) out[lane] = pow_fast(xs[lane], y);
+}
+
 __attribute__((target("avx2"))) std::size_t pow_fast_avx2(const float* x, float y, float* out,
                                                           std::size_t n) {
     PowLanes c;
@@ -687,56 +728,8 @@ __attribute__((target("avx2"))) std::size_t pow_fast_avx2(const float* x, float 
         1.0 / 3628800.0, 1.0 / 362880.0, 1.0 / 40320.0, 1.0 / 5040.0, 1.0 / 720.0, 1.0 / 120.0,
         1.0 / 24.0,      1.0 / 6.0,      0.5,           1.0,          1.0};
     std::size_t i = 0;
-    constexpr int G = 4;  // groups of four side by side
-    for (; i + 4 * G <= n; i += 4 * G) {
-        PowGroup g[G];
-        __m256d q[G], t[G], kd[G], r[G], p[G];
-#pragma GCC unroll 4
-        for (int h = 0; h < G; ++h) {
-            g[h] = pow_start(c, x + i + 4 * h);
-            q[h] = _mm256_set1_pd(qc[0]);
-        }
-        for (int k = 1; k < 8; ++k)
-#pragma GCC unroll 4
-            for (int h = 0; h < G; ++h)
-                q[h] = _mm256_add_pd(_mm256_set1_pd(qc[k]), _mm256_mul_pd(g[h].z, q[h]));
-#pragma GCC unroll 4
-        for (int h = 0; h < G; ++h) {
-            t[h] = pow_t(c, g[h], q[h]);
-            kd[h] = pow_k(c, t[h]);
-            r[h] = pow_r(c, t[h], kd[h]);
-            p[h] = _mm256_set1_pd(pc[0]);
-        }
-        for (int k = 1; k < 11; ++k)
-#pragma GCC unroll 4
-            for (int h = 0; h < G; ++h)
-                p[h] = _mm256_add_pd(_mm256_set1_pd(pc[k]), _mm256_mul_pd(r[h], p[h]));
-        float xs[4 * G];  // the inputs, kept: `out` may be `x`
-        int good = 0;
-#pragma GCC unroll 4
-        for (int h = 0; h < G; ++h) {
-            _mm_storeu_ps(xs + 4 * h, g[h].xf);
-            good |= g[h].good << (4 * h);
-        }
-#pragma GCC unroll 4
-        for (int h = 0; h < G; ++h) pow_finish(p[h], kd[h], out + i + 4 * h);
-        for (int lane = 0; lane < 4 * G; ++lane)
-            if (!(good & (1 << lane))) out[i + lane] = pow_fast(xs[lane], y);
-    }
-    for (; i + 4 <= n; i += 4) {
-        PowGroup a = pow_start(c, x + i);
-        __m256d q = _mm256_set1_pd(qc[0]);
-        for (int k = 1; k < 8; ++k) q = _mm256_add_pd(_mm256_set1_pd(qc[k]), _mm256_mul_pd(a.z, q));
-        const __m256d t = pow_t(c, a, q);
-        const __m256d kd = pow_k(c, t), r = pow_r(c, t, kd);
-        __m256d p = _mm256_set1_pd(pc[0]);
-        for (int k = 1; k < 11; ++k) p = _mm256_add_pd(_mm256_set1_pd(pc[k]), _mm256_mul_pd(r, p));
-        float xs[4];
-        _mm_storeu_ps(xs, a.xf);
-        pow_finish(p, kd, out + i);
-        for (int lane = 0; lane < 4; ++lane)
-            if (!(a.good & (1 << lane))) out[i + lane] = pow_fast(xs[lane], y);
-    }
+    for (; i + 16 <= n; i += 16) pow_groups<4>(c, qc, pc, x + i, y, out + i);
+    for (; i + 4 <= n; i += 4) pow_groups<1>(c, qc, pc, x + i, y, out + i);
     return i;
 }
 

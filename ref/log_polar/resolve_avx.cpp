@@ -138,11 +138,8 @@ FOVREF_AVX2_INLINE int sample_levels(const std::vector<MipLevel>& mips, __m256 l
                                      __m256 uu, __m256 vv, __m256* out) {
     int reference = 0;
     for (int todo = wanted; todo != 0;) {
-        alignas(32) float levels[lanes];
-        _mm256_store_ps(levels, level);
-        const float this_level = levels[__builtin_ctz(static_cast<unsigned>(todo))];
-        const int in_level = bits(equal(level, set(this_level))) & todo;
-        todo &= ~in_level;
+        float this_level = 0.0f;
+        const int in_level = take_equal_lanes(level, todo, this_level);
         const int index = static_cast<int>(this_level);
         const MipLevel& m = mips[static_cast<std::size_t>(index)];
         if (m.color.height < 3) {

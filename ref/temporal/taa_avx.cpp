@@ -27,11 +27,18 @@ struct Group {
     alignas(32) float age_previous[lanes];
 };
 
+/// Eight consecutive pixels of three interleaved channels (split3_lanes) into a group's arrays.
+FOVREF_AVX2_INLINE void split3_into(const float* p, float (*out)[lanes]) {
+    __m256 v[3];
+    split3_lanes(p, v);
+    for (int c = 0; c < 3; ++c) _mm256_store_ps(out[c], v[c]);
+}
+
 /// The blend, shared by both cases: `ok` lanes have a usable history, `keep` of them a
 /// consistent one (kept with age min(max(age', 1) + 1, cap)), the rest of `ok` lanes beyond the
 /// periphery radius (`periphery`) age 2; every other lane is rejected (the current pixel, age
-/// 1). The colours go to result[0 .. 2]; returns the ages. The callers write them (and the
-/// margins).
+/// 1). The colours go to result[0 .. 2]; returns the ages (blend_and_write writes them; the
+/// callers write the margins).
 FOVREF_AVX_INLINE __m256 blend(const TaaParams& params, const Group& g, __m256 ok, __m256 keep,
                                __m256 periphery, __m256* result) {
     const __m256 age_kept =
@@ -136,11 +143,15 @@ FOVREF_AVX2_INLINE __m256 clamp_group(const TaaInputs& in, int x, int y, Group& 
     return negation(unchanged);
 }
 
-// Stationary camera: the history and age at the pixel itself, never rejected for depth. The
-// group's colours and ages are in `g`; the blended colours go to result[0 .. 2]; returns the
-// ages.
-FOVREF_AVX_INLINE __m256 stationary_blend(const TaaParams& params, const Group& g, TaaStats& stats,
-                                          __m256* result) {
+// A stationary camera's eight pixels: the history and age at the pixel itself, never rejected
+// for depth.
+__attribute__((target("avx2"))) void stationary_group(const TaaParams& params, const TaaInputs& in,
+                                                      const TaaState& previous, int x, int y,
+                                                      Image& out, Image& age, TaaStats& stats) {
+    Group g;
+    split3_into(&in.color.data[in.color.index(x, y)], g.current);
+    split3_into(&previous.history.data[previous.history.index(x, y)], g.history);
+    _mm256_store_ps(g.age_previous, _mm256_loadu_ps(&previous.age.data[previous.age.index(x, y)]));
     const __m256 ok =
         both(both(finite(_mm256_load_ps(g.history[0])), finite(_mm256_load_ps(g.history[1]))),
              both(finite(_mm256_load_ps(g.history[2])), finite(_mm256_load_ps(g.age_previous))));
@@ -149,24 +160,7 @@ FOVREF_AVX_INLINE __m256 stationary_blend(const TaaParams& params, const Group& 
     stats.reprojection_skipped += kept;
     stats.rejected += lanes - kept;
     stats.nonfinite_history += lanes - kept;
-    return blend(params, g, ok, ok, _mm256_setzero_ps(), result);
-}
-
-// A stationary camera's eight pixels, the colours read by split3_lanes and written by
-// merge3_lanes.
-__attribute__((target("avx2"))) void stationary_group(const TaaParams& params, const TaaInputs& in,
-                                                      const TaaState& previous, int x, int y,
-                                                      Image& out, Image& age, TaaStats& stats) {
-    Group g;
-    __m256 v[3];
-    split3_lanes(&in.color.data[in.color.index(x, y)], v);
-    for (int c = 0; c < 3; ++c) _mm256_store_ps(g.current[c], v[c]);
-    split3_lanes(&previous.history.data[previous.history.index(x, y)], v);
-    for (int c = 0; c < 3; ++c) _mm256_store_ps(g.history[c], v[c]);
-    _mm256_store_ps(g.age_previous, _mm256_loadu_ps(&previous.age.data[previous.age.index(x, y)]));
-    __m256 result[3];
-    _mm256_storeu_ps(&age.data[age.index(x, y)], stationary_blend(params, g, stats, result));
-    merge3_lanes(result, &out.data[out.index(x, y)]);
+    blend_and_write(params, g, ok, ok, _mm256_setzero_ps(), x, y, out, age);
 }
 
 /// taa_reproject for pixels x .. x + 7 of row y at view depths z: their centres' x (cx), the
@@ -294,9 +288,7 @@ __attribute__((target("avx2"))) void moving_group(const TaaParams& params, const
                                                   Image* margin, TaaStats& stats) {
     const float wf = static_cast<float>(in.color.width), hf = static_cast<float>(in.color.height);
     Group g;
-    __m256 current[3];
-    split3_lanes(&in.color.data[in.color.index(x, y)], current);
-    for (int c = 0; c < 3; ++c) _mm256_store_ps(g.current[c], current[c]);
+    split3_into(&in.color.data[in.color.index(x, y)], g.current);
     const __m256 z = _mm256_loadu_ps(&in.depth.data[in.depth.index(x, y)]);
 
     __m256 cx, px, py, previous_depth;

@@ -91,11 +91,8 @@ FOVREF_AVX2_INLINE int level_lanes(const VpMips& mips, __m256 level, const Colum
                                    __m256 v, int wanted, __m256* out, int& reference) {
     int traced = 0;
     for (int todo = wanted; todo != 0;) {
-        alignas(32) float levels[lanes];
-        _mm256_store_ps(levels, level);
-        const float this_level = levels[__builtin_ctz(static_cast<unsigned>(todo))];
-        const int in_level = bits(equal(level, set(this_level))) & todo;
-        todo &= ~in_level;
+        float this_level = 0.0f;
+        const int in_level = take_equal_lanes(level, todo, this_level);
         traced |= phi_lanes(mips, static_cast<int>(this_level), col, v, in_level, out, reference);
     }
     return traced;

@@ -22,10 +22,6 @@ namespace {
 constexpr float inf = std::numeric_limits<float>::infinity();
 constexpr float quiet_nan = std::numeric_limits<float>::quiet_NaN();
 
-float uniform(test::SplitMix64& rng, float lo, float hi) {
-    return lo + (hi - lo) * static_cast<float>(rng.below(1 << 20)) * 0x1p-20f;
-}
-
 // One in `rate` values replaced by NaN, +-Inf, +-0 or a subnormal.
 float hostile(test::SplitMix64& rng, float v, std::size_t rate) {
     if (rng.below(rate) != 0) return v;
@@ -77,20 +73,20 @@ TEST_CASE(
                 const glm::vec3 d =
                     primary_ray_direction(camera, tan_half, w, h, static_cast<float>(x) + 0.5f,
                                           static_cast<float>(y) + 0.5f);
-                const glm::vec3 p = camera.position + uniform(rng, 2.0f, 5.0f) * d;
-                const glm::vec3 n{uniform(rng, -0.3f, 0.3f), 1.0f, uniform(rng, -0.3f, 0.3f)};
+                const glm::vec3 p = camera.position + rng.uniform(2.0f, 5.0f) * d;
+                const glm::vec3 n{rng.uniform(-0.3f, 0.3f), 1.0f, rng.uniform(-0.3f, 0.3f)};
                 // The history: the same point and normal, moved by up to 0.1 and 0.6 (the
                 // limits are 0.1 and 0.5 in distance): some taps pass both tests, some not.
                 for (int c = 0; c < 3; ++c) {
                     world.at(x, y, c) = hostile(rng, p[c], 211);
                     normal.at(x, y, c) = hostile(rng, n[c], 211);
                     history.world_position.at(x, y, c) =
-                        hostile(rng, p[c] + uniform(rng, -0.06f, 0.06f), 197);
+                        hostile(rng, p[c] + rng.uniform(-0.06f, 0.06f), 197);
                     history.normal.at(x, y, c) =
-                        hostile(rng, n[c] + uniform(rng, -0.35f, 0.35f), 197);
-                    illumination.at(x, y, c) = hostile(rng, uniform(rng, 0.0f, 4.0f), 193);
+                        hostile(rng, n[c] + rng.uniform(-0.35f, 0.35f), 197);
+                    illumination.at(x, y, c) = hostile(rng, rng.uniform(0.0f, 4.0f), 193);
                     history.accumulated_noisy.at(x, y, c) =
-                        hostile(rng, uniform(rng, 0.0f, 4.0f), 191);
+                        hostile(rng, rng.uniform(0.0f, 4.0f), 191);
                 }
                 // Whole counts, and half ones now and then: blends that land on x.5.
                 history.spp.at(x, y) = hostile(
@@ -118,8 +114,8 @@ TEST_CASE(
         CHECK(fast_stats.history_off_screen == reference_stats.history_off_screen);
         // Phase III on phase I's decisions, some of them corrupted (a foreign buffer).
         Image fitted(w, h, 3), filtered_history(w, h, 3);
-        for (float& v : fitted.data) v = hostile(rng, uniform(rng, 0.0f, 4.0f), 193);
-        for (float& v : filtered_history.data) v = hostile(rng, uniform(rng, 0.0f, 4.0f), 191);
+        for (float& v : fitted.data) v = hostile(rng, rng.uniform(0.0f, 4.0f), 193);
+        for (float& v : filtered_history.data) v = hostile(rng, rng.uniform(0.0f, 4.0f), 191);
         Image accept = reference.accept, previous_pixel = reference.previous_pixel;
         const float odd_bits[] = {17.0f, -1.0f, 3.7f, quiet_nan, 15.0f, 16.0f};
         for (float& v : accept.data)
@@ -177,20 +173,19 @@ TEST_CASE("bmfr weighted sum: the AVX path gives the reference's bits, block by 
         fit.weights = Image(fit.grid.cells_x, fit.grid.cells_y, bmfr_weight_count);
         fit.feature_range = Image(fit.grid.cells_x, fit.grid.cells_y, 2 * bmfr_scaled_count);
         // Weights, one in 97 huge (sums that overflow: counted and set to 0).
-        for (float& v : fit.weights.data)
-            v = rng.below(97) == 0 ? 3e38f : uniform(rng, -2.0f, 2.0f);
+        for (float& v : fit.weights.data) v = rng.below(97) == 0 ? 3e38f : rng.uniform(-2.0f, 2.0f);
         // Ranges: lo, then hi = lo + a span below or above 1 (the scaling's two branches).
         for (int cy = 0; cy < fit.grid.cells_y; ++cy)
             for (int cx = 0; cx < fit.grid.cells_x; ++cx)
                 for (int k = 0; k < bmfr_scaled_count; ++k) {
-                    const float lo = uniform(rng, -3.0f, 1.0f);
+                    const float lo = rng.uniform(-3.0f, 1.0f);
                     fit.feature_range.at(cx, cy, k) = lo;
                     fit.feature_range.at(cx, cy, bmfr_scaled_count + k) =
-                        lo + uniform(rng, 0.2f, 6.0f);
+                        lo + rng.uniform(0.2f, 6.0f);
                 }
         Image world(w, h, 3), normal(w, h, 3);
-        for (float& v : world.data) v = hostile(rng, uniform(rng, -3.0f, 4.0f), 89);
-        for (float& v : normal.data) v = hostile(rng, uniform(rng, -1.0f, 1.0f), 89);
+        for (float& v : world.data) v = hostile(rng, rng.uniform(-3.0f, 4.0f), 89);
+        for (float& v : normal.data) v = hostile(rng, rng.uniform(-1.0f, 1.0f), 89);
         world.data[7] = 1e20f;  // a square beyond the binary16 range: clamped
         Image sums[2];
         BmfrStats stats[2];

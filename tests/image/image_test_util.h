@@ -74,6 +74,10 @@ struct SplitMix64 {
     std::size_t below(std::size_t n) { return static_cast<std::size_t>(next() % n); }
     /// Uniform in [0, 1), 24 bits.
     float unit() { return static_cast<float>(next() >> 40) * (1.0f / 16777216.0f); }
+    /// lo + (hi - lo) k 2^-20 for k uniform in [0, 2^20) (test data on a 2^-20 grid).
+    float uniform(float lo, float hi) {
+        return lo + (hi - lo) * static_cast<float>(below(1 << 20)) * 0x1p-20f;
+    }
 };
 
 /// The message of the fovref::Error that `f` throws; "<no exception>" or "<other exception: ...>"

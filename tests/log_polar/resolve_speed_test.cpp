@@ -21,9 +21,6 @@ using namespace fovref;
 TEST_CASE("resolve speed: the AVX pass 2 gives resolve_pixel's bits") {
     if (!cpu_has_avx2()) MESSAGE("no AVX2 on this CPU: both runs take resolve_pixel");
     test::SplitMix64 rng(2);
-    const auto uniform = [&](float lo, float hi) {
-        return lo + (hi - lo) * static_cast<float>(rng.below(1 << 20)) * 0x1p-20f;
-    };
     std::int64_t untraced = 0, from_gaze = 0, from_buffer = 0;
     for (const char* preset : {"fov", "cfov"})
         for (const int width : {131, 96}) {
@@ -34,7 +31,7 @@ TEST_CASE("resolve speed: the AVX pass 2 gives resolve_pixel's bits") {
             const ForwardTable table = forward_table(map);
             for (const std::size_t untraced_rate : {2u, 9u, 1000000u}) {
                 Image buffer(map.width, map.height, 3), valid(map.width, map.height, 1);
-                for (float& v : buffer.data) v = uniform(-2.0f, 2.0f);
+                for (float& v : buffer.data) v = rng.uniform(-2.0f, 2.0f);
                 buffer.data[5] = std::numeric_limits<float>::quiet_NaN();
                 buffer.data[9] = std::numeric_limits<float>::infinity();
                 for (float& v : valid.data) v = rng.below(untraced_rate) == 0 ? 0.0f : 1.0f;
@@ -43,7 +40,7 @@ TEST_CASE("resolve speed: the AVX pass 2 gives resolve_pixel's bits") {
                 if (map.has_gaze_buffer()) {
                     const ScreenWindow window = gaze_window(map);
                     gaze_image = Image(window.width, window.height, 3);
-                    for (float& v : gaze_image.data) v = uniform(0.0f, 1.0f);
+                    for (float& v : gaze_image.data) v = rng.uniform(0.0f, 1.0f);
                     gaze = gaze_input(map, &gaze_image);
                 }
                 const ResolveInputs in{buffer, valid, gaze};
@@ -79,13 +76,13 @@ TEST_CASE("resolve speed: the AVX pass 2 gives resolve_pixel's bits") {
     ForwardTable table = forward_table(map);
     const float w = static_cast<float>(map.width), h = static_cast<float>(map.height);
     for (glm::vec2& uv : table.uv) {
-        uv.x = uniform(-3.0f, w + 3.0f);
+        uv.x = rng.uniform(-3.0f, w + 3.0f);
         uv.y = rng.below(2) == 0 ? static_cast<float>(rng.below(map.height)) + 0.5f
-                                 : uniform(-1.0f, h + 1.0f);
+                                 : rng.uniform(-1.0f, h + 1.0f);
     }
     Image buffer(map.width, map.height, 3), valid(map.width, map.height, 1, 1.0f);
     for (float& v : buffer.data)
-        v = rng.below(5) == 0 ? std::numeric_limits<float>::infinity() : uniform(-1.0f, 1.0f);
+        v = rng.below(5) == 0 ? std::numeric_limits<float>::infinity() : rng.uniform(-1.0f, 1.0f);
     Image out[2];
     ResolveStats stats[2];
     for (const bool simd : {true, false}) {
@@ -99,9 +96,6 @@ TEST_CASE("resolve speed: the AVX pass 2 gives resolve_pixel's bits") {
 TEST_CASE("resolve speed: the AVX mip resolve gives resolve_mip_pixel's bits") {
     if (!cpu_has_avx2()) MESSAGE("no AVX2 on this CPU: both runs take resolve_mip_pixel");
     test::SplitMix64 rng(3);
-    const auto uniform = [&](float lo, float hi) {
-        return lo + (hi - lo) * static_cast<float>(rng.below(1 << 20)) * 0x1p-20f;
-    };
     // Resolves the pyramid of (buffer, valid) with and without the SIMD path, and without a
     // table; all three must agree, and the counters too.
     std::int64_t untraced = 0, from_gaze = 0, from_buffer = 0;
@@ -141,7 +135,7 @@ TEST_CASE("resolve speed: the AVX mip resolve gives resolve_mip_pixel's bits") {
                 forward_table(map, static_cast<int>(build_lp_mips(probe, probe_valid).size()));
             for (const std::size_t untraced_rate : {2u, 9u, 1000000u}) {
                 Image buffer(map.width, map.height, 3), valid(map.width, map.height, 1);
-                for (float& v : buffer.data) v = uniform(-2.0f, 2.0f);
+                for (float& v : buffer.data) v = rng.uniform(-2.0f, 2.0f);
                 buffer.data[5] = std::numeric_limits<float>::quiet_NaN();
                 buffer.data[9] = std::numeric_limits<float>::infinity();
                 for (float& v : valid.data) v = rng.below(untraced_rate) == 0 ? 0.0f : 1.0f;
@@ -150,7 +144,7 @@ TEST_CASE("resolve speed: the AVX mip resolve gives resolve_mip_pixel's bits") {
                 if (map.has_gaze_buffer()) {
                     const ScreenWindow window = gaze_window(map);
                     gaze_image = Image(window.width, window.height, 3);
-                    for (float& v : gaze_image.data) v = uniform(0.0f, 1.0f);
+                    for (float& v : gaze_image.data) v = rng.uniform(0.0f, 1.0f);
                     gaze = gaze_input(map, &gaze_image);
                 }
                 compare(map, table, buffer, valid, gaze, true);
@@ -166,22 +160,22 @@ TEST_CASE("resolve speed: the AVX mip resolve gives resolve_mip_pixel's bits") {
         make_log_polar_map(find_foveation_preset("kfr").map, 83, 40, {40.0f, 20.0f}, 50.0f);
     Image buffer(map.width, map.height, 3), valid(map.width, map.height, 1, 1.0f);
     for (float& v : buffer.data)
-        v = rng.below(7) == 0 ? std::numeric_limits<float>::infinity() : uniform(-1.0f, 1.0f);
+        v = rng.below(7) == 0 ? std::numeric_limits<float>::infinity() : rng.uniform(-1.0f, 1.0f);
     for (float& v : valid.data) v = rng.below(50) == 0 ? 0.0f : 1.0f;
     const int levels = static_cast<int>(build_lp_mips(buffer, valid).size());
     ForwardTable table = forward_table(map, levels);
     const float w = static_cast<float>(map.width), h = static_cast<float>(map.height);
     for (glm::vec2& uv : table.uv) {
-        uv.x = uniform(-3.0f, w + 3.0f);
+        uv.x = rng.uniform(-3.0f, w + 3.0f);
         uv.y = rng.below(2) == 0 ? static_cast<float>(rng.below(map.height)) + 0.5f
-                                 : uniform(-1.0f, h + 1.0f);
+                                 : rng.uniform(-1.0f, h + 1.0f);
     }
     for (float& lambda : table.mip_lambda) {
         const std::uint64_t kind = rng.below(8);
         lambda = kind == 0 ? static_cast<float>(rng.below(static_cast<std::uint64_t>(levels)))
                  : kind == 1
                      ? (rng.below(2) == 0 ? -1.0f : 1.0f) * std::numeric_limits<float>::infinity()
-                     : uniform(-2.0f, static_cast<float>(levels) + 2.0f);
+                     : rng.uniform(-2.0f, static_cast<float>(levels) + 2.0f);
     }
     compare(map, table, buffer, valid, GazeInput{}, false);
 }

@@ -31,10 +31,6 @@ struct Scalar {
     ~Scalar() { set_simd_allowed(true); }
 };
 
-float uniform(test::SplitMix64& rng, float lo, float hi) {
-    return lo + (hi - lo) * static_cast<float>(rng.below(1 << 20)) * 0x1p-20f;
-}
-
 // One in `rate` values replaced by a hostile one (NaN, +-Inf, +-0, a subnormal, negative).
 float hostile(test::SplitMix64& rng, float v, std::size_t rate) {
     if (rng.below(rate) != 0) return v;
@@ -88,16 +84,16 @@ TEST_CASE("TAA speed: the AVX pass gives taa_pixel's bits, every decision reache
         previous.history = Image(w, h, 3);
         previous.age = Image(w, h, 1);
         previous.depth = Image(w, h, 1);
-        for (float& v : color.data) v = hostile(rng, uniform(rng, 0.0f, 1.0f), 97);
-        for (float& v : previous.history.data) v = hostile(rng, uniform(rng, 0.0f, 1.0f), 89);
-        for (float& v : previous.age.data) v = hostile(rng, uniform(rng, 0.0f, 25.0f), 83);
+        for (float& v : color.data) v = hostile(rng, rng.uniform(0.0f, 1.0f), 97);
+        for (float& v : previous.history.data) v = hostile(rng, rng.uniform(0.0f, 1.0f), 89);
+        for (float& v : previous.age.data) v = hostile(rng, rng.uniform(0.0f, 25.0f), 83);
         // Depths near 3 (consistent or not within tau) and hostile ones in both frames.
-        for (float& v : depth.data) v = hostile(rng, uniform(rng, 2.0f, 4.0f), 29);
+        for (float& v : depth.data) v = hostile(rng, rng.uniform(2.0f, 4.0f), 29);
         // Trial 6: one depth everywhere and a turn, so that each group's taps lie side by side
         // in one row (the lanes' plain loads instead of gathers) except where the floors step.
         if (trial == 6)
             for (float& v : depth.data) v = 3.0f;
-        for (float& v : previous.depth.data) v = hostile(rng, uniform(rng, 2.0f, 4.0f), 31);
+        for (float& v : previous.depth.data) v = hostile(rng, rng.uniform(2.0f, 4.0f), 31);
         // Small turns and steps keep most points on screen; trial 3 turns 100 degrees (points
         // behind the previous camera), trial 4 steps sideways (points off the screen).
         const float yaw[] = {0.5f, -2.0f, 4.0f, 100.0f, 0.0f, 0.0f, 1.3f};
@@ -111,16 +107,16 @@ TEST_CASE("TAA speed: the AVX pass gives taa_pixel's bits, every decision reache
         TaaParams params;
         params.tau = trial % 2 == 0 ? 0.2f : 0.01f;
         params.age_cap = trial == 2 ? 3 : 20;
-        const glm::vec2 gaze{uniform(rng, 0.0f, w), uniform(rng, 0.0f, h)};
+        const glm::vec2 gaze{rng.uniform(0.0f, w), rng.uniform(0.0f, h)};
         // Boxes for clamp-buffer: around the colour, some empty or reversed, some hostile.
         Image bounds(w, h, 6);
         for (int p = 0; p < w * h; ++p)
             for (int c = 0; c < 3; ++c) {
                 const float v = color.data[static_cast<std::size_t>(3 * p + c)];
                 bounds.data[static_cast<std::size_t>(6 * p + c)] =
-                    hostile(rng, v - uniform(rng, -0.05f, 0.3f), 151);
+                    hostile(rng, v - rng.uniform(-0.05f, 0.3f), 151);
                 bounds.data[static_cast<std::size_t>(6 * p + 3 + c)] =
-                    hostile(rng, v + uniform(rng, -0.05f, 0.3f), 151);
+                    hostile(rng, v + rng.uniform(-0.05f, 0.3f), 151);
             }
         CAPTURE(trial);
         for (const int mode : {0, 1, 2}) {  // depth, clamp-screen, clamp-buffer
@@ -174,12 +170,12 @@ TEST_CASE("TAA speed: the log-polar source table gives taa_source's sources") {
             gaze_valid = Image(window.width, window.height, 1, 1.0f);
             gaze_depth = Image(window.width, window.height, 1);
             gaze_color = Image(window.width, window.height, 3);
-            for (float& v : gaze_depth.data) v = uniform(rng, 1.0f, 5.0f);
-            for (float& v : gaze_color.data) v = uniform(rng, 0.0f, 1.0f);
+            for (float& v : gaze_depth.data) v = rng.uniform(1.0f, 5.0f);
+            for (float& v : gaze_color.data) v = rng.uniform(0.0f, 1.0f);
         }
-        for (float& v : lp_depth.data) v = uniform(rng, 1.0f, 5.0f);
-        for (float& v : lp_color.data) v = uniform(rng, 0.0f, 1.0f);
-        for (float& v : resolved.data) v = uniform(rng, 0.0f, 1.0f);
+        for (float& v : lp_depth.data) v = rng.uniform(1.0f, 5.0f);
+        for (float& v : lp_color.data) v = rng.uniform(0.0f, 1.0f);
+        for (float& v : resolved.data) v = rng.uniform(0.0f, 1.0f);
         const TaaSourceTable table =
             taa_source_table({map, forward, lp_valid, composite ? &gaze_valid : nullptr});
         // The same table for masks that change from frame to frame (TAA's jitter): a quarter of
@@ -226,7 +222,7 @@ TEST_CASE("TAA speed: the AVX texel boxes give the reference's bits") {
                         : kind == 1 ? std::numeric_limits<float>::infinity()
                         : kind == 2 ? -std::numeric_limits<float>::infinity()
                         : kind == 3 ? std::numeric_limits<float>::quiet_NaN()
-                                    : uniform(rng, -1.0f, 1.0f);
+                                    : rng.uniform(-1.0f, 1.0f);
                 }
             };
             const auto mask = [&](Image& valid) {

@@ -48,9 +48,6 @@ std::int64_t compare_resolves(const VisualPolarMap& map, const VpMips& mips,
 TEST_CASE("VP resolve speed: the AVX resolve gives resolve_vp_pixel's bits") {
     if (!cpu_has_avx2()) MESSAGE("no AVX2 on this CPU: both runs take resolve_vp_pixel");
     test::SplitMix64 rng(4);
-    const auto uniform = [&](float lo, float hi) {
-        return lo + (hi - lo) * static_cast<float>(rng.below(1 << 20)) * 0x1p-20f;
-    };
     std::int64_t untraced = 0;
     for (const int screen_width : {120, 101})
         for (const glm::vec2& gaze :
@@ -69,7 +66,7 @@ TEST_CASE("VP resolve speed: the AVX resolve gives resolve_vp_pixel's bits") {
                 table.map = map;
                 for (const std::size_t untraced_rate : {2u, 7u, 1000000u}) {
                     Image color(map.width, map.height, 3), valid(map.width, map.height, 1);
-                    for (float& v : color.data) v = uniform(-2.0f, 2.0f);
+                    for (float& v : color.data) v = rng.uniform(-2.0f, 2.0f);
                     color.data[5] = std::numeric_limits<float>::quiet_NaN();
                     color.data[9] = std::numeric_limits<float>::infinity();
                     for (float& v : valid.data) v = rng.below(untraced_rate) == 0 ? 0.0f : 1.0f;
@@ -94,9 +91,9 @@ TEST_CASE("VP resolve speed: the AVX resolve gives resolve_vp_pixel's bits") {
             const std::uint64_t kind = rng.below(16);
             p[0] = kind == 0   ? std::numeric_limits<float>::infinity()
                    : kind == 1 ? -5.0f
-                               : uniform(-3.0f, static_cast<float>(map.width) + 3.0f);
-            p[1] = rng.below(4) == 0 ? uniform(0.0f, 0.01f) : uniform(0.0f, 200.0f);
-            p[2] = kind == 3 ? uniform(-two_pi, 0.0f) : uniform(0.0f, 2.0f * two_pi);
+                               : rng.uniform(-3.0f, static_cast<float>(map.width) + 3.0f);
+            p[1] = rng.below(4) == 0 ? rng.uniform(0.0f, 0.01f) : rng.uniform(0.0f, 200.0f);
+            p[2] = kind == 3 ? rng.uniform(-two_pi, 0.0f) : rng.uniform(0.0f, 2.0f * two_pi);
             const VpColumns rho = vp_rho_columns(map.width, p[0]);
             if (kind == 2) {
                 // theta nudged float by float until column i0's v = (n theta) / two_pi is
@@ -122,7 +119,7 @@ TEST_CASE("VP resolve speed: the AVX resolve gives resolve_vp_pixel's bits") {
         }
     Image color(map.width, map.height, 3), valid(map.width, map.height, 1);
     for (float& v : color.data)
-        v = rng.below(5) == 0 ? std::numeric_limits<float>::infinity() : uniform(-1.0f, 1.0f);
+        v = rng.below(5) == 0 ? std::numeric_limits<float>::infinity() : rng.uniform(-1.0f, 1.0f);
     for (float& v : valid.data) v = rng.below(3) == 0 ? 0.0f : 1.0f;
     const VpMips mips = build_vp_mips(map, color, valid);
     CHECK(centred > 50);
