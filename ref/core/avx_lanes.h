@@ -49,9 +49,12 @@ FOVREF_AVX_INLINE __m256 negate(__m256 v) {
     return _mm256_xor_ps(v, _mm256_castsi256_ps(_mm256_set1_epi32(static_cast<int>(0x80000000u))));
 }
 /// std::max(a, b) = (a < b) ? b : a and std::min(a, b) = (b < a) ? b : a; chained left to right
-/// they give std::max({a, b, c, ...}) and std::min({...}) (the first largest or smallest).
-FOVREF_AVX_INLINE __m256 std_max(__m256 a, __m256 b) { return select(less(a, b), b, a); }
-FOVREF_AVX_INLINE __m256 std_min(__m256 a, __m256 b) { return select(less(b, a), b, a); }
+/// they give std::max({a, b, c, ...}) and std::min({...}) (the first largest or smallest). One
+/// instruction each: vmaxps(x, y) is (x > y) ? x : y and vminps(x, y) is (x < y) ? x : y, lane by
+/// lane, y on ties (±0) and wherever either is NaN (Intel SDM, MAXPS/MINPS), so with x = b and
+/// y = a they are the standard's expressions bit for bit; neither compiler swaps their operands.
+FOVREF_AVX_INLINE __m256 std_max(__m256 a, __m256 b) { return _mm256_max_ps(b, a); }
+FOVREF_AVX_INLINE __m256 std_min(__m256 a, __m256 b) { return _mm256_min_ps(b, a); }
 /// std::floor and std::ceil (exact: roundps).
 FOVREF_AVX_INLINE __m256 floor(__m256 v) {
     return _mm256_round_ps(v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);

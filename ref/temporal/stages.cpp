@@ -15,6 +15,9 @@ struct TaaStageState : StageState {
     TaaSettings taa;
     std::function<glm::vec2(const FrameContext&)> gaze;
     TaaState history;  ///< what the previous frame handed on (invalid before the first frame)
+    /// The output and age storage of the frame before last, recycled for this frame's pass
+    /// (which writes every pixel): no zero fill of 4 floats a pixel each frame.
+    Image spare_output, spare_age;
 };
 
 struct TaaSourceState : StageState {
@@ -76,7 +79,7 @@ void taa_stage(FrameContext& ctx) {
                                       : glm::vec2(static_cast<float>(color.width) * 0.5f,
                                                   static_cast<float>(color.height) * 0.5f);
     const TaaInputs in{color, depth, ctx.camera, gaze, bounds};
-    Image out, age, margin;
+    Image out = std::move(state.spare_output), age = std::move(state.spare_age), margin;
     TaaStats stats;
     // The decision margins only when asked for (diff, probe, --dump all): a pass of its own.
     const bool margins = ctx.wants("margin");
@@ -88,9 +91,14 @@ void taa_stage(FrameContext& ctx) {
                 : ctx.camera == state.history.camera ? ", stationary camera: no reprojection"
                                                      : ", reprojected") +
                (index < 0 ? ", no jitter" : ", Halton point " + std::to_string(index));
-    state.history = next_taa_state(out, age, depth, ctx.camera);
-    ctx.output("output", BufferKind::color, {"r", "g", "b"}, std::move(out));
-    ctx.output("age", BufferKind::scalar, {"age"}, std::move(age));
+    // The frame's buffers are copies; the state keeps these, and the previous history's
+    // storage becomes the next frame's. (Before ctx.output, which may move `depth`.)
+    Image frame_output = out, frame_age = age;
+    state.spare_output = std::move(state.history.history);
+    state.spare_age = std::move(state.history.age);
+    state.history = next_taa_state(std::move(out), std::move(age), depth, ctx.camera);
+    ctx.output("output", BufferKind::color, {"r", "g", "b"}, std::move(frame_output));
+    ctx.output("age", BufferKind::scalar, {"age"}, std::move(frame_age));
     if (margins)
         ctx.output("margin", BufferKind::scalar, {"depth", "reprojection"}, std::move(margin));
 }

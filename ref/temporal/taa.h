@@ -175,7 +175,10 @@ struct TaaStats {
 };
 
 /// The pass: the TAA output (the next frame's history) and the age, W x H; `margin` (when not
-/// null): W x H x 2, the record's depth and reprojection margins.
+/// null): W x H x 2, the record's depth and reprojection margins. `out` and `age` keep their
+/// storage when they already have those shapes (a caller recycles the history before last:
+/// every pixel is written, so nothing of their old values remains and no zero fill is paid);
+/// otherwise they are made anew.
 void taa(const TaaParams& params, const TaaInputs& in, const TaaState& previous, Image& out,
          Image& age, TaaStats& stats, Image* margin = nullptr);
 

@@ -50,8 +50,12 @@ struct Run {
     TaaStats stats;
 };
 
+// A pass into recycled storage (as the taa stage runs it: the history before last), filled
+// with a value no pixel of these frames takes: a pixel the pass left unwritten keeps it.
 Run run(const TaaParams& params, const TaaInputs& in, const TaaState& previous) {
     Run r;
+    r.out = Image(in.color.width, in.color.height, 3, -7.25f);
+    r.age = Image(in.color.width, in.color.height, 1, -7.25f);
     taa(params, in, previous, r.out, r.age, r.stats, &r.margin);
     return r;
 }
@@ -123,7 +127,8 @@ TEST_CASE("TAA speed: the AVX pass gives taa_pixel's bits, every decision reache
             CAPTURE(mode);
             params.rejection = mode == 0 ? TaaRejection::depth : TaaRejection::clamp;
             const TaaInputs in{color, depth, camera, gaze, mode == 2 ? &bounds : nullptr};
-            // The AVX path runs (where the CPU has it), with and without the margins.
+            // The AVX path runs (where the CPU has it), with and without the margins, into
+            // fresh storage and into recycled storage (run).
             CHECK(taa_constants(in, previous).stationary == stationary);
             CHECK(taa_avx_applies(in, previous) == cpu_has_avx2());
             const Run fast = run(params, in, previous);
