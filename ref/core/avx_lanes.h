@@ -120,10 +120,9 @@ FOVREF_AVX2_INLINE void gather3_lanes(const float* rgb, __m256i pixel, __m256 ma
     for (int c = 0; c < 3; ++c) out[c] = _mm256_mask_i32gather_ps(zero(), rgb + c, first, mask, 4);
 }
 
-/// (AVX2) Eight consecutive pixels of three interleaved channels (p: the first pixel's first
-/// value; 24 floats) as one register per channel: the same floats, moved by blends and permutes.
-FOVREF_AVX2_INLINE void split3_lanes(const float* p, __m256* out) {
-    const __m256 m0 = _mm256_loadu_ps(p), m1 = _mm256_loadu_ps(p + 8), m2 = _mm256_loadu_ps(p + 16);
+/// (AVX2) Eight consecutive pixels of three interleaved channels (m0, m1, m2: floats 0..7,
+/// 8..15, 16..23) as one register per channel: the same floats, moved by blends and permutes.
+FOVREF_AVX2_INLINE void split3_registers(__m256 m0, __m256 m1, __m256 m2, __m256* out) {
     // channel c of pixel l is float 3 l + c: m0 holds floats 0..7, m1 8..15, m2 16..23
     const __m256 r = _mm256_blend_ps(_mm256_blend_ps(m0, m1, 0b10010010), m2, 0b00100100);
     const __m256 g = _mm256_blend_ps(_mm256_blend_ps(m0, m1, 0b00100100), m2, 0b01001001);
@@ -131,6 +130,10 @@ FOVREF_AVX2_INLINE void split3_lanes(const float* p, __m256* out) {
     out[0] = _mm256_permutevar8x32_ps(r, _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5));
     out[1] = _mm256_permutevar8x32_ps(g, _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6));
     out[2] = _mm256_permutevar8x32_ps(b, _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
+}
+/// split3_registers of the 24 floats at p (the first pixel's first value).
+FOVREF_AVX2_INLINE void split3_lanes(const float* p, __m256* out) {
+    split3_registers(_mm256_loadu_ps(p), _mm256_loadu_ps(p + 8), _mm256_loadu_ps(p + 16), out);
 }
 
 /// (AVX2) The inverse of split3_lanes: one register per channel stored as eight consecutive

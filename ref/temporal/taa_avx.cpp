@@ -98,20 +98,26 @@ FOVREF_AVX2_INLINE __m256 clamp_group(const TaaInputs& in, int x, int y, Group& 
         }
     } else if (x >= 1 && x + lanes < in.color.width) {
         // No column clamped: each of the nine neighbours' eight pixels are consecutive, plain
-        // loads of the same floats (rows clamped as below), in the same order.
+        // loads of the same floats (rows clamped as below), in the same order. The minima and
+        // maxima are taken on the interleaved floats (each float's own chain, channel by
+        // channel as in the reference), and the channels sorted out once at the end.
         const Image& color = in.color;
-        for (int c = 0; c < 3; ++c) lo[c] = hi[c] = _mm256_load_ps(g.current[c]);
+        const float* centre = &color.data[color.index(x, y)];
+        __m256 lo_rgb[3], hi_rgb[3];
+        for (int k = 0; k < 3; ++k) lo_rgb[k] = hi_rgb[k] = _mm256_loadu_ps(centre + 8 * k);
         for (int r = 0; r < 3; ++r) {
             const int sy = std::clamp(y + r - 1, 0, color.height - 1);
             for (int dx = 0; dx < 3; ++dx) {
-                __m256 v[3];
-                split3_lanes(&color.data[color.index(x + dx - 1, sy)], v);
-                for (int c = 0; c < 3; ++c) {
-                    lo[c] = std_min(lo[c], v[c]);  // glm::min(a, b) = (b < a) ? b : a
-                    hi[c] = std_max(hi[c], v[c]);  // glm::max(a, b) = (a < b) ? b : a
+                const float* p = &color.data[color.index(x + dx - 1, sy)];
+                for (int k = 0; k < 3; ++k) {
+                    const __m256 v = _mm256_loadu_ps(p + 8 * k);
+                    lo_rgb[k] = std_min(lo_rgb[k], v);  // glm::min(a, b) = (b < a) ? b : a
+                    hi_rgb[k] = std_max(hi_rgb[k], v);  // glm::max(a, b) = (a < b) ? b : a
                 }
             }
         }
+        split3_registers(lo_rgb[0], lo_rgb[1], lo_rgb[2], lo);
+        split3_registers(hi_rgb[0], hi_rgb[1], hi_rgb[2], hi);
     } else {
         // Rows y - 1 .. y + 1 and columns x - 1 .. x + 8, clamped, one array per channel.
         const Image& color = in.color;
