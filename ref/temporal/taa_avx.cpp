@@ -88,13 +88,22 @@ FOVREF_AVX_INLINE void write_margins(Image* margin, int x, int y, __m256 depth,
 FOVREF_AVX2_INLINE __m256 clamp_group(const TaaInputs& in, int x, int y, Group& g) {
     __m256 lo[3], hi[3];
     if (in.bounds) {
-        alignas(32) float box[6][lanes];
+        // Pixel l's box is 6 floats (3 minima, 3 maxima): read as sixteen 3-float halves, half
+        // 2 l its minima and 2 l + 1 its maxima, split into channels (pixels 0..3 in first[c],
+        // 4..7 in second[c], minima and maxima alternating), then the even and the odd lanes
+        // gathered in pixel order: the same floats, moved.
         const float* b = &in.bounds->data[in.bounds->index(x, y)];
-        for (int l = 0; l < lanes; ++l)
-            for (int c = 0; c < 6; ++c) box[c][l] = b[6 * l + c];
+        __m256 first[3], second[3];
+        split3_lanes(b, first);
+        split3_lanes(b + 24, second);
         for (int c = 0; c < 3; ++c) {
-            lo[c] = _mm256_load_ps(box[c]);
-            hi[c] = _mm256_load_ps(box[3 + c]);
+            // per 128-bit half: (first 0, 2, second 0, 2) and (first 1, 3, second 1, 3)
+            const __m256 even = _mm256_shuffle_ps(first[c], second[c], _MM_SHUFFLE(2, 0, 2, 0));
+            const __m256 odd = _mm256_shuffle_ps(first[c], second[c], _MM_SHUFFLE(3, 1, 3, 1));
+            lo[c] = _mm256_castpd_ps(
+                _mm256_permute4x64_pd(_mm256_castps_pd(even), _MM_SHUFFLE(3, 1, 2, 0)));
+            hi[c] = _mm256_castpd_ps(
+                _mm256_permute4x64_pd(_mm256_castps_pd(odd), _MM_SHUFFLE(3, 1, 2, 0)));
         }
     } else if (x >= 1 && x + lanes < in.color.width) {
         // No column clamped: each of the nine neighbours' eight pixels are consecutive, plain
@@ -407,32 +416,49 @@ __attribute__((target("avx2"))) int texel_boxes_row_avx(const Image& image, cons
     int rows[3];
     for (int dj = -1; dj <= 1; ++dj)
         rows[dj + 1] = wrap_rows ? (sj + dj + h) % h : std::clamp(sj + dj, 0, h - 1);
+    // The eight texels' 24 floats in three registers, as the image holds them (texel l's channel
+    // c is float 3 l + c): each float's min and max chain is its own, so the taps' colours need
+    // no sorting into channels; a texel's traced mask is spread to its three floats.
+    const __m256i spread[3] = {_mm256_setr_epi32(0, 0, 0, 1, 1, 1, 2, 2),
+                               _mm256_setr_epi32(2, 3, 3, 3, 4, 4, 4, 5),
+                               _mm256_setr_epi32(5, 5, 6, 6, 6, 7, 7, 7)};
+    const __m256 inf = set(std::numeric_limits<float>::infinity());
     int si = 1;
     for (; si + lanes <= w - 1; si += lanes) {
+        const float* own = &image.data[image.index(si, sj)];
         __m256 lo[3], hi[3];
-        split3_lanes(&image.data[image.index(si, sj)], lo);
-        for (int c = 0; c < 3; ++c) hi[c] = lo[c];
+        for (int k = 0; k < 3; ++k) lo[k] = hi[k] = _mm256_loadu_ps(own + 8 * k);
         for (const int j : rows)
             for (int di = -1; di <= 1; ++di) {
                 // a tap counts where its mask is not 0 (NaN counts, as valid != 0 does)
                 const __m256 traced =
                     not_equal(_mm256_loadu_ps(&valid.data[valid.index(si + di, j)]), zero());
-                __m256 v[3];
-                split3_lanes(&image.data[image.index(si + di, j)], v);
-                for (int c = 0; c < 3; ++c) {
-                    // std::min(lo, v) = (v < lo) ? v : lo; std::max(hi, v) = (hi < v) ? v : hi
-                    lo[c] = select(both(traced, less(v[c], lo[c])), v[c], lo[c]);
-                    hi[c] = select(both(traced, less(hi[c], v[c])), v[c], hi[c]);
+                const float* tap = &image.data[image.index(si + di, j)];
+                for (int k = 0; k < 3; ++k) {
+                    const __m256 t = _mm256_permutevar8x32_ps(traced, spread[k]);
+                    const __m256 v = _mm256_loadu_ps(tap + 8 * k);
+                    // std::min(lo, v) = (v < lo) ? v : lo and std::max(hi, v) = (hi < v) ? v :
+                    // hi where traced; an untraced tap is +inf for the min (never < lo) and -inf
+                    // for the max (hi never < it). t is a comparison's full lane mask, so
+                    // blendv's sign-bit choice is select's.
+                    lo[k] = std_min(lo[k], _mm256_blendv_ps(inf, v, t));
+                    hi[k] = std_max(hi[k], _mm256_blendv_ps(negate(inf), v, t));
                 }
             }
-        alignas(32) float box[6][lanes];
-        for (int c = 0; c < 3; ++c) {
-            _mm256_store_ps(box[c], lo[c]);
-            _mm256_store_ps(box[3 + c], hi[c]);
+        // Texel l's box is its three minima then its three maxima: four floats stored from each
+        // (the fourth overwritten by the next store; the last one lands on texel si + 8 of this
+        // row, which exists and is written after this group).
+        alignas(32) float lows[3 * lanes + 1], highs[3 * lanes + 1];
+        for (int k = 0; k < 3; ++k) {
+            _mm256_store_ps(lows + 8 * k, lo[k]);
+            _mm256_store_ps(highs + 8 * k, hi[k]);
         }
+        lows[3 * lanes] = highs[3 * lanes] = 0.0f;
         float* to = &boxes.data[boxes.index(si, sj)];
-        for (int l = 0; l < lanes; ++l)
-            for (int c = 0; c < 6; ++c) to[6 * l + c] = box[c][l];
+        for (int l = 0; l < lanes; ++l) {
+            _mm_storeu_ps(to + 6 * l, _mm_loadu_ps(lows + 3 * l));
+            _mm_storeu_ps(to + 6 * l + 3, _mm_loadu_ps(highs + 3 * l));
+        }
     }
     return si;
 }
