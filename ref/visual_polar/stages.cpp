@@ -98,15 +98,17 @@ void vp_trace_stage(FrameContext& ctx) {
     Counters& counters = ctx.result->counters;
     VpTraceStats stats;
     Image points;
-    // The texels' statuses and points from a table once a frame repeats the last frame's map (a
-    // static gaze; a moving gaze or BMFR's moving staircase never makes one). Not under
-    // `--scalar`: vp_gbuffer_texel then runs for every texel, where a debugger's breakpoint
-    // stops (the table's first frame runs it too).
-    const bool repeated = frames.traced_map && *frames.traced_map == map;
+    // The texels' statuses and points from a table once a frame repeats the last frame's
+    // forward map (a static gaze, BMFR's staircase moving or not; a moving gaze never makes one;
+    // the fovea's columns follow the staircase: trace_vp_gbuffer). Not under `--scalar`:
+    // vp_gbuffer_texel then runs for every texel, where a debugger's breakpoint stops (the
+    // table's first frame runs it too).
+    const bool repeated = frames.traced_map && frames.traced_map->same_forward(map);
     frames.traced_map = map;
     const VpTexelTable* table = nullptr;
     if (repeated && simd_allowed()) {
-        if (!frames.texels || !(frames.texels->map == map)) frames.texels = vp_texel_table(map);
+        if (!frames.texels || !frames.texels->map.same_forward(map))
+            frames.texels = vp_texel_table(map);
         table = &*frames.texels;
     }
     MaskedGBuffer vp = trace_vp_gbuffer(map, primary_view(ctx, *s.bvh), points, stats, table);

@@ -39,8 +39,8 @@ namespace fovref {
 struct SparseFrames {
     SparseParams params;
     std::optional<VpForwardTable> forward;
-    /// The trace's texel statuses and points, made once a frame repeats the last frame's map
-    /// (`traced_map`) and kept while it stays the same.
+    /// The trace's texel statuses and points, made once a frame repeats the last frame's
+    /// forward map (`traced_map`; VisualPolarMap::same_forward) and kept while it stays the same.
     std::optional<VpTexelTable> texels;
     std::optional<VisualPolarMap> traced_map;
     /// The Visual-Polar map of frame `frame` (the screen of `context`).

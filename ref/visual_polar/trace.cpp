@@ -1,5 +1,7 @@
 #include "ref/visual_polar/trace.h"
 
+#include <algorithm>
+
 #include "ref/core/error.h"
 
 namespace fovref {
@@ -56,11 +58,15 @@ MaskedGBuffer trace_vp_gbuffer(const VisualPolarMap& map, const PrimaryView& vie
                 vp_gbuffer_texel(buffer, screen_points, map, view, x, y, stats);
         return buffer;
     }
-    // vp_gbuffer_texel with the table's status and point
-    FOVREF_CHECK(table->map == map, "a texel table made for another map");
+    // vp_gbuffer_texel with the table's status and point; the fovea's columns (rows set by the
+    // clip) by vp_gbuffer_texel itself where the table was made for another clip
+    FOVREF_CHECK(table->map.same_forward(map), "a texel table made for another map");
     screen_points = table->screen_points;
-    for (int y = 0; y < map.height; ++y)
-        for (int x = 0; x < map.width; ++x) {
+    const int first_column = table->map == map ? 0 : std::min(map.fovea_columns, map.width);
+    for (int y = 0; y < map.height; ++y) {
+        for (int x = 0; x < first_column; ++x)
+            vp_gbuffer_texel(buffer, screen_points, map, view, x, y, stats);
+        for (int x = first_column; x < map.width; ++x) {
             const VpTexel status = table->status[static_cast<std::size_t>(y) * map.width + x];
             if (status == VpTexel::clipped) {
                 ++stats.texels_clipped;
@@ -71,6 +77,7 @@ MaskedGBuffer trace_vp_gbuffer(const VisualPolarMap& map, const PrimaryView& vie
                 trace_texel(buffer, x, y, p, map.screen_width, map.screen_height, view, stats);
             }
         }
+    }
     return buffer;
 }
 

@@ -35,8 +35,11 @@ VpTexel vp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const Visu
                          const PrimaryView& view, int x, int y, VpTraceStats& stats);
 
 /// Each texel's status and screen point as vp_texel_status gives them, for one map: the trace
-/// stage keeps it while the map stays the same (a static gaze), and trace_vp_gbuffer then traces
-/// the same texels through the same points without the inverse map per texel.
+/// stage keeps it while the forward map stays the same (a static gaze; BMFR's staircase may
+/// move), and trace_vp_gbuffer then traces the same texels through the same points without the
+/// inverse map per texel. The periphery's columns (i >= i_f) do not depend on the clip, so the
+/// table serves any map with the same forward map (VisualPolarMap::same_forward); the fovea's
+/// columns are read from it only for the very map it was made for.
 struct VpTexelTable {
     VisualPolarMap map;
     Image screen_points;          ///< w x h x 2, as trace_vp_gbuffer writes them
@@ -45,8 +48,9 @@ struct VpTexelTable {
 VpTexelTable vp_texel_table(const VisualPolarMap& map);
 
 /// The Visual-Polar buffer's G-buffer (map.width x map.height) and its texels' screen points;
-/// with `table` (made for `map`; a check fails otherwise) the statuses and points are read from
-/// it, the same bits.
+/// with `table` (made for a map with `map`'s forward map; a check fails otherwise) the statuses
+/// and points are read from it where it holds `map`'s (the fovea's columns computed by
+/// vp_gbuffer_texel when the clips differ), the same bits.
 MaskedGBuffer trace_vp_gbuffer(const VisualPolarMap& map, const PrimaryView& view,
                                Image& screen_points, VpTraceStats& stats,
                                const VpTexelTable* table = nullptr);

@@ -65,7 +65,9 @@ TEST_CASE("VP modes: the buffer counters are the map's; clipped and off-screen t
     }
 }
 
-TEST_CASE("VP trace: the texel table kept for a static gaze gives the per-texel bits") {
+TEST_CASE(
+    "VP trace: the texel table kept for a static gaze gives the per-texel bits, with BMFR's "
+    "staircase moved too") {
     const Scene scene = make_procedural_scene("cornell");
     const Bvh bvh = build_bvh(scene.positions);
     const Camera camera = camera_at(scene, 0.0f);
@@ -77,30 +79,43 @@ TEST_CASE("VP trace: the texel table kept for a static gaze gives the per-texel 
             VisualPolarMap map = make_visual_polar_map(120, 90, gaze, 80, 60);
             map.staircase_block = block;
             map.staircase_offset = block > 0 ? 3 : 0;
-            const VpTexelTable table = vp_texel_table(map);
-            Image points[2];
-            VpTraceStats stats[2];
-            const MaskedGBuffer plain = trace_vp_gbuffer(map, view, points[0], stats[0]);
-            const MaskedGBuffer kept = trace_vp_gbuffer(map, view, points[1], stats[1], &table);
-            CHECK(same_bits(points[0], points[1]));
-            CHECK(same_bits(plain.valid, kept.valid));
-            for (const auto& [a, b] :
-                 {std::pair{&plain.gbuffer.view_depth, &kept.gbuffer.view_depth},
-                  std::pair{&plain.gbuffer.world_position, &kept.gbuffer.world_position},
-                  std::pair{&plain.gbuffer.primitive_id, &kept.gbuffer.primitive_id},
-                  std::pair{&plain.gbuffer.motion, &kept.gbuffer.motion}})
-                CHECK(same_bits(*a, *b));
-            CHECK(stats[0].texels_traced == stats[1].texels_traced);
-            CHECK(stats[0].texels_clipped == stats[1].texels_clipped);
-            CHECK(stats[0].texels_off_screen == stats[1].texels_off_screen);
-            CHECK(stats[0].texels_traced > 300);
-            CHECK(stats[0].texels_clipped + stats[0].texels_off_screen > 100);
-            // a table made for another map is refused
+            // Tables made for this map and (with the staircase) for other staircase offsets:
+            // the periphery's columns from the table, the fovea's traced per texel.
+            std::vector<VpTexelTable> tables = {vp_texel_table(map)};
+            for (const int offset : {0, 5})
+                if (block > 0) {
+                    VisualPolarMap moved = map;
+                    moved.staircase_offset = offset;
+                    tables.push_back(vp_texel_table(moved));
+                }
+            Image points;
+            VpTraceStats stats;
+            const MaskedGBuffer plain = trace_vp_gbuffer(map, view, points, stats);
+            for (const VpTexelTable& t : tables) {
+                CAPTURE(t.map.staircase_offset);
+                Image kept_points;
+                VpTraceStats kept_stats;
+                const MaskedGBuffer kept = trace_vp_gbuffer(map, view, kept_points, kept_stats, &t);
+                CHECK(same_bits(points, kept_points));
+                CHECK(same_bits(plain.valid, kept.valid));
+                for (const auto& [a, b] :
+                     {std::pair{&plain.gbuffer.view_depth, &kept.gbuffer.view_depth},
+                      std::pair{&plain.gbuffer.world_position, &kept.gbuffer.world_position},
+                      std::pair{&plain.gbuffer.primitive_id, &kept.gbuffer.primitive_id},
+                      std::pair{&plain.gbuffer.motion, &kept.gbuffer.motion}})
+                    CHECK(same_bits(*a, *b));
+                CHECK(stats.texels_traced == kept_stats.texels_traced);
+                CHECK(stats.texels_clipped == kept_stats.texels_clipped);
+                CHECK(stats.texels_off_screen == kept_stats.texels_off_screen);
+            }
+            CHECK(stats.texels_traced > 300);
+            CHECK(stats.texels_clipped + stats.texels_off_screen > 100);
+            // a table made for another forward map is refused
             VisualPolarMap other = map;
             other.gaze.x += 1.0f;
             Image unused;
             VpTraceStats more;
-            CHECK_THROWS(trace_vp_gbuffer(other, view, unused, more, &table));
+            CHECK_THROWS(trace_vp_gbuffer(other, view, unused, more, &tables[0]));
         }
 }
 
