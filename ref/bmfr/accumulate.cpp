@@ -324,7 +324,7 @@ BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& il
     const bool avx = bmfr_accumulate_noisy_avx_applies(has_previous, space, illumination);
     for (int y = 0; y < height; ++y)
         for (int x = avx ? bmfr_accumulate_noisy_row_avx(params, illumination, world_position,
-                                                         normal, history, out, y, stats)
+                                                         normal, history, space, out, y, stats)
                          : 0;
              x < width; ++x)
             bmfr_accumulate_noisy_pixel(params, illumination, world_position, normal, history,

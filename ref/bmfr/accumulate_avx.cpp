@@ -1,5 +1,7 @@
 #include "ref/bmfr/accumulate_avx.h"
 
+#include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -12,11 +14,12 @@ namespace {
 
 using namespace avx;
 
-/// finite_or_zero of accumulate.cpp per lane, counting the replaced values.
-FOVREF_AVX_INLINE __m256 finite_or_zero(const float* v, BmfrStats& stats) {
+/// finite_or_zero of accumulate.cpp per lane, counting the replaced values of the `counted`
+/// lanes (those the reference reads).
+FOVREF_AVX_INLINE __m256 finite_or_zero(const float* v, __m256 counted, BmfrStats& stats) {
     const __m256 value = _mm256_load_ps(v);
     const __m256 ok = finite(value);
-    stats.nonfinite_inputs += lanes - count(ok);
+    stats.nonfinite_inputs += count(both(counted, negation(ok)));
     return select(ok, value, zero());
 }
 
@@ -47,31 +50,36 @@ struct Taps {
 /// bmfr_project with the previous camera: the reprojected index q = (qx, qy), and the lanes that
 /// have one (in front of the camera, or behind with project_behind_camera, and finite).
 FOVREF_AVX_INLINE __m256 project_lanes(const BmfrParams& params, const ViewProjection& vp,
-                                       const __m256* p, float wf, float hf, __m256& qx,
-                                       __m256& qy) {
+                                       const __m256* p, float wf, float hf, glm::vec2 offset,
+                                       __m256& qx, __m256& qy) {
     const float* m = vp.m.data();
     const __m256 cx = row(m, p), cy = row(m + 4, p), cw = row(m + 12, p);
     const __m256 w_ok = params.project_behind_camera ? not_equal(cw, zero()) : greater(cw, zero());
     qx = _mm256_sub_ps(
         _mm256_mul_ps(_mm256_mul_ps(_mm256_add_ps(_mm256_div_ps(cx, cw), set(1.0f)), set(0.5f)),
                       set(wf)),
-        set(params.pixel_offset.x));
+        set(offset.x));
     qy = _mm256_sub_ps(
         _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(set(1.0f), _mm256_div_ps(cy, cw)), set(0.5f)),
                       set(hf)),
-        set(params.pixel_offset.y));
+        set(offset.y));
     return both(w_ok, both(finite(qx), finite(qy)));
 }
 
-/// The history at the taps inside the image, lane by lane (zero elsewhere).
-FOVREF_AVX_INLINE void gather_taps(const BmfrHistory& history, const BilinearLanes& b, int width,
-                                   Taps& t) {
-    for (int l = 0; l < lanes; ++l)
-        for (int k = 0; k < 4; ++k) {
-            if (!(b.on_bits[k] >> l & 1)) continue;
-            const std::size_t i =
-                static_cast<std::size_t>(b.y0[l] + (k >> 1)) * static_cast<std::size_t>(width) +
-                static_cast<std::size_t>(b.x0[l] + (k & 1));
+/// The four taps of eight pixels: tap k of lane l is history pixel index[k][l], read where
+/// on[k] is set (the reference's tap k that it reads), with weight weight[k].
+struct GroupTaps {
+    __m256 on[4], weight[4];
+    alignas(32) std::size_t index[4][lanes];
+};
+
+/// The history at the taps that are on, lane by lane (zero elsewhere).
+FOVREF_AVX_INLINE void gather_taps(const BmfrHistory& history, const GroupTaps& g, Taps& t) {
+    for (int k = 0; k < 4; ++k) {
+        const int on = bits(g.on[k]);
+        for (int l = 0; l < lanes; ++l) {
+            if (!(on >> l & 1)) continue;
+            const std::size_t i = g.index[k][l];
             for (int ch = 0; ch < 3; ++ch) {
                 t.position[k][ch][l] = history.world_position.data[3 * i + ch];
                 t.normal[k][ch][l] = history.normal.data[3 * i + ch];
@@ -79,22 +87,23 @@ FOVREF_AVX_INLINE void gather_taps(const BmfrHistory& history, const BilinearLan
             }
             t.spp[k][l] = history.spp.data[i];
         }
+    }
 }
 
 /// accepted_taps: the position test, then the normal test, each tap's bit in `accepted`, and
 /// their margins (margin[0], margin[1], from bmfr_no_margin).
-FOVREF_AVX_INLINE void accept_lanes(const BmfrParams& params, const Taps& t, const BilinearLanes& b,
+FOVREF_AVX_INLINE void accept_lanes(const BmfrParams& params, const Taps& t, const __m256* on,
                                     const __m256* p, const __m256* n, __m256* accepted,
                                     __m256* margin) {
     const __m256 position_limit = set(params.position_limit_squared);
     const __m256 normal_limit = set(params.normal_limit_squared);
     for (int k = 0; k < 4; ++k) {
         const __m256 dp = distance_squared(t.position[k], p);
-        margin[0] = select(b.on[k],
+        margin[0] = select(on[k],
                            std_min(margin[0], _mm256_div_ps(abs(_mm256_sub_ps(position_limit, dp)),
                                                             position_limit)),
                            margin[0]);
-        const __m256 near = both(b.on[k], less(dp, position_limit));
+        const __m256 near = both(on[k], less(dp, position_limit));
         const __m256 dn = distance_squared(t.normal[k], n);
         margin[1] = select(
             near,
@@ -137,48 +146,25 @@ FOVREF_AVX_INLINE void write_lanes(const PhaseOne& v, BmfrAccumulation& out, int
         store3_lanes(v.margin, &out.accept_margin.data[out.accept_margin.index(x, y)]);
 }
 
-__attribute__((target("avx"))) void accumulate_group(
-    const BmfrParams& params, const Image& illumination, const Image& world_position,
-    const Image& normal, const BmfrHistory& history, BmfrAccumulation& out, int x, int y,
-    BmfrStats& stats) {
-    const int width = illumination.width, height = illumination.height;
-    const float wf = static_cast<float>(width), hf = static_cast<float>(height);
-    alignas(32) float c[3][lanes], pa[3][lanes], na[3][lanes];
-    load3_lanes(&illumination.data[illumination.index(x, y)], c);
-    load3_lanes(&world_position.data[world_position.index(x, y)], pa);
-    load3_lanes(&normal.data[normal.index(x, y)], na);
-    __m256 p[3], n[3];
-    for (int k = 0; k < 3; ++k) p[k] = finite_or_zero(pa[k], stats);
-    for (int k = 0; k < 3; ++k) n[k] = finite_or_zero(na[k], stats);
-
-    __m256 qx, qy;
-    const __m256 reprojected = project_lanes(params, history.view_projection, p, wf, hf, qx, qy);
-    stats.history_off_screen += lanes - count(reprojected);
-
-    // bmfr_taps (q finite where reprojected; elsewhere a point whose taps are never read).
-    const __m256 tx = select(reprojected, std_min(std_max(qx, set(-1e6f)), set(1e6f)), set(-1e6f));
-    const __m256 ty = select(reprojected, std_min(std_max(qy, set(-1e6f)), set(1e6f)), set(-1e6f));
-    BilinearLanes b;
-    bilinear_lanes(tx, ty, floor(tx), floor(ty), reprojected, wf, hf, b);
+/// Phase I from the taps on: the position and normal tests (accept_lanes), the blend of the
+/// accepted taps, alpha, the sample count, written to `out` with q (qx, qy) where `reprojected`
+/// (bmfr_behind_camera elsewhere) and the margins (margin[2]: `margin2`).
+FOVREF_AVX_INLINE void finish_group(const BmfrParams& params, const BmfrHistory& history,
+                                    const float (*c)[lanes], const __m256* p, const __m256* n,
+                                    __m256 reprojected, __m256 qx, __m256 qy, __m256 margin2,
+                                    const GroupTaps& g, BmfrAccumulation& out, int x, int y,
+                                    BmfrStats& stats) {
     Taps t = {};
-    gather_taps(history, b, width, t);
-
+    gather_taps(history, g, t);
     const __m256 no_margin = set(bmfr_no_margin);
-    __m256 margin[3] = {no_margin, no_margin, no_margin};
+    __m256 margin[3] = {no_margin, no_margin, margin2};
     __m256 accepted[4];
-    accept_lanes(params, t, b, p, n, accepted, margin);
-    // The reprojected index's distance from the nearest integer.
-    margin[2] =
-        select(reprojected,
-               std_min(std_min(std_min(_mm256_sub_ps(qx, floor(qx)), _mm256_sub_ps(ceil(qx), qx)),
-                               _mm256_sub_ps(qy, floor(qy))),
-                       _mm256_sub_ps(ceil(qy), qy)),
-               no_margin);
+    accept_lanes(params, t, g.on, p, n, accepted, margin);
 
     // blend_noisy_history over the accepted taps, in tap order.
     __m256 h[3] = {zero(), zero(), zero()}, h_spp = zero(), total = zero(), mask = zero();
     for (int k = 0; k < 4; ++k) {
-        const __m256 w = b.weight[k];
+        const __m256 w = g.weight[k];
         for (int ch = 0; ch < 3; ++ch)
             h[ch] = _mm256_add_ps(
                 h[ch],
@@ -215,6 +201,120 @@ __attribute__((target("avx"))) void accumulate_group(
     _mm256_store_ps(v.previous[1], select(reprojected, qy, set(bmfr_behind_camera.y)));
     for (int k = 0; k < 3; ++k) _mm256_store_ps(v.margin[k], margin[k]);
     write_lanes(v, out, x, y);
+}
+
+/// The illumination, world position and normal of pixels x .. x + 7 (the latter two through
+/// finite_or_zero, counted in the `counted` lanes).
+FOVREF_AVX_INLINE void load_group(const Image& illumination, const Image& world_position,
+                                  const Image& normal, int x, int y, __m256 counted,
+                                  float (*c)[lanes], __m256* p, __m256* n, BmfrStats& stats) {
+    alignas(32) float pa[3][lanes], na[3][lanes];
+    load3_lanes(&illumination.data[illumination.index(x, y)], c);
+    load3_lanes(&world_position.data[world_position.index(x, y)], pa);
+    load3_lanes(&normal.data[normal.index(x, y)], na);
+    for (int k = 0; k < 3; ++k) p[k] = finite_or_zero(pa[k], counted, stats);
+    for (int k = 0; k < 3; ++k) n[k] = finite_or_zero(na[k], counted, stats);
+}
+
+// Phase I in screen space for pixels x .. x + 7: bmfr_project, bmfr_taps, then finish_group.
+__attribute__((target("avx"))) void accumulate_group(
+    const BmfrParams& params, const Image& illumination, const Image& world_position,
+    const Image& normal, const BmfrHistory& history, BmfrAccumulation& out, int x, int y,
+    BmfrStats& stats) {
+    const int width = illumination.width, height = illumination.height;
+    const float wf = static_cast<float>(width), hf = static_cast<float>(height);
+    const __m256 every = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+    alignas(32) float c[3][lanes];
+    __m256 p[3], n[3];
+    load_group(illumination, world_position, normal, x, y, every, c, p, n, stats);
+
+    __m256 qx, qy;
+    const __m256 reprojected =
+        project_lanes(params, history.view_projection, p, wf, hf, params.pixel_offset, qx, qy);
+    stats.history_off_screen += lanes - count(reprojected);
+
+    // bmfr_taps (q finite where reprojected; elsewhere a point whose taps are never read).
+    const __m256 tx = select(reprojected, std_min(std_max(qx, set(-1e6f)), set(1e6f)), set(-1e6f));
+    const __m256 ty = select(reprojected, std_min(std_max(qy, set(-1e6f)), set(1e6f)), set(-1e6f));
+    BilinearLanes b;
+    bilinear_lanes(tx, ty, floor(tx), floor(ty), reprojected, wf, hf, b);
+    GroupTaps g;
+    for (int k = 0; k < 4; ++k) {
+        g.on[k] = b.on[k];
+        g.weight[k] = b.weight[k];
+        for (int l = 0; l < lanes; ++l)
+            g.index[k][l] = b.on_bits[k] >> l & 1 ? static_cast<std::size_t>(b.y0[l] + (k >> 1)) *
+                                                            static_cast<std::size_t>(width) +
+                                                        static_cast<std::size_t>(b.x0[l] + (k & 1))
+                                                  : 0;
+    }
+    // The reprojected index's distance from the nearest integer.
+    const __m256 margin2 =
+        select(reprojected,
+               std_min(std_min(std_min(_mm256_sub_ps(qx, floor(qx)), _mm256_sub_ps(ceil(qx), qx)),
+                               _mm256_sub_ps(qy, floor(qy))),
+                       _mm256_sub_ps(ceil(qy), qy)),
+               set(bmfr_no_margin));
+    finish_group(params, history, c, p, n, reprojected, qx, qy, margin2, g, out, x, y, stats);
+}
+
+// Phase I in Visual-Polar space for texels x .. x + 7 of row y: the lanes without data (an
+// untraced texel) read nothing; the others are projected into the previous frame's screen in
+// lanes, then each lane's q = vp_forward_angle(previous map, s + 1/2) - (1/2, 0) and its taps
+// (bmfr_vp_taps: a tap is on inside the buffer on a texel traced in the previous frame) come
+// from the reference's own functions; then finish_group.
+__attribute__((target("avx"))) void vp_accumulate_group(
+    const BmfrParams& params, const Image& illumination, const Image& world_position,
+    const Image& normal, const BmfrHistory& history, const BmfrSpace& space, BmfrAccumulation& out,
+    int x, int y, BmfrStats& stats) {
+    const int width = illumination.width, height = illumination.height;
+    const VisualPolarMap& previous = *history.map;
+    // data: valid != 0 (NaN counts, as the reference's != does)
+    const __m256 data =
+        not_equal(_mm256_loadu_ps(&space.valid->data[space.valid->index(x, y)]), zero());
+    alignas(32) float c[3][lanes];
+    __m256 p[3], n[3];
+    load_group(illumination, world_position, normal, x, y, data, c, p, n, stats);
+
+    __m256 sx, sy;
+    const __m256 projected = both(
+        data,
+        project_lanes(params, history.view_projection, p, static_cast<float>(previous.screen_width),
+                      static_cast<float>(previous.screen_height), glm::vec2(0.5f), sx, sy));
+    alignas(32) float point[2][lanes], q[2][lanes] = {}, on[4][lanes] = {}, weight[4][lanes] = {},
+                                       reprojected_lanes[lanes] = {};
+    _mm256_store_ps(point[0], _mm256_add_ps(sx, set(0.5f)));
+    _mm256_store_ps(point[1], _mm256_add_ps(sy, set(0.5f)));
+    GroupTaps g;
+    const int projected_bits = bits(projected);
+    for (int l = 0; l < lanes; ++l) {
+        for (int k = 0; k < 4; ++k) g.index[k][l] = 0;
+        if (!(projected_bits >> l & 1)) continue;
+        const glm::vec2 ut = vp_forward_angle(previous, {point[0][l], point[1][l]});
+        const glm::vec2 ql{ut.x - 0.5f, ut.y};
+        if (!(std::isfinite(ql.x) && std::isfinite(ql.y))) continue;
+        reprojected_lanes[l] = std::bit_cast<float>(-1);
+        q[0][l] = ql.x;
+        q[1][l] = ql.y;
+        const BmfrTaps taps = bmfr_vp_taps(previous, ql);
+        for (int k = 0; k < 4; ++k) {
+            weight[k][l] = taps.w[k];
+            if (taps.x[k] < 0 || taps.y[k] < 0 || taps.x[k] >= width || taps.y[k] >= height ||
+                history.valid_texels.at(taps.x[k], taps.y[k]) == 0.0f)
+                continue;
+            on[k][l] = std::bit_cast<float>(-1);
+            g.index[k][l] = static_cast<std::size_t>(taps.y[k]) * static_cast<std::size_t>(width) +
+                            static_cast<std::size_t>(taps.x[k]);
+        }
+    }
+    for (int k = 0; k < 4; ++k) {
+        g.on[k] = _mm256_load_ps(on[k]);
+        g.weight[k] = _mm256_load_ps(weight[k]);
+    }
+    const __m256 reprojected = _mm256_load_ps(reprojected_lanes);
+    stats.history_off_screen += count(data) - count(reprojected);
+    finish_group(params, history, c, p, n, reprojected, _mm256_load_ps(q[0]), _mm256_load_ps(q[1]),
+                 set(bmfr_no_margin), g, out, x, y, stats);
 }
 
 // Phase III (bmfr_accumulate_filtered_pixel) for pixels x .. x + 7: the history blended over
@@ -290,19 +390,27 @@ __attribute__((target("avx"))) void filtered_group(const BmfrParams& params, con
 
 bool bmfr_accumulate_noisy_avx_applies(bool has_previous, const BmfrSpace& space,
                                        const Image& illumination) {
-    // The lanes read a 3-channel illumination directly (the other buffers' shapes are checked).
-    return has_previous && !space.map && illumination.channels == 3 && simd_allowed() &&
-           cpu_has_avx();
+    // The lanes read a 3-channel illumination directly (the other buffers' shapes are checked:
+    // bmfr_accumulate_noisy), and in Visual-Polar space a one-channel mask of its size.
+    const bool mask = !space.map || (space.valid && space.valid->channels == 1 &&
+                                     space.valid->width == illumination.width &&
+                                     space.valid->height == illumination.height);
+    return has_previous && mask && illumination.channels == 3 && simd_allowed() && cpu_has_avx();
 }
 
 int bmfr_accumulate_noisy_row_avx(const BmfrParams& params, const Image& illumination,
                                   const Image& world_position, const Image& normal,
-                                  const BmfrHistory& history, BmfrAccumulation& out, int y,
-                                  BmfrStats& stats) {
+                                  const BmfrHistory& history, const BmfrSpace& space,
+                                  BmfrAccumulation& out, int y, BmfrStats& stats) {
     const int groups = illumination.width / lanes;
-    for (int group = 0; group < groups; ++group)
-        accumulate_group(params, illumination, world_position, normal, history, out, group * lanes,
-                         y, stats);
+    for (int group = 0; group < groups; ++group) {
+        if (space.map)
+            vp_accumulate_group(params, illumination, world_position, normal, history, space, out,
+                                group * lanes, y, stats);
+        else
+            accumulate_group(params, illumination, world_position, normal, history, out,
+                             group * lanes, y, stats);
+    }
     return groups * lanes;
 }
 

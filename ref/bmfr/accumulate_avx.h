@@ -23,8 +23,8 @@ bool bmfr_accumulate_noisy_avx_applies(bool has_previous, const BmfrSpace& space
 /// done; the caller runs the reference on the rest of the row. Only where the above applies.
 int bmfr_accumulate_noisy_row_avx(const BmfrParams& params, const Image& illumination,
                                   const Image& world_position, const Image& normal,
-                                  const BmfrHistory& history, BmfrAccumulation& out, int y,
-                                  BmfrStats& stats);
+                                  const BmfrHistory& history, const BmfrSpace& space,
+                                  BmfrAccumulation& out, int y, BmfrStats& stats);
 
 /// Phase III the same way (bmfr_accumulate_filtered_pixel's bits): screen space with a history,
 /// a 3-channel fit, simd_allowed() and AVX.

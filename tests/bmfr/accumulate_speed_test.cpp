@@ -13,6 +13,7 @@
 #include "ref/bmfr/bmfr.h"
 #include "ref/bmfr/weighted_sum_avx.h"
 #include "ref/core/simd.h"
+#include "ref/visual_polar/map.h"
 #include "tests/image/image_test_util.h"
 
 using namespace fovref;
@@ -158,6 +159,105 @@ TEST_CASE(
     CHECK(seen.history_off_screen > 500);
     CHECK(half_counts > 20);
     CHECK(blended > 500);  // phase III blends its history in, not just copies the fit
+}
+
+TEST_CASE("bmfr phase I in Visual-Polar space: the AVX path gives the reference's bits") {
+    if (!cpu_has_avx()) MESSAGE("no AVX on this CPU: both runs take the reference");
+    // A 67 x 45 buffer (eight groups and a tail of three per row) on a 120 x 90 screen, BMFR's
+    // staircase moved between the frames (the history's rows differ from this frame's in the
+    // fovea), untraced texels now and in the previous frame (a NaN mask counts as traced).
+    const int w = 67, h = 45;
+    test::SplitMix64 rng(29);
+    BmfrStats seen;
+    for (int trial = 0; trial < 5; ++trial) {
+        CAPTURE(trial);
+        const glm::vec2 gaze = trial == 3 ? glm::vec2(-20.0f, 30.0f) : glm::vec2(60.0f, 45.0f);
+        VisualPolarMap map = make_visual_polar_map(120, 90, gaze, w, h);
+        map.staircase_block = 8;
+        map.staircase_offset = 2;
+        VisualPolarMap previous_map = map;
+        previous_map.staircase_offset = trial == 2 ? 2 : 5;
+        const Camera camera = look_at({0.0f, 1.0f, 4.0f}, {0.0f, 1.0f, 0.0f}, {0, 1, 0}, 50.0f);
+        const float tan_half = tan_half_vfov(camera);
+        const glm::vec3 steps[] = {{0.02f, 0.0f, 0.0f},
+                                   {0.0f, 0.01f, 0.05f},
+                                   {0.0f, 0.0f, 0.0f},
+                                   {1.0f, 0.0f, 0.0f},
+                                   {0.0f, 0.0f, -3.0f}};
+        const Camera previous =
+            look_at(camera.position + steps[trial], glm::vec3{0.0f, 1.0f, 0.0f} + steps[trial],
+                    {0, 1, 0}, 50.0f);
+        Image illumination(w, h, 3), world(w, h, 3), normal(w, h, 3), valid(w, h, 1);
+        BmfrHistory history;
+        history.valid = true;
+        history.view_projection = view_projection(previous, 120, 90);
+        history.map = previous_map;
+        history.valid_texels = Image(w, h, 1);
+        history.world_position = Image(w, h, 3);
+        history.normal = Image(w, h, 3);
+        history.accumulated_noisy = Image(w, h, 3);
+        history.spp = Image(w, h, 1);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                glm::vec2 s{0.0f};
+                const VpTexel status = vp_texel_status(map, x, y, s);
+                valid.at(x, y) = status == VpTexel::traced && rng.below(17) != 0 ? 1.0f : 0.0f;
+                if (rng.below(97) == 0) valid.at(x, y) = quiet_nan;
+                history.valid_texels.at(x, y) = rng.below(11) != 0 ? 1.0f : 0.0f;
+                const glm::vec3 d = primary_ray_direction(camera, tan_half, 120, 90, s.x, s.y);
+                const glm::vec3 p = camera.position + rng.uniform(2.0f, 5.0f) * d;
+                const glm::vec3 n{rng.uniform(-0.3f, 0.3f), 1.0f, rng.uniform(-0.3f, 0.3f)};
+                for (int c = 0; c < 3; ++c) {
+                    world.at(x, y, c) = hostile(rng, p[c], 211);
+                    normal.at(x, y, c) = hostile(rng, n[c], 211);
+                    history.world_position.at(x, y, c) =
+                        hostile(rng, p[c] + rng.uniform(-0.06f, 0.06f), 197);
+                    history.normal.at(x, y, c) =
+                        hostile(rng, n[c] + rng.uniform(-0.35f, 0.35f), 197);
+                    illumination.at(x, y, c) = hostile(rng, rng.uniform(0.0f, 4.0f), 193);
+                    history.accumulated_noisy.at(x, y, c) =
+                        hostile(rng, rng.uniform(0.0f, 4.0f), 191);
+                }
+                history.spp.at(x, y) = hostile(
+                    rng, static_cast<float>(1 + rng.below(40)) + (rng.below(8) == 0 ? 0.5f : 0.0f),
+                    181);
+            }
+        BmfrSpace space;
+        space.map = map;
+        space.valid = &valid;
+        space.previous_map = previous_map;
+        BmfrParams params;
+        params.project_behind_camera = trial == 2;
+        CHECK(bmfr_accumulate_noisy_avx_applies(true, space, illumination) == cpu_has_avx());
+        BmfrStats fast_stats, reference_stats;
+        BmfrAccumulation runs[2];
+        for (const bool simd : {true, false}) {
+            set_simd_allowed(simd);
+            runs[simd ? 0 : 1] = bmfr_accumulate_noisy(params, illumination, world, normal, history,
+                                                       simd ? fast_stats : reference_stats, space);
+            set_simd_allowed(true);
+        }
+        REQUIRE(test::same_bits_nan_aside(runs[0].accumulated, runs[1].accumulated));
+        REQUIRE(test::same_bits_nan_aside(runs[0].spp, runs[1].spp));
+        REQUIRE(test::same_bits_nan_aside(runs[0].accept, runs[1].accept));
+        REQUIRE(test::same_bits_nan_aside(runs[0].previous_pixel, runs[1].previous_pixel));
+        REQUIRE(test::same_bits_nan_aside(runs[0].accept_margin, runs[1].accept_margin));
+        CHECK(fast_stats.nonfinite_inputs == reference_stats.nonfinite_inputs);
+        CHECK(fast_stats.history_accepted == reference_stats.history_accepted);
+        CHECK(fast_stats.history_rejected == reference_stats.history_rejected);
+        CHECK(fast_stats.history_off_screen == reference_stats.history_off_screen);
+        seen.nonfinite_inputs += reference_stats.nonfinite_inputs;
+        seen.history_accepted += reference_stats.history_accepted;
+        seen.history_rejected += reference_stats.history_rejected;
+        seen.history_off_screen += reference_stats.history_off_screen;
+    }
+    MESSAGE("accepted " << seen.history_accepted << ", rejected " << seen.history_rejected
+                        << ", off screen " << seen.history_off_screen << ", non-finite "
+                        << seen.nonfinite_inputs);
+    CHECK(seen.nonfinite_inputs > 10);
+    CHECK(seen.history_accepted > 500);
+    CHECK(seen.history_rejected > 100);
+    CHECK(seen.history_off_screen > 100);
 }
 
 TEST_CASE("bmfr weighted sum: the AVX path gives the reference's bits, block by block (B 32, 64)") {
