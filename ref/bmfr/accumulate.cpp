@@ -341,10 +341,10 @@ Image bmfr_accumulate_filtered(const BmfrParams& params, const Image& fitted, co
     check_shape(previous_pixel, width, height, 2, "previous_pixel");
     if (!history.empty()) check_shape(history, width, height, 3, "accumulated_filtered history");
     Image out(width, height, 3);
-    const bool avx = bmfr_accumulate_filtered_avx_applies(history, space, fitted);
+    const bool avx = bmfr_accumulate_filtered_avx_applies(history, fitted);
     for (int y = 0; y < height; ++y)
         for (int x = avx ? bmfr_accumulate_filtered_row_avx(params, fitted, spp, accept,
-                                                            previous_pixel, history, out, y)
+                                                            previous_pixel, history, space, out, y)
                          : 0;
              x < width; ++x)
             bmfr_accumulate_filtered_pixel(params, fitted, spp, accept, previous_pixel, history,

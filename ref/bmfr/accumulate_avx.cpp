@@ -317,57 +317,39 @@ __attribute__((target("avx"))) void vp_accumulate_group(
                  set(bmfr_no_margin), g, out, x, y, stats);
 }
 
-// Phase III (bmfr_accumulate_filtered_pixel) for pixels x .. x + 7: the history blended over
-// the taps phase I accepted that lie inside the image, then alpha = max(1 / spp, min).
-__attribute__((target("avx"))) void filtered_group(const BmfrParams& params, const Image& fitted,
-                                                   const Image& spp, const Image& accept,
-                                                   const Image& previous_pixel,
-                                                   const Image& history, Image& out, int x, int y) {
-    const int width = fitted.width, height = fitted.height;
-    const float wf = static_cast<float>(width), hf = static_cast<float>(height);
-    alignas(32) float c[3][lanes], q[2][lanes];
-    load3_lanes(&fitted.data[fitted.index(x, y)], c);
-    const float* pp = &previous_pixel.data[previous_pixel.index(x, y)];
-    for (int l = 0; l < lanes; ++l) q[0][l] = pp[2 * l], q[1][l] = pp[2 * l + 1];
-    // The accepted-tap bits 0 .. 15 (anything else: none), as all-ones lanes per tap.
-    alignas(32) std::int32_t accepted_bits[4][lanes];
+/// Phase I's accepted-tap bits of pixels x .. x + 7 (0 .. 15; anything else: none).
+FOVREF_AVX_INLINE void accepted_bits_of(const Image& accept, int x, int y, unsigned* mask) {
     const float* bits_in = &accept.data[accept.index(x, y)];
     for (int l = 0; l < lanes; ++l) {
         const float value = bits_in[l];
-        const unsigned mask = value >= 0.0f && value < 16.0f ? static_cast<unsigned>(value) : 0u;
-        for (int k = 0; k < 4; ++k) accepted_bits[k][l] = (mask >> k & 1u) ? -1 : 0;
+        mask[l] = value >= 0.0f && value < 16.0f ? static_cast<unsigned>(value) : 0u;
     }
-    // bmfr_taps(q): a non-finite coordinate goes far off, a finite one is clamped to +-1e6.
-    __m256 tap_x0, tap_y0;
-    {
-        const __m256 qx = _mm256_load_ps(q[0]), qy = _mm256_load_ps(q[1]);
-        tap_x0 = select(finite(qx), std_min(std_max(qx, set(-1e6f)), set(1e6f)), set(-1e6f));
-        tap_y0 = select(finite(qy), std_min(std_max(qy, set(-1e6f)), set(1e6f)), set(-1e6f));
-    }
-    BilinearLanes b;
-    const __m256 all = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
-    bilinear_lanes(tap_x0, tap_y0, floor(tap_x0), floor(tap_y0), all, wf, hf, b);
-    __m256 used[4];
-    int used_bits[4];
-    for (int k = 0; k < 4; ++k) {
-        used[k] = both(b.on[k], _mm256_load_ps(reinterpret_cast<const float*>(accepted_bits[k])));
-        used_bits[k] = bits(used[k]);
-    }
+}
+
+/// Phase III's blend for pixels x .. x + 7 from the taps used (GroupTaps: on = accepted by phase
+/// I and inside the image): the sums in tap order, renormalised, then alpha = max(1 / spp, min).
+FOVREF_AVX_INLINE void finish_filtered(const BmfrParams& params, const Image& fitted,
+                                       const Image& spp, const Image& history, const GroupTaps& g,
+                                       Image& out, int x, int y) {
+    alignas(32) float c[3][lanes];
+    load3_lanes(&fitted.data[fitted.index(x, y)], c);
     alignas(32) float taps[4][3][lanes] = {};
-    for (int l = 0; l < lanes; ++l)
-        for (int k = 0; k < 4; ++k) {
-            if (!(used_bits[k] >> l & 1)) continue;
-            const float* p = &history.data[history.index(b.x0[l] + (k & 1), b.y0[l] + (k >> 1))];
+    for (int k = 0; k < 4; ++k) {
+        const int used = bits(g.on[k]);
+        for (int l = 0; l < lanes; ++l) {
+            if (!(used >> l & 1)) continue;
+            const float* p = &history.data[3 * g.index[k][l]];
             for (int ch = 0; ch < 3; ++ch) taps[k][ch][l] = p[ch];
         }
+    }
     // blend_accepted: the sums in tap order, renormalised.
     __m256 h[3] = {zero(), zero(), zero()}, total = zero();
     for (int k = 0; k < 4; ++k) {
         for (int ch = 0; ch < 3; ++ch)
             h[ch] = _mm256_add_ps(
                 h[ch],
-                select(used[k], _mm256_mul_ps(b.weight[k], _mm256_load_ps(taps[k][ch])), zero()));
-        total = _mm256_add_ps(total, select(used[k], b.weight[k], zero()));
+                select(g.on[k], _mm256_mul_ps(g.weight[k], _mm256_load_ps(taps[k][ch])), zero()));
+        total = _mm256_add_ps(total, select(g.on[k], g.weight[k], zero()));
     }
     const __m256 blended = greater(total, zero());
     const __m256 alpha =
@@ -384,6 +366,82 @@ __attribute__((target("avx"))) void filtered_group(const BmfrParams& params, con
                                current));
     }
     store3_lanes(o, &out.data[out.index(x, y)]);
+}
+
+// Phase III (bmfr_accumulate_filtered_pixel) in screen space for pixels x .. x + 7: the history
+// blended over the taps phase I accepted that lie inside the image (bmfr_taps of q).
+__attribute__((target("avx"))) void filtered_group(const BmfrParams& params, const Image& fitted,
+                                                   const Image& spp, const Image& accept,
+                                                   const Image& previous_pixel,
+                                                   const Image& history, Image& out, int x, int y) {
+    const int width = fitted.width, height = fitted.height;
+    const float wf = static_cast<float>(width), hf = static_cast<float>(height);
+    alignas(32) float q[2][lanes];
+    const float* pp = &previous_pixel.data[previous_pixel.index(x, y)];
+    for (int l = 0; l < lanes; ++l) q[0][l] = pp[2 * l], q[1][l] = pp[2 * l + 1];
+    // The accepted-tap bits as all-ones lanes per tap.
+    unsigned mask[lanes];
+    accepted_bits_of(accept, x, y, mask);
+    alignas(32) std::int32_t accepted_bits[4][lanes];
+    for (int l = 0; l < lanes; ++l)
+        for (int k = 0; k < 4; ++k) accepted_bits[k][l] = (mask[l] >> k & 1u) ? -1 : 0;
+    // bmfr_taps(q): a non-finite coordinate goes far off, a finite one is clamped to +-1e6.
+    __m256 tap_x0, tap_y0;
+    {
+        const __m256 qx = _mm256_load_ps(q[0]), qy = _mm256_load_ps(q[1]);
+        tap_x0 = select(finite(qx), std_min(std_max(qx, set(-1e6f)), set(1e6f)), set(-1e6f));
+        tap_y0 = select(finite(qy), std_min(std_max(qy, set(-1e6f)), set(1e6f)), set(-1e6f));
+    }
+    BilinearLanes b;
+    const __m256 all = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+    bilinear_lanes(tap_x0, tap_y0, floor(tap_x0), floor(tap_y0), all, wf, hf, b);
+    GroupTaps g;
+    for (int k = 0; k < 4; ++k) {
+        g.on[k] = both(b.on[k], _mm256_load_ps(reinterpret_cast<const float*>(accepted_bits[k])));
+        g.weight[k] = b.weight[k];
+        const int used = bits(g.on[k]);
+        for (int l = 0; l < lanes; ++l)
+            g.index[k][l] = used >> l & 1 ? static_cast<std::size_t>(b.y0[l] + (k >> 1)) *
+                                                    static_cast<std::size_t>(width) +
+                                                static_cast<std::size_t>(b.x0[l] + (k & 1))
+                                          : 0;
+    }
+    finish_filtered(params, fitted, spp, history, g, out, x, y);
+}
+
+// Phase III in Visual-Polar space for texels x .. x + 7: each lane with accepted taps takes its
+// taps from bmfr_vp_taps (the history's map) of its stored q, a tap used where phase I accepted
+// it and it lies inside the buffer; then finish_filtered.
+__attribute__((target("avx"))) void vp_filtered_group(const BmfrParams& params, const Image& fitted,
+                                                      const Image& spp, const Image& accept,
+                                                      const Image& previous_pixel,
+                                                      const Image& history, const BmfrSpace& space,
+                                                      Image& out, int x, int y) {
+    const int width = fitted.width, height = fitted.height;
+    unsigned mask[lanes];
+    accepted_bits_of(accept, x, y, mask);
+    alignas(32) float on[4][lanes] = {}, weight[4][lanes] = {};
+    GroupTaps g;
+    for (int l = 0; l < lanes; ++l) {
+        for (int k = 0; k < 4; ++k) g.index[k][l] = 0;
+        if (mask[l] == 0) continue;
+        const glm::vec2 q(previous_pixel.at(x + l, y, 0), previous_pixel.at(x + l, y, 1));
+        const BmfrTaps taps = bmfr_vp_taps(space.history_map(), q);
+        for (int k = 0; k < 4; ++k) {
+            weight[k][l] = taps.w[k];
+            if (!(mask[l] >> k & 1u) || taps.x[k] < 0 || taps.y[k] < 0 || taps.x[k] >= width ||
+                taps.y[k] >= height)
+                continue;
+            on[k][l] = std::bit_cast<float>(-1);
+            g.index[k][l] = static_cast<std::size_t>(taps.y[k]) * static_cast<std::size_t>(width) +
+                            static_cast<std::size_t>(taps.x[k]);
+        }
+    }
+    for (int k = 0; k < 4; ++k) {
+        g.on[k] = _mm256_load_ps(on[k]);
+        g.weight[k] = _mm256_load_ps(weight[k]);
+    }
+    finish_filtered(params, fitted, spp, history, g, out, x, y);
 }
 
 }  // namespace
@@ -418,19 +476,24 @@ int bmfr_accumulate_noisy_row_avx(const BmfrParams& params, const Image& illumin
 
 namespace fovref {
 
-bool bmfr_accumulate_filtered_avx_applies(const Image& history, const BmfrSpace& space,
-                                          const Image& fitted) {
-    return !history.empty() && !space.map && fitted.channels == 3 && simd_allowed() &&
-           cpu_has_avx();
+bool bmfr_accumulate_filtered_avx_applies(const Image& history, const Image& fitted) {
+    // either space (the history's shape is checked: bmfr_accumulate_filtered)
+    return !history.empty() && fitted.channels == 3 && simd_allowed() && cpu_has_avx();
 }
 
 int bmfr_accumulate_filtered_row_avx(const BmfrParams& params, const Image& fitted,
                                      const Image& spp, const Image& accept,
-                                     const Image& previous_pixel, const Image& history, Image& out,
-                                     int y) {
+                                     const Image& previous_pixel, const Image& history,
+                                     const BmfrSpace& space, Image& out, int y) {
     const int groups = fitted.width / lanes;
-    for (int group = 0; group < groups; ++group)
-        filtered_group(params, fitted, spp, accept, previous_pixel, history, out, group * lanes, y);
+    for (int group = 0; group < groups; ++group) {
+        if (space.map)
+            vp_filtered_group(params, fitted, spp, accept, previous_pixel, history, space, out,
+                              group * lanes, y);
+        else
+            filtered_group(params, fitted, spp, accept, previous_pixel, history, out, group * lanes,
+                           y);
+    }
     return groups * lanes;
 }
 

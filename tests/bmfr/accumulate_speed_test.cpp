@@ -122,8 +122,7 @@ TEST_CASE(
         for (float& v : accept.data)
             if (rng.below(53) == 0) v = odd_bits[rng.below(6)];
         for (float& v : previous_pixel.data) v = hostile(rng, v, 101);
-        CHECK(bmfr_accumulate_filtered_avx_applies(filtered_history, BmfrSpace{}, fitted) ==
-              cpu_has_avx());
+        CHECK(bmfr_accumulate_filtered_avx_applies(filtered_history, fitted) == cpu_has_avx());
         Image filtered[2];
         for (const bool simd : {true, false}) {
             set_simd_allowed(simd);
@@ -161,7 +160,7 @@ TEST_CASE(
     CHECK(blended > 500);  // phase III blends its history in, not just copies the fit
 }
 
-TEST_CASE("bmfr phase I in Visual-Polar space: the AVX path gives the reference's bits") {
+TEST_CASE("bmfr phases I and III in Visual-Polar space: the AVX paths give the reference's bits") {
     if (!cpu_has_avx()) MESSAGE("no AVX on this CPU: both runs take the reference");
     // A 67 x 45 buffer (eight groups and a tail of three per row) on a 120 x 90 screen, BMFR's
     // staircase moved between the frames (the history's rows differ from this frame's in the
@@ -169,6 +168,7 @@ TEST_CASE("bmfr phase I in Visual-Polar space: the AVX path gives the reference'
     const int w = 67, h = 45;
     test::SplitMix64 rng(29);
     BmfrStats seen;
+    std::int64_t blended = 0;
     for (int trial = 0; trial < 5; ++trial) {
         CAPTURE(trial);
         const glm::vec2 gaze = trial == 3 ? glm::vec2(-20.0f, 30.0f) : glm::vec2(60.0f, 45.0f);
@@ -250,7 +250,29 @@ TEST_CASE("bmfr phase I in Visual-Polar space: the AVX path gives the reference'
         seen.history_accepted += reference_stats.history_accepted;
         seen.history_rejected += reference_stats.history_rejected;
         seen.history_off_screen += reference_stats.history_off_screen;
+        // Phase III on phase I's decisions, some of them corrupted (a foreign buffer).
+        CHECK(bmfr_accumulate_filtered_avx_applies(history.accumulated_noisy, illumination) ==
+              cpu_has_avx());
+        Image fitted(w, h, 3), filtered_history(w, h, 3);
+        for (float& v : fitted.data) v = hostile(rng, rng.uniform(0.0f, 4.0f), 193);
+        for (float& v : filtered_history.data) v = hostile(rng, rng.uniform(0.0f, 4.0f), 191);
+        Image accept = runs[1].accept, previous_pixel = runs[1].previous_pixel;
+        const float odd_bits[] = {17.0f, -1.0f, 3.7f, quiet_nan, 15.0f, 16.0f};
+        for (float& v : accept.data)
+            if (rng.below(53) == 0) v = odd_bits[rng.below(6)];
+        for (float& v : previous_pixel.data) v = hostile(rng, v, 101);
+        Image filtered[2];
+        for (const bool simd : {true, false}) {
+            set_simd_allowed(simd);
+            filtered[simd ? 0 : 1] = bmfr_accumulate_filtered(
+                params, fitted, runs[1].spp, accept, previous_pixel, filtered_history, space);
+            set_simd_allowed(true);
+        }
+        REQUIRE(test::same_bits_nan_aside(filtered[0], filtered[1]));
+        for (std::size_t i = 0; i < fitted.data.size(); ++i)
+            if (!bit_equal_value(filtered[1].data[i], fitted.data[i])) ++blended;
     }
+    CHECK(blended > 500);  // phase III blends its history in, not just copies the fit
     MESSAGE("accepted " << seen.history_accepted << ", rejected " << seen.history_rejected
                         << ", off screen " << seen.history_off_screen << ", non-finite "
                         << seen.nonfinite_inputs);
