@@ -14,8 +14,14 @@ namespace {
 
 using namespace avx;
 
-/// finite_or_zero of accumulate.cpp per lane, counting the replaced values of the `counted`
-/// lanes (those the reference reads).
+/// finite_or_zero of accumulate.cpp per lane, counting the replaced values (of every lane, or
+/// of the `counted` lanes: those the reference reads).
+FOVREF_AVX_INLINE __m256 finite_or_zero(const float* v, BmfrStats& stats) {
+    const __m256 value = _mm256_load_ps(v);
+    const __m256 ok = finite(value);
+    stats.nonfinite_inputs += lanes - count(ok);
+    return select(ok, value, zero());
+}
 FOVREF_AVX_INLINE __m256 finite_or_zero(const float* v, __m256 counted, BmfrStats& stats) {
     const __m256 value = _mm256_load_ps(v);
     const __m256 ok = finite(value);
@@ -66,20 +72,32 @@ FOVREF_AVX_INLINE __m256 project_lanes(const BmfrParams& params, const ViewProje
     return both(w_ok, both(finite(qx), finite(qy)));
 }
 
-/// The four taps of eight pixels: tap k of lane l is history pixel index[k][l], read where
-/// on[k] is set (the reference's tap k that it reads), with weight weight[k].
-struct GroupTaps {
+/// The four taps of eight pixels: tap k of lane l is history pixel index(k, l), read where on[k]
+/// is set (the reference's tap k that it reads), with weight weight[k]. Screen space: the
+/// bilinear corners' taps; Visual-Polar space: each lane's own list (bmfr_vp_taps).
+struct ScreenTaps {
     __m256 on[4], weight[4];
-    alignas(32) std::size_t index[4][lanes];
+    const BilinearLanes* b = nullptr;
+    std::size_t width = 0;
+    std::size_t index(int k, int l) const {
+        return static_cast<std::size_t>(b->y0[l] + (k >> 1)) * width +
+               static_cast<std::size_t>(b->x0[l] + (k & 1));
+    }
+};
+struct ListedTaps {
+    __m256 on[4], weight[4];
+    alignas(32) std::size_t at[4][lanes];
+    std::size_t index(int k, int l) const { return at[k][l]; }
 };
 
 /// The history at the taps that are on, lane by lane (zero elsewhere).
+template <class GroupTaps>
 FOVREF_AVX_INLINE void gather_taps(const BmfrHistory& history, const GroupTaps& g, Taps& t) {
-    for (int k = 0; k < 4; ++k) {
-        const int on = bits(g.on[k]);
-        for (int l = 0; l < lanes; ++l) {
-            if (!(on >> l & 1)) continue;
-            const std::size_t i = g.index[k][l];
+    const int on[4] = {bits(g.on[0]), bits(g.on[1]), bits(g.on[2]), bits(g.on[3])};
+    for (int l = 0; l < lanes; ++l)
+        for (int k = 0; k < 4; ++k) {
+            if (!(on[k] >> l & 1)) continue;
+            const std::size_t i = g.index(k, l);
             for (int ch = 0; ch < 3; ++ch) {
                 t.position[k][ch][l] = history.world_position.data[3 * i + ch];
                 t.normal[k][ch][l] = history.normal.data[3 * i + ch];
@@ -87,7 +105,6 @@ FOVREF_AVX_INLINE void gather_taps(const BmfrHistory& history, const GroupTaps& 
             }
             t.spp[k][l] = history.spp.data[i];
         }
-    }
 }
 
 /// accepted_taps: the position test, then the normal test, each tap's bit in `accepted`, and
@@ -149,6 +166,7 @@ FOVREF_AVX_INLINE void write_lanes(const PhaseOne& v, BmfrAccumulation& out, int
 /// Phase I from the taps on: the position and normal tests (accept_lanes), the blend of the
 /// accepted taps, alpha, the sample count, written to `out` with q (qx, qy) where `reprojected`
 /// (bmfr_behind_camera elsewhere) and the margins (margin[2]: `margin2`).
+template <class GroupTaps>
 FOVREF_AVX_INLINE void finish_group(const BmfrParams& params, const BmfrHistory& history,
                                     const float (*c)[lanes], const __m256* p, const __m256* n,
                                     __m256 reprojected, __m256 qx, __m256 qy, __m256 margin2,
@@ -204,16 +222,18 @@ FOVREF_AVX_INLINE void finish_group(const BmfrParams& params, const BmfrHistory&
 }
 
 /// The illumination, world position and normal of pixels x .. x + 7 (the latter two through
-/// finite_or_zero, counted in the `counted` lanes).
+/// finite_or_zero, counted in every lane, or with `counted` in those lanes only).
 FOVREF_AVX_INLINE void load_group(const Image& illumination, const Image& world_position,
-                                  const Image& normal, int x, int y, __m256 counted,
+                                  const Image& normal, int x, int y, const __m256* counted,
                                   float (*c)[lanes], __m256* p, __m256* n, BmfrStats& stats) {
     alignas(32) float pa[3][lanes], na[3][lanes];
     load3_lanes(&illumination.data[illumination.index(x, y)], c);
     load3_lanes(&world_position.data[world_position.index(x, y)], pa);
     load3_lanes(&normal.data[normal.index(x, y)], na);
-    for (int k = 0; k < 3; ++k) p[k] = finite_or_zero(pa[k], counted, stats);
-    for (int k = 0; k < 3; ++k) n[k] = finite_or_zero(na[k], counted, stats);
+    for (int k = 0; k < 3; ++k)
+        p[k] = counted ? finite_or_zero(pa[k], *counted, stats) : finite_or_zero(pa[k], stats);
+    for (int k = 0; k < 3; ++k)
+        n[k] = counted ? finite_or_zero(na[k], *counted, stats) : finite_or_zero(na[k], stats);
 }
 
 // Phase I in screen space for pixels x .. x + 7: bmfr_project, bmfr_taps, then finish_group.
@@ -223,10 +243,9 @@ __attribute__((target("avx"))) void accumulate_group(
     BmfrStats& stats) {
     const int width = illumination.width, height = illumination.height;
     const float wf = static_cast<float>(width), hf = static_cast<float>(height);
-    const __m256 every = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
     alignas(32) float c[3][lanes];
     __m256 p[3], n[3];
-    load_group(illumination, world_position, normal, x, y, every, c, p, n, stats);
+    load_group(illumination, world_position, normal, x, y, nullptr, c, p, n, stats);
 
     __m256 qx, qy;
     const __m256 reprojected =
@@ -238,16 +257,13 @@ __attribute__((target("avx"))) void accumulate_group(
     const __m256 ty = select(reprojected, std_min(std_max(qy, set(-1e6f)), set(1e6f)), set(-1e6f));
     BilinearLanes b;
     bilinear_lanes(tx, ty, floor(tx), floor(ty), reprojected, wf, hf, b);
-    GroupTaps g;
+    ScreenTaps g;
     for (int k = 0; k < 4; ++k) {
         g.on[k] = b.on[k];
         g.weight[k] = b.weight[k];
-        for (int l = 0; l < lanes; ++l)
-            g.index[k][l] = b.on_bits[k] >> l & 1 ? static_cast<std::size_t>(b.y0[l] + (k >> 1)) *
-                                                            static_cast<std::size_t>(width) +
-                                                        static_cast<std::size_t>(b.x0[l] + (k & 1))
-                                                  : 0;
     }
+    g.b = &b;
+    g.width = static_cast<std::size_t>(width);
     // The reprojected index's distance from the nearest integer.
     const __m256 margin2 =
         select(reprojected,
@@ -274,7 +290,7 @@ __attribute__((target("avx"))) void vp_accumulate_group(
         not_equal(_mm256_loadu_ps(&space.valid->data[space.valid->index(x, y)]), zero());
     alignas(32) float c[3][lanes];
     __m256 p[3], n[3];
-    load_group(illumination, world_position, normal, x, y, data, c, p, n, stats);
+    load_group(illumination, world_position, normal, x, y, &data, c, p, n, stats);
 
     __m256 sx, sy;
     const __m256 projected = both(
@@ -285,10 +301,10 @@ __attribute__((target("avx"))) void vp_accumulate_group(
                                        reprojected_lanes[lanes] = {};
     _mm256_store_ps(point[0], _mm256_add_ps(sx, set(0.5f)));
     _mm256_store_ps(point[1], _mm256_add_ps(sy, set(0.5f)));
-    GroupTaps g;
+    ListedTaps g;
     const int projected_bits = bits(projected);
     for (int l = 0; l < lanes; ++l) {
-        for (int k = 0; k < 4; ++k) g.index[k][l] = 0;
+        for (int k = 0; k < 4; ++k) g.at[k][l] = 0;
         if (!(projected_bits >> l & 1)) continue;
         const glm::vec2 ut = vp_forward_angle(previous, {point[0][l], point[1][l]});
         const glm::vec2 ql{ut.x - 0.5f, ut.y};
@@ -303,8 +319,8 @@ __attribute__((target("avx"))) void vp_accumulate_group(
                 history.valid_texels.at(taps.x[k], taps.y[k]) == 0.0f)
                 continue;
             on[k][l] = std::bit_cast<float>(-1);
-            g.index[k][l] = static_cast<std::size_t>(taps.y[k]) * static_cast<std::size_t>(width) +
-                            static_cast<std::size_t>(taps.x[k]);
+            g.at[k][l] = static_cast<std::size_t>(taps.y[k]) * static_cast<std::size_t>(width) +
+                         static_cast<std::size_t>(taps.x[k]);
         }
     }
     for (int k = 0; k < 4; ++k) {
@@ -328,6 +344,7 @@ FOVREF_AVX_INLINE void accepted_bits_of(const Image& accept, int x, int y, unsig
 
 /// Phase III's blend for pixels x .. x + 7 from the taps used (GroupTaps: on = accepted by phase
 /// I and inside the image): the sums in tap order, renormalised, then alpha = max(1 / spp, min).
+template <class GroupTaps>
 FOVREF_AVX_INLINE void finish_filtered(const BmfrParams& params, const Image& fitted,
                                        const Image& spp, const Image& history, const GroupTaps& g,
                                        Image& out, int x, int y) {
@@ -338,7 +355,7 @@ FOVREF_AVX_INLINE void finish_filtered(const BmfrParams& params, const Image& fi
         const int used = bits(g.on[k]);
         for (int l = 0; l < lanes; ++l) {
             if (!(used >> l & 1)) continue;
-            const float* p = &history.data[3 * g.index[k][l]];
+            const float* p = &history.data[3 * g.index(k, l)];
             for (int ch = 0; ch < 3; ++ch) taps[k][ch][l] = p[ch];
         }
     }
@@ -395,17 +412,13 @@ __attribute__((target("avx"))) void filtered_group(const BmfrParams& params, con
     BilinearLanes b;
     const __m256 all = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
     bilinear_lanes(tap_x0, tap_y0, floor(tap_x0), floor(tap_y0), all, wf, hf, b);
-    GroupTaps g;
+    ScreenTaps g;
     for (int k = 0; k < 4; ++k) {
         g.on[k] = both(b.on[k], _mm256_load_ps(reinterpret_cast<const float*>(accepted_bits[k])));
         g.weight[k] = b.weight[k];
-        const int used = bits(g.on[k]);
-        for (int l = 0; l < lanes; ++l)
-            g.index[k][l] = used >> l & 1 ? static_cast<std::size_t>(b.y0[l] + (k >> 1)) *
-                                                    static_cast<std::size_t>(width) +
-                                                static_cast<std::size_t>(b.x0[l] + (k & 1))
-                                          : 0;
     }
+    g.b = &b;
+    g.width = static_cast<std::size_t>(width);
     finish_filtered(params, fitted, spp, history, g, out, x, y);
 }
 
@@ -421,9 +434,9 @@ __attribute__((target("avx"))) void vp_filtered_group(const BmfrParams& params, 
     unsigned mask[lanes];
     accepted_bits_of(accept, x, y, mask);
     alignas(32) float on[4][lanes] = {}, weight[4][lanes] = {};
-    GroupTaps g;
+    ListedTaps g;
     for (int l = 0; l < lanes; ++l) {
-        for (int k = 0; k < 4; ++k) g.index[k][l] = 0;
+        for (int k = 0; k < 4; ++k) g.at[k][l] = 0;
         if (mask[l] == 0) continue;
         const glm::vec2 q(previous_pixel.at(x + l, y, 0), previous_pixel.at(x + l, y, 1));
         const BmfrTaps taps = bmfr_vp_taps(space.history_map(), q);
@@ -433,8 +446,8 @@ __attribute__((target("avx"))) void vp_filtered_group(const BmfrParams& params, 
                 taps.y[k] >= height)
                 continue;
             on[k][l] = std::bit_cast<float>(-1);
-            g.index[k][l] = static_cast<std::size_t>(taps.y[k]) * static_cast<std::size_t>(width) +
-                            static_cast<std::size_t>(taps.x[k]);
+            g.at[k][l] = static_cast<std::size_t>(taps.y[k]) * static_cast<std::size_t>(width) +
+                         static_cast<std::size_t>(taps.x[k]);
         }
     }
     for (int k = 0; k < 4; ++k) {
