@@ -360,14 +360,8 @@ FOVREF_AVX_INLINE void finish_filtered(const BmfrParams& params, const Image& fi
         }
     }
     // blend_accepted: the sums in tap order, renormalised.
-    __m256 h[3] = {zero(), zero(), zero()}, total = zero();
-    for (int k = 0; k < 4; ++k) {
-        for (int ch = 0; ch < 3; ++ch)
-            h[ch] = _mm256_add_ps(
-                h[ch],
-                select(g.on[k], _mm256_mul_ps(g.weight[k], _mm256_load_ps(taps[k][ch])), zero()));
-        total = _mm256_add_ps(total, select(g.on[k], g.weight[k], zero()));
-    }
+    __m256 h[3];
+    const __m256 total = tap_sums3(g.on, g.weight, taps, h);
     const __m256 blended = greater(total, zero());
     const __m256 alpha =
         std_max(_mm256_div_ps(set(1.0f), _mm256_loadu_ps(&spp.data[spp.index(x, y)])),

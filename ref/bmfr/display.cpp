@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "ref/bmfr/bmfr.h"
+#include "ref/bmfr/display_avx.h"
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
 
@@ -123,10 +124,22 @@ Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& prev
                  "bmfr_taa: buffers of different shapes");
     Image out(width, height, 3);
     const Image ycocg = history.empty() ? Image() : bmfr_ycocg(display);
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x)
+    // Pixels 1 .. 8k of each row eight at a time where the AVX2 path covers the frame (the same
+    // bits: display_avx.h); the reference does pixel 0, the rest of each row and every other
+    // frame.
+    const bool avx = bmfr_taa_avx_applies(display, history, space);
+    for (int y = 0; y < height; ++y) {
+        int x = 0;
+        if (avx) {
+            if (bmfr_taa_pixel(params, display, ycocg, previous_pixel, history, space, out, 0, y))
+                ++stats.taa_history_used;
+            x = bmfr_taa_row_avx(params, display, ycocg, previous_pixel, history, out, y,
+                                 stats.taa_history_used);
+        }
+        for (; x < width; ++x)
             if (bmfr_taa_pixel(params, display, ycocg, previous_pixel, history, space, out, x, y))
                 ++stats.taa_history_used;
+    }
     return out;
 }
 

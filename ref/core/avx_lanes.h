@@ -180,4 +180,21 @@ FOVREF_AVX_INLINE void bilinear_lanes(__m256 tx, __m256 ty, __m256 x0, __m256 y0
                        _mm256_cvttps_epi32(select(valid, y0, zero())));
 }
 
+/// The weighted sums over four bilinear taps of three channels, in tap order from +0:
+/// h[c] = sum of weight[k] taps[k][c] and the returned total = sum of weight[k], over the taps
+/// whose lanes are `on` (a tap that is off adds a selected +0 instead of being skipped: the same
+/// bits, as a sum that starts at +0 is never -0).
+FOVREF_AVX_INLINE __m256 tap_sums3(const __m256* on, const __m256* weight,
+                                   const float (*taps)[3][lanes], __m256* h) {
+    __m256 total = zero();
+    for (int c = 0; c < 3; ++c) h[c] = zero();
+    for (int k = 0; k < 4; ++k) {
+        for (int c = 0; c < 3; ++c)
+            h[c] = _mm256_add_ps(
+                h[c], select(on[k], _mm256_mul_ps(weight[k], _mm256_load_ps(taps[k][c])), zero()));
+        total = _mm256_add_ps(total, select(on[k], weight[k], zero()));
+    }
+    return total;
+}
+
 }  // namespace fovref::avx

@@ -1,0 +1,81 @@
+// BMFR's TAA with AVX2 (ref/bmfr/display_avx.h) gives bmfr_taa_pixel's bits: reprojected points
+// near their pixel, off the image on every side, NaN and infinite; displays and histories with
+// NaN, infinities, -0 and +0 (ties in the box's min and max); the first and last rows and
+// columns, and a row's tail.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "ref/bmfr/bmfr.h"
+#include "ref/bmfr/display_avx.h"
+#include "ref/core/simd.h"
+#include "tests/image/image_test_util.h"
+
+using namespace fovref;
+
+namespace {
+
+// One in `rate` values replaced by NaN, +-Inf, +-0 or a subnormal.
+float hostile(test::SplitMix64& rng, float v, std::size_t rate) {
+    if (rng.below(rate) != 0) return v;
+    const float values[] = {std::numeric_limits<float>::quiet_NaN(),
+                            std::numeric_limits<float>::infinity(),
+                            -std::numeric_limits<float>::infinity(),
+                            0.0f,
+                            -0.0f,
+                            1e-40f};
+    return values[rng.below(6)];
+}
+
+}  // namespace
+
+TEST_CASE("bmfr TAA speed: the AVX2 pass gives bmfr_taa_pixel's bits") {
+    if (!cpu_has_avx2()) MESSAGE("no AVX2 on this CPU: both runs take the reference");
+    const int w = 67, h = 23;  // pixel 0, eight groups of eight, a tail of two per row
+    test::SplitMix64 rng(41);
+    std::int64_t used = 0, pixels = 0;
+    for (int trial = 0; trial < 4; ++trial) {
+        CAPTURE(trial);
+        Image display(w, h, 3), history(w, h, 3), previous_pixel(w, h, 2);
+        for (float& v : display.data)
+            v = hostile(rng, trial == 3 ? (rng.below(2) ? 0.0f : -0.0f) : rng.uniform(0.0f, 1.0f),
+                        89);
+        for (float& v : history.data) v = hostile(rng, rng.uniform(0.0f, 1.0f), 83);
+        // Trial 2: 3x3 blocks of NaN in one channel, so that some pixels' box and cross hold no
+        // number (their clamp range is +inf .. -inf: the order of min and max decides).
+        if (trial == 2)
+            for (int by = 0; by + 3 <= h; by += 5)
+                for (int bx = by % 7; bx + 3 <= w; bx += 9)
+                    for (int y = by; y < by + 3; ++y)
+                        for (int x = bx; x < bx + 3; ++x)
+                            display.at(x, y, 1) = std::numeric_limits<float>::quiet_NaN();
+        // q near the pixel (small motion), far off on any side now and then, hostile.
+        const float reach = trial == 1 ? 6.0f : 1.5f;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                previous_pixel.at(x, y, 0) =
+                    hostile(rng, static_cast<float>(x) + rng.uniform(-reach, reach), 61);
+                previous_pixel.at(x, y, 1) =
+                    hostile(rng, static_cast<float>(y) + rng.uniform(-reach, reach), 61);
+            }
+        BmfrParams params;
+        if (trial == 2) params.taa_alpha = 0.37f;
+        CHECK(bmfr_taa_avx_applies(display, history, BmfrSpace{}) == cpu_has_avx2());
+        Image out[2];
+        BmfrStats stats[2];
+        for (const bool simd : {true, false}) {
+            set_simd_allowed(simd);
+            out[simd ? 0 : 1] =
+                bmfr_taa(params, display, previous_pixel, history, stats[simd ? 0 : 1]);
+            set_simd_allowed(true);
+        }
+        REQUIRE(test::same_bits_nan_aside(out[0], out[1]));
+        CHECK(stats[0].taa_history_used == stats[1].taa_history_used);
+        used += stats[1].taa_history_used;
+        pixels += w * h;
+    }
+    MESSAGE("history used in " << used << " of " << pixels << " pixels");
+    CHECK(used > pixels / 2);
+    CHECK(used < pixels);
+}
