@@ -29,8 +29,11 @@ __attribute__((target("avx2"))) int taa_group(const BmfrParams& params, const Im
     const __m256 qx = _mm256_load_ps(q[0]), qy = _mm256_load_ps(q[1]);
     const __m256 in_range = both(both(at_least(qx, set(-1.0f)), at_least(qy, set(-1.0f))),
                                  both(less(qx, set(wf)), less(qy, set(hf))));
-    // bmfr_taps(q) (q is finite and within range in the lanes that use it)
-    const __m256 tx = select(in_range, qx, zero()), ty = select(in_range, qy, zero());
+    // bmfr_taps(q): q is finite in the lanes that use it, and clamped to +-1e6 as there (which
+    // matters only on an image wider or taller than 1e6)
+    const __m256 big = set(1e6f);
+    const __m256 tx = select(in_range, std_min(std_max(qx, negate(big)), big), zero());
+    const __m256 ty = select(in_range, std_min(std_max(qy, negate(big)), big), zero());
     BilinearLanes b;
     bilinear_lanes(tx, ty, floor(tx), floor(ty), in_range, wf, hf, b);
 
