@@ -86,9 +86,32 @@ struct ScreenTaps {
 };
 struct ListedTaps {
     __m256 on[4], weight[4];
-    alignas(32) std::size_t at[4][lanes];
+    alignas(32) std::size_t at[4][lanes] = {};
+    alignas(32) float on_lanes[4][lanes] = {}, weight_lanes[4][lanes] = {};
     std::size_t index(int k, int l) const { return at[k][l]; }
 };
+
+/// Lane l's taps (bmfr_vp_taps) into `g`: every weight kept, tap k on where `usable(k)` and
+/// inside the W x H buffer. load_listed then fills g.on and g.weight from the lanes set.
+template <class Usable>
+void set_lane_taps(ListedTaps& g, int l, const BmfrTaps& taps, int width, int height,
+                   Usable usable) {
+    for (int k = 0; k < 4; ++k) {
+        g.weight_lanes[k][l] = taps.w[k];
+        if (taps.x[k] < 0 || taps.y[k] < 0 || taps.x[k] >= width || taps.y[k] >= height ||
+            !usable(k))
+            continue;
+        g.on_lanes[k][l] = std::bit_cast<float>(-1);
+        g.at[k][l] = static_cast<std::size_t>(taps.y[k]) * static_cast<std::size_t>(width) +
+                     static_cast<std::size_t>(taps.x[k]);
+    }
+}
+FOVREF_AVX_INLINE void load_listed(ListedTaps& g) {
+    for (int k = 0; k < 4; ++k) {
+        g.on[k] = _mm256_load_ps(g.on_lanes[k]);
+        g.weight[k] = _mm256_load_ps(g.weight_lanes[k]);
+    }
+}
 
 /// The history at the taps that are on, lane by lane (zero elsewhere).
 template <class GroupTaps>
@@ -297,14 +320,12 @@ __attribute__((target("avx"))) void vp_accumulate_group(
         data,
         project_lanes(params, history.view_projection, p, static_cast<float>(previous.screen_width),
                       static_cast<float>(previous.screen_height), glm::vec2(0.5f), sx, sy));
-    alignas(32) float point[2][lanes], q[2][lanes] = {}, on[4][lanes] = {}, weight[4][lanes] = {},
-                                       reprojected_lanes[lanes] = {};
+    alignas(32) float point[2][lanes], q[2][lanes] = {}, reprojected_lanes[lanes] = {};
     _mm256_store_ps(point[0], _mm256_add_ps(sx, set(0.5f)));
     _mm256_store_ps(point[1], _mm256_add_ps(sy, set(0.5f)));
     ListedTaps g;
     const int projected_bits = bits(projected);
     for (int l = 0; l < lanes; ++l) {
-        for (int k = 0; k < 4; ++k) g.at[k][l] = 0;
         if (!(projected_bits >> l & 1)) continue;
         const glm::vec2 ut = vp_forward_angle(previous, {point[0][l], point[1][l]});
         const glm::vec2 ql{ut.x - 0.5f, ut.y};
@@ -313,20 +334,10 @@ __attribute__((target("avx"))) void vp_accumulate_group(
         q[0][l] = ql.x;
         q[1][l] = ql.y;
         const BmfrTaps taps = bmfr_vp_taps(previous, ql);
-        for (int k = 0; k < 4; ++k) {
-            weight[k][l] = taps.w[k];
-            if (taps.x[k] < 0 || taps.y[k] < 0 || taps.x[k] >= width || taps.y[k] >= height ||
-                history.valid_texels.at(taps.x[k], taps.y[k]) == 0.0f)
-                continue;
-            on[k][l] = std::bit_cast<float>(-1);
-            g.at[k][l] = static_cast<std::size_t>(taps.y[k]) * static_cast<std::size_t>(width) +
-                         static_cast<std::size_t>(taps.x[k]);
-        }
+        set_lane_taps(g, l, taps, width, height,
+                      [&](int k) { return history.valid_texels.at(taps.x[k], taps.y[k]) != 0.0f; });
     }
-    for (int k = 0; k < 4; ++k) {
-        g.on[k] = _mm256_load_ps(on[k]);
-        g.weight[k] = _mm256_load_ps(weight[k]);
-    }
+    load_listed(g);
     const __m256 reprojected = _mm256_load_ps(reprojected_lanes);
     stats.history_off_screen += count(data) - count(reprojected);
     finish_group(params, history, c, p, n, reprojected, _mm256_load_ps(q[0]), _mm256_load_ps(q[1]),
@@ -427,27 +438,14 @@ __attribute__((target("avx"))) void vp_filtered_group(const BmfrParams& params, 
     const int width = fitted.width, height = fitted.height;
     unsigned mask[lanes];
     accepted_bits_of(accept, x, y, mask);
-    alignas(32) float on[4][lanes] = {}, weight[4][lanes] = {};
     ListedTaps g;
     for (int l = 0; l < lanes; ++l) {
-        for (int k = 0; k < 4; ++k) g.at[k][l] = 0;
         if (mask[l] == 0) continue;
         const glm::vec2 q(previous_pixel.at(x + l, y, 0), previous_pixel.at(x + l, y, 1));
-        const BmfrTaps taps = bmfr_vp_taps(space.history_map(), q);
-        for (int k = 0; k < 4; ++k) {
-            weight[k][l] = taps.w[k];
-            if (!(mask[l] >> k & 1u) || taps.x[k] < 0 || taps.y[k] < 0 || taps.x[k] >= width ||
-                taps.y[k] >= height)
-                continue;
-            on[k][l] = std::bit_cast<float>(-1);
-            g.at[k][l] = static_cast<std::size_t>(taps.y[k]) * static_cast<std::size_t>(width) +
-                         static_cast<std::size_t>(taps.x[k]);
-        }
+        set_lane_taps(g, l, bmfr_vp_taps(space.history_map(), q), width, height,
+                      [&](int k) { return (mask[l] >> k & 1u) != 0; });
     }
-    for (int k = 0; k < 4; ++k) {
-        g.on[k] = _mm256_load_ps(on[k]);
-        g.weight[k] = _mm256_load_ps(weight[k]);
-    }
+    load_listed(g);
     finish_filtered(params, fitted, spp, history, g, out, x, y);
 }
 

@@ -13,6 +13,39 @@ namespace {
 
 using namespace avx;
 
+/// taa_blend's clamp range for pixels x .. x + 7 of row y: the extents in YCoCg of the 3x3 box
+/// and the 5-tap cross of the neighbours that exist (rows -1, 0, +1 on the image; every column
+/// is), from +-infinity with glm::min(a, v) = (v < a) ? v : a and glm::max(a, v) = (a < v) ? v :
+/// a in row-major order; lo = (box min + cross min) 0.5, hi = (box max + cross max) 0.5.
+FOVREF_AVX2_INLINE void clamp_range(const Image& ycocg, int x, int y, __m256* lo, __m256* hi) {
+    const __m256 inf = set(INFINITY);
+    __m256 box_min[3], box_max[3], cross_min[3], cross_max[3];
+    for (int c = 0; c < 3; ++c) {
+        box_min[c] = cross_min[c] = inf;
+        box_max[c] = cross_max[c] = negate(inf);
+    }
+    for (int dy = -1; dy <= 1; ++dy) {
+        const int sy = y + dy;
+        if (sy < 0 || sy >= ycocg.height) continue;
+        for (int dx = -1; dx <= 1; ++dx) {
+            __m256 v[3];
+            split3_lanes(&ycocg.data[ycocg.index(x + dx, sy)], v);
+            for (int c = 0; c < 3; ++c) {
+                box_min[c] = std_min(box_min[c], v[c]);
+                box_max[c] = std_max(box_max[c], v[c]);
+                if (dx == 0 || dy == 0) {
+                    cross_min[c] = std_min(cross_min[c], v[c]);
+                    cross_max[c] = std_max(cross_max[c], v[c]);
+                }
+            }
+        }
+    }
+    for (int c = 0; c < 3; ++c) {
+        lo[c] = _mm256_mul_ps(_mm256_add_ps(box_min[c], cross_min[c]), set(0.5f));
+        hi[c] = _mm256_mul_ps(_mm256_add_ps(box_max[c], cross_max[c]), set(0.5f));
+    }
+}
+
 /// bmfr_taa_pixel in screen space for pixels x .. x + 7 of row y (columns x - 1 .. x + 8 on the
 /// image).
 __attribute__((target("avx2"))) int taa_group(const BmfrParams& params, const Image& display,
@@ -37,30 +70,8 @@ __attribute__((target("avx2"))) int taa_group(const BmfrParams& params, const Im
     BilinearLanes b;
     bilinear_lanes(tx, ty, floor(tx), floor(ty), in_range, wf, hf, b);
 
-    // The box and the cross of the YCoCg neighbours that exist (rows -1, 0, +1 on the image;
-    // every column is), glm::min(a, v) = (v < a) ? v : a, glm::max(a, v) = (a < v) ? v : a.
-    const __m256 inf = set(INFINITY);
-    __m256 box_min[3], box_max[3], cross_min[3], cross_max[3];
-    for (int c = 0; c < 3; ++c) {
-        box_min[c] = cross_min[c] = inf;
-        box_max[c] = cross_max[c] = negate(inf);
-    }
-    for (int dy = -1; dy <= 1; ++dy) {
-        const int sy = y + dy;
-        if (sy < 0 || sy >= height) continue;
-        for (int dx = -1; dx <= 1; ++dx) {
-            __m256 v[3];
-            split3_lanes(&ycocg.data[ycocg.index(x + dx, sy)], v);
-            for (int c = 0; c < 3; ++c) {
-                box_min[c] = std_min(box_min[c], v[c]);
-                box_max[c] = std_max(box_max[c], v[c]);
-                if (dx == 0 || dy == 0) {
-                    cross_min[c] = std_min(cross_min[c], v[c]);
-                    cross_max[c] = std_max(cross_max[c], v[c]);
-                }
-            }
-        }
-    }
+    __m256 lo[3], hi[3];
+    clamp_range(ycocg, x, y, lo, hi);
     // The history over the taps inside the image, in tap order.
     alignas(32) float taps[4][3][lanes] = {};
     for (int k = 0; k < 4; ++k)
@@ -74,15 +85,12 @@ __attribute__((target("avx2"))) int taa_group(const BmfrParams& params, const Im
     const __m256 used = both(in_range, greater(total, zero()));
     for (int c = 0; c < 3; ++c) h[c] = _mm256_div_ps(h[c], total);
     // rgb_to_ycocg(h), clamped to the extents' averages, ycocg_to_rgb, then the blend.
-    const __m256 two = set(2.0f), half = set(0.5f), quarter = set(0.25f);
+    const __m256 two = set(2.0f), quarter = set(0.25f);
     __m256 v[3] = {_mm256_add_ps(_mm256_add_ps(h[0], _mm256_mul_ps(two, h[1])), h[2]),
                    _mm256_sub_ps(_mm256_mul_ps(two, h[0]), _mm256_mul_ps(two, h[2])),
                    _mm256_sub_ps(_mm256_add_ps(negate(h[0]), _mm256_mul_ps(two, h[1])), h[2])};
-    for (int c = 0; c < 3; ++c) {
-        const __m256 lo = _mm256_mul_ps(_mm256_add_ps(box_min[c], cross_min[c]), half);
-        const __m256 hi = _mm256_mul_ps(_mm256_add_ps(box_max[c], cross_max[c]), half);
-        v[c] = std_min(std_max(v[c], lo), hi);  // glm::clamp = min(max(v, lo), hi)
-    }
+    for (int c = 0; c < 3; ++c)
+        v[c] = std_min(std_max(v[c], lo[c]), hi[c]);  // glm::clamp = min(max(v, lo), hi)
     const __m256 clamped[3] = {
         _mm256_mul_ps(_mm256_sub_ps(_mm256_add_ps(v[0], v[1]), v[2]), quarter),
         _mm256_mul_ps(_mm256_add_ps(v[0], v[2]), quarter),

@@ -32,6 +32,26 @@ float hostile(test::SplitMix64& rng, float v, std::size_t rate) {
 
 bool bit_equal_value(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
+// Pixel (x, y) of a frame and its history: a point 2 to 5 along ray direction d with a normal
+// near +y; the history holds the same point and normal moved by up to 0.1 and 0.6 (the limits
+// are 0.1 and 0.5 in distance: some taps pass both tests, some not); whole sample counts and
+// half ones now and then (blends that land on x.5); hostile values everywhere now and then.
+void fill_pixel(test::SplitMix64& rng, glm::vec3 origin, glm::vec3 d, int x, int y, Image& world,
+                Image& normal, Image& illumination, BmfrHistory& history) {
+    const glm::vec3 p = origin + rng.uniform(2.0f, 5.0f) * d;
+    const glm::vec3 n{rng.uniform(-0.3f, 0.3f), 1.0f, rng.uniform(-0.3f, 0.3f)};
+    for (int c = 0; c < 3; ++c) {
+        world.at(x, y, c) = hostile(rng, p[c], 211);
+        normal.at(x, y, c) = hostile(rng, n[c], 211);
+        history.world_position.at(x, y, c) = hostile(rng, p[c] + rng.uniform(-0.06f, 0.06f), 197);
+        history.normal.at(x, y, c) = hostile(rng, n[c] + rng.uniform(-0.35f, 0.35f), 197);
+        illumination.at(x, y, c) = hostile(rng, rng.uniform(0.0f, 4.0f), 193);
+        history.accumulated_noisy.at(x, y, c) = hostile(rng, rng.uniform(0.0f, 4.0f), 191);
+    }
+    history.spp.at(x, y) = hostile(
+        rng, static_cast<float>(1 + rng.below(40)) + (rng.below(8) == 0 ? 0.5f : 0.0f), 181);
+}
+
 BmfrAccumulation accumulate(const BmfrParams& params, const Image& illumination, const Image& world,
                             const Image& normal, const BmfrHistory& history, BmfrStats& stats,
                             bool simd) {
@@ -74,25 +94,7 @@ TEST_CASE(
                 const glm::vec3 d =
                     primary_ray_direction(camera, tan_half, w, h, static_cast<float>(x) + 0.5f,
                                           static_cast<float>(y) + 0.5f);
-                const glm::vec3 p = camera.position + rng.uniform(2.0f, 5.0f) * d;
-                const glm::vec3 n{rng.uniform(-0.3f, 0.3f), 1.0f, rng.uniform(-0.3f, 0.3f)};
-                // The history: the same point and normal, moved by up to 0.1 and 0.6 (the
-                // limits are 0.1 and 0.5 in distance): some taps pass both tests, some not.
-                for (int c = 0; c < 3; ++c) {
-                    world.at(x, y, c) = hostile(rng, p[c], 211);
-                    normal.at(x, y, c) = hostile(rng, n[c], 211);
-                    history.world_position.at(x, y, c) =
-                        hostile(rng, p[c] + rng.uniform(-0.06f, 0.06f), 197);
-                    history.normal.at(x, y, c) =
-                        hostile(rng, n[c] + rng.uniform(-0.35f, 0.35f), 197);
-                    illumination.at(x, y, c) = hostile(rng, rng.uniform(0.0f, 4.0f), 193);
-                    history.accumulated_noisy.at(x, y, c) =
-                        hostile(rng, rng.uniform(0.0f, 4.0f), 191);
-                }
-                // Whole counts, and half ones now and then: blends that land on x.5.
-                history.spp.at(x, y) = hostile(
-                    rng, static_cast<float>(1 + rng.below(40)) + (rng.below(8) == 0 ? 0.5f : 0.0f),
-                    181);
+                fill_pixel(rng, camera.position, d, x, y, world, normal, illumination, history);
             }
         BmfrParams params;
         params.project_behind_camera = trial == 5;
@@ -205,22 +207,7 @@ TEST_CASE("bmfr phases I and III in Visual-Polar space: the AVX paths give the r
                 if (rng.below(97) == 0) valid.at(x, y) = quiet_nan;
                 history.valid_texels.at(x, y) = rng.below(11) != 0 ? 1.0f : 0.0f;
                 const glm::vec3 d = primary_ray_direction(camera, tan_half, 120, 90, s.x, s.y);
-                const glm::vec3 p = camera.position + rng.uniform(2.0f, 5.0f) * d;
-                const glm::vec3 n{rng.uniform(-0.3f, 0.3f), 1.0f, rng.uniform(-0.3f, 0.3f)};
-                for (int c = 0; c < 3; ++c) {
-                    world.at(x, y, c) = hostile(rng, p[c], 211);
-                    normal.at(x, y, c) = hostile(rng, n[c], 211);
-                    history.world_position.at(x, y, c) =
-                        hostile(rng, p[c] + rng.uniform(-0.06f, 0.06f), 197);
-                    history.normal.at(x, y, c) =
-                        hostile(rng, n[c] + rng.uniform(-0.35f, 0.35f), 197);
-                    illumination.at(x, y, c) = hostile(rng, rng.uniform(0.0f, 4.0f), 193);
-                    history.accumulated_noisy.at(x, y, c) =
-                        hostile(rng, rng.uniform(0.0f, 4.0f), 191);
-                }
-                history.spp.at(x, y) = hostile(
-                    rng, static_cast<float>(1 + rng.below(40)) + (rng.below(8) == 0 ? 0.5f : 0.0f),
-                    181);
+                fill_pixel(rng, camera.position, d, x, y, world, normal, illumination, history);
             }
         BmfrSpace space;
         space.map = map;

@@ -4,8 +4,8 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -15,18 +15,6 @@
 using namespace fovref;
 
 namespace {
-
-std::uint32_t bits(float v) {
-    std::uint32_t b;
-    std::memcpy(&b, &v, sizeof b);
-    return b;
-}
-
-float from_bits(std::uint32_t b) {
-    float v;
-    std::memcpy(&v, &b, sizeof v);
-    return v;
-}
 
 // Lane l of std_max(a, b) and std_min(a, b) into max[l] and min[l].
 __attribute__((target("avx"))) void lanes_max_min(const float* a, const float* b, float* max,
@@ -54,8 +42,8 @@ TEST_CASE("AVX lanes: std_max and std_min give std::max's and std::min's bits") 
                                        -1e-40f,
                                        2.5f,
                                        2.5f,
-                                       from_bits(0x7fc00001u),
-                                       from_bits(0xffc00002u),
+                                       std::bit_cast<float>(0x7fc00001u),
+                                       std::bit_cast<float>(0xffc00002u),
                                        3.0e38f,
                                        -7.0f};
     // Every ordered pair, eight at a time (the last group padded with its first pair).
@@ -76,8 +64,10 @@ TEST_CASE("AVX lanes: std_max and std_min give std::max's and std::min's bits") 
         for (std::size_t l = 0; l < 8; ++l) {
             CAPTURE(a[i + l]);
             CAPTURE(b[i + l]);
-            CHECK(bits(max[l]) == bits(std::max(a[i + l], b[i + l])));
-            CHECK(bits(min[l]) == bits(std::min(a[i + l], b[i + l])));
+            CHECK(std::bit_cast<std::uint32_t>(max[l]) ==
+                  std::bit_cast<std::uint32_t>(std::max(a[i + l], b[i + l])));
+            CHECK(std::bit_cast<std::uint32_t>(min[l]) ==
+                  std::bit_cast<std::uint32_t>(std::min(a[i + l], b[i + l])));
             ++checked;
         }
     }
