@@ -124,21 +124,20 @@ Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& prev
                  "bmfr_taa: buffers of different shapes");
     Image out(width, height, 3);
     const Image ycocg = history.empty() ? Image() : bmfr_ycocg(display);
-    // Pixels 1 .. 8k of each row eight at a time where the AVX2 path covers the frame (the same
-    // bits: display_avx.h); the reference does pixel 0, the rest of each row and every other
-    // frame.
-    const bool avx = bmfr_taa_avx_applies(display, history, space);
-    for (int y = 0; y < height; ++y) {
-        int x = 0;
-        if (avx) {
-            if (bmfr_taa_pixel(params, display, ycocg, previous_pixel, history, space, out, 0, y))
-                ++stats.taa_history_used;
-            x = bmfr_taa_row_avx(params, display, ycocg, previous_pixel, history, out, y,
-                                 stats.taa_history_used);
-        }
-        for (; x < width; ++x)
+    // The span of each row that the AVX2 path covers eight pixels at a time (the same bits:
+    // display_avx.h); the reference does the rest of each row and every other frame.
+    const BmfrTaaSpan span = bmfr_taa_avx_span(display, history, space);
+    const auto reference = [&](int x0, int x1, int y) {
+        for (int x = x0; x < x1; ++x)
             if (bmfr_taa_pixel(params, display, ycocg, previous_pixel, history, space, out, x, y))
                 ++stats.taa_history_used;
+    };
+    for (int y = 0; y < height; ++y) {
+        reference(0, span.first, y);
+        if (span.first < span.end)
+            bmfr_taa_row_avx(params, display, ycocg, previous_pixel, history, space, span, out, y,
+                             stats.taa_history_used);
+        reference(span.end, width, y);
     }
     return out;
 }

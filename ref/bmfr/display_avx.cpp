@@ -1,9 +1,12 @@
 #include "ref/bmfr/display_avx.h"
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 
+#include "ref/bmfr/listed_taps_avx.h"
 #include "ref/core/avx_lanes.h"
 #include "ref/core/simd.h"
 
@@ -13,11 +16,14 @@ namespace {
 
 using namespace avx;
 
-/// taa_blend's clamp range for pixels x .. x + 7 of row y: the extents in YCoCg of the 3x3 box
-/// and the 5-tap cross of the neighbours that exist (rows -1, 0, +1 on the image; every column
-/// is), from +-infinity with glm::min(a, v) = (v < a) ? v : a and glm::max(a, v) = (a < v) ? v :
-/// a in row-major order; lo = (box min + cross min) 0.5, hi = (box max + cross max) 0.5.
-FOVREF_AVX2_INLINE void clamp_range(const Image& ycocg, int x, int y, __m256* lo, __m256* hi) {
+/// taa_blend's clamp range for pixels x .. x + 7: the extents in YCoCg of the 3x3 box and the
+/// 5-tap cross of the neighbours at columns x - 1 .. x + 8 on rows[0], rows[1], rows[2] (those of
+/// dy = -1, 0, +1; -1: no such row), with `Masked` only those whose `valid` texel is nonzero
+/// (NaN counts), from +-infinity with glm::min(a, v) = (v < a) ? v : a and glm::max(a, v) = (a < v)
+/// ? v : a in row-major order; lo = (box min + cross min) 0.5, hi = (box max + cross max) 0.5.
+template <bool Masked>
+FOVREF_AVX2_INLINE void clamp_range(const Image& ycocg, const Image* valid, const int* rows, int x,
+                                    __m256* lo, __m256* hi) {
     const __m256 inf = set(INFINITY);
     __m256 box_min[3], box_max[3], cross_min[3], cross_max[3];
     for (int c = 0; c < 3; ++c) {
@@ -25,17 +31,29 @@ FOVREF_AVX2_INLINE void clamp_range(const Image& ycocg, int x, int y, __m256* lo
         box_max[c] = cross_max[c] = negate(inf);
     }
     for (int dy = -1; dy <= 1; ++dy) {
-        const int sy = y + dy;
-        if (sy < 0 || sy >= ycocg.height) continue;
+        const int sy = rows[dy + 1];
+        if (sy < 0) continue;
         for (int dx = -1; dx <= 1; ++dx) {
-            __m256 v[3];
-            split3_lanes(&ycocg.data[ycocg.index(x + dx, sy)], v);
+            // the neighbour's values; with Masked, +inf for the minima and -inf for the maxima
+            // where it is not traced, which leave every extent as it is (std_min(a, +inf) and
+            // std_max(a, -inf) are a, NaN included)
+            __m256 v_min[3], v_max[3];
+            split3_lanes(&ycocg.data[ycocg.index(x + dx, sy)], v_min);
+            for (int c = 0; c < 3; ++c) v_max[c] = v_min[c];
+            if constexpr (Masked) {
+                const __m256 on =
+                    not_equal(_mm256_loadu_ps(&valid->data[valid->index(x + dx, sy)]), zero());
+                for (int c = 0; c < 3; ++c) {
+                    v_min[c] = select(on, v_min[c], inf);
+                    v_max[c] = select(on, v_max[c], negate(inf));
+                }
+            }
             for (int c = 0; c < 3; ++c) {
-                box_min[c] = std_min(box_min[c], v[c]);
-                box_max[c] = std_max(box_max[c], v[c]);
+                box_min[c] = std_min(box_min[c], v_min[c]);
+                box_max[c] = std_max(box_max[c], v_max[c]);
                 if (dx == 0 || dy == 0) {
-                    cross_min[c] = std_min(cross_min[c], v[c]);
-                    cross_max[c] = std_max(cross_max[c], v[c]);
+                    cross_min[c] = std_min(cross_min[c], v_min[c]);
+                    cross_max[c] = std_max(cross_max[c], v_max[c]);
                 }
             }
         }
@@ -46,43 +64,19 @@ FOVREF_AVX2_INLINE void clamp_range(const Image& ycocg, int x, int y, __m256* lo
     }
 }
 
-/// bmfr_taa_pixel in screen space for pixels x .. x + 7 of row y (columns x - 1 .. x + 8 on the
-/// image).
-__attribute__((target("avx2"))) int taa_group(const BmfrParams& params, const Image& display,
-                                              const Image& ycocg, const Image& previous_pixel,
-                                              const Image& history, Image& out, int x, int y) {
-    const int width = display.width, height = display.height;
-    const float wf = static_cast<float>(width), hf = static_cast<float>(height);
+/// taa_blend's end for pixels x .. x + 7 of row y: the history h over the taps that are on
+/// (tap_sums3), renormalised; in the lanes of `candidate` whose total is positive, rgb_to_ycocg
+/// of it clamped to [lo, hi], ycocg_to_rgb, then taa_alpha of the current colour blended with
+/// the rest into `out`; the current colour elsewhere. Returns the lanes that used the history.
+FOVREF_AVX2_INLINE int blend_group(const BmfrParams& params, const Image& display, const __m256* on,
+                                   const __m256* weight, const float (*values)[3][lanes],
+                                   __m256 candidate, const __m256* lo, const __m256* hi, Image& out,
+                                   int x, int y) {
     __m256 current[3];
     split3_lanes(&display.data[display.index(x, y)], current);
-    // q, and the reference's range test: floor(q) in [-1, W - 1] x [-1, H - 1]
-    alignas(32) float q[2][lanes];
-    const float* pp = &previous_pixel.data[previous_pixel.index(x, y)];
-    for (int l = 0; l < lanes; ++l) q[0][l] = pp[2 * l], q[1][l] = pp[2 * l + 1];
-    const __m256 qx = _mm256_load_ps(q[0]), qy = _mm256_load_ps(q[1]);
-    const __m256 in_range = both(both(at_least(qx, set(-1.0f)), at_least(qy, set(-1.0f))),
-                                 both(less(qx, set(wf)), less(qy, set(hf))));
-    // bmfr_taps(q): q is finite in the lanes that use it, and clamped to +-1e6 as there (which
-    // matters only on an image wider or taller than 1e6)
-    const __m256 big = set(1e6f);
-    const __m256 tx = select(in_range, std_min(std_max(qx, negate(big)), big), zero());
-    const __m256 ty = select(in_range, std_min(std_max(qy, negate(big)), big), zero());
-    BilinearLanes b;
-    bilinear_lanes(tx, ty, floor(tx), floor(ty), in_range, wf, hf, b);
-
-    __m256 lo[3], hi[3];
-    clamp_range(ycocg, x, y, lo, hi);
-    // The history over the taps inside the image, in tap order.
-    alignas(32) float taps[4][3][lanes] = {};
-    for (int k = 0; k < 4; ++k)
-        for (int l = 0; l < lanes; ++l) {
-            if (!(b.on_bits[k] >> l & 1)) continue;
-            const float* p = &history.data[history.index(b.x0[l] + (k & 1), b.y0[l] + (k >> 1))];
-            for (int c = 0; c < 3; ++c) taps[k][c][l] = p[c];
-        }
     __m256 h[3];
-    const __m256 total = tap_sums3(b.on, b.weight, taps, h);
-    const __m256 used = both(in_range, greater(total, zero()));
+    const __m256 total = tap_sums3(on, weight, values, h);
+    const __m256 used = both(candidate, greater(total, zero()));
     for (int c = 0; c < 3; ++c) h[c] = _mm256_div_ps(h[c], total);
     // rgb_to_ycocg(h), clamped to the extents' averages, ycocg_to_rgb, then the blend.
     const __m256 two = set(2.0f), quarter = set(0.25f);
@@ -105,20 +99,198 @@ __attribute__((target("avx2"))) int taa_group(const BmfrParams& params, const Im
     return count(used);
 }
 
-}  // namespace
+/// bmfr_taa_pixel in screen space for pixels x .. x + 7 of row y (columns x - 1 .. x + 8 on the
+/// image).
+__attribute__((target("avx2"))) int taa_group(const BmfrParams& params, const Image& display,
+                                              const Image& ycocg, const Image& previous_pixel,
+                                              const Image& history, Image& out, int x, int y) {
+    const int width = display.width, height = display.height;
+    const float wf = static_cast<float>(width), hf = static_cast<float>(height);
+    // q, and the reference's range test: floor(q) in [-1, W - 1] x [-1, H - 1]
+    alignas(32) float q[2][lanes];
+    const float* pp = &previous_pixel.data[previous_pixel.index(x, y)];
+    for (int l = 0; l < lanes; ++l) q[0][l] = pp[2 * l], q[1][l] = pp[2 * l + 1];
+    const __m256 qx = _mm256_load_ps(q[0]), qy = _mm256_load_ps(q[1]);
+    const __m256 in_range = both(both(at_least(qx, set(-1.0f)), at_least(qy, set(-1.0f))),
+                                 both(less(qx, set(wf)), less(qy, set(hf))));
+    // bmfr_taps(q): q is finite in the lanes that use it, and clamped to +-1e6 as there (which
+    // matters only on an image wider or taller than 1e6)
+    const __m256 big = set(1e6f);
+    const __m256 tx = select(in_range, std_min(std_max(qx, negate(big)), big), zero());
+    const __m256 ty = select(in_range, std_min(std_max(qy, negate(big)), big), zero());
+    BilinearLanes b;
+    bilinear_lanes(tx, ty, floor(tx), floor(ty), in_range, wf, hf, b);
 
-bool bmfr_taa_avx_applies(const Image& display, const Image& history, const BmfrSpace& space) {
-    return !space.map && !history.empty() && display.channels == 3 && history.channels == 3 &&
-           display.width >= 10 && simd_allowed() && cpu_has_avx2();
+    __m256 lo[3], hi[3];
+    const int rows[3] = {y - 1, y, y + 1 < height ? y + 1 : -1};
+    clamp_range<false>(ycocg, nullptr, rows, x, lo, hi);
+    // The history over the taps inside the image, in tap order.
+    alignas(32) float taps[4][3][lanes] = {};
+    for (int k = 0; k < 4; ++k)
+        for (int l = 0; l < lanes; ++l) {
+            if (!(b.on_bits[k] >> l & 1)) continue;
+            const float* p = &history.data[history.index(b.x0[l] + (k & 1), b.y0[l] + (k >> 1))];
+            for (int c = 0; c < 3; ++c) taps[k][c][l] = p[c];
+        }
+    return blend_group(params, display, b.on, b.weight, taps, in_range, lo, hi, out, x, y);
 }
 
-int bmfr_taa_row_avx(const BmfrParams& params, const Image& display, const Image& ycocg,
-                     const Image& previous_pixel, const Image& history, Image& out, int y,
-                     std::int64_t& used) {
-    int x = 1;
-    for (; x + lanes <= display.width - 1; x += lanes)
-        used += taa_group(params, display, ycocg, previous_pixel, history, out, x, y);
-    return x;
+/// The four taps of eight lanes: on (the reference reads tap k), weight, and the history pixel
+/// (row-major) where on.
+struct IndexedTaps {
+    __m256 on[4], weight[4];
+    __m256i at[4];
+};
+
+/// bmfr_vp_taps(map, q) of eight lanes whose columns lie beyond the map's fovea or off the W x H
+/// buffer, each tap on where it lies on the buffer and the lane is `wanted`: q.x clamped to
+/// +-1e6 (-1e6 if not finite), the fraction of q.y's turn (0 if not finite), the columns
+/// x0 = floor(q.x), x0 + 1 with weights 1 - fx and fx, and on both (each has H rows) the rows
+/// of v = q.y H - 1/2, wrapped, with weights 1 - fy and fy. False, with `g` unset, where a wanted
+/// lane has a column in the fovea (its rows differ: the caller lists the taps lane by lane).
+FOVREF_AVX2_INLINE bool vp_tap_lanes(const VisualPolarMap& map, __m256 qx, __m256 qy, __m256 wanted,
+                                     int width, int height, IndexedTaps& g) {
+    const __m256 big = set(1e6f);
+    qx = select(finite(qx), std_min(std_max(qx, negate(big)), big), negate(big));
+    qy = select(finite(qy), _mm256_sub_ps(qy, floor(qy)), zero());
+    const __m256 fx0 = floor(qx), fx = _mm256_sub_ps(qx, fx0);
+    const __m256i c0 = _mm256_cvttps_epi32(fx0);  // exact: |floor(q.x)| <= 1e6
+    const __m256i wanted_i = _mm256_castps_si256(wanted);
+    const __m256i columns[2] = {c0, _mm256_add_epi32(c0, _mm256_set1_epi32(1))};
+    __m256i on_buffer[2];
+    for (int side = 0; side < 2; ++side) {
+        const __m256i c = columns[side];
+        on_buffer[side] =
+            _mm256_and_si256(_mm256_and_si256(_mm256_cmpgt_epi32(c, _mm256_set1_epi32(-1)),
+                                              _mm256_cmpgt_epi32(_mm256_set1_epi32(width), c)),
+                             wanted_i);
+        const __m256i fovea = _mm256_cmpgt_epi32(_mm256_set1_epi32(map.fovea_columns), c);
+        if (!_mm256_testz_si256(on_buffer[side], fovea)) return false;
+    }
+    // v in [-1/2, H - 1/2]: floor(v) in [-1, H - 1], wrapped from -1 to H - 1
+    const __m256 v = _mm256_sub_ps(_mm256_mul_ps(qy, set(static_cast<float>(height))), set(0.5f));
+    const __m256 fv0 = floor(v), fy = _mm256_sub_ps(v, fv0);
+    const __m256i j = _mm256_cvttps_epi32(fv0), rows = _mm256_set1_epi32(height);
+    const __m256i y0 =
+        _mm256_add_epi32(j, _mm256_and_si256(_mm256_cmpgt_epi32(_mm256_setzero_si256(), j), rows));
+    const __m256i next = _mm256_add_epi32(y0, _mm256_set1_epi32(1));
+    const __m256i y1 = _mm256_andnot_si256(_mm256_cmpeq_epi32(next, rows), next);
+    const __m256 wx[2] = {_mm256_sub_ps(set(1.0f), fx), fx};
+    const __m256 gy = _mm256_sub_ps(set(1.0f), fy);
+    for (int k = 0; k < 4; ++k) {
+        const int side = k & 1;
+        g.weight[k] = _mm256_mul_ps(wx[side], k < 2 ? gy : fy);
+        g.on[k] = _mm256_castsi256_ps(on_buffer[side]);
+        g.at[k] = row_major(columns[side], k < 2 ? y0 : y1, width);
+    }
+    return true;
+}
+
+/// bmfr_taa_pixel in Visual-Polar space for texels x .. x + 7 of row y whose neighbours' columns
+/// x - 1 .. x + 8 all lie beyond the fovea, on the image: each of them has the map's `height`
+/// rows, so every lane's neighbours lie on the same three rows (vp_taa_pixel's base row of
+/// t = (y + 1/2) / height and its wrapped neighbours). The history's taps: vp_tap_lanes, or
+/// where a lane's columns lie in the history map's fovea, listed lane by lane (bmfr_vp_taps).
+__attribute__((target("avx2"))) int vp_taa_group(const BmfrParams& params, const Image& display,
+                                                 const Image& ycocg, const Image& previous_pixel,
+                                                 const Image& history, const BmfrSpace& space,
+                                                 Image& out, int x, int y) {
+    const int width = display.width, height = display.height;
+    const Image& valid = *space.valid;
+    const VisualPolarMap& history_map = space.history_map();
+    // The candidates: traced texels whose reprojected column q.x lies in [-1, W)
+    alignas(32) float q[2][lanes];
+    const float* pp = &previous_pixel.data[previous_pixel.index(x, y)];
+    for (int l = 0; l < lanes; ++l) q[0][l] = pp[2 * l], q[1][l] = pp[2 * l + 1];
+    const __m256 qx = _mm256_load_ps(q[0]), qy = _mm256_load_ps(q[1]);
+    const __m256 traced = not_equal(_mm256_loadu_ps(&valid.data[valid.index(x, y)]), zero());
+    const __m256 candidate =
+        both(traced, both(at_least(qx, set(-1.0f)), less(qx, set(static_cast<float>(width)))));
+    alignas(32) float taps[4][3][lanes] = {};
+    __m256 on[4], weight[4];
+    IndexedTaps lane_taps;
+    if (vp_tap_lanes(history_map, qx, qy, candidate, width, height, lane_taps)) {
+        for (int k = 0; k < 4; ++k) {
+            on[k] = lane_taps.on[k];
+            if (space.previous_valid)  // taps on texels traced in the previous frame
+                on[k] = both(on[k], not_equal(load_lanes(space.previous_valid->data.data(),
+                                                         lane_taps.at[k], on[k]),
+                                              zero()));
+            weight[k] = lane_taps.weight[k];
+            __m256 values[3];
+            gather3_lanes(history.data.data(), lane_taps.at[k], on[k], values);
+            for (int c = 0; c < 3; ++c) _mm256_store_ps(taps[k][c], values[c]);
+        }
+    } else {
+        ListedTaps g;
+        const int candidate_bits = bits(candidate);
+        for (int l = 0; l < lanes; ++l) {
+            if (!(candidate_bits >> l & 1)) continue;
+            const BmfrTaps t = bmfr_vp_taps(history_map, {q[0][l], q[1][l]});
+            set_lane_taps(g, l, t, width, height, [&](int k) {
+                return !space.previous_valid || space.previous_valid->at(t.x[k], t.y[k]) != 0.0f;
+            });
+        }
+        load_listed(g);
+        for (int k = 0; k < 4; ++k) {
+            on[k] = g.on[k], weight[k] = g.weight[k];
+            const int on_bits = bits(on[k]);
+            for (int l = 0; l < lanes; ++l) {
+                if (!(on_bits >> l & 1)) continue;
+                const float* p = &history.data[3 * g.index(k, l)];
+                for (int c = 0; c < 3; ++c) taps[k][c][l] = p[c];
+            }
+        }
+    }
+    __m256 lo[3], hi[3];
+    const float t = (static_cast<float>(y) + 0.5f) / static_cast<float>(height);
+    const int base = std::min(static_cast<int>(t * static_cast<float>(height)), height - 1);
+    const int rows[3] = {vp_wrap_row(base - 1, height), base, vp_wrap_row(base + 1, height)};
+    clamp_range<true>(ycocg, &valid, rows, x, lo, hi);
+    return blend_group(params, display, on, weight, taps, candidate, lo, hi, out, x, y);
+}
+
+}  // namespace
+
+namespace {
+
+bool same_mask_shape(const Image* mask, const Image& display) {
+    return mask && mask->channels == 1 && mask->width == display.width &&
+           mask->height == display.height;
+}
+
+bool same_map_shape(const VisualPolarMap& map, const Image& display) {
+    return map.width == display.width && map.height == display.height;
+}
+
+}  // namespace
+
+BmfrTaaSpan bmfr_taa_avx_span(const Image& display, const Image& history, const BmfrSpace& space) {
+    const BmfrTaaSpan none{display.width, display.width};
+    if (history.empty() || display.channels != 3 || history.channels != 3 || !simd_allowed() ||
+        !cpu_has_avx2())
+        return none;
+    int first = 1;
+    if (space.map) {
+        if (!same_mask_shape(space.valid, display) || !same_map_shape(*space.map, display) ||
+            !same_map_shape(space.history_map(), display) ||
+            (space.previous_valid && !same_mask_shape(space.previous_valid, display)) ||
+            3.0 * display.width * display.height >= 2147483648.0)  // int32 gather indices
+            return none;
+        first = std::max(first, space.map->fovea_columns + 1);
+    }
+    // groups of eight while column x + 8 is on the image
+    const int groups = std::max(display.width - 1 - first, 0) / lanes;
+    return groups > 0 ? BmfrTaaSpan{first, first + groups * lanes} : none;
+}
+
+void bmfr_taa_row_avx(const BmfrParams& params, const Image& display, const Image& ycocg,
+                      const Image& previous_pixel, const Image& history, const BmfrSpace& space,
+                      BmfrTaaSpan span, Image& out, int y, std::int64_t& used) {
+    for (int x = span.first; x < span.end; x += lanes)
+        used += space.map ? vp_taa_group(params, display, ycocg, previous_pixel, history, space,
+                                         out, x, y)
+                          : taa_group(params, display, ycocg, previous_pixel, history, out, x, y);
 }
 
 }  // namespace fovref

@@ -1,7 +1,9 @@
 // BMFR's TAA with AVX2 (ref/bmfr/display_avx.h) gives bmfr_taa_pixel's bits: reprojected points
 // near their pixel, off the image on every side, NaN and infinite; displays and histories with
 // NaN, infinities, -0 and +0 (ties in the box's min and max); the first and last rows and
-// columns, and a row's tail.
+// columns, and a row's tail. In Visual-Polar space also: untraced texels now and in the previous
+// frame (a NaN mask counts as traced), the history's map with other rows in the fovea, the
+// angle's wrap at the first and last rows.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -10,6 +12,7 @@
 #include "ref/bmfr/bmfr.h"
 #include "ref/bmfr/display_avx.h"
 #include "ref/core/simd.h"
+#include "ref/visual_polar/map.h"
 #include "tests/image/image_test_util.h"
 
 using namespace fovref;
@@ -61,7 +64,9 @@ TEST_CASE("bmfr TAA speed: the AVX2 pass gives bmfr_taa_pixel's bits") {
             }
         BmfrParams params;
         if (trial == 2) params.taa_alpha = 0.37f;
-        CHECK(bmfr_taa_avx_applies(display, history, BmfrSpace{}) == cpu_has_avx2());
+        const BmfrTaaSpan span = bmfr_taa_avx_span(display, history, BmfrSpace{});
+        CHECK(span.first == (cpu_has_avx2() ? 1 : w));
+        CHECK(span.end == (cpu_has_avx2() ? 65 : w));
         Image out[2];
         BmfrStats stats[2];
         for (const bool simd : {true, false}) {
@@ -78,4 +83,66 @@ TEST_CASE("bmfr TAA speed: the AVX2 pass gives bmfr_taa_pixel's bits") {
     MESSAGE("history used in " << used << " of " << pixels << " pixels");
     CHECK(used > pixels / 2);
     CHECK(used < pixels);
+}
+
+TEST_CASE("bmfr TAA speed: the AVX2 pass gives bmfr_taa_pixel's bits in Visual-Polar space") {
+    if (!cpu_has_avx2()) MESSAGE("no AVX2 on this CPU: both runs take the reference");
+    // A 67 x 45 buffer on a 120 x 90 screen: 16 fovea columns, then groups from column 17 and a
+    // tail of two per row; BMFR's staircase moved between the frames.
+    const int w = 67, h = 45;
+    test::SplitMix64 rng(43);
+    std::int64_t used = 0, traced = 0;
+    for (int trial = 0; trial < 4; ++trial) {
+        CAPTURE(trial);
+        const glm::vec2 gaze = trial == 3 ? glm::vec2(-20.0f, 30.0f) : glm::vec2(60.0f, 45.0f);
+        VisualPolarMap map = make_visual_polar_map(120, 90, gaze, w, h);
+        map.staircase_block = 8;
+        map.staircase_offset = 2;
+        VisualPolarMap previous_map = map;
+        previous_map.staircase_offset = trial == 2 ? 2 : 5;
+        Image display(w, h, 3), history(w, h, 3), previous_pixel(w, h, 2), valid(w, h, 1),
+            previous_valid(w, h, 1);
+        for (float& v : display.data) v = hostile(rng, rng.uniform(0.0f, 1.0f), 89);
+        for (float& v : history.data) v = hostile(rng, rng.uniform(0.0f, 1.0f), 83);
+        const float reach = trial == 1 ? 6.0f : 1.5f;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                glm::vec2 s{0.0f};
+                const bool on = vp_texel_status(map, x, y, s) == VpTexel::traced;
+                valid.at(x, y) = on && rng.below(13) != 0 ? 1.0f : 0.0f;
+                if (rng.below(97) == 0) valid.at(x, y) = std::numeric_limits<float>::quiet_NaN();
+                previous_valid.at(x, y) = rng.below(11) != 0 ? 1.0f : 0.0f;
+                traced += valid.at(x, y) != 0.0f;
+                // q: the column near x, the angle (a fraction of the turn) near the row's, both
+                // hostile now and then; trial 1 far on every side
+                previous_pixel.at(x, y, 0) =
+                    hostile(rng, static_cast<float>(x) + rng.uniform(-reach, reach), 61);
+                previous_pixel.at(x, y, 1) =
+                    hostile(rng, (static_cast<float>(y) + rng.uniform(-reach, reach)) / h, 61);
+            }
+        BmfrSpace space;
+        space.map = map;
+        space.valid = &valid;
+        space.previous_valid = trial == 2 ? nullptr : &previous_valid;
+        space.previous_map = previous_map;
+        BmfrParams params;
+        if (trial == 2) params.taa_alpha = 0.37f;
+        const BmfrTaaSpan span = bmfr_taa_avx_span(display, history, space);
+        CHECK(span.first == (cpu_has_avx2() ? map.fovea_columns + 1 : w));
+        CHECK(span.end == (cpu_has_avx2() ? 65 : w));
+        Image out[2];
+        BmfrStats stats[2];
+        for (const bool simd : {true, false}) {
+            set_simd_allowed(simd);
+            out[simd ? 0 : 1] =
+                bmfr_taa(params, display, previous_pixel, history, stats[simd ? 0 : 1], space);
+            set_simd_allowed(true);
+        }
+        REQUIRE(test::same_bits_nan_aside(out[0], out[1]));
+        CHECK(stats[0].taa_history_used == stats[1].taa_history_used);
+        used += stats[1].taa_history_used;
+    }
+    MESSAGE("history used in " << used << " of " << traced << " traced texels");
+    CHECK(used > traced / 2);
+    CHECK(used < traced);
 }
