@@ -483,26 +483,24 @@ Image bmfr_weighted_sum(const BmfrFit& fit, const Image& world_position, const I
                  "bmfr_weighted_sum: the weights, ranges, positions or normals do not match the "
                  "grid");
     Image out(g.width, g.height, 3);
-    if (bmfr_weighted_sum_avx_applies(g)) {
-        // Eight pixels at a time (the same bits: weighted_sum_avx.h), block span by block span;
-        // the reference does each span's last pixels.
-        for (int y = 0; y < g.height; ++y)
-            for (int x = 0; x < g.width;) {
-                const int cell_x = g.cell_of(x, y).x;
-                const int end = std::min(g.width, g.origin(cell_x + 1, 0).x);
-                for (x = bmfr_weighted_sum_span_avx(fit, world_position, normal, out, x, end, y,
-                                                    stats);
-                     x < end; ++x)
-                    bmfr_weighted_sum_pixel(fit, world_position, normal, out, x, y, stats);
-            }
-        return out;
-    }
+    // Visual-Polar texels beyond their column's rows or untraced have no data: 0
+    const auto has_data = [&](int x, int y) {
+        return !g.visual_polar() || (y < g.column_rows[static_cast<std::size_t>(x)] &&
+                                     (!valid || valid->at(x, y) != 0.0f));
+    };
+    // Eight pixels at a time where the AVX path applies (the same bits: weighted_sum_avx.h),
+    // block span by block span; the reference does each span's last pixels, or every pixel.
+    const bool avx = bmfr_weighted_sum_avx_applies(g, valid);
     for (int y = 0; y < g.height; ++y)
-        for (int x = 0; x < g.width; ++x) {
-            if (g.visual_polar() && (y >= g.column_rows[static_cast<std::size_t>(x)] ||
-                                     (valid && valid->at(x, y) == 0.0f)))
-                continue;  // no data: 0
-            bmfr_weighted_sum_pixel(fit, world_position, normal, out, x, y, stats);
+        for (int x = 0; x < g.width;) {
+            const int cell_x = g.cell_of(x, y).x;
+            const int end = std::min(g.width, g.origin(cell_x + 1, 0).x);
+            if (avx)
+                x = bmfr_weighted_sum_span_avx(fit, world_position, normal, valid, out, x, end, y,
+                                               stats);
+            for (; x < end; ++x)
+                if (has_data(x, y))
+                    bmfr_weighted_sum_pixel(fit, world_position, normal, out, x, y, stats);
         }
     return out;
 }

@@ -269,16 +269,42 @@ TEST_CASE("bmfr phases I and III in Visual-Polar space: the AVX paths give the r
     CHECK(seen.history_off_screen > 100);
 }
 
+namespace {
+
+// A Visual-Polar weighted sum's mask: the map's traced texels, one in 13 untraced, one in 97 NaN
+// (which counts as traced).
+Image traced_mask(test::SplitMix64& rng, const VisualPolarMap& map) {
+    Image valid(map.width, map.height, 1);
+    for (int y = 0; y < map.height; ++y)
+        for (int x = 0; x < map.width; ++x) {
+            glm::vec2 s{0.0f};
+            const bool on = vp_texel_status(map, x, y, s) == VpTexel::traced;
+            valid.at(x, y) = on && rng.below(13) != 0 ? 1.0f : 0.0f;
+            if (rng.below(97) == 0) valid.at(x, y) = quiet_nan;
+        }
+    return valid;
+}
+
+}  // namespace
+
 TEST_CASE("bmfr weighted sum: the AVX path gives the reference's bits, block by block (B 32, 64)") {
-    // 150 x 37: block spans cut at every frame's offset, groups of eight and scalar ends.
+    // 150 x 37: block spans cut at every frame's offset, groups of eight and scalar ends; on the
+    // screen (trials 0 .. 3), then in Visual-Polar space (4 .. 7: BMFR's staircase, texels
+    // beyond their column's rows and untraced ones, without data; trial 6 without a mask).
     const int w = 150, h = 37;
     test::SplitMix64 rng(5);
     std::int64_t nonfinite = 0;
-    for (int frame = 0; frame < 4; ++frame) {
+    for (int frame = 0; frame < 8; ++frame) {
         CAPTURE(frame);
         BmfrFit fit;
-        fit.grid = bmfr_grid(w, h, frame * 5, nullptr, frame % 2 == 0 ? 32 : 64);
-        CHECK(bmfr_weighted_sum_avx_applies(fit.grid) == cpu_has_avx());
+        VisualPolarMap map = make_visual_polar_map(225, 56, glm::vec2(100.0f, 30.0f), w, h);
+        map.staircase_block = frame % 2 == 0 ? 32 : 64;
+        map.staircase_offset = frame;
+        const bool vp = frame >= 4;
+        fit.grid = bmfr_grid(w, h, frame * 5, vp ? &map : nullptr, frame % 2 == 0 ? 32 : 64);
+        const Image valid = vp && frame != 6 ? traced_mask(rng, map) : Image();
+        const Image* mask = valid.empty() ? nullptr : &valid;
+        CHECK(bmfr_weighted_sum_avx_applies(fit.grid, mask) == cpu_has_avx());
         fit.weights = Image(fit.grid.cells_x, fit.grid.cells_y, bmfr_weight_count);
         fit.feature_range = Image(fit.grid.cells_x, fit.grid.cells_y, 2 * bmfr_scaled_count);
         // Weights, one in 97 huge (sums that overflow: counted and set to 0).
@@ -300,12 +326,27 @@ TEST_CASE("bmfr weighted sum: the AVX path gives the reference's bits, block by 
         BmfrStats stats[2];
         for (const bool simd : {true, false}) {
             set_simd_allowed(simd);
-            sums[simd ? 0 : 1] = bmfr_weighted_sum(fit, world, normal, stats[simd ? 0 : 1]);
+            sums[simd ? 0 : 1] = bmfr_weighted_sum(fit, world, normal, stats[simd ? 0 : 1], mask);
             set_simd_allowed(true);
         }
         REQUIRE(test::same_bits_nan_aside(sums[0], sums[1]));
         CHECK(stats[0].fit_nonfinite == stats[1].fit_nonfinite);
         nonfinite += stats[1].fit_nonfinite;
+        if (vp) {  // texels without data stay 0, the others mostly do not
+            int zero_data = 0, nonzero_data = 0, written_without_data = 0;
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    const bool data = y < fit.grid.column_rows[static_cast<std::size_t>(x)] &&
+                                      (!mask || valid.at(x, y) != 0.0f);
+                    const bool zero = sums[1].at(x, y, 0) == 0.0f && sums[1].at(x, y, 1) == 0.0f &&
+                                      sums[1].at(x, y, 2) == 0.0f;
+                    if (!data && !zero) ++written_without_data;
+                    (data && !zero ? nonzero_data : zero_data) += 1;
+                }
+            CHECK(written_without_data == 0);
+            CHECK(zero_data > w * h / 10);
+            CHECK(nonzero_data > w * h / 3);
+        }
     }
-    CHECK(nonfinite > 20);
+    CHECK(nonfinite > 40);
 }
