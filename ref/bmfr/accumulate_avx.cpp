@@ -5,7 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "ref/bmfr/listed_taps_avx.h"
+#include "ref/bmfr/vp_taps_avx.h"
 #include "ref/core/avx_lanes.h"
 #include "ref/core/simd.h"
 
@@ -76,7 +76,7 @@ FOVREF_AVX_INLINE __m256 project_lanes(const BmfrParams& params, const ViewProje
 /// The four taps of eight pixels: tap k of lane l is history pixel index(k, l), read where on[k]
 /// is set (the reference's tap k that it reads), with weight weight[k]. Screen space: the
 /// bilinear corners' taps (ScreenTaps); Visual-Polar space: each lane's own list (ListedTaps,
-/// listed_taps_avx.h).
+/// vp_taps_avx.h).
 struct ScreenTaps {
     __m256 on[4], weight[4];
     const BilinearLanes* b = nullptr;
@@ -297,7 +297,6 @@ __attribute__((target("avx"))) void vp_accumulate_group(
     alignas(32) float point[2][lanes], q[2][lanes] = {}, reprojected_lanes[lanes] = {};
     _mm256_store_ps(point[0], _mm256_add_ps(sx, set(0.5f)));
     _mm256_store_ps(point[1], _mm256_add_ps(sy, set(0.5f)));
-    ListedTaps g;
     const int projected_bits = bits(projected);
     for (int l = 0; l < lanes; ++l) {
         if (!(projected_bits >> l & 1)) continue;
@@ -307,15 +306,29 @@ __attribute__((target("avx"))) void vp_accumulate_group(
         reprojected_lanes[l] = std::bit_cast<float>(-1);
         q[0][l] = ql.x;
         q[1][l] = ql.y;
-        const BmfrTaps taps = bmfr_vp_taps(previous, ql);
+    }
+    const __m256 reprojected = _mm256_load_ps(reprojected_lanes);
+    stats.history_off_screen += count(data) - count(reprojected);
+    const __m256 qx = _mm256_load_ps(q[0]), qy = _mm256_load_ps(q[1]);
+    // The taps (bmfr_vp_taps) on texels traced in the previous frame: in lanes, or listed
+    LaneTaps lane_taps;
+    if (vp_tap_lanes(previous, qx, qy, reprojected, width, height, lane_taps)) {
+        mask_taps(lane_taps, history.valid_texels);
+        finish_group(params, history, c, p, n, reprojected, qx, qy, set(bmfr_no_margin), lane_taps,
+                     out, x, y, stats);
+        return;
+    }
+    ListedTaps g;
+    const int reprojected_bits = bits(reprojected);
+    for (int l = 0; l < lanes; ++l) {
+        if (!(reprojected_bits >> l & 1)) continue;
+        const BmfrTaps taps = bmfr_vp_taps(previous, {q[0][l], q[1][l]});
         set_lane_taps(g, l, taps, width, height,
                       [&](int k) { return history.valid_texels.at(taps.x[k], taps.y[k]) != 0.0f; });
     }
     load_listed(g);
-    const __m256 reprojected = _mm256_load_ps(reprojected_lanes);
-    stats.history_off_screen += count(data) - count(reprojected);
-    finish_group(params, history, c, p, n, reprojected, _mm256_load_ps(q[0]), _mm256_load_ps(q[1]),
-                 set(bmfr_no_margin), g, out, x, y, stats);
+    finish_group(params, history, c, p, n, reprojected, qx, qy, set(bmfr_no_margin), g, out, x, y,
+                 stats);
 }
 
 /// Phase I's accepted-tap bits of pixels x .. x + 7 (0 .. 15; anything else: none).
@@ -412,11 +425,27 @@ __attribute__((target("avx"))) void vp_filtered_group(const BmfrParams& params, 
     const int width = fitted.width, height = fitted.height;
     unsigned mask[lanes];
     accepted_bits_of(accept, x, y, mask);
+    alignas(32) float q[2][lanes], wanted_lanes[lanes] = {}, accepted_lanes[4][lanes] = {};
+    const float* pp = &previous_pixel.data[previous_pixel.index(x, y)];
+    for (int l = 0; l < lanes; ++l) {
+        q[0][l] = pp[2 * l], q[1][l] = pp[2 * l + 1];
+        if (mask[l] != 0) wanted_lanes[l] = std::bit_cast<float>(-1);
+        for (int k = 0; k < 4; ++k)
+            if (mask[l] >> k & 1u) accepted_lanes[k][l] = std::bit_cast<float>(-1);
+    }
+    // The taps (bmfr_vp_taps of the history's map) that phase I accepted: in lanes, or listed
+    LaneTaps lane_taps;
+    if (vp_tap_lanes(space.history_map(), _mm256_load_ps(q[0]), _mm256_load_ps(q[1]),
+                     _mm256_load_ps(wanted_lanes), width, height, lane_taps)) {
+        for (int k = 0; k < 4; ++k)
+            lane_taps.on[k] = both(lane_taps.on[k], _mm256_load_ps(accepted_lanes[k]));
+        finish_filtered(params, fitted, spp, history, lane_taps, out, x, y);
+        return;
+    }
     ListedTaps g;
     for (int l = 0; l < lanes; ++l) {
         if (mask[l] == 0) continue;
-        const glm::vec2 q(previous_pixel.at(x + l, y, 0), previous_pixel.at(x + l, y, 1));
-        set_lane_taps(g, l, bmfr_vp_taps(space.history_map(), q), width, height,
+        set_lane_taps(g, l, bmfr_vp_taps(space.history_map(), {q[0][l], q[1][l]}), width, height,
                       [&](int k) { return (mask[l] >> k & 1u) != 0; });
     }
     load_listed(g);

@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "ref/bmfr/listed_taps_avx.h"
+#include "ref/bmfr/vp_taps_avx.h"
 #include "ref/core/avx_lanes.h"
 #include "ref/core/simd.h"
 
@@ -135,55 +135,35 @@ __attribute__((target("avx2"))) int taa_group(const BmfrParams& params, const Im
     return blend_group(params, display, b.on, b.weight, taps, in_range, lo, hi, out, x, y);
 }
 
-/// The four taps of eight lanes: on (the reference reads tap k), weight, and the history pixel
-/// (row-major) where on.
-struct IndexedTaps {
-    __m256 on[4], weight[4];
-    __m256i at[4];
-};
-
-/// bmfr_vp_taps(map, q) of eight lanes whose columns lie beyond the map's fovea or off the W x H
-/// buffer, each tap on where it lies on the buffer and the lane is `wanted`: q.x clamped to
-/// +-1e6 (-1e6 if not finite), the fraction of q.y's turn (0 if not finite), the columns
-/// x0 = floor(q.x), x0 + 1 with weights 1 - fx and fx, and on both (each has H rows) the rows
-/// of v = q.y H - 1/2, wrapped, with weights 1 - fy and fy. False, with `g` unset, where a wanted
-/// lane has a column in the fovea (its rows differ: the caller lists the taps lane by lane).
-FOVREF_AVX2_INLINE bool vp_tap_lanes(const VisualPolarMap& map, __m256 qx, __m256 qy, __m256 wanted,
-                                     int width, int height, IndexedTaps& g) {
-    const __m256 big = set(1e6f);
-    qx = select(finite(qx), std_min(std_max(qx, negate(big)), big), negate(big));
-    qy = select(finite(qy), _mm256_sub_ps(qy, floor(qy)), zero());
-    const __m256 fx0 = floor(qx), fx = _mm256_sub_ps(qx, fx0);
-    const __m256i c0 = _mm256_cvttps_epi32(fx0);  // exact: |floor(q.x)| <= 1e6
-    const __m256i wanted_i = _mm256_castps_si256(wanted);
-    const __m256i columns[2] = {c0, _mm256_add_epi32(c0, _mm256_set1_epi32(1))};
-    __m256i on_buffer[2];
-    for (int side = 0; side < 2; ++side) {
-        const __m256i c = columns[side];
-        on_buffer[side] =
-            _mm256_and_si256(_mm256_and_si256(_mm256_cmpgt_epi32(c, _mm256_set1_epi32(-1)),
-                                              _mm256_cmpgt_epi32(_mm256_set1_epi32(width), c)),
-                             wanted_i);
-        const __m256i fovea = _mm256_cmpgt_epi32(_mm256_set1_epi32(map.fovea_columns), c);
-        if (!_mm256_testz_si256(on_buffer[side], fovea)) return false;
-    }
-    // v in [-1/2, H - 1/2]: floor(v) in [-1, H - 1], wrapped from -1 to H - 1
-    const __m256 v = _mm256_sub_ps(_mm256_mul_ps(qy, set(static_cast<float>(height))), set(0.5f));
-    const __m256 fv0 = floor(v), fy = _mm256_sub_ps(v, fv0);
-    const __m256i j = _mm256_cvttps_epi32(fv0), rows = _mm256_set1_epi32(height);
-    const __m256i y0 =
-        _mm256_add_epi32(j, _mm256_and_si256(_mm256_cmpgt_epi32(_mm256_setzero_si256(), j), rows));
-    const __m256i next = _mm256_add_epi32(y0, _mm256_set1_epi32(1));
-    const __m256i y1 = _mm256_andnot_si256(_mm256_cmpeq_epi32(next, rows), next);
-    const __m256 wx[2] = {_mm256_sub_ps(set(1.0f), fx), fx};
-    const __m256 gy = _mm256_sub_ps(set(1.0f), fy);
+/// The history's colours at the taps of `g` that are on (+0 elsewhere), lane by lane.
+template <class GroupTaps>
+FOVREF_AVX_INLINE void history_at_taps(const Image& history, const GroupTaps& g,
+                                       float (*taps)[3][lanes]) {
     for (int k = 0; k < 4; ++k) {
-        const int side = k & 1;
-        g.weight[k] = _mm256_mul_ps(wx[side], k < 2 ? gy : fy);
-        g.on[k] = _mm256_castsi256_ps(on_buffer[side]);
-        g.at[k] = row_major(columns[side], k < 2 ? y0 : y1, width);
+        const int on = bits(g.on[k]);
+        for (int l = 0; l < lanes; ++l) {
+            if (!(on >> l & 1)) continue;
+            const float* p = &history.data[3 * g.index(k, l)];
+            for (int c = 0; c < 3; ++c) taps[k][c][l] = p[c];
+        }
     }
-    return true;
+}
+
+/// vp_taa_group's end: the taps' history, the clamp range, the blend.
+template <class GroupTaps>
+FOVREF_AVX2_INLINE int vp_taa_blend(const BmfrParams& params, const Image& display,
+                                    const Image& ycocg, const Image& history, const Image& valid,
+                                    const GroupTaps& g, __m256 candidate, Image& out, int x,
+                                    int y) {
+    alignas(32) float taps[4][3][lanes] = {};
+    history_at_taps(history, g, taps);
+    const int height = display.height;
+    __m256 lo[3], hi[3];
+    const float t = (static_cast<float>(y) + 0.5f) / static_cast<float>(height);
+    const int base = std::min(static_cast<int>(t * static_cast<float>(height)), height - 1);
+    const int rows[3] = {vp_wrap_row(base - 1, height), base, vp_wrap_row(base + 1, height)};
+    clamp_range<true>(ycocg, &valid, rows, x, lo, hi);
+    return blend_group(params, display, g.on, g.weight, taps, candidate, lo, hi, out, x, y);
 }
 
 /// bmfr_taa_pixel in Visual-Polar space for texels x .. x + 7 of row y whose neighbours' columns
@@ -206,48 +186,24 @@ __attribute__((target("avx2"))) int vp_taa_group(const BmfrParams& params, const
     const __m256 traced = not_equal(_mm256_loadu_ps(&valid.data[valid.index(x, y)]), zero());
     const __m256 candidate =
         both(traced, both(at_least(qx, set(-1.0f)), less(qx, set(static_cast<float>(width)))));
-    alignas(32) float taps[4][3][lanes] = {};
-    __m256 on[4], weight[4];
-    IndexedTaps lane_taps;
+    // The history's taps on texels traced in the previous frame
+    LaneTaps lane_taps;
     if (vp_tap_lanes(history_map, qx, qy, candidate, width, height, lane_taps)) {
-        for (int k = 0; k < 4; ++k) {
-            on[k] = lane_taps.on[k];
-            if (space.previous_valid)  // taps on texels traced in the previous frame
-                on[k] = both(on[k], not_equal(load_lanes(space.previous_valid->data.data(),
-                                                         lane_taps.at[k], on[k]),
-                                              zero()));
-            weight[k] = lane_taps.weight[k];
-            __m256 values[3];
-            gather3_lanes(history.data.data(), lane_taps.at[k], on[k], values);
-            for (int c = 0; c < 3; ++c) _mm256_store_ps(taps[k][c], values[c]);
-        }
-    } else {
-        ListedTaps g;
-        const int candidate_bits = bits(candidate);
-        for (int l = 0; l < lanes; ++l) {
-            if (!(candidate_bits >> l & 1)) continue;
-            const BmfrTaps t = bmfr_vp_taps(history_map, {q[0][l], q[1][l]});
-            set_lane_taps(g, l, t, width, height, [&](int k) {
-                return !space.previous_valid || space.previous_valid->at(t.x[k], t.y[k]) != 0.0f;
-            });
-        }
-        load_listed(g);
-        for (int k = 0; k < 4; ++k) {
-            on[k] = g.on[k], weight[k] = g.weight[k];
-            const int on_bits = bits(on[k]);
-            for (int l = 0; l < lanes; ++l) {
-                if (!(on_bits >> l & 1)) continue;
-                const float* p = &history.data[3 * g.index(k, l)];
-                for (int c = 0; c < 3; ++c) taps[k][c][l] = p[c];
-            }
-        }
+        if (space.previous_valid) mask_taps(lane_taps, *space.previous_valid);
+        return vp_taa_blend(params, display, ycocg, history, valid, lane_taps, candidate, out, x,
+                            y);
     }
-    __m256 lo[3], hi[3];
-    const float t = (static_cast<float>(y) + 0.5f) / static_cast<float>(height);
-    const int base = std::min(static_cast<int>(t * static_cast<float>(height)), height - 1);
-    const int rows[3] = {vp_wrap_row(base - 1, height), base, vp_wrap_row(base + 1, height)};
-    clamp_range<true>(ycocg, &valid, rows, x, lo, hi);
-    return blend_group(params, display, on, weight, taps, candidate, lo, hi, out, x, y);
+    ListedTaps g;
+    const int candidate_bits = bits(candidate);
+    for (int l = 0; l < lanes; ++l) {
+        if (!(candidate_bits >> l & 1)) continue;
+        const BmfrTaps t = bmfr_vp_taps(history_map, {q[0][l], q[1][l]});
+        set_lane_taps(g, l, t, width, height, [&](int k) {
+            return !space.previous_valid || space.previous_valid->at(t.x[k], t.y[k]) != 0.0f;
+        });
+    }
+    load_listed(g);
+    return vp_taa_blend(params, display, ycocg, history, valid, g, candidate, out, x, y);
 }
 
 }  // namespace
@@ -274,8 +230,7 @@ BmfrTaaSpan bmfr_taa_avx_span(const Image& display, const Image& history, const 
     if (space.map) {
         if (!same_mask_shape(space.valid, display) || !same_map_shape(*space.map, display) ||
             !same_map_shape(space.history_map(), display) ||
-            (space.previous_valid && !same_mask_shape(space.previous_valid, display)) ||
-            3.0 * display.width * display.height >= 2147483648.0)  // int32 gather indices
+            (space.previous_valid && !same_mask_shape(space.previous_valid, display)))
             return none;
         first = std::max(first, space.map->fovea_columns + 1);
     }
