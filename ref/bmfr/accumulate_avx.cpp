@@ -8,6 +8,7 @@
 #include "ref/bmfr/vp_taps_avx.h"
 #include "ref/core/avx_lanes.h"
 #include "ref/core/simd.h"
+#include "ref/visual_polar/map_avx.h"
 
 namespace fovref {
 
@@ -298,10 +299,11 @@ __attribute__((target("avx"))) void vp_accumulate_group(
     _mm256_store_ps(point[0], _mm256_add_ps(sx, set(0.5f)));
     _mm256_store_ps(point[1], _mm256_add_ps(sy, set(0.5f)));
     const int projected_bits = bits(projected);
+    alignas(32) float ut[2][lanes];
+    vp_forward_angle_lanes(previous, point[0], point[1], projected_bits, ut[0], ut[1]);
     for (int l = 0; l < lanes; ++l) {
         if (!(projected_bits >> l & 1)) continue;
-        const glm::vec2 ut = vp_forward_angle(previous, {point[0][l], point[1][l]});
-        const glm::vec2 ql{ut.x - 0.5f, ut.y};
+        const glm::vec2 ql{ut[0][l] - 0.5f, ut[1][l]};
         if (!(std::isfinite(ql.x) && std::isfinite(ql.y))) continue;
         reprojected_lanes[l] = std::bit_cast<float>(-1);
         q[0][l] = ql.x;

@@ -24,6 +24,7 @@ namespace fovref::dm {
 
 inline constexpr float pi = 3.14159265358979323846f;
 inline constexpr double pi_d = 3.14159265358979323846;
+inline constexpr float two_pi = 6.28318530717958647692f;  ///< 2 pi rounded to binary32 once
 
 float exp(float x);           ///< e^x. Max error 1 ulp (measured: see docs/determinism.md).
 float exp2(float x);          ///< 2^x, exact for integer x. Max error 1 ulp.

@@ -12,12 +12,6 @@
 
 namespace fovref {
 
-namespace {
-
-constexpr float two_pi = 6.28318530717958647692f;
-
-}  // namespace
-
 float vp_acuity(float e) {
     if (e <= 5.79f) return 1.0f;
     const float d = 0.3f * e + 1.0f;
@@ -127,6 +121,11 @@ float next_up(float u) { return std::bit_cast<float>(std::bit_cast<std::uint32_t
 float next_down(float u) { return std::bit_cast<float>(std::bit_cast<std::uint32_t>(u) - 1u); }
 
 }  // namespace
+
+VpCdfTables vp_cdf_tables() {
+    const CdfBuckets& buckets = cdf_buckets();
+    return {cdf_table(), buckets.scale, buckets.lo, buckets.hi};
+}
 
 float vp_cdf(float e) {
     if (!(e > 0.0f)) return 0.0f;
@@ -249,7 +248,7 @@ bool vp_inverse(const VisualPolarMap& m, int i, int j, glm::vec2& screen) {
     }
     const int rows = vp_column_rows(m, i);
     if (j >= rows) return false;
-    const float theta = two_pi * (static_cast<float>(j) + 0.5f) / static_cast<float>(rows);
+    const float theta = dm::two_pi * (static_cast<float>(j) + 0.5f) / static_cast<float>(rows);
     const float r = vp_column_radius(m, i);
     screen = m.gaze + glm::vec2(r * dm::cos(theta), r * dm::sin(theta));
     return true;
@@ -270,7 +269,7 @@ void vp_polar(const VisualPolarMap& m, glm::vec2 p, float& r, float& theta) {
     const float dx = p.x - m.gaze.x, dy = p.y - m.gaze.y;
     r = std::sqrt(dx * dx + dy * dy);
     theta = dm::atan2(dy, dx);
-    if (theta < 0.0f) theta += two_pi;
+    if (theta < 0.0f) theta += dm::two_pi;
 }
 
 }  // namespace
@@ -282,9 +281,9 @@ glm::vec2 vp_forward(const VisualPolarMap& m, glm::vec2 p) {
     const float u = vp_forward_radius(m, r);
     if (r < m.fovea_radius) {
         const int column = std::min(static_cast<int>(u), m.fovea_columns - 1);
-        return {u, static_cast<float>(vp_column_rows(m, column)) * theta / two_pi};
+        return {u, static_cast<float>(vp_column_rows(m, column)) * theta / dm::two_pi};
     }
-    return {u, static_cast<float>(m.height) * theta / two_pi};
+    return {u, static_cast<float>(m.height) * theta / dm::two_pi};
 }
 
 glm::vec2 vp_forward_angle(const VisualPolarMap& m, glm::vec2 p) {
@@ -294,7 +293,7 @@ glm::vec2 vp_forward_angle(const VisualPolarMap& m, glm::vec2 p) {
     }
     float r = 0.0f, theta = 0.0f;
     vp_polar(m, p, r, theta);
-    return {vp_forward_radius(m, r), theta / two_pi};
+    return {vp_forward_radius(m, r), theta / dm::two_pi};
 }
 
 VpTexel vp_texel_status(const VisualPolarMap& m, int i, int j, glm::vec2& p) {

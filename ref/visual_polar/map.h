@@ -52,6 +52,16 @@ float vp_inverse_cdf(float u);
 float vp_cdf(float eccentricity_deg);
 /// vp_cdf by the bisection alone (the readable reference).
 float vp_cdf_bisection(float eccentricity_deg);
+/// vp_cdf's tables, for its lane version (map_avx.h): p[k] = P(k / 65536), k = 0 .. 65536, and
+/// per bucket b = min(floor(e bucket_scale), buckets - 1) (binary64 product) the bracket
+/// [lo[b], hi[b]] of table indices with P(lo / 65536) < e <= P(hi / 65536) (or the table's ends).
+struct VpCdfTables {
+    const std::vector<float>& p;
+    double bucket_scale;
+    const std::vector<int>& lo;
+    const std::vector<int>& hi;
+};
+VpCdfTables vp_cdf_tables();
 
 /// The Visual-Polar map of one frame: a W x H screen, the gaze, the buffer w x h.
 struct VisualPolarMap {

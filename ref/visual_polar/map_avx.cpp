@@ -1,0 +1,194 @@
+#include "ref/visual_polar/map_avx.h"
+
+#include <algorithm>
+
+#include "ref/core/avx_lanes.h"
+#include "ref/core/dmath.h"
+#include "ref/core/simd.h"
+
+namespace fovref {
+
+namespace {
+
+using namespace avx;
+
+// dm::atan2's binary64 constants: pi and pi / 2 rounded once (pi / 2 exactly half of pi)
+constexpr double pi = dm::pi_d, half_pi = dm::pi_d / 2.0;
+static_assert(pi == 0x1.921fb54442d18p+1 && half_pi == 0x1.921fb54442d18p+0);
+
+/// dm::atan's core for t >= 0 in binary64, four lanes: t halved twice by t / (1 + sqrt(1 + t t)),
+/// then 4 (t + t (z q)) with q the odd series' Horner sum in z = t t from -1/23 down to -1/3.
+FOVREF_AVX2_INLINE __m256d atan_core(__m256d t) {
+    const __m256d one = _mm256_set1_pd(1.0);
+    for (int halving = 0; halving < 2; ++halving)
+        t = _mm256_div_pd(
+            t, _mm256_add_pd(one, _mm256_sqrt_pd(_mm256_add_pd(one, _mm256_mul_pd(t, t)))));
+    const __m256d z = _mm256_mul_pd(t, t);
+    constexpr double series[] = {1.0 / 21.0,  -1.0 / 19.0, 1.0 / 17.0, -1.0 / 15.0, 1.0 / 13.0,
+                                 -1.0 / 11.0, 1.0 / 9.0,   -1.0 / 7.0, 1.0 / 5.0,   -1.0 / 3.0};
+    __m256d q = _mm256_set1_pd(-1.0 / 23.0);
+    for (const double c : series) q = _mm256_add_pd(_mm256_set1_pd(c), _mm256_mul_pd(z, q));
+    return _mm256_mul_pd(_mm256_set1_pd(4.0),
+                         _mm256_add_pd(t, _mm256_mul_pd(t, _mm256_mul_pd(z, q))));
+}
+
+/// dm::atan2(y, x) for y, x finite and nonzero (binary64 of binary32 values), four lanes: the
+/// first quadrant's angle of |y|, |x| (atan of the smaller over the larger, pi/2 minus it when
+/// |y| > |x|), pi minus it for x < 0, y's sign.
+FOVREF_AVX2_INLINE __m256d atan2_nonzero(__m256d y, __m256d x) {
+    const __m256d sign = _mm256_set1_pd(-0.0);
+    const __m256d ay = _mm256_andnot_pd(sign, y), ax = _mm256_andnot_pd(sign, x);
+    const __m256d steep = _mm256_cmp_pd(ay, ax, _CMP_GT_OQ);  // not ay <= ax
+    const __m256d core =
+        atan_core(_mm256_div_pd(_mm256_blendv_pd(ay, ax, steep), _mm256_blendv_pd(ax, ay, steep)));
+    __m256d a = _mm256_blendv_pd(core, _mm256_sub_pd(_mm256_set1_pd(half_pi), core), steep);
+    a = _mm256_blendv_pd(a, _mm256_sub_pd(_mm256_set1_pd(pi), a),
+                         _mm256_cmp_pd(x, _mm256_setzero_pd(), _CMP_LT_OQ));
+    return _mm256_or_pd(a, _mm256_and_pd(y, sign));
+}
+
+/// dm::atan2(dy, dx) rounded to binary32, eight lanes (dy, dx finite and nonzero).
+FOVREF_AVX2_INLINE __m256 atan2_lanes(__m256 dy, __m256 dx) {
+    const __m128 low = _mm256_cvtpd_ps(atan2_nonzero(_mm256_cvtps_pd(_mm256_castps256_ps128(dy)),
+                                                     _mm256_cvtps_pd(_mm256_castps256_ps128(dx))));
+    const __m128 high =
+        _mm256_cvtpd_ps(atan2_nonzero(_mm256_cvtps_pd(_mm256_extractf128_ps(dy, 1)),
+                                      _mm256_cvtps_pd(_mm256_extractf128_ps(dx, 1))));
+    return _mm256_insertf128_ps(_mm256_castps128_ps256(low), high, 1);
+}
+
+/// vp_inverse_cdf, eight lanes: 18.64 sqrt(max(u, 0)) for u <= u0, else the quartic by Horner.
+FOVREF_AVX2_INLINE __m256 inverse_cdf(__m256 u) {
+    const __m256 root = _mm256_mul_ps(set(18.64f), _mm256_sqrt_ps(std_max(u, zero())));
+    __m256 poly = _mm256_add_ps(_mm256_mul_ps(set(25.09f), u), set(0.1680f));
+    poly = _mm256_add_ps(_mm256_mul_ps(poly, u), set(27.61f));
+    poly = _mm256_add_ps(_mm256_mul_ps(poly, u), set(23.87f));
+    poly = _mm256_add_ps(_mm256_mul_ps(poly, u), set(3.232f));
+    return select(at_most(u, set(vp_u0)), root, poly);
+}
+
+/// The float after (step 1) or before (step -1) each positive finite float of u.
+FOVREF_AVX2_INLINE __m256 next_float(__m256 u, int step) {
+    return _mm256_castsi256_ps(_mm256_add_epi32(_mm256_castps_si256(u), _mm256_set1_epi32(step)));
+}
+
+/// vp_cdf(e) in the lanes of `active` (0 < e < P(1)): the bucket's bracket narrowed on the table
+/// to [k, k + 1] / 65536, then, where k >= 1, the interpolated guess moved float by float (at
+/// most 8 moves) to the largest float u of the bracket with P(u) < e: 0.5 (u + next float).
+/// `settled`: the active lanes so found (the others are the caller's).
+FOVREF_AVX2_INLINE __m256 cdf_lanes(__m256 e, __m256 active, __m256& settled) {
+    const VpCdfTables tables = vp_cdf_tables();
+    const int buckets = static_cast<int>(tables.lo.size());
+    alignas(32) float e_lanes[lanes];
+    alignas(32) int lo_lanes[lanes], hi_lanes[lanes];
+    _mm256_store_ps(e_lanes, e);
+    const int active_bits = bits(active);
+    for (int l = 0; l < lanes; ++l) {
+        lo_lanes[l] = hi_lanes[l] = 0;
+        if (!(active_bits >> l & 1)) continue;
+        const auto b = static_cast<std::size_t>(std::min(
+            static_cast<int>(static_cast<double>(e_lanes[l]) * tables.bucket_scale), buckets - 1));
+        lo_lanes[l] = tables.lo[b], hi_lanes[l] = tables.hi[b];
+    }
+    __m256i lo = _mm256_load_si256(reinterpret_cast<const __m256i*>(lo_lanes));
+    __m256i hi = _mm256_load_si256(reinterpret_cast<const __m256i*>(hi_lanes));
+    const float* p = tables.p.data();
+    const __m256i one = _mm256_set1_epi32(1);
+    // narrow_bracket: (P(mid) < e ? lo : hi) = mid while hi - lo > 1
+    for (;;) {
+        const __m256i open = _mm256_cmpgt_epi32(_mm256_sub_epi32(hi, lo), one);
+        if (_mm256_testz_si256(open, open)) break;
+        const __m256i mid = _mm256_srli_epi32(_mm256_add_epi32(lo, hi), 1);
+        const __m256 p_mid = _mm256_mask_i32gather_ps(zero(), p, mid, _mm256_castsi256_ps(open), 4);
+        const __m256i below = _mm256_and_si256(_mm256_castps_si256(less(p_mid, e)), open);
+        lo = _mm256_blendv_epi8(lo, mid, below);
+        hi = _mm256_blendv_epi8(hi, mid, _mm256_andnot_si256(below, open));
+    }
+    __m256 pending =
+        both(active, _mm256_castsi256_ps(_mm256_cmpgt_epi32(lo, _mm256_setzero_si256())));
+    const __m256 scale = set(1.0f / 65536.0f);
+    const __m256 lo_u = _mm256_mul_ps(_mm256_cvtepi32_ps(lo), scale);
+    const __m256 hi_u = _mm256_mul_ps(_mm256_cvtepi32_ps(hi), scale);
+    const __m256 p_lo = _mm256_mask_i32gather_ps(zero(), p, lo, pending, 4);
+    const __m256 p_hi = _mm256_mask_i32gather_ps(zero(), p, hi, pending, 4);
+    const __m256 last = next_float(hi_u, -1);
+    // std::clamp(guess, lo, last): (v < lo) ? lo : (last < v) ? last : v
+    const __m256 guess = _mm256_add_ps(
+        lo_u, _mm256_mul_ps(_mm256_sub_ps(hi_u, lo_u),
+                            _mm256_div_ps(_mm256_sub_ps(e, p_lo), _mm256_sub_ps(p_hi, p_lo))));
+    __m256 u = select(less(guess, lo_u), lo_u, select(less(last, guess), last, guess));
+    __m256 result = zero();
+    settled = zero();
+    for (int move = 0; move < 8 && bits(pending) != 0; ++move) {
+        const __m256 below = less(inverse_cdf(u), e);
+        const __m256 next = next_float(u, 1);
+        const __m256 next_below = less(inverse_cdf(next), e);
+        const __m256 down = both(pending, negation(below));
+        const __m256 up = both(both(pending, below), next_below);
+        const __m256 done = both(both(pending, below), negation(next_below));
+        result = select(done, _mm256_mul_ps(set(0.5f), _mm256_add_ps(u, next)), result);
+        u = select(down, next_float(u, -1), select(up, next, u));
+        settled = either(settled, done);
+        pending = both(pending, negation(done));
+    }
+    return result;
+}
+
+/// vp_forward_angle for Visual-Polar's own map in lanes; `settled`: the lanes computed (the
+/// others run the reference).
+__attribute__((target("avx2"))) void forward_group(const VisualPolarMap& m, const float* x,
+                                                   const float* y, int lane_bits, float* u_out,
+                                                   float* t_out, int& settled_bits) {
+    const __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(x), set(m.gaze.x));
+    const __m256 dy = _mm256_sub_ps(_mm256_loadu_ps(y), set(m.gaze.y));
+    const __m256 r = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)));
+    // the lanes whose angle atan2_nonzero computes, and whose distance is finite
+    const __m256 nonzero =
+        both(_mm256_cmp_ps(dx, zero(), _CMP_NEQ_OQ), _mm256_cmp_ps(dy, zero(), _CMP_NEQ_OQ));
+    __m256 settled = both(mask_of(lane_bits), both(nonzero, finite(r)));
+    // theta in [0, 2 pi]; dx, dy of the other lanes replaced by 1 (a harmless angle)
+    __m256 theta = atan2_lanes(select(settled, dy, set(1.0f)), select(settled, dx, set(1.0f)));
+    theta = select(less(theta, zero()), _mm256_add_ps(theta, set(dm::two_pi)), theta);
+    // vp_forward_radius: the fovea's linear part, else P^-1(r / s) mapped to rho
+    const __m256 fovea = less(r, set(m.fovea_radius));
+    const __m256 linear = _mm256_div_ps(_mm256_mul_ps(set(static_cast<float>(m.fovea_columns)), r),
+                                        set(m.fovea_radius));
+    const __m256 e = _mm256_div_ps(r, set(m.scale));
+    const __m256 positive = greater(e, zero()), saturated = at_least(e, set(vp_inverse_cdf(1.0f)));
+    const __m256 searched =
+        both(both(settled, negation(fovea)), both(positive, negation(saturated)));
+    __m256 found;
+    const __m256 cdf = cdf_lanes(e, searched, found);
+    settled = both(settled, either(negation(searched), found));
+    const __m256 big_u = select(positive, select(saturated, set(1.0f), cdf), zero());
+    const float rho_f = static_cast<float>(m.fovea_columns) / static_cast<float>(m.width);
+    const __m256 rho = _mm256_add_ps(
+        set(rho_f),
+        _mm256_div_ps(_mm256_mul_ps(_mm256_sub_ps(big_u, set(vp_u0)), set(1.0f - rho_f)),
+                      set(1.0f - vp_u0)));
+    const __m256 u = select(fovea, linear, _mm256_mul_ps(set(static_cast<float>(m.width)), rho));
+    const __m256 t = _mm256_div_ps(theta, set(dm::two_pi));
+    settled_bits = bits(settled);
+    alignas(32) float u_lanes[lanes], t_lanes[lanes];
+    _mm256_store_ps(u_lanes, u);
+    _mm256_store_ps(t_lanes, t);
+    for (int l = 0; l < lanes; ++l)
+        if (settled_bits >> l & 1) u_out[l] = u_lanes[l], t_out[l] = t_lanes[l];
+}
+
+}  // namespace
+
+int vp_forward_angle_lanes(const VisualPolarMap& map, const float* x, const float* y, int lane_bits,
+                           float* u, float* t) {
+    int settled = 0;
+    if (lane_bits != 0 && !map.log_polar && simd_allowed() && cpu_has_avx2())
+        forward_group(map, x, y, lane_bits, u, t, settled);
+    for (int l = 0; l < lanes; ++l) {
+        if (!(lane_bits >> l & 1) || (settled >> l & 1)) continue;
+        const glm::vec2 ut = vp_forward_angle(map, {x[l], y[l]});
+        u[l] = ut.x, t[l] = ut.y;
+    }
+    return settled;
+}
+
+}  // namespace fovref

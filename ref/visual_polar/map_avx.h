@@ -1,0 +1,24 @@
+// The forward map's angle form (vp_forward_angle) of eight screen points at a time with AVX2: the
+// same bits as vp_forward_angle, which stays the readable reference (docs/visual-polar.md, "The
+// forward map in lanes"). Each lane performs the reference's operations in its order: the
+// distance r = sqrt(dx dx + dy dy) and the angle theta = dm::atan2(dy, dx) (its binary64
+// arithmetic: two argument halvings, the odd polynomial, the quadrant), + 2 pi if negative, and
+// the column: i_f r / (s P(u0)) in the fovea, else P^-1(r / s) by vp_cdf's search (its bucket,
+// the bracket narrowed on its table, the interpolated guess moved float by float) mapped to the
+// buffer's rho. A lane the lanes do not settle (a point on the gaze's row or column, a distance
+// that is not finite, a search the guess does not settle in 8 moves or whose bracket starts at
+// 0) runs vp_forward_angle itself, as does every lane where SIMD is off, the CPU lacks AVX2 or
+// the map is log-polar.
+#pragma once
+
+#include "ref/visual_polar/map.h"
+
+namespace fovref {
+
+/// vp_forward_angle(map, (x[l], y[l])) into (u[l], t[l]) for the lanes l set in `lane_bits`
+/// (bit l: lane l, l < 8); the other lanes' outputs are left as they are. Returns the lanes
+/// computed in lanes (the rest ran vp_forward_angle).
+int vp_forward_angle_lanes(const VisualPolarMap& map, const float* x, const float* y, int lane_bits,
+                           float* u, float* t);
+
+}  // namespace fovref
