@@ -59,9 +59,12 @@ struct LaneTaps {
 /// fx and fx, and on both (each has H rows) the rows of v = q.y H - 1/2, wrapped, with weights 1 -
 /// fy and fy; the columns and rows are exact integers in binary32. False, with `g` unset, where a
 /// wanted lane has a column in the fovea (its rows differ from column to column: the caller lists
-/// its taps with bmfr_vp_taps).
+/// its taps with bmfr_vp_taps), or the map is not the buffer's size, or W H >= 2^24.
 FOVREF_AVX_INLINE bool vp_tap_lanes(const VisualPolarMap& map, __m256 qx, __m256 qy, __m256 wanted,
                                     int width, int height, LaneTaps& g) {
+    if (map.width != width || map.height != height ||
+        static_cast<double>(width) * static_cast<double>(height) >= 16777216.0)
+        return false;
     const __m256 big = set(1e6f);
     qx = select(finite(qx), std_min(std_max(qx, negate(big)), big), negate(big));
     qy = select(finite(qy), _mm256_sub_ps(qy, floor(qy)), zero());

@@ -79,8 +79,8 @@ TEST_CASE(
         const glm::vec3 steps[] = {{0.02f, 0.0f, 0.0f}, {0.0f, 0.01f, 0.05f}, {0.0f, 0.0f, -3.0f},
                                    {1.0f, 0.0f, 0.0f},  {0.0f, 0.0f, 0.0f},   {0.0f, 0.0f, -3.0f}};
         const Camera previous =
-            look_at(camera.position + steps[trial], glm::vec3{0.0f, 1.0f, 0.0f} + steps[trial],
-                    {0, 1, 0}, 50.0f);
+            look_at(camera.position + steps[trial % 5],
+                    glm::vec3{0.0f, 1.0f, 0.0f} + steps[trial % 5], {0, 1, 0}, 50.0f);
         Image illumination(w, h, 3), world(w, h, 3), normal(w, h, 3);
         BmfrHistory history;
         history.valid = true;
@@ -171,7 +171,7 @@ TEST_CASE("bmfr phases I and III in Visual-Polar space: the AVX paths give the r
     test::SplitMix64 rng(29);
     BmfrStats seen;
     std::int64_t blended = 0;
-    for (int trial = 0; trial < 5; ++trial) {
+    for (int trial = 0; trial < 7; ++trial) {
         CAPTURE(trial);
         const glm::vec2 gaze = trial == 3 ? glm::vec2(-20.0f, 30.0f) : glm::vec2(60.0f, 45.0f);
         VisualPolarMap map = make_visual_polar_map(120, 90, gaze, w, h);
@@ -179,6 +179,10 @@ TEST_CASE("bmfr phases I and III in Visual-Polar space: the AVX paths give the r
         map.staircase_offset = 2;
         VisualPolarMap previous_map = map;
         previous_map.staircase_offset = trial == 2 ? 2 : 5;
+        // The previous map of another size (a foreign history: the taps follow its rows), or
+        // with a wider fovea (the taps' rows differ from this map's in six more columns)
+        if (trial == 5) previous_map = make_visual_polar_map(120, 90, gaze, w + 16, h + 10);
+        if (trial == 6) previous_map.fovea_columns += 6;
         const Camera camera = look_at({0.0f, 1.0f, 4.0f}, {0.0f, 1.0f, 0.0f}, {0, 1, 0}, 50.0f);
         const float tan_half = tan_half_vfov(camera);
         const glm::vec3 steps[] = {{0.02f, 0.0f, 0.0f},
@@ -187,8 +191,8 @@ TEST_CASE("bmfr phases I and III in Visual-Polar space: the AVX paths give the r
                                    {1.0f, 0.0f, 0.0f},
                                    {0.0f, 0.0f, -3.0f}};
         const Camera previous =
-            look_at(camera.position + steps[trial], glm::vec3{0.0f, 1.0f, 0.0f} + steps[trial],
-                    {0, 1, 0}, 50.0f);
+            look_at(camera.position + steps[trial % 5],
+                    glm::vec3{0.0f, 1.0f, 0.0f} + steps[trial % 5], {0, 1, 0}, 50.0f);
         Image illumination(w, h, 3), world(w, h, 3), normal(w, h, 3), valid(w, h, 1);
         BmfrHistory history;
         history.valid = true;

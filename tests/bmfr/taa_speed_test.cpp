@@ -92,7 +92,7 @@ TEST_CASE("bmfr TAA speed: the AVX2 pass gives bmfr_taa_pixel's bits in Visual-P
     const int w = 67, h = 45;
     test::SplitMix64 rng(43);
     std::int64_t used = 0, traced = 0;
-    for (int trial = 0; trial < 4; ++trial) {
+    for (int trial = 0; trial < 5; ++trial) {
         CAPTURE(trial);
         const glm::vec2 gaze = trial == 3 ? glm::vec2(-20.0f, 30.0f) : glm::vec2(60.0f, 45.0f);
         VisualPolarMap map = make_visual_polar_map(120, 90, gaze, w, h);
@@ -100,6 +100,7 @@ TEST_CASE("bmfr TAA speed: the AVX2 pass gives bmfr_taa_pixel's bits in Visual-P
         map.staircase_offset = 2;
         VisualPolarMap previous_map = map;
         previous_map.staircase_offset = trial == 2 ? 2 : 5;
+        if (trial == 4) previous_map.fovea_columns += 6;  // the history's taps: its own fovea
         Image display(w, h, 3), history(w, h, 3), previous_pixel(w, h, 2), valid(w, h, 1),
             previous_valid(w, h, 1);
         for (float& v : display.data) v = hostile(rng, rng.uniform(0.0f, 1.0f), 89);

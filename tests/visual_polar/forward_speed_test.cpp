@@ -1,7 +1,8 @@
 // The forward map in lanes (ref/visual_polar/map_avx.h) gives vp_forward_angle's bits: points all
 // around gazes inside and outside the screen, at every distance from the gaze (the fovea, its
 // edge, the periphery, beyond the farthest corner), on the gaze's row and column and on the gaze
-// itself, huge, infinite and NaN coordinates, and every mix of lanes asked for.
+// itself, tiny offsets whose squares underflow, huge, infinite and NaN coordinates, and every
+// mix of lanes asked for.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -22,7 +23,7 @@ bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 // input only), or now and then a hostile one.
 glm::vec2 test_point(test::SplitMix64& rng, const VisualPolarMap& m, float r_max) {
     const float inf = std::numeric_limits<float>::infinity();
-    switch (rng.below(40)) {
+    switch (rng.below(48)) {
         case 0: return m.gaze;                                             // dx = dy = 0
         case 1: return {m.gaze.x, m.gaze.y + rng.uniform(-r_max, r_max)};  // dx = 0
         case 2: return {m.gaze.x + rng.uniform(-r_max, r_max), m.gaze.y};  // dy = 0
@@ -32,6 +33,8 @@ glm::vec2 test_point(test::SplitMix64& rng, const VisualPolarMap& m, float r_max
             const float r = m.fovea_radius * (rng.below(2) ? 1.0f : 1.0000001f);
             return {m.gaze.x + r, m.gaze.y + 1e-3f};
         }
+        case 6:  // tiny offsets: squares that underflow (subnormal with the gaze at 0, 0)
+            return {m.gaze.x + (rng.below(2) ? 3e-39f : -2e-20f), m.gaze.y + 1e-38f};
         default: break;
     }
     const double a = rng.uniform(0.0f, 6.2831853f);
@@ -47,7 +50,7 @@ TEST_CASE("visual-polar forward map in lanes: vp_forward_angle's bits") {
     if (!cpu_has_avx2()) MESSAGE("no AVX2 on this CPU: both runs take the reference");
     test::SplitMix64 rng(17);
     const glm::vec2 gazes[] = {
-        {640.0f, 720.0f}, {10.5f, 1300.25f}, {-200.0f, 50.0f}, {1279.9f, 0.1f}};
+        {640.0f, 720.0f}, {10.5f, 1300.25f}, {-200.0f, 50.0f}, {1279.9f, 0.1f}, {0.0f, 0.0f}};
     std::int64_t compared = 0, fovea = 0, periphery = 0, in_lanes_fovea = 0, in_lanes_periphery = 0;
     for (const glm::vec2& gaze : gazes) {
         CAPTURE(gaze.x);
@@ -78,8 +81,9 @@ TEST_CASE("visual-polar forward map in lanes: vp_forward_angle's bits") {
                 ++compared;
                 const float dx = x[l] - gaze.x, dy = y[l] - gaze.y;
                 // P jumps at u0 (its branches differ there): a point whose P^-1 lies in the
-                // jump is found by the bisection, beyond the lanes' 8 moves
-                const float jump_end = vp_inverse_cdf(std::nextafter(vp_u0, 1.0f));
+                // table bracket [k, k + 1] / 65536 around u0 is found by the bisection, beyond
+                // the lanes' 8 moves from a guess interpolated across the jump
+                const float jump_end = vp_inverse_cdf(std::ceil(vp_u0 * 65536.0f) / 65536.0f);
                 if (dx != 0.0f && dy != 0.0f && std::isfinite(dx * dx + dy * dy) &&
                     !(std::sqrt(dx * dx + dy * dy) >= m.fovea_radius &&
                       std::sqrt(dx * dx + dy * dy) / m.scale <= jump_end)) {

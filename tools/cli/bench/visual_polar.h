@@ -25,6 +25,9 @@ struct BenchVisualPolarOptions {
     int every = 4;                       ///< compare every K-th frame (K - 1, 2K - 1, ...)
     int reference_spp = 64;              ///< samples per pixel of the reference
     int rings = 5;                       ///< eccentricity rings of the ring table
+    /// The cost part's gaze for visual-polar and log-polar-pathtrace: a gaze track file
+    /// (frame,x,y lines), whose maps and tables are made again each frame; empty: the centre.
+    std::string gaze_track;
     bool skip_cost = false, skip_error = false;
     bool quiet = false;
 };
