@@ -733,7 +733,57 @@ __attribute__((target("avx2"))) std::size_t pow_fast_avx2(const float* x, float 
     return i;
 }
 
+// log2_array's AVX2 kernel, four lanes at a time: pow_start's ln x (ln_series's operations),
+// p = ln x / ln 2 as log2's fast path, kept where |p| rounds like the truth
+// (detail::rounds_like_truth: a normal float's magnitude whose low 29 bits lie more than 2^15
+// from halfway); the other lanes by log2. Returns the number of elements done.
+__attribute__((target("avx2"))) std::size_t log2_avx2(const float* x, float* out, std::size_t n) {
+    PowLanes c;
+    c.one = _mm256_set1_pd(1.0), c.two = _mm256_set1_pd(2.0), c.half = _mm256_set1_pd(0.5);
+    c.sqrt2 = _mm256_set1_pd(kSqrt2), c.ln2 = _mm256_set1_pd(kLn2Hi + kLn2Lo);
+    c.low = _mm_set1_epi32(0x00800000), c.sign = _mm_set1_epi32(INT32_MIN);
+    c.range = _mm_set1_epi32(static_cast<int>(0x7f000000u ^ 0x80000000u));
+    c.mantissa = _mm_set1_epi32(0x007fffff), c.one_bits = _mm_set1_epi32(0x3f800000);
+    const double qc[8] = {2.0 / 17.0, 2.0 / 15.0, 2.0 / 13.0, 2.0 / 11.0,
+                          2.0 / 9.0,  2.0 / 7.0,  2.0 / 5.0,  2.0 / 3.0};
+    const __m256d inv_ln2 = _mm256_set1_pd(kInvLn2), magnitude = _mm256_set1_pd(-0.0);
+    const __m256i low_bits = _mm256_set1_epi64x((1ll << 29) - 1),
+                  half = _mm256_set1_epi64x(1ll << 28);
+    const __m256i far = _mm256_set1_epi64x(1ll << 15), near = _mm256_set1_epi64x(-(1ll << 15));
+    std::size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        PowGroup g = pow_start(c, x + i);
+        __m256d q = _mm256_set1_pd(qc[0]);
+        for (int k = 1; k < 8; ++k) q = _mm256_add_pd(_mm256_set1_pd(qc[k]), _mm256_mul_pd(g.z, q));
+        const __m256d ln_m =
+            _mm256_add_pd(_mm256_mul_pd(c.two, g.s), _mm256_mul_pd(g.s, _mm256_mul_pd(g.z, q)));
+        const __m256d ln_x = _mm256_add_pd(_mm256_mul_pd(g.ed, c.ln2), ln_m);
+        const __m256d p = _mm256_mul_pd(ln_x, inv_ln2);
+        // rounds_like_truth(|p|)
+        const __m256d a = _mm256_andnot_pd(magnitude, p);
+        const __m256d normal = _mm256_and_pd(_mm256_cmp_pd(a, _mm256_set1_pd(0x1p-126), _CMP_GE_OQ),
+                                             _mm256_cmp_pd(a, _mm256_set1_pd(0x1p128), _CMP_LT_OQ));
+        const __m256i from_half =
+            _mm256_sub_epi64(_mm256_and_si256(_mm256_castpd_si256(a), low_bits), half);
+        const __m256i clear = _mm256_or_si256(_mm256_cmpgt_epi64(from_half, far),
+                                              _mm256_cmpgt_epi64(near, from_half));
+        const int good =
+            g.good & _mm256_movemask_pd(_mm256_and_pd(normal, _mm256_castsi256_pd(clear)));
+        float xs[4];  // the inputs, kept: `out` may be `x`
+        _mm_storeu_ps(xs, g.xf);
+        _mm_storeu_ps(out + i, _mm256_cvtpd_ps(p));
+        for (int lane = 0; lane < 4; ++lane)
+            if (!(good & (1 << lane))) out[i + static_cast<std::size_t>(lane)] = log2(xs[lane]);
+    }
+    return i;
+}
+
 }  // namespace
+
+void log2_array(const float* x, float* out, std::size_t n) {
+    const std::size_t done = simd_allowed() && cpu_has_avx2() ? log2_avx2(x, out, n) : 0;
+    for (std::size_t i = done; i < n; ++i) out[i] = log2(x[i]);
+}
 
 void pow_fast_array(const float* x, float y, float* out, std::size_t n) {
     const bool avx2 = simd_allowed() && cpu_has_avx2();

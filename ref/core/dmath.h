@@ -44,6 +44,11 @@ float pow_fast(float x, float y);
 /// declines (x not a finite normal > 0, x = 1, y ln x out of range) by pow_fast itself; the rest
 /// by pow_fast. `x` and `out` may be the same array.
 void pow_fast_array(const float* x, float y, float* out, std::size_t n);
+/// out[i] = log2(x[i]) for i < n, the same bits: on a CPU with AVX2 four lanes at a time, each
+/// lane doing log2's fast path (ln_series's binary64 operations in the same order, times 1/ln 2,
+/// kept where it rounds like the true value) and every lane that path declines by log2 itself.
+/// `x` and `out` may be the same array.
+void log2_array(const float* x, float* out, std::size_t n);
 namespace detail {
 /// True when the binary64 value p, known to within 2^-41 relative of a value v (whose binary64
 /// approximation is good to 2^-50), rounds to the same binary32 as v: p is a normal float's

@@ -262,17 +262,12 @@ float vp_forward_radius(const VisualPolarMap& m, float r) {
     return static_cast<float>(m.width) * rho;
 }
 
-namespace {
-
-// The distance and the angle theta in [0, 2 pi] of p around the gaze.
 void vp_polar(const VisualPolarMap& m, glm::vec2 p, float& r, float& theta) {
     const float dx = p.x - m.gaze.x, dy = p.y - m.gaze.y;
     r = std::sqrt(dx * dx + dy * dy);
     theta = dm::atan2(dy, dx);
     if (theta < 0.0f) theta += dm::two_pi;
 }
-
-}  // namespace
 
 glm::vec2 vp_forward(const VisualPolarMap& m, glm::vec2 p) {
     if (m.log_polar) return lp_forward(*m.log_polar, p);

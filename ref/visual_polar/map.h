@@ -127,6 +127,10 @@ glm::vec2 vp_forward(const VisualPolarMap& map, glm::vec2 p);
 /// u of a screen point at distance r from the gaze (vp_forward's u without the angle).
 float vp_forward_radius(const VisualPolarMap& map, float r);
 
+/// The distance r = sqrt(dx dx + dy dy) of screen point p from the gaze and its angle
+/// theta = dm::atan2(dy, dx), + 2 pi if negative (vp_forward's).
+void vp_polar(const VisualPolarMap& map, glm::vec2 p, float& r, float& theta);
+
 /// (u, t) of screen point p: u as vp_forward, t = theta / (2 pi) in [0, 1], the angle as a
 /// fraction of the turn (column c's continuous row is then t n_c; BMFR's reprojection and the
 /// resolve use it where neighbouring fovea columns have different row counts).

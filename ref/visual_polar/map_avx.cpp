@@ -134,11 +134,12 @@ FOVREF_AVX2_INLINE __m256 cdf_lanes(__m256 e, __m256 active, __m256& settled) {
     return result;
 }
 
-/// vp_forward_angle for Visual-Polar's own map in lanes; `settled`: the lanes computed (the
-/// others run the reference).
-__attribute__((target("avx2"))) void forward_group(const VisualPolarMap& m, const float* x,
-                                                   const float* y, int lane_bits, float* u_out,
-                                                   float* t_out, int& settled_bits) {
+/// vp_polar and vp_forward_radius in lanes; `settled_bits`: the lanes computed (the others run
+/// the reference).
+__attribute__((target("avx2"))) void polar_group(const VisualPolarMap& m, const float* x,
+                                                 const float* y, int lane_bits, float* u_out,
+                                                 float* r_out, float* theta_out,
+                                                 int& settled_bits) {
     const __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(x), set(m.gaze.x));
     const __m256 dy = _mm256_sub_ps(_mm256_loadu_ps(y), set(m.gaze.y));
     const __m256 r = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)));
@@ -167,27 +168,46 @@ __attribute__((target("avx2"))) void forward_group(const VisualPolarMap& m, cons
         _mm256_div_ps(_mm256_mul_ps(_mm256_sub_ps(big_u, set(vp_u0)), set(1.0f - rho_f)),
                       set(1.0f - vp_u0)));
     const __m256 u = select(fovea, linear, _mm256_mul_ps(set(static_cast<float>(m.width)), rho));
-    const __m256 t = _mm256_div_ps(theta, set(dm::two_pi));
     settled_bits = bits(settled);
-    alignas(32) float u_lanes[lanes], t_lanes[lanes];
+    alignas(32) float u_lanes[lanes], r_lanes[lanes], theta_lanes[lanes];
     _mm256_store_ps(u_lanes, u);
-    _mm256_store_ps(t_lanes, t);
+    _mm256_store_ps(r_lanes, r);
+    _mm256_store_ps(theta_lanes, theta);
     for (int l = 0; l < lanes; ++l)
-        if (settled_bits >> l & 1) u_out[l] = u_lanes[l], t_out[l] = t_lanes[l];
+        if (settled_bits >> l & 1)
+            u_out[l] = u_lanes[l], r_out[l] = r_lanes[l], theta_out[l] = theta_lanes[l];
 }
 
 }  // namespace
 
-int vp_forward_angle_lanes(const VisualPolarMap& map, const float* x, const float* y, int lane_bits,
-                           float* u, float* t) {
+int vp_polar_lanes(const VisualPolarMap& map, const float* x, const float* y, int lane_bits,
+                   float* u, float* r, float* theta) {
     int settled = 0;
-    if (lane_bits != 0 && !map.log_polar && simd_allowed() && cpu_has_avx2())
-        forward_group(map, x, y, lane_bits, u, t, settled);
+    if (lane_bits != 0 && simd_allowed() && cpu_has_avx2())
+        polar_group(map, x, y, lane_bits, u, r, theta, settled);
     for (int l = 0; l < lanes; ++l) {
         if (!(lane_bits >> l & 1) || (settled >> l & 1)) continue;
-        const glm::vec2 ut = vp_forward_angle(map, {x[l], y[l]});
-        u[l] = ut.x, t[l] = ut.y;
+        vp_polar(map, {x[l], y[l]}, r[l], theta[l]);
+        u[l] = vp_forward_radius(map, r[l]);
     }
+    return settled;
+}
+
+int vp_forward_angle_lanes(const VisualPolarMap& map, const float* x, const float* y, int lane_bits,
+                           float* u, float* t) {
+    if (map.log_polar) {  // log-polar's own forward map
+        for (int l = 0; l < lanes; ++l) {
+            if (!(lane_bits >> l & 1)) continue;
+            const glm::vec2 ut = vp_forward_angle(map, {x[l], y[l]});
+            u[l] = ut.x, t[l] = ut.y;
+        }
+        return 0;
+    }
+    // vp_forward_angle: vp_polar's angle as a fraction of the turn
+    float r[lanes], theta[lanes];
+    const int settled = vp_polar_lanes(map, x, y, lane_bits, u, r, theta);
+    for (int l = 0; l < lanes; ++l)
+        if (lane_bits >> l & 1) t[l] = theta[l] / dm::two_pi;
     return settled;
 }
 

@@ -15,6 +15,13 @@
 
 namespace fovref {
 
+/// vp_polar and vp_forward_radius of the points (x[l], y[l]) into (u[l], r[l], theta[l]) for
+/// the lanes l set in `lane_bits` (any map: the formulas of Visual-Polar's own map); the other
+/// lanes' outputs are left as they are. Returns the lanes computed in lanes (the rest ran the
+/// reference functions).
+int vp_polar_lanes(const VisualPolarMap& map, const float* x, const float* y, int lane_bits,
+                   float* u, float* r, float* theta);
+
 /// vp_forward_angle(map, (x[l], y[l])) into (u[l], t[l]) for the lanes l set in `lane_bits`
 /// (bit l: lane l, l < 8); the other lanes' outputs are left as they are. Returns the lanes
 /// computed in lanes (the rest ran vp_forward_angle).

@@ -6,6 +6,7 @@
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
+#include "ref/visual_polar/map_avx.h"
 #include "ref/visual_polar/resolve_avx.h"
 
 namespace fovref {
@@ -195,33 +196,58 @@ bool sample_vp_phi(const Image& color, const Image& valid, int column, int rows,
 }
 
 void vp_polar_pixel(const VisualPolarMap& map, int x, int y, float& u, float& r, float& theta) {
-    const glm::vec2 centre = pixel_centre(x, y);
-    const float dx = centre.x - map.gaze.x, dy = centre.y - map.gaze.y;
-    r = std::sqrt(dx * dx + dy * dy);
+    vp_polar(map, pixel_centre(x, y), r, theta);
     u = vp_forward_radius(map, r);
-    theta = dm::atan2(dy, dx);
-    if (theta < 0.0f) theta += two_pi;
 }
 
 VpForwardTable vp_forward_table(const VisualPolarMap& map) {
     VpForwardTable t;
     t.map = map;
-    t.polar = Image(map.screen_width, map.screen_height, 3);
-    t.levels = Image(map.screen_width, map.screen_height, 4);
-    std::vector<int> rows(static_cast<std::size_t>(map.width));
-    for (int i = 0; i < map.width; ++i) rows[static_cast<std::size_t>(i)] = vp_column_rows(map, i);
-    for (int y = 0; y < map.screen_height; ++y)
-        for (int x = 0; x < map.screen_width; ++x) {
-            float* p = &t.polar.data[t.polar.index(x, y)];
-            vp_polar_pixel(map, x, y, p[0], p[1], p[2]);
-            const VpColumns rho = vp_rho_columns(map.width, p[0]);
-            float* level = &t.levels.data[t.levels.index(x, y)];
+    const int width = map.screen_width;
+    t.polar = Image(width, map.screen_height, 3);
+    t.levels = Image(width, map.screen_height, 4);
+    // Each buffer column's rows and last level
+    std::vector<int> rows(static_cast<std::size_t>(map.width)), last(rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        rows[i] = vp_column_rows(map, static_cast<int>(i));
+        last[i] = vp_mip_last_level(rows[i]);
+    }
+    // Row by row: vp_polar_pixel eight pixels at a time (vp_polar_lanes, the same bits), then
+    // vp_mip_level of both columns with the logarithms of the row at once (dm::log2_array)
+    const auto w = static_cast<std::size_t>(width);
+    std::vector<float> u(w + 8), r(w + 8), theta(w + 8), px(w + 8), py(w + 8);
+    std::vector<float> argument(2 * w), lambda(2 * w);
+    std::vector<int> column(2 * w);
+    for (std::size_t x = 0; x < w; ++x) px[x] = static_cast<float>(x) + 0.5f;
+    for (int y = 0; y < map.screen_height; ++y) {
+        std::fill(py.begin(), py.end(), static_cast<float>(y) + 0.5f);
+        for (std::size_t x = 0; x < w; x += 8) {
+            const int count = static_cast<int>(std::min<std::size_t>(8, w - x));
+            vp_polar_lanes(map, &px[x], &py[x], (1 << count) - 1, &u[x], &r[x], &theta[x]);
+        }
+        for (std::size_t x = 0; x < w; ++x) {
+            float* p = &t.polar.data[t.polar.index(static_cast<int>(x), y)];
+            p[0] = u[x], p[1] = r[x], p[2] = theta[x];
+            const VpColumns rho = vp_rho_columns(map.width, u[x]);
+            // vp_mip_lambda's argument: rows / (2 pi max(r, 2^-10))
+            const float radius = std::max(r[x], 0x1p-10f);
             for (int k = 0; k < 2; ++k) {
-                const int n = rows[static_cast<std::size_t>(k == 0 ? rho.i0 : rho.i1)];
-                level[2 * k] = static_cast<float>(n);
-                level[2 * k + 1] = vp_mip_level(n, p[1]);
+                const int i = k == 0 ? rho.i0 : rho.i1;
+                column[2 * x + k] = i;
+                argument[2 * x + k] =
+                    static_cast<float>(rows[static_cast<std::size_t>(i)]) / (two_pi * radius);
             }
         }
+        dm::log2_array(argument.data(), lambda.data(), argument.size());
+        for (std::size_t x = 0; x < w; ++x) {
+            float* level = &t.levels.data[t.levels.index(static_cast<int>(x), y)];
+            for (int k = 0; k < 2; ++k) {  // vp_mip_level: lambda clamped to [0, last level]
+                const auto i = static_cast<std::size_t>(column[2 * x + k]);
+                level[2 * k] = static_cast<float>(rows[i]);
+                level[2 * k + 1] = std::clamp(lambda[2 * x + k], 0.0f, static_cast<float>(last[i]));
+            }
+        }
+    }
     return t;
 }
 

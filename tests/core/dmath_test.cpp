@@ -924,3 +924,28 @@ TEST_CASE(
         CHECK(differ == 0);
     }
 }
+
+TEST_CASE(
+    "dmath log2_array: log2's bits for every element (random bit patterns, mip arguments, powers "
+    "of two, special cases; the AVX2 lanes where the CPU has them), in place too") {
+    std::vector<float> x;
+    for (std::uint32_t i = 0; i < 300000; ++i) {
+        x.push_back(std::bit_cast<float>(fovref::pcg_hash(i * 2654435761u + 5u)));  // anything
+        x.push_back(1.0f + 4000.0f * fovref::rand_unit(7, i, 0));  // rows / (2 pi r): mip levels
+        x.push_back(std::ldexp(1.0f, static_cast<int>(i % 277) - 149));  // exact powers of two
+    }
+    for (const float special : {0.0f, -0.0f, 1.0f, -1.0f, 0x1p-149f, 0x1p-126f, 0x1.fffffep127f,
+                                INFINITY, -INFINITY, NAN, 0.5f, 2.0f, 1e-30f, 3e38f})
+        x.push_back(special);
+    std::vector<float> out(x.size()), in_place = x;
+    fovref::dm::log2_array(x.data(), out.data(), x.size());
+    fovref::dm::log2_array(in_place.data(), in_place.data(), in_place.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        const float expected = fovref::dm::log2(x[i]);
+        differ += std::bit_cast<std::uint32_t>(out[i]) != std::bit_cast<std::uint32_t>(expected);
+        differ +=
+            std::bit_cast<std::uint32_t>(in_place[i]) != std::bit_cast<std::uint32_t>(expected);
+    }
+    CHECK(differ == 0);
+}

@@ -11,6 +11,7 @@
 
 #include "ref/core/simd.h"
 #include "ref/visual_polar/map_avx.h"
+#include "ref/visual_polar/resolve.h"
 #include "tests/image/image_test_util.h"
 
 using namespace fovref;
@@ -129,5 +130,45 @@ TEST_CASE("visual-polar forward map in lanes: log-polar maps and --scalar take t
         const glm::vec2 ut = vp_forward_angle(lp, {x[l], y[l]});
         CHECK(same_bits(u[l], ut.x));
         CHECK(same_bits(t[l], ut.y));
+    }
+}
+
+TEST_CASE("visual-polar forward table (lanes, a row's logarithms at once): the per-pixel bits") {
+    // Screens whose rows end in a group of fewer than eight, gazes inside and outside them, and
+    // a staircase clip; each entry against vp_polar_pixel and vp_mip_level.
+    const struct {
+        int width, height;
+        glm::vec2 gaze;
+        int staircase;
+    } cases[] = {{125, 61, {60.3f, 30.0f}, 0},
+                 {203, 97, {-40.0f, 120.0f}, 8},
+                 {64, 64, {32.0f, 32.0f}, 0},
+                 {37, 290, {18.5f, 2.0f}, 8}};
+    for (const auto& c : cases) {
+        CAPTURE(c.width);
+        VisualPolarMap map =
+            make_visual_polar_map(c.width, c.height, c.gaze, c.width * 2 / 3, c.height * 2 / 3);
+        map.staircase_block = c.staircase;
+        std::int64_t differ = 0;
+        for (const bool simd : {true, false}) {
+            set_simd_allowed(simd);
+            const VpForwardTable table = vp_forward_table(map);
+            set_simd_allowed(true);
+            for (int y = 0; y < c.height; ++y)
+                for (int x = 0; x < c.width; ++x) {
+                    float u = 0.0f, r = 0.0f, theta = 0.0f;
+                    vp_polar_pixel(map, x, y, u, r, theta);
+                    const float* p = &table.polar.data[table.polar.index(x, y)];
+                    differ += !same_bits(p[0], u) + !same_bits(p[1], r) + !same_bits(p[2], theta);
+                    const VpColumns rho = vp_rho_columns(map.width, u);
+                    const float* level = &table.levels.data[table.levels.index(x, y)];
+                    for (int k = 0; k < 2; ++k) {
+                        const int n = vp_column_rows(map, k == 0 ? rho.i0 : rho.i1);
+                        differ += !same_bits(level[2 * k], static_cast<float>(n)) +
+                                  !same_bits(level[2 * k + 1], vp_mip_level(n, r));
+                    }
+                }
+        }
+        CHECK(differ == 0);
     }
 }
