@@ -778,7 +778,51 @@ __attribute__((target("avx2"))) std::size_t log2_avx2(const float* x, float* out
     return i;
 }
 
+// exp_array's AVX2 kernel, four lanes at a time: exp_core(x, 0) for x in [-700, 700] (k in
+// [-1010, 1010]: scale_pow2 is one product by 2^k), its operations in its order; the other
+// lanes (NaN, out of range) by exp. Returns the number of elements done.
+__attribute__((target("avx2"))) std::size_t exp_avx2(const float* x, float* out, std::size_t n) {
+    const double qc[12] = {1.0 / 6227020800.0, 1.0 / 479001600.0, 1.0 / 39916800.0, 1.0 / 3628800.0,
+                           1.0 / 362880.0,     1.0 / 40320.0,     1.0 / 5040.0,     1.0 / 720.0,
+                           1.0 / 120.0,        1.0 / 24.0,        1.0 / 6.0,        0.5};
+    const __m256d shifter = _mm256_set1_pd(0x1.8p52), inv_ln2 = _mm256_set1_pd(kInvLn2);
+    const __m256d ln2_hi = _mm256_set1_pd(kLn2Hi), ln2_lo = _mm256_set1_pd(kLn2Lo);
+    const __m256d one = _mm256_set1_pd(1.0);
+    std::size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        const __m128 xf = _mm_loadu_ps(x + i);
+        const __m256d hi = _mm256_cvtps_pd(xf);
+        const int good =
+            _mm256_movemask_pd(_mm256_and_pd(_mm256_cmp_pd(hi, _mm256_set1_pd(-700.0), _CMP_GE_OQ),
+                                             _mm256_cmp_pd(hi, _mm256_set1_pd(700.0), _CMP_LE_OQ)));
+        const __m256d kd =
+            _mm256_sub_pd(_mm256_add_pd(_mm256_mul_pd(hi, inv_ln2), shifter), shifter);
+        const __m256d r_hi = _mm256_sub_pd(hi, _mm256_mul_pd(kd, ln2_hi));
+        const __m256d r_lo = _mm256_sub_pd(_mm256_mul_pd(kd, ln2_lo), _mm256_setzero_pd());
+        const __m256d r = _mm256_sub_pd(r_hi, r_lo);
+        __m256d q = _mm256_set1_pd(qc[0]);
+        for (int k = 1; k < 12; ++k) q = _mm256_add_pd(_mm256_set1_pd(qc[k]), _mm256_mul_pd(r, q));
+        const __m256d p = _mm256_mul_pd(_mm256_mul_pd(r, r), q);
+        const __m256d v = _mm256_add_pd(one, _mm256_add_pd(r_hi, _mm256_sub_pd(p, r_lo)));
+        // 2^k from its exponent bits (the other lanes' k may be anything: redone below)
+        const __m128i k = _mm256_cvtpd_epi32(kd);
+        const __m256d scale = _mm256_castsi256_pd(
+            _mm256_slli_epi64(_mm256_cvtepi32_epi64(_mm_add_epi32(k, _mm_set1_epi32(1023))), 52));
+        float xs[4];  // the inputs, kept: `out` may be `x`
+        _mm_storeu_ps(xs, xf);
+        _mm_storeu_ps(out + i, _mm256_cvtpd_ps(_mm256_mul_pd(v, scale)));
+        for (int lane = 0; lane < 4; ++lane)
+            if (!(good & (1 << lane))) out[i + static_cast<std::size_t>(lane)] = exp(xs[lane]);
+    }
+    return i;
+}
+
 }  // namespace
+
+void exp_array(const float* x, float* out, std::size_t n) {
+    const std::size_t done = simd_allowed() && cpu_has_avx2() ? exp_avx2(x, out, n) : 0;
+    for (std::size_t i = done; i < n; ++i) out[i] = exp(x[i]);
+}
 
 void log2_array(const float* x, float* out, std::size_t n) {
     const std::size_t done = simd_allowed() && cpu_has_avx2() ? log2_avx2(x, out, n) : 0;

@@ -26,17 +26,14 @@ struct PostAaState : StageState {
 struct BlurState : StageState {
     BlurRamp ramp;
     FrameBlurGeometry geometry;
-    // The last frame's geometry, and the table made when a frame repeats it (a static gaze); a
-    // moving gaze never makes one
-    std::optional<BlurRampGeometry> last;
+    // The table of each pixel's sigma and exp for the last geometry seen: made by a frame's
+    // first pass whose geometry differs (a moving gaze: every frame; its exps eight at a time),
+    // read by its second pass and kept while the gaze is static
     std::optional<BlurRampTable> table;
-    /// The table for this frame's geometry, or null when the geometry differs from the last
-    /// frame's.
-    const BlurRampTable* table_for(const BlurRampGeometry& g) {
-        const bool repeated = last && *last == g;
-        last = g;
-        if (!repeated) return nullptr;
-        if (!table || !table->made_for(ramp, g)) table = blur_ramp_table(ramp, g);
+    /// The table for this frame's geometry, made if it was made for another.
+    const BlurRampTable* table_for(const BlurRampGeometry& g, bool& made) {
+        made = !table || !table->made_for(ramp, g);
+        if (made) table = blur_ramp_table(ramp, g);
         return &*table;
     }
 };
@@ -45,8 +42,9 @@ struct BlurState : StageState {
 void run_blur_pass(FrameContext& ctx, bool vertical) {
     BlurState& state = ctx.state<BlurState>();
     const BlurRampGeometry g = state.geometry(ctx);
-    const BlurRampTable* table = state.table_for(g);
-    ctx.note = table ? "sigma and exp per pixel kept" : "sigma and exp per pixel computed";
+    bool made = false;
+    const BlurRampTable* table = state.table_for(g, made);
+    ctx.note = made ? "sigma and exp per pixel computed (kept)" : "sigma and exp per pixel kept";
     const Image& input = ctx.input("input");
     ctx.output("output", BufferKind::color, rgb,
                vertical ? blur_ramp_vertical(state.ramp, g, input, true, table)
@@ -104,24 +102,21 @@ StageDef post_aa_stage_def(const std::string& input, const std::string& output,
 
 void blur_horizontal_stage(FrameContext& ctx) { run_blur_pass(ctx, false); }
 
-StageDef blur_horizontal_stage_def(const BlurRamp& ramp, const std::string& input,
-                                   const std::string& output, FrameBlurGeometry geometry) {
-    return {"blur_horizontal",
-            {{"input", input}},
-            {{"output", output}},
-            blur_horizontal_stage,
-            blur_state(ramp, std::move(geometry))};
-}
-
 void blur_vertical_stage(FrameContext& ctx) { run_blur_pass(ctx, true); }
 
-StageDef blur_vertical_stage_def(const BlurRamp& ramp, const std::string& input,
-                                 const std::string& output, FrameBlurGeometry geometry) {
-    return {"blur_vertical",
-            {{"input", input}},
-            {{"output", output}},
-            blur_vertical_stage,
-            blur_state(ramp, std::move(geometry))};
+std::vector<StageDef> blur_ramp_stage_defs(const BlurRamp& ramp, const std::string& input,
+                                           const std::string& output, FrameBlurGeometry geometry) {
+    const std::shared_ptr<BlurState> state = blur_state(ramp, std::move(geometry));
+    return {{"blur_horizontal",
+             {{"input", input}},
+             {{"output", "blur_horizontal"}},
+             blur_horizontal_stage,
+             state},
+            {"blur_vertical",
+             {{"input", "blur_horizontal"}},
+             {{"output", output}},
+             blur_vertical_stage,
+             state}};
 }
 
 }  // namespace fovref

@@ -43,14 +43,14 @@ StageDef post_aa_stage_def(const std::string& input, const std::string& output,
                            std::function<PostAaGeometry(const FrameContext&)> geometry);
 void post_aa_stage(FrameContext& context);
 
-/// P5's blur ramp (blur_ramp.h), its horizontal and vertical pass, measured from the frame's
-/// geometry.
+/// P5's blur ramp (blur_ramp.h) measured from the frame's geometry: its horizontal pass
+/// (`input` to "blur_horizontal") and its vertical pass (to `output`), which share the table of
+/// each pixel's sigma and exp (made by the first pass when the geometry changes, kept while it
+/// does not).
 using FrameBlurGeometry = std::function<BlurRampGeometry(const FrameContext&)>;
-StageDef blur_horizontal_stage_def(const BlurRamp& ramp, const std::string& input,
-                                   const std::string& output, FrameBlurGeometry geometry);
+std::vector<StageDef> blur_ramp_stage_defs(const BlurRamp& ramp, const std::string& input,
+                                           const std::string& output, FrameBlurGeometry geometry);
 void blur_horizontal_stage(FrameContext& context);
-StageDef blur_vertical_stage_def(const BlurRamp& ramp, const std::string& input,
-                                 const std::string& output, FrameBlurGeometry geometry);
 void blur_vertical_stage(FrameContext& context);
 
 }  // namespace fovref

@@ -49,10 +49,9 @@ Pipeline linear_falloff_pipeline(const Scene*, const RenderSettings& settings) {
     p.add(fill_stage_def(frames, bmfr.enabled ? "filled" : image, separate));
     if (bmfr.enabled) add_bmfr_stages(p, {bmfr, "filled", "filled_emission", image});
     if (blur)
-        p.add(blur_horizontal_stage_def(frames->params.ramp, image, "blur_horizontal",
-                                        blur_geometry_of(frames)))
-            .add(blur_vertical_stage_def(frames->params.ramp, "blur_horizontal", "final",
-                                         blur_geometry_of(frames)));
+        for (StageDef& stage :
+             blur_ramp_stage_defs(frames->params.ramp, image, "final", blur_geometry_of(frames)))
+            p.add(std::move(stage));
     p.final_outputs = {"final"};
     return p;
 }

@@ -40,10 +40,9 @@ Pipeline vp_pipeline(const RenderSettings& settings, bool path_traced) {
     const SparseParams& params = frames->params;
     p.add(vp_resolve_stage_def(frames, params.blur ? "resolved" : "final"));
     if (params.blur)
-        p.add(blur_horizontal_stage_def(params.ramp, "resolved", "blur_horizontal",
-                                        blur_geometry_of(frames)))
-            .add(blur_vertical_stage_def(params.ramp, "blur_horizontal", "final",
-                                         blur_geometry_of(frames)));
+        for (StageDef& stage :
+             blur_ramp_stage_defs(params.ramp, "resolved", "final", blur_geometry_of(frames)))
+            p.add(std::move(stage));
     p.final_outputs = {"final"};
     return p;
 }

@@ -949,3 +949,29 @@ TEST_CASE(
     }
     CHECK(differ == 0);
 }
+
+TEST_CASE(
+    "dmath exp_array: exp's bits for every element (random bit patterns, the blur ramp's "
+    "arguments, the range's ends, special cases; the AVX2 lanes where the CPU has them)") {
+    std::vector<float> x;
+    for (std::uint32_t i = 0; i < 300000; ++i) {
+        x.push_back(std::bit_cast<float>(fovref::pcg_hash(i * 2654435761u + 3u)));  // anything
+        x.push_back(-0.5f / (0.01f + 40.0f * fovref::rand_unit(5, i, 0)));  // -1 / (2 sigma^2)
+        x.push_back(-760.0f + 1500.0f * fovref::rand_unit(5, i, 1));        // the whole range
+    }
+    for (const float special :
+         {0.0f, -0.0f, 1.0f, -1.0f, 700.0f, -700.0f, 700.0001f, -700.0001f, 709.7f, 88.7f, -103.9f,
+          -745.2f, 0x1p-149f, INFINITY, -INFINITY, NAN})
+        x.push_back(special);
+    std::vector<float> out(x.size()), in_place = x;
+    fovref::dm::exp_array(x.data(), out.data(), x.size());
+    fovref::dm::exp_array(in_place.data(), in_place.data(), in_place.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        const float expected = fovref::dm::exp(x[i]);
+        differ += std::bit_cast<std::uint32_t>(out[i]) != std::bit_cast<std::uint32_t>(expected);
+        differ +=
+            std::bit_cast<std::uint32_t>(in_place[i]) != std::bit_cast<std::uint32_t>(expected);
+    }
+    CHECK(differ == 0);
+}
