@@ -16,14 +16,74 @@ namespace {
 
 using namespace avx;
 
-/// taa_blend's clamp range for pixels x .. x + 7: the extents in YCoCg of the 3x3 box and the
-/// 5-tap cross of the neighbours at columns x - 1 .. x + 8 on rows[0], rows[1], rows[2] (those of
-/// dy = -1, 0, +1; -1: no such row), with `Masked` only those whose `valid` texel is nonzero
-/// (NaN counts), from +-infinity with glm::min(a, v) = (v < a) ? v : a and glm::max(a, v) = (a < v)
-/// ? v : a in row-major order; lo = (box min + cross min) 0.5, hi = (box max + cross max) 0.5.
-template <bool Masked>
-FOVREF_AVX2_INLINE void clamp_range(const Image& ycocg, const Image* valid, const int* rows, int x,
-                                    __m256* lo, __m256* hi) {
+/// The neighbours' values where the mask `on` is set; elsewhere +inf for the minima and -inf
+/// for the maxima, which leave every extent as it is (std_min(a, +inf) and std_max(a, -inf) are
+/// a, NaN included).
+FOVREF_AVX2_INLINE void keep_traced(__m256 on, __m256* v_min, __m256* v_max) {
+    const __m256 inf = set(INFINITY);
+    for (int c = 0; c < 3; ++c) {
+        v_min[c] = select(on, v_min[c], inf);
+        v_max[c] = select(on, v_max[c], negate(inf));
+    }
+}
+
+/// The 3x3 neighbours of pixels x .. x + 7 on three shared rows (row[0 .. 2] for dy = -1, 0, +1;
+/// -1: no such row), all of them (screen space) or, with a `valid` mask, the traced ones.
+struct RowNeighbours {
+    const Image& ycocg;
+    const Image* valid;
+    int row[3];
+    int x;
+    bool has_row(int dy) const { return row[dy + 1] >= 0; }
+    FOVREF_AVX2_INLINE void load(int dx, int dy, __m256* v_min, __m256* v_max) const {
+        const int sy = row[dy + 1];
+        split3_lanes(&ycocg.data[ycocg.index(x + dx, sy)], v_min);
+        for (int c = 0; c < 3; ++c) v_max[c] = v_min[c];
+        if (valid)
+            keep_traced(not_equal(_mm256_loadu_ps(&valid->data[valid->index(x + dx, sy)]), zero()),
+                        v_min, v_max);
+    }
+};
+
+/// The 3x3 neighbours of texels x .. x + 7 of row y in the fovea (vp_taa_pixel's): on column
+/// x + l + dx, which has n rows, the base row min(floor(t n), n - 1) of t = (y + 1/2) / n_(x + l)
+/// and its neighbours wrapped, the traced ones, read lane by lane.
+struct ColumnNeighbours {
+    const Image& ycocg;
+    const Image& valid;
+    const int* column_rows;  ///< n of every column
+    int x;
+    __m256 t;
+    bool has_row(int) const { return true; }
+    FOVREF_AVX2_INLINE void load(int dx, int dy, __m256* v_min, __m256* v_max) const {
+        const __m256i rows =
+            _mm256_loadu_si256(reinterpret_cast<const __m256i*>(column_rows + x + dx));
+        const __m256i base =
+            _mm256_min_epi32(_mm256_cvttps_epi32(_mm256_mul_ps(t, _mm256_cvtepi32_ps(rows))),
+                             _mm256_sub_epi32(rows, _mm256_set1_epi32(1)));
+        // vp_wrap_row(base + dy, n): base + dy lies in [-1, n]
+        __m256i j = _mm256_add_epi32(base, _mm256_set1_epi32(dy));
+        j = _mm256_add_epi32(j,
+                             _mm256_and_si256(_mm256_cmpgt_epi32(_mm256_setzero_si256(), j), rows));
+        j = _mm256_sub_epi32(j, _mm256_andnot_si256(_mm256_cmpgt_epi32(rows, j), rows));
+        const __m256i column =
+            _mm256_add_epi32(_mm256_set1_epi32(x + dx), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+        const __m256i pixel = row_major(column, j, ycocg.width);
+        const __m256 all = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+        gather3_lanes(ycocg.data.data(), pixel, all, v_min);
+        for (int c = 0; c < 3; ++c) v_max[c] = v_min[c];
+        keep_traced(
+            not_equal(_mm256_mask_i32gather_ps(zero(), valid.data.data(), pixel, all, 4), zero()),
+            v_min, v_max);
+    }
+};
+
+/// taa_blend's clamp range for eight pixels: the extents in YCoCg of the 3x3 box and the 5-tap
+/// cross of the neighbours that are there (`n`: RowNeighbours or ColumnNeighbours), from
+/// +-infinity with glm::min(a, v) = (v < a) ? v : a and glm::max(a, v) = (a < v) ? v : a in
+/// row-major order; lo = (box min + cross min) 0.5, hi = (box max + cross max) 0.5.
+template <class Neighbours>
+FOVREF_AVX2_INLINE void clamp_range(const Neighbours& n, __m256* lo, __m256* hi) {
     const __m256 inf = set(INFINITY);
     __m256 box_min[3], box_max[3], cross_min[3], cross_max[3];
     for (int c = 0; c < 3; ++c) {
@@ -31,23 +91,10 @@ FOVREF_AVX2_INLINE void clamp_range(const Image& ycocg, const Image* valid, cons
         box_max[c] = cross_max[c] = negate(inf);
     }
     for (int dy = -1; dy <= 1; ++dy) {
-        const int sy = rows[dy + 1];
-        if (sy < 0) continue;
+        if (!n.has_row(dy)) continue;
         for (int dx = -1; dx <= 1; ++dx) {
-            // the neighbour's values; with Masked, +inf for the minima and -inf for the maxima
-            // where it is not traced, which leave every extent as it is (std_min(a, +inf) and
-            // std_max(a, -inf) are a, NaN included)
             __m256 v_min[3], v_max[3];
-            split3_lanes(&ycocg.data[ycocg.index(x + dx, sy)], v_min);
-            for (int c = 0; c < 3; ++c) v_max[c] = v_min[c];
-            if constexpr (Masked) {
-                const __m256 on =
-                    not_equal(_mm256_loadu_ps(&valid->data[valid->index(x + dx, sy)]), zero());
-                for (int c = 0; c < 3; ++c) {
-                    v_min[c] = select(on, v_min[c], inf);
-                    v_max[c] = select(on, v_max[c], negate(inf));
-                }
-            }
+            n.load(dx, dy, v_min, v_max);
             for (int c = 0; c < 3; ++c) {
                 box_min[c] = std_min(box_min[c], v_min[c]);
                 box_max[c] = std_max(box_max[c], v_max[c]);
@@ -122,8 +169,7 @@ __attribute__((target("avx2"))) int taa_group(const BmfrParams& params, const Im
     bilinear_lanes(tx, ty, floor(tx), floor(ty), in_range, wf, hf, b);
 
     __m256 lo[3], hi[3];
-    const int rows[3] = {y - 1, y, y + 1 < height ? y + 1 : -1};
-    clamp_range<false>(ycocg, nullptr, rows, x, lo, hi);
+    clamp_range(RowNeighbours{ycocg, nullptr, {y - 1, y, y + 1 < height ? y + 1 : -1}, x}, lo, hi);
     // The history over the taps inside the image, in tap order.
     alignas(32) float taps[4][3][lanes] = {};
     for (int k = 0; k < 4; ++k)
@@ -153,28 +199,41 @@ FOVREF_AVX_INLINE void history_at_taps(const Image& history, const GroupTaps& g,
 template <class GroupTaps>
 FOVREF_AVX2_INLINE int vp_taa_blend(const BmfrParams& params, const Image& display,
                                     const Image& ycocg, const Image& history, const Image& valid,
-                                    const GroupTaps& g, __m256 candidate, Image& out, int x,
-                                    int y) {
+                                    int fovea_columns, const int* column_rows, const GroupTaps& g,
+                                    __m256 candidate, Image& out, int x, int y) {
     alignas(32) float taps[4][3][lanes] = {};
     history_at_taps(history, g, taps);
-    const int height = display.height;
     __m256 lo[3], hi[3];
-    const float t = (static_cast<float>(y) + 0.5f) / static_cast<float>(height);
-    const int base = std::min(static_cast<int>(t * static_cast<float>(height)), height - 1);
-    const int rows[3] = {vp_wrap_row(base - 1, height), base, vp_wrap_row(base + 1, height)};
-    clamp_range<true>(ycocg, &valid, rows, x, lo, hi);
+    if (x - 1 >= fovea_columns) {
+        // beyond the fovea every column has H rows: the same three rows for every lane
+        const int height = display.height;
+        const float t = (static_cast<float>(y) + 0.5f) / static_cast<float>(height);
+        const int base = std::min(static_cast<int>(t * static_cast<float>(height)), height - 1);
+        clamp_range(
+            RowNeighbours{ycocg,
+                          &valid,
+                          {vp_wrap_row(base - 1, height), base, vp_wrap_row(base + 1, height)},
+                          x},
+            lo, hi);
+    } else {
+        const __m256 rows = _mm256_cvtepi32_ps(
+            _mm256_loadu_si256(reinterpret_cast<const __m256i*>(column_rows + x)));
+        clamp_range(ColumnNeighbours{ycocg, valid, column_rows, x,
+                                     _mm256_div_ps(set(static_cast<float>(y) + 0.5f), rows)},
+                    lo, hi);
+    }
     return blend_group(params, display, g.on, g.weight, taps, candidate, lo, hi, out, x, y);
 }
 
-/// bmfr_taa_pixel in Visual-Polar space for texels x .. x + 7 of row y whose neighbours' columns
-/// x - 1 .. x + 8 all lie beyond the fovea, on the image: each of them has the map's `height`
-/// rows, so every lane's neighbours lie on the same three rows (vp_taa_pixel's base row of
-/// t = (y + 1/2) / height and its wrapped neighbours). The history's taps: vp_tap_lanes, or
-/// where a lane's columns lie in the history map's fovea, listed lane by lane (bmfr_vp_taps).
+/// bmfr_taa_pixel in Visual-Polar space for texels x .. x + 7 of row y (columns x - 1 .. x + 8
+/// on the image): the neighbours on three rows shared by the lanes where those columns all lie
+/// beyond the fovea (each has H rows), else on each lane's columns' own rows (ColumnNeighbours);
+/// the history's taps from vp_tap_lanes, or where a lane's columns lie in the history map's
+/// fovea, listed lane by lane (bmfr_vp_taps).
 __attribute__((target("avx2"))) int vp_taa_group(const BmfrParams& params, const Image& display,
                                                  const Image& ycocg, const Image& previous_pixel,
                                                  const Image& history, const BmfrSpace& space,
-                                                 Image& out, int x, int y) {
+                                                 const int* column_rows, Image& out, int x, int y) {
     const int width = display.width, height = display.height;
     const Image& valid = *space.valid;
     const VisualPolarMap& history_map = space.history_map();
@@ -190,8 +249,8 @@ __attribute__((target("avx2"))) int vp_taa_group(const BmfrParams& params, const
     LaneTaps lane_taps;
     if (vp_tap_lanes(history_map, qx, qy, candidate, width, height, lane_taps)) {
         if (space.previous_valid) mask_taps(lane_taps, *space.previous_valid);
-        return vp_taa_blend(params, display, ycocg, history, valid, lane_taps, candidate, out, x,
-                            y);
+        return vp_taa_blend(params, display, ycocg, history, valid, space.map->fovea_columns,
+                            column_rows, lane_taps, candidate, out, x, y);
     }
     ListedTaps g;
     const int candidate_bits = bits(candidate);
@@ -203,7 +262,8 @@ __attribute__((target("avx2"))) int vp_taa_group(const BmfrParams& params, const
         });
     }
     load_listed(g);
-    return vp_taa_blend(params, display, ycocg, history, valid, g, candidate, out, x, y);
+    return vp_taa_blend(params, display, ycocg, history, valid, space.map->fovea_columns,
+                        column_rows, g, candidate, out, x, y);
 }
 
 }  // namespace
@@ -222,29 +282,33 @@ bool same_map_shape(const VisualPolarMap& map, const Image& display) {
 }  // namespace
 
 BmfrTaaSpan bmfr_taa_avx_span(const Image& display, const Image& history, const BmfrSpace& space) {
-    const BmfrTaaSpan none{display.width, display.width};
+    const BmfrTaaSpan none{display.width, display.width, {}};
     if (history.empty() || display.channels != 3 || history.channels != 3 || !simd_allowed() ||
         !cpu_has_avx2())
         return none;
-    int first = 1;
+    BmfrTaaSpan span{1, 1, {}};
     if (space.map) {
         if (!same_mask_shape(space.valid, display) || !same_map_shape(*space.map, display) ||
             !same_map_shape(space.history_map(), display) ||
-            (space.previous_valid && !same_mask_shape(space.previous_valid, display)))
+            (space.previous_valid && !same_mask_shape(space.previous_valid, display)) ||
+            3.0 * display.width * display.height >= 2147483648.0)  // int32 gather indices
             return none;
-        first = std::max(first, space.map->fovea_columns + 1);
+        for (int c = 0; c < display.width; ++c)
+            span.column_rows.push_back(vp_column_rows(*space.map, c));
     }
     // groups of eight while column x + 8 is on the image
-    const int groups = std::max(display.width - 1 - first, 0) / lanes;
-    return groups > 0 ? BmfrTaaSpan{first, first + groups * lanes} : none;
+    const int groups = std::max(display.width - 2, 0) / lanes;
+    if (groups == 0) return none;
+    span.end = 1 + groups * lanes;
+    return span;
 }
 
 void bmfr_taa_row_avx(const BmfrParams& params, const Image& display, const Image& ycocg,
                       const Image& previous_pixel, const Image& history, const BmfrSpace& space,
-                      BmfrTaaSpan span, Image& out, int y, std::int64_t& used) {
+                      const BmfrTaaSpan& span, Image& out, int y, std::int64_t& used) {
     for (int x = span.first; x < span.end; x += lanes)
         used += space.map ? vp_taa_group(params, display, ycocg, previous_pixel, history, space,
-                                         out, x, y)
+                                         span.column_rows.data(), out, x, y)
                           : taa_group(params, display, ycocg, previous_pixel, history, out, x, y);
 }
 
