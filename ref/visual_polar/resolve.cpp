@@ -225,9 +225,13 @@ VpForwardTable vp_forward_table(const VisualPolarMap& map) {
             const int count = static_cast<int>(std::min<std::size_t>(8, w - x));
             vp_polar_lanes(map, &px[x], &py[x], (1 << count) - 1, &u[x], &r[x], &theta[x]);
         }
+        // the columns and the logarithms' arguments: eight at a time (the same bits), the rest
+        const std::size_t done = vp_table_arguments_avx(map.width, rows.data(), u.data(), r.data(),
+                                                        w, column.data(), argument.data());
         for (std::size_t x = 0; x < w; ++x) {
             float* p = &t.polar.data[t.polar.index(static_cast<int>(x), y)];
             p[0] = u[x], p[1] = r[x], p[2] = theta[x];
+            if (x < done) continue;
             const VpColumns rho = vp_rho_columns(map.width, u[x]);
             // vp_mip_lambda's argument: rows / (2 pi max(r, 2^-10))
             const float radius = std::max(r[x], 0x1p-10f);

@@ -143,7 +143,7 @@ TEST_CASE("visual-polar forward table (lanes, a row's logarithms at once): the p
     } cases[] = {{125, 61, {60.3f, 30.0f}, 0},
                  {203, 97, {-40.0f, 120.0f}, 8},
                  {64, 64, {32.0f, 32.0f}, 0},
-                 {37, 290, {18.5f, 2.0f}, 8}};
+                 {37, 290, {18.5f, 2.5f}, 8}};  // the gaze on a pixel centre: r = 0
     for (const auto& c : cases) {
         CAPTURE(c.width);
         VisualPolarMap map =
