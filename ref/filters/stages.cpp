@@ -4,6 +4,7 @@
 #include <optional>
 #include <utility>
 
+#include "ref/core/simd.h"
 #include "ref/filters/gaussian_lerp.h"
 #include "ref/filters/internal_aa.h"
 #include "ref/filters/post_aa.h"
@@ -30,8 +31,11 @@ struct BlurState : StageState {
     // first pass whose geometry differs (a moving gaze: every frame; its exps eight at a time),
     // read by its second pass and kept while the gaze is static
     std::optional<BlurRampTable> table;
-    /// The table for this frame's geometry, made if it was made for another.
+    /// The table for this frame's geometry, made if it was made for another; none under
+    /// `--scalar` (only the AVX groups read it).
     const BlurRampTable* table_for(const BlurRampGeometry& g, bool& made) {
+        made = false;
+        if (!simd_allowed()) return nullptr;
         made = !table || !table->made_for(ramp, g);
         if (made) table = blur_ramp_table(ramp, g);
         return &*table;
@@ -44,7 +48,9 @@ void run_blur_pass(FrameContext& ctx, bool vertical) {
     const BlurRampGeometry g = state.geometry(ctx);
     bool made = false;
     const BlurRampTable* table = state.table_for(g, made);
-    ctx.note = made ? "sigma and exp per pixel computed (kept)" : "sigma and exp per pixel kept";
+    ctx.note = !table ? "sigma and exp per pixel computed"
+               : made ? "sigma and exp per pixel computed (kept)"
+                      : "sigma and exp per pixel kept";
     const Image& input = ctx.input("input");
     ctx.output("output", BufferKind::color, rgb,
                vertical ? blur_ramp_vertical(state.ramp, g, input, true, table)
