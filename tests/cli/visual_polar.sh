@@ -82,6 +82,15 @@ expect 0 "bench visual-polar" -- "$FOVREF" bench visual-polar --width 96 --heigh
 contains "speed-up screen / VP" "bench: speed-up row"
 contains "RMSE per ring" "bench: ring errors"
 contains "LP      log-polar + BMFR" "bench: P5's log-polar method"
+# ... with a moving gaze (a gaze track), and a missing track refused by name
+printf 'frame,x,y\n0,20,30\n1,40,35\n2,60,40\n' > "$TMP/track.csv"
+expect 0 "bench visual-polar, moving gaze" -- "$FOVREF" bench visual-polar --width 96 --height 96 \
+  --repeats 1 --no-error --gaze-track "$TMP/track.csv"
+contains "gaze moving along" "bench: the moving gaze named"
+contains "this size is not the target's" "bench: the target judged only at 1280x1440"
+expect 2 "bench visual-polar, a missing gaze track" -- "$FOVREF" bench visual-polar --no-error \
+  --gaze-track "$TMP/no-such-track.csv"
+contains "no-such-track.csv" "bench: the missing track named"
 # log-polar-pathtrace: probe --texel explains the BMFR block of a traced texel (recomputed, exit 0)
 expect 0 "probe a log-polar-pathtrace texel" -- "$FOVREF" probe --scene cornell \
   --mode log-polar-pathtrace --width 64 --height 48 --frame 1 --texel 20,10
