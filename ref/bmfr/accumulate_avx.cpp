@@ -388,8 +388,7 @@ __attribute__((target("avx"))) void filtered_group(const BmfrParams& params, con
     const int width = fitted.width, height = fitted.height;
     const float wf = static_cast<float>(width), hf = static_cast<float>(height);
     alignas(32) float q[2][lanes];
-    const float* pp = &previous_pixel.data[previous_pixel.index(x, y)];
-    for (int l = 0; l < lanes; ++l) q[0][l] = pp[2 * l], q[1][l] = pp[2 * l + 1];
+    load2_lanes(&previous_pixel.data[previous_pixel.index(x, y)], q);
     // The accepted-tap bits as all-ones lanes per tap.
     unsigned mask[lanes];
     accepted_bits_of(accept, x, y, mask);
@@ -428,9 +427,8 @@ __attribute__((target("avx"))) void vp_filtered_group(const BmfrParams& params, 
     unsigned mask[lanes];
     accepted_bits_of(accept, x, y, mask);
     alignas(32) float q[2][lanes], wanted_lanes[lanes] = {}, accepted_lanes[4][lanes] = {};
-    const float* pp = &previous_pixel.data[previous_pixel.index(x, y)];
+    load2_lanes(&previous_pixel.data[previous_pixel.index(x, y)], q);
     for (int l = 0; l < lanes; ++l) {
-        q[0][l] = pp[2 * l], q[1][l] = pp[2 * l + 1];
         if (mask[l] != 0) wanted_lanes[l] = std::bit_cast<float>(-1);
         for (int k = 0; k < 4; ++k)
             if (mask[l] >> k & 1u) accepted_lanes[k][l] = std::bit_cast<float>(-1);

@@ -155,8 +155,7 @@ __attribute__((target("avx2"))) int taa_group(const BmfrParams& params, const Im
     const float wf = static_cast<float>(width), hf = static_cast<float>(height);
     // q, and the reference's range test: floor(q) in [-1, W - 1] x [-1, H - 1]
     alignas(32) float q[2][lanes];
-    const float* pp = &previous_pixel.data[previous_pixel.index(x, y)];
-    for (int l = 0; l < lanes; ++l) q[0][l] = pp[2 * l], q[1][l] = pp[2 * l + 1];
+    load2_lanes(&previous_pixel.data[previous_pixel.index(x, y)], q);
     const __m256 qx = _mm256_load_ps(q[0]), qy = _mm256_load_ps(q[1]);
     const __m256 in_range = both(both(at_least(qx, set(-1.0f)), at_least(qy, set(-1.0f))),
                                  both(less(qx, set(wf)), less(qy, set(hf))));
@@ -239,8 +238,7 @@ __attribute__((target("avx2"))) int vp_taa_group(const BmfrParams& params, const
     const VisualPolarMap& history_map = space.history_map();
     // The candidates: traced texels whose reprojected column q.x lies in [-1, W)
     alignas(32) float q[2][lanes];
-    const float* pp = &previous_pixel.data[previous_pixel.index(x, y)];
-    for (int l = 0; l < lanes; ++l) q[0][l] = pp[2 * l], q[1][l] = pp[2 * l + 1];
+    load2_lanes(&previous_pixel.data[previous_pixel.index(x, y)], q);
     const __m256 qx = _mm256_load_ps(q[0]), qy = _mm256_load_ps(q[1]);
     const __m256 traced = not_equal(_mm256_loadu_ps(&valid.data[valid.index(x, y)]), zero());
     const __m256 candidate =

@@ -78,8 +78,13 @@ FOVREF_AVX_INLINE int take_equal_lanes(__m256 values, int& todo, float& value) {
 FOVREF_AVX_INLINE int count(__m256 mask) { return __builtin_popcount(_mm256_movemask_ps(mask)); }
 FOVREF_AVX_INLINE int bits(__m256 mask) { return _mm256_movemask_ps(mask); }
 
-/// Eight pixels of three interleaved channels (p: the first pixel's first value) as one array
-/// per channel (the lanes' layout), and back.
+/// Eight pixels of two interleaved channels (p: the first pixel's first value) as one array per
+/// channel (the lanes' layout).
+inline void load2_lanes(const float* p, float (*out)[lanes]) {
+    for (int l = 0; l < lanes; ++l)
+        for (int c = 0; c < 2; ++c) out[c][l] = p[l * 2 + c];
+}
+/// Eight pixels of three interleaved channels as one array per channel, and back.
 inline void load3_lanes(const float* p, float (*out)[lanes]) {
     for (int l = 0; l < lanes; ++l)
         for (int c = 0; c < 3; ++c) out[c][l] = p[l * 3 + c];

@@ -492,18 +492,18 @@ BlurRampTable blur_ramp_table(const BlurRamp& ramp, const BlurRampGeometry& geom
     // -1 / ((2 sigma) sigma) at once (dm::exp_array, the same bits); 0 where the radius is 0
     const auto width = static_cast<std::size_t>(geometry.screen_width);
     std::vector<float> argument(width), a(width);
+    std::vector<char> blurred(width);  // radius > 0
     for (int y = 0; y < geometry.screen_height; ++y) {
         for (std::size_t x = 0; x < width; ++x) {
             const float sigma =
                 blur_ramp_sigma_px(ramp, geometry, pixel_centre(static_cast<int>(x), y));
             table.sigma_a.at(static_cast<int>(x), y, 0) = sigma;
-            argument[x] = blur_ramp_radius(sigma) > 0 ? -1.0f / (2.0f * sigma * sigma) : 0.0f;
+            blurred[x] = blur_ramp_radius(sigma) > 0;
+            argument[x] = blurred[x] ? -1.0f / (2.0f * sigma * sigma) : 0.0f;
         }
         dm::exp_array(argument.data(), a.data(), width);
-        for (std::size_t x = 0; x < width; ++x) {
-            const float sigma = table.sigma_a.at(static_cast<int>(x), y, 0);
-            table.sigma_a.at(static_cast<int>(x), y, 1) = blur_ramp_radius(sigma) > 0 ? a[x] : 0.0f;
-        }
+        for (std::size_t x = 0; x < width; ++x)
+            table.sigma_a.at(static_cast<int>(x), y, 1) = blurred[x] ? a[x] : 0.0f;
     }
     return table;
 }

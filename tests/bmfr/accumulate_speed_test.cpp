@@ -14,6 +14,7 @@
 #include "ref/bmfr/weighted_sum_avx.h"
 #include "ref/core/simd.h"
 #include "ref/visual_polar/map.h"
+#include "tests/bmfr/vp_trial_maps.h"
 #include "tests/image/image_test_util.h"
 
 using namespace fovref;
@@ -173,12 +174,10 @@ TEST_CASE("bmfr phases I and III in Visual-Polar space: the AVX paths give the r
     std::int64_t blended = 0;
     for (int trial = 0; trial < 7; ++trial) {
         CAPTURE(trial);
-        const glm::vec2 gaze = trial == 3 ? glm::vec2(-20.0f, 30.0f) : glm::vec2(60.0f, 45.0f);
-        VisualPolarMap map = make_visual_polar_map(120, 90, gaze, w, h);
-        map.staircase_block = 8;
-        map.staircase_offset = 2;
-        VisualPolarMap previous_map = map;
-        previous_map.staircase_offset = trial == 2 ? 2 : 5;
+        const test::VpTrialMaps maps = test::vp_trial_maps(trial, w, h);
+        const glm::vec2 gaze = maps.gaze;
+        const VisualPolarMap& map = maps.map;
+        VisualPolarMap previous_map = maps.previous;
         // The previous map of another size (a foreign history: the taps follow its rows), or
         // with a wider fovea (the taps' rows differ from this map's in six more columns)
         if (trial == 5) previous_map = make_visual_polar_map(120, 90, gaze, w + 16, h + 10);

@@ -13,6 +13,7 @@
 #include "ref/bmfr/display_avx.h"
 #include "ref/core/simd.h"
 #include "ref/visual_polar/map.h"
+#include "tests/bmfr/vp_trial_maps.h"
 #include "tests/image/image_test_util.h"
 
 using namespace fovref;
@@ -29,6 +30,27 @@ float hostile(test::SplitMix64& rng, float v, std::size_t rate) {
                             -0.0f,
                             1e-40f};
     return values[rng.below(6)];
+}
+
+// bmfr_taa of a 67-pixel-wide frame with the AVX2 path (its span: pixels 1 .. 64) and with the
+// reference: the same bits and the same count of pixels that used the history, returned.
+std::int64_t taa_both_ways(const BmfrParams& params, const Image& display,
+                           const Image& previous_pixel, const Image& history,
+                           const BmfrSpace& space) {
+    const BmfrTaaSpan span = bmfr_taa_avx_span(display, history, space);
+    CHECK(span.first == (cpu_has_avx2() ? 1 : display.width));
+    CHECK(span.end == (cpu_has_avx2() ? 65 : display.width));
+    Image out[2];
+    BmfrStats stats[2];
+    for (const bool simd : {true, false}) {
+        set_simd_allowed(simd);
+        out[simd ? 0 : 1] =
+            bmfr_taa(params, display, previous_pixel, history, stats[simd ? 0 : 1], space);
+        set_simd_allowed(true);
+    }
+    REQUIRE(test::same_bits_nan_aside(out[0], out[1]));
+    CHECK(stats[0].taa_history_used == stats[1].taa_history_used);
+    return stats[1].taa_history_used;
 }
 
 }  // namespace
@@ -64,20 +86,7 @@ TEST_CASE("bmfr TAA speed: the AVX2 pass gives bmfr_taa_pixel's bits") {
             }
         BmfrParams params;
         if (trial == 2) params.taa_alpha = 0.37f;
-        const BmfrTaaSpan span = bmfr_taa_avx_span(display, history, BmfrSpace{});
-        CHECK(span.first == (cpu_has_avx2() ? 1 : w));
-        CHECK(span.end == (cpu_has_avx2() ? 65 : w));
-        Image out[2];
-        BmfrStats stats[2];
-        for (const bool simd : {true, false}) {
-            set_simd_allowed(simd);
-            out[simd ? 0 : 1] =
-                bmfr_taa(params, display, previous_pixel, history, stats[simd ? 0 : 1]);
-            set_simd_allowed(true);
-        }
-        REQUIRE(test::same_bits_nan_aside(out[0], out[1]));
-        CHECK(stats[0].taa_history_used == stats[1].taa_history_used);
-        used += stats[1].taa_history_used;
+        used += taa_both_ways(params, display, previous_pixel, history, BmfrSpace{});
         pixels += w * h;
     }
     MESSAGE("history used in " << used << " of " << pixels << " pixels");
@@ -95,12 +104,9 @@ TEST_CASE("bmfr TAA speed: the AVX2 pass gives bmfr_taa_pixel's bits in Visual-P
     std::int64_t used = 0, traced = 0;
     for (int trial = 0; trial < 5; ++trial) {
         CAPTURE(trial);
-        const glm::vec2 gaze = trial == 3 ? glm::vec2(-20.0f, 30.0f) : glm::vec2(60.0f, 45.0f);
-        VisualPolarMap map = make_visual_polar_map(120, 90, gaze, w, h);
-        map.staircase_block = 8;
-        map.staircase_offset = 2;
-        VisualPolarMap previous_map = map;
-        previous_map.staircase_offset = trial == 2 ? 2 : 5;
+        const test::VpTrialMaps maps = test::vp_trial_maps(trial, w, h);
+        const VisualPolarMap& map = maps.map;
+        VisualPolarMap previous_map = maps.previous;
         if (trial == 4) previous_map.fovea_columns += 6;  // the history's taps: its own fovea
         Image display(w, h, 3), history(w, h, 3), previous_pixel(w, h, 2), valid(w, h, 1),
             previous_valid(w, h, 1);
@@ -129,20 +135,7 @@ TEST_CASE("bmfr TAA speed: the AVX2 pass gives bmfr_taa_pixel's bits in Visual-P
         space.previous_map = previous_map;
         BmfrParams params;
         if (trial == 2) params.taa_alpha = 0.37f;
-        const BmfrTaaSpan span = bmfr_taa_avx_span(display, history, space);
-        CHECK(span.first == (cpu_has_avx2() ? 1 : w));
-        CHECK(span.end == (cpu_has_avx2() ? 65 : w));
-        Image out[2];
-        BmfrStats stats[2];
-        for (const bool simd : {true, false}) {
-            set_simd_allowed(simd);
-            out[simd ? 0 : 1] =
-                bmfr_taa(params, display, previous_pixel, history, stats[simd ? 0 : 1], space);
-            set_simd_allowed(true);
-        }
-        REQUIRE(test::same_bits_nan_aside(out[0], out[1]));
-        CHECK(stats[0].taa_history_used == stats[1].taa_history_used);
-        used += stats[1].taa_history_used;
+        used += taa_both_ways(params, display, previous_pixel, history, space);
     }
     MESSAGE("history used in " << used << " of " << traced << " traced texels");
     CHECK(used > traced / 2);

@@ -895,6 +895,27 @@ TEST_CASE("dmath bit-exact replay: checksum of results over fixed inputs") {
     CHECK(h == 0x83135c54b0b97fc3ull);
 }
 
+namespace {
+
+// The elements where `array` (into a separate output, then in place) differs in bits from
+// `scalar` applied one by one: each array function's lanes against its reference.
+template <class Array, class Scalar>
+std::size_t array_differences(const std::vector<float>& x, Array array, Scalar scalar) {
+    std::vector<float> out(x.size()), in_place = x;
+    array(x.data(), out.data(), x.size());
+    array(in_place.data(), in_place.data(), in_place.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        const float expected = scalar(x[i]);
+        differ += std::bit_cast<std::uint32_t>(out[i]) != std::bit_cast<std::uint32_t>(expected);
+        differ +=
+            std::bit_cast<std::uint32_t>(in_place[i]) != std::bit_cast<std::uint32_t>(expected);
+    }
+    return differ;
+}
+
+}  // namespace
+
 TEST_CASE(
     "dmath pow_fast_array: pow_fast's bits for every element (random bit patterns, display "
     "values, special cases; the AVX2 lanes where the CPU has them), in place too") {
@@ -910,18 +931,12 @@ TEST_CASE(
         x.push_back(special);
     for (const float y : {0.454545f, 2.2f, 1.0f / 2.2f, -1.5f, 7.0f, 0.0f, 300.0f, INFINITY}) {
         CAPTURE(y);
-        std::vector<float> out(x.size()), in_place = x;
-        fovref::dm::pow_fast_array(x.data(), y, out.data(), x.size());
-        fovref::dm::pow_fast_array(in_place.data(), y, in_place.data(), in_place.size());
-        std::size_t differ = 0;
-        for (std::size_t i = 0; i < x.size(); ++i) {
-            const float expected = fovref::dm::pow_fast(x[i], y);
-            differ +=
-                std::bit_cast<std::uint32_t>(out[i]) != std::bit_cast<std::uint32_t>(expected);
-            differ +=
-                std::bit_cast<std::uint32_t>(in_place[i]) != std::bit_cast<std::uint32_t>(expected);
-        }
-        CHECK(differ == 0);
+        CHECK(array_differences(
+                  x,
+                  [y](const float* in, float* out, std::size_t n) {
+                      fovref::dm::pow_fast_array(in, y, out, n);
+                  },
+                  [y](float v) { return fovref::dm::pow_fast(v, y); }) == 0);
     }
 }
 
@@ -937,17 +952,8 @@ TEST_CASE(
     for (const float special : {0.0f, -0.0f, 1.0f, -1.0f, 0x1p-149f, 0x1p-126f, 0x1.fffffep127f,
                                 INFINITY, -INFINITY, NAN, 0.5f, 2.0f, 1e-30f, 3e38f})
         x.push_back(special);
-    std::vector<float> out(x.size()), in_place = x;
-    fovref::dm::log2_array(x.data(), out.data(), x.size());
-    fovref::dm::log2_array(in_place.data(), in_place.data(), in_place.size());
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-        const float expected = fovref::dm::log2(x[i]);
-        differ += std::bit_cast<std::uint32_t>(out[i]) != std::bit_cast<std::uint32_t>(expected);
-        differ +=
-            std::bit_cast<std::uint32_t>(in_place[i]) != std::bit_cast<std::uint32_t>(expected);
-    }
-    CHECK(differ == 0);
+    CHECK(array_differences(x, fovref::dm::log2_array,
+                            [](float v) { return fovref::dm::log2(v); }) == 0);
 }
 
 TEST_CASE(
@@ -963,15 +969,6 @@ TEST_CASE(
          {0.0f, -0.0f, 1.0f, -1.0f, 700.0f, -700.0f, 700.0001f, -700.0001f, 709.7f, 88.7f, -103.9f,
           -745.2f, 0x1p-149f, INFINITY, -INFINITY, NAN})
         x.push_back(special);
-    std::vector<float> out(x.size()), in_place = x;
-    fovref::dm::exp_array(x.data(), out.data(), x.size());
-    fovref::dm::exp_array(in_place.data(), in_place.data(), in_place.size());
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-        const float expected = fovref::dm::exp(x[i]);
-        differ += std::bit_cast<std::uint32_t>(out[i]) != std::bit_cast<std::uint32_t>(expected);
-        differ +=
-            std::bit_cast<std::uint32_t>(in_place[i]) != std::bit_cast<std::uint32_t>(expected);
-    }
-    CHECK(differ == 0);
+    CHECK(array_differences(x, fovref::dm::exp_array, [](float v) { return fovref::dm::exp(v); }) ==
+          0);
 }

@@ -126,6 +126,62 @@ std::string stage_list(const MethodCost& c) {
 
 double ratio(double a, double b) { return b > 0.0 ? a / b : 0.0; }
 
+/// One size's table: each method's samples, buffer and times, the speed-ups, every stage, and
+/// the issue's target (judged at 1280x1440 only).
+void print_size_cost(const Size& size, const MethodCost& screen, const MethodCost& vp,
+                     const MethodCost& lp, bool static_gaze) {
+    const double pixels = size.pixels();
+    const auto buffer_w = vp.counters.get("buffer_width");
+    const auto buffer_h = vp.counters.get("buffer_height");
+    const auto traced = vp.counters.get("texels_traced");
+    const double buffer_texels = static_cast<double>(buffer_w) * static_cast<double>(buffer_h);
+    const std::string buffer = std::to_string(buffer_w) + "x" + std::to_string(buffer_h);
+    char clipped[32];
+    std::snprintf(
+        clipped, sizeof clipped, "%.1f%%",
+        100.0 * ratio(static_cast<double>(vp.counters.get("texels_clipped")), buffer_texels));
+
+    std::printf("  %dx%d (%.0f pixels)\n", size.width, size.height, pixels);
+    std::printf("    %-22s %13s %7s %10s %8s %10s %12s %9s %9s %9s\n", "method", "samples/frame",
+                "of WxH", "buffer", "clipped", "off-screen", "path tracing", "BMFR", "rest",
+                "total");
+    std::printf("    %-22s %13.0f %6.1f%% %10s %8s %10s %12.1f %9.1f %9.1f %9.1f\n",
+                "screen space + BMFR", pixels, 100.0, "-", "-", "-", 1e3 * screen.trace,
+                1e3 * screen.bmfr, 1e3 * screen.rest, 1e3 * screen.total);
+    std::printf("    %-22s %13lld %6.1f%% %10s %8s %10lld %12.1f %9.1f %9.1f %9.1f\n",
+                "Visual-Polar + BMFR", static_cast<long long>(traced),
+                100.0 * static_cast<double>(traced) / pixels, buffer.c_str(), clipped,
+                static_cast<long long>(vp.counters.get("texels_off_screen")), 1e3 * vp.trace,
+                1e3 * vp.bmfr, 1e3 * vp.rest, 1e3 * vp.total);
+    const auto lp_traced = lp.counters.get("texels_traced");
+    const std::string lp_buffer = std::to_string(lp.counters.get("buffer_width")) + "x" +
+                                  std::to_string(lp.counters.get("buffer_height"));
+    std::printf("    %-22s %13lld %6.1f%% %10s %8s %10lld %12.1f %9.1f %9.1f %9.1f\n",
+                "log-polar + BMFR", static_cast<long long>(lp_traced),
+                100.0 * static_cast<double>(lp_traced) / pixels, lp_buffer.c_str(), "-",
+                static_cast<long long>(lp.counters.get("texels_off_screen")), 1e3 * lp.trace,
+                1e3 * lp.bmfr, 1e3 * lp.rest, 1e3 * lp.total);
+    std::printf("    %-22s %13.2fx %7s %10s %8s %10s %11.2fx %8.2fx %9s %8.2fx\n",
+                "speed-up screen / VP", ratio(pixels, static_cast<double>(traced)), "", "", "", "",
+                ratio(screen.trace, vp.trace), ratio(screen.bmfr, vp.bmfr), "-",
+                ratio(screen.total, vp.total));
+    std::printf("    %-22s %13s %7s %10s %8s %10s %11.1fx %8.1fx\n", "P5 (reported)", "", "", "",
+                "", "", 2.5, 2.5);
+    std::printf("    stages, screen space: %s\n", stage_list(screen).c_str());
+    std::printf("    stages, Visual-Polar: %s\n", stage_list(vp).c_str());
+    std::printf("    stages, log-polar: %s\n", stage_list(lp).c_str());
+    const double stages = ratio(screen.trace + screen.bmfr, vp.trace + vp.bmfr);
+    const double whole = ratio(screen.total, vp.total);
+    const bool target_size = size.width == 1280 && size.height == 1440;
+    std::printf(
+        "    target (issue): Visual-Polar path tracing + BMFR >= 2x faster than screen space "
+        "at 1280x1440, static and moving gaze%s:\n      path tracing + BMFR stages %.2fx "
+        "(%s); whole frame, VP's resolve and blur included, %.2fx (%s)\n",
+        target_size ? (static_gaze ? " (this run: static)" : " (this run: moving)")
+                    : " (this size is not the target's; for information)",
+        stages, stages >= 2.0 ? "met" : "not met", whole, whole >= 2.0 ? "met" : "not met");
+}
+
 void print_cost(const Scene& scene, const BenchVisualPolarOptions& o,
                 const std::vector<Size>& sizes) {
     Progress progress("bench visual-polar (cost)", o.quiet);
@@ -155,56 +211,7 @@ void print_cost(const Scene& scene, const BenchVisualPolarOptions& o,
         done += size.pixels();
         progress.clear();
 
-        const double pixels = size.pixels();
-        const auto buffer_w = vp.counters.get("buffer_width");
-        const auto buffer_h = vp.counters.get("buffer_height");
-        const auto traced = vp.counters.get("texels_traced");
-        const double buffer_texels = static_cast<double>(buffer_w) * static_cast<double>(buffer_h);
-        const std::string buffer = std::to_string(buffer_w) + "x" + std::to_string(buffer_h);
-        char clipped[32];
-        std::snprintf(
-            clipped, sizeof clipped, "%.1f%%",
-            100.0 * ratio(static_cast<double>(vp.counters.get("texels_clipped")), buffer_texels));
-
-        std::printf("  %dx%d (%.0f pixels)\n", size.width, size.height, pixels);
-        std::printf("    %-22s %13s %7s %10s %8s %10s %12s %9s %9s %9s\n", "method",
-                    "samples/frame", "of WxH", "buffer", "clipped", "off-screen", "path tracing",
-                    "BMFR", "rest", "total");
-        std::printf("    %-22s %13.0f %6.1f%% %10s %8s %10s %12.1f %9.1f %9.1f %9.1f\n",
-                    "screen space + BMFR", pixels, 100.0, "-", "-", "-", 1e3 * screen.trace,
-                    1e3 * screen.bmfr, 1e3 * screen.rest, 1e3 * screen.total);
-        std::printf("    %-22s %13lld %6.1f%% %10s %8s %10lld %12.1f %9.1f %9.1f %9.1f\n",
-                    "Visual-Polar + BMFR", static_cast<long long>(traced),
-                    100.0 * static_cast<double>(traced) / pixels, buffer.c_str(), clipped,
-                    static_cast<long long>(vp.counters.get("texels_off_screen")), 1e3 * vp.trace,
-                    1e3 * vp.bmfr, 1e3 * vp.rest, 1e3 * vp.total);
-        const auto lp_traced = lp.counters.get("texels_traced");
-        const std::string lp_buffer = std::to_string(lp.counters.get("buffer_width")) + "x" +
-                                      std::to_string(lp.counters.get("buffer_height"));
-        std::printf("    %-22s %13lld %6.1f%% %10s %8s %10lld %12.1f %9.1f %9.1f %9.1f\n",
-                    "log-polar + BMFR", static_cast<long long>(lp_traced),
-                    100.0 * static_cast<double>(lp_traced) / pixels, lp_buffer.c_str(), "-",
-                    static_cast<long long>(lp.counters.get("texels_off_screen")), 1e3 * lp.trace,
-                    1e3 * lp.bmfr, 1e3 * lp.rest, 1e3 * lp.total);
-        std::printf("    %-22s %13.2fx %7s %10s %8s %10s %11.2fx %8.2fx %9s %8.2fx\n",
-                    "speed-up screen / VP", ratio(pixels, static_cast<double>(traced)), "", "", "",
-                    "", ratio(screen.trace, vp.trace), ratio(screen.bmfr, vp.bmfr), "-",
-                    ratio(screen.total, vp.total));
-        std::printf("    %-22s %13s %7s %10s %8s %10s %11.1fx %8.1fx\n", "P5 (reported)", "", "",
-                    "", "", "", 2.5, 2.5);
-        std::printf("    stages, screen space: %s\n", stage_list(screen).c_str());
-        std::printf("    stages, Visual-Polar: %s\n", stage_list(vp).c_str());
-        std::printf("    stages, log-polar: %s\n", stage_list(lp).c_str());
-        const double stages = ratio(screen.trace + screen.bmfr, vp.trace + vp.bmfr);
-        const double whole = ratio(screen.total, vp.total);
-        const bool target_size = size.width == 1280 && size.height == 1440;
-        std::printf(
-            "    target (issue): Visual-Polar path tracing + BMFR >= 2x faster than screen space "
-            "at 1280x1440, static and moving gaze%s:\n      path tracing + BMFR stages %.2fx "
-            "(%s); whole frame, VP's resolve and blur included, %.2fx (%s)\n",
-            target_size ? (o.gaze_track.empty() ? " (this run: static)" : " (this run: moving)")
-                        : " (this size is not the target's; for information)",
-            stages, stages >= 2.0 ? "met" : "not met", whole, whole >= 2.0 ? "met" : "not met");
+        print_size_cost(size, screen, vp, lp, o.gaze_track.empty());
         std::fflush(stdout);
     }
     progress.finish();
