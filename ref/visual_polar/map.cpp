@@ -88,7 +88,7 @@ namespace {
 // the bucket (bounds taken half a bucket wider than the bucket); the search then runs on the few
 // indices in between. P is non-decreasing, so this ends at the same (lo_k, lo_k + 1) as
 // table_bracket's 16 steps from [0, 65536]: lo_k is the largest k with P(k / 65536) < e.
-constexpr int cdf_bucket_count = 16384;
+constexpr int cdf_bucket_count = 131072;
 struct CdfBuckets {
     double scale = 0.0;  // buckets per degree
     std::vector<int> lo, hi;

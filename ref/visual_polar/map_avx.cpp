@@ -1,6 +1,7 @@
 #include "ref/visual_polar/map_avx.h"
 
 #include <algorithm>
+#include <vector>
 
 #include "ref/core/avx_lanes.h"
 #include "ref/core/dmath.h"
@@ -72,40 +73,29 @@ FOVREF_AVX2_INLINE __m256 next_float(__m256 u, int step) {
     return _mm256_castsi256_ps(_mm256_add_epi32(_mm256_castps_si256(u), _mm256_set1_epi32(step)));
 }
 
-/// vp_cdf(e) in the lanes of `active` (0 < e < P(1)): the bucket's bracket narrowed on the table
-/// to [k, k + 1] / 65536, then, where k >= 1, the interpolated guess moved float by float (at
-/// most 8 moves) to the largest float u of the bracket with P(u) < e: 0.5 (u + next float).
-/// `settled`: the active lanes so found (the others are the caller's).
+/// vp_cdf(e) in the lanes of `active` (0 < e < P(1)), without its search: the largest float u
+/// with P(u) < e (P non-decreasing over the floats of [0, 1]) taken from a window of five floats
+/// around a guess interpolated in e's bucket's bracket [lo, hi] / 65536, then 0.5 (u + next
+/// float), which is vp_cdf's result where its bracket starts above 0. `settled`: the active lanes
+/// so found: lo >= 1 and the answer inside the window (the others are the caller's).
 FOVREF_AVX2_INLINE __m256 cdf_lanes(__m256 e, __m256 active, __m256& settled) {
     const VpCdfTables tables = vp_cdf_tables();
-    const int buckets = static_cast<int>(tables.lo.size());
-    alignas(32) float e_lanes[lanes];
-    alignas(32) int lo_lanes[lanes], hi_lanes[lanes];
-    _mm256_store_ps(e_lanes, e);
-    const int active_bits = bits(active);
-    for (int l = 0; l < lanes; ++l) {
-        lo_lanes[l] = hi_lanes[l] = 0;
-        if (!(active_bits >> l & 1)) continue;
-        const auto b = static_cast<std::size_t>(std::min(
-            static_cast<int>(static_cast<double>(e_lanes[l]) * tables.bucket_scale), buckets - 1));
-        lo_lanes[l] = tables.lo[b], hi_lanes[l] = tables.hi[b];
-    }
-    __m256i lo = _mm256_load_si256(reinterpret_cast<const __m256i*>(lo_lanes));
-    __m256i hi = _mm256_load_si256(reinterpret_cast<const __m256i*>(hi_lanes));
+    // the bucket b = min(floor(e bucket_scale), buckets - 1), the product in binary64
+    const __m256d scale_d = _mm256_set1_pd(tables.bucket_scale);
+    const __m128i b_low =
+        _mm256_cvttpd_epi32(_mm256_mul_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(e)), scale_d));
+    const __m128i b_high =
+        _mm256_cvttpd_epi32(_mm256_mul_pd(_mm256_cvtps_pd(_mm256_extractf128_ps(e, 1)), scale_d));
+    const __m256i b =
+        _mm256_min_epi32(_mm256_inserti128_si256(_mm256_castsi128_si256(b_low), b_high, 1),
+                         _mm256_set1_epi32(static_cast<int>(tables.lo.size()) - 1));
+    const __m256i zero_i = _mm256_setzero_si256();
+    const __m256i lo =
+        _mm256_mask_i32gather_epi32(zero_i, tables.lo.data(), b, _mm256_castps_si256(active), 4);
+    const __m256i hi =
+        _mm256_mask_i32gather_epi32(zero_i, tables.hi.data(), b, _mm256_castps_si256(active), 4);
+    const __m256 pending = both(active, _mm256_castsi256_ps(_mm256_cmpgt_epi32(lo, zero_i)));
     const float* p = tables.p.data();
-    const __m256i one = _mm256_set1_epi32(1);
-    // narrow_bracket: (P(mid) < e ? lo : hi) = mid while hi - lo > 1
-    for (;;) {
-        const __m256i open = _mm256_cmpgt_epi32(_mm256_sub_epi32(hi, lo), one);
-        if (_mm256_testz_si256(open, open)) break;
-        const __m256i mid = _mm256_srli_epi32(_mm256_add_epi32(lo, hi), 1);
-        const __m256 p_mid = _mm256_mask_i32gather_ps(zero(), p, mid, _mm256_castsi256_ps(open), 4);
-        const __m256i below = _mm256_and_si256(_mm256_castps_si256(less(p_mid, e)), open);
-        lo = _mm256_blendv_epi8(lo, mid, below);
-        hi = _mm256_blendv_epi8(hi, mid, _mm256_andnot_si256(below, open));
-    }
-    __m256 pending =
-        both(active, _mm256_castsi256_ps(_mm256_cmpgt_epi32(lo, _mm256_setzero_si256())));
     const __m256 scale = set(1.0f / 65536.0f);
     const __m256 lo_u = _mm256_mul_ps(_mm256_cvtepi32_ps(lo), scale);
     const __m256 hi_u = _mm256_mul_ps(_mm256_cvtepi32_ps(hi), scale);
@@ -116,40 +106,68 @@ FOVREF_AVX2_INLINE __m256 cdf_lanes(__m256 e, __m256 active, __m256& settled) {
     const __m256 guess = _mm256_add_ps(
         lo_u, _mm256_mul_ps(_mm256_sub_ps(hi_u, lo_u),
                             _mm256_div_ps(_mm256_sub_ps(e, p_lo), _mm256_sub_ps(p_hi, p_lo))));
-    __m256 u = select(less(guess, lo_u), lo_u, select(less(last, guess), last, guess));
-    __m256 result = zero();
-    settled = zero();
-    for (int move = 0; move < 8 && bits(pending) != 0; ++move) {
-        const __m256 below = less(inverse_cdf(u), e);
+    const __m256 g = select(less(guess, lo_u), lo_u, select(less(last, guess), last, guess));
+    // below = how many of the floats g - 3 .. g + 1 have P < e; 1 to 4: the answer g - 4 + below
+    // (P(g - 3) < e <= P(g - 3 + below)); the guess is mostly one float above it
+    __m256i below = zero_i;
+    for (int k = -3; k <= 1; ++k)
+        below =
+            _mm256_sub_epi32(below, _mm256_castps_si256(less(inverse_cdf(next_float(g, k)), e)));
+    const __m256i inside = _mm256_andnot_si256(_mm256_cmpeq_epi32(below, zero_i),
+                                               _mm256_cmpgt_epi32(_mm256_set1_epi32(5), below));
+    __m256 u = _mm256_castsi256_ps(
+        _mm256_add_epi32(_mm256_castps_si256(g), _mm256_sub_epi32(below, _mm256_set1_epi32(4))));
+    settled = both(pending, _mm256_castsi256_ps(inside));
+    __m256 result =
+        select(settled, _mm256_mul_ps(set(0.5f), _mm256_add_ps(u, next_float(u, 1))), zero());
+    // the few lanes whose answer lies outside the window: moved float by float from the window's
+    // edge (g - 4 when P(g - 3) >= e, g + 1 when P(g + 1) < e), at most 8 moves
+    __m256 outside = both(pending, negation(settled));
+    if (bits(outside) == 0) return result;
+    u = select(_mm256_castsi256_ps(_mm256_cmpeq_epi32(below, zero_i)), next_float(g, -4),
+               next_float(g, 1));
+    for (int move = 0; move < 8 && bits(outside) != 0; ++move) {
+        const __m256 under = less(inverse_cdf(u), e);
         const __m256 next = next_float(u, 1);
-        const __m256 next_below = less(inverse_cdf(next), e);
-        const __m256 down = both(pending, negation(below));
-        const __m256 up = both(both(pending, below), next_below);
-        const __m256 done = both(both(pending, below), negation(next_below));
+        const __m256 next_under = less(inverse_cdf(next), e);
+        const __m256 down = both(outside, negation(under));
+        const __m256 up = both(both(outside, under), next_under);
+        const __m256 done = both(both(outside, under), negation(next_under));
         result = select(done, _mm256_mul_ps(set(0.5f), _mm256_add_ps(u, next)), result);
         u = select(down, next_float(u, -1), select(up, next, u));
         settled = either(settled, done);
-        pending = both(pending, negation(done));
+        outside = both(outside, negation(done));
     }
     return result;
 }
 
-/// vp_polar and vp_forward_radius in lanes; `settled_bits`: the lanes computed (the others run
-/// the reference).
-__attribute__((target("avx2"))) void polar_group(const VisualPolarMap& m, const float* x,
-                                                 const float* y, int lane_bits, float* u_out,
-                                                 float* r_out, float* theta_out,
-                                                 int& settled_bits) {
+/// vp_polar in lanes: r and theta of the lanes of `lane_bits` whose angle the lanes compute (dx,
+/// dy nonzero and r finite) stored into r_out, theta_out; returns those lanes.
+__attribute__((target("avx2"))) int angle_group(const VisualPolarMap& m, const float* x,
+                                                const float* y, int lane_bits, float* r_out,
+                                                float* theta_out) {
     const __m256 dx = _mm256_sub_ps(_mm256_loadu_ps(x), set(m.gaze.x));
     const __m256 dy = _mm256_sub_ps(_mm256_loadu_ps(y), set(m.gaze.y));
     const __m256 r = _mm256_sqrt_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)));
     // the lanes whose angle atan2_nonzero computes, and whose distance is finite
     const __m256 nonzero =
         both(_mm256_cmp_ps(dx, zero(), _CMP_NEQ_OQ), _mm256_cmp_ps(dy, zero(), _CMP_NEQ_OQ));
-    __m256 settled = both(mask_of(lane_bits), both(nonzero, finite(r)));
+    const __m256 settled = both(mask_of(lane_bits), both(nonzero, finite(r)));
     // theta in [0, 2 pi]; dx, dy of the other lanes replaced by 1 (a harmless angle)
     __m256 theta = atan2_lanes(select(settled, dy, set(1.0f)), select(settled, dx, set(1.0f)));
     theta = select(less(theta, zero()), _mm256_add_ps(theta, set(dm::two_pi)), theta);
+    const __m256i store = _mm256_castps_si256(settled);
+    _mm256_maskstore_ps(r_out, store, r);
+    _mm256_maskstore_ps(theta_out, store, theta);
+    return bits(settled);
+}
+
+/// vp_forward_radius in lanes of the distances r[l] of the lanes `settled_bits` (angle_group's):
+/// u_out of the lanes it settles, which it returns (the others run the reference).
+__attribute__((target("avx2"))) int radius_group(const VisualPolarMap& m, const float* r_in,
+                                                 int settled_bits, float* u_out) {
+    __m256 settled = mask_of(settled_bits);
+    const __m256 r = _mm256_maskload_ps(r_in, _mm256_castps_si256(settled));
     // vp_forward_radius: the fovea's linear part, else P^-1(r / s) mapped to rho
     const __m256 fovea = less(r, set(m.fovea_radius));
     const __m256 linear = _mm256_div_ps(_mm256_mul_ps(set(static_cast<float>(m.fovea_columns)), r),
@@ -168,14 +186,18 @@ __attribute__((target("avx2"))) void polar_group(const VisualPolarMap& m, const 
         _mm256_div_ps(_mm256_mul_ps(_mm256_sub_ps(big_u, set(vp_u0)), set(1.0f - rho_f)),
                       set(1.0f - vp_u0)));
     const __m256 u = select(fovea, linear, _mm256_mul_ps(set(static_cast<float>(m.width)), rho));
-    settled_bits = bits(settled);
-    alignas(32) float u_lanes[lanes], r_lanes[lanes], theta_lanes[lanes];
-    _mm256_store_ps(u_lanes, u);
-    _mm256_store_ps(r_lanes, r);
-    _mm256_store_ps(theta_lanes, theta);
-    for (int l = 0; l < lanes; ++l)
-        if (settled_bits >> l & 1)
-            u_out[l] = u_lanes[l], r_out[l] = r_lanes[l], theta_out[l] = theta_lanes[l];
+    _mm256_maskstore_ps(u_out, _mm256_castps_si256(settled), u);
+    return bits(settled);
+}
+
+/// The lanes of `lane_bits` not in `settled`: vp_polar and vp_forward_radius themselves.
+void polar_reference(const VisualPolarMap& map, const float* x, const float* y, int lane_bits,
+                     int settled, float* u, float* r, float* theta) {
+    for (int l = 0; l < lanes; ++l) {
+        if (!(lane_bits >> l & 1) || (settled >> l & 1)) continue;
+        vp_polar(map, {x[l], y[l]}, r[l], theta[l]);
+        u[l] = vp_forward_radius(map, r[l]);
+    }
 }
 
 }  // namespace
@@ -184,13 +206,38 @@ int vp_polar_lanes(const VisualPolarMap& map, const float* x, const float* y, in
                    float* u, float* r, float* theta) {
     int settled = 0;
     if (lane_bits != 0 && simd_allowed() && cpu_has_avx2())
-        polar_group(map, x, y, lane_bits, u, r, theta, settled);
-    for (int l = 0; l < lanes; ++l) {
-        if (!(lane_bits >> l & 1) || (settled >> l & 1)) continue;
-        vp_polar(map, {x[l], y[l]}, r[l], theta[l]);
-        u[l] = vp_forward_radius(map, r[l]);
-    }
+        settled = radius_group(map, r, angle_group(map, x, y, lane_bits, r, theta), u);
+    polar_reference(map, x, y, lane_bits, settled, u, r, theta);
     return settled;
+}
+
+void vp_polar_span(const VisualPolarMap& map, const float* x, const float* y, std::size_t count,
+                   float* u, float* r, float* theta) {
+    const std::size_t groups = count / lanes;
+    std::vector<unsigned char> settled(groups, 0);
+    if (simd_allowed() && cpu_has_avx2()) {
+        // every group's angle first: no search branch between their binary64 divisions
+        for (std::size_t g = 0; g < groups; ++g)
+            settled[g] = static_cast<unsigned char>(angle_group(
+                map, x + g * lanes, y + g * lanes, 255, r + g * lanes, theta + g * lanes));
+        for (std::size_t g = 0; g < groups; ++g)
+            settled[g] = static_cast<unsigned char>(
+                radius_group(map, r + g * lanes, settled[g], u + g * lanes));
+    }
+    for (std::size_t g = 0; g < groups; ++g)
+        polar_reference(map, x + g * lanes, y + g * lanes, 255, settled[g], u + g * lanes,
+                        r + g * lanes, theta + g * lanes);
+    // the last points (fewer than eight) eight lanes at a time from copies
+    const std::size_t done = groups * lanes;
+    if (done == count) return;
+    float tx[lanes] = {}, ty[lanes] = {}, tu[lanes], tr[lanes], tt[lanes];
+    const auto rest = static_cast<int>(count - done);
+    std::copy(x + done, x + count, tx);
+    std::copy(y + done, y + count, ty);
+    vp_polar_lanes(map, tx, ty, (1 << rest) - 1, tu, tr, tt);
+    std::copy(tu, tu + rest, u + done);
+    std::copy(tr, tr + rest, r + done);
+    std::copy(tt, tt + rest, theta + done);
 }
 
 int vp_forward_angle_lanes(const VisualPolarMap& map, const float* x, const float* y, int lane_bits,

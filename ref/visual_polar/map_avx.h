@@ -11,6 +11,8 @@
 // the map is log-polar.
 #pragma once
 
+#include <cstddef>
+
 #include "ref/visual_polar/map.h"
 
 namespace fovref {
@@ -20,6 +22,13 @@ namespace fovref {
 /// lanes' outputs are left as they are. Returns the lanes computed in lanes (the rest ran the
 /// reference functions).
 int vp_polar_lanes(const VisualPolarMap& map, const float* x, const float* y, int lane_bits,
+                   float* u, float* r, float* theta);
+
+/// vp_polar_lanes over the points (x[k], y[k]), k < count, into (u[k], r[k], theta[k]): every
+/// group of eight's angle first, then their distances' columns (so that no search branch lies
+/// between the angles' binary64 divisions, which then overlap from group to group); the same bits
+/// as vp_polar and vp_forward_radius point by point.
+void vp_polar_span(const VisualPolarMap& map, const float* x, const float* y, std::size_t count,
                    float* u, float* r, float* theta);
 
 /// vp_forward_angle(map, (x[l], y[l])) into (u[l], t[l]) for the lanes l set in `lane_bits`

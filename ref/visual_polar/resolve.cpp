@@ -221,10 +221,7 @@ VpForwardTable vp_forward_table(const VisualPolarMap& map) {
     for (std::size_t x = 0; x < w; ++x) px[x] = static_cast<float>(x) + 0.5f;
     for (int y = 0; y < map.screen_height; ++y) {
         std::fill(py.begin(), py.end(), static_cast<float>(y) + 0.5f);
-        for (std::size_t x = 0; x < w; x += 8) {
-            const int count = static_cast<int>(std::min<std::size_t>(8, w - x));
-            vp_polar_lanes(map, &px[x], &py[x], (1 << count) - 1, &u[x], &r[x], &theta[x]);
-        }
+        vp_polar_span(map, px.data(), py.data(), w, u.data(), r.data(), theta.data());
         // the columns and the logarithms' arguments: eight at a time (the same bits), the rest
         const std::size_t done = vp_table_arguments_avx(map.width, rows.data(), u.data(), r.data(),
                                                         w, column.data(), argument.data());
