@@ -1,7 +1,9 @@
 #include "ref/visual_polar/resolve.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
@@ -212,19 +214,24 @@ VpForwardTable vp_forward_table(const VisualPolarMap& map) {
         rows[i] = vp_column_rows(map, static_cast<int>(i));
         last[i] = vp_mip_last_level(rows[i]);
     }
-    // Row by row: vp_polar_pixel eight pixels at a time (vp_polar_lanes, the same bits), then
+    // Row by row: vp_polar_pixel eight pixels at a time (vp_polar_span, the same bits), then
     // vp_mip_level of both columns with the logarithms of the row at once (dm::log2_array)
     const auto w = static_cast<std::size_t>(width);
-    std::vector<float> u(w + 8), r(w + 8), theta(w + 8), px(w + 8), py(w + 8);
-    std::vector<float> argument(2 * w), lambda(2 * w);
-    std::vector<int> column(2 * w);
+    std::vector<float> u(w), r(w), theta(w), px(w), py(w);
+    std::vector<float> arguments[2] = {std::vector<float>(w), std::vector<float>(w)};
+    std::vector<float> lambdas[2] = {std::vector<float>(w), std::vector<float>(w)};
+    std::vector<int> columns[2] = {std::vector<int>(w), std::vector<int>(w)};
+    int* const column[2] = {columns[0].data(), columns[1].data()};
+    float* const argument[2] = {arguments[0].data(), arguments[1].data()};
+    std::vector<float> second_arguments, second_lambdas;  // where the two columns' differ
+    std::vector<std::size_t> second;
     for (std::size_t x = 0; x < w; ++x) px[x] = static_cast<float>(x) + 0.5f;
     for (int y = 0; y < map.screen_height; ++y) {
         std::fill(py.begin(), py.end(), static_cast<float>(y) + 0.5f);
         vp_polar_span(map, px.data(), py.data(), w, u.data(), r.data(), theta.data());
         // the columns and the logarithms' arguments: eight at a time (the same bits), the rest
-        const std::size_t done = vp_table_arguments_avx(map.width, rows.data(), u.data(), r.data(),
-                                                        w, column.data(), argument.data());
+        const std::size_t done =
+            vp_table_arguments_avx(map.width, rows.data(), u.data(), r.data(), w, column, argument);
         for (std::size_t x = 0; x < w; ++x) {
             float* p = &t.polar.data[t.polar.index(static_cast<int>(x), y)];
             p[0] = u[x], p[1] = r[x], p[2] = theta[x];
@@ -234,18 +241,33 @@ VpForwardTable vp_forward_table(const VisualPolarMap& map) {
             const float radius = std::max(r[x], 0x1p-10f);
             for (int k = 0; k < 2; ++k) {
                 const int i = k == 0 ? rho.i0 : rho.i1;
-                column[2 * x + k] = i;
-                argument[2 * x + k] =
+                column[k][x] = i;
+                argument[k][x] =
                     static_cast<float>(rows[static_cast<std::size_t>(i)]) / (two_pi * radius);
             }
         }
-        dm::log2_array(argument.data(), lambda.data(), argument.size());
+        // The second column's logarithm is the first's where their arguments have the same bits
+        // (both columns have h rows: the periphery); only the others are computed
+        dm::log2_array(argument[0], lambdas[0].data(), w);
+        second.clear(), second_arguments.clear();
+        for (std::size_t x = 0; x < w; ++x) {
+            if (std::bit_cast<std::uint32_t>(argument[1][x]) ==
+                std::bit_cast<std::uint32_t>(argument[0][x])) {
+                lambdas[1][x] = lambdas[0][x];
+                continue;
+            }
+            second.push_back(x);
+            second_arguments.push_back(argument[1][x]);
+        }
+        second_lambdas.resize(second.size());
+        dm::log2_array(second_arguments.data(), second_lambdas.data(), second.size());
+        for (std::size_t k = 0; k < second.size(); ++k) lambdas[1][second[k]] = second_lambdas[k];
         for (std::size_t x = 0; x < w; ++x) {
             float* level = &t.levels.data[t.levels.index(static_cast<int>(x), y)];
             for (int k = 0; k < 2; ++k) {  // vp_mip_level: lambda clamped to [0, last level]
-                const auto i = static_cast<std::size_t>(column[2 * x + k]);
+                const auto i = static_cast<std::size_t>(column[k][x]);
                 level[2 * k] = static_cast<float>(rows[i]);
-                level[2 * k + 1] = std::clamp(lambda[2 * x + k], 0.0f, static_cast<float>(last[i]));
+                level[2 * k + 1] = std::clamp(lambdas[k][x], 0.0f, static_cast<float>(last[i]));
             }
         }
     }

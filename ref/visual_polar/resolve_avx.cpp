@@ -271,8 +271,8 @@ namespace {
 /// vp_table_arguments_avx for pixels k .. k + 7; false (nothing written) where a u is NaN.
 __attribute__((target("avx2"))) bool table_arguments_group(int width, const int* rows,
                                                            const float* u, const float* r,
-                                                           std::size_t k, int* column,
-                                                           float* argument) {
+                                                           std::size_t k, int* const column[2],
+                                                           float* const argument[2]) {
     const __m256 uk = _mm256_loadu_ps(u + k);
     if (bits(_mm256_cmp_ps(uk, uk, _CMP_UNORD_Q)) != 0) return false;
     // vp_rho_columns: s = clamp(u, 1/2, w - 1/2) - 1/2, i0 = floor(s), i1 = min(i0 + 1, w - 1)
@@ -285,27 +285,18 @@ __attribute__((target("avx2"))) bool table_arguments_group(int width, const int*
     const __m256 denominator =
         _mm256_mul_ps(set(two_pi), std_max(_mm256_loadu_ps(r + k), set(0x1p-10f)));
     const __m256i columns[2] = {i0, i1};
-    alignas(32) int c[2][lanes];
-    alignas(32) float a[2][lanes];
     for (int side = 0; side < 2; ++side) {
         const __m256i n = _mm256_i32gather_epi32(rows, columns[side], 4);
-        _mm256_store_si256(reinterpret_cast<__m256i*>(c[side]), columns[side]);
-        _mm256_store_ps(a[side], _mm256_div_ps(_mm256_cvtepi32_ps(n), denominator));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(column[side] + k), columns[side]);
+        _mm256_storeu_ps(argument[side] + k, _mm256_div_ps(_mm256_cvtepi32_ps(n), denominator));
     }
-    for (int l = 0; l < lanes; ++l)
-        for (int side = 0; side < 2; ++side) {
-            column[2 * (k + static_cast<std::size_t>(l)) + static_cast<std::size_t>(side)] =
-                c[side][l];
-            argument[2 * (k + static_cast<std::size_t>(l)) + static_cast<std::size_t>(side)] =
-                a[side][l];
-        }
     return true;
 }
 
 }  // namespace
 
 std::size_t vp_table_arguments_avx(int width, const int* rows, const float* u, const float* r,
-                                   std::size_t n, int* column, float* argument) {
+                                   std::size_t n, int* const column[2], float* const argument[2]) {
     if (!simd_allowed() || !cpu_has_avx2()) return 0;
     std::size_t k = 0;
     for (; k + lanes <= n; k += lanes)

@@ -34,12 +34,12 @@ int resolve_vp_row_avx(const VisualPolarMap& map, const VpMips& mips,
 
 /// vp_forward_table's per-pixel arguments of a row, eight pixels at a time with AVX2 (where
 /// simd_allowed()): for pixels k < n with their u and r, the columns i0, i1 of
-/// vp_rho_columns(width, u) into column[2 k], column[2 k + 1] and vp_mip_lambda's arguments
-/// rows[i] / (2 pi max(r, 2^-10)) into argument[2 k], argument[2 k + 1]. Returns the pixels
-/// done (groups of eight, up to a group with a NaN u; the caller does the rest). `rows`: the
-/// width columns' row counts.
+/// vp_rho_columns(width, u) into column[0][k], column[1][k] and vp_mip_lambda's arguments
+/// rows[i] / (2 pi max(r, 2^-10)) into argument[0][k], argument[1][k]. Returns the pixels done
+/// (groups of eight, up to a group with a NaN u; the caller does the rest). `rows`: the width
+/// columns' row counts.
 std::size_t vp_table_arguments_avx(int width, const int* rows, const float* u, const float* r,
-                                   std::size_t n, int* column, float* argument);
+                                   std::size_t n, int* const column[2], float* const argument[2]);
 
 /// Whether downsample_group_avx covers a pyramid level: 3-channel colours, a one-channel mask of
 /// their size, simd_allowed() and AVX2.
