@@ -14,7 +14,10 @@
 #include <limits>
 #include <vector>
 
+#include "ref/core/dmath.h"
 #include "ref/core/error.h"
+#include "ref/core/simd.h"
+#include "ref/core/vec.h"
 #include "ref/filters/blur_ramp.h"
 #include "ref/visual_polar/map.h"
 #include "ref/visual_polar/resolve.h"
@@ -693,6 +696,37 @@ TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits, with and without 
                     blur_ramp_pixel(k.ramp, geometry, image, vertical, by_pixel, x, y);
             CHECK(std::memcmp(by_pixel.data.data(), scalar.data.data(),
                               scalar.data.size() * sizeof(float)) == 0);
+        }
+    }
+}
+
+TEST_CASE("VP blur: the table holds each pixel's sigma and a, eight pixels at a time or one") {
+    // fractional gazes (their subtractions round), rows that end in a partial group, the fovea,
+    // the ramp and the constant part, a gaze off screen
+    const BlurRampGeometry geometries[] = {{93, 41, {30.37f, 17.81f}, 3.3f, 1.7f},
+                                           {64, 20, {-6.6f, 10.2f}, 3.0f, 1.0f},
+                                           {37, 53, {18.5f, 26.5f}, 7.1f, 0.3f}};
+    for (const BlurRampGeometry& g : geometries) {
+        INFO(g.screen_width << "x" << g.screen_height);
+        for (const bool simd : {true, false}) {
+            set_simd_allowed(simd);
+            const BlurRampTable table = blur_ramp_table(BlurRamp{0.7f, 9.0f}, g);
+            set_simd_allowed(true);
+            int ramped = 0;
+            for (int y = 0; y < g.screen_height; ++y)
+                for (int x = 0; x < g.screen_width; ++x) {
+                    const float sigma =
+                        blur_ramp_sigma_px(BlurRamp{0.7f, 9.0f}, g, pixel_centre(x, y));
+                    const float a = blur_ramp_radius(sigma) > 0
+                                        ? dm::exp(-1.0f / (2.0f * sigma * sigma))
+                                        : 0.0f;
+                    REQUIRE(std::bit_cast<std::uint32_t>(table.sigma_a.at(x, y, 0)) ==
+                            std::bit_cast<std::uint32_t>(sigma));
+                    REQUIRE(std::bit_cast<std::uint32_t>(table.sigma_a.at(x, y, 1)) ==
+                            std::bit_cast<std::uint32_t>(a));
+                    ramped += sigma > 0.0f && sigma < 0.7f * g.scale;
+                }
+            CHECK(ramped > 50);
         }
     }
 }
