@@ -248,10 +248,21 @@ bool vp_inverse(const VisualPolarMap& m, int i, int j, glm::vec2& screen) {
     }
     const int rows = vp_column_rows(m, i);
     if (j >= rows) return false;
-    const float theta = dm::two_pi * (static_cast<float>(j) + 0.5f) / static_cast<float>(rows);
-    const float r = vp_column_radius(m, i);
-    screen = m.gaze + glm::vec2(r * dm::cos(theta), r * dm::sin(theta));
+    const float theta = vp_row_angle(j, rows);
+    screen = vp_texel_point(m, vp_column_radius(m, i), dm::cos(theta), dm::sin(theta));
     return true;
+}
+
+float vp_row_angle(int row, int rows) {
+    return dm::two_pi * (static_cast<float>(row) + 0.5f) / static_cast<float>(rows);
+}
+
+VpRowAngles::VpRowAngles(int rows) : cos(static_cast<std::size_t>(rows)), sin(cos.size()) {
+    for (int j = 0; j < rows; ++j) {
+        const float theta = vp_row_angle(j, rows);
+        cos[static_cast<std::size_t>(j)] = dm::cos(theta);
+        sin[static_cast<std::size_t>(j)] = dm::sin(theta);
+    }
 }
 
 float vp_forward_radius(const VisualPolarMap& m, float r) {
@@ -293,9 +304,7 @@ glm::vec2 vp_forward_angle(const VisualPolarMap& m, glm::vec2 p) {
 
 VpTexel vp_texel_status(const VisualPolarMap& m, int i, int j, glm::vec2& p) {
     if (!vp_inverse(m, i, j, p)) return VpTexel::clipped;
-    if (!(p.x >= 0.0f && p.y >= 0.0f && p.x < static_cast<float>(m.screen_width) &&
-          p.y < static_cast<float>(m.screen_height)))
-        return VpTexel::off_screen;
+    if (!vp_on_screen(m, p)) return VpTexel::off_screen;
     return VpTexel::traced;
 }
 

@@ -121,6 +121,21 @@ float vp_column_radius(const VisualPolarMap& map, int column);
 /// The screen point of texel (i, j)'s centre; false when the texel is clipped (j >= n_i).
 bool vp_inverse(const VisualPolarMap& map, int column, int row, glm::vec2& screen);
 
+/// vp_inverse's angle of row j in a column of n rows: theta_j = (2 pi (j + 1/2)) / n.
+float vp_row_angle(int row, int rows);
+/// vp_inverse's point at radius r (vp_column_radius) and the angle's cosine and sine:
+/// g + (r cos, r sin).
+inline glm::vec2 vp_texel_point(const VisualPolarMap& map, float r, float cos, float sin) {
+    return map.gaze + glm::vec2(r * cos, r * sin);
+}
+/// dm::cos and dm::sin of vp_row_angle(j, n) for the rows j < n of a column of n rows: every
+/// column with n rows shares them (the periphery's columns all have h), so a pass over the
+/// buffer computes them once per row count instead of per texel, the same bits.
+struct VpRowAngles {
+    explicit VpRowAngles(int rows);
+    std::vector<float> cos, sin;  ///< row j at j
+};
+
 /// The continuous buffer coordinates (u, v) of screen point p (texel centres at + 1/2).
 glm::vec2 vp_forward(const VisualPolarMap& map, glm::vec2 p);
 
@@ -141,6 +156,12 @@ glm::vec2 vp_forward_angle(const VisualPolarMap& map, glm::vec2 p);
 /// for a clipped texel).
 enum class VpTexel { clipped, off_screen, traced };
 VpTexel vp_texel_status(const VisualPolarMap& map, int column, int row, glm::vec2& screen);
+/// Whether screen point p lies on the screen [0, W) x [0, H) (false for NaN): a texel's centre
+/// that does not is off screen.
+inline bool vp_on_screen(const VisualPolarMap& map, glm::vec2 p) {
+    return p.x >= 0.0f && p.y >= 0.0f && p.x < static_cast<float>(map.screen_width) &&
+           p.y < static_cast<float>(map.screen_height);
+}
 
 /// What the texels of a map are: clipped, off screen (the centre's inverse lies outside the
 /// screen: never traced), or traced.

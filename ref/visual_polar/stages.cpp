@@ -98,15 +98,13 @@ void vp_trace_stage(FrameContext& ctx) {
     Counters& counters = ctx.result->counters;
     VpTraceStats stats;
     Image points;
-    // The texels' statuses and points from a table once a frame repeats the last frame's
-    // forward map (a static gaze, BMFR's staircase moving or not; a moving gaze never makes one;
-    // the fovea's columns follow the staircase: trace_vp_gbuffer). Not under `--scalar`:
-    // vp_gbuffer_texel then runs for every texel, where a debugger's breakpoint stops (the
-    // table's first frame runs it too).
-    const bool repeated = frames.traced_map && frames.traced_map->same_forward(map);
-    frames.traced_map = map;
+    // The texels' statuses and points from a table, made again when the forward map changes (a
+    // moving gaze: every frame, with each row count's angles once, VpRowAngles) and kept while
+    // it does not (a static gaze, BMFR's staircase moving or not; the fovea's columns follow the
+    // staircase: trace_vp_gbuffer). Not under `--scalar`: vp_gbuffer_texel then runs for every
+    // texel, where a debugger's breakpoint stops.
     const VpTexelTable* table = nullptr;
-    if (repeated && simd_allowed()) {
+    if (simd_allowed()) {
         if (!frames.texels || !frames.texels->map.same_forward(map))
             frames.texels = vp_texel_table(map);
         table = &*frames.texels;

@@ -39,10 +39,9 @@ namespace fovref {
 struct SparseFrames {
     SparseParams params;
     std::optional<VpForwardTable> forward;
-    /// The trace's texel statuses and points, made once a frame repeats the last frame's
-    /// forward map (`traced_map`; VisualPolarMap::same_forward) and kept while it stays the same.
+    /// The trace's texel statuses and points (not under `--scalar`), made for the frame's forward
+    /// map and kept while it stays the same (VisualPolarMap::same_forward).
     std::optional<VpTexelTable> texels;
-    std::optional<VisualPolarMap> traced_map;
     /// The Visual-Polar map of frame `frame` (the screen of `context`).
     VisualPolarMap map(const FrameContext& context, int frame) const;
 };

@@ -1,6 +1,7 @@
 #include "ref/visual_polar/trace.h"
 
 #include <algorithm>
+#include <optional>
 
 #include "ref/core/error.h"
 
@@ -37,12 +38,41 @@ VpTexel vp_gbuffer_texel(MaskedGBuffer& buffer, Image& screen_points, const Visu
 VpTexelTable vp_texel_table(const VisualPolarMap& map) {
     VpTexelTable table{map, Image(map.width, map.height, 2, 0.0f), {}};
     table.status.reserve(static_cast<std::size_t>(map.width) * map.height);
+    if (map.log_polar) {  // log-polar's own inverse map, texel by texel
+        for (int y = 0; y < map.height; ++y)
+            for (int x = 0; x < map.width; ++x) {
+                glm::vec2 p{0.0f};
+                table.status.push_back(vp_texel_status(map, x, y, p));
+                table.screen_points.at(x, y, 0) = p.x;
+                table.screen_points.at(x, y, 1) = p.y;
+            }
+        return table;
+    }
+    // vp_texel_status texel by texel with each column's rows and radius, and the rows' angles'
+    // cosines and sines once per row count (VpRowAngles), the same bits
+    const auto w = static_cast<std::size_t>(map.width);
+    std::vector<int> rows(w);
+    std::vector<float> radius(w);
+    std::vector<std::optional<VpRowAngles>> angles(static_cast<std::size_t>(map.height) + 1);
+    for (std::size_t i = 0; i < w; ++i) {
+        rows[i] = vp_column_rows(map, static_cast<int>(i));
+        radius[i] = vp_column_radius(map, static_cast<int>(i));
+        auto& a = angles[static_cast<std::size_t>(rows[i])];
+        if (!a) a.emplace(rows[i]);
+    }
     for (int y = 0; y < map.height; ++y)
-        for (int x = 0; x < map.width; ++x) {
-            glm::vec2 p{0.0f};
-            table.status.push_back(vp_texel_status(map, x, y, p));
-            table.screen_points.at(x, y, 0) = p.x;
-            table.screen_points.at(x, y, 1) = p.y;
+        for (std::size_t i = 0; i < w; ++i) {
+            if (y >= rows[i]) {
+                table.status.push_back(VpTexel::clipped);
+                continue;
+            }
+            const VpRowAngles& a = *angles[static_cast<std::size_t>(rows[i])];
+            const auto j = static_cast<std::size_t>(y);
+            const glm::vec2 p = vp_texel_point(map, radius[i], a.cos[j], a.sin[j]);
+            table.status.push_back(vp_on_screen(map, p) ? VpTexel::traced : VpTexel::off_screen);
+            float* point =
+                &table.screen_points.data[table.screen_points.index(static_cast<int>(i), y)];
+            point[0] = p.x, point[1] = p.y;
         }
     return table;
 }

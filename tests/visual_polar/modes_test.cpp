@@ -72,7 +72,8 @@ TEST_CASE(
     const Bvh bvh = build_bvh(scene.positions);
     const Camera camera = camera_at(scene, 0.0f);
     const PrimaryView view(scene, bvh, camera, camera);
-    for (const glm::vec2& gaze : {glm::vec2(70.0f, 40.0f), glm::vec2(-30.0f, 100.0f)})
+    for (const glm::vec2& gaze :
+         {glm::vec2(70.0f, 40.0f), glm::vec2(-30.0f, 100.0f), glm::vec2(61.37f, 44.81f)})
         for (const int block : {0, 8}) {
             CAPTURE(gaze.x);
             CAPTURE(block);
