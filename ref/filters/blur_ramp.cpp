@@ -250,10 +250,9 @@ void group_a(const float* kept, const float* sigma, const float* radius_f, KeptE
 }
 
 /// How many groups from x0 on are summed with this uniform one (4, 2, or 1): the next groups
-/// whose pixels all have sigma[0], as this group's do (beyond full_deg), so the same weights, with
-/// every tap inside the row along x.
+/// whose pixels all have sigma[0], as this group's do (beyond full_deg), so the same weights.
 int groups_alike(const BlurRamp& ramp, const BlurRampGeometry& geometry, const float* kept,
-                 const float* sigma, int x0, int y, int width, int radius_max, bool vertical) {
+                 const float* sigma, int x0, int y, int width) {
     for (int lane = 0; lane < lanes; ++lane)
         if (!(sigma[lane] == sigma[0])) return 1;
     int same = lanes;  // pixels from x0 on with sigma[0]
@@ -262,8 +261,7 @@ int groups_alike(const BlurRamp& ramp, const BlurRampGeometry& geometry, const f
                  : blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + same, y))) == sigma[0])
         ++same;
     for (const int groups : {4, 2})
-        if (same >= groups * lanes && (vertical || x0 + groups * lanes - 1 + radius_max < width))
-            return groups;
+        if (same >= groups * lanes) return groups;
     return 1;
 }
 
@@ -292,22 +290,35 @@ void sum_groups(int run, bool uniform, int channels, const float* base, std::siz
 /// at 0 and adds w_d c_d (the product rounded, no FMA) for d = -R .. R of that pixel's R. A
 /// group runs d over -Rmax .. Rmax of its largest radius, and a lane whose |d| > R keeps its
 /// sum unchanged (a blend, not a zero weight, so that no value read outside a lane's own taps
-/// can reach it): the same bits as blur_ramp_pixel, lane by lane. Groups whose horizontal taps
-/// would be clamped at the left or right edge, and the last W mod 8 pixels of a row, run
-/// blur_ramp_pixel itself.
+/// can reach it): the same bits as blur_ramp_pixel, lane by lane. A tap beyond the image reads
+/// the pixel the reference's clamp gives (the rows along y by the offsets, the pixels along x from
+/// the copies around each plane row). The last W mod 8 pixels of a row run blur_ramp_pixel
+/// itself.
 __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
                                                   const BlurRampGeometry& geometry,
                                                   const Image& image, bool vertical, Image& out,
                                                   const BlurRampTable* table) {
     const int width = image.width, height = image.height, channels = image.channels;
-    // The image in planes, so that a lane's taps along x or y are one unaligned load per channel
-    const std::size_t plane = static_cast<std::size_t>(width) * height;
+    // The image in planes, so that a lane's taps along x or y are one unaligned load per channel.
+    // Along x each plane row has the largest radius's pixels before and after it, copies of the
+    // row's first and last pixel: a tap beyond the row reads the pixel its clamp gives.
+    const int pad = vertical ? 0 : blur_ramp_max_radius;
+    const std::size_t pitch = static_cast<std::size_t>(width + 2 * pad);  // floats a plane row
+    const std::size_t plane = pitch * static_cast<std::size_t>(height);
     std::vector<float> planes(static_cast<std::size_t>(channels) * plane);
-    to_planes(image.data.data(), channels, plane, planes.data(), plane);
+    for (int y = 0; y < height; ++y) {
+        float* start = planes.data() + static_cast<std::size_t>(y) * pitch;
+        to_planes(&image.data[image.index(0, y)], channels, static_cast<std::size_t>(width),
+                  start + pad, plane);
+        for (int c = 0; c < channels; ++c) {
+            float* row_c = start + static_cast<std::size_t>(c) * plane;
+            std::fill_n(row_c, pad, row_c[pad]);
+            std::fill_n(row_c + pad + width, pad, row_c[pad + width - 1]);
+        }
+    }
     // One output row in planes: the input's row, the groups' sums written over it, then
     // interleaved into `out` (before the pixels that blur_ramp_pixel writes there itself)
     std::vector<float> row(static_cast<std::size_t>(channels) * width);
-    std::vector<int> by_pixel;  // the row's groups left to blur_ramp_pixel (their first pixel)
 
     KeptWeights weights;
     alignas(32) float radius_f[lanes], sigma[lanes], a[lanes];
@@ -323,10 +334,9 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
             for (int d = -blur_ramp_max_radius; d <= blur_ramp_max_radius; ++d)
                 offsets[d + blur_ramp_max_radius] =
                     static_cast<std::ptrdiff_t>(std::clamp(y + d, 0, height - 1) - y) * width;
-        const std::size_t row_start = static_cast<std::size_t>(y) * width;
+        const std::size_t row_start = static_cast<std::size_t>(y) * pitch + pad;
         for (int c = 0; c < channels; ++c)
             std::copy_n(planes.data() + c * plane + row_start, width, row.data() + c * width);
-        by_pixel.clear();
         int x0 = 0;
         for (; x0 + lanes <= width; x0 += lanes) {
             const float* kept = table ? &table->sigma_a.data[table->sigma_a.index(x0, y)] : nullptr;
@@ -337,17 +347,13 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
             const float radius_max_f = group_radii(sigma, radius_f, uniform);
             if (radius_max_f == 0.0f) continue;  // all copied
             const int radius_max = static_cast<int>(radius_max_f);
-            if (!vertical && (x0 - radius_max < 0 || x0 + lanes - 1 + radius_max >= width)) {
-                by_pixel.push_back(x0);
-                continue;
-            }
             group_a(kept, sigma, radius_f, exp, a);
             weights.make(a, radius_f, radius_max);
             // The next groups with the same sigma in every lane (beyond full_deg) have the same
             // weights: four or two groups' sums together (three channels)
-            const int run = channels == 3 && uniform ? groups_alike(ramp, geometry, kept, sigma, x0,
-                                                                    y, width, radius_max, vertical)
-                                                     : 1;
+            const int run = channels == 3 && uniform
+                                ? groups_alike(ramp, geometry, kept, sigma, x0, y, width)
+                                : 1;
             sum_groups(run, uniform, channels, planes.data() + row_start + x0, plane, offset,
                        weights.w, radius_f, radius_max, row.data() + x0,
                        static_cast<std::size_t>(width));
@@ -355,9 +361,6 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
         }
         from_planes(row.data(), static_cast<std::size_t>(width), channels,
                     static_cast<std::size_t>(width), &out.data[out.index(0, y)]);
-        for (const int x : by_pixel)
-            for (int lane = 0; lane < lanes; ++lane)
-                blur_ramp_pixel(ramp, geometry, image, vertical, out, x + lane, y);
         for (int x = x0; x < width; ++x)
             blur_ramp_pixel(ramp, geometry, image, vertical, out, x, y);
     }
