@@ -116,6 +116,44 @@ const CdfBuckets& cdf_buckets() {
     return buckets;
 }
 
+// The lanes' guess of P^-1 (vp_cdf_tables): per guess bucket of e, a quadratic through P^-1 at
+// its ends and middle, P^-1 in binary64 by bisection on P's formulas in binary64.
+constexpr int guess_bucket_count = 4096;
+const std::vector<float>& guess_table() {
+    static const std::vector<float> table = [] {
+        // P's formulas with its binary32 constants, in binary64
+        const auto p = [](double u) {
+            const auto c = [](float v) { return static_cast<double>(v); };
+            if (u <= c(vp_u0)) return c(18.64f) * std::sqrt(u);
+            return (((c(25.09f) * u + c(0.1680f)) * u + c(27.61f)) * u + c(23.87f)) * u + c(3.232f);
+        };
+        const auto inverse = [&](double e) {
+            double lo = 0.0, hi = 1.0;
+            for (int step = 0; step < 60; ++step)
+                (p(0.5 * (lo + hi)) < e ? lo : hi) = 0.5 * (lo + hi);
+            return 0.5 * (lo + hi);
+        };
+        const double width = static_cast<double>(vp_inverse_cdf(1.0f)) / guess_bucket_count;
+        // P jumps up at u0 (its two branches differ there): the bucket holding the jump is fitted
+        // above it, where its e is searched (below lies the fovea)
+        const double jump = p(std::nextafter(static_cast<double>(vp_u0), 1.0));
+        std::vector<float> t;
+        t.reserve(4 * guess_bucket_count);
+        for (int k = 0; k < guess_bucket_count; ++k) {
+            const bool jumps = k * width < jump && jump < (k + 1) * width;
+            const double start = jumps ? jump : k * width;
+            const double half = 0.5 * ((k + 1) * width - start), middle = start + half;
+            const double u0 = inverse(middle - half), uc = inverse(middle),
+                         u1 = inverse(middle + half);
+            t.insert(t.end(), {static_cast<float>(middle), static_cast<float>(uc),
+                               static_cast<float>((u1 - u0) / (2.0 * half)),
+                               static_cast<float>((u1 - 2.0 * uc + u0) / (2.0 * half * half))});
+        }
+        return t;
+    }();
+    return table;
+}
+
 // The float after and before a finite float u > 0.
 float next_up(float u) { return std::bit_cast<float>(std::bit_cast<std::uint32_t>(u) + 1u); }
 float next_down(float u) { return std::bit_cast<float>(std::bit_cast<std::uint32_t>(u) - 1u); }
@@ -124,7 +162,12 @@ float next_down(float u) { return std::bit_cast<float>(std::bit_cast<std::uint32
 
 VpCdfTables vp_cdf_tables() {
     const CdfBuckets& buckets = cdf_buckets();
-    return {cdf_table(), buckets.scale, buckets.lo, buckets.hi};
+    return {cdf_table(),
+            buckets.scale,
+            buckets.lo,
+            buckets.hi,
+            static_cast<float>(guess_bucket_count / static_cast<double>(vp_inverse_cdf(1.0f))),
+            guess_table()};
 }
 
 float vp_cdf(float e) {

@@ -74,58 +74,53 @@ FOVREF_AVX2_INLINE __m256 next_float(__m256 u, int step) {
 }
 
 /// vp_cdf(e) in the lanes of `active` (0 < e < P(1)), without its search: the largest float u
-/// with P(u) < e (P non-decreasing over the floats of [0, 1]) taken from a window of five floats
-/// around a guess interpolated in e's bucket's bracket [lo, hi] / 65536, then 0.5 (u + next
-/// float), which is vp_cdf's result where its bracket starts above 0. `settled`: the active lanes
-/// so found: lo >= 1 and the answer inside the window (the others are the caller's).
+/// with P(u) < e (P non-decreasing over the floats of [0, 1]) taken from a window of six floats
+/// around a guess g (the guess bucket's quadratic, vp_cdf_tables), else moved float by float
+/// from the window's edge, then 0.5 (u + next float), which is vp_cdf's result where its bracket
+/// starts above 0 (P(2^-16) < e). The guess decides only how soon the answer is found, never
+/// which float it is. `settled`: the active lanes so found (the others are the caller's).
 FOVREF_AVX2_INLINE __m256 cdf_lanes(__m256 e, __m256 active, __m256& settled) {
     const VpCdfTables tables = vp_cdf_tables();
-    // the bucket b = min(floor(e bucket_scale), buckets - 1), the product in binary64
-    const __m256d scale_d = _mm256_set1_pd(tables.bucket_scale);
-    const __m128i b_low =
-        _mm256_cvttpd_epi32(_mm256_mul_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(e)), scale_d));
-    const __m128i b_high =
-        _mm256_cvttpd_epi32(_mm256_mul_pd(_mm256_cvtps_pd(_mm256_extractf128_ps(e, 1)), scale_d));
-    const __m256i b =
-        _mm256_min_epi32(_mm256_inserti128_si256(_mm256_castsi128_si256(b_low), b_high, 1),
-                         _mm256_set1_epi32(static_cast<int>(tables.lo.size()) - 1));
-    const __m256i zero_i = _mm256_setzero_si256();
-    const __m256i lo =
-        _mm256_mask_i32gather_epi32(zero_i, tables.lo.data(), b, _mm256_castps_si256(active), 4);
-    const __m256i hi =
-        _mm256_mask_i32gather_epi32(zero_i, tables.hi.data(), b, _mm256_castps_si256(active), 4);
-    const __m256 pending = both(active, _mm256_castsi256_ps(_mm256_cmpgt_epi32(lo, zero_i)));
-    const float* p = tables.p.data();
-    const __m256 scale = set(1.0f / 65536.0f);
-    const __m256 lo_u = _mm256_mul_ps(_mm256_cvtepi32_ps(lo), scale);
-    const __m256 hi_u = _mm256_mul_ps(_mm256_cvtepi32_ps(hi), scale);
-    const __m256 p_lo = _mm256_mask_i32gather_ps(zero(), p, lo, pending, 4);
-    const __m256 p_hi = _mm256_mask_i32gather_ps(zero(), p, hi, pending, 4);
-    const __m256 last = next_float(hi_u, -1);
-    // std::clamp(guess, lo, last): (v < lo) ? lo : (last < v) ? last : v
+    // vp_cdf's bracket starts above 0 (lo >= 1) where P(2^-16) < e
+    const __m256 pending = both(active, less(set(tables.p[1]), e));
+    // the guess bucket's quadratic (e_c, c0, c1, c2): one 16-byte load per lane (bucket 0
+    // where not pending), transposed
+    const __m256i b = _mm256_min_epi32(
+        _mm256_cvttps_epi32(_mm256_mul_ps(select(pending, e, zero()), set(tables.guess_scale))),
+        _mm256_set1_epi32(static_cast<int>(tables.guess.size() / 4) - 1));
+    alignas(32) int at[lanes];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(at), _mm256_slli_epi32(b, 2));
+    __m128 q[lanes];
+    for (int l = 0; l < lanes; ++l) q[l] = _mm_loadu_ps(tables.guess.data() + at[l]);
+    _MM_TRANSPOSE4_PS(q[0], q[1], q[2], q[3]);
+    _MM_TRANSPOSE4_PS(q[4], q[5], q[6], q[7]);
+    const __m256 d = _mm256_sub_ps(e, _mm256_set_m128(q[4], q[0]));
     const __m256 guess = _mm256_add_ps(
-        lo_u, _mm256_mul_ps(_mm256_sub_ps(hi_u, lo_u),
-                            _mm256_div_ps(_mm256_sub_ps(e, p_lo), _mm256_sub_ps(p_hi, p_lo))));
-    const __m256 g = select(less(guess, lo_u), lo_u, select(less(last, guess), last, guess));
-    // below = how many of the floats g - 3 .. g + 1 have P < e; 1 to 4: the answer g - 4 + below
-    // (P(g - 3) < e <= P(g - 3 + below)); the guess is mostly one float above it
+        _mm256_set_m128(q[5], q[1]),
+        _mm256_mul_ps(d, _mm256_add_ps(_mm256_set_m128(q[6], q[2]),
+                                       _mm256_mul_ps(d, _mm256_set_m128(q[7], q[3])))));
+    // g in [2^-16, two floats below 1]: the window's floats lie in (0, 1]
+    const __m256 g = std_min(std_max(guess, set(0x1p-16f)), set(0x1.fffffcp-1f));
+    const __m256i zero_i = _mm256_setzero_si256();
+    // below = how many of the six floats g - 3 .. g + 2 have P < e; 1 to 5: the answer
+    // g - 4 + below (P(g - 3) < e <= P(g - 3 + below))
     __m256i below = zero_i;
-    for (int k = -3; k <= 1; ++k)
+    for (int k = -3; k <= 2; ++k)
         below =
             _mm256_sub_epi32(below, _mm256_castps_si256(less(inverse_cdf(next_float(g, k)), e)));
     const __m256i inside = _mm256_andnot_si256(_mm256_cmpeq_epi32(below, zero_i),
-                                               _mm256_cmpgt_epi32(_mm256_set1_epi32(5), below));
+                                               _mm256_cmpgt_epi32(_mm256_set1_epi32(6), below));
     __m256 u = _mm256_castsi256_ps(
         _mm256_add_epi32(_mm256_castps_si256(g), _mm256_sub_epi32(below, _mm256_set1_epi32(4))));
     settled = both(pending, _mm256_castsi256_ps(inside));
     __m256 result =
         select(settled, _mm256_mul_ps(set(0.5f), _mm256_add_ps(u, next_float(u, 1))), zero());
     // the few lanes whose answer lies outside the window: moved float by float from the window's
-    // edge (g - 4 when P(g - 3) >= e, g + 1 when P(g + 1) < e), at most 8 moves
+    // edge (g - 4 when P(g - 3) >= e, g + 2 when P(g + 2) < e), at most 8 moves
     __m256 outside = both(pending, negation(settled));
     if (bits(outside) == 0) return result;
     u = select(_mm256_castsi256_ps(_mm256_cmpeq_epi32(below, zero_i)), next_float(g, -4),
-               next_float(g, 1));
+               next_float(g, 2));
     for (int move = 0; move < 8 && bits(outside) != 0; ++move) {
         const __m256 under = less(inverse_cdf(u), e);
         const __m256 next = next_float(u, 1);

@@ -3,12 +3,12 @@
 // forward map in lanes"). Each lane performs the reference's operations in its order: the
 // distance r = sqrt(dx dx + dy dy) and the angle theta = dm::atan2(dy, dx) (its binary64
 // arithmetic: two argument halvings, the odd polynomial, the quadrant), + 2 pi if negative, and
-// the column: i_f r / (s P(u0)) in the fovea, else P^-1(r / s) by vp_cdf's search (its bucket,
-// the bracket narrowed on its table, the interpolated guess moved float by float) mapped to the
+// the column: i_f r / (s P(u0)) in the fovea, else P^-1(r / s) as vp_cdf finds it (the largest
+// float u with P(u) < e, from a window of floats around a tabulated guess) mapped to the
 // buffer's rho. A lane the lanes do not settle (a point on the gaze's row or column, a distance
-// that is not finite, a search the guess does not settle in 8 moves or whose bracket starts at
-// 0) runs vp_forward_angle itself, as does every lane where SIMD is off, the CPU lacks AVX2 or
-// the map is log-polar.
+// that is not finite, an answer more than 8 floats beyond the window, e <= P(2^-16)) runs
+// vp_forward_angle itself, as does every lane where SIMD is off, the CPU lacks AVX2 or the map
+// is log-polar.
 #pragma once
 
 #include <cstddef>

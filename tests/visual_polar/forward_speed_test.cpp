@@ -82,12 +82,9 @@ TEST_CASE("visual-polar forward map in lanes: vp_forward_angle's bits") {
                 ++compared;
                 const float dx = x[l] - gaze.x, dy = y[l] - gaze.y;
                 // P jumps at u0 (its branches differ there): a point whose P^-1 lies in the
-                // table bracket [k, k + 1] / 65536 around u0, or whose e's bucket's bracket holds
-                // that one (e within two buckets of its end), is found by the bisection, beyond
-                // the lanes' 8 moves from a guess interpolated across the jump
-                const float jump_end =
-                    static_cast<float>(vp_inverse_cdf(std::ceil(vp_u0 * 65536.0f) / 65536.0f) +
-                                       2.0 / vp_cdf_tables().bucket_scale);
+                // table bracket [k, k + 1] / 65536 around u0 is found by the bisection, beyond
+                // the lanes' 8 moves from any guess
+                const float jump_end = vp_inverse_cdf(std::ceil(vp_u0 * 65536.0f) / 65536.0f);
                 if (dx != 0.0f && dy != 0.0f && std::isfinite(dx * dx + dy * dy) &&
                     !(std::sqrt(dx * dx + dy * dy) >= m.fovea_radius &&
                       std::sqrt(dx * dx + dy * dy) / m.scale <= jump_end)) {
