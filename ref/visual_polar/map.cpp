@@ -88,7 +88,7 @@ namespace {
 // the bucket (bounds taken half a bucket wider than the bucket); the search then runs on the few
 // indices in between. P is non-decreasing, so this ends at the same (lo_k, lo_k + 1) as
 // table_bracket's 16 steps from [0, 65536]: lo_k is the largest k with P(k / 65536) < e.
-constexpr int cdf_bucket_count = 131072;
+constexpr int cdf_bucket_count = 16384;
 struct CdfBuckets {
     double scale = 0.0;  // buckets per degree
     std::vector<int> lo, hi;
@@ -161,11 +161,7 @@ float next_down(float u) { return std::bit_cast<float>(std::bit_cast<std::uint32
 }  // namespace
 
 VpCdfTables vp_cdf_tables() {
-    const CdfBuckets& buckets = cdf_buckets();
     return {cdf_table(),
-            buckets.scale,
-            buckets.lo,
-            buckets.hi,
             static_cast<float>(guess_bucket_count / static_cast<double>(vp_inverse_cdf(1.0f))),
             guess_table()};
 }

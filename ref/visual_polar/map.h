@@ -52,17 +52,12 @@ float vp_inverse_cdf(float u);
 float vp_cdf(float eccentricity_deg);
 /// vp_cdf by the bisection alone (the readable reference).
 float vp_cdf_bisection(float eccentricity_deg);
-/// vp_cdf's tables, for its lane version (map_avx.h): p[k] = P(k / 65536), k = 0 .. 65536, and
-/// per bucket b = min(floor(e bucket_scale), buckets - 1) (binary64 product) the bracket
-/// [lo[b], hi[b]] of table indices with P(lo / 65536) < e <= P(hi / 65536) (or the table's ends).
-/// For a guess of P^-1 (the lanes'), per guess bucket g = min(floor(e guess_scale), 4095) four
-/// floats at guess[4 g]: its middle e_c and a quadratic c0 + d (c1 + d c2), d = e - e_c, through
-/// P^-1 (in binary64) at the bucket's ends and middle.
+/// What vp_cdf's lane version (map_avx.h) reads: p[k] = P(k / 65536), k = 0 .. 65536, and for
+/// a guess of P^-1, per guess bucket g = min(floor(e guess_scale), 4095) four floats at
+/// guess[4 g]: its middle e_c and a quadratic c0 + d (c1 + d c2), d = e - e_c, through P^-1 (in
+/// binary64) at the bucket's ends and middle.
 struct VpCdfTables {
     const std::vector<float>& p;
-    double bucket_scale;
-    const std::vector<int>& lo;
-    const std::vector<int>& hi;
     float guess_scale;
     const std::vector<float>& guess;
 };
