@@ -115,7 +115,9 @@ BilinearTaps bilinear_taps(const Texture& texture, glm::vec2 uv) {
     taps.tx = x - fx;
     taps.ty = y - fy;
     auto wrap = [](float i, int n) {
-        // i is integral; reduce with fmod-free arithmetic to avoid int overflow for huge uvs.
+        // i is integral: i itself inside [0, n) (where the reduction below gives i), else reduced
+        // with fmod-free arithmetic to avoid int overflow for huge uvs.
+        if (i >= 0.0f && i < static_cast<float>(n)) return static_cast<int>(i);
         double r = static_cast<double>(i) - std::floor(static_cast<double>(i) / n) * n;
         int k = static_cast<int>(r);
         return k >= n ? k - n : (k < 0 ? k + n : k);

@@ -509,3 +509,31 @@ TEST_CASE("procedural scene glossy-floor") {
         check_closed(scene, 4 + 2208 * sphere, 4 + 2208 * (sphere + 1));
     check_closed(scene, 4 + 3 * 2208, 4 + 3 * 2208 + 12);  // the box
 }
+
+TEST_CASE("textures: bilinear taps wrap every texel index into the texture (repeat)") {
+    // texel centres at (i + 1/2) / W, v = 0 the last row; indices outside [0, n) wrap around
+    Texture texture{"t", Image(5, 3, 3)};
+    int wrapped = 0;
+    for (int k = -230; k <= 370; ++k) {
+        const float u = static_cast<float>(k) / 100.0f, v = static_cast<float>(k) / 61.0f;
+        const BilinearTaps t = bilinear_taps(texture, {u, v});
+        REQUIRE(t.valid);
+        const float x = u * 5.0f - 0.5f, y = (1.0f - v) * 3.0f - 0.5f;
+        const auto wrap = [](float i, int n) {
+            const int m = static_cast<int>(i) % n;
+            return m < 0 ? m + n : m;
+        };
+        CHECK(t.x0 == wrap(std::floor(x), 5));
+        CHECK(t.x1 == wrap(std::floor(x) + 1.0f, 5));
+        CHECK(t.y0 == wrap(std::floor(y), 3));
+        CHECK(t.y1 == wrap(std::floor(y) + 1.0f, 3));
+        CHECK(t.tx == x - std::floor(x));
+        CHECK(t.ty == y - std::floor(y));
+        wrapped += std::floor(x) < 0.0f || std::floor(x) >= 4.0f;
+    }
+    CHECK(wrapped > 300);
+    CHECK_FALSE(bilinear_taps(texture, {std::nanf(""), 0.5f}).valid);
+    // a huge coordinate: reduced without overflowing an int
+    const BilinearTaps huge = bilinear_taps(texture, {3.0e9f, 0.5f});
+    CHECK((huge.valid && huge.x0 >= 0 && huge.x0 < 5 && huge.x1 >= 0 && huge.x1 < 5));
+}
