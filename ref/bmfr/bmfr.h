@@ -314,6 +314,7 @@ struct BmfrBlockFit {
 inline constexpr int bmfr_matrix_stride = 16;
 struct BmfrBlockMatrix {
     int rows = bmfr_block_pixels;
+    int data_rows = 0;  ///< rows with data (0: every value is 0, whatever the block)
     std::vector<float> a = std::vector<float>(bmfr_block_pixels * bmfr_matrix_stride, 0.0f);
     float feature_min[bmfr_scaled_count] = {};
     float feature_max[bmfr_scaled_count] = {};

@@ -2,6 +2,7 @@
 // Householder QR, and the weighted sum (SPEC §9 items 3-8).
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <utility>
 
 #include "ref/bmfr/bmfr.h"
@@ -295,6 +296,7 @@ void bmfr_gather_block(const BmfrParams& params, const BmfrGrid& grid, int cell_
             hi[k] = std::max(hi[k], a[bmfr_scaled_first + k]);
         }
     }
+    out.data_rows = data_rows;
     if (data_rows == 0) {
         std::fill(lo, lo + bmfr_scaled_count, 0.0f);
         std::fill(hi, hi + bmfr_scaled_count, 0.0f);
@@ -447,12 +449,17 @@ BmfrFit bmfr_fit(const BmfrParams& params, const Image& accumulated, const Image
     BmfrBlockMatrix matrix;
     const std::vector<float> noise =
         bmfr_noise_table(params.noise_amount, params.noise_hash, frame, g.block * g.block);
+    // A block without data (Visual-Polar texels off screen) is gathered as zeros without noise,
+    // the same matrix for every such block: solved once, its fit reused
+    std::optional<BmfrBlockFit> empty_fit;
     for (int cy = 0; cy < g.cells_y; ++cy)
         for (int cx = 0; cx < g.cells_x; ++cx) {
             if (cy >= g.cells_in_column(cx)) continue;  // above a Visual-Polar staircase step
             bmfr_gather_block(params, g, cx, cy, accumulated, world_position, normal, frame, true,
                               matrix, space.valid, &noise);
-            const BmfrBlockFit fit = bmfr_solve_block(params, matrix);
+            const bool empty = matrix.data_rows == 0;
+            if (empty && !empty_fit) empty_fit = bmfr_solve_block(params, matrix);
+            const BmfrBlockFit fit = empty ? *empty_fit : bmfr_solve_block(params, matrix);
             float* w = &out.weights.data[out.weights.index(cx, cy)];
             for (int ch = 0; ch < 3; ++ch)
                 for (int i = 0; i < bmfr_feature_count; ++i)

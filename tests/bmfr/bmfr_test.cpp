@@ -199,6 +199,30 @@ TEST_CASE(
                          "parameter 'bmfr_block'"));
 }
 
+TEST_CASE("bmfr: a block without data is gathered as the same zero matrix wherever it lies") {
+    // bmfr_fit solves one such block and reuses its fit for the others: that needs every empty
+    // block's matrix, ranges included, to be the same bits, whatever the matrix held before
+    Frame f = wall(96, 96, 0.01f, glm::vec3(0, 0, 1), 2.0f);
+    // no data anywhere but in the first rows; blocks (1, 1) and (2, 2) lie below them
+    Image illumination(96, 96, 3, 0.5f), valid(96, 96, 1, 0.0f), everywhere(96, 96, 1, 1.0f);
+    for (int x = 0; x < 96; ++x) valid.at(x, 0) = 1.0f;
+    const BmfrGrid grid = bmfr_grid(96, 96, 3);
+    BmfrBlockMatrix fresh, reused;
+    bmfr_gather_block(float_params(), grid, 1, 1, illumination, f.world, f.normal, 3, true, fresh,
+                      &valid);
+    bmfr_gather_block(float_params(), grid, 0, 0, illumination, f.world, f.normal, 3, true, reused,
+                      &everywhere);
+    CHECK(reused.data_rows > 0);
+    bmfr_gather_block(float_params(), grid, 2, 2, illumination, f.world, f.normal, 3, true, reused,
+                      &valid);
+    CHECK(fresh.data_rows == 0);
+    CHECK(reused.data_rows == 0);
+    CHECK(std::memcmp(fresh.a.data(), reused.a.data(), fresh.a.size() * sizeof(float)) == 0);
+    CHECK(std::all_of(fresh.a.begin(), fresh.a.end(), [](float v) { return v == 0.0f; }));
+    CHECK(std::memcmp(fresh.feature_min, reused.feature_min, sizeof fresh.feature_min) == 0);
+    CHECK(std::memcmp(fresh.feature_max, reused.feature_max, sizeof fresh.feature_max) == 0);
+}
+
 TEST_CASE("bmfr_mirror: -1 -> 0, W -> W - 1, reflected again for images narrower than a block") {
     CHECK(bmfr_mirror(-1, 10) == 0);
     CHECK(bmfr_mirror(-3, 10) == 2);
