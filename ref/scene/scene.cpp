@@ -115,9 +115,14 @@ BilinearTaps bilinear_taps(const Texture& texture, glm::vec2 uv) {
     taps.tx = x - fx;
     taps.ty = y - fy;
     auto wrap = [](float i, int n) {
-        // i is integral: i itself inside [0, n) (where the reduction below gives i), else reduced
-        // with fmod-free arithmetic to avoid int overflow for huge uvs.
-        if (i >= 0.0f && i < static_cast<float>(n)) return static_cast<int>(i);
+        // i is integral. Below 2^31 in magnitude the binary64 reduction below is exact (i / n is
+        // at least 1 / |i| > 2^-31 away from an integer, so its floor is exact, and so is the
+        // rest), the same as the integer remainder taken into [0, n); beyond, it avoids int
+        // overflow for huge uvs.
+        if (i > -0x1p31f && i < 0x1p31f) {
+            const int k = static_cast<int>(i) % n;
+            return k < 0 ? k + n : k;
+        }
         double r = static_cast<double>(i) - std::floor(static_cast<double>(i) / n) * n;
         int k = static_cast<int>(r);
         return k >= n ? k - n : (k < 0 ? k + n : k);

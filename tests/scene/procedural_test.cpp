@@ -19,6 +19,7 @@
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
 #include "ref/scene/procedural.h"
+#include "tests/image/image_test_util.h"
 
 using namespace fovref;
 
@@ -533,7 +534,21 @@ TEST_CASE("textures: bilinear taps wrap every texel index into the texture (repe
     }
     CHECK(wrapped > 300);
     CHECK_FALSE(bilinear_taps(texture, {std::nanf(""), 0.5f}).valid);
-    // a huge coordinate: reduced without overflowing an int
-    const BilinearTaps huge = bilinear_taps(texture, {3.0e9f, 0.5f});
-    CHECK((huge.valid && huge.x0 >= 0 && huge.x0 < 5 && huge.x1 >= 0 && huge.x1 < 5));
+    // large coordinates, up to and beyond 2^31 texels: the binary64 reduction's indices, without
+    // overflowing an int
+    const auto reduced = [](float i, int n) {
+        const double r = static_cast<double>(i) - std::floor(static_cast<double>(i) / n) * n;
+        const int k = static_cast<int>(r);
+        return k >= n ? k - n : (k < 0 ? k + n : k);
+    };
+    test::SplitMix64 rng(5);
+    for (int k = 0; k < 20000; ++k) {
+        const float scale = std::ldexp(1.0f, static_cast<int>(rng.below(40)));
+        const float u = (rng.uniform(0.0f, 2.0f) - 1.0f) * scale;
+        const BilinearTaps t = bilinear_taps(texture, {u, 0.5f});
+        const float x = std::floor(u * 5.0f - 0.5f);
+        REQUIRE(t.valid);
+        REQUIRE(t.x0 == reduced(x, 5));
+        REQUIRE(t.x1 == reduced(x + 1.0f, 5));
+    }
 }
