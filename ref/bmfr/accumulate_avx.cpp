@@ -286,6 +286,17 @@ __attribute__((target("avx"))) void vp_accumulate_group(
     // data: valid != 0 (NaN counts, as the reference's != does)
     const __m256 data =
         not_equal(_mm256_loadu_ps(&space.valid->data[space.valid->index(x, y)]), zero());
+    if (bits(data) == 0) {  // no texel with data: finish_group's values without history
+        PhaseOne v;
+        load3_lanes(&illumination.data[illumination.index(x, y)], v.accumulated);
+        for (int l = 0; l < lanes; ++l) {
+            v.spp[l] = 1.0f, v.accept[l] = 0.0f;
+            v.previous[0][l] = bmfr_behind_camera.x, v.previous[1][l] = bmfr_behind_camera.y;
+            for (int k = 0; k < 3; ++k) v.margin[k][l] = bmfr_no_margin;
+        }
+        write_lanes(v, out, x, y);
+        return;
+    }
     alignas(32) float c[3][lanes];
     __m256 p[3], n[3];
     load_group(illumination, world_position, normal, x, y, &data, c, p, n, stats);

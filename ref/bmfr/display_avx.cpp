@@ -243,6 +243,10 @@ __attribute__((target("avx2"))) int vp_taa_group(const BmfrParams& params, const
     const __m256 traced = not_equal(_mm256_loadu_ps(&valid.data[valid.index(x, y)]), zero());
     const __m256 candidate =
         both(traced, both(at_least(qx, set(-1.0f)), less(qx, set(static_cast<float>(width)))));
+    if (bits(candidate) == 0) {  // no lane uses the history: each keeps its current colour
+        std::copy_n(&display.data[display.index(x, y)], 3 * lanes, &out.data[out.index(x, y)]);
+        return 0;
+    }
     // The history's taps on texels traced in the previous frame
     LaneTaps lane_taps;
     if (vp_tap_lanes(history_map, qx, qy, candidate, width, height, lane_taps)) {
