@@ -1,5 +1,6 @@
 #include "ref/bmfr/accumulate_avx.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstddef>
@@ -437,6 +438,11 @@ __attribute__((target("avx"))) void vp_filtered_group(const BmfrParams& params, 
     const int width = fitted.width, height = fitted.height;
     unsigned mask[lanes];
     accepted_bits_of(accept, x, y, mask);
+    if (std::all_of(mask, mask + lanes, [](unsigned m) { return m == 0u; })) {
+        // no accepted tap: finish_filtered keeps every lane's fitted colour
+        std::copy_n(&fitted.data[fitted.index(x, y)], 3 * lanes, &out.data[out.index(x, y)]);
+        return;
+    }
     alignas(32) float q[2][lanes], wanted_lanes[lanes] = {}, accepted_lanes[4][lanes] = {};
     load2_lanes(&previous_pixel.data[previous_pixel.index(x, y)], q);
     for (int l = 0; l < lanes; ++l) {
