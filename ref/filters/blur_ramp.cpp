@@ -285,6 +285,85 @@ void sum_groups(int run, bool uniform, int channels, const float* base, std::siz
                                                     radius_max, dest, dest_plane);
 }
 
+/// One output row of a pass, its groups summed one (or one run) at a time from the left
+/// (blur_pass_avx): the row's tap offsets, its output in planes (the input's row, the groups'
+/// sums written over it, then interleaved into `out` before the pixels that blur_ramp_pixel
+/// writes there itself), and the weights and exp kept from one group to the next.
+struct RowSums {
+    RowSums(const BlurRamp& r, const BlurRampGeometry& g, const Image& i, const BlurRampTable* t,
+            bool v, const float* p, std::size_t row_pitch, int row_pad, std::size_t plane_floats)
+        : ramp(r),
+          geometry(g),
+          image(i),
+          table(t),
+          vertical(v),
+          planes(p),
+          pitch(row_pitch),
+          pad(static_cast<std::size_t>(row_pad)),
+          plane(plane_floats) {}
+    const BlurRamp& ramp;
+    const BlurRampGeometry& geometry;
+    const Image& image;
+    const BlurRampTable* table;
+    bool vertical;
+    const float* planes;
+    std::size_t pitch, pad, plane;
+    int y = 0, x0 = 0;
+    std::vector<float> row = std::vector<float>(static_cast<std::size_t>(image.channels) *
+                                                static_cast<std::size_t>(image.width));
+    // The taps' offsets from lane 0's pixel, indexed by d = -Rmax .. Rmax around the middle: d
+    // pixels along x, or rows y + d clamped to the image along y
+    std::ptrdiff_t offsets[2 * blur_ramp_max_radius + 1] = {};
+    KeptWeights weights;
+    KeptExp exp;
+
+    void begin(int row_y) {
+        y = row_y, x0 = 0;
+        const int width = image.width, height = image.height;
+        for (int d = -blur_ramp_max_radius; d <= blur_ramp_max_radius; ++d)
+            offsets[d + blur_ramp_max_radius] =
+                vertical ? static_cast<std::ptrdiff_t>(std::clamp(y + d, 0, height - 1) - y) *
+                               static_cast<std::ptrdiff_t>(pitch)
+                         : d;
+        for (int c = 0; c < image.channels; ++c)
+            std::copy_n(planes + c * plane + start(), width, row.data() + c * width);
+    }
+    std::size_t start() const { return static_cast<std::size_t>(y) * pitch + pad; }
+    bool done() const { return x0 + lanes > image.width; }
+    /// The group (or run of groups) at x0, then x0 past it.
+    __attribute__((target("avx"))) void step() {
+        alignas(32) float radius_f[lanes], sigma[lanes], a[lanes];
+        const float* kept = table ? &table->sigma_a.data[table->sigma_a.index(x0, y)] : nullptr;
+        for (int lane = 0; lane < lanes; ++lane)
+            sigma[lane] = kept ? kept[2 * lane]
+                               : blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + lane, y));
+        bool uniform = false;  // every lane of the group has the radius radius_max
+        const float radius_max_f = group_radii(sigma, radius_f, uniform);
+        if (radius_max_f == 0.0f) {  // all copied
+            x0 += lanes;
+            return;
+        }
+        const int radius_max = static_cast<int>(radius_max_f);
+        group_a(kept, sigma, radius_f, exp, a);
+        weights.make(a, radius_f, radius_max);
+        // The next groups with the same sigma in every lane (beyond full_deg) have the same
+        // weights: four or two groups' sums together (three channels)
+        const int channels = image.channels, width = image.width;
+        const int run =
+            channels == 3 && uniform ? groups_alike(ramp, geometry, kept, sigma, x0, y, width) : 1;
+        sum_groups(run, uniform, channels, planes + start() + x0, plane,
+                   offsets + blur_ramp_max_radius, weights.w, radius_f, radius_max, row.data() + x0,
+                   static_cast<std::size_t>(width));
+        x0 += run * lanes;
+    }
+    void finish(Image& out) {
+        const auto width = static_cast<std::size_t>(image.width);
+        from_planes(row.data(), width, image.channels, width, &out.data[out.index(0, y)]);
+        for (int x = x0; x < image.width; ++x)
+            blur_ramp_pixel(ramp, geometry, image, vertical, out, x, y);
+    }
+};
+
 /// The pass on eight pixels at a time (AVX; used only where the CPU has it, `channels` <= 4).
 /// Each lane does its own pixel's scalar operations in blur_ramp_pixel's order: the sum starts
 /// at 0 and adds w_d c_d (the product rounded, no FMA) for d = -R .. R of that pixel's R. A
@@ -303,8 +382,8 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
     // Along x each plane row has the largest radius's pixels before and after it, copies of the
     // row's first and last pixel: a tap beyond the row reads the pixel its clamp gives.
     const int pad = vertical ? 0 : blur_ramp_max_radius;
-    const std::size_t pitch = static_cast<std::size_t>(width + 2 * pad);  // floats a plane row
-    const std::size_t plane = pitch * static_cast<std::size_t>(height);
+    const std::size_t pitch = static_cast<std::size_t>(width + 2 * pad + (vertical ? 16 : 0));
+    const std::size_t plane = pitch * static_cast<std::size_t>(height) + 16;
     std::vector<float> planes(static_cast<std::size_t>(channels) * plane);
     for (int y = 0; y < height; ++y) {
         float* start = planes.data() + static_cast<std::size_t>(y) * pitch;
@@ -316,53 +395,22 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
             std::fill_n(row_c + pad + width, pad, row_c[pad + width - 1]);
         }
     }
-    // One output row in planes: the input's row, the groups' sums written over it, then
-    // interleaved into `out` (before the pixels that blur_ramp_pixel writes there itself)
-    std::vector<float> row(static_cast<std::size_t>(channels) * width);
-
-    KeptWeights weights;
-    alignas(32) float radius_f[lanes], sigma[lanes], a[lanes];
-    // The taps' offsets from lane 0's pixel, indexed by d = -Rmax .. Rmax around `offset`: d
-    // pixels along x, or rows y + d clamped to the image along y (made once per row)
-    std::ptrdiff_t offsets[2 * blur_ramp_max_radius + 1];
-    const std::ptrdiff_t* offset = offsets + blur_ramp_max_radius;
-    for (int d = -blur_ramp_max_radius; d <= blur_ramp_max_radius; ++d)
-        offsets[d + blur_ramp_max_radius] = d;
-    KeptExp exp;
-    for (int y = 0; y < height; ++y) {
-        if (vertical)
-            for (int d = -blur_ramp_max_radius; d <= blur_ramp_max_radius; ++d)
-                offsets[d + blur_ramp_max_radius] =
-                    static_cast<std::ptrdiff_t>(std::clamp(y + d, 0, height - 1) - y) * width;
-        const std::size_t row_start = static_cast<std::size_t>(y) * pitch + pad;
-        for (int c = 0; c < channels; ++c)
-            std::copy_n(planes.data() + c * plane + row_start, width, row.data() + c * width);
-        int x0 = 0;
-        for (; x0 + lanes <= width; x0 += lanes) {
-            const float* kept = table ? &table->sigma_a.data[table->sigma_a.index(x0, y)] : nullptr;
-            for (int lane = 0; lane < lanes; ++lane)
-                sigma[lane] = kept ? kept[2 * lane]
-                                   : blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + lane, y));
-            bool uniform = false;  // every lane of the group has the radius radius_max
-            const float radius_max_f = group_radii(sigma, radius_f, uniform);
-            if (radius_max_f == 0.0f) continue;  // all copied
-            const int radius_max = static_cast<int>(radius_max_f);
-            group_a(kept, sigma, radius_f, exp, a);
-            weights.make(a, radius_f, radius_max);
-            // The next groups with the same sigma in every lane (beyond full_deg) have the same
-            // weights: four or two groups' sums together (three channels)
-            const int run = channels == 3 && uniform
-                                ? groups_alike(ramp, geometry, kept, sigma, x0, y, width)
-                                : 1;
-            sum_groups(run, uniform, channels, planes.data() + row_start + x0, plane, offset,
-                       weights.w, radius_f, radius_max, row.data() + x0,
-                       static_cast<std::size_t>(width));
-            x0 += (run - 1) * lanes;
+    // Along y, rows in pairs whose groups alternate, the later row's group next: the second
+    // row's taps are the first's rows but one, still in the cache. Each row the same sums.
+    const int together = vertical ? 2 : 1;
+    std::vector<RowSums> rows(together, RowSums(ramp, geometry, image, table, vertical,
+                                                planes.data(), pitch, pad, plane));
+    for (int y = 0; y < height; y += together) {
+        const int count = std::min(together, height - y);
+        for (int k = 0; k < count; ++k) rows[k].begin(y + k);
+        for (;;) {
+            RowSums* next = nullptr;  // the row whose next group lies furthest left
+            for (int k = 0; k < count; ++k)
+                if (!rows[k].done() && (!next || rows[k].x0 < next->x0)) next = &rows[k];
+            if (!next) break;
+            next->step();
         }
-        from_planes(row.data(), static_cast<std::size_t>(width), channels,
-                    static_cast<std::size_t>(width), &out.data[out.index(0, y)]);
-        for (int x = x0; x < width; ++x)
-            blur_ramp_pixel(ramp, geometry, image, vertical, out, x, y);
+        for (int k = 0; k < count; ++k) rows[k].finish(out);
     }
 }
 
