@@ -96,6 +96,13 @@ inline void store3_lanes(const float (*in)[lanes], float* p) {
 
 #define FOVREF_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
 
+/// Four floats of each of eight lanes (q[l], lane l) as one register per float: out[e] holds
+/// float e of every lane (the same floats, moved by shuffles).
+FOVREF_AVX_INLINE void transpose4_lanes(__m128* q, __m256* out) {
+    _MM_TRANSPOSE4_PS(q[0], q[1], q[2], q[3]);
+    _MM_TRANSPOSE4_PS(q[4], q[5], q[6], q[7]);
+    for (int e = 0; e < 4; ++e) out[e] = _mm256_set_m128(q[4 + e], q[e]);
+}
 /// (AVX2) The row-major indices y * width + x of eight pixels, in int32 (the caller makes sure
 /// that 3 * width * height fits).
 FOVREF_AVX2_INLINE __m256i row_major(__m256i x, __m256i y, int width) {

@@ -296,11 +296,11 @@ float vp_row_angle(int row, int rows) {
     return dm::two_pi * (static_cast<float>(row) + 0.5f) / static_cast<float>(rows);
 }
 
-VpRowAngles::VpRowAngles(int rows) : cos(static_cast<std::size_t>(rows)), sin(cos.size()) {
+VpRowAngles::VpRowAngles(int rows) : cosine(static_cast<std::size_t>(rows)), sine(cosine.size()) {
     for (int j = 0; j < rows; ++j) {
         const float theta = vp_row_angle(j, rows);
-        cos[static_cast<std::size_t>(j)] = dm::cos(theta);
-        sin[static_cast<std::size_t>(j)] = dm::sin(theta);
+        cosine[static_cast<std::size_t>(j)] = dm::cos(theta);
+        sine[static_cast<std::size_t>(j)] = dm::sin(theta);
     }
 }
 

@@ -125,15 +125,15 @@ bool vp_inverse(const VisualPolarMap& map, int column, int row, glm::vec2& scree
 float vp_row_angle(int row, int rows);
 /// vp_inverse's point at radius r (vp_column_radius) and the angle's cosine and sine:
 /// g + (r cos, r sin).
-inline glm::vec2 vp_texel_point(const VisualPolarMap& map, float r, float cos, float sin) {
-    return map.gaze + glm::vec2(r * cos, r * sin);
+inline glm::vec2 vp_texel_point(const VisualPolarMap& map, float r, float cosine, float sine) {
+    return map.gaze + glm::vec2(r * cosine, r * sine);
 }
 /// dm::cos and dm::sin of vp_row_angle(j, n) for the rows j < n of a column of n rows: every
 /// column with n rows shares them (the periphery's columns all have h), so a pass over the
 /// buffer computes them once per row count instead of per texel, the same bits.
 struct VpRowAngles {
     explicit VpRowAngles(int rows);
-    std::vector<float> cos, sin;  ///< row j at j
+    std::vector<float> cosine, sine;  ///< row j at j
 };
 
 /// The continuous buffer coordinates (u, v) of screen point p (texel centres at + 1/2).

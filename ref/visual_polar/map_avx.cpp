@@ -92,13 +92,12 @@ FOVREF_AVX2_INLINE __m256 cdf_lanes(__m256 e, __m256 active, __m256& settled) {
     _mm256_store_si256(reinterpret_cast<__m256i*>(at), _mm256_slli_epi32(b, 2));
     __m128 q[lanes];
     for (int l = 0; l < lanes; ++l) q[l] = _mm_loadu_ps(tables.guess.data() + at[l]);
-    _MM_TRANSPOSE4_PS(q[0], q[1], q[2], q[3]);
-    _MM_TRANSPOSE4_PS(q[4], q[5], q[6], q[7]);
-    const __m256 d = _mm256_sub_ps(e, _mm256_set_m128(q[4], q[0]));
+    __m256 quadratic[4];  // e_c, c0, c1, c2
+    transpose4_lanes(q, quadratic);
+    const __m256 d = _mm256_sub_ps(e, quadratic[0]);
     const __m256 guess = _mm256_add_ps(
-        _mm256_set_m128(q[5], q[1]),
-        _mm256_mul_ps(d, _mm256_add_ps(_mm256_set_m128(q[6], q[2]),
-                                       _mm256_mul_ps(d, _mm256_set_m128(q[7], q[3])))));
+        quadratic[1],
+        _mm256_mul_ps(d, _mm256_add_ps(quadratic[2], _mm256_mul_ps(d, quadratic[3]))));
     // g in [2^-16, two floats below 1]: the window's floats lie in (0, 1]
     const __m256 g = std_min(std_max(guess, set(0x1p-16f)), set(0x1.fffffcp-1f));
     const __m256i zero_i = _mm256_setzero_si256();

@@ -120,9 +120,7 @@ FOVREF_AVX2_INLINE int column_lanes(const VpMips& mips, const ColumnLanes& col, 
 FOVREF_AVX_INLINE void split4_lanes(const float* p, __m256* out) {
     __m128 q[lanes];
     for (int l = 0; l < lanes; ++l) q[l] = _mm_loadu_ps(p + 4 * l);
-    _MM_TRANSPOSE4_PS(q[0], q[1], q[2], q[3]);
-    _MM_TRANSPOSE4_PS(q[4], q[5], q[6], q[7]);
-    for (int e = 0; e < 4; ++e) out[e] = _mm256_set_m128(q[4 + e], q[e]);
+    transpose4_lanes(q, out);
 }
 
 /// The lanes' column `column` (in binary32) in the lanes of `wanted`: its index, its rows and

@@ -68,7 +68,7 @@ VpTexelTable vp_texel_table(const VisualPolarMap& map) {
             }
             const VpRowAngles& a = *angles[static_cast<std::size_t>(rows[i])];
             const auto j = static_cast<std::size_t>(y);
-            const glm::vec2 p = vp_texel_point(map, radius[i], a.cos[j], a.sin[j]);
+            const glm::vec2 p = vp_texel_point(map, radius[i], a.cosine[j], a.sine[j]);
             table.status.push_back(vp_on_screen(map, p) ? VpTexel::traced : VpTexel::off_screen);
             float* point =
                 &table.screen_points.data[table.screen_points.index(static_cast<int>(i), y)];
