@@ -132,6 +132,22 @@ void trace_closest_interleaved(const Bvh& bvh, const Ray* rays, std::size_t coun
 /// Any hit in (t_min, t_max], returning on the first one found (shadow rays).
 bool trace_any(const Bvh& bvh, const Ray& ray, TraceStats& stats);
 
+/// trace_any of rays[0 .. count) into occluded[0 .. count) (1: a hit in (t_min, t_max], 0: none),
+/// the same answer for every ray (bvh_packets.cpp). Where the CPU has AVX (and simd_allowed()),
+/// consecutive valid rays are traced eight at a time as one packet, one ray per lane: the packet
+/// walks the BVH4 once, each lane testing the boxes with trace_any's operations (so it reaches
+/// the leaves trace_any's ray may reach) and the leaves' triangles with the watertight test's
+/// operations, and leaving the packet at its first hit. Coherent rays (a row of pixels' shadow
+/// rays towards one light) then share each node's load and box test and each triangle's
+/// corners. A packet needs one direction octant and one watertight axis permutation; the rays of
+/// one that has several are traced one at a time. `stats`: rays and hits as trace_any's;
+/// nodes_visited counts, for each ray, the nodes it took part in, and triangles_tested its
+/// triangles up to its first hit, which follow the packet's order (children by the entry
+/// distances of its lowest active lane) and so differ from trace_any's. Without AVX: trace_any
+/// ray by ray. docs/bvh.md, "Shadow-ray packets".
+void trace_any_packets(const Bvh& bvh, const Ray* rays, std::size_t count, std::uint8_t* occluded,
+                       TraceStats& stats);
+
 /// The O(n) reference: every triangle tested with the same watertight test in index order.
 /// Gives bit-identical t, primitive and barycentrics to trace_closest.
 Hit trace_brute_force(const std::vector<glm::vec3>& positions, const Ray& ray);

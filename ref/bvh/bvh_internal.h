@@ -1,9 +1,12 @@
-// INTERNAL to ref/bvh: shared by bvh_build.cpp and bvh_collapse.cpp only. Not part of the
-// library's interface (include ref/bvh/bvh.h instead); nothing outside ref/bvh includes it.
-// The box both use for surface areas, and the collapse steps that build_bvh (bvh_build.cpp)
-// runs after the BVH2 build (bvh_collapse.cpp).
+// INTERNAL to ref/bvh: shared by its .cpp files only. Not part of the library's interface
+// (include ref/bvh/bvh.h instead); nothing outside ref/bvh includes it. The box the build and
+// the collapse use for surface areas, the collapse steps that build_bvh (bvh_build.cpp) runs
+// after the BVH2 build (bvh_collapse.cpp), and what the one-ray queries (bvh_traverse.cpp) and
+// the packets (bvh_packets.cpp) share: which rays are traced, and the cull interval's margin.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include <glm/glm.hpp>
@@ -13,6 +16,31 @@
 namespace fovref::bvh_internal {
 
 inline constexpr float inf = std::numeric_limits<float>::infinity();
+inline constexpr float float_max = std::numeric_limits<float>::max();
+
+/// Relative margin on the ray interval used to cull boxes (never to accept hits). The triangle
+/// test's t is rounded and, for grazing triangles, can lie slightly outside the box interval
+/// that contains the exact hit; boxes are culled only when their entry lies beyond
+/// t_best * (1 + margin), so such a triangle is still tested and the result stays independent
+/// of the traversal order (docs/bvh.md).
+inline constexpr float cull_margin = 1.0f / 4096.0f;
+
+/// The interval's ends widened by the margin, for the box tests only.
+inline float widen_up(float t) { return std::min(t + std::fabs(t) * cull_margin, float_max); }
+inline float widen_down(float t) { return std::max(t - std::fabs(t) * cull_margin, -float_max); }
+
+/// Whether a ray is traced: finite origin and direction, a non-zero direction, no NaN in its
+/// interval. Any other ray misses without a traversal (and is counted).
+inline bool ray_is_valid(const Ray& ray) {
+    const glm::vec3 o = ray.origin, d = ray.direction;
+    const bool finite = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) &&
+                        std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z);
+    return finite && (d.x != 0.0f || d.y != 0.0f || d.z != 0.0f) && !std::isnan(ray.t_min) &&
+           !std::isnan(ray.t_max);
+}
+
+/// Each wide node pushes at most 3 children and is at most bvh_max_depth + 1 levels deep.
+inline constexpr int traversal_stack_size = 3 * (bvh_max_depth + 1) + 1;
 
 struct Box {
     glm::vec3 lo{inf};

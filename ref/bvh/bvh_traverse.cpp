@@ -12,6 +12,7 @@
 #include <cmath>
 #include <limits>
 
+#include "ref/bvh/bvh_internal.h"
 #include "ref/bvh/watertight.h"
 #include "ref/bvh/watertight4.h"
 
@@ -24,31 +25,17 @@ namespace fovref {
 namespace {
 
 constexpr float inf = std::numeric_limits<float>::infinity();
-constexpr float float_max = std::numeric_limits<float>::max();
-
-/// Relative margin on the ray interval used to cull boxes (never to accept hits). The triangle
-/// test's t is rounded and, for grazing triangles, can lie slightly outside the box interval
-/// that contains the exact hit; boxes are culled only when their entry lies beyond
-/// t_best * (1 + margin), so such a triangle is still tested and the result stays independent
-/// of the traversal order (docs/bvh.md).
-constexpr float cull_margin = 1.0f / 4096.0f;
-
-bool ray_is_valid(const Ray& ray) {
-    const glm::vec3 o = ray.origin, d = ray.direction;
-    const bool finite = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) &&
-                        std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z);
-    return finite && (d.x != 0.0f || d.y != 0.0f || d.z != 0.0f) && !std::isnan(ray.t_min) &&
-           !std::isnan(ray.t_max);
-}
+using bvh_internal::float_max;
+using bvh_internal::ray_is_valid;
+using bvh_internal::traversal_stack_size;
+using bvh_internal::widen_down;
+using bvh_internal::widen_up;
 
 /// The watertight setup; t_max is clamped to the largest float so that t is always finite.
 WatertightRay make_triangle_ray(const Ray& ray) {
     return make_watertight_ray(ray.origin, ray.direction, ray.t_min,
                                std::min(ray.t_max, float_max));
 }
-
-float widen_up(float t) { return std::min(t + std::fabs(t) * cull_margin, float_max); }
-float widen_down(float t) { return std::max(t - std::fabs(t) * cull_margin, -float_max); }
 
 /// Per-ray constants of the slab test (the scalar path's BoxRay; the SSE path computes the same
 /// values in make_box_ray). Every box is padded by `pad` in every direction (see
@@ -292,9 +279,6 @@ FOVREF_FORCE_INLINE ChildRef nearer_of_two(const BvhWideNode& node, const float 
     stack[stack_size++] = {child(node, i1), entries[i1]};
     return child(node, i0);
 }
-
-/// Each wide node pushes at most 3 children and is at most bvh_max_depth + 1 levels deep.
-constexpr int traversal_stack_size = 3 * (bvh_max_depth + 1) + 1;
 
 /// One step of the ordered depth-first traversal of the BVH4: visits `current` and chooses the
 /// next, from the boxes still to visit on `stack` (with their entry distances) and the cull

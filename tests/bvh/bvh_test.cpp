@@ -20,6 +20,7 @@
 #include "ref/bvh/watertight4.h"
 #include "ref/core/error.h"
 #include "ref/core/rng.h"
+#include "ref/core/simd.h"
 #include "ref/scene/camera.h"
 #include "ref/scene/procedural.h"
 
@@ -871,4 +872,168 @@ TEST_CASE("interleaved closest-hit queries give trace_closest's hits and counts 
     const SceneBvh& s = scene_bvh("cornell");
     const Bvh empty = build_bvh({});
     check_interleaved(empty, mixed_rays(s.scene, 20));
+}
+
+namespace {
+
+/// The shadow rays packets are made for: from the first hits of a W x H camera grid (pixel
+/// order) towards a point of the scene's first light, as a shading pass traces them.
+std::vector<Ray> shadow_rays(const Scene& scene, const Bvh& bvh, int width, int height) {
+    glm::vec3 light{0.0f, 10.0f, 0.0f};
+    if (!scene.lights.empty()) {
+        const Light& l = scene.lights[0];
+        light = l.type == Light::Type::point ? l.position
+                                             : l.position + 0.5f * l.edge_u + 0.5f * l.edge_v;
+    }
+    const float tan_half = tan_half_vfov(scene.camera);
+    std::vector<Ray> rays;
+    TraceStats stats;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const Ray primary = make_ray(
+                scene.camera.position,
+                primary_ray_direction(scene.camera, tan_half, width, height,
+                                      static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f));
+            const Hit hit = trace_closest(bvh, primary, stats);
+            if (!hit.hit()) continue;
+            const glm::vec3 p = primary.origin + primary.direction * hit.t;
+            const glm::vec3 to_light = light - p;
+            const float distance = std::sqrt(glm::dot(to_light, to_light));
+            rays.push_back(make_ray(p, to_light / distance, 1e-4f * scene.scene_scale,
+                                    distance * (1.0f - 1e-4f)));
+        }
+    return rays;
+}
+
+/// trace_any_packets against trace_any one ray at a time: each answer, and the ray and hit
+/// counts (with the SIMD paths off, every count: it is then trace_any ray by ray). Returns the
+/// rays occluded.
+int check_packets(const Bvh& bvh, const std::vector<Ray>& rays) {
+    TraceStats one_stats;
+    std::vector<std::uint8_t> one(rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) one[i] = trace_any(bvh, rays[i], one_stats);
+    int occluded = 0;
+    for (std::uint8_t o : one) occluded += o;
+    for (const bool simd : {true, false}) {
+        CAPTURE(simd);
+        set_simd_allowed(simd);
+        TraceStats stats;
+        std::vector<std::uint8_t> packets(rays.size(), 7);
+        trace_any_packets(bvh, rays.data(), rays.size(), packets.data(), stats);
+        set_simd_allowed(true);
+        int mismatches = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i)
+            if (packets[i] != one[i] && ++mismatches <= 5)
+                FAIL_CHECK("ray " << i << " " << show(rays[i]) << ": trace_any " << int(one[i])
+                                  << ", packets " << int(packets[i]));
+        CHECK(mismatches == 0);
+        CHECK(stats.rays == one_stats.rays);
+        CHECK(stats.hits == one_stats.hits);
+        if (!simd) {
+            CHECK(stats.nodes_visited == one_stats.nodes_visited);
+            CHECK(stats.triangles_tested == one_stats.triangles_tested);
+        }
+    }
+    return occluded;
+}
+
+}  // namespace
+
+TEST_CASE("shadow-ray packets answer as trace_any, ray by ray") {
+    for (const char* name : {"cornell", "checker-room", "glossy-floor", "sphere-grid"}) {
+        CAPTURE(name);
+        const SceneBvh& s = scene_bvh(name);
+        // Coherent rays (full packets, mostly) towards the light: some occluded, some not.
+        const std::vector<Ray> shadow = shadow_rays(s.scene, s.bvh, 64, 36);
+        const int occluded = check_packets(s.bvh, shadow);
+        CHECK(occluded > 0);
+        CHECK(occluded < static_cast<int>(shadow.size()));
+        // Rays of every octant and axis order (packets cut short), invalid rays between them,
+        // short segments, infinite and NaN ends; fewer rays than lanes, and a few more.
+        for (std::uint32_t count : {0u, 1u, 5u, 17u, 40u, 3001u}) {
+            CAPTURE(count);
+            check_packets(s.bvh, mixed_rays(s.scene, count));
+        }
+    }
+    // Intervals at the ends of the floats, in one packet's octant.
+    const SceneBvh& s = scene_bvh("cornell");
+    const float inf = std::numeric_limits<float>::infinity();
+    std::vector<Ray> ends;
+    for (const auto& [t_min, t_max] : std::vector<std::pair<float, float>>{{-inf, inf},
+                                                                           {inf, inf},
+                                                                           {-inf, -inf},
+                                                                           {0.0f, -0.0f},
+                                                                           {-1e30f, 1e30f},
+                                                                           {3.0f, 3.0f},
+                                                                           {-0.0f, 1e-30f},
+                                                                           {0.5f, inf}})
+        ends.push_back(make_ray({0.1f, 0.2f, 3.0f}, {0.01f, 0.02f, -1.0f}, t_min, t_max));
+    CHECK(check_packets(s.bvh, ends) > 0);
+    // A tree without nodes: every ray misses, and is counted.
+    check_packets(build_bvh({}), mixed_rays(s.scene, 20));
+}
+
+TEST_CASE("shadow-ray packets through shared edges and vertices: the binary64 recomputation") {
+    // A 4 x 4 grid of unit squares in z = 0, two triangles each; rays from above one point
+    // through every grid vertex and every edge midpoint (edge functions exactly 0), one octant.
+    Mesh mesh;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) {
+            const glm::vec3 a(i, j, 0), b(i + 1, j, 0), c(i + 1, j + 1, 0), d(i, j + 1, 0);
+            mesh.insert(mesh.end(), {a, b, c, a, c, d});
+        }
+    const Bvh bvh = build_bvh(mesh);
+    std::vector<Ray> rays;
+    const glm::vec3 origin(-0.5f, -0.5f, 5.0f);
+    for (int j = 0; j <= 8; ++j)
+        for (int i = 0; i <= 8; ++i)
+            rays.push_back(make_ray(origin, glm::vec3(0.5f * static_cast<float>(i),
+                                                      0.5f * static_cast<float>(j), 0.0f) -
+                                                origin));
+    // All of them end on the grid, edges and vertices included (watertight: none slips through).
+    CHECK(check_packets(bvh, rays) == static_cast<int>(rays.size()));
+    // Straight down onto the grid at t = 5 exactly: inside (t_min, t_max] when t_max = 5,
+    // outside when t_min = 5 (the interval's inclusive and exclusive ends).
+    std::vector<Ray> exact;
+    for (int k = 0; k < 8; ++k)
+        exact.push_back(make_ray({0.3f + 0.4f * static_cast<float>(k), 1.7f, 5.0f}, {0, 0, -1},
+                                 k % 2 ? 5.0f : 0.0f, k % 2 ? 6.0f : 5.0f));
+    CHECK(check_packets(bvh, exact) == 4);
+    // Triangles with corners on an integer grid (overlapping, some degenerate) and rays from a
+    // half-integer grid above them, all in one octant (full packets), aimed at their corners and
+    // edge midpoints: many edge functions are exactly 0 in float, where the binary64
+    // recomputation decides (as in the 4-wide test above).
+    Mesh grid;
+    for (std::uint32_t i = 0; i < 3 * 600; ++i)
+        grid.emplace_back(std::floor(4.0f * rand_unit(24, i, 0)) - 2.0f,
+                          std::floor(4.0f * rand_unit(24, i, 1)) - 2.0f,
+                          std::floor(4.0f * rand_unit(24, i, 2)) - 2.0f);
+    const Bvh grid_bvh = build_bvh(grid);
+    std::vector<Ray> aimed;
+    for (std::uint32_t i = 0; i < 4000; ++i) {
+        auto r = [&](std::uint32_t dim) { return rand_unit(25, i, dim); };
+        const glm::vec3 from =
+            glm::floor(glm::vec3(r(0), r(1), r(2)) * 4.0f) * 0.5f + glm::vec3(-5.0f, -5.0f, 6.0f);
+        const std::size_t t = 3 * static_cast<std::size_t>(r(3) * 600.0f);
+        const glm::vec3 target = i % 2 ? grid[t + i % 3] : 0.5f * (grid[t] + grid[t + 1 + i % 2]);
+        aimed.push_back(make_ray(from, target - from, 0.0f, i % 5 ? 1e30f : 0.999f));
+    }
+    check_packets(grid_bvh, aimed);
+    {
+        // A ray along -z through the origin of the sheared plane, where one edge function is
+        // exactly 0 in float (Cy Bx and Cx By round to the same float) and -2^-24 exactly: the
+        // binary64 recomputation puts the ray outside the triangle (without it, on its edge).
+        const float e11 = 1.0f + 0x1p-11f, e12 = 1.0f + 0x1p-12f;
+        const Bvh sliver = build_bvh({{0.0f, -1.0f, 0.0f}, {-e11, -e12, 0.0f}, {e12, 1.0f, 0.0f}});
+        const std::vector<Ray> down(8, make_ray({0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, -1.0f}));
+        TraceStats stats;
+        CHECK_FALSE(trace_any(sliver, down[0], stats));
+        CHECK(check_packets(sliver, down) == 0);
+    }
+    // Rays in the plane of the grid (det 0) and grazing it, in one octant.
+    std::vector<Ray> flat;
+    for (int k = 0; k < 11; ++k)
+        flat.push_back(make_ray({-1.0f, 0.1f * static_cast<float>(k), k % 2 ? 0.0f : 1e-7f},
+                                {1.0f, 0.01f, -0.0f}));
+    check_packets(bvh, flat);
 }

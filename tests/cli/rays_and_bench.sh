@@ -21,6 +21,16 @@ checks=$((checks + 1))
 expect 2 "--interleave with --any-hit" -- "$FOVREF" rays trace sphere-grid "$TMP/q.bin" "$TMP/qa.bin" --any-hit --interleave
 contains "--interleave applies to closest-hit queries" "--interleave with --any-hit"
 [ "$(stat -c %s "$TMP/o.bin")" = $((500 * 4)) ] || { echo "FAIL: occlusion file size"; failures=$((failures+1)); }
+# Occlusion in packets: the same flags, byte for byte, and the same hit count.
+expect 0 "any-hit one at a time" -- "$FOVREF" rays trace sphere-grid "$TMP/m.bin" "$TMP/o1.bin" --any-hit
+ONE="$OUT"
+expect 0 "any-hit packets" -- "$FOVREF" rays trace sphere-grid "$TMP/m.bin" "$TMP/o8.bin" --any-hit --packets
+checks=$((checks + 1))
+cmp -s "$TMP/o1.bin" "$TMP/o8.bin" || { echo "FAIL: --packets changed the occlusion flags"; failures=$((failures+1)); }
+checks=$((checks + 1))
+[ "$(grep -o 'rays: [0-9]* hit' <<<"$ONE")" = "$(grep -o 'rays: [0-9]* hit' <<<"$OUT")" ] || { echo "FAIL: --packets changed the hit count"; failures=$((failures+1)); }
+expect 2 "--packets without --any-hit" -- "$FOVREF" rays trace sphere-grid "$TMP/q.bin" "$TMP/qp.bin" --packets
+contains "--packets applies to --any-hit" "--packets without --any-hit"
 : > "$TMP/empty.bin"
 expect 0 "empty ray file" -- "$FOVREF" rays trace cornell "$TMP/empty.bin" "$TMP/eh.bin"
 head -c 100 "$TMP/r.bin" > "$TMP/cut.bin"

@@ -135,7 +135,8 @@ struct Row {
     std::string scene, kind;
     std::size_t rays = 0;
     double ref = 0.0;               // seconds; trace_closest / trace_any, one ray at a time
-    double ref_interleaved = -1.0;  // seconds, trace_closest_interleaved; < 0: not measured
+    double ref_interleaved = -1.0;  // seconds, trace_closest_interleaved or (shadow rays)
+                                    // trace_any_packets; < 0: not measured
     double embree = -1.0;           // seconds, rtcIntersect1 / rtcOccluded1; < 0: not measured
     double embree_stream = -1.0;    // seconds, rtcIntersect1M / rtcOccluded1M
     std::size_t disagree = 0, primitive_differs = 0, both_hit = 0;
@@ -228,7 +229,20 @@ TracedRays trace_with_fovref(const Bvh& bvh, const char* kind, std::vector<Ray> 
             for (std::size_t i = 0; i < t.rays.size(); ++i)
                 t.hits[i] = trace_closest(bvh, t.rays[i], stats);
     });
-    if (!t.shadow) {
+    if (t.shadow) {
+        // The same rays in packets (trace_any_packets): its time, and a check that it answers as
+        // trace_any does, ray by ray, with the same ray and hit counts (its traversal counts
+        // follow the packets' order).
+        std::vector<std::uint8_t> packets(t.rays.size());
+        TraceStats packet_stats;
+        row.ref_interleaved = best_time(repeats, [&] {
+            packet_stats = TraceStats{};
+            trace_any_packets(bvh, t.rays.data(), t.rays.size(), packets.data(), packet_stats);
+        });
+        if (packets != t.blocked || packet_stats.rays != stats.rays ||
+            packet_stats.hits != stats.hits)
+            throw Error("bench rays: trace_any_packets differs from trace_any on the shadow rays");
+    } else {
         // The same rays interleaved (trace_closest_interleaved): its time, and a check that it
         // answers as trace_closest does, ray by ray and bit for bit, with the same four counts.
         std::vector<Hit> interleaved(t.rays.size());
@@ -369,7 +383,9 @@ void print_header(const BenchRaysOptions& options) {
                                 : "comparison: none (Embree not found at configure time)");
         std::printf(
             "fovref: trace_closest / trace_any one ray at a time; interleaved: "
-            "trace_closest_interleaved (16 rays' traversals step by step, the same answers)\n"
+            "trace_closest_interleaved (16 rays' traversals step by step, the same answers), "
+            "for shadow rays trace_any_packets (8 rays a packet in AVX lanes, the same "
+            "answers)\n"
             "one/one: fovref one at a time over Embree one at a time; best/best: the faster of "
             "fovref's two over the faster of Embree's two; target (issue 33, on best/best): "
             ">= 0.8 for incoherent and shadow rays, a build in at most 2x Embree's time\n");

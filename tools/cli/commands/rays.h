@@ -18,6 +18,7 @@ struct RaysTraceOptions {
     std::string hits_path;    ///< output: 16-byte hit records, or 4-byte occlusion flags
     bool any_hit = false;     ///< occlusion queries instead of closest hits
     bool interleave = false;  ///< closest hits by trace_closest_interleaved (docs/bvh.md)
+    bool packets = false;     ///< occlusion by trace_any_packets (docs/bvh.md)
     bool quiet = false;
 };
 
