@@ -139,8 +139,8 @@ bool trace_any(const Bvh& bvh, const Ray& ray, TraceStats& stats);
 /// the leaves trace_any's ray may reach) and the leaves' triangles with the watertight test's
 /// operations, and leaving the packet at its first hit. Coherent rays (a row of pixels' shadow
 /// rays towards one light) then share each node's load and box test and each triangle's
-/// corners. A packet needs one direction octant and one watertight axis permutation; the rays of
-/// one that has several are traced one at a time. `stats`: rays and hits as trace_any's;
+/// corners. A packet holds rays of one direction octant and one watertight axis permutation: a
+/// ray of another starts the next packet. `stats`: rays and hits as trace_any's;
 /// nodes_visited counts, for each ray, the nodes it took part in, and triangles_tested its
 /// triangles up to its first hit, which follow the packet's order (children by the entry
 /// distances of its lowest active lane) and so differ from trace_any's. Without AVX: trace_any

@@ -228,9 +228,10 @@ FOVREF_AVX_INLINE unsigned packet_triangle(const Packet& p, const BvhTriangleBlo
 }
 
 /// A child still to visit and the lanes whose boxes led to it.
+/// (No member initialisers: the walk's stack of them is not zero-filled on every packet.)
 struct PacketEntry {
-    std::uint32_t first = 0, count = 0;  ///< as BvhWideNode's first[i], count[i]
-    unsigned lanes = 0;
+    std::uint32_t first, count;  ///< as BvhWideNode's first[i], count[i]
+    unsigned lanes;
 };
 
 /// The children of a wide node that `lanes` hit, nearest first for the lowest of `lanes` (the

@@ -12,7 +12,8 @@
 
 // SSE (baseline x86-64) when available; FOVREF_BVH_SCALAR forces the plain per-lane path of
 // bvh_traverse.cpp, which computes the same values with intersect_watertight (the tests can run
-// either).
+// either). The shadow-ray packets (bvh_packets.cpp) use AVX either way, where the CPU has it;
+// their answers are trace_any's on both paths.
 #if (defined(__SSE2__) || defined(_M_X64)) && !defined(FOVREF_BVH_SCALAR)
 #define FOVREF_BVH_SSE 1
 #include <xmmintrin.h>

@@ -907,8 +907,9 @@ std::vector<Ray> shadow_rays(const Scene& scene, const Bvh& bvh, int width, int 
 
 /// trace_any_packets against trace_any one ray at a time: each answer, and the ray and hit
 /// counts (with the SIMD paths off, every count: it is then trace_any ray by ray). Returns the
-/// rays occluded.
-int check_packets(const Bvh& bvh, const std::vector<Ray>& rays) {
+/// rays occluded; `walked` (when given) whether the packets' node count differed from trace_any's
+/// (the packets' own walk ran).
+int check_packets(const Bvh& bvh, const std::vector<Ray>& rays, bool* walked = nullptr) {
     TraceStats one_stats;
     std::vector<std::uint8_t> one(rays.size());
     for (std::size_t i = 0; i < rays.size(); ++i) one[i] = trace_any(bvh, rays[i], one_stats);
@@ -932,6 +933,8 @@ int check_packets(const Bvh& bvh, const std::vector<Ray>& rays) {
         if (!simd) {
             CHECK(stats.nodes_visited == one_stats.nodes_visited);
             CHECK(stats.triangles_tested == one_stats.triangles_tested);
+        } else if (walked) {
+            *walked = stats.nodes_visited != one_stats.nodes_visited;
         }
     }
     return occluded;
@@ -945,9 +948,14 @@ TEST_CASE("shadow-ray packets answer as trace_any, ray by ray") {
         const SceneBvh& s = scene_bvh(name);
         // Coherent rays (full packets, mostly) towards the light: some occluded, some not.
         const std::vector<Ray> shadow = shadow_rays(s.scene, s.bvh, 64, 36);
-        const int occluded = check_packets(s.bvh, shadow);
+        bool walked = false;
+        const int occluded = check_packets(s.bvh, shadow, &walked);
         CHECK(occluded > 0);
         CHECK(occluded < static_cast<int>(shadow.size()));
+        // Not vacuous: where the CPU has AVX the packets walked the tree themselves (their node
+        // count follows the packets, not trace_any).
+        INFO("AVX: " << cpu_has_avx());
+        if (cpu_has_avx()) CHECK(walked);
         // Rays of every octant and axis order (packets cut short), invalid rays between them,
         // short segments, infinite and NaN ends; fewer rays than lanes, and a few more.
         for (std::uint32_t count : {0u, 1u, 5u, 17u, 40u, 3001u}) {
@@ -969,6 +977,13 @@ TEST_CASE("shadow-ray packets answer as trace_any, ray by ray") {
                                                                            {0.5f, inf}})
         ends.push_back(make_ray({0.1f, 0.2f, 3.0f}, {0.01f, 0.02f, -1.0f}, t_min, t_max));
     CHECK(check_packets(s.bvh, ends) > 0);
+    // Huge coordinates (a huge box padding): origins far out, aimed back at the scene.
+    std::vector<Ray> far;
+    for (int k = 0; k < 12; ++k) {
+        const glm::vec3 from(1e30f * static_cast<float>(k + 1), 1e29f, -3e29f);
+        far.push_back(make_ray(from, glm::vec3(0.1f * static_cast<float>(k), 0.5f, 0.2f) - from));
+    }
+    check_packets(s.bvh, far);
     // A tree without nodes: every ray misses, and is counted.
     check_packets(build_bvh({}), mixed_rays(s.scene, 20));
 }
@@ -999,6 +1014,15 @@ TEST_CASE("shadow-ray packets through shared edges and vertices: the binary64 re
         exact.push_back(make_ray({0.3f + 0.4f * static_cast<float>(k), 1.7f, 5.0f}, {0, 0, -1},
                                  k % 2 ? 5.0f : 0.0f, k % 2 ? 6.0f : 5.0f));
     CHECK(check_packets(bvh, exact) == 4);
+    // Directions with a -0 component (the negative side's near plane) that hit the grid, a full
+    // packet of each sign.
+    std::vector<Ray> signed_zero;
+    for (int k = 0; k < 16; ++k) {
+        const float zero = k < 8 ? -0.0f : 0.0f, step = 0.3f * static_cast<float>(k % 8);
+        signed_zero.push_back(make_ray({0.2f + step, 0.3f, 4.0f}, {zero, 0.1f, -1.0f}));
+        signed_zero.push_back(make_ray({0.4f, 0.2f + step, 4.0f}, {0.05f, zero, -1.0f}));
+    }
+    CHECK(check_packets(bvh, signed_zero) == static_cast<int>(signed_zero.size()));
     // Triangles with corners on an integer grid (overlapping, some degenerate) and rays from a
     // half-integer grid above them, all in one octant (full packets), aimed at their corners and
     // edge midpoints: many edge functions are exactly 0 in float, where the binary64

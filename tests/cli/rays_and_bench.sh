@@ -21,14 +21,18 @@ checks=$((checks + 1))
 expect 2 "--interleave with --any-hit" -- "$FOVREF" rays trace sphere-grid "$TMP/q.bin" "$TMP/qa.bin" --any-hit --interleave
 contains "--interleave applies to closest-hit queries" "--interleave with --any-hit"
 [ "$(stat -c %s "$TMP/o.bin")" = $((500 * 4)) ] || { echo "FAIL: occlusion file size"; failures=$((failures+1)); }
-# Occlusion in packets: the same flags, byte for byte, and the same hit count.
-expect 0 "any-hit one at a time" -- "$FOVREF" rays trace sphere-grid "$TMP/m.bin" "$TMP/o1.bin" --any-hit
-ONE="$OUT"
-expect 0 "any-hit packets" -- "$FOVREF" rays trace sphere-grid "$TMP/m.bin" "$TMP/o8.bin" --any-hit --packets
-checks=$((checks + 1))
-cmp -s "$TMP/o1.bin" "$TMP/o8.bin" || { echo "FAIL: --packets changed the occlusion flags"; failures=$((failures+1)); }
-checks=$((checks + 1))
-[ "$(grep -o 'rays: [0-9]* hit' <<<"$ONE")" = "$(grep -o 'rays: [0-9]* hit' <<<"$OUT")" ] || { echo "FAIL: --packets changed the hit count"; failures=$((failures+1)); }
+# Occlusion in packets: the same flags, byte for byte, and the same hit count, on random rays
+# (packets of one or two) and on camera rays (full packets).
+expect 0 "make coherent rays" -- "$FOVREF" rays make sphere-grid "$TMP/c.bin" --camera --width 64 --height 36
+for f in m c; do
+  expect 0 "any-hit one at a time ($f)" -- "$FOVREF" rays trace sphere-grid "$TMP/$f.bin" "$TMP/o1.bin" --any-hit
+  ONE="$OUT"
+  expect 0 "any-hit packets ($f)" -- "$FOVREF" rays trace sphere-grid "$TMP/$f.bin" "$TMP/o8.bin" --any-hit --packets
+  checks=$((checks + 1))
+  cmp -s "$TMP/o1.bin" "$TMP/o8.bin" || { echo "FAIL: --packets changed the occlusion flags ($f)"; failures=$((failures+1)); }
+  checks=$((checks + 1))
+  [ "$(grep -o 'rays: [0-9]* hit' <<<"$ONE")" = "$(grep -o 'rays: [0-9]* hit' <<<"$OUT")" ] || { echo "FAIL: --packets changed the hit count ($f)"; failures=$((failures+1)); }
+done
 expect 2 "--packets without --any-hit" -- "$FOVREF" rays trace sphere-grid "$TMP/q.bin" "$TMP/qp.bin" --packets
 contains "--packets applies to --any-hit" "--packets without --any-hit"
 : > "$TMP/empty.bin"

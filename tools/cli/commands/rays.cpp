@@ -65,8 +65,12 @@ int run_rays_trace(const RaysTraceOptions& o) {
     if (o.any_hit) {
         std::vector<std::uint32_t> occluded(rays.size());
         std::vector<std::uint8_t> flags(rays.size());
-        for (std::size_t k = 0; k < rays.size(); k += step) {
-            const std::size_t n = std::min(step, rays.size() - k);
+        // Chunks for the progress bar; with --packets at least 4096 rays and a multiple of 8, so
+        // that no packet is cut short at a chunk's end.
+        const std::size_t chunk =
+            o.packets ? (std::max<std::size_t>(step, 4096) + 7) / 8 * 8 : step;
+        for (std::size_t k = 0; k < rays.size(); k += chunk) {
+            const std::size_t n = std::min(chunk, rays.size() - k);
             if (o.packets)
                 trace_any_packets(bvh, rays.data() + k, n, flags.data() + k, stats);
             else
