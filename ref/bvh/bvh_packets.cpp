@@ -40,8 +40,6 @@ using bvh_internal::float_max;
 using bvh_internal::inf;
 using bvh_internal::ray_is_valid;
 using bvh_internal::traversal_stack_size;
-using bvh_internal::widen_down;
-using bvh_internal::widen_up;
 
 constexpr int packet_lanes = 8;
 
@@ -68,28 +66,39 @@ struct Packet {
     int kx = 0, ky = 1, kz = 2;
 };
 
+static_assert(sizeof(Ray) == 8 * sizeof(float), "a Ray is its 8 floats, loaded as one register");
+
 /// The constants of rays[index[0 .. n)] (n >= 1, one shape; lanes past n repeat lane 0 and are
 /// never active). `scene_max`: max |coordinate| of the root's box, as make_box_ray takes it.
 __attribute__((target("avx"))) void make_packet(const Ray* rays, const std::size_t* index, int n,
                                                 int shape, float scene_max, Packet& p) {
-    alignas(32) float o[3][packet_lanes], d[3][packet_lanes], t[4][packet_lanes];
-    for (int k = 0; k < packet_lanes; ++k) {
-        const Ray& ray = rays[index[k < n ? k : 0]];
-        for (int a = 0; a < 3; ++a) {
-            o[a][k] = ray.origin[a];
-            d[a][k] = ray.direction[a];
-        }
-        const float t_max = std::min(ray.t_max, float_max);  // as make_traversal_ray
-        t[0][k] = widen_down(ray.t_min);
-        t[1][k] = widen_up(t_max);
-        t[2][k] = ray.t_min;
-        t[3][k] = t_max;
-    }
+    // The eight rays' 8 floats each (origin, direction, t_min, t_max), transposed into one
+    // register per field: value moves only.
+    __m256 f[8];
+    for (int k = 0; k < packet_lanes; ++k)
+        f[k] = _mm256_loadu_ps(reinterpret_cast<const float*>(&rays[index[k < n ? k : 0]]));
+    avx::transpose8_lanes(f);
+    const __m256 t_min = f[6];
+    // t_max' = std::min(t_max, float_max) (as make_traversal_ray); t_lo = widen_down(t_min) =
+    // std::max(t - |t| margin, -float_max); t_hi = widen_up(t_max') = std::min(t + |t| margin,
+    // float_max): std::min(a, b) is _mm256_min_ps(b, a) and std::max(a, b) _mm256_max_ps(b, a),
+    // ties and NaN included.
+    const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    const __m256 margin = _mm256_set1_ps(bvh_internal::cull_margin);
+    const __m256 t_max = _mm256_min_ps(_mm256_set1_ps(float_max), f[7]);
+    p.t_lo =
+        _mm256_max_ps(_mm256_set1_ps(-float_max),
+                      _mm256_sub_ps(t_min, _mm256_mul_ps(_mm256_and_ps(t_min, abs_mask), margin)));
+    p.t_hi =
+        _mm256_min_ps(_mm256_set1_ps(float_max),
+                      _mm256_add_ps(t_max, _mm256_mul_ps(_mm256_and_ps(t_max, abs_mask), margin)));
+    p.t_min = t_min;
+    p.t_max = t_max;
     const __m256 sign_bit = _mm256_set1_ps(-0.0f);
     __m256 origin[3], direction[3], origin_max = _mm256_setzero_ps();
     for (int a = 0; a < 3; ++a) {
-        origin[a] = _mm256_load_ps(o[a]);
-        direction[a] = _mm256_load_ps(d[a]);
+        origin[a] = f[a];
+        direction[a] = f[3 + a];
         // max of |o.x|, |o.y|, |o.z| (and 0): non-negative and never NaN, so any order gives
         // make_box_ray's horizontal max.
         origin_max = _mm256_max_ps(origin_max, _mm256_andnot_ps(sign_bit, origin[a]));
@@ -105,10 +114,6 @@ __attribute__((target("avx"))) void make_packet(const Ray* rays, const std::size
         p.near_plane[a] = 8 * a + 4 * negative;
         p.far_plane[a] = 8 * a + 4 * (1 - negative);
     }
-    p.t_lo = _mm256_load_ps(t[0]);
-    p.t_hi = _mm256_load_ps(t[1]);
-    p.t_min = _mm256_load_ps(t[2]);
-    p.t_max = _mm256_load_ps(t[3]);
     const int next[3] = {1, 2, 0};
     p.kz = (shape >> 3) & 3;
     p.kx = next[p.kz];
