@@ -39,6 +39,16 @@ inline bool ray_is_valid(const Ray& ray) {
            !std::isnan(ray.t_max);
 }
 
+/// max |coordinate| of the root's box (the box padding's scene term, make_box_ray and
+/// make_slab_ray): non-negative values, so any order of the maxima gives the same float.
+inline float scene_abs_max(const Bvh& bvh) {
+    const BvhNode& root = bvh.nodes[0];
+    float m = 0.0f;
+    for (int a = 0; a < 3; ++a)
+        m = std::max(m, std::max(std::fabs(root.bounds_min[a]), std::fabs(root.bounds_max[a])));
+    return m;
+}
+
 /// Each wide node pushes at most 3 children and is at most bvh_max_depth + 1 levels deep.
 inline constexpr int traversal_stack_size = 3 * (bvh_max_depth + 1) + 1;
 

@@ -39,6 +39,7 @@ namespace {
 using bvh_internal::float_max;
 using bvh_internal::inf;
 using bvh_internal::ray_is_valid;
+using bvh_internal::scene_abs_max;
 using bvh_internal::traversal_stack_size;
 
 constexpr int packet_lanes = 8;
@@ -164,12 +165,7 @@ __attribute__((target("avx"))) void packet_edge_fallback(__m256 Ax, __m256 Ay, _
     _mm256_store_ps(u, U);
     _mm256_store_ps(v, V);
     _mm256_store_ps(w, W);
-    for (int k = 0; k < packet_lanes; ++k) {
-        if (((zeros >> k) & 1u) == 0) continue;
-        u[k] = watertight_edge_fallback(bx[k], by[k], cx[k], cy[k]);
-        v[k] = watertight_edge_fallback(cx[k], cy[k], ax[k], ay[k]);
-        w[k] = watertight_edge_fallback(ax[k], ay[k], bx[k], by[k]);
-    }
+    watertight_edge_fallback_lanes(packet_lanes, zeros, ax, ay, bx, by, cx, cy, u, v, w);
     U = _mm256_load_ps(u);
     V = _mm256_load_ps(v);
     W = _mm256_load_ps(w);
@@ -309,16 +305,6 @@ __attribute__((target("avx"))) unsigned walk_packet(const Bvh& bvh, const Packet
     stats.nodes_visited += visited;
     stats.triangles_tested += tested;
     return active;
-}
-
-/// max |coordinate| of the root's box, as make_box_ray computes it (non-negative values: any
-/// order of the maxima gives the same float).
-float scene_abs_max(const Bvh& bvh) {
-    const BvhNode& root = bvh.nodes[0];
-    float m = 0.0f;
-    for (int a = 0; a < 3; ++a)
-        m = std::max(m, std::max(std::fabs(root.bounds_min[a]), std::fabs(root.bounds_max[a])));
-    return m;
 }
 
 }  // namespace

@@ -59,10 +59,8 @@ struct SlabRay {
 /// test).
 [[maybe_unused]] SlabRay make_slab_ray(const Bvh& bvh, const Ray& ray) {
     SlabRay r;
-    const BvhNode& root = bvh.nodes[0];
-    const glm::vec3 scene_abs = glm::max(glm::abs(root.bounds_min), glm::abs(root.bounds_max));
     const glm::vec3 origin_abs = glm::abs(ray.origin);
-    const float scene_max = std::max(std::max(scene_abs.x, scene_abs.y), scene_abs.z);
+    const float scene_max = bvh_internal::scene_abs_max(bvh);
     const float origin_max = std::max(std::max(origin_abs.x, origin_abs.y), origin_abs.z);
     const float pad = (scene_max + origin_max) * (1.0f / 524288.0f);
     for (int a = 0; a < 3; ++a) {

@@ -77,6 +77,22 @@ FOVREF_FORCE_INLINE float watertight_edge_fallback(float px, float py, float qx,
     return static_cast<float>(e);
 }
 
+/// The lanes of `zeros` among `lanes` lanes of sheared corners (a, b, c: x and y per lane) whose
+/// U, V or W was exactly 0: all three recomputed with watertight_edge_fallback, as
+/// watertight_edges does (the 4-wide and the packet tests, after storing their lanes).
+FOVREF_FORCE_INLINE void watertight_edge_fallback_lanes(int lanes, unsigned zeros, const float* ax,
+                                                        const float* ay, const float* bx,
+                                                        const float* by, const float* cx,
+                                                        const float* cy, float* u, float* v,
+                                                        float* w) {
+    for (int i = 0; i < lanes; ++i) {
+        if (((zeros >> i) & 1u) == 0) continue;
+        u[i] = watertight_edge_fallback(bx[i], by[i], cx[i], cy[i]);
+        v[i] = watertight_edge_fallback(cx[i], cy[i], ax[i], ay[i]);
+        w[i] = watertight_edge_fallback(ax[i], ay[i], bx[i], by[i]);
+    }
+}
+
 /// The sheared triangle as the test sees it: the scaled barycentrics U, V, W (weights of a, b and
 /// c; recomputed in binary64 when one is exactly 0) and the corners' kz coordinates relative to
 /// the ray origin (unscaled). Shared by the hit test and by the plane intersection below, so the

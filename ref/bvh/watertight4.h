@@ -119,12 +119,7 @@ FOVREF_FORCE_INLINE void watertight4_edge_fallback(__m128 Ax, __m128 Ay, __m128 
     _mm_store_ps(u, U);
     _mm_store_ps(v, V);
     _mm_store_ps(w, W);
-    for (int i = 0; i < 4; ++i) {
-        if (((zeros >> i) & 1u) == 0) continue;
-        u[i] = watertight_edge_fallback(bx[i], by[i], cx[i], cy[i]);
-        v[i] = watertight_edge_fallback(cx[i], cy[i], ax[i], ay[i]);
-        w[i] = watertight_edge_fallback(ax[i], ay[i], bx[i], by[i]);
-    }
+    watertight_edge_fallback_lanes(4, zeros, ax, ay, bx, by, cx, cy, u, v, w);
     U = _mm_load_ps(u);
     V = _mm_load_ps(v);
     W = _mm_load_ps(w);

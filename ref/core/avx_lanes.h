@@ -103,6 +103,7 @@ FOVREF_AVX_INLINE void transpose4_lanes(__m128* q, __m256* out) {
     _MM_TRANSPOSE4_PS(q[4], q[5], q[6], q[7]);
     for (int e = 0; e < 4; ++e) out[e] = _mm256_set_m128(q[4 + e], q[e]);
 }
+
 /// (AVX2) The row-major indices y * width + x of eight pixels, in int32 (the caller makes sure
 /// that 3 * width * height fits).
 FOVREF_AVX2_INLINE __m256i row_major(__m256i x, __m256i y, int width) {
