@@ -31,6 +31,7 @@ struct Group {
 FOVREF_AVX2_INLINE void split3_into(const float* p, float (*out)[lanes]) {
     __m256 v[3];
     split3_lanes(p, v);
+#pragma GCC unroll 3
     for (int c = 0; c < 3; ++c) _mm256_store_ps(out[c], v[c]);
 }
 
@@ -48,6 +49,7 @@ FOVREF_AVX_INLINE __m256 blend(const TaaParams& params, const Group& g, __m256 o
     const __m256 age_new = select(keep, age_kept, set(2.0f));
     const __m256 w = _mm256_div_ps(set(1.0f), age_new);
     const __m256 one_minus_w = _mm256_sub_ps(set(1.0f), w);
+#pragma GCC unroll 3
     for (int c = 0; c < 3; ++c) {
         const __m256 current = _mm256_load_ps(g.current[c]);
         const __m256 blended = _mm256_add_ps(
@@ -113,11 +115,17 @@ FOVREF_AVX2_INLINE __m256 clamp_group(const TaaInputs& in, int x, int y, Group& 
         const Image& color = in.color;
         const float* centre = &color.data[color.index(x, y)];
         __m256 lo_rgb[3], hi_rgb[3];
+        // (The loops fully unrolled, the minima and maxima kept in registers: as loops g++ kept
+        // them on the stack, a store and a load in every step of each chain.)
+#pragma GCC unroll 3
         for (int k = 0; k < 3; ++k) lo_rgb[k] = hi_rgb[k] = _mm256_loadu_ps(centre + 8 * k);
+#pragma GCC unroll 3
         for (int r = 0; r < 3; ++r) {
             const int sy = std::clamp(y + r - 1, 0, color.height - 1);
+#pragma GCC unroll 3
             for (int dx = 0; dx < 3; ++dx) {
                 const float* p = &color.data[color.index(x + dx - 1, sy)];
+#pragma GCC unroll 3
                 for (int k = 0; k < 3; ++k) {
                     const __m256 v = _mm256_loadu_ps(p + 8 * k);
                     lo_rgb[k] = std_min(lo_rgb[k], v);  // glm::min(a, b) = (b < a) ? b : a
@@ -284,12 +292,16 @@ FOVREF_AVX2_INLINE void gather_history(const TaaState& previous, const BilinearL
 FOVREF_AVX_INLINE __m256 sample_lanes(const BilinearLanes& b, const __m256 (&taps)[4][4],
                                       float (*history)[lanes], __m256& depth) {
     __m256 sum = zero(), acc[4] = {sum, sum, sum, sum};
+    // (fully unrolled: the sums in registers, not on the stack)
+#pragma GCC unroll 4
     for (int t = 0; t < 4; ++t) {
         sum = _mm256_add_ps(sum, select(b.on[t], b.weight[t], zero()));
+#pragma GCC unroll 4
         for (int c = 0; c < 4; ++c)
             acc[c] = _mm256_add_ps(acc[c],
                                    select(b.on[t], _mm256_mul_ps(b.weight[t], taps[t][c]), zero()));
     }
+#pragma GCC unroll 3
     for (int c = 0; c < 3; ++c) _mm256_store_ps(history[c], _mm256_div_ps(acc[c], sum));
     depth = _mm256_div_ps(acc[3], sum);
     return sum;
@@ -427,13 +439,18 @@ __attribute__((target("avx2"))) int texel_boxes_row_avx(const Image& image, cons
     for (; si + lanes <= w - 1; si += lanes) {
         const float* own = &image.data[image.index(si, sj)];
         __m256 lo[3], hi[3];
+        // (Fully unrolled, lo and hi in registers: see clamp_group.)
+#pragma GCC unroll 3
         for (int k = 0; k < 3; ++k) lo[k] = hi[k] = _mm256_loadu_ps(own + 8 * k);
+#pragma GCC unroll 3
         for (const int j : rows)
+#pragma GCC unroll 3
             for (int di = -1; di <= 1; ++di) {
                 // a tap counts where its mask is not 0 (NaN counts, as valid != 0 does)
                 const __m256 traced =
                     not_equal(_mm256_loadu_ps(&valid.data[valid.index(si + di, j)]), zero());
                 const float* tap = &image.data[image.index(si + di, j)];
+#pragma GCC unroll 3
                 for (int k = 0; k < 3; ++k) {
                     const __m256 t = _mm256_permutevar8x32_ps(traced, spread[k]);
                     const __m256 v = _mm256_loadu_ps(tap + 8 * k);
