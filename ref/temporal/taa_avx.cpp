@@ -115,8 +115,8 @@ FOVREF_AVX2_INLINE __m256 clamp_group(const TaaInputs& in, int x, int y, Group& 
         const Image& color = in.color;
         const float* centre = &color.data[color.index(x, y)];
         __m256 lo_rgb[3], hi_rgb[3];
-        // (The loops fully unrolled, the minima and maxima kept in registers: as loops g++ kept
-        // them on the stack, a store and a load in every step of each chain.)
+        // (The loops fully unrolled whatever the flags, the minima and maxima in registers: as
+        // loops, plain g++ -O2 kept them on the stack, a store and a reload in every step.)
 #pragma GCC unroll 3
         for (int k = 0; k < 3; ++k) lo_rgb[k] = hi_rgb[k] = _mm256_loadu_ps(centre + 8 * k);
 #pragma GCC unroll 3
