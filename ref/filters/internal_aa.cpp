@@ -6,6 +6,7 @@
 
 #include "ref/core/error.h"
 #include "ref/core/simd.h"
+#include "ref/filters/gaussian3x3_avx.h"
 
 namespace fovref {
 
@@ -36,25 +37,14 @@ namespace {
 constexpr int lanes = 8;
 
 /// Texels x0 .. x0 + 7 of row y of a 3-channel buffer, where they and all their neighbours are
-/// traced and need no clamp (the caller checks): internal_aa_texel's sums. The 24 floats of the
-/// eight texels are contiguous (as in each neighbouring row and shifted column), and every lane
-/// has the same weights, so each of the three registers does one (texel, channel)'s scalar
-/// operations in order: 0, then + k c per tap (the product rounded), dy = -1 first, left to
-/// right; then / 16, the sum of the nine weights (exact).
+/// traced and need no clamp (the caller checks): internal_aa_texel's sums over nine traced taps,
+/// divided by their weight 16 (gaussian3x3_group).
 __attribute__((target("avx"))) void filter_group(const Image& color, Image& out, int x0, int y,
                                                  const int* rows) {
-    static constexpr float k[3][3] = {{1, 2, 1}, {2, 4, 2}, {1, 2, 1}};
-    __m256 sum[3] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
-    for (int dy = 0; dy < 3; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-            const float* p = &color.data[color.index(x0 + dx, rows[dy])];
-            const __m256 kw = _mm256_set1_ps(k[dy][dx + 1]);
-            for (int r = 0; r < 3; ++r)
-                sum[r] = _mm256_add_ps(sum[r], _mm256_mul_ps(kw, _mm256_loadu_ps(p + 8 * r)));
-        }
+    __m256 filtered[3];
+    gaussian3x3_group(color, x0, rows, filtered);
     float* o = &out.data[out.index(x0, y)];
-    for (int r = 0; r < 3; ++r)
-        _mm256_storeu_ps(o + 8 * r, _mm256_div_ps(sum[r], _mm256_set1_ps(16.0f)));
+    for (int r = 0; r < 3; ++r) _mm256_storeu_ps(o + 8 * r, filtered[r]);
 }
 
 }  // namespace

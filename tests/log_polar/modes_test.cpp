@@ -8,8 +8,10 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <limits>
 
 #include "ref/bvh/bvh.h"
+#include "ref/core/simd.h"
 #include "ref/filters/gaussian_lerp.h"
 #include "ref/log_polar/params.h"
 #include "ref/log_polar/resolve.h"
@@ -332,6 +334,42 @@ TEST_CASE("Gaussian lerp: the blend amount and a filtered pixel by hand") {
     Image flat(60, 80, 1, 0.625f);
     const Image flat_out = gaussian_lerp(flat, gaze);
     for (const float v : flat_out.data) REQUIRE(v == 0.625f);
+}
+
+TEST_CASE("Gaussian lerp: eight pixels at a time (AVX2) give gaussian_lerp_pixel's bits") {
+    if (!cpu_has_avx2()) MESSAGE("no AVX2 on this CPU: both runs take gaussian_lerp_pixel");
+    test::SplitMix64 rng(33);
+    const float specials[] = {std::numeric_limits<float>::quiet_NaN(),
+                              std::numeric_limits<float>::infinity(),
+                              -std::numeric_limits<float>::infinity(),
+                              -0.0f,
+                              0.0f,
+                              std::numeric_limits<float>::denorm_min(),
+                              -1e-40f,
+                              3e38f};
+    int compared = 0;
+    // Widths around the group's edges (9 and 10: one group or none), a row, a column; gazes on a
+    // pixel centre, at a corner, off the screen, on a row between pixel centres.
+    for (const auto& [w, h] : {std::pair{64, 40}, std::pair{9, 5}, std::pair{10, 5},
+                               std::pair{17, 1}, std::pair{1, 12}, std::pair{91, 23}})
+        for (const glm::vec2& gaze :
+             {glm::vec2{static_cast<float>(w) / 2 + 0.5f, 10.5f}, glm::vec2{0.0f, 0.0f},
+              glm::vec2{-30.0f, 200.0f}, glm::vec2{7.25f, 3.0f}})
+            for (const int special_rate : {0, 50}) {
+                Image in(w, h, 3);
+                for (float& v : in.data)
+                    v = special_rate != 0 && rng.below(special_rate) == 0
+                            ? specials[rng.below(std::size(specials))]
+                            : static_cast<float>(rng.below(1 << 20)) * 0x1p-17f - 3.0f;
+                const Image fast = gaussian_lerp(in, gaze);
+                set_simd_allowed(false);
+                const Image reference = gaussian_lerp(in, gaze);
+                set_simd_allowed(true);
+                INFO(w, "x", h, " gaze ", gaze.x, ", ", gaze.y, " specials 1/", special_rate);
+                CHECK(test::same_bits_nan_aside(fast, reference));
+                ++compared;
+            }
+    CHECK(compared == 48);
 }
 
 // No rays for texels that map off screen (SPEC §5) is a rule, not an output-neutral skip: a
