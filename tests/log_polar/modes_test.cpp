@@ -350,8 +350,9 @@ TEST_CASE("Gaussian lerp: eight pixels at a time (AVX2) give gaussian_lerp_pixel
     int compared = 0;
     // Widths around the group's edges (9 and 10: one group or none), a row, a column; gazes on a
     // pixel centre, at a corner, off the screen, on a row between pixel centres.
-    for (const auto& [w, h] : {std::pair{64, 40}, std::pair{9, 5}, std::pair{10, 5},
-                               std::pair{17, 1}, std::pair{1, 12}, std::pair{91, 23}})
+    for (const auto& size : {std::pair{64, 40}, std::pair{9, 5}, std::pair{10, 5}, std::pair{17, 1},
+                             std::pair{1, 12}, std::pair{91, 23}}) {
+        const int w = size.first, h = size.second;  // (not a structured binding: INFO captures)
         for (const glm::vec2& gaze :
              {glm::vec2{static_cast<float>(w) / 2 + 0.5f, 10.5f}, glm::vec2{0.0f, 0.0f},
               glm::vec2{-30.0f, 200.0f}, glm::vec2{7.25f, 3.0f}})
@@ -369,6 +370,7 @@ TEST_CASE("Gaussian lerp: eight pixels at a time (AVX2) give gaussian_lerp_pixel
                 CHECK(test::same_bits_nan_aside(fast, reference));
                 ++compared;
             }
+    }
     CHECK(compared == 48);
 }
 
