@@ -160,6 +160,15 @@ FOVREF_AVX2_INLINE void merge3_lanes(const __m256* in, float* p) {
     _mm256_storeu_ps(p + 16, _mm256_blend_ps(_mm256_blend_ps(r, g, 0b01001001), b, 0b10010010));
 }
 
+/// (AVX2) A value per pixel (lane l: pixel l) spread to the pixel's three interleaved floats:
+/// out[k]'s lane f holds pixel (8 k + f) / 3's value, so out[0..2] line up with the three
+/// registers of eight consecutive pixels' 24 floats as the image holds them.
+FOVREF_AVX2_INLINE void spread3_lanes(__m256 v, __m256* out) {
+    out[0] = _mm256_permutevar8x32_ps(v, _mm256_setr_epi32(0, 0, 0, 1, 1, 1, 2, 2));
+    out[1] = _mm256_permutevar8x32_ps(v, _mm256_setr_epi32(2, 3, 3, 3, 4, 4, 4, 5));
+    out[2] = _mm256_permutevar8x32_ps(v, _mm256_setr_epi32(5, 5, 6, 6, 6, 7, 7, 7));
+}
+
 /// The four bilinear taps of eight points (tx, ty) whose corners (x0, y0), the floors of tx and
 /// ty, the caller computes (each pass its own way, bit-equal to its scalar code): f = t - x0,
 /// the weights (1 - fx)(1 - fy), fx (1 - fy), (1 - fx) fy, fx fy of the taps (x0, y0),

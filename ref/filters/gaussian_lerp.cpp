@@ -54,8 +54,6 @@ void gaussian_lerp_pixel(const Image& in, glm::vec2 gaze, const LerpRamp& ramp, 
 
 namespace {
 
-using namespace avx;
-
 /// gaussian_lerp_pixel for pixels x0 .. x0 + 7 of row y of a 3-channel image whose columns
 /// x0 - 1 .. x0 + 8 lie on it (the caller checks; `rows`: y - 1, y, y + 1 clamped). Each lane's
 /// t is the reference's: the centre (x + 1/2, y + 1/2) minus the gaze, sqrt(dx dx + dy dy),
@@ -66,6 +64,7 @@ using namespace avx;
 __attribute__((target("avx2"))) void lerp_group(const Image& in, glm::vec2 gaze,
                                                 const LerpRamp& ramp, Image& out, int x0, int y,
                                                 const int* rows) {
+    using namespace avx;
     const __m256 cx =
         _mm256_add_ps(_mm256_cvtepi32_ps(_mm256_add_epi32(
                           _mm256_set1_epi32(x0), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7))),
@@ -83,12 +82,10 @@ __attribute__((target("avx2"))) void lerp_group(const Image& in, glm::vec2 gaze,
     }
     __m256 g[3];
     gaussian3x3_group(in, x0, rows, g);
-    // pixel l's t to its floats 3 l .. 3 l + 2 (float f of register k is 8 k + f)
-    const __m256i spread[3] = {_mm256_setr_epi32(0, 0, 0, 1, 1, 1, 2, 2),
-                               _mm256_setr_epi32(2, 3, 3, 3, 4, 4, 4, 5),
-                               _mm256_setr_epi32(5, 5, 6, 6, 6, 7, 7, 7)};
+    __m256 t_floats[3];  // pixel l's t at its floats 3 l .. 3 l + 2
+    spread3_lanes(t, t_floats);
     for (int k = 0; k < 3; ++k) {
-        const __m256 tk = _mm256_permutevar8x32_ps(t, spread[k]);
+        const __m256 tk = t_floats[k];
         const __m256 value = _mm256_loadu_ps(from + 8 * k);
         const __m256 blended = _mm256_add_ps(value, _mm256_mul_ps(tk, _mm256_sub_ps(g[k], value)));
         _mm256_storeu_ps(to + 8 * k, select(equal(tk, zero()), value, blended));

@@ -430,10 +430,8 @@ __attribute__((target("avx2"))) int texel_boxes_row_avx(const Image& image, cons
         rows[dj + 1] = wrap_rows ? (sj + dj + h) % h : std::clamp(sj + dj, 0, h - 1);
     // The eight texels' 24 floats in three registers, as the image holds them (texel l's channel
     // c is float 3 l + c): each float's min and max chain is its own, so the taps' colours need
-    // no sorting into channels; a texel's traced mask is spread to its three floats.
-    const __m256i spread[3] = {_mm256_setr_epi32(0, 0, 0, 1, 1, 1, 2, 2),
-                               _mm256_setr_epi32(2, 3, 3, 3, 4, 4, 4, 5),
-                               _mm256_setr_epi32(5, 5, 6, 6, 6, 7, 7, 7)};
+    // no sorting into channels; a texel's traced mask is spread to its three floats
+    // (spread3_lanes).
     const __m256 inf = set(std::numeric_limits<float>::infinity());
     int si = 1;
     for (; si + lanes <= w - 1; si += lanes) {
@@ -449,10 +447,12 @@ __attribute__((target("avx2"))) int texel_boxes_row_avx(const Image& image, cons
                 // a tap counts where its mask is not 0 (NaN counts, as valid != 0 does)
                 const __m256 traced =
                     not_equal(_mm256_loadu_ps(&valid.data[valid.index(si + di, j)]), zero());
+                __m256 traced_floats[3];
+                spread3_lanes(traced, traced_floats);
                 const float* tap = &image.data[image.index(si + di, j)];
 #pragma GCC unroll 3
                 for (int k = 0; k < 3; ++k) {
-                    const __m256 t = _mm256_permutevar8x32_ps(traced, spread[k]);
+                    const __m256 t = traced_floats[k];
                     const __m256 v = _mm256_loadu_ps(tap + 8 * k);
                     // std::min(lo, v) = (v < lo) ? v : lo and std::max(hi, v) = (hi < v) ? v :
                     // hi where traced; an untraced tap is +inf for the min (never < lo) and -inf
