@@ -78,6 +78,14 @@ struct SplitMix64 {
     float uniform(float lo, float hi) {
         return lo + (hi - lo) * static_cast<float>(below(1 << 20)) * 0x1p-20f;
     }
+    /// A float with all 24 significand bits random, a magnitude in [2^-8, 2^8) and either sign:
+    /// sums of a few of these round, so a sum taken in another order gives other bits (values on
+    /// a coarse grid, as uniform() gives, would add exactly in any order).
+    float full_float() {
+        const float m = static_cast<float>(below(std::size_t{1} << 24) | (1u << 23)) * 0x1p-23f;
+        const float v = std::ldexp(m, static_cast<int>(below(16)) - 8);
+        return below(2) == 0 ? v : -v;
+    }
 };
 
 /// The message of the fovref::Error that `f` throws; "<no exception>" or "<other exception: ...>"

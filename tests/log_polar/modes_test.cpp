@@ -348,20 +348,28 @@ TEST_CASE("Gaussian lerp: eight pixels at a time (AVX2) give gaussian_lerp_pixel
                               -1e-40f,
                               3e38f};
     int compared = 0;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
     // Widths around the group's edges (9 and 10: one group or none), a row, a column; gazes on a
-    // pixel centre, at a corner, off the screen, on a row between pixel centres.
+    // pixel centre, at a corner, off the screen, on a row between pixel centres, and three whose
+    // t leave [0, 1) in every lane: NaN (a NaN gaze, and an infinite one: (inf - start) / inf),
+    // which the clamp's operand order must keep, and exactly 1 (at 1e19 every distance rounds to
+    // the farthest corner's). No t exceeds 1: a centre is never farther than the farthest corner,
+    // rounding included, so the clamp's upper bound cannot act. Values with full significands, so
+    // that a 3x3 sum taken in another order gives other bits.
     for (const auto& size : {std::pair{64, 40}, std::pair{9, 5}, std::pair{10, 5}, std::pair{17, 1},
                              std::pair{1, 12}, std::pair{91, 23}}) {
         const int w = size.first, h = size.second;  // (not a structured binding: INFO captures)
         for (const glm::vec2& gaze :
              {glm::vec2{static_cast<float>(w) / 2 + 0.5f, 10.5f}, glm::vec2{0.0f, 0.0f},
-              glm::vec2{-30.0f, 200.0f}, glm::vec2{7.25f, 3.0f}})
+              glm::vec2{-30.0f, 200.0f}, glm::vec2{7.25f, 3.0f}, glm::vec2{nan, nan},
+              glm::vec2{inf, 0.0f}, glm::vec2{1e19f, 0.0f}})
             for (const int special_rate : {0, 50}) {
                 Image in(w, h, 3);
                 for (float& v : in.data)
                     v = special_rate != 0 && rng.below(special_rate) == 0
                             ? specials[rng.below(std::size(specials))]
-                            : static_cast<float>(rng.below(1 << 20)) * 0x1p-17f - 3.0f;
+                            : rng.full_float();
                 const Image fast = gaussian_lerp(in, gaze);
                 set_simd_allowed(false);
                 const Image reference = gaussian_lerp(in, gaze);
@@ -371,7 +379,7 @@ TEST_CASE("Gaussian lerp: eight pixels at a time (AVX2) give gaussian_lerp_pixel
                 ++compared;
             }
     }
-    CHECK(compared == 48);
+    CHECK(compared == 84);
 }
 
 // No rays for texels that map off screen (SPEC §5) is a rule, not an output-neutral skip: a
