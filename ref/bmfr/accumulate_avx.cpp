@@ -89,21 +89,47 @@ struct ScreenTaps {
     }
 };
 
-/// The history at the taps that are on, lane by lane (zero elsewhere).
+/// The history at the taps that are on, lane by lane (zero elsewhere): every value of `t`
+/// written. Each tap's three attributes of the eight lanes are read as four floats per lane (its
+/// three and the next pixel's first) and transposed into registers, so that accept_lanes' loads
+/// of whole registers find them in whole stores; a tap whose last pixel is the image's last (no
+/// fourth float to read) is read float by float.
 template <class GroupTaps>
 FOVREF_AVX_INLINE void gather_taps(const BmfrHistory& history, const GroupTaps& g, Taps& t) {
-    const int on[4] = {bits(g.on[0]), bits(g.on[1]), bits(g.on[2]), bits(g.on[3])};
-    for (int l = 0; l < lanes; ++l)
-        for (int k = 0; k < 4; ++k) {
-            if (!(on[k] >> l & 1)) continue;
-            const std::size_t i = g.index(k, l);
-            for (int ch = 0; ch < 3; ++ch) {
-                t.position[k][ch][l] = history.world_position.data[3 * i + ch];
-                t.normal[k][ch][l] = history.normal.data[3 * i + ch];
-                t.color[k][ch][l] = history.accumulated_noisy.data[3 * i + ch];
-            }
-            t.spp[k][l] = history.spp.data[i];
+    const std::size_t pixels = history.spp.data.size();
+    const float* attributes[3] = {history.world_position.data.data(), history.normal.data.data(),
+                                  history.accumulated_noisy.data.data()};
+    float(*const into[3])[3][lanes] = {t.position, t.normal, t.color};
+    for (int k = 0; k < 4; ++k) {
+        const int on = bits(g.on[k]);
+        std::size_t at[lanes];
+        bool inner = true;
+        for (int l = 0; l < lanes; ++l) {
+            at[l] = (on >> l & 1) ? g.index(k, l) : 0;
+            inner = inner && at[l] + 1 < pixels;
         }
+        if (inner) {
+            for (int a = 0; a < 3; ++a) {
+                __m128 q[lanes];
+                for (int l = 0; l < lanes; ++l) q[l] = _mm_loadu_ps(&attributes[a][3 * at[l]]);
+                __m256 v[4];
+                transpose4_lanes(q, v);
+                for (int ch = 0; ch < 3; ++ch)
+                    _mm256_store_ps(into[a][k][ch], select(g.on[k], v[ch], zero()));
+            }
+            alignas(32) float spp[lanes];
+            for (int l = 0; l < lanes; ++l) spp[l] = history.spp.data[at[l]];
+            _mm256_store_ps(t.spp[k], select(g.on[k], _mm256_load_ps(spp), zero()));
+            continue;
+        }
+        for (int l = 0; l < lanes; ++l) {
+            const bool tap_on = (on >> l & 1) != 0;
+            for (int a = 0; a < 3; ++a)
+                for (int ch = 0; ch < 3; ++ch)
+                    into[a][k][ch][l] = tap_on ? attributes[a][3 * at[l] + ch] : 0.0f;
+            t.spp[k][l] = tap_on ? history.spp.data[at[l]] : 0.0f;
+        }
+    }
 }
 
 /// accepted_taps: the position test, then the normal test, each tap's bit in `accepted`, and
@@ -171,7 +197,7 @@ FOVREF_AVX_INLINE void finish_group(const BmfrParams& params, const BmfrHistory&
                                     __m256 reprojected, __m256 qx, __m256 qy, __m256 margin2,
                                     const GroupTaps& g, BmfrAccumulation& out, int x, int y,
                                     BmfrStats& stats) {
-    Taps t = {};
+    Taps t;  // (every value written by gather_taps)
     gather_taps(history, g, t);
     const __m256 no_margin = set(bmfr_no_margin);
     __m256 margin[3] = {no_margin, no_margin, margin2};

@@ -53,6 +53,30 @@ void fill_pixel(test::SplitMix64& rng, glm::vec3 origin, glm::vec3 d, int x, int
         rng, static_cast<float>(1 + rng.below(40)) + (rng.below(8) == 0 ? 0.5f : 0.0f), 181);
 }
 
+// A frame of w x h pixels seen by `camera` and its history seen by `previous` (fill_pixel).
+struct Frame {
+    Image illumination, world, normal;
+    BmfrHistory history;
+};
+Frame make_frame(test::SplitMix64& rng, int w, int h, const Camera& camera,
+                 const Camera& previous) {
+    Frame f{Image(w, h, 3), Image(w, h, 3), Image(w, h, 3), {}};
+    f.history.valid = true;
+    f.history.view_projection = view_projection(previous, w, h);
+    f.history.world_position = Image(w, h, 3);
+    f.history.normal = Image(w, h, 3);
+    f.history.accumulated_noisy = Image(w, h, 3);
+    f.history.spp = Image(w, h, 1);
+    const float tan_half = tan_half_vfov(camera);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const glm::vec3 d = primary_ray_direction(
+                camera, tan_half, w, h, static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f);
+            fill_pixel(rng, camera.position, d, x, y, f.world, f.normal, f.illumination, f.history);
+        }
+    return f;
+}
+
 BmfrAccumulation accumulate(const BmfrParams& params, const Image& illumination, const Image& world,
                             const Image& normal, const BmfrHistory& history, BmfrStats& stats,
                             bool simd) {
@@ -74,7 +98,6 @@ TEST_CASE(
     for (int trial = 0; trial < 6; ++trial) {
         CAPTURE(trial);
         const Camera camera = look_at({0.0f, 1.0f, 4.0f}, {0.0f, 1.0f, 0.0f}, {0, 1, 0}, 50.0f);
-        const float tan_half = tan_half_vfov(camera);
         // The previous camera: a small step (most points reproject near their pixel), a step
         // through the scene (points behind it), a sideways step (points off the image).
         const glm::vec3 steps[] = {{0.02f, 0.0f, 0.0f}, {0.0f, 0.01f, 0.05f}, {0.0f, 0.0f, -3.0f},
@@ -82,21 +105,10 @@ TEST_CASE(
         const Camera previous =
             look_at(camera.position + steps[trial % 5],
                     glm::vec3{0.0f, 1.0f, 0.0f} + steps[trial % 5], {0, 1, 0}, 50.0f);
-        Image illumination(w, h, 3), world(w, h, 3), normal(w, h, 3);
-        BmfrHistory history;
-        history.valid = true;
-        history.view_projection = view_projection(previous, w, h);
-        history.world_position = Image(w, h, 3);
-        history.normal = Image(w, h, 3);
-        history.accumulated_noisy = Image(w, h, 3);
-        history.spp = Image(w, h, 1);
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                const glm::vec3 d =
-                    primary_ray_direction(camera, tan_half, w, h, static_cast<float>(x) + 0.5f,
-                                          static_cast<float>(y) + 0.5f);
-                fill_pixel(rng, camera.position, d, x, y, world, normal, illumination, history);
-            }
+        const Frame frame = make_frame(rng, w, h, camera, previous);
+        const Image &illumination = frame.illumination, &world = frame.world,
+                    &normal = frame.normal;
+        const BmfrHistory& history = frame.history;
         BmfrParams params;
         params.project_behind_camera = trial == 5;
         params.pixel_offset = trial == 1 ? glm::vec2(0.25f, 0.75f) : glm::vec2(0.5f);
@@ -161,6 +173,31 @@ TEST_CASE(
     CHECK(seen.history_off_screen > 500);
     CHECK(half_counts > 20);
     CHECK(blended > 500);  // phase III blends its history in, not just copies the fit
+}
+
+TEST_CASE("bmfr phase I: AVX groups whose taps reach the image's last pixel give its bits") {
+    // A width of eight pixels per group and no tail: the last group's taps reach the last pixel,
+    // whose attributes the AVX path reads float by float (no fourth float after them). A static
+    // camera: each pixel reprojects onto itself, so that tap is on and mostly accepted.
+    if (!cpu_has_avx()) MESSAGE("no AVX on this CPU: both runs take the reference");
+    test::SplitMix64 rng(31);
+    const Camera camera = look_at({0.0f, 1.0f, 4.0f}, {0.0f, 1.0f, 0.0f}, {0, 1, 0}, 50.0f);
+    for (const int w : {8, 16}) {
+        const int h = 3;
+        CAPTURE(w);
+        const Frame f = make_frame(rng, w, h, camera, camera);
+        BmfrParams params;
+        BmfrStats fast_stats, reference_stats;
+        const BmfrAccumulation fast =
+            accumulate(params, f.illumination, f.world, f.normal, f.history, fast_stats, true);
+        const BmfrAccumulation reference = accumulate(params, f.illumination, f.world, f.normal,
+                                                      f.history, reference_stats, false);
+        CHECK(test::same_bits_nan_aside(fast.accumulated, reference.accumulated));
+        CHECK(test::same_bits_nan_aside(fast.spp, reference.spp));
+        CHECK(test::same_bits_nan_aside(fast.accept, reference.accept));
+        CHECK(fast_stats.history_accepted == reference_stats.history_accepted);
+        CHECK(reference_stats.history_accepted > w * h / 2);
+    }
 }
 
 TEST_CASE("bmfr phases I and III in Visual-Polar space: the AVX paths give the reference's bits") {
