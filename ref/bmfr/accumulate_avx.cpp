@@ -89,46 +89,23 @@ struct ScreenTaps {
     }
 };
 
-/// The history at the taps that are on, lane by lane (zero elsewhere): every value of `t`
-/// written. Each tap's three attributes of the eight lanes are read as four floats per lane (its
-/// three and the next pixel's first) and transposed into registers, so that accept_lanes' loads
-/// of whole registers find them in whole stores; a tap whose last pixel is the image's last (no
-/// fourth float to read) is read float by float.
+/// The history at the taps that are on (+0 elsewhere), every value of `t` written whole
+/// (gather3_lanes), so that accept_lanes' loads of whole registers take them from those stores.
 template <class GroupTaps>
 FOVREF_AVX_INLINE void gather_taps(const BmfrHistory& history, const GroupTaps& g, Taps& t) {
     const std::size_t pixels = history.spp.data.size();
-    const float* attributes[3] = {history.world_position.data.data(), history.normal.data.data(),
-                                  history.accumulated_noisy.data.data()};
-    float(*const into[3])[3][lanes] = {t.position, t.normal, t.color};
     for (int k = 0; k < 4; ++k) {
         const int on = bits(g.on[k]);
         std::size_t at[lanes];
-        bool inner = true;
+        alignas(32) float spp[lanes];
         for (int l = 0; l < lanes; ++l) {
             at[l] = (on >> l & 1) ? g.index(k, l) : 0;
-            inner = inner && at[l] + 1 < pixels;
+            spp[l] = history.spp.data[at[l]];
         }
-        if (inner) {
-            for (int a = 0; a < 3; ++a) {
-                __m128 q[lanes];
-                for (int l = 0; l < lanes; ++l) q[l] = _mm_loadu_ps(&attributes[a][3 * at[l]]);
-                __m256 v[4];
-                transpose4_lanes(q, v);
-                for (int ch = 0; ch < 3; ++ch)
-                    _mm256_store_ps(into[a][k][ch], select(g.on[k], v[ch], zero()));
-            }
-            alignas(32) float spp[lanes];
-            for (int l = 0; l < lanes; ++l) spp[l] = history.spp.data[at[l]];
-            _mm256_store_ps(t.spp[k], select(g.on[k], _mm256_load_ps(spp), zero()));
-            continue;
-        }
-        for (int l = 0; l < lanes; ++l) {
-            const bool tap_on = (on >> l & 1) != 0;
-            for (int a = 0; a < 3; ++a)
-                for (int ch = 0; ch < 3; ++ch)
-                    into[a][k][ch][l] = tap_on ? attributes[a][3 * at[l] + ch] : 0.0f;
-            t.spp[k][l] = tap_on ? history.spp.data[at[l]] : 0.0f;
-        }
+        gather3_lanes(history.world_position.data.data(), pixels, at, g.on[k], t.position[k]);
+        gather3_lanes(history.normal.data.data(), pixels, at, g.on[k], t.normal[k]);
+        gather3_lanes(history.accumulated_noisy.data.data(), pixels, at, g.on[k], t.color[k]);
+        _mm256_store_ps(t.spp[k], select(g.on[k], _mm256_load_ps(spp), zero()));
     }
 }
 
@@ -388,15 +365,10 @@ FOVREF_AVX_INLINE void finish_filtered(const BmfrParams& params, const Image& fi
                                        Image& out, int x, int y) {
     alignas(32) float c[3][lanes];
     load3_lanes(&fitted.data[fitted.index(x, y)], c);
-    alignas(32) float taps[4][3][lanes] = {};
-    for (int k = 0; k < 4; ++k) {
-        const int used = bits(g.on[k]);
-        for (int l = 0; l < lanes; ++l) {
-            if (!(used >> l & 1)) continue;
-            const float* p = &history.data[3 * g.index(k, l)];
-            for (int ch = 0; ch < 3; ++ch) taps[k][ch][l] = p[ch];
-        }
-    }
+    alignas(32) float taps[4][3][lanes];
+    gather3_taps(
+        history.data.data(), history.data.size() / 3, g.on,
+        [&](int k, int l) { return g.index(k, l); }, taps);
     // blend_accepted: the sums in tap order, renormalised.
     __m256 h[3];
     const __m256 total = tap_sums3(g.on, g.weight, taps, h);

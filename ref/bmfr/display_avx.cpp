@@ -170,28 +170,16 @@ __attribute__((target("avx2"))) int taa_group(const BmfrParams& params, const Im
     __m256 lo[3], hi[3];
     clamp_range(RowNeighbours{ycocg, nullptr, {y - 1, y, y + 1 < height ? y + 1 : -1}, x}, lo, hi);
     // The history over the taps inside the image, in tap order.
-    alignas(32) float taps[4][3][lanes] = {};
-    for (int k = 0; k < 4; ++k)
-        for (int l = 0; l < lanes; ++l) {
-            if (!(b.on_bits[k] >> l & 1)) continue;
-            const float* p = &history.data[history.index(b.x0[l] + (k & 1), b.y0[l] + (k >> 1))];
-            for (int c = 0; c < 3; ++c) taps[k][c][l] = p[c];
-        }
+    alignas(32) float taps[4][3][lanes];
+    const auto history_width = static_cast<std::size_t>(history.width);
+    gather3_taps(
+        history.data.data(), history.data.size() / 3, b.on,
+        [&](int k, int l) {
+            return static_cast<std::size_t>(b.y0[l] + (k >> 1)) * history_width +
+                   static_cast<std::size_t>(b.x0[l] + (k & 1));
+        },
+        taps);
     return blend_group(params, display, b.on, b.weight, taps, in_range, lo, hi, out, x, y);
-}
-
-/// The history's colours at the taps of `g` that are on (+0 elsewhere), lane by lane.
-template <class GroupTaps>
-FOVREF_AVX_INLINE void history_at_taps(const Image& history, const GroupTaps& g,
-                                       float (*taps)[3][lanes]) {
-    for (int k = 0; k < 4; ++k) {
-        const int on = bits(g.on[k]);
-        for (int l = 0; l < lanes; ++l) {
-            if (!(on >> l & 1)) continue;
-            const float* p = &history.data[3 * g.index(k, l)];
-            for (int c = 0; c < 3; ++c) taps[k][c][l] = p[c];
-        }
-    }
 }
 
 /// vp_taa_group's end: the taps' history, the clamp range, the blend.
@@ -200,8 +188,10 @@ FOVREF_AVX2_INLINE int vp_taa_blend(const BmfrParams& params, const Image& displ
                                     const Image& ycocg, const Image& history, const Image& valid,
                                     int fovea_columns, const int* column_rows, const GroupTaps& g,
                                     __m256 candidate, Image& out, int x, int y) {
-    alignas(32) float taps[4][3][lanes] = {};
-    history_at_taps(history, g, taps);
+    alignas(32) float taps[4][3][lanes];
+    gather3_taps(
+        history.data.data(), history.data.size() / 3, g.on,
+        [&](int k, int l) { return g.index(k, l); }, taps);
     __m256 lo[3], hi[3];
     if (x - 1 >= fovea_columns) {
         // beyond the fovea every column has H rows: the same three rows for every lane

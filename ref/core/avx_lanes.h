@@ -9,6 +9,7 @@
 
 #include <immintrin.h>
 
+#include <cstddef>
 #include <limits>
 
 namespace fovref::avx {
@@ -102,6 +103,42 @@ FOVREF_AVX_INLINE void transpose4_lanes(__m128* q, __m256* out) {
     _MM_TRANSPOSE4_PS(q[0], q[1], q[2], q[3]);
     _MM_TRANSPOSE4_PS(q[4], q[5], q[6], q[7]);
     for (int e = 0; e < 4; ++e) out[e] = _mm256_set_m128(q[4 + e], q[e]);
+}
+
+/// The three floats of pixel at[l] of an interleaved 3-channel image (`rgb`, `pixels` pixels)
+/// for each lane of `on` (+0 in the others, whose at[l] must be 0), stored whole into out[0 .. 2]
+/// (channel c of lane l at out[c][l]): loads of whole registers from `out` then take them from
+/// those stores, where a lane-by-lane fill would make them wait until eight stores reach the
+/// cache. Four floats are read per lane (the pixel's three and the next one's first) and
+/// transposed; where a lane's pixel is the image's last (no fourth float), lane by lane.
+FOVREF_AVX_INLINE void gather3_lanes(const float* rgb, std::size_t pixels, const std::size_t* at,
+                                     __m256 on, float (*out)[lanes]) {
+    bool inner = true;
+    for (int l = 0; l < lanes; ++l) inner = inner && at[l] + 1 < pixels;
+    if (!inner) {
+        const int on_bits = _mm256_movemask_ps(on);
+        for (int l = 0; l < lanes; ++l)
+            for (int c = 0; c < 3; ++c) out[c][l] = (on_bits >> l & 1) ? rgb[3 * at[l] + c] : 0.0f;
+        return;
+    }
+    __m128 q[lanes];
+    for (int l = 0; l < lanes; ++l) q[l] = _mm_loadu_ps(rgb + 3 * at[l]);
+    __m256 v[4];
+    transpose4_lanes(q, v);
+    for (int c = 0; c < 3; ++c) _mm256_store_ps(out[c], select(on, v[c], zero()));
+}
+
+/// gather3_lanes for each of four taps: tap k's pixel of lane l is index(k, l) where on[k] holds
+/// the lane; taps[k][c][l] its channel c (+0 where off).
+template <class Index>
+FOVREF_AVX_INLINE void gather3_taps(const float* rgb, std::size_t pixels, const __m256* on,
+                                    Index index, float (*taps)[3][lanes]) {
+    for (int k = 0; k < 4; ++k) {
+        const int on_bits = _mm256_movemask_ps(on[k]);
+        std::size_t at[lanes];
+        for (int l = 0; l < lanes; ++l) at[l] = (on_bits >> l & 1) ? index(k, l) : 0;
+        gather3_lanes(rgb, pixels, at, on[k], taps[k]);
+    }
 }
 
 /// (AVX2) The row-major indices y * width + x of eight pixels, in int32 (the caller makes sure
