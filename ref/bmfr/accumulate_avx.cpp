@@ -90,7 +90,7 @@ struct ScreenTaps {
 };
 
 /// The history at the taps that are on (+0 elsewhere), every value of `t` written whole
-/// (gather3_lanes), so that accept_lanes' loads of whole registers take them from those stores.
+/// (load3_pixels), so that accept_lanes' loads of whole registers take them from those stores.
 template <class GroupTaps>
 FOVREF_AVX_INLINE void gather_taps(const BmfrHistory& history, const GroupTaps& g, Taps& t) {
     const std::size_t pixels = history.spp.data.size();
@@ -102,9 +102,9 @@ FOVREF_AVX_INLINE void gather_taps(const BmfrHistory& history, const GroupTaps& 
             at[l] = (on >> l & 1) ? g.index(k, l) : 0;
             spp[l] = history.spp.data[at[l]];
         }
-        gather3_lanes(history.world_position.data.data(), pixels, at, g.on[k], t.position[k]);
-        gather3_lanes(history.normal.data.data(), pixels, at, g.on[k], t.normal[k]);
-        gather3_lanes(history.accumulated_noisy.data.data(), pixels, at, g.on[k], t.color[k]);
+        load3_pixels(history.world_position.data.data(), pixels, at, g.on[k], t.position[k]);
+        load3_pixels(history.normal.data.data(), pixels, at, g.on[k], t.normal[k]);
+        load3_pixels(history.accumulated_noisy.data.data(), pixels, at, g.on[k], t.color[k]);
         _mm256_store_ps(t.spp[k], select(g.on[k], _mm256_load_ps(spp), zero()));
     }
 }
@@ -366,7 +366,7 @@ FOVREF_AVX_INLINE void finish_filtered(const BmfrParams& params, const Image& fi
     alignas(32) float c[3][lanes];
     load3_lanes(&fitted.data[fitted.index(x, y)], c);
     alignas(32) float taps[4][3][lanes];
-    gather3_taps(
+    load3_taps(
         history.data.data(), history.data.size() / 3, g.on,
         [&](int k, int l) { return g.index(k, l); }, taps);
     // blend_accepted: the sums in tap order, renormalised.

@@ -172,7 +172,7 @@ __attribute__((target("avx2"))) int taa_group(const BmfrParams& params, const Im
     // The history over the taps inside the image, in tap order.
     alignas(32) float taps[4][3][lanes];
     const auto history_width = static_cast<std::size_t>(history.width);
-    gather3_taps(
+    load3_taps(
         history.data.data(), history.data.size() / 3, b.on,
         [&](int k, int l) {
             return static_cast<std::size_t>(b.y0[l] + (k >> 1)) * history_width +
@@ -189,7 +189,7 @@ FOVREF_AVX2_INLINE int vp_taa_blend(const BmfrParams& params, const Image& displ
                                     int fovea_columns, const int* column_rows, const GroupTaps& g,
                                     __m256 candidate, Image& out, int x, int y) {
     alignas(32) float taps[4][3][lanes];
-    gather3_taps(
+    load3_taps(
         history.data.data(), history.data.size() / 3, g.on,
         [&](int k, int l) { return g.index(k, l); }, taps);
     __m256 lo[3], hi[3];

@@ -111,8 +111,8 @@ FOVREF_AVX_INLINE void transpose4_lanes(__m128* q, __m256* out) {
 /// those stores, where a lane-by-lane fill would make them wait until eight stores reach the
 /// cache. Four floats are read per lane (the pixel's three and the next one's first) and
 /// transposed; where a lane's pixel is the image's last (no fourth float), lane by lane.
-FOVREF_AVX_INLINE void gather3_lanes(const float* rgb, std::size_t pixels, const std::size_t* at,
-                                     __m256 on, float (*out)[lanes]) {
+FOVREF_AVX_INLINE void load3_pixels(const float* rgb, std::size_t pixels, const std::size_t* at,
+                                    __m256 on, float (*out)[lanes]) {
     bool inner = true;
     for (int l = 0; l < lanes; ++l) inner = inner && at[l] + 1 < pixels;
     if (!inner) {
@@ -128,16 +128,16 @@ FOVREF_AVX_INLINE void gather3_lanes(const float* rgb, std::size_t pixels, const
     for (int c = 0; c < 3; ++c) _mm256_store_ps(out[c], select(on, v[c], zero()));
 }
 
-/// gather3_lanes for each of four taps: tap k's pixel of lane l is index(k, l) where on[k] holds
+/// load3_pixels for each of four taps: tap k's pixel of lane l is index(k, l) where on[k] holds
 /// the lane; taps[k][c][l] its channel c (+0 where off).
 template <class Index>
-FOVREF_AVX_INLINE void gather3_taps(const float* rgb, std::size_t pixels, const __m256* on,
-                                    Index index, float (*taps)[3][lanes]) {
+FOVREF_AVX_INLINE void load3_taps(const float* rgb, std::size_t pixels, const __m256* on,
+                                  Index index, float (*taps)[3][lanes]) {
     for (int k = 0; k < 4; ++k) {
         const int on_bits = _mm256_movemask_ps(on[k]);
         std::size_t at[lanes];
         for (int l = 0; l < lanes; ++l) at[l] = (on_bits >> l & 1) ? index(k, l) : 0;
-        gather3_lanes(rgb, pixels, at, on[k], taps[k]);
+        load3_pixels(rgb, pixels, at, on[k], taps[k]);
     }
 }
 
