@@ -219,9 +219,8 @@ struct KeptWeights {
 
 /// The radii of a group's lanes of `sigma` (radius_lanes) into radius_f; returns their largest,
 /// and whether every lane has it.
-__attribute__((target("avx"))) float group_radii(const float* sigma, float* radius_f,
-                                                 bool& uniform) {
-    const __m256 radius = radius_lanes(_mm256_loadu_ps(sigma));
+__attribute__((target("avx"))) float group_radii(__m256 sigma, float* radius_f, bool& uniform) {
+    const __m256 radius = radius_lanes(sigma);
     _mm256_storeu_ps(radius_f, radius);
     __m256 largest = _mm256_max_ps(radius, _mm256_permute2f128_ps(radius, radius, 1));
     largest = _mm256_max_ps(largest, _mm256_permute_ps(largest, 0b01001110));
@@ -242,11 +241,21 @@ struct KeptExp {
     }
 };
 
-/// The lanes' a: the table's (`kept`, the group's sigma_a) or the exp of their sigma; a copied
-/// lane (radius 0) gets 0.5, whose finite dummy weights are computed and never used.
-void group_a(const float* kept, const float* sigma, const float* radius_f, KeptExp& exp, float* a) {
+/// The lanes' a: the exp of their sigma; a copied lane (radius 0) gets 0.5, whose finite dummy
+/// weights are computed and never used.
+void group_a(const float* sigma, const float* radius_f, KeptExp& exp, float* a) {
     for (int lane = 0; lane < lanes; ++lane)
-        a[lane] = radius_f[lane] == 0.0f ? 0.5f : kept ? kept[2 * lane + 1] : exp.of(sigma[lane]);
+        a[lane] = radius_f[lane] == 0.0f ? 0.5f : exp.of(sigma[lane]);
+}
+
+/// A group's sigma and a from the table (its sigma_a: sigma, a of each pixel, interleaved),
+/// split by shuffles into whole registers: arrays filled lane by lane and then loaded whole
+/// would make each load wait until the eight stores reach the cache.
+__attribute__((target("avx"))) void split_sigma_a(const float* kept, __m256& sigma, __m256& a) {
+    const __m256 even = _mm256_set_m128(_mm_loadu_ps(kept + 8), _mm_loadu_ps(kept));
+    const __m256 odd = _mm256_set_m128(_mm_loadu_ps(kept + 12), _mm_loadu_ps(kept + 4));
+    sigma = _mm256_shuffle_ps(even, odd, _MM_SHUFFLE(2, 0, 2, 0));
+    a = _mm256_shuffle_ps(even, odd, _MM_SHUFFLE(3, 1, 3, 1));
 }
 
 /// How many groups from x0 on are summed with this uniform one (4, 2, or 1): the next groups
@@ -334,17 +343,29 @@ struct RowSums {
     __attribute__((target("avx"))) void step() {
         alignas(32) float radius_f[lanes], sigma[lanes], a[lanes];
         const float* kept = table ? &table->sigma_a.data[table->sigma_a.index(x0, y)] : nullptr;
-        for (int lane = 0; lane < lanes; ++lane)
-            sigma[lane] = kept ? kept[2 * lane]
-                               : blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + lane, y));
+        __m256 sigma_lanes, kept_a = _mm256_setzero_ps();
+        if (kept) {
+            split_sigma_a(kept, sigma_lanes, kept_a);
+            _mm256_store_ps(sigma, sigma_lanes);
+        } else {
+            for (int lane = 0; lane < lanes; ++lane)
+                sigma[lane] = blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + lane, y));
+            sigma_lanes = _mm256_load_ps(sigma);
+        }
         bool uniform = false;  // every lane of the group has the radius radius_max
-        const float radius_max_f = group_radii(sigma, radius_f, uniform);
+        const float radius_max_f = group_radii(sigma_lanes, radius_f, uniform);
         if (radius_max_f == 0.0f) {  // all copied
             x0 += lanes;
             return;
         }
         const int radius_max = static_cast<int>(radius_max_f);
-        group_a(kept, sigma, radius_f, exp, a);
+        if (kept) {  // group_a with the table's a
+            const __m256 copied =
+                _mm256_cmp_ps(_mm256_load_ps(radius_f), _mm256_setzero_ps(), _CMP_EQ_OQ);
+            _mm256_store_ps(a, select(copied, _mm256_set1_ps(0.5f), kept_a));
+        } else {
+            group_a(sigma, radius_f, exp, a);
+        }
         weights.make(a, radius_f, radius_max);
         // The next groups with the same sigma in every lane (beyond full_deg) have the same
         // weights: four or two groups' sums together (three channels)
