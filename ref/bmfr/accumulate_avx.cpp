@@ -83,10 +83,7 @@ struct ScreenTaps {
     __m256 on[4], weight[4];
     const BilinearLanes* b = nullptr;
     std::size_t width = 0;
-    std::size_t index(int k, int l) const {
-        return static_cast<std::size_t>(b->y0[l] + (k >> 1)) * width +
-               static_cast<std::size_t>(b->x0[l] + (k & 1));
-    }
+    std::size_t index(int k, int l) const { return b->pixel(k, l, width); }
 };
 
 /// The history at the taps that are on (+0 elsewhere), every value of `t` written whole
@@ -97,15 +94,16 @@ FOVREF_AVX_INLINE void gather_taps(const BmfrHistory& history, const GroupTaps& 
     for (int k = 0; k < 4; ++k) {
         const int on = bits(g.on[k]);
         std::size_t at[lanes];
-        alignas(32) float spp[lanes];
-        for (int l = 0; l < lanes; ++l) {
-            at[l] = (on >> l & 1) ? g.index(k, l) : 0;
-            spp[l] = history.spp.data[at[l]];
-        }
+        for (int l = 0; l < lanes; ++l) at[l] = (on >> l & 1) ? g.index(k, l) : 0;
         load3_pixels(history.world_position.data.data(), pixels, at, g.on[k], t.position[k]);
         load3_pixels(history.normal.data.data(), pixels, at, g.on[k], t.normal[k]);
         load3_pixels(history.accumulated_noisy.data.data(), pixels, at, g.on[k], t.color[k]);
-        _mm256_store_ps(t.spp[k], select(g.on[k], _mm256_load_ps(spp), zero()));
+        const float* spp = history.spp.data.data();
+        _mm256_store_ps(t.spp[k],
+                        select(g.on[k],
+                               _mm256_setr_ps(spp[at[0]], spp[at[1]], spp[at[2]], spp[at[3]],
+                                              spp[at[4]], spp[at[5]], spp[at[6]], spp[at[7]]),
+                               zero()));
     }
 }
 

@@ -174,11 +174,7 @@ __attribute__((target("avx2"))) int taa_group(const BmfrParams& params, const Im
     const auto history_width = static_cast<std::size_t>(history.width);
     load3_taps(
         history.data.data(), history.data.size() / 3, b.on,
-        [&](int k, int l) {
-            return static_cast<std::size_t>(b.y0[l] + (k >> 1)) * history_width +
-                   static_cast<std::size_t>(b.x0[l] + (k & 1));
-        },
-        taps);
+        [&](int k, int l) { return b.pixel(k, l, history_width); }, taps);
     return blend_group(params, display, b.on, b.weight, taps, in_range, lo, hi, out, x, y);
 }
 

@@ -215,6 +215,12 @@ struct BilinearLanes {
     __m256 weight[4], on[4];
     int on_bits[4];  ///< on[k]'s lanes as bits
     alignas(32) int x0[lanes], y0[lanes];
+    /// Tap k's pixel of lane l, (x0 + (k & 1), y0 + (k >> 1)), row-major in an image `width`
+    /// pixels wide.
+    std::size_t pixel(int k, int l, std::size_t width) const {
+        return static_cast<std::size_t>(y0[l] + (k >> 1)) * width +
+               static_cast<std::size_t>(x0[l] + (k & 1));
+    }
 };
 FOVREF_AVX_INLINE void bilinear_lanes(__m256 tx, __m256 ty, __m256 x0, __m256 y0, __m256 valid,
                                       float width, float height, BilinearLanes& b) {

@@ -250,8 +250,7 @@ FOVREF_AVX2_INLINE void gather_history(const TaaState& previous, const BilinearL
     for (int l = 1; l < lanes && row; ++l) row = b.x0[l] == b.x0[0] + l && b.y0[l] == b.y0[0];
     if (row) {
         for (int t = 0; t < 4; ++t) {
-            const std::size_t pixel = static_cast<std::size_t>(b.y0[0] + (t >> 1)) * width +
-                                      static_cast<std::size_t>(b.x0[0] + (t & 1));
+            const std::size_t pixel = b.pixel(t, 0, static_cast<std::size_t>(width));
             split3_lanes(&previous.history.data[3 * pixel], taps[t]);
             taps[t][3] = _mm256_loadu_ps(&previous.depth.data[pixel]);
         }
