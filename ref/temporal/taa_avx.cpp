@@ -422,7 +422,8 @@ bool texel_boxes_avx_applies(const Image& image, const Image& valid) {
 }
 
 __attribute__((target("avx2"))) int texel_boxes_row_avx(const Image& image, const Image& valid,
-                                                        bool wrap_rows, int sj, Image& boxes) {
+                                                        bool wrap_rows, bool traced_only, int sj,
+                                                        Image& boxes) {
     const int w = image.width, h = image.height;
     int rows[3];
     for (int dj = -1; dj <= 1; ++dj)
@@ -434,6 +435,9 @@ __attribute__((target("avx2"))) int texel_boxes_row_avx(const Image& image, cons
     const __m256 inf = set(std::numeric_limits<float>::infinity());
     int si = 1;
     for (; si + lanes <= w - 1; si += lanes) {
+        if (traced_only && _mm256_movemask_ps(not_equal(
+                               _mm256_loadu_ps(&valid.data[valid.index(si, sj)]), zero())) == 0)
+            continue;
         const float* own = &image.data[image.index(si, sj)];
         __m256 lo[3], hi[3];
         // (Fully unrolled, lo and hi in registers: see clamp_group.)

@@ -36,9 +36,11 @@ bool texel_boxes_avx_applies(const Image& image, const Image& valid);
 /// inside the row's columns, none clamped) as the reference's per-texel box computes them: each
 /// lane starts from its texel, then takes the min and max with each traced tap in the reference's
 /// order (rows sj - 1, sj, sj + 1, wrapped or clamped as the reference does; columns -1, 0, +1),
-/// as std::min and std::max do. Returns 1 + 8 k, the first column left to the reference. Only
-/// where texel_boxes_avx_applies.
-int texel_boxes_row_avx(const Image& image, const Image& valid, bool wrap_rows, int sj,
-                        Image& boxes);
+/// as std::min and std::max do. With `traced_only`, a group of eight whose texels are all
+/// untraced is skipped (its boxes left as they were: the log-polar buffer's, which no pixel reads
+/// there). Returns 1 + 8 k, the first column left to the reference. Only where
+/// texel_boxes_avx_applies.
+int texel_boxes_row_avx(const Image& image, const Image& valid, bool wrap_rows, bool traced_only,
+                        int sj, Image& boxes);
 
 }  // namespace fovref

@@ -71,7 +71,8 @@ namespace {
 // The box of every texel (or gaze pixel) of `image`: min (r, g, b) and max (r, g, b) over its
 // 3x3 neighbourhood of traced texels, starting from the texel itself; columns clamped, rows
 // wrapped (`wrap_rows`, the angle axis) or clamped. Made once per buffer (a GPU's buffer-space
-// min/max pass); the screen pixels then read the box of their source texel.
+// min/max pass); the screen pixels then read the box of their source texel. `traced_only`: only
+// the traced texels' boxes (the others stay 0), for a buffer whose sources are always traced.
 void texel_box(const Image& image, const Image& valid, bool wrap_rows, int si, int sj,
                Image& boxes) {
     float lo[3], hi[3];
@@ -93,7 +94,7 @@ void texel_box(const Image& image, const Image& valid, bool wrap_rows, int si, i
     }
 }
 
-Image texel_boxes(const Image& image, const Image& valid, bool wrap_rows) {
+Image texel_boxes(const Image& image, const Image& valid, bool wrap_rows, bool traced_only) {
     Image boxes(image.width, image.height, 6, 0.0f);
     // Column 0 by texel_box, then eight texels at a time where the AVX2 path covers the image
     // (the same bits: taa_avx.h), then the rest by texel_box
@@ -101,10 +102,13 @@ Image texel_boxes(const Image& image, const Image& valid, bool wrap_rows) {
     for (int sj = 0; sj < image.height; ++sj) {
         int si = 0;
         if (avx) {
-            texel_box(image, valid, wrap_rows, 0, sj, boxes);
-            si = texel_boxes_row_avx(image, valid, wrap_rows, sj, boxes);
+            if (!traced_only || valid.at(0, sj) != 0.0f)
+                texel_box(image, valid, wrap_rows, 0, sj, boxes);
+            si = texel_boxes_row_avx(image, valid, wrap_rows, traced_only, sj, boxes);
         }
-        for (; si < image.width; ++si) texel_box(image, valid, wrap_rows, si, sj, boxes);
+        for (; si < image.width; ++si)
+            if (!traced_only || valid.at(si, sj) != 0.0f)
+                texel_box(image, valid, wrap_rows, si, sj, boxes);
     }
     return boxes;
 }
@@ -186,8 +190,9 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
     Image lp_boxes, gaze_boxes;
     if (colors) {
         out.bounds = Image(in.map.screen_width, in.map.screen_height, 6, 0.0f);
-        lp_boxes = texel_boxes(colors->lp_color, in.lp_valid, true);
-        if (in.gaze_valid) gaze_boxes = texel_boxes(*colors->gaze_color, *in.gaze_valid, false);
+        lp_boxes = texel_boxes(colors->lp_color, in.lp_valid, true, true);
+        if (in.gaze_valid)
+            gaze_boxes = texel_boxes(*colors->gaze_color, *in.gaze_valid, false, false);
     }
     const int gaze_width = in.gaze_valid ? in.gaze_valid->width : 0;
     // The table's texel indices address a one-channel mask (the stages' masks always are).

@@ -15,7 +15,9 @@
 //           gaze-buffer pixels (clamped to its window), the texel itself included, widened to
 //           hold the pixel's own pass-2 value (a mip resolve can lie outside the level-0 box);
 //           no source: the pass-2 value alone. The boxes are made once per texel (texel_boxes), as
-//           a GPU's buffer-space min/max pass would, and read by the pixels.
+//           a GPU's buffer-space min/max pass would, and read by the pixels; in the log-polar
+//           buffer only the traced texels' (a pixel's source there is always traced), so the
+//           off-screen and gaze-circle texels cost nothing.
 #pragma once
 
 #include <array>

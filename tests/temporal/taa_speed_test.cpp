@@ -207,8 +207,8 @@ TEST_CASE("TAA speed: the log-polar source table gives taa_source's sources") {
 // clamp-buffer's boxes eight texels at a time (texel_boxes_row_avx) against the reference, through
 // taa_source_pass with the SIMD paths on and off: buffers whose width is not a multiple of eight,
 // wrapped rows (the log-polar buffer) and clamped ones (the gaze buffer), masks with untraced
-// texels (a NaN mask counts as traced), and colours with -0, infinities and NaNs, whose min and max
-// depend on the order of the comparisons.
+// texels (a NaN mask counts as traced) and runs of them, and colours with -0, infinities and NaNs,
+// whose min and max depend on the order of the comparisons.
 TEST_CASE("TAA speed: the AVX texel boxes give the reference's bits") {
     if (!cpu_has_avx2()) MESSAGE("no AVX2 on this CPU: both runs take the reference");
     test::SplitMix64 rng(8);
@@ -243,6 +243,17 @@ TEST_CASE("TAA speed: the AVX texel boxes give the reference's bits") {
             fill(lp_color);
             fill(resolved);
             mask(lp_valid);
+            // Runs of untraced texels (as off-screen columns leave), some holding one traced
+            // texel: the AVX path skips the groups of eight with none traced, and only those.
+            for (int j = 0; j < map.height; ++j) {
+                const int start = static_cast<int>(rng.below(static_cast<std::size_t>(map.width)));
+                const int end = std::min(map.width, start + static_cast<int>(rng.below(40)));
+                for (int i = start; i < end; ++i) lp_valid.at(i, j) = 0.0f;
+                if (end > start && rng.below(2) == 0)
+                    lp_valid.at(
+                        start + static_cast<int>(rng.below(static_cast<std::size_t>(end - start))),
+                        j) = 1.0f;
+            }
             Image gaze_valid, gaze_depth, gaze_color;
             const bool composite = map.has_gaze_buffer();
             if (composite) {
