@@ -416,6 +416,32 @@ int taa_row_avx(const TaaParams& params, const TaaInputs& in, const TaaState& pr
     return groups * lanes;
 }
 
+namespace {
+
+/// Lanes a, a + 1, a + 2 of v, mod 8 (vpermps reads an index's low three bits), in lanes 0 .. 2.
+FOVREF_AVX2_INLINE __m128 pick3(__m256 v, int a) {
+    return _mm256_castps256_ps128(
+        _mm256_permutevar8x32_ps(v, _mm256_setr_epi32(a, a + 1, a + 2, a + 2, 0, 0, 0, 0)));
+}
+
+/// The eight texels' triples of 24 interleaved floats (texel l's channel c is float 3 l + c of
+/// v[0], v[1], v[2] in turn), texel l's three in lanes 0 .. 2 of triples[l] (lane 3 unspecified):
+/// permutes within a register, and a blend first for the two texels whose floats straddle two.
+FOVREF_AVX2_INLINE void texel_triples(const __m256* v, __m128* triples) {
+    triples[0] = _mm256_castps256_ps128(v[0]);
+    triples[1] = pick3(v[0], 3);
+    // floats 6, 7 | 8: float 8 (v[1] lane 0) into lane 0 of v[0], then lanes 6, 7, 0
+    triples[2] = pick3(_mm256_blend_ps(v[0], v[1], 0x01), 6);
+    triples[3] = pick3(v[1], 1);
+    triples[4] = _mm256_extractf128_ps(v[1], 1);
+    // floats 15 | 16, 17: float 15 (v[1] lane 7) into lane 7 of v[2], then lanes 7, 0, 1
+    triples[5] = pick3(_mm256_blend_ps(v[2], v[1], 0x80), 7);
+    triples[6] = pick3(v[2], 2);
+    triples[7] = pick3(v[2], 5);
+}
+
+}  // namespace
+
 bool texel_boxes_avx_applies(const Image& image, const Image& valid) {
     return image.channels == 3 && valid.channels == 1 && valid.width == image.width &&
            valid.height == image.height && image.width >= 10 && simd_allowed() && cpu_has_avx2();
@@ -423,7 +449,7 @@ bool texel_boxes_avx_applies(const Image& image, const Image& valid) {
 
 __attribute__((target("avx2"))) int texel_boxes_row_avx(const Image& image, const Image& valid,
                                                         bool wrap_rows, bool traced_only, int sj,
-                                                        Image& boxes) {
+                                                        float* records) {
     const int w = image.width, h = image.height;
     int rows[3];
     for (int dj = -1; dj <= 1; ++dj)
@@ -466,18 +492,15 @@ __attribute__((target("avx2"))) int texel_boxes_row_avx(const Image& image, cons
                 }
             }
         // Texel l's box is its three minima then its three maxima: four floats stored from each
-        // (the fourth overwritten by the next store; the last one lands on texel si + 8 of this
-        // row, which exists and is written after this group).
-        alignas(32) float lows[3 * lanes + 1], highs[3 * lanes + 1];
-        for (int k = 0; k < 3; ++k) {
-            _mm256_store_ps(lows + 8 * k, lo[k]);
-            _mm256_store_ps(highs + 8 * k, hi[k]);
-        }
-        lows[3 * lanes] = highs[3 * lanes] = 0.0f;
-        float* to = &boxes.data[boxes.index(si, sj)];
+        // (the fourth overwritten by the next store; the last one lands on the texel's float 6,
+        // which the caller writes after this group), taken from the registers (texel_triples)
+        float* to = records + static_cast<std::size_t>(si) * taa_record_channels;
+        __m128 lows[lanes], highs[lanes];
+        texel_triples(lo, lows);
+        texel_triples(hi, highs);
         for (int l = 0; l < lanes; ++l) {
-            _mm_storeu_ps(to + 6 * l, _mm_loadu_ps(lows + 3 * l));
-            _mm_storeu_ps(to + 6 * l + 3, _mm_loadu_ps(highs + 3 * l));
+            _mm_storeu_ps(to + taa_record_channels * l, lows[l]);
+            _mm_storeu_ps(to + taa_record_channels * l + 3, highs[l]);
         }
     }
     return si;

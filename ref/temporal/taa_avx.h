@@ -32,8 +32,15 @@ int taa_row_avx(const TaaParams& params, const TaaInputs& in, const TaaState& pr
 /// wide, simd_allowed() and a CPU with AVX2.
 bool texel_boxes_avx_applies(const Image& image, const Image& valid);
 
+/// The channels of a texel's record in the box pass's output (taa_foveated.cpp): its box (min r,
+/// g, b, max r, g, b), then its view depth and its traced mask, so that a pixel finds all it
+/// reads of its source in one 32-byte record.
+constexpr int taa_record_channels = 8;
+
 /// The boxes of texels 1 .. 8 k of row sj (k = floor((W - 2) / 8): every tap of theirs lies
-/// inside the row's columns, none clamped) as the reference's per-texel box computes them: each
+/// inside the row's columns, none clamped) into floats 0 .. 5 of their records (`records`: the
+/// row's W records of taa_record_channels floats; float 6 of each of those texels is
+/// overwritten, the caller writes it after), as the reference's per-texel box computes them: each
 /// lane starts from its texel, then takes the min and max with each traced tap in the reference's
 /// order (rows sj - 1, sj, sj + 1, wrapped or clamped as the reference does; columns -1, 0, +1),
 /// as std::min and std::max do. With `traced_only`, a group of eight whose texels are all
@@ -41,6 +48,6 @@ bool texel_boxes_avx_applies(const Image& image, const Image& valid);
 /// there). Returns 1 + 8 k, the first column left to the reference. Only where
 /// texel_boxes_avx_applies.
 int texel_boxes_row_avx(const Image& image, const Image& valid, bool wrap_rows, bool traced_only,
-                        int sj, Image& boxes);
+                        int sj, float* records);
 
 }  // namespace fovref

@@ -1,6 +1,7 @@
 #include "ref/temporal/taa_foveated.h"
 
 #include <algorithm>
+#include <memory>
 #include <utility>
 
 #include "ref/core/error.h"
@@ -71,10 +72,9 @@ namespace {
 // The box of every texel (or gaze pixel) of `image`: min (r, g, b) and max (r, g, b) over its
 // 3x3 neighbourhood of traced texels, starting from the texel itself; columns clamped, rows
 // wrapped (`wrap_rows`, the angle axis) or clamped. Made once per buffer (a GPU's buffer-space
-// min/max pass); the screen pixels then read the box of their source texel. `traced_only`: only
-// the traced texels' boxes (the others stay 0), for a buffer whose sources are always traced.
+// min/max pass); the screen pixels then read the box of their source texel.
 void texel_box(const Image& image, const Image& valid, bool wrap_rows, int si, int sj,
-               Image& boxes) {
+               float* record) {
     float lo[3], hi[3];
     for (int c = 0; c < 3; ++c) lo[c] = hi[c] = image.at(si, sj, c);
     for (int dj = -1; dj <= 1; ++dj)
@@ -89,28 +89,42 @@ void texel_box(const Image& image, const Image& valid, bool wrap_rows, int si, i
             }
         }
     for (int c = 0; c < 3; ++c) {
-        boxes.at(si, sj, c) = lo[c];
-        boxes.at(si, sj, 3 + c) = hi[c];
+        record[c] = lo[c];
+        record[3 + c] = hi[c];
     }
 }
 
-Image texel_boxes(const Image& image, const Image& valid, bool wrap_rows, bool traced_only) {
-    Image boxes(image.width, image.height, 6, 0.0f);
+// Every texel's record (taa_record_channels floats, row-major): its box (texel_box), its depth
+// and its mask as `depth` and `valid` hold them; a pixel reads its source's three from one
+// record. With `traced_only` only the traced texels get a box (the others' first six floats are
+// never written, nor read), for a buffer whose sources are always traced (the log-polar one: its
+// off-screen and gaze-circle texels cost nothing, and the records need no fill).
+std::unique_ptr<float[]> texel_records(const Image& image, const Image& valid, const Image& depth,
+                                       bool wrap_rows, bool traced_only) {
+    const std::size_t row_floats = static_cast<std::size_t>(image.width) * taa_record_channels;
+    auto records = std::make_unique_for_overwrite<float[]>(row_floats * image.height);
     // Column 0 by texel_box, then eight texels at a time where the AVX2 path covers the image
-    // (the same bits: taa_avx.h), then the rest by texel_box
+    // (the same bits: taa_avx.h), then the rest by texel_box; then the row's depths and masks
     const bool avx = texel_boxes_avx_applies(image, valid);
     for (int sj = 0; sj < image.height; ++sj) {
+        float* row = &records[row_floats * static_cast<std::size_t>(sj)];
+        const auto box = [&](int si) {
+            if (!traced_only || valid.at(si, sj) != 0.0f)
+                texel_box(image, valid, wrap_rows, si, sj,
+                          row + static_cast<std::size_t>(si) * taa_record_channels);
+        };
         int si = 0;
         if (avx) {
-            if (!traced_only || valid.at(0, sj) != 0.0f)
-                texel_box(image, valid, wrap_rows, 0, sj, boxes);
-            si = texel_boxes_row_avx(image, valid, wrap_rows, traced_only, sj, boxes);
+            box(0);
+            si = texel_boxes_row_avx(image, valid, wrap_rows, traced_only, sj, row);
         }
-        for (; si < image.width; ++si)
-            if (!traced_only || valid.at(si, sj) != 0.0f)
-                texel_box(image, valid, wrap_rows, si, sj, boxes);
+        for (; si < image.width; ++si) box(si);
+        for (si = 0; si < image.width; ++si) {
+            row[static_cast<std::size_t>(si) * taa_record_channels + 6] = depth.at(si, sj);
+            row[static_cast<std::size_t>(si) * taa_record_channels + 7] = valid.at(si, sj);
+        }
     }
-    return boxes;
+    return records;
 }
 
 }  // namespace
@@ -161,15 +175,16 @@ bool taa_source_table_fits(const TaaSourceTable& table, const TaaBufferInputs& i
 
 namespace {
 
-// Pixel p's source from the table: its kind and the texel's row-major index in its buffer.
+// Pixel p's source from the table: its kind and the texel's row-major index in its buffer. The
+// mask of texel t is valid[t * stride] (the mask itself, or the texel records' channel 7).
 TaaSource::Kind table_source(const TaaSourceTable& table, std::size_t p, const float* valid,
-                             std::size_t& texel) {
+                             std::size_t stride, std::size_t& texel) {
     const int count = table.count[p];
     texel = static_cast<std::size_t>(table.first[p]);
     if (count < 0) return TaaSource::Kind::gaze;
     for (int k = 0; k < count; ++k) {
         if (k > 0) texel = static_cast<std::size_t>(table.rest[p][static_cast<std::size_t>(k - 1)]);
-        if (valid[texel] != 0.0f) return TaaSource::Kind::buffer;
+        if (valid[texel * stride] != 0.0f) return TaaSource::Kind::buffer;
     }
     return TaaSource::Kind::none;
 }
@@ -183,27 +198,35 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
     FOVREF_CHECK(!table || taa_source_table_fits(*table, in),
                  "a TAA source table made for another map");
     FOVREF_CHECK(in.gaze_valid == nullptr || gaze_depth != nullptr, "gaze depth missing");
+    FOVREF_CHECK(lp_depth.width == in.map.width && lp_depth.height == in.map.height &&
+                     (!in.gaze_valid || (gaze_depth->width == in.gaze_valid->width &&
+                                         gaze_depth->height == in.gaze_valid->height)),
+                 "a view depth of another size than its buffer");
     FOVREF_CHECK(!colors || in.gaze_valid == nullptr || colors->gaze_color != nullptr,
                  "gaze colour missing");
     TaaSourceOutputs out;
     out.depth = Image(in.map.screen_width, in.map.screen_height, 1, 0.0f);
-    Image lp_boxes, gaze_boxes;
+    // With colours each texel's box, depth and mask come from its record (texel_records).
+    std::unique_ptr<float[]> lp_records, gaze_records;
     if (colors) {
         out.bounds = Image(in.map.screen_width, in.map.screen_height, 6, 0.0f);
-        lp_boxes = texel_boxes(colors->lp_color, in.lp_valid, true, true);
+        lp_records = texel_records(colors->lp_color, in.lp_valid, lp_depth, true, true);
         if (in.gaze_valid)
-            gaze_boxes = texel_boxes(*colors->gaze_color, *in.gaze_valid, false, false);
+            gaze_records =
+                texel_records(*colors->gaze_color, *in.gaze_valid, *gaze_depth, false, false);
     }
     const int gaze_width = in.gaze_valid ? in.gaze_valid->width : 0;
     // The table's texel indices address a one-channel mask (the stages' masks always are).
     if (in.lp_valid.channels != 1) table = nullptr;
+    const float* table_mask = colors ? &lp_records[7] : in.lp_valid.data.data();
+    const std::size_t mask_stride = colors ? taa_record_channels : 1;
     for (int y = 0; y < out.depth.height; ++y)
         for (int x = 0; x < out.depth.width; ++x) {
             const std::size_t p = static_cast<std::size_t>(y) * out.depth.width + x;
             std::size_t texel = 0;
             TaaSource::Kind kind;
             if (table) {
-                kind = table_source(*table, p, in.lp_valid.data.data(), texel);
+                kind = table_source(*table, p, table_mask, mask_stride, texel);
             } else {
                 const TaaSource s = taa_source(in, x, y);
                 kind = s.kind;
@@ -213,9 +236,11 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
                         static_cast<std::size_t>(s.i);
             }
             const bool gaze = kind == TaaSource::Kind::gaze;
-            if (kind != TaaSource::Kind::none)
-                out.depth.data[p] = gaze ? gaze_depth->data[texel] : lp_depth.data[texel];
-            if (!colors) continue;
+            if (!colors) {
+                if (kind != TaaSource::Kind::none)
+                    out.depth.data[p] = gaze ? gaze_depth->data[texel] : lp_depth.data[texel];
+                continue;
+            }
             if (kind == TaaSource::Kind::none) {
                 for (int c = 0; c < 3; ++c)
                     out.bounds.at(x, y, c) = out.bounds.at(x, y, 3 + c) =
@@ -224,7 +249,8 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
             }
             // The box, widened to hold pass 2's own value (a mip resolve mixes coarser levels,
             // which can lie outside the level-0 box; bilinear pass 2 lies inside it).
-            const float* box = &(gaze ? gaze_boxes : lp_boxes).data[texel * 6];
+            const float* box = &(gaze ? gaze_records : lp_records)[texel * taa_record_channels];
+            out.depth.data[p] = box[6];
             for (int c = 0; c < 3; ++c) {
                 const float v = colors->screen_color.at(x, y, c);
                 out.bounds.at(x, y, c) = std::min(box[c], v);

@@ -14,10 +14,11 @@
 //           traced texels (columns clamped, rows wrapped: the angle axis) or of traced
 //           gaze-buffer pixels (clamped to its window), the texel itself included, widened to
 //           hold the pixel's own pass-2 value (a mip resolve can lie outside the level-0 box);
-//           no source: the pass-2 value alone. The boxes are made once per texel (texel_boxes), as
-//           a GPU's buffer-space min/max pass would, and read by the pixels; in the log-polar
-//           buffer only the traced texels' (a pixel's source there is always traced), so the
-//           off-screen and gaze-circle texels cost nothing.
+//           no source: the pass-2 value alone. The boxes are made once per texel, as a GPU's
+//           buffer-space min/max pass would, and read by the pixels; in the log-polar buffer only
+//           the traced texels' (a pixel's source there is always traced), so the off-screen and
+//           gaze-circle texels cost nothing. Each texel's box, depth and mask are kept together
+//           in one 32-byte record (texel_records), so that a pixel's source costs one cache line.
 #pragma once
 
 #include <array>
