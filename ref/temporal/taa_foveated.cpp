@@ -204,6 +204,17 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
                  "a view depth of another size than its buffer");
     FOVREF_CHECK(!colors || in.gaze_valid == nullptr || colors->gaze_color != nullptr,
                  "gaze colour missing");
+    if (colors) {
+        const auto rgb_of_size = [](const Image& image, int width, int height) {
+            return image.channels == 3 && image.width == width && image.height == height;
+        };
+        FOVREF_CHECK(
+            rgb_of_size(colors->lp_color, in.map.width, in.map.height) &&
+                rgb_of_size(colors->screen_color, in.map.screen_width, in.map.screen_height) &&
+                (!in.gaze_valid ||
+                 rgb_of_size(*colors->gaze_color, in.gaze_valid->width, in.gaze_valid->height)),
+            "a colour buffer that is not RGB of its mask's or the screen's size");
+    }
     TaaSourceOutputs out;
     out.depth = Image(in.map.screen_width, in.map.screen_height, 1, 0.0f);
     // With colours each texel's box, depth and mask come from its record (texel_records).

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 
+#include "ref/core/error.h"
 #include "ref/core/simd.h"
 #include "ref/log_polar/map.h"
 #include "ref/log_polar/params.h"
@@ -202,6 +203,37 @@ TEST_CASE("TAA speed: the log-polar source table gives taa_source's sources") {
         CHECK_FALSE(taa_source_table_fits(
             table, {moved, forward_table(moved), lp_valid, composite ? &gaze_valid : nullptr}));
     }
+}
+
+// The texel records index the colours, depths and masks together, so taa_source_pass checks that
+// they agree in size (and that the colours are RGB) before it reads any of them.
+TEST_CASE("TAA speed: taa_source_pass refuses buffers of the wrong size") {
+    const LogPolarMap map =
+        make_log_polar_map(find_foveation_preset("cfov").map, 97, 61, {40.0f, 33.0f}, 60.0f);
+    REQUIRE(map.has_gaze_buffer());
+    const ForwardTable forward = forward_table(map);
+    const ScreenWindow window = gaze_window(map);
+    const Image lp_valid(map.width, map.height, 1, 1.0f), lp_depth(map.width, map.height, 1, 2.0f);
+    const Image lp_color(map.width, map.height, 3, 0.5f), resolved(97, 61, 3, 0.5f);
+    const Image gaze_valid(window.width, window.height, 1, 1.0f);
+    const Image gaze_depth(window.width, window.height, 1, 2.0f);
+    const Image gaze_color(window.width, window.height, 3, 0.5f);
+    const TaaBufferInputs in{map, forward, lp_valid, &gaze_valid};
+    const TaaBoxColors good{lp_color, &gaze_color, resolved};
+    CHECK_NOTHROW(taa_source_pass(in, lp_depth, &gaze_depth, &good));
+    const Image narrow(map.width - 1, map.height, 3), grey(97, 61, 1);
+    const Image short_depth(map.width, map.height - 1, 1);
+    const TaaBoxColors bad_lp{narrow, &gaze_color, resolved};
+    const TaaBoxColors bad_screen{lp_color, &gaze_color, grey};
+    const TaaBoxColors bad_gaze{lp_color, &narrow, resolved};
+    for (const TaaBoxColors* bad : {&bad_lp, &bad_screen, &bad_gaze})
+        CHECK_THROWS_WITH_AS(taa_source_pass(in, lp_depth, &gaze_depth, bad),
+                             doctest::Contains("not RGB of its mask's or the screen's size"),
+                             Error);
+    CHECK_THROWS_WITH_AS(taa_source_pass(in, short_depth, &gaze_depth, &good),
+                         doctest::Contains("view depth of another size"), Error);
+    CHECK_THROWS_WITH_AS(taa_source_pass(in, lp_depth, &short_depth, &good),
+                         doctest::Contains("view depth of another size"), Error);
 }
 
 // clamp-buffer's boxes eight texels at a time (texel_boxes_row_avx) against the reference, through
