@@ -98,7 +98,8 @@ void texel_box(const Image& image, const Image& valid, bool wrap_rows, int si, i
 // and its mask as `depth` and `valid` hold them; a pixel reads its source's three from one
 // record. With `traced_only` only the traced texels get a box (the others' first six floats are
 // never written, nor read), for a buffer whose sources are always traced (the log-polar one: its
-// off-screen and gaze-circle texels cost nothing, and the records need no fill).
+// off-screen and gaze-circle texels cost nothing). The records are not zero-filled: every
+// record's depth and mask are written, and every box a pixel can read.
 std::unique_ptr<float[]> texel_records(const Image& image, const Image& valid, const Image& depth,
                                        bool wrap_rows, bool traced_only) {
     const std::size_t row_floats = static_cast<std::size_t>(image.width) * taa_record_channels;
@@ -198,10 +199,12 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
     FOVREF_CHECK(!table || taa_source_table_fits(*table, in),
                  "a TAA source table made for another map");
     FOVREF_CHECK(in.gaze_valid == nullptr || gaze_depth != nullptr, "gaze depth missing");
-    FOVREF_CHECK(lp_depth.width == in.map.width && lp_depth.height == in.map.height &&
-                     (!in.gaze_valid || (gaze_depth->width == in.gaze_valid->width &&
-                                         gaze_depth->height == in.gaze_valid->height)),
-                 "a view depth of another size than its buffer");
+    const auto depth_of_size = [](const Image& depth, const Image& mask) {
+        return depth.channels == 1 && depth.width == mask.width && depth.height == mask.height;
+    };
+    FOVREF_CHECK(depth_of_size(lp_depth, in.lp_valid) &&
+                     (!in.gaze_valid || depth_of_size(*gaze_depth, *in.gaze_valid)),
+                 "a view depth of another size than its buffer (or not one channel)");
     FOVREF_CHECK(!colors || in.gaze_valid == nullptr || colors->gaze_color != nullptr,
                  "gaze colour missing");
     if (colors) {

@@ -81,8 +81,8 @@ bool taa_source_table_fits(const TaaSourceTable& table, const TaaBufferInputs& i
 
 /// The pass: every pixel's source, its depth and, with `colors`, its clamp box. `table` (made
 /// for `in`: taa_source_table) replaces the per-pixel taa_source: the same sources. Throws
-/// fovref::Error when a depth is not its mask's size or a colour is not RGB of its mask's (the
-/// buffers) or the screen's size (pass 2's output).
+/// fovref::Error when a depth is not one channel of its mask's size or a colour is not RGB of its
+/// mask's (the buffers) or the screen's size (pass 2's output).
 TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_depth,
                                  const Image* gaze_depth, const TaaBoxColors* colors = nullptr,
                                  const TaaSourceTable* table = nullptr);
