@@ -92,9 +92,9 @@ template <class GroupTaps>
 FOVREF_AVX_INLINE void gather_taps(const BmfrHistory& history, const GroupTaps& g, Taps& t) {
     const std::size_t pixels = history.spp.data.size();
     for (int k = 0; k < 4; ++k) {
-        const int on = bits(g.on[k]);
         std::size_t at[lanes];
-        for (int l = 0; l < lanes; ++l) at[l] = (on >> l & 1) ? g.index(k, l) : 0;
+        tap_pixels(
+            g.on[k], k, [&](int tap, int l) { return g.index(tap, l); }, at);
         load3_pixels(history.world_position.data.data(), pixels, at, g.on[k], t.position[k]);
         load3_pixels(history.normal.data.data(), pixels, at, g.on[k], t.normal[k]);
         load3_pixels(history.accumulated_noisy.data.data(), pixels, at, g.on[k], t.color[k]);

@@ -128,15 +128,21 @@ FOVREF_AVX_INLINE void load3_pixels(const float* rgb, std::size_t pixels, const 
     for (int c = 0; c < 3; ++c) _mm256_store_ps(out[c], select(on, v[c], zero()));
 }
 
+/// Tap k's pixel index(k, l) of each lane l of `on`, 0 in the others (load3_pixels' `at`).
+template <class Index>
+FOVREF_AVX_INLINE void tap_pixels(__m256 on, int k, Index index, std::size_t* at) {
+    const int on_bits = _mm256_movemask_ps(on);
+    for (int l = 0; l < lanes; ++l) at[l] = (on_bits >> l & 1) ? index(k, l) : 0;
+}
+
 /// load3_pixels for each of four taps: tap k's pixel of lane l is index(k, l) where on[k] holds
 /// the lane; taps[k][c][l] its channel c (+0 where off).
 template <class Index>
 FOVREF_AVX_INLINE void load3_taps(const float* rgb, std::size_t pixels, const __m256* on,
                                   Index index, float (*taps)[3][lanes]) {
     for (int k = 0; k < 4; ++k) {
-        const int on_bits = _mm256_movemask_ps(on[k]);
         std::size_t at[lanes];
-        for (int l = 0; l < lanes; ++l) at[l] = (on_bits >> l & 1) ? index(k, l) : 0;
+        tap_pixels(on[k], k, index, at);
         load3_pixels(rgb, pixels, at, on[k], taps[k]);
     }
 }

@@ -190,34 +190,36 @@ TaaSource::Kind table_source(const TaaSourceTable& table, std::size_t p, const f
     return TaaSource::Kind::none;
 }
 
+// taa_source_pass's inputs: the buffers agree with the map, and the depths and colours with
+// their masks (or the screen), as the texel records index them together.
+void check_pass_inputs(const TaaBufferInputs& in, const Image& lp_depth, const Image* gaze_depth,
+                       const TaaBoxColors* colors, const TaaSourceTable* table) {
+    check_inputs(in);
+    FOVREF_CHECK(!table || taa_source_table_fits(*table, in),
+                 "a TAA source table made for another map");
+    FOVREF_CHECK(in.gaze_valid == nullptr || gaze_depth != nullptr, "gaze depth missing");
+    // `channels` channels of a mask's (or the screen's) width x height
+    const auto shaped = [](const Image& image, int channels, int width, int height) {
+        return image.channels == channels && image.width == width && image.height == height;
+    };
+    const Image* gaze = in.gaze_valid;
+    FOVREF_CHECK(shaped(lp_depth, 1, in.lp_valid.width, in.lp_valid.height) &&
+                     (!gaze || shaped(*gaze_depth, 1, gaze->width, gaze->height)),
+                 "a view depth of another size than its buffer (or not one channel)");
+    FOVREF_CHECK(!colors || !gaze || colors->gaze_color != nullptr, "gaze colour missing");
+    FOVREF_CHECK(
+        !colors || (shaped(colors->lp_color, 3, in.map.width, in.map.height) &&
+                    shaped(colors->screen_color, 3, in.map.screen_width, in.map.screen_height) &&
+                    (!gaze || shaped(*colors->gaze_color, 3, gaze->width, gaze->height))),
+        "a colour buffer that is not RGB of its mask's or the screen's size");
+}
+
 }  // namespace
 
 TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_depth,
                                  const Image* gaze_depth, const TaaBoxColors* colors,
                                  const TaaSourceTable* table) {
-    check_inputs(in);
-    FOVREF_CHECK(!table || taa_source_table_fits(*table, in),
-                 "a TAA source table made for another map");
-    FOVREF_CHECK(in.gaze_valid == nullptr || gaze_depth != nullptr, "gaze depth missing");
-    const auto depth_of_size = [](const Image& depth, const Image& mask) {
-        return depth.channels == 1 && depth.width == mask.width && depth.height == mask.height;
-    };
-    FOVREF_CHECK(depth_of_size(lp_depth, in.lp_valid) &&
-                     (!in.gaze_valid || depth_of_size(*gaze_depth, *in.gaze_valid)),
-                 "a view depth of another size than its buffer (or not one channel)");
-    FOVREF_CHECK(!colors || in.gaze_valid == nullptr || colors->gaze_color != nullptr,
-                 "gaze colour missing");
-    if (colors) {
-        const auto rgb_of_size = [](const Image& image, int width, int height) {
-            return image.channels == 3 && image.width == width && image.height == height;
-        };
-        FOVREF_CHECK(
-            rgb_of_size(colors->lp_color, in.map.width, in.map.height) &&
-                rgb_of_size(colors->screen_color, in.map.screen_width, in.map.screen_height) &&
-                (!in.gaze_valid ||
-                 rgb_of_size(*colors->gaze_color, in.gaze_valid->width, in.gaze_valid->height)),
-            "a colour buffer that is not RGB of its mask's or the screen's size");
-    }
+    check_pass_inputs(in, lp_depth, gaze_depth, colors, table);
     TaaSourceOutputs out;
     out.depth = Image(in.map.screen_width, in.map.screen_height, 1, 0.0f);
     // With colours each texel's box, depth and mask come from its record (texel_records).
