@@ -100,6 +100,27 @@ const std::string& FrameContext::buffer_of(const std::string& slot) const {
     return input_buffer(*this, slot);
 }
 
+Image FrameContext::recycled(const std::string& slot, int width, int height, int channels) {
+    FOVREF_CHECK(stage != nullptr && find_port(stage->outputs, slot) != nullptr,
+                 "storage asked for '" + slot + "', which the running stage does not write");
+    const std::string& name = buffer_of(slot);
+    if (std::find(recyclable.begin(), recyclable.end(), name) == recyclable.end())
+        recyclable.push_back(name);
+    for (Buffer& b : spare)
+        if (b.name == name && b.image.width == width && b.image.height == height &&
+            b.image.channels == channels)
+            return std::move(b.image);
+    return Image(width, height, channels, 0.0f);
+}
+
+void FrameContext::hand_back(FrameResult& done) {
+    spare.clear();
+    for (Buffer& b : done.buffers)
+        if (!b.image.empty() &&
+            std::find(recyclable.begin(), recyclable.end(), b.name) != recyclable.end())
+            spare.push_back(std::move(b));
+}
+
 const Image& FrameContext::resumed(const std::string& name, int channels, const std::string& what,
                                    std::optional<glm::ivec2> size) const {
     const int width = size ? size->x : settings->width;
@@ -302,6 +323,7 @@ std::vector<std::string> render_each(const Scene* scene, const ModeInfo& mode,
             result.camera = camera;
         }
         on_frame(result);
+        context.hand_back(result);
     }
     return pipeline.final_outputs;
 }

@@ -118,6 +118,18 @@ struct FrameContext {
     /// The running stage's state as its own type; throws when it has none of that type.
     template <class T>
     T& state() const;
+    /// Storage for output `slot` of the running stage, width x height x channels, for a pass
+    /// that writes every value of it: the storage of the same buffer of an earlier frame when
+    /// hand_back kept one of that shape (its values are that frame's, which the pass must not
+    /// read), else a new image of zeros. It saves the zero fill of a new image each frame (22 MB
+    /// for clamp-buffer's taa_bounds). Asking marks the buffer for hand_back.
+    Image recycled(const std::string& slot, int width, int height, int channels);
+    /// Keeps, for the next frame's recycled(), the buffers of `done` that recycled() has asked
+    /// for and its caller left in it (the rest goes with the frame). render_each calls it once
+    /// the frame's callback has returned, when nothing can read the frame's buffers any more.
+    void hand_back(FrameResult& done);
+    std::vector<std::string> recyclable;  ///< the buffers recycled() has asked for
+    std::vector<Buffer> spare;            ///< what hand_back kept
     /// Buffer `name` of frame F - 1 for a stage that carries state (`what`: "TAA", "BMFR") into
     /// the first frame F > 0 rendered, from RenderSettings::state_buffers (`fovref render
     /// --resume DIR`). Throws fovref::Error naming --resume when it is missing or not

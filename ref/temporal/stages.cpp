@@ -131,10 +131,15 @@ void taa_source_stage(FrameContext& ctx) {
                                     in.gaze_valid ? &ctx.input("gaze_color") : nullptr,
                                     ctx.input("resolved")});
     if (!taa_source_table_fits(state.table, in)) state.table = taa_source_table(in);
-    TaaSourceOutputs out = taa_source_pass(in, ctx.input("lp_depth"),
-                                           in.gaze_valid ? &ctx.input("gaze_depth") : nullptr,
-                                           colors ? &*colors : nullptr, &state.table);
+    // The pass writes every value of its outputs: an earlier frame's storage saves their zero
+    // fill (kfr's depth is not output, so not recycled).
     const bool deferred = frames.params.deferred;
+    TaaSourceOutputs storage;
+    if (!deferred) storage.depth = ctx.recycled("depth", map.screen_width, map.screen_height, 1);
+    if (boxes) storage.bounds = ctx.recycled("bounds", map.screen_width, map.screen_height, 6);
+    TaaSourceOutputs out = taa_source_pass(
+        in, ctx.input("lp_depth"), in.gaze_valid ? &ctx.input("gaze_depth") : nullptr,
+        colors ? &*colors : nullptr, &state.table, std::move(storage));
     ctx.note = std::string("the texel pass 2 sampled (nearest traced tap): ") +
                (deferred ? "its 3x3 box in the buffer"
                 : boxes  ? "its view depth and its 3x3 box in the buffer"

@@ -190,6 +190,29 @@ TaaSource::Kind table_source(const TaaSourceTable& table, std::size_t p, const f
     return TaaSource::Kind::none;
 }
 
+// What the per-pixel pass reads of a source texel t: lp[k][t * stride] in the log-polar buffer,
+// gaze[k][t * stride] in the gaze buffer (null where nothing is read).
+struct SourceReads {
+    const float* lp[2] = {nullptr, nullptr};
+    const float* gaze[2] = {nullptr, nullptr};
+    std::size_t stride = 1;
+};
+
+// How many pixels ahead the table path prefetches its first tap's reads. Those reads are
+// scattered (a screen row crosses many of the buffer's rows), and waiting on them was most of
+// the pass (perf annotate); a prefetch changes no value.
+constexpr std::size_t prefetch_ahead = 64;
+
+// Prefetches what pixel q reads of its first tap (the source of most pixels). Always inlined: a
+// function whose only effect is a prefetch counts as pure to g++, which then drops its calls.
+[[gnu::always_inline]] inline void prefetch_source(const TaaSourceTable& table, std::size_t q,
+                                                   const SourceReads& reads) {
+    if (q >= table.count.size()) return;
+    const std::size_t offset = static_cast<std::size_t>(table.first[q]) * reads.stride;
+    for (const float* base : table.count[q] < 0 ? reads.gaze : reads.lp)
+        if (base) __builtin_prefetch(base + offset);
+}
+
 // taa_source_pass's inputs: the buffers agree with the map, and the depths and colours with
 // their masks (or the screen), as the texel records index them together.
 void check_pass_inputs(const TaaBufferInputs& in, const Image& lp_depth, const Image* gaze_depth,
@@ -218,14 +241,20 @@ void check_pass_inputs(const TaaBufferInputs& in, const Image& lp_depth, const I
 
 TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_depth,
                                  const Image* gaze_depth, const TaaBoxColors* colors,
-                                 const TaaSourceTable* table) {
+                                 const TaaSourceTable* table, TaaSourceOutputs storage) {
     check_pass_inputs(in, lp_depth, gaze_depth, colors, table);
-    TaaSourceOutputs out;
-    out.depth = Image(in.map.screen_width, in.map.screen_height, 1, 0.0f);
+    TaaSourceOutputs out = std::move(storage);
+    // The storage where it has the outputs' shapes (every value is written below), else new
+    const auto shape = [&in](Image& image, int channels) {
+        if (image.width != in.map.screen_width || image.height != in.map.screen_height ||
+            image.channels != channels)
+            image = Image(in.map.screen_width, in.map.screen_height, channels, 0.0f);
+    };
+    shape(out.depth, 1);
     // With colours each texel's box, depth and mask come from its record (texel_records).
     std::unique_ptr<float[]> lp_records, gaze_records;
     if (colors) {
-        out.bounds = Image(in.map.screen_width, in.map.screen_height, 6, 0.0f);
+        shape(out.bounds, 6);
         lp_records = texel_records(colors->lp_color, in.lp_valid, lp_depth, true, true);
         if (in.gaze_valid)
             gaze_records =
@@ -236,12 +265,20 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
     if (in.lp_valid.channels != 1) table = nullptr;
     const float* table_mask = colors ? &lp_records[7] : in.lp_valid.data.data();
     const std::size_t mask_stride = colors ? taa_record_channels : 1;
+    SourceReads reads;
+    if (colors)
+        reads = {{lp_records.get(), nullptr}, {gaze_records.get(), nullptr}, taa_record_channels};
+    else
+        reads = {{table_mask, lp_depth.data.data()},
+                 {gaze_depth ? gaze_depth->data.data() : nullptr, nullptr},
+                 1};
     for (int y = 0; y < out.depth.height; ++y)
         for (int x = 0; x < out.depth.width; ++x) {
             const std::size_t p = static_cast<std::size_t>(y) * out.depth.width + x;
             std::size_t texel = 0;
             TaaSource::Kind kind;
             if (table) {
+                prefetch_source(*table, p + prefetch_ahead, reads);
                 kind = table_source(*table, p, table_mask, mask_stride, texel);
             } else {
                 const TaaSource s = taa_source(in, x, y);
@@ -253,11 +290,13 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
             }
             const bool gaze = kind == TaaSource::Kind::gaze;
             if (!colors) {
-                if (kind != TaaSource::Kind::none)
-                    out.depth.data[p] = gaze ? gaze_depth->data[texel] : lp_depth.data[texel];
+                out.depth.data[p] = kind == TaaSource::Kind::none ? 0.0f
+                                    : gaze                        ? gaze_depth->data[texel]
+                                                                  : lp_depth.data[texel];
                 continue;
             }
             if (kind == TaaSource::Kind::none) {
+                out.depth.data[p] = 0.0f;
                 for (int c = 0; c < 3; ++c)
                     out.bounds.at(x, y, c) = out.bounds.at(x, y, 3 + c) =
                         colors->screen_color.at(x, y, c);

@@ -80,11 +80,15 @@ TaaSourceTable taa_source_table(const TaaBufferInputs& in);
 bool taa_source_table_fits(const TaaSourceTable& table, const TaaBufferInputs& in);
 
 /// The pass: every pixel's source, its depth and, with `colors`, its clamp box. `table` (made
-/// for `in`: taa_source_table) replaces the per-pixel taa_source: the same sources. Throws
-/// fovref::Error when a depth is not one channel of its mask's size or a colour is not RGB of its
-/// mask's (the buffers) or the screen's size (pass 2's output).
+/// for `in`: taa_source_table) replaces the per-pixel taa_source: the same sources. `storage`:
+/// images the outputs are written into when they have the outputs' shapes (W x H x 1, W x H x 6;
+/// a stage recycles an earlier frame's): every value is written, none of theirs is read;
+/// otherwise the outputs are made anew. Throws fovref::Error when a depth is not one channel of
+/// its mask's size or a colour is not RGB of its mask's (the buffers) or the screen's size (pass
+/// 2's output).
 TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_depth,
                                  const Image* gaze_depth, const TaaBoxColors* colors = nullptr,
-                                 const TaaSourceTable* table = nullptr);
+                                 const TaaSourceTable* table = nullptr,
+                                 TaaSourceOutputs storage = {});
 
 }  // namespace fovref

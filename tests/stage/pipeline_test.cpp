@@ -415,3 +415,102 @@ TEST_CASE("pipeline: a stage leaves out the outputs nobody wants, and only those
         CHECK(asked.find("resolve_tap_margin") != nullptr);
     }
 }
+
+namespace {
+
+// A stage that writes every value of its output into recycled storage: it records what the
+// storage held and where it lies, then writes frame + 1 everywhere.
+struct RecycleState : StageState {
+    int width = 3;
+    std::vector<float> seen;       ///< the storage's values before the stage wrote
+    const float* where = nullptr;  ///< the storage's address
+};
+
+void fill_recycled(FrameContext& ctx) {
+    RecycleState& state = ctx.state<RecycleState>();
+    Image image = ctx.recycled("out", state.width, 2, 1);
+    state.seen = image.data;
+    state.where = image.data.data();
+    for (float& v : image.data) v = static_cast<float>(ctx.frame + 1);
+    ctx.output("out", BufferKind::scalar, {"v"}, std::move(image));
+}
+
+void recycles_undeclared(FrameContext& ctx) { (void)ctx.recycled("elsewhere", 1, 1, 1); }
+
+}  // namespace
+
+// FrameContext::recycled hands a stage the storage of its output's buffer from an earlier frame,
+// only when the frame's caller left it (hand_back), of the same shape; else zeros.
+TEST_CASE("pipeline: an output's storage is recycled from what the caller handed back") {
+    auto state = std::make_shared<RecycleState>();
+    Pipeline p;
+    p.stages.push_back({"fill", {}, {{"out", "filled"}}, fill_recycled, state});
+    p.final_outputs = {"filled"};
+    FrameContext ctx;
+    const auto run = [&](int frame) {
+        ctx.frame = frame;
+        return p.run_frame(ctx, {});
+    };
+    FrameResult r0 = run(0);
+    CHECK(state->seen == std::vector<float>(6, 0.0f));  // nothing handed back yet: zeros
+    CHECK(ctx.recyclable == std::vector<std::string>{"filled"});
+    const float* first = state->where;
+    ctx.hand_back(r0);
+    FrameResult r1 = run(1);
+    CHECK(state->seen == std::vector<float>(6, 1.0f));  // frame 0's storage and values
+    CHECK(state->where == first);
+    CHECK(r1.find("filled")->image.data == std::vector<float>(6, 2.0f));
+    // what the caller moved away is not handed back
+    const Image kept = std::move(r1.buffers.at(0).image);
+    ctx.hand_back(r1);
+    CHECK(ctx.spare.empty());
+    FrameResult r2 = run(2);
+    CHECK(state->seen == std::vector<float>(6, 0.0f));
+    // storage of another shape is not used
+    ctx.hand_back(r2);
+    state->width = 4;
+    run(3);
+    CHECK(state->seen == std::vector<float>(8, 0.0f));
+    // a buffer recycled() never asked for is not kept
+    ctx.recyclable.clear();
+    FrameResult r4 = run(4);
+    ctx.recyclable.clear();
+    ctx.hand_back(r4);
+    CHECK(ctx.spare.empty());
+
+    Pipeline stray;
+    stray.stages.push_back({"stray", {}, {"x"}, recycles_undeclared});
+    CHECK_THROWS_WITH_AS(stray.run_frame(ctx, {"all"}),
+                         doctest::Contains("storage asked for 'elsewhere'"), Error);
+}
+
+// render_each hands each frame back once its callback returned; render() keeps every frame, so
+// nothing is recycled there. Both give the same bits: TAA with clamp-buffer, whose taa_source
+// recycles its depth and its bounds (every value written).
+TEST_CASE("render_each recycles the outputs its callback leaves; the frames' bits are unchanged") {
+    const Scene scene = load_scene("checker-room");
+    RenderSettings s;
+    s.width = 96;
+    s.height = 54;
+    s.frame_count = 4;
+    s.requested = {"all"};
+    s.params.set("taa", "clamp-buffer");
+    const std::vector<FrameResult> kept = render(&scene, "cfov", s);
+    int frames = 0;
+    const float* bounds = nullptr;  // where frame f - 1's taa_bounds lay
+    render_each(&scene, find_mode("cfov"), s, [&](FrameResult& f) {
+        REQUIRE(f.find("taa_bounds") != nullptr);
+        const float* here = f.find("taa_bounds")->image.data.data();
+        if (f.frame > 0) CHECK(here == bounds);  // frame f - 1's storage, handed back
+        bounds = here;
+        INFO("frame " << f.frame);
+        REQUIRE(f.buffers.size() == kept.at(static_cast<std::size_t>(f.frame)).buffers.size());
+        for (const Buffer& b : f.buffers) {
+            INFO(b.name);
+            CHECK(
+                bit_equal(b.image, kept.at(static_cast<std::size_t>(f.frame)).find(b.name)->image));
+        }
+        ++frames;
+    });
+    CHECK(frames == 4);
+}

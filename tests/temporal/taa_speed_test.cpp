@@ -307,5 +307,21 @@ TEST_CASE("TAA speed: the AVX texel boxes give the reference's bits") {
             }
             REQUIRE(test::same_bits_nan_aside(out[0].bounds, out[1].bounds));
             REQUIRE(bit_equal(out[0].depth, out[1].depth));
+            // Into an earlier frame's storage (here filled with a value no output takes) through
+            // the table, as the stage runs it: the storage is used, every value is written, the
+            // same bits; and so without colours (the depth alone).
+            const TaaSourceTable table = taa_source_table(in);
+            const auto stale = [&](int channels) { return Image(width, 61, channels, 12345.0f); };
+            TaaSourceOutputs storage{stale(1), stale(6)};
+            const float* where = storage.bounds.data.data();
+            const TaaSourceOutputs recycled =
+                taa_source_pass(in, lp_depth, gd, &colors, &table, std::move(storage));
+            CHECK(recycled.bounds.data.data() == where);
+            REQUIRE(test::same_bits_nan_aside(recycled.bounds, out[1].bounds));
+            REQUIRE(bit_equal(recycled.depth, out[1].depth));
+            const TaaSourceOutputs depth_only =
+                taa_source_pass(in, lp_depth, gd, nullptr, &table, {stale(1), {}});
+            REQUIRE(bit_equal(depth_only.depth, out[1].depth));
+            CHECK(depth_only.bounds.empty());
         }
 }
