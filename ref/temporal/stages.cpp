@@ -92,13 +92,17 @@ void taa_stage(FrameContext& ctx) {
                                                      : ", reprojected") +
                (index < 0 ? ", no jitter" : ", Halton point " + std::to_string(index));
     // The frame's buffers are copies; the state keeps these, and the previous history's
-    // storage becomes the next frame's. (Before ctx.output, which may move `depth`.)
-    Image frame_output = out, frame_age = age;
+    // storage becomes the next frame's. (Before ctx.output, which may move `depth`.) The age is
+    // copied only when wanted (`--dump all`, a request naming it): a plain render reads only
+    // the output.
+    Image frame_output = out;
+    const bool ages = ctx.wants("age");
+    Image frame_age = ages ? age : Image();
     state.spare_output = std::move(state.history.history);
     state.spare_age = std::move(state.history.age);
     state.history = next_taa_state(std::move(out), std::move(age), depth, ctx.camera);
     ctx.output("output", BufferKind::color, {"r", "g", "b"}, std::move(frame_output));
-    ctx.output("age", BufferKind::scalar, {"age"}, std::move(frame_age));
+    if (ages) ctx.output("age", BufferKind::scalar, {"age"}, std::move(frame_age));
     if (margins)
         ctx.output("margin", BufferKind::scalar, {"depth", "reprojection"}, std::move(margin));
 }
