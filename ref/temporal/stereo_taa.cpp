@@ -107,7 +107,9 @@ void stereo_taa_stage(FrameContext& ctx) {
     const std::array<Camera, 2> previous = frames.cameras(ctx, true);
     const bool boxes = state.taa.mode == TaaMode::clamp_buffer;
     Image out(ctx.settings->width, ctx.settings->height, 3, 0.0f);
-    Image age(ctx.settings->width, ctx.settings->height, 1, 0.0f);
+    // The age only when wanted (the eyes' histories keep their own): as the taa stage
+    const bool ages = ctx.wants("age");
+    Image age = ages ? Image(ctx.settings->width, ctx.settings->height, 1, 0.0f) : Image();
     TaaStats stats;
     for (int e = 0; e < 2; ++e) {
         const auto eye = static_cast<std::size_t>(e);
@@ -124,13 +126,13 @@ void stereo_taa_stage(FrameContext& ctx) {
         taa(state.taa.params, in, history, eye_out, eye_age, stats);
         debugger_position.eye = -1;
         set_image_columns(out, x0, eye_out);
-        set_image_columns(age, x0, eye_age);
+        if (ages) set_image_columns(age, x0, eye_age);
         history = next_taa_state(std::move(eye_out), std::move(eye_age), depth, cameras[eye]);
     }
     add_taa_counters(ctx, state.taa, stats);
     ctx.note = std::string(taa_mode_name(state.taa.mode)) + ", each eye on its own";
     ctx.output("output", BufferKind::color, {"r", "g", "b"}, std::move(out));
-    ctx.output("age", BufferKind::scalar, {"age"}, std::move(age));
+    if (ages) ctx.output("age", BufferKind::scalar, {"age"}, std::move(age));
 }
 
 StageDef stereo_taa_stage_def(const StereoStage& shared, const TaaSettings& taa) {

@@ -417,16 +417,20 @@ TEST_CASE("pipeline: a stage leaves out the outputs nobody wants, and only those
     // TAA's age (a copy of the state's) likewise, the output the same bits either way
     s.frame_count = 2;
     s.params.set("taa", "depth");
-    s.requested = {};
-    const std::vector<FrameResult> plain_taa = render(&scene, "cfov", s);
-    s.requested = {"final", "taa_age"};
-    const std::vector<FrameResult> with_age = render(&scene, "cfov", s);
-    for (int k = 0; k < 2; ++k) {
-        CAPTURE(k);
-        CHECK(plain_taa.at(k).find("taa_age") == nullptr);
-        REQUIRE(with_age.at(k).find("taa_age") != nullptr);
-        if (k == 0) CHECK(with_age.at(k).find("taa_age")->image == Image(32, 18, 1, 1.0f));
-        CHECK(bit_equal(plain_taa.at(k).find("final")->image, with_age.at(k).find("final")->image));
+    for (const char* mode : {"cfov", "stereo-lp"}) {
+        CAPTURE(mode);
+        s.requested = {};
+        const std::vector<FrameResult> plain_taa = render(&scene, mode, s);
+        s.requested = {"final", "taa_age"};
+        const std::vector<FrameResult> with_age = render(&scene, mode, s);
+        for (int k = 0; k < 2; ++k) {
+            CAPTURE(k);
+            CHECK(plain_taa.at(k).find("taa_age") == nullptr);
+            REQUIRE(with_age.at(k).find("taa_age") != nullptr);
+            if (k == 0) CHECK(with_age.at(k).find("taa_age")->image == Image(32, 18, 1, 1.0f));
+            CHECK(bit_equal(plain_taa.at(k).find("final")->image,
+                            with_age.at(k).find("final")->image));
+        }
     }
 }
 
