@@ -2,6 +2,11 @@
 # CLI tests: shell scripts in tests/cli, run against the built fovref binary.
 include(doctest)
 doctest_discover_tests(fovref_tests WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+# ... which reads the names as a CMake list: no name may hold a ';' (check_test_names.sh).
+add_test(NAME core.test_names_register
+  COMMAND bash ${PROJECT_SOURCE_DIR}/tools/scripts/check_test_names.sh $<TARGET_FILE:fovref_tests>)
+add_test(NAME core.test_names_register_self_test
+  COMMAND bash ${PROJECT_SOURCE_DIR}/tools/scripts/check_test_names.sh --self-test)
 
 file(GLOB FOVREF_CLI_TESTS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/tests/cli/*.sh)
 foreach(script ${FOVREF_CLI_TESTS})

@@ -162,7 +162,7 @@ TEST_CASE("gain: the ellipse rule has converged at the default resolution") {
                    theoretical_gain(ellipse(160.0, 135.0, 60.0)).gain) < 1e-12);
 }
 
-TEST_CASE("gain: an ellipse with equal axes is the disc; swapping the axes changes nothing") {
+TEST_CASE("gain: an ellipse with equal axes is the disc, swapping the axes changes nothing") {
     for (const std::pair<double, double>& size_cpd :
          {std::pair{110.0, 15.3}, std::pair{160.0, 60.0}, std::pair{9.0, 60.0},
           std::pair{30.0, 100.0}}) {

@@ -306,7 +306,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "bmfr fit: a flat wall is rank-deficient; stochastic regularisation keeps the fit "
+    "bmfr fit: a flat wall is rank-deficient, stochastic regularisation keeps the fit "
     "finite and close to the least-squares fit") {
     // Constant normal and z: features n, w_z and w_z^2 are constant (collinear with column 0).
     Frame f = wall(64, 64, 0.01f, glm::vec3(0, 0, 1), 2.0f);
@@ -461,7 +461,7 @@ TEST_CASE(
 
 TEST_CASE(
     "bmfr phase I: a static camera averages the first frames, then an exponential moving "
-    "average; spp counts to 255") {
+    "average, spp counts to 255") {
     Frame f = wall(8, 8, 0.1f, glm::vec3(0, 0, 1), 1.0f);
     Camera camera = look_at({0.35f, 0.35f, 3.0f}, {0.35f, 0.35f, 1.0f}, {0, 1, 0}, 40.0f);
     const ViewProjection vp = view_projection(camera, 8, 8);
@@ -574,7 +574,7 @@ BmfrFrame first_frame(const BmfrParams& params, const Frame& f) {
 
 }  // namespace
 
-TEST_CASE("bmfr: the same inputs give the same bits; half and float storage differ only slightly") {
+TEST_CASE("bmfr: the same inputs give the same bits, half and float storage differ only slightly") {
     const Frame f = noisy_wall();
     const auto run = [&](BmfrStorage storage) {
         BmfrParams params;
@@ -596,7 +596,7 @@ TEST_CASE("bmfr: the same inputs give the same bits; half and float storage diff
 
 TEST_CASE(
     "bmfr phase I: a frame's pixel offset moves the reprojected pixel by exactly its "
-    "difference from the centre; the demodulated input is taken as the illumination") {
+    "difference from the centre, the demodulated input is taken as the illumination") {
     Frame f = wall(16, 16, 0.1f, glm::vec3(0, 0, 1), 1.0f);
     Camera camera = look_at({0.75f, 0.75f, 3.0f}, {0.75f, 0.75f, 1.0f}, {0, 1, 0}, 40.0f);
     BmfrHistory history;
@@ -640,7 +640,7 @@ TEST_CASE(
 
 TEST_CASE(
     "bmfr phase I: the accept margins (bmfr_accept_margin) measure each test's distance "
-    "from its limit; a tap exactly beyond the limit is rejected") {
+    "from its limit, a tap exactly beyond the limit is rejected") {
     // A static camera; every pixel sees the point (0.35, 0.35, 1) and the history the point
     // moved by dz along the normal, so every tap's |P_k - P|^2 = dz^2 and the position margin
     // is |L^2 - dz^2| / L^2.
@@ -758,7 +758,7 @@ TEST_CASE(
 
 TEST_CASE(
     "bmfr_sums=workgroup: the QR's sums in the authors' order change the weights' last bits "
-    "only; the parameter selects it") {
+    "only, the parameter selects it") {
     const Frame f = noisy_wall();
     const auto run = [&](BmfrSums sums) {
         BmfrParams params;

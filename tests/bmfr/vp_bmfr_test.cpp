@@ -141,7 +141,7 @@ TEST_CASE("VP-BMFR: rows without data are zero rows, left out of the ranges") {
 }
 
 TEST_CASE(
-    "VP-BMFR: taps wrap per column; in the periphery they are the screen taps of (q.x, t h "
+    "VP-BMFR: taps wrap per column, in the periphery they are the screen taps of (q.x, t h "
     "- 1/2) modulo h") {
     const VisualPolarMap map = make_visual_polar_map(320, 360, {100.0f, 200.0f}, 213, 240);
     // periphery: columns 120, 121

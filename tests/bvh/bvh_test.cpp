@@ -189,7 +189,7 @@ TEST_CASE(
 
 TEST_CASE(
     "watertight: an axis-aligned ray exactly through a shared diagonal hits both triangles "
-    "at the same t; the closest hit reports the lower index") {
+    "at the same t, the closest hit reports the lower index") {
     const Mesh cube = unit_cube();
     const Bvh bvh = build_bvh(cube);
     // Down the z axis through (0.5, 0.5): the diagonals of the z = 1 face (triangles 2, 3) and
@@ -266,7 +266,7 @@ TEST_CASE("grazing and parallel rays") {
     }
 }
 
-TEST_CASE("rays starting on a surface; t_min exclusive, t_max inclusive") {
+TEST_CASE("rays starting on a surface, t_min exclusive, t_max inclusive") {
     // Floor z = 0 (two triangles) and ceiling z = 2.
     Mesh m;
     add_triangle(m, {-1, -1, 0}, {1, -1, 0}, {1, 1, 0});
@@ -339,7 +339,7 @@ TEST_CASE("equal t: the lowest primitive index wins, whatever the order") {
     CHECK(h.primitive == 37);
 }
 
-TEST_CASE("degenerate triangles are never hit; bad rays miss; input errors") {
+TEST_CASE("degenerate triangles are never hit, bad rays miss, input errors") {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const float inf = std::numeric_limits<float>::infinity();
     Mesh m;

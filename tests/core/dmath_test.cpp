@@ -918,7 +918,7 @@ std::size_t array_differences(const std::vector<float>& x, Array array, Scalar s
 
 TEST_CASE(
     "dmath pow_fast_array: pow_fast's bits for every element (random bit patterns, display "
-    "values, special cases; the AVX2 lanes where the CPU has them), in place too") {
+    "values, special cases, the AVX2 lanes where the CPU has them), in place too") {
     std::vector<float> x;
     for (std::uint32_t i = 0; i < 400000; ++i) {
         const std::uint32_t bits = fovref::pcg_hash(i * 2654435761u + 11u);
@@ -942,7 +942,7 @@ TEST_CASE(
 
 TEST_CASE(
     "dmath log2_array: log2's bits for every element (random bit patterns, mip arguments, powers "
-    "of two, special cases; the AVX2 lanes where the CPU has them), in place too") {
+    "of two, special cases, the AVX2 lanes where the CPU has them), in place too") {
     std::vector<float> x;
     for (std::uint32_t i = 0; i < 300000; ++i) {
         x.push_back(std::bit_cast<float>(fovref::pcg_hash(i * 2654435761u + 5u)));  // anything
@@ -958,7 +958,7 @@ TEST_CASE(
 
 TEST_CASE(
     "dmath exp_array: exp's bits for every element (random bit patterns, the blur ramp's "
-    "arguments, the range's ends, special cases; the AVX2 lanes where the CPU has them)") {
+    "arguments, the range's ends, special cases, the AVX2 lanes where the CPU has them)") {
     std::vector<float> x;
     for (std::uint32_t i = 0; i < 300000; ++i) {
         x.push_back(std::bit_cast<float>(fovref::pcg_hash(i * 2654435761u + 3u)));  // anything

@@ -303,7 +303,7 @@ TEST_CASE(
 
 TEST_CASE(
     "shadow frustum: apex at the light, every point inside, Lund's test conservative on "
-    "random boxes; no frustum for a spread of 90 degrees or more") {
+    "random boxes, no frustum for a spread of 90 degrees or more") {
     const glm::vec3 light{1.0f, 4.0f, 2.0f};
     std::int64_t boxes = 0;
     BoxTally tally;
@@ -430,7 +430,7 @@ TEST_CASE(
 
 TEST_CASE(
     "frustum culling of the composite modes' gaze buffer: tiles over its window, every pixel "
-    "inside the gaze circle checked, no hit lost, the image unchanged; refused without one") {
+    "inside the gaze circle checked, no hit lost, the image unchanged, refused without one") {
     const Scene scene = make_procedural_scene("checker-room");
     for (const std::string mode : {"cfov", "ckfov"}) {
         CAPTURE(mode);

@@ -43,7 +43,7 @@ void write_text(const fs::path& path, const std::string& text) { std::ofstream(p
 
 }  // namespace
 
-TEST_CASE("bundle: write, read back and compare bit-exactly; a one-ulp change is located") {
+TEST_CASE("bundle: write, read back and compare bit-exactly, a one-ulp change is located") {
     TempDir tmp;
     const GoldenCase c = rng_case();
     std::vector<FrameResult> frames = render_golden_case(c, nullptr, {"all"});
@@ -235,7 +235,7 @@ TEST_CASE("golden cases file: good and bad definitions") {
 }
 
 TEST_CASE(
-    "hostile JSON: deep nesting is refused before parsing; mistyped keys name file, line, key") {
+    "hostile JSON: deep nesting is refused before parsing, mistyped keys name file, line, key") {
     // A 100000-deep document used to reach nlohmann's parser (and its recursion) in the bundle
     // code; every JSON reader now refuses nesting beyond 256 first, with the file and line.
     TempDir tmp;

@@ -254,7 +254,7 @@ TEST_CASE("hostile PNG: image data with an invalid deflate distance code is refu
                          "distance code"));
 }
 
-TEST_CASE("hostile PNG: image data far beyond the raster is refused; a little is tolerated") {
+TEST_CASE("hostile PNG: image data far beyond the raster is refused, a little is tolerated") {
     // stb_image inflates the whole stream whatever the header says (a garbage tail made it
     // reallocate 2 GiB under the fuzzer); valid data up to 1 MiB beyond the raster is accepted
     // as decoders accept it, more is refused.

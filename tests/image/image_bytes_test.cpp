@@ -58,7 +58,7 @@ TEST_CASE("image bytes: BMP decodes losslessly, sRGB-decoded like PNG") {
         CHECK(linear.data[i] == static_cast<float>(pixels[i]) / 255.0f);
 }
 
-TEST_CASE("image bytes: a flat JPEG decodes to its colour; PNG bytes decode like read_png") {
+TEST_CASE("image bytes: a flat JPEG decodes to its colour, PNG bytes decode like read_png") {
     const std::vector<unsigned char> pixels(16 * 16 * 3, 128);
     const std::string jpeg = encode_8bit(pixels, 16, 16, true);
     CHECK(image_format_of_bytes(jpeg) == "jpeg");

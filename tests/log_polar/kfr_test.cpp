@@ -234,7 +234,7 @@ TEST_CASE("post AA: the pass (row sums kept) equals post_aa_pixel bit for bit at
 }
 
 TEST_CASE(
-    "kfr: the texels, moving and jittered, equal the G-buffer's pixel; nothing dumped, the same "
+    "kfr: the texels, moving and jittered, equal the G-buffer's pixel, nothing dumped, the same "
     "bits") {
     // A moving camera (motion vectors) under TAA's jitter, in the rasterizer (raster_jitter=raster,
     // the default) or added to the texels' points (lookup). A render that wants only the final

@@ -356,7 +356,7 @@ TEST_CASE("log-polar: bad parameters are refused with the parameter named") {
                          "gaze"));
 }
 
-TEST_CASE("kernel: x^alpha and its inverse; alpha = 1 is the identity") {
+TEST_CASE("kernel: x^alpha and its inverse, alpha = 1 is the identity") {
     const Kernel k1 = power_kernel(1.0f);
     CHECK(k1.identity());
     CHECK(kernel_forward(k1, 0.3f) == 0.3f);

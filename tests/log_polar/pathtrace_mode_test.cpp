@@ -103,7 +103,7 @@ TEST_CASE(
 
 TEST_CASE(
     "log-polar-pathtrace: BMFR on the buffer lowers the error against the converged path "
-    "tracer; a resumed sequence gives the bits of the whole one") {
+    "tracer, a resumed sequence gives the bits of the whole one") {
     const int w = 96, h = 64, frames = 4;
     const float still = 0.0f;
     // checker-room: no emitter in view (on cornell the ceiling light's smear dominates, as on

@@ -80,7 +80,7 @@ TEST_CASE("log-polar decisions: taps, levels and margins of hand-made coordinate
 }
 
 TEST_CASE(
-    "log-polar decisions: the taps and levels pass 2 reads; a level moved within its "
+    "log-polar decisions: the taps and levels pass 2 reads, a level moved within its "
     "margin stays, moved across it changes") {
     const float d_px = static_cast<float>(45.0 / std::tan(20.0 * M_PI / 180.0));
     for (const std::string preset : {"cfov", "kfr"}) {

@@ -62,7 +62,7 @@ TEST_CASE("stereo: each eye's half is the mono pass with the eye's camera and ma
     }
 }
 
-TEST_CASE("stereo: IPD 0 gives two equal eyes; counters; the barrel distortion by hand") {
+TEST_CASE("stereo: IPD 0 gives two equal eyes, counters, the barrel distortion by hand") {
     const Scene scene = make_procedural_scene("checker-room");
     RenderSettings s;
     s.width = 96;

@@ -206,7 +206,7 @@ TEST_CASE("compare_id_buffers: edge and interior mismatches, tolerances, the agr
 }
 
 TEST_CASE(
-    "compare_buffers: a mask leaves pixels out; non-finite values are a convention mismatch") {
+    "compare_buffers: a mask leaves pixels out, non-finite values are a convention mismatch") {
     Image g(12, 12, 1, 2.0f), c = g;
     c.at(5, 5) = 3.0f;
     std::vector<std::uint8_t> mask(144, 1);
@@ -244,7 +244,7 @@ TEST_CASE(
     CHECK(r.pixels_over_threshold == 0);  // within the relative tolerance: not "over"
 }
 
-TEST_CASE("tolerance profiles: every entry has a reason; id limits from files and options") {
+TEST_CASE("tolerance profiles: every entry has a reason, id limits from files and options") {
     for (const std::string& name : tolerance_profile_names()) {
         const ToleranceTable table = tolerance_profile(name);
         CAPTURE(name);

@@ -83,7 +83,7 @@ TEST_CASE("mse: known noise level") {
     CHECK(mse(a, n) == doctest::Approx(0.01 / 3.0).epsilon(0.04));
 }
 
-TEST_CASE("ssim: identical images give exactly 1; constant images need no division by zero") {
+TEST_CASE("ssim: identical images give exactly 1, constant images need no division by zero") {
     const Image a = luma(random_image(32, 24, 3, 11));
     const SsimMap map = ssim_map(a, a);
     CHECK(map.width == 22);
@@ -156,7 +156,7 @@ TEST_CASE("ssim: equals scikit-image's structural_similarity on a fixed image") 
     CHECK(ssim_map(a, b).mean == doctest::Approx(0.9936071663265187).epsilon(1e-9));
 }
 
-TEST_CASE("ssim: more noise, lower SSIM; symmetric in its arguments") {
+TEST_CASE("ssim: more noise, lower SSIM, symmetric in its arguments") {
     const Image a = random_image(40, 40, 1, 31);
     double previous = 1.0;
     for (const float amount : {0.05f, 0.1f, 0.2f, 0.4f}) {

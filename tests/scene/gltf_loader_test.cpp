@@ -387,7 +387,7 @@ TEST_CASE("gltf: the first perspective camera and KHR_lights_punctual point ligh
     CHECK(has_line(unsupported, "further cameras"));
 }
 
-TEST_CASE("gltf: unsupported features are listed, sorted; unknown required extensions fail") {
+TEST_CASE("gltf: unsupported features are listed, sorted, unknown required extensions fail") {
     TempDir dir("unsupported");
     Gltf g;
     const int positions = g.vec3(triangle);

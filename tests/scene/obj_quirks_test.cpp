@@ -125,7 +125,7 @@ TEST_CASE("OBJ quirks: a texture path with backslashes is read with '/'") {
                    "backslash.mtl:3: texture path 'textures\\checker.png' uses '\\'"));
 }
 
-TEST_CASE("OBJ quirks: a missing texture is a warning; the material is drawn without it") {
+TEST_CASE("OBJ quirks: a missing texture is a warning, the material is drawn without it") {
     const std::string obj = corpus + "missing-texture.obj";
     const Scene scene = load_model_file(obj);
     const Material& material = scene.materials[material_of(scene, 0)];
@@ -159,7 +159,7 @@ TEST_CASE("OBJ quirks: CR line ends and a missing final newline read like the LF
                    "no-final-newline.obj: the last line has no line break"));
 }
 
-TEST_CASE("OBJ quirks: a concave polygon is ear-clipped; its fan would cover the notch") {
+TEST_CASE("OBJ quirks: a concave polygon is ear-clipped, its fan would cover the notch") {
     const Scene scene = load_model_file(corpus + "concave-polygon.obj");
     REQUIRE(scene.triangle_count() == 2);
     CHECK(scene.load_stats.concave_polygons == 1);
@@ -180,7 +180,7 @@ TEST_CASE("OBJ quirks: a concave polygon is ear-clipped; its fan would cover the
     CHECK(!first_is_fan_triangle);
 }
 
-TEST_CASE("OBJ quirks: UTF-16 and NUL bytes are errors that say so; a UTF-8 BOM is skipped") {
+TEST_CASE("OBJ quirks: UTF-16 and NUL bytes are errors that say so, a UTF-8 BOM is skipped") {
     CHECK(contains(error_message([&] { load_model_file(corpus + "utf16.obj"); }),
                    "utf16.obj: the file is UTF-16 text (byte-order mark FF FE)"));
     TempDir dir("obj-quirks-bytes");
@@ -197,7 +197,7 @@ TEST_CASE("OBJ quirks: UTF-16 and NUL bytes are errors that say so; a UTF-8 BOM 
 }
 
 TEST_CASE(
-    "OBJ quirks: points and lines are counted and ignored; a file of lines only is an error") {
+    "OBJ quirks: points and lines are counted and ignored, a file of lines only is an error") {
     const Scene scene = load_model_file(corpus + "points-and-lines.obj");
     CHECK(scene.triangle_count() == 1);
     CHECK(scene.load_stats.points_ignored == 3);
@@ -365,7 +365,7 @@ TEST_CASE("model files: default camera frames the bounding sphere, default light
     CHECK(radius / d == 0.5f);
 }
 
-TEST_CASE("model files: an emissive material is the light; --camera replaces the camera") {
+TEST_CASE("model files: an emissive material is the light, --camera replaces the camera") {
     TempDir dir("model-camera");
     write_bytes(dir.file("lamp.mtl"), "newmtl lamp\nKe 4 4 4\n");
     write_bytes(dir.file("lamp.obj"),
@@ -491,7 +491,7 @@ std::string triangle_gltf(float offset_x, bool emissive) {
 
 }  // namespace
 
-TEST_CASE("model files: a scene file names glTF meshes as it names OBJ meshes; a bare .gltf") {
+TEST_CASE("model files: a scene file names glTF meshes as it names OBJ meshes, a bare .gltf") {
     TempDir dir("model-gltf");
     write_bytes(dir.file("tri.gltf"), triangle_gltf(2.0f, false));
     write_bytes(dir.file("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");

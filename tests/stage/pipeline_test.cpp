@@ -50,7 +50,7 @@ Pipeline toy_pipeline(int* runs) {
 
 }  // namespace
 
-TEST_CASE("pipeline: only stages whose outputs are consumed run; the others are recorded") {
+TEST_CASE("pipeline: only stages whose outputs are consumed run, the others are recorded") {
     int runs[3] = {0, 0, 0};
     Pipeline p = toy_pipeline(runs);
     FrameContext ctx;
@@ -505,7 +505,7 @@ TEST_CASE("pipeline: an output's storage is recycled from what the caller handed
 // render_each hands each frame back once its callback returned; render() keeps every frame, so
 // nothing is recycled there. Both give the same bits: TAA with clamp-buffer, whose taa_source
 // recycles its depth and its bounds (every value written).
-TEST_CASE("render_each recycles the outputs its callback leaves; the frames' bits are unchanged") {
+TEST_CASE("render_each recycles the outputs its callback leaves, the frames' bits are unchanged") {
     const Scene scene = load_scene("checker-room");
     RenderSettings s;
     s.width = 96;

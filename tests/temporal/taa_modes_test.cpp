@@ -71,7 +71,7 @@ TEST_CASE("TAA modes: a static camera converges to the mean of its 16 jittered f
     }
 }
 
-TEST_CASE("TAA modes: the first frame is the current frame; a moving camera has no jitter") {
+TEST_CASE("TAA modes: the first frame is the current frame, a moving camera has no jitter") {
     const std::map<std::string, std::string> none;
     for (const char* mode : {"basic", "cfov", "kfr", "stereo-lp"}) {
         for (const char* variant : {"depth", "clamp-screen", "clamp-buffer"}) {
@@ -207,7 +207,7 @@ TEST_CASE("TAA modes: a disocclusion is rejected where the depth changes, kept w
 }
 
 TEST_CASE(
-    "TAA modes: the buffer-space clamp box holds pass 2's value; the depth is the gaze "
+    "TAA modes: the buffer-space clamp box holds pass 2's value, the depth is the gaze "
     "buffer's inside the circle") {
     // kfr's mip resolve can lie outside the level-0 box: the box is widened to hold it.
     {

@@ -73,7 +73,7 @@ TEST_CASE("TAA: the first frame is the current frame with age 1") {
     CHECK(f.age == Image(8, 5, 1, 1.0f));
 }
 
-TEST_CASE("TAA: a stationary camera averages its frames; the age stops at the cap") {
+TEST_CASE("TAA: a stationary camera averages its frames, the age stops at the cap") {
     // out_k = out_(k-1) (1 - 1/k) + c_k / k is the running mean of c_1 .. c_k while k <= 20:
     // after 16 frames the output is the mean of the 16 within the rounding of 16 float updates
     // (each within 2 ulp of its exact value: |error| <= 16 * 2 * 2^-24 relative to values <= 1).

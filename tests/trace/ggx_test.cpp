@@ -88,7 +88,7 @@ TEST_CASE("GGX: visible-normal samples have the density ggx_pdf states") {
     }
 }
 
-TEST_CASE("GGX: head-on albedo against an independent binary64 integral; Fresnel at the extremes") {
+TEST_CASE("GGX: head-on albedo against an independent binary64 integral, Fresnel at the extremes") {
     // Head-on albedo (F0 = 1), also computed independently in binary64: 0.98830 (alpha 0.1),
     // 0.87736 (0.3), 0.30685 (1: half the normals reflect below the horizon).
     CHECK(albedo_quadrature(glm::vec3(0, 0, 1), 0.1f, 800) ==

@@ -99,7 +99,7 @@ TEST_CASE("pathtrace-reference converges to the mean of 1-spp pathtrace frames")
 
 TEST_CASE(
     "pathtrace-reference jitter: per-pixel rotations make an edge's region mean converge "
-    "at its standard error's rate; the shared jitter does not") {
+    "at its standard error's rate, the shared jitter does not") {
     // A vertical edge at 0.3 of every pixel of a column of M pixels: a sample covers the pixel
     // when its jitter x < 0.3. The coverage estimate of one pixel from N samples has the standard
     // error sqrt(0.3 * 0.7 / N); the mean over the M pixels, with independent pixels,

@@ -95,7 +95,7 @@ TEST_CASE("direct light: a point light above a Lambertian floor gives albedo/pi 
     CHECK(l.y == doctest::Approx(0.5 / 3.14159265358979 * 8.0 / std::pow(5.0, 1.5)).epsilon(1e-6));
 }
 
-TEST_CASE("direct light: a blocker casts a shadow; the light behind the surface casts no ray") {
+TEST_CASE("direct light: a blocker casts a shadow, the light behind the surface casts no ray") {
     Scene scene = floor_scene(true);
     // A small blocker at height 1 facing down, between the light and the origin.
     scene.materials.push_back(Material{"blocker", glm::vec3(0.1f)});

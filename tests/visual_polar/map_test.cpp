@@ -33,7 +33,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "visual-polar: P^-1 inverts P; P is continuous to 0.1% at u0 and reaches the "
+    "visual-polar: P^-1 inverts P, P is continuous to 0.1% at u0 and reaches the "
     "farthest corner at u = 1") {
     for (int k = 0; k <= 1000; ++k) {
         const float u = static_cast<float>(k) / 1000.0f;
@@ -71,7 +71,7 @@ TEST_CASE("visual-polar: forward(inverse(texel)) is the texel centre for every t
 }
 
 TEST_CASE(
-    "visual-polar: outside the fovea the texel density follows the acuity model; inside "
+    "visual-polar: outside the fovea the texel density follows the acuity model, inside "
     "it is above one sample per pixel") {
     const VisualPolarMap m = make_visual_polar_map(1280, 1440, {640.0f, 720.0f}, 853, 960);
     // Texels per pixel^2 at column i: h / (2 pi r dr/di); the model degree of r is r / s.

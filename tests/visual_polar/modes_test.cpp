@@ -43,7 +43,7 @@ using test::same_bits;
 
 }  // namespace
 
-TEST_CASE("VP modes: the buffer counters are the map's; clipped and off-screen texels get no ray") {
+TEST_CASE("VP modes: the buffer counters are the map's, clipped and off-screen texels get no ray") {
     for (const glm::vec2& gaze :
          {glm::vec2(80.0f, 90.0f), glm::vec2(0.0f, 0.0f), glm::vec2(-40.0f, 200.0f)}) {
         CAPTURE(gaze.x);

@@ -206,7 +206,7 @@ TEST_CASE(
 
 TEST_CASE(
     "VP resolve: a constant buffer resolves to exactly that constant at every pixel (every "
-    "unclipped texel traced); with off-screen texels untraced, to the constant or black") {
+    "unclipped texel traced), with off-screen texels untraced, to the constant or black") {
     for (const glm::vec2& gaze : {glm::vec2(96.0f, 72.0f), glm::vec2(0.0f, 0.0f),
                                   glm::vec2(191.5f, 3.0f), glm::vec2(-60.0f, 200.0f)}) {
         CAPTURE(gaze.x);
@@ -610,7 +610,7 @@ TEST_CASE("VP blur: a constant image stays constant (normalised weights)") {
 }
 
 TEST_CASE(
-    "VP blur: mirror-symmetric input about the gaze gives mirror-symmetric output; the vertical "
+    "VP blur: mirror-symmetric input about the gaze gives mirror-symmetric output, the vertical "
     "pass is the horizontal one transposed") {
     SUBCASE("mirror symmetry (within 1e-6: the mirrored sum runs in the opposite order)") {
         const VisualPolarMap map = make_visual_polar_map(200, 160, {100.0f, 80.0f}, 133, 107);

@@ -17,8 +17,8 @@
 using namespace fovref;
 
 TEST_CASE(
-    "push_pull: a fully sampled image is unchanged; holes take the average of the samples "
-    "around them; no sample gives black") {
+    "push_pull: a fully sampled image is unchanged, holes take the average of the samples "
+    "around them, no sample gives black") {
     Image image(37, 21, 3), all(37, 21, 1, 1.0f);
     for (std::size_t i = 0; i < image.data.size(); ++i)
         image.data[i] = rand_unit(1u, static_cast<std::uint32_t>(i), 0u);
@@ -39,7 +39,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "linear fall-off: 1 inside 10 deg, 0.2 beyond 20 deg, linear between; each pixel is "
+    "linear fall-off: 1 inside 10 deg, 0.2 beyond 20 deg, linear between, each pixel is "
     "sampled with that frequency over many frames") {
     const LinearFalloff f;
     CHECK(linear_falloff_probability(f, 0.0f) == 1.0f);
