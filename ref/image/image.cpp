@@ -22,6 +22,12 @@ Image::Image(int width_, int height_, int channels_, float fill)
     data.assign(static_cast<std::size_t>(width_) * height_ * channels_, fill);
 }
 
+void keep_or_make(Image& image, int width, int height, int channels) {
+    if (!(image.width == width && image.height == height && image.channels == channels &&
+          image.data.size() == image.pixel_count() * static_cast<std::size_t>(channels)))
+        image = Image(width, height, channels, 0.0f);
+}
+
 bool bit_equal(const Image& a, const Image& b) {
     if (!a.same_shape(b) || a.data.size() != b.data.size()) return false;
     // memcmp compares the binary32 bit patterns: NaN payloads and the sign of zero count.

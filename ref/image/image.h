@@ -31,6 +31,11 @@ struct Image {
     bool operator==(const Image&) const = default;  ///< Compares values; NaN != NaN.
 };
 
+/// Storage for an output of width x height x channels that a pass writes every value of: `image`
+/// itself (its storage and values) when it already has that shape, else a new image of zeros
+/// (storage handed over from an earlier frame: FrameContext::recycled, TAA's history).
+void keep_or_make(Image& image, int width, int height, int channels);
+
 /// Bitwise equality of the float data (NaN payloads compared as bits; -0 differs from +0).
 bool bit_equal(const Image& a, const Image& b);
 

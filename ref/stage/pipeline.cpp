@@ -106,11 +106,11 @@ Image FrameContext::recycled(const std::string& slot, int width, int height, int
     const std::string& name = buffer_of(slot);
     if (std::find(recyclable.begin(), recyclable.end(), name) == recyclable.end())
         recyclable.push_back(name);
+    Image image;
     for (Buffer& b : spare)
-        if (b.name == name && b.image.width == width && b.image.height == height &&
-            b.image.channels == channels)
-            return std::move(b.image);
-    return Image(width, height, channels, 0.0f);
+        if (b.name == name) image = std::move(b.image);
+    keep_or_make(image, width, height, channels);
+    return image;
 }
 
 void FrameContext::hand_back(FrameResult& done) {

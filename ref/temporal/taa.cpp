@@ -288,13 +288,8 @@ void taa(const TaaParams& params, const TaaInputs& in, const TaaState& previous,
             in.bounds->width == width && in.bounds->height == height && in.bounds->channels == 6,
             "TAA clamp bounds of another shape than the frame");
     // Every pixel of out and age is written below (each decision writes both).
-    const auto shaped = [&](Image& image, int channels) {
-        if (!(image.width == width && image.height == height && image.channels == channels &&
-              image.data.size() == image.pixel_count() * static_cast<std::size_t>(channels)))
-            image = Image(width, height, channels, 0.0f);
-    };
-    shaped(out, 3);
-    shaped(age, 1);
+    keep_or_make(out, width, height, 3);
+    keep_or_make(age, width, height, 1);
     if (margin) *margin = Image(width, height, 2, 0.0f);
     const TaaConstants constants = taa_constants(in, previous);
     // Eight pixels at a time where the AVX path covers the frame (the same bits: taa_avx.h);

@@ -215,53 +215,54 @@ constexpr std::size_t prefetch_ahead = 64;
         if (base) __builtin_prefetch(base + offset);
 }
 
-// taa_source_pass's loop for a table and colours (the stages' case) over pixels 0 .. N - 2 of
-// the screen (N pixels; the last is left to the loop): per pixel the same source (table_source),
-// depth and widened box, read and written through plain pointers, each half of the box widened
-// four floats at a time with SSE. minps(v, lo) is (v < lo) ? v : lo = std::min(lo, v), and
-// maxps(v, hi) is (v > hi) ? v : hi = std::max(hi, v), NaN and signed zeros included. The
-// fourth lane of each half is overwritten: the minima's by the maxima, the maxima's (float 6
-// of the pixel's box) by the next pixel's box, which is why the last pixel is left out; the
-// colour's fourth float is the next pixel's. Returns N - 1 (0 without pixels).
-std::size_t table_boxes(const TaaSourceTable& table, const float* lp_records,
-                        const float* gaze_records, const Image& screen_color, Image& depth,
-                        Image& bounds) {
+// taa_source_pass with a table and colours (the stages' case): per pixel the same source
+// (table_source), depth and widened box as the reference loop, read and written through plain
+// pointers, each half of the box widened four floats at a time with SSE. minps(v, lo) is
+// (v < lo) ? v : lo = std::min(lo, v), and maxps(v, hi) is (v > hi) ? v : hi = std::max(hi, v),
+// NaN and signed zeros included. The fourth lane of each half is overwritten: the minima's by
+// the maxima, the maxima's (float 6 of the pixel's box) by the next pixel's box; the colour's
+// fourth float is the next pixel's. The last pixel, which has neither, goes through copies.
+void table_boxes(const TaaSourceTable& table, const float* lp_records, const float* gaze_records,
+                 const Image& screen_color, Image& depth, Image& bounds) {
     const SourceReads reads{{lp_records, nullptr}, {gaze_records, nullptr}, taa_record_channels};
-    const std::size_t pixels = depth.data.size();
-    if (pixels == 0) return 0;
-    const float* colour = screen_color.data.data();
     float* depth_out = depth.data.data();
-    float* box_out = bounds.data.data();
-    for (std::size_t p = 0; p + 1 < pixels; ++p) {
+    // Pixel p from its colour's four floats `colour` into its box's seven `box`
+    const auto pixel = [&](std::size_t p, const float* colour, float* box) {
         prefetch_source(table, p + prefetch_ahead, reads);
         std::size_t texel = 0;
         const TaaSource::Kind kind =
             table_source(table, p, lp_records + 7, taa_record_channels, texel);
-        const __m128 v = _mm_loadu_ps(colour + 3 * p);
-        float* b = box_out + 6 * p;
+        const __m128 v = _mm_loadu_ps(colour);
         if (kind == TaaSource::Kind::none) {
             depth_out[p] = 0.0f;
-            _mm_storeu_ps(b, v);
-            _mm_storeu_ps(b + 3, v);
-            continue;
+            _mm_storeu_ps(box, v);
+            _mm_storeu_ps(box + 3, v);
+            return;
         }
         const float* record = (kind == TaaSource::Kind::gaze ? gaze_records : lp_records) +
                               texel * taa_record_channels;
         depth_out[p] = record[6];
-        _mm_storeu_ps(b, _mm_min_ps(v, _mm_loadu_ps(record)));
-        _mm_storeu_ps(b + 3, _mm_max_ps(v, _mm_loadu_ps(record + 3)));
-    }
-    return pixels - 1;
+        _mm_storeu_ps(box, _mm_min_ps(v, _mm_loadu_ps(record)));
+        _mm_storeu_ps(box + 3, _mm_max_ps(v, _mm_loadu_ps(record + 3)));
+    };
+    const std::size_t pixels = depth.data.size();
+    if (pixels == 0) return;
+    const float* colour = screen_color.data.data();
+    float* box_out = bounds.data.data();
+    for (std::size_t p = 0; p + 1 < pixels; ++p) pixel(p, colour + 3 * p, box_out + 6 * p);
+    float last_colour[4] = {}, last_box[7];
+    std::copy_n(colour + 3 * (pixels - 1), 3, last_colour);
+    pixel(pixels - 1, last_colour, last_box);
+    std::copy_n(last_box, 6, box_out + 6 * (pixels - 1));
 }
 
-// taa_source_pass's loop for a table without colours (the depth alone), through plain pointers:
-// per pixel the same source (table_source) and depth as the loop. Returns the pixels done (all).
-std::size_t table_depths(const TaaSourceTable& table, const float* lp_valid, const float* lp_depth,
-                         const float* gaze_depth, Image& depth) {
+// taa_source_pass with a table, without colours (the depth alone), through plain pointers: per
+// pixel the same source (table_source) and depth as the reference loop.
+void table_depths(const TaaSourceTable& table, const float* lp_valid, const float* lp_depth,
+                  const float* gaze_depth, Image& depth) {
     const SourceReads reads{{lp_valid, lp_depth}, {gaze_depth, nullptr}, 1};
-    const std::size_t pixels = depth.data.size();
     float* depth_out = depth.data.data();
-    for (std::size_t p = 0; p < pixels; ++p) {
+    for (std::size_t p = 0; p < depth.data.size(); ++p) {
         prefetch_source(table, p + prefetch_ahead, reads);
         std::size_t texel = 0;
         const TaaSource::Kind kind = table_source(table, p, lp_valid, 1, texel);
@@ -269,7 +270,6 @@ std::size_t table_depths(const TaaSourceTable& table, const float* lp_valid, con
                        : kind == TaaSource::Kind::gaze ? gaze_depth[texel]
                                                        : lp_depth[texel];
     }
-    return pixels;
 }
 
 // taa_source_pass's inputs: the buffers agree with the map, and the depths and colours with
@@ -304,13 +304,9 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
     check_pass_inputs(in, lp_depth, gaze_depth, colors, table);
     TaaSourceOutputs out = std::move(storage);
     // The storage where it has the outputs' shapes (every value is written below), else new
-    const auto shape = [&in](Image& image, int channels) {
-        if (image.width != in.map.screen_width || image.height != in.map.screen_height ||
-            image.channels != channels)
-            image = Image(in.map.screen_width, in.map.screen_height, channels, 0.0f);
-    };
-    shape(out.depth, 1);
-    if (colors) shape(out.bounds, 6);
+    const int width = in.map.screen_width, height = in.map.screen_height;
+    keep_or_make(out.depth, width, height, 1);
+    if (colors) keep_or_make(out.bounds, width, height, 6);
     // With colours each texel's box, depth and mask come from its record (texel_records).
     std::unique_ptr<float[]> lp_records, gaze_records;
     if (colors) {
@@ -320,56 +316,48 @@ TaaSourceOutputs taa_source_pass(const TaaBufferInputs& in, const Image& lp_dept
                 texel_records(*colors->gaze_color, *in.gaze_valid, *gaze_depth, false, false);
     }
     const int gaze_width = in.gaze_valid ? in.gaze_valid->width : 0;
-    // The table's texel indices address a one-channel mask (the stages' masks always are).
-    if (in.lp_valid.channels != 1) table = nullptr;
-    const float* table_mask = colors ? &lp_records[7] : in.lp_valid.data.data();
-    // With a table, plain-pointer loops (the same bits) do every pixel but, with colours, the last
-    std::size_t p = 0;
-    if (table && colors)
-        p = table_boxes(*table, lp_records.get(), gaze_records.get(), colors->screen_color,
+    // With a table (whose texel indices address a one-channel mask, as the stages' masks always
+    // are) plain-pointer loops do every pixel, the same bits as the reference loop below.
+    if (table && in.lp_valid.channels == 1) {
+        if (colors)
+            table_boxes(*table, lp_records.get(), gaze_records.get(), colors->screen_color,
                         out.depth, out.bounds);
-    else if (table)
-        p = table_depths(*table, table_mask, lp_depth.data.data(),
+        else
+            table_depths(*table, in.lp_valid.data.data(), lp_depth.data.data(),
                          gaze_depth ? gaze_depth->data.data() : nullptr, out.depth);
-    for (; p < out.depth.data.size(); ++p) {
-        const int x = static_cast<int>(p % static_cast<std::size_t>(out.depth.width));
-        const int y = static_cast<int>(p / static_cast<std::size_t>(out.depth.width));
-        std::size_t texel = 0;
-        TaaSource::Kind kind;
-        if (table) {
-            kind = table_source(*table, p, table_mask, colors ? taa_record_channels : 1, texel);
-        } else {
-            const TaaSource s = taa_source(in, x, y);
-            kind = s.kind;
-            texel = static_cast<std::size_t>(s.j) *
-                        static_cast<std::size_t>(kind == TaaSource::Kind::gaze ? gaze_width
-                                                                               : in.map.width) +
-                    static_cast<std::size_t>(s.i);
-        }
-        const bool gaze = kind == TaaSource::Kind::gaze;
-        if (!colors) {
-            out.depth.data[p] = kind == TaaSource::Kind::none ? 0.0f
-                                : gaze                        ? gaze_depth->data[texel]
-                                                              : lp_depth.data[texel];
-            continue;
-        }
-        if (kind == TaaSource::Kind::none) {
-            out.depth.data[p] = 0.0f;
-            for (int c = 0; c < 3; ++c)
-                out.bounds.at(x, y, c) = out.bounds.at(x, y, 3 + c) =
-                    colors->screen_color.at(x, y, c);
-            continue;
-        }
-        // The box, widened to hold pass 2's own value (a mip resolve mixes coarser levels,
-        // which can lie outside the level-0 box; bilinear pass 2 lies inside it).
-        const float* box = &(gaze ? gaze_records : lp_records)[texel * taa_record_channels];
-        out.depth.data[p] = box[6];
-        for (int c = 0; c < 3; ++c) {
-            const float v = colors->screen_color.at(x, y, c);
-            out.bounds.at(x, y, c) = std::min(box[c], v);
-            out.bounds.at(x, y, 3 + c) = std::max(box[3 + c], v);
-        }
+        return out;
     }
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const std::size_t p = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + x;
+            const TaaSource s = taa_source(in, x, y);
+            const TaaSource::Kind kind = s.kind;
+            const int buffer_width = kind == TaaSource::Kind::gaze ? gaze_width : in.map.width;
+            const std::size_t texel = static_cast<std::size_t>(s.j) * buffer_width + s.i;
+            const bool gaze = kind == TaaSource::Kind::gaze;
+            if (!colors) {
+                out.depth.data[p] = kind == TaaSource::Kind::none ? 0.0f
+                                    : gaze                        ? gaze_depth->data[texel]
+                                                                  : lp_depth.data[texel];
+                continue;
+            }
+            if (kind == TaaSource::Kind::none) {
+                out.depth.data[p] = 0.0f;
+                for (int c = 0; c < 3; ++c)
+                    out.bounds.at(x, y, c) = out.bounds.at(x, y, 3 + c) =
+                        colors->screen_color.at(x, y, c);
+                continue;
+            }
+            // The box, widened to hold pass 2's own value (a mip resolve mixes coarser levels,
+            // which can lie outside the level-0 box; bilinear pass 2 lies inside it).
+            const float* box = &(gaze ? gaze_records : lp_records)[texel * taa_record_channels];
+            out.depth.data[p] = box[6];
+            for (int c = 0; c < 3; ++c) {
+                const float v = colors->screen_color.at(x, y, c);
+                out.bounds.at(x, y, c) = std::min(box[c], v);
+                out.bounds.at(x, y, 3 + c) = std::max(box[3 + c], v);
+            }
+        }
     return out;
 }
 
