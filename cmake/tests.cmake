@@ -28,3 +28,12 @@ add_test(NAME core.no_libm_check_self_test
 add_test(NAME core.include_layers COMMAND bash ${PROJECT_SOURCE_DIR}/tools/scripts/check_layers.sh)
 add_test(NAME core.include_layers_self_test
   COMMAND bash ${PROJECT_SOURCE_DIR}/tools/scripts/check_layers.sh --self-test)
+
+# AVX code clears the ymm upper halves before it calls SSE code (tools/scripts/check_vzeroupper.py;
+# read from g++'s optimised code, where the instructions are the ones a bench times).
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_BUILD_TYPE STREQUAL "Release")
+  add_test(NAME core.vzeroupper_before_sse_calls
+    COMMAND python3 ${PROJECT_SOURCE_DIR}/tools/scripts/check_vzeroupper.py $<TARGET_FILE:fovref_cli>)
+endif()
+add_test(NAME core.vzeroupper_check_self_test
+  COMMAND python3 ${PROJECT_SOURCE_DIR}/tools/scripts/check_vzeroupper.py --self-test)

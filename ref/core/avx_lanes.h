@@ -18,6 +18,15 @@ constexpr int lanes = 8;
 
 #define FOVREF_AVX_INLINE __attribute__((target("avx"), always_inline)) inline
 
+/// Call before scalar code runs from AVX code (a lane the vector path leaves to its scalar
+/// reference): vzeroupper, the upper halves of the ymm registers cleared. The scalar code is
+/// compiled without AVX (legacy SSE encoding); on Intel cores every SSE instruction that runs
+/// while an upper half is dirty carries a false dependency and a merge, and g++ 12 does not
+/// always insert vzeroupper before such a call itself (it left it out in pow_fast_array's AVX2
+/// kernel, whose fallback lanes then ran about 5x slower on an Intel Xeon: docs/speed.md).
+/// Changes no value; tools/scripts/check_vzeroupper.py looks for calls it should precede.
+FOVREF_AVX_INLINE void leave_for_scalar() { _mm256_zeroupper(); }
+
 FOVREF_AVX_INLINE __m256 set(float v) { return _mm256_set1_ps(v); }
 FOVREF_AVX_INLINE __m256 zero() { return _mm256_setzero_ps(); }
 /// `yes` where the comparison mask is set, else `no`, bit for bit.

@@ -12,6 +12,7 @@
 // half to even for |t| < 2^51; it is a plain IEEE addition and subtraction, which no
 // value-preserving compiler may fold.
 #include "ref/core/dmath.h"
+#include "ref/core/avx_lanes.h"
 #include "ref/core/simd.h"
 
 #include <bit>
@@ -705,6 +706,8 @@ __attribute__((target("avx2"), always_inline)) inline void pow_groups(
     }
 #pragma GCC unroll 4
     for (int h = 0; h < G; ++h) pow_finish(p[h], kd[h], out + 4 * h);
+    if (good == (1 << (4 * G)) - 1) return;
+    avx::leave_for_scalar();
     for (int lane = 0; lane < 4 * G; ++lane)
         if (!(good & (1 << lane))) out[lane] = pow_fast(xs[lane], y);
 }
@@ -772,6 +775,8 @@ __attribute__((target("avx2"))) std::size_t log2_avx2(const float* x, float* out
         float xs[4];  // the inputs, kept: `out` may be `x`
         _mm_storeu_ps(xs, g.xf);
         _mm_storeu_ps(out + i, _mm256_cvtpd_ps(p));
+        if (good == 15) continue;
+        avx::leave_for_scalar();
         for (int lane = 0; lane < 4; ++lane)
             if (!(good & (1 << lane))) out[i + static_cast<std::size_t>(lane)] = log2(xs[lane]);
     }
@@ -811,6 +816,8 @@ __attribute__((target("avx2"))) std::size_t exp_avx2(const float* x, float* out,
         float xs[4];  // the inputs, kept: `out` may be `x`
         _mm_storeu_ps(xs, xf);
         _mm_storeu_ps(out + i, _mm256_cvtpd_ps(_mm256_mul_pd(v, scale)));
+        if (good == 15) continue;
+        avx::leave_for_scalar();
         for (int lane = 0; lane < 4; ++lane)
             if (!(good & (1 << lane))) out[i + static_cast<std::size_t>(lane)] = exp(xs[lane]);
     }
@@ -906,9 +913,10 @@ __attribute__((target("avx2"))) std::size_t PowFixed::apply_avx2(const float* x,
         const int good = _mm256_movemask_pd(_mm256_andnot_pd(_mm256_castsi256_pd(near), in_range)) &
                          _mm_movemask_ps(_mm_castsi128_ps(normal));
         _mm_storeu_ps(out + i, _mm256_cvtpd_ps(p));
-        if (good != 15)
-            for (std::size_t k = 0; k < 4; ++k)
-                if (!(good & (1 << k))) out[i + k] = (*this)(x[i + k]);
+        if (good == 15) continue;
+        avx::leave_for_scalar();
+        for (std::size_t k = 0; k < 4; ++k)
+            if (!(good & (1 << k))) out[i + k] = (*this)(x[i + k]);
     }
     return i;
 }

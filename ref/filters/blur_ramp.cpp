@@ -348,6 +348,7 @@ struct RowSums {
             split_sigma_a(kept, sigma_lanes, kept_a);
             _mm256_store_ps(sigma, sigma_lanes);
         } else {
+            avx::leave_for_scalar();
             for (int lane = 0; lane < lanes; ++lane)
                 sigma[lane] = blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + lane, y));
             sigma_lanes = _mm256_load_ps(sigma);
@@ -370,6 +371,7 @@ struct RowSums {
         // The next groups with the same sigma in every lane (beyond full_deg) have the same
         // weights: four or two groups' sums together (three channels)
         const int channels = image.channels, width = image.width;
+        if (!kept && channels == 3 && uniform) avx::leave_for_scalar();  // blur_ramp_sigma_px
         const int run =
             channels == 3 && uniform ? groups_alike(ramp, geometry, kept, sigma, x0, y, width) : 1;
         sum_groups(run, uniform, channels, planes + start() + x0, plane,
