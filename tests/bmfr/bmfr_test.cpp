@@ -21,12 +21,12 @@ namespace {
 
 // A W x H "wall": world position (s x, s y, z0) + bump, normal n, so a test controls how
 // degenerate the features are.
-struct Frame {
+struct WallFrame {
     Image radiance, albedo, normal, world;
 };
 
-Frame wall(int width, int height, float scale, glm::vec3 n, float z0) {
-    Frame f;
+WallFrame wall(int width, int height, float scale, glm::vec3 n, float z0) {
+    WallFrame f;
     f.radiance = Image(width, height, 3);
     f.albedo = Image(width, height, 3, 0.5f);
     f.normal = Image(width, height, 3);
@@ -157,7 +157,7 @@ TEST_CASE(
     // reproduces every row within 5e-3 (a flat wall is rank-deficient: the regularisation noise,
     // 0.01 on every feature, moves the fit by a few 1e-3; the 32 x 32 block of the same wall
     // below does the same)
-    Frame f = wall(160, 160, 0.01f, glm::vec3(0, 0, 1), 2.0f);
+    WallFrame f = wall(160, 160, 0.01f, glm::vec3(0, 0, 1), 2.0f);
     Image illumination(160, 160, 3);
     for (int y = 0; y < 160; ++y)
         for (int x = 0; x < 160; ++x)
@@ -202,7 +202,7 @@ TEST_CASE(
 TEST_CASE("bmfr: a block without data is gathered as the same zero matrix wherever it lies") {
     // bmfr_fit solves one such block and reuses its fit for the others: that needs every empty
     // block's matrix, ranges included, to be the same bits, whatever the matrix held before
-    Frame f = wall(96, 96, 0.01f, glm::vec3(0, 0, 1), 2.0f);
+    WallFrame f = wall(96, 96, 0.01f, glm::vec3(0, 0, 1), 2.0f);
     // no data anywhere but in the first rows; blocks (1, 1) and (2, 2) lie below them
     Image illumination(96, 96, 3, 0.5f), valid(96, 96, 1, 0.0f), everywhere(96, 96, 1, 1.0f);
     for (int x = 0; x < 96; ++x) valid.at(x, 0) = 1.0f;
@@ -309,7 +309,7 @@ TEST_CASE(
     "bmfr fit: a flat wall is rank-deficient, stochastic regularisation keeps the fit "
     "finite and close to the least-squares fit") {
     // Constant normal and z: features n, w_z and w_z^2 are constant (collinear with column 0).
-    Frame f = wall(64, 64, 0.01f, glm::vec3(0, 0, 1), 2.0f);
+    WallFrame f = wall(64, 64, 0.01f, glm::vec3(0, 0, 1), 2.0f);
     Image illumination(64, 64, 3);
     for (int y = 0; y < 64; ++y)
         for (int x = 0; x < 64; ++x)
@@ -369,7 +369,7 @@ TEST_CASE(
         BmfrParams params;
         params.storage = storage;
         SUBCASE("sky: every feature and colour zero") {
-            Frame f = wall(70, 40, 0.0f, glm::vec3(0.0f), 0.0f);
+            WallFrame f = wall(70, 40, 0.0f, glm::vec3(0.0f), 0.0f);
             f.albedo = Image(70, 40, 3, 0.0f);
             BmfrHistory history;
             BmfrStats stats;
@@ -382,7 +382,7 @@ TEST_CASE(
             }
         }
         SUBCASE("constant colour on a flat wall is reproduced, at the borders too") {
-            Frame f = wall(70, 40, 0.05f, glm::vec3(0, 1, 0), 1.0f);
+            WallFrame f = wall(70, 40, 0.05f, glm::vec3(0, 1, 0), 1.0f);
             f.radiance = Image(70, 40, 3, 0.25f);  // illumination 0.5
             BmfrHistory history;
             BmfrStats stats;
@@ -395,7 +395,7 @@ TEST_CASE(
             CHECK(worst < (storage == BmfrStorage::half ? 2e-3 : 1e-4));
         }
         SUBCASE("NaN and Inf radiance, zero albedo") {
-            Frame f = wall(50, 33, 0.02f, glm::vec3(0, 0, 1), 1.0f);
+            WallFrame f = wall(50, 33, 0.02f, glm::vec3(0, 0, 1), 1.0f);
             for (int i = 0; i < 50 * 33; ++i) {
                 const float v =
                     i % 7 == 0 ? NAN : (i % 11 == 0 ? INFINITY : (i % 13 == 0 ? -INFINITY : 0.3f));
@@ -422,7 +422,7 @@ TEST_CASE(
             "noise amplitudes 1e-4 .. 1: finite, and the fit is closer to the truth than the "
             "noisy input") {
             for (float amplitude : {1e-4f, 1e-3f, 1e-2f, 1e-1f, 1.0f}) {
-                Frame f = wall(96, 64, 0.02f, glm::vec3(0, 0, 1), 1.0f);
+                WallFrame f = wall(96, 64, 0.02f, glm::vec3(0, 0, 1), 1.0f);
                 Image truth(96, 64, 3);
                 for (int y = 0; y < 64; ++y)
                     for (int x = 0; x < 96; ++x)
@@ -462,7 +462,7 @@ TEST_CASE(
 TEST_CASE(
     "bmfr phase I: a static camera averages the first frames, then an exponential moving "
     "average, spp counts to 255") {
-    Frame f = wall(8, 8, 0.1f, glm::vec3(0, 0, 1), 1.0f);
+    WallFrame f = wall(8, 8, 0.1f, glm::vec3(0, 0, 1), 1.0f);
     Camera camera = look_at({0.35f, 0.35f, 3.0f}, {0.35f, 0.35f, 1.0f}, {0, 1, 0}, 40.0f);
     const ViewProjection vp = view_projection(camera, 8, 8);
     BmfrParams params;
@@ -557,15 +557,15 @@ namespace {
 
 // A 64 x 48 tilted wall with noisy radiance (0.25 + 0.2 rand), and one frame of BMFR on it with
 // no history (frame 2 of the noise's seed).
-Frame noisy_wall() {
-    Frame f = wall(64, 48, 0.03f, glm::vec3(0.6f, 0.0f, 0.8f), 1.0f);
+WallFrame noisy_wall() {
+    WallFrame f = wall(64, 48, 0.03f, glm::vec3(0.6f, 0.0f, 0.8f), 1.0f);
     for (int i = 0; i < 64 * 48 * 3; ++i)
         f.radiance.data[static_cast<std::size_t>(i)] =
             0.25f + 0.2f * rand_unit(3u, static_cast<std::uint32_t>(i), 0u);
     return f;
 }
 
-BmfrFrame first_frame(const BmfrParams& params, const Frame& f) {
+BmfrFrame first_frame(const BmfrParams& params, const WallFrame& f) {
     BmfrHistory history;
     BmfrStats stats;
     return bmfr_denoise_frame(params, f.radiance, f.albedo, Image{}, f.normal, f.world,
@@ -575,7 +575,7 @@ BmfrFrame first_frame(const BmfrParams& params, const Frame& f) {
 }  // namespace
 
 TEST_CASE("bmfr: the same inputs give the same bits, half and float storage differ only slightly") {
-    const Frame f = noisy_wall();
+    const WallFrame f = noisy_wall();
     const auto run = [&](BmfrStorage storage) {
         BmfrParams params;
         params.storage = storage;
@@ -597,7 +597,7 @@ TEST_CASE("bmfr: the same inputs give the same bits, half and float storage diff
 TEST_CASE(
     "bmfr phase I: a frame's pixel offset moves the reprojected pixel by exactly its "
     "difference from the centre, the demodulated input is taken as the illumination") {
-    Frame f = wall(16, 16, 0.1f, glm::vec3(0, 0, 1), 1.0f);
+    WallFrame f = wall(16, 16, 0.1f, glm::vec3(0, 0, 1), 1.0f);
     Camera camera = look_at({0.75f, 0.75f, 3.0f}, {0.75f, 0.75f, 1.0f}, {0, 1, 0}, 40.0f);
     BmfrHistory history;
     history.valid = true;
@@ -645,7 +645,7 @@ TEST_CASE(
     // moved by dz along the normal, so every tap's |P_k - P|^2 = dz^2 and the position margin
     // is |L^2 - dz^2| / L^2.
     const Camera camera = look_at({0.35f, 0.35f, 3.0f}, {0.35f, 0.35f, 1.0f}, {0, 1, 0}, 40.0f);
-    Frame f = wall(8, 8, 0.0f, glm::vec3(0, 0, 1), 1.0f);
+    WallFrame f = wall(8, 8, 0.0f, glm::vec3(0, 0, 1), 1.0f);
     for (int y = 0; y < 8; ++y)
         for (int x = 0; x < 8; ++x) f.world.at(x, y, 0) = f.world.at(x, y, 1) = 0.35f;
     BmfrParams params;
@@ -759,7 +759,7 @@ TEST_CASE(
 TEST_CASE(
     "bmfr_sums=workgroup: the QR's sums in the authors' order change the weights' last bits "
     "only, the parameter selects it") {
-    const Frame f = noisy_wall();
+    const WallFrame f = noisy_wall();
     const auto run = [&](BmfrSums sums) {
         BmfrParams params;
         params.sums = sums;

@@ -21,7 +21,7 @@ using namespace fovref;
 namespace {
 
 // One in `rate` values replaced by NaN, +-Inf, +-0 or a subnormal.
-float hostile(test::SplitMix64& rng, float v, std::size_t rate) {
+float hostile_value(test::SplitMix64& rng, float v, std::size_t rate) {
     if (rng.below(rate) != 0) return v;
     const float values[] = {std::numeric_limits<float>::quiet_NaN(),
                             std::numeric_limits<float>::infinity(),
@@ -64,9 +64,9 @@ TEST_CASE("bmfr TAA speed: the AVX2 pass gives bmfr_taa_pixel's bits") {
         CAPTURE(trial);
         Image display(w, h, 3), history(w, h, 3), previous_pixel(w, h, 2);
         for (float& v : display.data)
-            v = hostile(rng, trial == 3 ? (rng.below(2) ? 0.0f : -0.0f) : rng.uniform(0.0f, 1.0f),
-                        89);
-        for (float& v : history.data) v = hostile(rng, rng.uniform(0.0f, 1.0f), 83);
+            v = hostile_value(
+                rng, trial == 3 ? (rng.below(2) ? 0.0f : -0.0f) : rng.uniform(0.0f, 1.0f), 89);
+        for (float& v : history.data) v = hostile_value(rng, rng.uniform(0.0f, 1.0f), 83);
         // Trial 2: 3x3 blocks of NaN in one channel, so that some pixels' box and cross hold no
         // number (their clamp range is +inf .. -inf: the order of min and max decides).
         if (trial == 2)
@@ -75,14 +75,14 @@ TEST_CASE("bmfr TAA speed: the AVX2 pass gives bmfr_taa_pixel's bits") {
                     for (int y = by; y < by + 3; ++y)
                         for (int x = bx; x < bx + 3; ++x)
                             display.at(x, y, 1) = std::numeric_limits<float>::quiet_NaN();
-        // q near the pixel (small motion), far off on any side now and then, hostile.
+        // q near the pixel (small motion), far off on any side now and then, hostile_value.
         const float reach = trial == 1 ? 6.0f : 1.5f;
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 previous_pixel.at(x, y, 0) =
-                    hostile(rng, static_cast<float>(x) + rng.uniform(-reach, reach), 61);
+                    hostile_value(rng, static_cast<float>(x) + rng.uniform(-reach, reach), 61);
                 previous_pixel.at(x, y, 1) =
-                    hostile(rng, static_cast<float>(y) + rng.uniform(-reach, reach), 61);
+                    hostile_value(rng, static_cast<float>(y) + rng.uniform(-reach, reach), 61);
             }
         BmfrParams params;
         if (trial == 2) params.taa_alpha = 0.37f;
@@ -110,8 +110,8 @@ TEST_CASE("bmfr TAA speed: the AVX2 pass gives bmfr_taa_pixel's bits in Visual-P
         if (trial == 4) previous_map.fovea_columns += 6;  // the history's taps: its own fovea
         Image display(w, h, 3), history(w, h, 3), previous_pixel(w, h, 2), valid(w, h, 1),
             previous_valid(w, h, 1);
-        for (float& v : display.data) v = hostile(rng, rng.uniform(0.0f, 1.0f), 89);
-        for (float& v : history.data) v = hostile(rng, rng.uniform(0.0f, 1.0f), 83);
+        for (float& v : display.data) v = hostile_value(rng, rng.uniform(0.0f, 1.0f), 89);
+        for (float& v : history.data) v = hostile_value(rng, rng.uniform(0.0f, 1.0f), 83);
         const float reach = trial == 1 ? 6.0f : 1.5f;
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
@@ -122,11 +122,11 @@ TEST_CASE("bmfr TAA speed: the AVX2 pass gives bmfr_taa_pixel's bits in Visual-P
                 previous_valid.at(x, y) = rng.below(11) != 0 ? 1.0f : 0.0f;
                 traced += valid.at(x, y) != 0.0f;
                 // q: the column near x, the angle (a fraction of the turn) near the row's, both
-                // hostile now and then; trial 1 far on every side
+                // hostile_value now and then; trial 1 far on every side
                 previous_pixel.at(x, y, 0) =
-                    hostile(rng, static_cast<float>(x) + rng.uniform(-reach, reach), 61);
-                previous_pixel.at(x, y, 1) =
-                    hostile(rng, (static_cast<float>(y) + rng.uniform(-reach, reach)) / h, 61);
+                    hostile_value(rng, static_cast<float>(x) + rng.uniform(-reach, reach), 61);
+                previous_pixel.at(x, y, 1) = hostile_value(
+                    rng, (static_cast<float>(y) + rng.uniform(-reach, reach)) / h, 61);
             }
         BmfrSpace space;
         space.map = map;

@@ -64,7 +64,7 @@ float gaze_valid_at(const FrameResult& f, int x, int y) {
 
 bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-glm::vec2 centre(int x, int y) {
+glm::vec2 centre_of(int x, int y) {
     return {static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
 }
 
@@ -228,7 +228,7 @@ TEST_CASE("gaze window: holds every pixel inside the gaze circle, at least 1x1, 
                 std::int64_t inside = 0;
                 for (int y = 0; y < h; ++y)
                     for (int x = 0; x < w; ++x) {
-                        if (!inside_gaze_circle(map, centre(x, y))) continue;
+                        if (!inside_gaze_circle(map, centre_of(x, y))) continue;
                         ++inside;
                         REQUIRE(x >= win.x0);
                         REQUIRE(x < win.x0 + win.width);
@@ -316,9 +316,9 @@ TEST_CASE("Gaussian lerp: the blend amount and a filtered pixel by hand") {
     // sqrt(30.5^2 + 40.5^2) = 50.700: t = (50.700 - 16.667) / (86.023 - 16.667) = 0.49070.
     const glm::vec2 gaze{10, 10};
     const double t = (std::hypot(30.5, 40.5) - 100.0 / 6) / (std::hypot(50.0, 70.0) - 100.0 / 6);
-    CHECK(gaussian_lerp_amount(gaussian_lerp_ramp(60, 80, gaze), gaze, centre(40, 50)) ==
+    CHECK(gaussian_lerp_amount(gaussian_lerp_ramp(60, 80, gaze), gaze, centre_of(40, 50)) ==
           doctest::Approx(t).epsilon(1e-6));
-    CHECK(gaussian_lerp_amount(gaussian_lerp_ramp(60, 80, gaze), gaze, centre(10, 10)) == 0.0f);
+    CHECK(gaussian_lerp_amount(gaussian_lerp_ramp(60, 80, gaze), gaze, centre_of(10, 10)) == 0.0f);
     CHECK(gaussian_lerp_amount(gaussian_lerp_ramp(60, 80, gaze), gaze, {60, 80}) == 1.0f);
     // An image that is 1 at (40, 50) and 0 elsewhere: the pixel keeps 1 - t + t 4/16, its right
     // neighbour gets t' 2/16 (its own t'), a far pixel stays 0.

@@ -18,8 +18,6 @@ using namespace fovref;
 
 namespace {
 
-using test::buffer;
-
 using test::counter;
 
 // Meng's map for a 96 x 64 screen (the mode's: sigma 1.8, alpha 4, R from the corners).
@@ -75,9 +73,9 @@ TEST_CASE(
     "log-polar-pathtrace: a static camera and gaze reproject every traced texel onto itself") {
     const std::vector<FrameResult> f =
         test::render_all("cornell", "log-polar-pathtrace", 96, 64, 2, {}, 0.0f);
-    const Image& valid = buffer(f[1], "lp_valid");
-    const Image& primitive = buffer(f[1], "lp_gbuffer_primitive_id");
-    const Image& q = buffer(f[1], "bmfr_previous_pixel");
+    const Image& valid = test::buffer(f[1], "lp_valid");
+    const Image& primitive = test::buffer(f[1], "lp_gbuffer_primitive_id");
+    const Image& q = test::buffer(f[1], "bmfr_previous_pixel");
     double worst_u = 0.0, worst_t = 0.0;
     int traced = 0, surface = 0;
     for (int y = 0; y < valid.height; ++y)
@@ -116,9 +114,9 @@ TEST_CASE(
     const std::vector<FrameResult> reference =
         test::render_all(scene, "pathtrace-reference", w, h, 1, {{"spp", "64"}}, still);
     // in display space (BMFR's final is its display image linearised, clamped to [0, 1])
-    const Image truth = to_display(buffer(reference[0], "final"));
-    const double denoised = mse(to_display(buffer(bmfr[frames - 1], "final")), truth);
-    const double raw = mse(to_display(buffer(noisy[frames - 1], "final")), truth);
+    const Image truth = to_display(test::buffer(reference[0], "final"));
+    const double denoised = mse(to_display(test::buffer(bmfr[frames - 1], "final")), truth);
+    const double raw = mse(to_display(test::buffer(noisy[frames - 1], "final")), truth);
     MESSAGE("display MSE against 64 spp: noisy " << raw << ", BMFR " << denoised);
     CHECK(denoised < 0.7 * raw);
     // resumed from a dump of frame 2 (BMFR's history, the previous frame's map)
@@ -126,7 +124,8 @@ TEST_CASE(
     for (const Buffer& b : bmfr[frames - 2].buffers) state.push_back(b);
     const std::vector<FrameResult> resumed =
         test::render_all(scene, "log-polar-pathtrace", w, h, 1, {}, still, frames - 1, state);
-    CHECK(test::same_bits(buffer(bmfr[frames - 1], "final"), buffer(resumed[0], "final")));
+    CHECK(test::same_bits(test::buffer(bmfr[frames - 1], "final"),
+                          test::buffer(resumed[0], "final")));
 }
 
 TEST_CASE("log-polar-pathtrace: parameters it does not take are refused, by name") {

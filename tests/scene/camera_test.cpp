@@ -27,7 +27,7 @@ glm::quat rotation(float angle, glm::vec3 axis) {
 }  // namespace
 
 TEST_CASE("slerp_deterministic: endpoints, midpoint, nearly equal inputs") {
-    const float pi = 3.14159265358979f;
+    const float pi_f = 3.14159265358979f;
     const glm::quat a = rotation(0.3f, glm::normalize(glm::vec3(1.0f, 2.0f, 3.0f)));
     const glm::quat b = rotation(1.2f, glm::normalize(glm::vec3(-1.0f, 0.5f, 0.2f)));
 
@@ -44,13 +44,13 @@ TEST_CASE("slerp_deterministic: endpoints, midpoint, nearly equal inputs") {
     SUBCASE("the midpoint of a 90 degree rotation is the 45 degree rotation") {
         const glm::vec3 axis = glm::normalize(glm::vec3(0.0f, 1.0f, 1.0f));
         const glm::quat identity(1.0f, 0.0f, 0.0f, 0.0f);
-        const glm::quat mid = slerp_deterministic(identity, rotation(pi / 2.0f, axis), 0.5f);
+        const glm::quat mid = slerp_deterministic(identity, rotation(pi_f / 2.0f, axis), 0.5f);
         // 1e-6: dm::sin/acos are within a few ulp in float, the weights carry ~1e-7 relative
         // error, the components are < 1.
-        CHECK(max_difference(mid, rotation(pi / 4.0f, axis)) <= 1e-6f);
+        CHECK(max_difference(mid, rotation(pi_f / 4.0f, axis)) <= 1e-6f);
         // Quarter points along the same axis, through the slerp branch.
-        CHECK(max_difference(slerp_deterministic(identity, rotation(pi / 2.0f, axis), 0.25f),
-                             rotation(pi / 8.0f, axis)) <= 1e-6f);
+        CHECK(max_difference(slerp_deterministic(identity, rotation(pi_f / 2.0f, axis), 0.25f),
+                             rotation(pi_f / 8.0f, axis)) <= 1e-6f);
     }
     SUBCASE("nearly identical quaternions give a finite unit result") {
         // Identical inputs, inputs one ulp apart, and a pair just on either side of the

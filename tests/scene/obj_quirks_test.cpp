@@ -39,7 +39,7 @@ SceneLoadOptions strict_options() {
     return options;
 }
 
-int material_of(const Scene& scene, std::size_t triangle) { return scene.material_ids[triangle]; }
+int material_of(const Scene& scene, std::size_t index) { return scene.material_ids[index]; }
 
 double signed_area_z(const Scene& scene, std::size_t t) {
     const glm::dvec3 a(scene.positions[3 * t]), b(scene.positions[3 * t + 1]),

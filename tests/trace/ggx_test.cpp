@@ -15,7 +15,7 @@ using namespace fovref;
 
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
+constexpr double pi_d = 3.14159265358979323846;
 
 glm::vec3 direction(double theta, double phi) {
     return {static_cast<float>(std::sin(theta) * std::cos(phi)),
@@ -27,7 +27,7 @@ glm::vec3 direction(double theta, double phi) {
 // midpoint rule in (theta, phi).
 double albedo_quadrature(glm::vec3 v, float alpha, int n) {
     double sum = 0.0;
-    const double dt = 0.5 * pi / n, dp = 2.0 * pi / n;
+    const double dt = 0.5 * pi_d / n, dp = 2.0 * pi_d / n;
     for (int i = 0; i < n; ++i) {
         const double theta = (i + 0.5) * dt;
         for (int j = 0; j < n; ++j) {
@@ -45,12 +45,12 @@ TEST_CASE("GGX: D is normalised: the integral of D(h) h.z over the hemisphere is
         CAPTURE(alpha);
         const int n = 200000;
         double sum = 0.0;
-        const double dt = 0.5 * pi / n;
+        const double dt = 0.5 * pi_d / n;
         for (int i = 0; i < n; ++i) {
             const double theta = (i + 0.5) * dt;
             sum += ggx_d(direction(theta, 0.0), alpha) * std::cos(theta) * std::sin(theta) * dt;
         }
-        CHECK(2.0 * pi * sum == doctest::Approx(1.0).epsilon(2e-3));
+        CHECK(2.0 * pi_d * sum == doctest::Approx(1.0).epsilon(2e-3));
     }
 }
 
@@ -61,7 +61,7 @@ TEST_CASE("GGX: visible-normal samples have the density ggx_pdf states") {
         for (const double view_deg : {0.0, 30.0, 70.0}) {
             CAPTURE(alpha);
             CAPTURE(view_deg);
-            const glm::vec3 v = direction(view_deg * pi / 180.0, 0.4);
+            const glm::vec3 v = direction(view_deg * pi_d / 180.0, 0.4);
             const int samples = 200000;
             double sum = 0.0, sum2 = 0.0;
             for (int k = 0; k < samples; ++k) {

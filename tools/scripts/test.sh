@@ -4,14 +4,18 @@
 #   release  build/gcc-O2     g++ -O2            (the default build)
 #   debug    build/clang-O0   clang++ -O0 -g     (the goldens must verify bit-exactly in both;
 #                                                 the debugger test runs here)
-#   asan     build/asan       clang++ -O1 -g with AddressSanitizer + UndefinedBehaviorSanitizer; the
-#                             same build holds the libFuzzer targets (one per loader), run with a
+#   asan     build/asan       clang++ -O1 -gline-tables-only with AddressSanitizer +
+#                             UndefinedBehaviorSanitizer (their reports name lines); the same
+#                             build holds the libFuzzer targets (one per loader), run with a
 #                             fixed seed and a fixed number of executions (tools/scripts/fuzz.sh
 #                             --ci, about a minute)
-# It also checks formatting with the checked-in .clang-format.
+# The OpenGL and Vulkan clients (never sanitized) are built and tested in the release build only.
+# It also checks formatting with the checked-in .clang-format, and prints the time elapsed at
+# each step (CI must finish within 25 minutes on a 2-core machine).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 jobs=${FOVREF_JOBS:-$(nproc)}
+elapsed() { printf '%d:%02d' $((SECONDS / 60)) $((SECONDS % 60)); }
 
 configure() {  # preset
   cmake --preset "$1" >/dev/null
@@ -23,9 +27,9 @@ bash tools/scripts/check_layers.sh
 
 status=0
 run_suite() {  # dir label
-  echo "== $2: build"
+  echo "== $2: build (at $(elapsed))"
   cmake --build "$1" -j "$jobs"
-  echo "== $2: tests"
+  echo "== $2: tests (at $(elapsed))"
   if ! ctest --test-dir "$1" --output-on-failure -j "$jobs"; then status=1; fi
 }
 
@@ -37,8 +41,8 @@ configure asan
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
   run_suite build/asan "clang++ ASan+UBSan"
 
-echo "== fuzz: run (fixed seed; the targets of build/asan)"
+echo "== fuzz: run (fixed seed; the targets of build/asan) (at $(elapsed))"
 if ! bash tools/scripts/fuzz.sh --ci; then status=1; fi
 
 if [ $status -ne 0 ]; then echo "test: FAILED"; exit 1; fi
-echo "test: all suites passed"
+echo "test: all suites passed ($(elapsed))"

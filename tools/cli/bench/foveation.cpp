@@ -93,7 +93,7 @@ ModeTimes time_mode(const Scene& scene, const std::string& mode, const Params& p
     return t;
 }
 
-struct Row {
+struct ModeRow {
     std::string label, mode;
     Params params;
 };
@@ -120,8 +120,8 @@ void add_bench_foveation_options(CLI::App& c, BenchFoveationOptions& o) {
 namespace {
 
 // The rows of the table: basic, then the modes asked for (by default every foveated mode).
-std::vector<Row> bench_rows(const BenchFoveationOptions& o) {
-    std::vector<Row> rows = {{"basic", "basic", {}}};
+std::vector<ModeRow> bench_rows(const BenchFoveationOptions& o) {
+    std::vector<ModeRow> rows = {{"basic", "basic", {}}};
     if (o.modes.empty()) {
         for (const std::string m : {"fov", "kfov", "cfov", "ckfov", "kfr", "stereo-lp"})
             rows.push_back({m, m, {}});
@@ -148,7 +148,7 @@ constexpr LundRow lund_table_5_3[] = {
     {"fov", 154.0, 162.0}, {"kfov", 65.7, 75.4}, {"cfov", 37.5, 48.3}, {"ckfov", 37.7, 47.6}};
 
 // "154.0%" for a Lund preset run with its own parameters, else "-".
-std::string lund_share(const Row& row, bool traced) {
+std::string lund_share(const ModeRow& row, bool traced) {
     if (row.params.values().size() > 0) return "-";
     for (const LundRow& l : lund_table_5_3)
         if (row.mode == l.mode) {
@@ -183,7 +183,7 @@ void print_header(const BenchFoveationOptions& o) {
 
 // One row: the mode's buffer, shares of rays and work, stage-group times, speed-up against
 // basic and whether it meets its targets.
-void print_row(const BenchFoveationOptions& o, const Row& row, const ModeTimes& t,
+void print_row(const BenchFoveationOptions& o, const ModeRow& row, const ModeTimes& t,
                const ModeTimes& basic) {
     const double pixels = static_cast<double>(o.width) * o.height;
     const std::string buffer =
@@ -253,7 +253,7 @@ int run_bench_foveation(const BenchFoveationOptions& o) {
     for (const std::string& name : scenes)
         if (!is_procedural_scene(name))
             files.emplace(name, load_cli_scene(name));  // a file must load before the table
-    const std::vector<Row> rows = bench_rows(o);
+    const std::vector<ModeRow> rows = bench_rows(o);
     print_header(o);
     Progress progress("bench foveation", o.quiet);
     const double step = 1.0 / static_cast<double>(scenes.size() * rows.size());
@@ -270,7 +270,7 @@ int run_bench_foveation(const BenchFoveationOptions& o) {
                     "trace ms", "shade ms", "pass2 ms", "filt. ms", "frame ms", "speed-up",
                     "target", "w-target", "p2+f share");
         ModeTimes basic;
-        for (const Row& row : rows) {
+        for (const ModeRow& row : rows) {
             const ModeTimes t = time_mode(scene, row.mode, row.params, o, progress, done, step);
             done += step;
             if (row.mode == "basic") basic = t;

@@ -131,7 +131,7 @@ std::string explain_disagreement(const Scene& scene, const std::string& name, co
 }
 #endif
 
-struct Row {
+struct RayRow {
     std::string scene, kind;
     std::size_t rays = 0;
     double ref = 0.0;               // seconds; trace_closest / trace_any, one ray at a time
@@ -147,7 +147,7 @@ struct Row {
 constexpr const char* embree_blank_columns =
     "             |             |        |        |        |                |            |";
 
-void print_row(const Row& r, bool have_embree) {
+void print_row(const RayRow& r, bool have_embree) {
     if (r.kind == "raster gbuf" || r.kind == "ray gbuf") {  // G-buffer passes: time, no peer
         std::printf("| %-12s | %-10s | %9zu | %8.1f ms |             |", r.scene.c_str(),
                     r.kind.c_str(), r.rays, 1e3 * r.ref);
@@ -215,7 +215,7 @@ struct TracedRays {
 // Traces the rays with fovref's BVH: the fastest of the repeats into row.ref, the traversal work
 // per ray into the row, the answers into the result.
 TracedRays trace_with_fovref(const Bvh& bvh, const char* kind, std::vector<Ray> rays, int repeats,
-                             Row& row) {
+                             RayRow& row) {
     TracedRays t{kind, std::string(kind) == "shadow", std::move(rays), {}, {}};
     t.hits.resize(t.rays.size());
     t.blocked.resize(t.rays.size());
@@ -273,7 +273,7 @@ TracedRays trace_with_fovref(const Bvh& bvh, const char* kind, std::vector<Ray> 
 // primitive differences with fovref into the row, and the first --explain disagreements of the
 // row explained into `explanations`.
 void compare_with_embree(const EmbreeScene& embree, const Scene& scene, const std::string& name,
-                         const TracedRays& t, const BenchRaysOptions& options, Row& row,
+                         const TracedRays& t, const BenchRaysOptions& options, RayRow& row,
                          std::string& explanations) {
     std::vector<Hit> embree_hits;
     std::vector<std::uint8_t> embree_blocked;
@@ -323,13 +323,13 @@ void compare_with_embree(const EmbreeScene& embree, const Scene& scene, const st
 void bench_gbuffer_passes(const Scene& scene, const Bvh& bvh, const std::string& name,
                           const BenchRaysOptions& options) {
     const Camera camera = camera_at(scene, 0.0f);
-    Row raster{name, "raster gbuf", static_cast<std::size_t>(options.width) * options.height};
+    RayRow raster{name, "raster gbuf", static_cast<std::size_t>(options.width) * options.height};
     raster.ref = best_time(options.repeats, [&] {
         RasterStats raster_stats;
         rasterize_gbuffer(scene, camera, camera, options.width, options.height, raster_stats);
     });
     print_row(raster, have_embree);
-    Row raycast{name, "ray gbuf", raster.rays};
+    RayRow raycast{name, "ray gbuf", raster.rays};
     raycast.ref = best_time(options.repeats, [&] {
         RaycastStats raycast_stats;
         raycast_gbuffer(PrimaryView(scene, bvh, camera, camera), options.width, options.height,
@@ -344,7 +344,7 @@ void bench_scene(const std::string& name, const Scene& scene, const BenchRaysOpt
                  [[maybe_unused]] std::string& explanations) {
     // Build: the fastest of the repeats (a build is deterministic, so any copy is the tree).
     Bvh bvh;
-    Row build{name, "build", scene.triangle_count()};
+    RayRow build{name, "build", scene.triangle_count()};
     build.ref = best_time(options.repeats, [&] { bvh = build_bvh(scene.positions); });
 #ifdef FOVREF_HAVE_EMBREE
     const EmbreeScene embree(scene.positions);
@@ -360,7 +360,7 @@ void bench_scene(const std::string& name, const Scene& scene, const BenchRaysOpt
         std::vector<Ray> rays = std::string(kind) == "shadow"
                                     ? shadow_rays(scene, primary, primary_hits)
                                     : (std::string(kind) == "primary" ? primary : incoherent);
-        Row row{name, kind, rays.size()};
+        RayRow row{name, kind, rays.size()};
         const TracedRays traced =
             trace_with_fovref(bvh, kind, std::move(rays), options.repeats, row);
 #ifdef FOVREF_HAVE_EMBREE

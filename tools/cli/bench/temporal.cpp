@@ -34,7 +34,7 @@ namespace fovref {
 
 namespace {
 
-struct Row {
+struct TaaRow {
     std::string label, mode;
     std::map<std::string, std::string> params;
 };
@@ -45,7 +45,7 @@ struct Cost {
     double frame = 1e300, taa = 1e300;
 };
 
-Cost time_row(const Scene& scene, const Row& row, float time_step, const BenchTemporalOptions& o,
+Cost time_row(const Scene& scene, const TaaRow& row, float time_step, const BenchTemporalOptions& o,
               Progress& progress, double done, double step) {
     RenderSettings s;
     s.width = o.width;
@@ -70,7 +70,7 @@ Cost time_row(const Scene& scene, const Row& row, float time_step, const BenchTe
 }
 
 void print_cost(const Scene& scene, const BenchTemporalOptions& o, Progress& progress) {
-    const std::vector<std::pair<Row, float>> rows = {
+    const std::vector<std::pair<TaaRow, float>> rows = {
         {{"basic depth", "basic", {{"taa", "depth"}}}, 1.0f / 30},
         {{"basic clamp-screen", "basic", {{"taa", "clamp-screen"}}}, 1.0f / 30},
         {{"basic depth static", "basic", {{"taa", "depth"}}}, 0.0f},
@@ -139,7 +139,7 @@ void add_rings(Errors& e, const Image& ref, const Image& test, const RingLayout&
 }
 
 void print_errors(const Scene& scene, const BenchTemporalOptions& o, Progress& progress) {
-    const std::vector<Row> rows = {
+    const std::vector<TaaRow> rows = {
         {"basic", "basic", {}},
         {"basic taa=depth", "basic", {{"taa", "depth"}}},
         {"basic taa=clamp-screen", "basic", {{"taa", "clamp-screen"}}},
@@ -183,7 +183,7 @@ void print_errors(const Scene& scene, const BenchTemporalOptions& o, Progress& p
         std::printf("  %-24s %15s %15s %15s %10.5f\n", "ground-truth", "-", "-", "-",
                     temporal_error(reference));
         for (std::size_t r = 0; r < rows.size(); ++r) {
-            const Row& row = rows[r];
+            const TaaRow& row = rows[r];
             Errors e;
             std::vector<Image> frames;
             RenderSettings rs = s;
