@@ -15,5 +15,3 @@ target_precompile_headers(fovref_tests PRIVATE ${FOVREF_PCH_STD} <glm/glm.hpp> <
 # first #include of doctest.h
 set_source_files_properties(${PROJECT_SOURCE_DIR}/tests/core/test_main.cpp
     PROPERTIES SKIP_PRECOMPILE_HEADERS ON)
-set_target_properties(fovref_cli PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 7)
-set_target_properties(fovref_tests PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)

@@ -20,6 +20,7 @@
 #include "ref/modes/modes.h"
 #include "ref/scene/camera.h"
 #include "ref/scene/procedural.h"
+#include "tests/core/build_speed.h"
 #include "tests/image/image_test_util.h"
 
 using namespace fovref;
@@ -185,6 +186,7 @@ TEST_CASE(
     "culled BVH what it hits through the whole BVH") {
     for (const std::string name :
          {"cornell", "sphere-grid", "checker-room", "glossy-floor", "million"}) {
+        if (test::slow_build && name == "million") continue;  // (build_speed.h)
         CAPTURE(name);
         const Scene scene = make_procedural_scene(name);
         const Bvh bvh = build_bvh(scene.positions);
@@ -384,9 +386,7 @@ TEST_CASE(
     // (million, the fourth point-lit scene, in optimised builds only: its 1 M-node culling
     // takes most of a minute at -O0 and under ASan; the bench's shadow rows cover it)
     std::vector<std::string> scenes = {"sphere-grid", "checker-room", "glossy-floor"};
-#if defined(__OPTIMIZE__) && !defined(__SANITIZE_ADDRESS__)
-    scenes.push_back("million");
-#endif
+    if (!test::slow_build) scenes.push_back("million");
     for (const std::string& name : scenes) {
         CAPTURE(name);
         const Scene scene = make_procedural_scene(name);
