@@ -1,12 +1,16 @@
 // fovref: the command-line tool of the reference renderer. This file builds the command line and
-// dispatches; each command (or command group) is a module of its own, with its options, their
-// registration and its run function:
+// dispatches; each command (or command group) is a module of its own, with its options and its
+// run function:
 //   tools/cli/commands/  scene, modes, render, rays, golden, probe, evaluate, sweep, stress, diff
-//                        (diff/: options, input, compare, probe_hint, console, json, html), gain,
+//                        (diff/: input, compare, probe_hint, console, json, html), gain,
 //                        density, denoise
 //   tools/cli/bench/     rays (and embree, its peer), metrics, foveation, temporal, bmfr,
 //                        visual_polar
 //   tools/cli/report/    JSON values, SVG plots, the sweep report
+//   tools/cli/options/   the registration of every command's options (command_options.cpp) and
+//                        every benchmark's (bench_options.cpp): the only files besides this one
+//                        and common/cli_common.cpp that include CLI11 (seconds of compile time
+//                        per file)
 //   tools/cli/common/    what they share: exit codes, option groups, the resolved case, number
 //                        formatting, progress
 // Exit codes: 0 ok, 1 a check failed (golden verify, diff), 2 usage or input error.

@@ -14,7 +14,6 @@
 
 #include <malloc.h>
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -224,37 +223,6 @@ void print_errors(const Scene& scene, const BenchBmfrOptions& o, Progress& progr
 }
 
 }  // namespace
-
-void add_bench_bmfr_options(CLI::App& c, BenchBmfrOptions& o) {
-    add_scene_options(c, o.scene)->capture_default_str();
-    add_screen_options(c, o.width, o.height, " of the cost part", 16);
-    c.add_option("--repeats", o.repeats, "timed frames (after an untimed first one)")
-        ->check(CLI::Range(1, 100))
-        ->capture_default_str();
-    c.add_option("--error-width", o.error_width, "screen width of the error part")
-        ->check(CLI::Range(16, 16384))
-        ->capture_default_str();
-    c.add_option("--error-height", o.error_height, "screen height of the error part")
-        ->check(CLI::Range(16, 16384))
-        ->capture_default_str();
-    c.add_option("--frames", o.frames, "frames of the error sequence")
-        ->check(CLI::Range(2, 10000))
-        ->capture_default_str();
-    c.add_option("--every", o.every, "compare every K-th frame")
-        ->check(CLI::Range(1, 10000))
-        ->capture_default_str();
-    c.add_option("--reference-spp", o.reference_spp, "samples per pixel of the reference")
-        ->check(CLI::Range(1, 65536))
-        ->capture_default_str();
-    c.add_flag("--no-cost", o.skip_cost, "skip the cost part");
-    c.add_option("--input", o.input,
-                 "time the phases on another renderer's buffers instead (the layout of `fovref "
-                 "denoise bmfr`'s IN_DIR); no path tracing, no error part");
-    c.add_option("--param", o.params, "with --input: BMFR parameters, as denoise bmfr takes");
-    c.add_flag("--demodulated", o.demodulated,
-               "with --input: the colour is already divided by albedo (as denoise bmfr)");
-    c.add_flag("--no-error", o.skip_error, "skip the error part");
-}
 
 int run_bench_bmfr(const BenchBmfrOptions& o) {
     // Steady state, as a renderer that keeps its buffers (see bench foveation).

@@ -9,7 +9,6 @@
 
 #include <malloc.h>
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -97,27 +96,6 @@ struct ModeRow {
     std::string label, mode;
     Params params;
 };
-
-}  // namespace
-
-void add_bench_foveation_options(CLI::App& c, BenchFoveationOptions& o) {
-    add_scenes_options(c, o.scenes);
-    add_screen_options(c, o.width, o.height, "", 1);
-    c.add_option("--repeats", o.repeats, "timed frames per mode (after an untimed first one)")
-        ->check(CLI::Range(1, 100))
-        ->capture_default_str();
-    c.add_option("--mode", o.modes,
-                 "foveated mode (repeatable; default: fov, kfov, cfov, ckfov, kfr, stereo-lp, "
-                 "visual-polar-basic (as vp-basic) and cfov with the lerp filter)");
-    c.add_flag("--stages", o.stages, "also print each stage's own fastest time under its row");
-    c.add_option("--gaze-track", o.gaze_track,
-                 "gaze track for the foveated modes (frame,x,y per line, docs/foveation.md): a "
-                 "moving gaze, whose maps and pass 2 tables are made again each frame (default: "
-                 "the gaze at the centre)")
-        ->check(CLI::ExistingFile);
-}
-
-namespace {
 
 // The rows of the table: basic, then the modes asked for (by default every foveated mode).
 std::vector<ModeRow> bench_rows(const BenchFoveationOptions& o) {

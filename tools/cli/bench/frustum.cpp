@@ -1,6 +1,5 @@
 #include "tools/cli/bench/frustum.h"
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <utility>
@@ -178,23 +177,6 @@ void print_shadow_tiles(const std::string& name, const Scene& scene, const Bvh& 
             1e3 * culled_seconds, 1e3 * any_seconds, static_cast<long long>(lost));
     }
 }
-
-}  // namespace
-
-void add_bench_frustum_options(CLI::App& c, BenchFrustumOptions& o) {
-    c.add_option("--scene", o.scenes,
-                 "procedural scenes or scene files (default: every procedural one)");
-    c.add_option("--width", o.width, "screen width")
-        ->check(CLI::Range(16, 16384))
-        ->capture_default_str();
-    c.add_option("--height", o.height, "screen height")
-        ->check(CLI::Range(16, 16384))
-        ->capture_default_str();
-    c.add_option("--tile-size", o.tile_sizes, "tile sizes in pixels (default 16 32 64)")
-        ->check(CLI::Range(1, 4096));
-}
-
-namespace {
 
 // Every pixel-centre primary ray through the BVH4 trace_closest the renderer uses: the hits
 // the culled traces must reproduce; returns the seconds it took.

@@ -1,6 +1,5 @@
 #include "tools/cli/bench/metrics.h"
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -63,17 +62,6 @@ bool skimage_ssim(const std::string& a_path, const std::string& b_path, int repe
     }
     return false;
 }
-
-}  // namespace
-
-void add_bench_metrics_options(CLI::App& c, BenchMetricsOptions& o) {
-    c.add_option("--size", o.sizes, "WxH (repeatable)")->capture_default_str();
-    c.add_option("--repeats", o.repeats, "fastest of N runs")
-        ->check(CLI::Range(1, 100))
-        ->capture_default_str();
-}
-
-namespace {
 
 // scikit-image's SSIM of the same luma images, timed in the same run, against fovref's.
 void compare_with_skimage(const std::string& size, const Image& ya, const Image& yb,

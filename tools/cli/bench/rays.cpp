@@ -12,7 +12,6 @@
 
 #include "tools/cli/bench/bench_util.h"
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -422,19 +421,6 @@ void print_footer(const BenchRaysOptions& options, const std::string& explanatio
 }
 
 }  // namespace
-
-void add_bench_rays_options(CLI::App& c, BenchRaysOptions& o) {
-    add_scenes_options(c, o.scenes);
-    add_screen_options(c, o.width, o.height, " of the primary rays", 1);
-    c.add_option("--repeats", o.repeats, "each timing is the fastest of N runs")
-        ->check(CLI::Range(1, 100))
-        ->capture_default_str();
-    c.add_option("--explain", o.explain,
-                 "list up to N hit/miss disagreements with Embree per row: the ray, both "
-                 "answers, the brute force's, the distance to an edge")
-        ->check(CLI::Range(0, 1000))
-        ->capture_default_str();
-}
 
 int run_bench_rays(const BenchRaysOptions& options) {
     if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)

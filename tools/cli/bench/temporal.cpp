@@ -14,7 +14,6 @@
 
 #include <malloc.h>
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -220,28 +219,6 @@ void print_errors(const Scene& scene, const BenchTemporalOptions& o, Progress& p
 }
 
 }  // namespace
-
-void add_bench_temporal_options(CLI::App& c, BenchTemporalOptions& o) {
-    add_scene_options(c, o.scene)->capture_default_str();
-    add_screen_options(c, o.width, o.height, " of the cost part", 16);
-    c.add_option("--repeats", o.repeats, "timed frames per row (after an untimed first one)")
-        ->check(CLI::Range(1, 100))
-        ->capture_default_str();
-    c.add_option("--error-width", o.error_width, "screen width of the error part")
-        ->check(CLI::Range(16, 16384))
-        ->capture_default_str();
-    c.add_option("--error-height", o.error_height, "screen height of the error part")
-        ->check(CLI::Range(16, 16384))
-        ->capture_default_str();
-    c.add_option("--frames", o.frames, "frames of each error sequence")
-        ->check(CLI::Range(2, 10000))
-        ->capture_default_str();
-    c.add_option("--every", o.every, "moving camera: compare every K-th frame")
-        ->check(CLI::Range(1, 10000))
-        ->capture_default_str();
-    c.add_flag("--no-cost", o.skip_cost, "skip the cost part");
-    c.add_flag("--no-error", o.skip_error, "skip the error part");
-}
 
 int run_bench_temporal(const BenchTemporalOptions& o) {
     // Steady state, as a renderer that keeps its buffers (see bench foveation).

@@ -32,7 +32,6 @@
 
 #include <malloc.h>
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -531,40 +530,6 @@ Size parse_size(const std::string& text, const std::string& option) {
 }
 
 }  // namespace
-
-void add_bench_visual_polar_options(CLI::App& c, BenchVisualPolarOptions& o) {
-    add_scene_options(c, o.scene)->capture_default_str();
-    c.add_option("--width", o.width,
-                 "screen width of the cost part (with --height: this one size instead of "
-                 "1280x1440 and 1280x720)")
-        ->check(CLI::Range(16, 16384));
-    c.add_option("--height", o.height, "screen height of the cost part (with --width)")
-        ->check(CLI::Range(16, 16384));
-    c.add_option("--repeats", o.repeats, "timed frames (after an untimed first one)")
-        ->check(CLI::Range(1, 100))
-        ->capture_default_str();
-    c.add_option("--error-size", o.error_size, "screen size WxH of the error part")
-        ->capture_default_str();
-    c.add_option("--frames", o.frames, "frames of the error sequence")
-        ->check(CLI::Range(2, 10000))
-        ->capture_default_str();
-    c.add_option("--every", o.every, "compare every K-th frame")
-        ->check(CLI::Range(1, 10000))
-        ->capture_default_str();
-    c.add_option("--spp,--reference-spp", o.reference_spp, "samples per pixel of the reference")
-        ->check(CLI::Range(1, 65536))
-        ->capture_default_str();
-    c.add_option("--rings", o.rings, "eccentricity rings of the ring table")
-        ->check(CLI::Range(1, 1000))
-        ->capture_default_str();
-    c.add_option("--gaze-track", o.gaze_track,
-                 "gaze track of the cost part for visual-polar and log-polar-pathtrace (frame,x,y "
-                 "per line, docs/foveation.md): a moving gaze, whose maps and tables are made "
-                 "again each frame (default: the gaze at the screen centre)")
-        ->check(CLI::ExistingFile);
-    c.add_flag("--no-cost", o.skip_cost, "skip the cost part");
-    c.add_flag("--no-error", o.skip_error, "skip the error part");
-}
 
 int run_bench_visual_polar(const BenchVisualPolarOptions& o) {
     // Steady state, as a renderer that keeps its buffers (see bench foveation).

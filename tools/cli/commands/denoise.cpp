@@ -1,6 +1,5 @@
 #include "tools/cli/commands/denoise.h"
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
@@ -330,36 +329,6 @@ ModeInfo denoise_mode(const DenoiseOptions& o, std::shared_ptr<const Input> in) 
 }
 
 }  // namespace
-
-void add_denoise_options(CLI::App& c, DenoiseOptions& o) {
-    c.add_option("IN_DIR", o.input,
-                 "per-frame buffers fNNN_radiance, fNNN_gbuffer_albedo, "
-                 "fNNN_gbuffer_shading_normal, fNNN_gbuffer_world_position (.pfm or .exr; "
-                 "fNNN_emission with bmfr_emission=separate) and cameras.json (per frame "
-                 "\"view_projection\" or \"camera\", optionally \"pixel_offset\": [x, y]; at the "
-                 "top optionally \"position_limit_squared\", \"normal_limit_squared\"), or a "
-                 "fovref bundle's manifest.json (docs/bmfr.md)")
-        ->required();
-    c.add_option("OUT_DIR", o.output,
-                 "the bundle written (every phase of every frame unless --output/--frames say)")
-        ->required();
-    c.add_option("--param", o.params,
-                 "bmfr_storage=half|float, bmfr_position_limit_squared=V, "
-                 "bmfr_normal_limit_squared=V, bmfr_emission=separate|include, "
-                 "bmfr_block=32|64, bmfr_noise_hash=jenkins|wang, bmfr_sums=binary64|workgroup, "
-                 "bmfr_gamma=0.454545|1/2.2, bmfr_remodulate=floor|albedo, "
-                 "bmfr_behind_camera=reject|project (`fovref modes`; docs/bmfr.md)");
-    c.add_flag("--demodulated", o.demodulated,
-               "fNNN_radiance already holds colour / max(albedo, 0.01), as the BMFR authors' "
-               "input does: it is taken as the illumination (not divided again)");
-    c.add_option("--frames", o.frames,
-                 "N (frames 0 .. N-1) or A..B (frames A .. B written; 0 .. B run, BMFR's history "
-                 "needs them); default: every frame of cameras.json");
-    c.add_option("--output", o.outputs,
-                 "comma-separated buffers to write (e.g. final,bmfr_fitted), or all (default)")
-        ->delimiter(',');
-    c.add_flag("--previews", o.previews, "also a PNG preview of every buffer written");
-}
 
 DenoiseRun denoise_each(const DenoiseOptions& o, const std::vector<std::string>& requested,
                         const std::function<void(double)>& progress,

@@ -1,6 +1,5 @@
 #include "tools/cli/commands/density.h"
 
-#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -15,20 +14,6 @@
 #include "tools/cli/report/svg_plot.h"
 
 namespace fovref {
-
-void add_density_options(CLI::App& c, DensityOptions& o) {
-    o.scene = "cornell";
-    o.width = 1280;
-    o.height = 720;
-    c.add_option("mode", o.mode, "a log-polar mode: fov, kfov, cfov, ckfov, kfr")->required();
-    add_scene_options(c, o.scene, "scene whose camera and display model give d_px")
-        ->capture_default_str();
-    add_screen_options(c, o.width, o.height);
-    c.add_option("--param", o.params, "mode parameter key=value (repeatable)");
-    add_gaze_option(c, o);
-    add_ring_options(c, o.rings, o.max_range);
-    c.add_option("--out", o.out_dir, "write density.csv and density.svg here");
-}
 
 int run_density(const DensityOptions& o) {
     std::optional<OutputDirectory> out;  // checked before any work

@@ -1,6 +1,5 @@
 #include "tools/cli/commands/evaluate.h"
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -118,52 +117,6 @@ std::vector<RingStats> average_rings(const std::vector<std::vector<RingStats>>& 
     }
     return mean;
 }
-
-}  // namespace
-
-void add_evaluate_options(CLI::App& c, EvaluateOptions& o) {
-    add_scene_options(c, o.scene)->required();
-    c.add_option("--mode", o.modes,
-                 "mode to evaluate, optionally with parameters: basic or basic:primary=raster "
-                 "(repeatable, or comma-separated)")
-        ->delimiter(',');
-    c.add_option("--frames-dir", o.frame_dirs,
-                 "evaluate already rendered frames: a directory with f000_final.pfm/.exr/.png, "
-                 "... (e.g. a GPU implementation's output; repeatable)");
-    c.add_option("--reference", o.reference_mode, "the reference mode")->capture_default_str();
-    c.add_option("--reference-dir", o.reference_dir,
-                 "read the reference frames from DIR when it holds them for these settings, "
-                 "else render them and store them there (f000_final.pfm, ..., reference.json)");
-    c.add_option("--param", o.params, "key=value for every mode that has the parameter");
-    add_screen_options(c, o.width, o.height, "", 11);
-    c.add_option("--frames", o.frames, "frames along the camera path")
-        ->check(CLI::Range(1, 100000))
-        ->capture_default_str();
-    c.add_option("--repeats", o.repeats,
-                 "render each mode N times: stage times are the medians (the images must be the "
-                 "same bits every time)")
-        ->check(CLI::Range(1, 1000))
-        ->capture_default_str();
-    c.add_option("--every", o.every, "evaluate every k-th frame (Lund §5.3.4)")
-        ->check(CLI::Range(1, 100000))
-        ->capture_default_str();
-    c.add_option("--time-start", o.time_start, "camera-path time of frame 0")
-        ->capture_default_str();
-    c.add_option("--time-step", o.time_step, "camera-path time between frames")
-        ->capture_default_str();
-    c.add_option("--gaze", o.gaze,
-                 "gaze point X,Y in pixels, of the error ranges and of the foveated modes "
-                 "(default: the centre)");
-    add_ring_options(c, o.rings, o.max_range);
-    c.add_flag("--linear", o.linear, "compare stored linear values (default: display space)");
-    c.add_flag("--flip", o.flip, "also LDR-FLIP of every evaluated frame (display space)");
-    c.add_option("--out", o.out_dir,
-                 "output directory (rings.csv, frames.csv, summary.json, "
-                 "rings.svg, heatmaps)")
-        ->required();
-}
-
-namespace {
 
 // What every comparison of a run shares: the screen, the ring layout around the gaze, the
 // evaluated frames and the reference images at them.

@@ -1,6 +1,5 @@
 #include "tools/cli/commands/gain.h"
 
-#include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -14,13 +13,6 @@
 namespace fovref {
 
 namespace {
-
-const char* const model_line =
-    "V(e) = 60 c/deg for e <= 5.79 deg, 449.4 / (0.3 e + 1)^2 beyond (P1 eq. 2), clamped to "
-    "V_max; e from the FOV centre (the gaze), degrees as planar coordinates";
-const char* const density_note =
-    "sample density is taken proportional to V (c/deg), not to V^2 (samples per deg^2), as in "
-    "the sources";
 
 std::string fov_text(const GainParams& p) {
     if (p.shape == FovShape::disc)
@@ -95,8 +87,8 @@ void print_one(const GainParams& p, const GainResult& r) {
                 number_text(r.acuity_integral, "%.6g").c_str(),
                 number_text(r.uniform_integral, "%.6g").c_str());
     std::printf("gain       %.2f%%\n", 100.0 * r.gain);
-    std::printf("model      %s\n", model_line);
-    std::printf("note       %s\n", density_note);
+    std::printf("model      %s\n", gain_model_line);
+    std::printf("note       %s\n", gain_density_note);
 }
 
 int run_table(const GainOptions& o) {
@@ -117,8 +109,8 @@ int run_table(const GainOptions& o) {
             c["quoted"] = cases[k].quoted;
             j["cases"].push_back(c);
         }
-        j["model"] = model_line;
-        j["note"] = density_note;
+        j["model"] = gain_model_line;
+        j["note"] = gain_density_note;
         std::cout << j.dump(2) << "\n";
         return exit_ok;
     }
@@ -134,42 +126,12 @@ int run_table(const GainOptions& o) {
                     (number_text(results[k].v_max_cpd, "%.6g") + " c/deg").c_str(), gain,
                     cases[k].quoted.c_str());
     }
-    std::printf("model: %s\n", model_line);
-    std::printf("note: %s\n", density_note);
+    std::printf("model: %s\n", gain_model_line);
+    std::printf("note: %s\n", gain_density_note);
     return exit_ok;
 }
 
 }  // namespace
-
-void add_gain_options(CLI::App& c, GainOptions& o) {
-    c.add_option("--shape", o.shape,
-                 "disc or ellipse (default: disc for one --fov-deg value, ellipse for two)")
-        ->check(CLI::IsMember({"disc", "ellipse"}));
-    c.add_option("--fov-deg", o.fov_deg,
-                 "the FOV in degrees (planar): W, a disc's diameter, or W,H, an ellipse's full "
-                 "horizontal and vertical axes; without it, P1's three cases")
-        ->delimiter(',');
-    c.add_option_function<double>(
-        "--max-cpd",
-        [&o](const double& v) {
-            o.max_cpd = v;
-            o.max_cpd_given = true;
-        },
-        "the display's maximum c/deg: V is clamped to it and the gain measured against it "
-        "[60]");
-    c.add_option("--angle-steps", o.angle_steps,
-                 "quadrature nodes per quadrant for an ellipse (docs/gain.md)")
-        ->capture_default_str()
-        ->check(CLI::Range(1, gain_max_angle_steps));
-    c.add_flag("--json", o.json, "machine-readable output");
-    c.footer(
-        "Examples:\n"
-        "  fovref gain                               P1's three cases (93.8%, 70.3%, 94.6%)\n"
-        "  fovref gain --fov-deg 160,135             an ellipse, full axes, at 60 c/deg\n"
-        "  fovref gain --fov-deg 110 --max-cpd 15.3  a disc of 110 deg diameter (HTC Vive)\n"
-        "Model: " +
-        std::string(model_line) + ".\nNote: " + density_note + ". docs/gain.md has the details.");
-}
 
 int run_gain(const GainOptions& o) {
     if (o.fov_deg.empty() && o.shape.empty() && !o.max_cpd_given) return run_table(o);
@@ -177,8 +139,8 @@ int run_gain(const GainOptions& o) {
     const GainResult r = theoretical_gain(p);
     if (o.json) {
         nlohmann::json j = gain_json(p, r);
-        j["model"] = model_line;
-        j["note"] = density_note;
+        j["model"] = gain_model_line;
+        j["note"] = gain_density_note;
         std::cout << j.dump(2) << "\n";
     } else {
         print_one(p, r);

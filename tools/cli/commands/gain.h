@@ -12,6 +12,15 @@ class App;
 
 namespace fovref {
 
+/// The acuity model and the density assumption, as `gain` prints them (table, one case, --json)
+/// and as its --help footer quotes them.
+inline constexpr const char* gain_model_line =
+    "V(e) = 60 c/deg for e <= 5.79 deg, 449.4 / (0.3 e + 1)^2 beyond (P1 eq. 2), clamped to "
+    "V_max; e from the FOV centre (the gaze), degrees as planar coordinates";
+inline constexpr const char* gain_density_note =
+    "sample density is taken proportional to V (c/deg), not to V^2 (samples per deg^2), as in "
+    "the sources";
+
 struct GainOptions {
     std::string shape;            ///< "disc" or "ellipse"; "": one --fov-deg value is a disc
     std::vector<double> fov_deg;  ///< W (disc diameter) or W,H (ellipse); empty: P1's cases

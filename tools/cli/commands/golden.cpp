@@ -1,6 +1,5 @@
 #include "tools/cli/commands/golden.h"
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -99,36 +98,6 @@ void remove_stale_bundles(const std::string& dir, const std::vector<GoldenCase>&
 }
 
 }  // namespace
-
-void add_golden_options(CLI::App& c, GoldenOptions& o) {
-    c.add_option("--dir", o.dir, "golden directory (default: ./golden, else the source tree's)");
-}
-
-void add_golden_cases_options(CLI::App& c, GoldenCasesOptions& o) {
-    c.add_option("--case", o.cases, "only these cases");
-}
-
-void add_golden_export_options(CLI::App& c, GoldenExportOptions& o) {
-    c.add_option("CASE", o.case_name, "golden case name (see `fovref golden list`)")->required();
-    c.add_option("DIR", o.directory, "output directory")->required();
-    c.add_option("--width", o.width, "override the case's width")->check(CLI::Range(1, 16384));
-    c.add_option("--height", o.height, "override the case's height")->check(CLI::Range(1, 16384));
-    c.add_option("--frames", o.frames, "override the case's frame count")
-        ->check(CLI::Range(1, 16384));
-    c.add_option("--param", o.params,
-                 "override or add a mode parameter of the case, key=value (repeatable; "
-                 "e.g. fill_rule=gl)");
-    c.add_flag("--with-scene", o.with_scene,
-               "also write the scene into DIR/scene (OBJ + MTL + textures + scene.json; "
-               "OBJ triangle k is primitive id k), for a GPU implementation to render");
-    c.add_flag("--raw-copies", o.raw_copies,
-               "also write every buffer of 2 or more than 3 channels (stored as EXR) as raw "
-               "binary32, interleaved, top row first (f000_NAME.f32, the manifest's raw_file), "
-               "for a client without an EXR reader");
-    c.add_flag("--timings", o.timings,
-               "record each stage's wall time per frame in the manifest (\"seconds\"), for "
-               "comparing a port's pass times with the oracle's");
-}
 
 int run_golden_list(const GoldenOptions& o) {
     const std::string dir = golden_directory(o);

@@ -1,6 +1,5 @@
 #include "tools/cli/commands/probe.h"
 
-#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -169,32 +168,6 @@ void print_debugger_section(const DebugPlan& debug) {
 }
 
 }  // namespace
-
-void add_probe_options(CLI::App& c, ProbeOptions& o) {
-    add_scene_options(c, o.scene);
-    c.add_option("--mode", o.mode, "render mode (see `fovref modes`)")->required();
-    add_screen_options(c, o.width, o.height, " in pixels");
-    c.add_option("--frame", o.frame, "frame number (frames before it run too)")
-        ->check(CLI::Range(0, 100000))
-        ->capture_default_str();
-    c.add_option("--pixel", o.pixel, "X,Y of the screen pixel");
-    c.add_option("--texel", o.texel,
-                 "I,J of a texel of a foveated mode's log-polar buffer (column I, row J), "
-                 "explained instead of a pixel: its screen point, ray, hit and shading; "
-                 "stereo-lp: I,J,EYE (EYE 0 left, 1 right)");
-    c.add_option("--time-start", o.time_start, "camera-path time of frame 0")
-        ->capture_default_str();
-    c.add_option("--time-step", o.time_step, "camera-path time between frames")
-        ->capture_default_str();
-    c.add_option("--param", o.params, "mode parameter key=value (repeatable)");
-    add_gaze_option(c, o);
-    c.add_flag("--json", o.json, "machine-readable output");
-    c.add_option("--debugger", o.debugger,
-                 "also print a gdb or lldb command line that renders this case and stops in "
-                 "each pass's per-pixel function where this pixel (or --texel) is computed, in "
-                 "this frame (README: Debugging one pixel)")
-        ->check(CLI::IsMember({"gdb", "lldb"}));
-}
 
 int run_probe(const ProbeOptions& o) {
     if (o.pixel.empty() == o.texel.empty())

@@ -1,6 +1,5 @@
 #include "tools/cli/commands/rays.h"
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <vector>
 
@@ -12,43 +11,6 @@
 #include "tools/cli/common/progress.h"
 
 namespace fovref {
-
-void add_rays_trace_options(CLI::App& c, RaysTraceOptions& o) {
-    c.add_option("SCENE", o.scene,
-                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
-        ->required();
-    add_scene_load_options(c, /*with_camera=*/false);
-    c.add_option("RAYS", o.rays_path, "ray file: 8 x binary32 per ray (docs/rays.md)")->required();
-    c.add_option("HITS", o.hits_path, "output: 16-byte hit records, or 4-byte occlusion flags")
-        ->required();
-    c.add_flag("--any-hit", o.any_hit, "occlusion queries (shadow rays) instead of closest hits");
-    c.add_flag("--interleave", o.interleave,
-               "closest hits with 16 rays' traversals interleaved: the same hits and counts, "
-               "faster for incoherent rays over a large scene, slower for coherent rays or a "
-               "small scene (docs/bvh.md, \"Interleaved queries\")");
-    c.add_flag("--packets", o.packets,
-               "with --any-hit: consecutive rays traced 8 at a time in AVX lanes, the same answers "
-               "(the traversal counts follow the packets), faster for coherent rays such as a "
-               "row of pixels' shadow rays (docs/bvh.md, \"Shadow-ray packets\")");
-}
-
-void add_rays_make_options(CLI::App& c, RaysMakeOptions& o) {
-    c.add_option("SCENE", o.scene,
-                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
-        ->required();
-    add_scene_load_options(c, /*with_camera=*/false);
-    c.add_option("RAYS", o.rays_path, "output ray file")->required();
-    c.add_flag("--camera", o.camera, "primary rays through every pixel centre");
-    c.add_option("--width", o.width, "with --camera")->capture_default_str();
-    c.add_option("--height", o.height, "with --camera")->capture_default_str();
-    c.add_option("--time", o.time, "camera-path time, with --camera")->capture_default_str();
-    c.add_option("--random", o.random_count,
-                 "N random rays: origins in the scene bounds, uniform "
-                 "directions")
-        ->check(CLI::Range(1u, 100000000u));
-    c.add_option("--seed", o.seed, "seed of the random rays (the rand() frame)")
-        ->capture_default_str();
-}
 
 int run_rays_trace(const RaysTraceOptions& o) {
     if (o.interleave && o.any_hit)

@@ -2,7 +2,6 @@
 // (docs/frustum.md, "Exporting the culled trees"): the BVH2's triangles in leaf order, every
 // tile's culled tree (culled_tree: BvhNode records, [0] where traversal starts) and a tile table;
 // with --shadow the same for each tile's shadow frustum towards a point light.
-#include <CLI/CLI.hpp>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -70,39 +69,6 @@ void add_tree(Trees& t, int tx, int ty, int x0, int y0, int x1, int y1,
     t.records += static_cast<std::uint32_t>(tree.size());
     ++t.tiles_written;
 }
-
-}  // namespace
-
-void add_rays_cull_options(CLI::App& c, RaysCullOptions& o) {
-    c.add_option("SCENE", o.scene,
-                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
-        ->required();
-    add_scene_load_options(c, /*with_camera=*/false);
-    c.add_option("OUT_DIR", o.out_dir,
-                 "the directory written: manifest.json, triangles.bin, nodes.bin, tiles.bin "
-                 "(and shadow_nodes.bin, shadow_tiles.bin)")
-        ->required();
-    c.add_option("--width", o.width, "screen width")->capture_default_str();
-    c.add_option("--height", o.height, "screen height")->capture_default_str();
-    c.add_option("--time", o.time, "camera-path time")->capture_default_str();
-    c.add_option("--tile-size", o.tile_size, "tile edge in pixels")
-        ->check(CLI::Range(1, 4096))
-        ->capture_default_str();
-    c.add_option("--test", o.test, "the frustum-box test: lund or exact")
-        ->check(CLI::IsMember({"lund", "exact"}))
-        ->capture_default_str();
-    c.add_flag("--no-trim", o.no_trim, "keep inner nodes left without children");
-    c.add_flag("--no-entry", o.no_entry, "start every tree at the BVH2's root");
-    c.add_flag("--no-bridge", o.no_bridge, "keep nodes left with one child (an empty slot)");
-    c.add_flag("--shadow", o.shadow,
-               "also each tile's shadow frustum towards a point light (its apex): the shadow "
-               "rays of the tile's pixel-centre primary hits");
-    c.add_option("--light", o.light,
-                 "with --shadow: the point light's index (default -1: the first point light)")
-        ->check(CLI::Range(-1, 1 << 20));
-}
-
-namespace {
 
 // The triangles in the BVH2's leaf order: 3 corners, then the primitive id.
 std::vector<char> triangle_records(const Bvh& bvh) {

@@ -1,6 +1,5 @@
 #include "tools/cli/commands/render.h"
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
@@ -94,56 +93,6 @@ std::vector<Buffer> resume_buffers(const std::string& directory, const GoldenCas
                     " with --dump)");
     return buffers;
 }
-
-}  // namespace
-
-void add_render_options(CLI::App& c, RenderOptions& o) {
-    add_scene_options(c, o.scene);
-    c.add_option("--mode", o.mode, "render mode (see `fovref modes`)")->capture_default_str();
-    add_screen_options(c, o.width, o.height, " in pixels");
-    c.add_option("--frames", o.frames,
-                 "number of frames N, or a range A..B of frame numbers (= --first-frame A, "
-                 "B - A + 1 frames)")
-        ->capture_default_str();
-    c.add_option("--first-frame", o.first_frame,
-                 "number of the first frame (seeds rand() and the Halton index, sets the "
-                 "camera-path time): render frames of a sequence alone, bit-identical to the "
-                 "sequence's; with TAA give --resume")
-        ->check(CLI::Range(0, 100000))
-        ->capture_default_str();
-    c.add_option("--resume", o.resume,
-                 "a --dump (or --out with --output all) bundle that holds frame F - 1 of the same "
-                 "render: the state carried into frame F = the first frame (TAA history, age, "
-                 "depth; BMFR's accumulations); for pathtrace-reference, a bundle of the same "
-                 "frame whose sums the run continues up to spp");
-    c.add_flag("--static-camera", o.static_camera,
-               "keep the camera at the path's start for every frame (= --time-step 0): the "
-               "static-camera sequence");
-    c.add_option("--time-start", o.time_start, "camera-path time of frame 0")
-        ->capture_default_str();
-    c.add_option("--time-step", o.time_step, "camera-path time between frames")
-        ->capture_default_str();
-    c.add_option("--param", o.params, "mode parameter key=value (repeatable)");
-    add_gaze_option(c, o);
-    c.add_option("--primary", o.primary,
-                 "primary visibility for 'basic': ray or raster (= --param primary=...)")
-        ->check(CLI::IsMember({"ray", "raster"}));
-    c.add_option("--output", o.outputs, "buffers to produce (default: the mode's final outputs)")
-        ->delimiter(',');
-    c.add_option("--out", o.out_dir,
-                 "write the final buffers (PFM/EXR + PNG + manifest.json) here");
-    c.add_option("--dump", o.dump_dir,
-                 "write every intermediate buffer (PFM/EXR + PNG preview + manifest.json) here");
-    c.add_flag("--with-scene", o.with_scene,
-               "also write the scene into DIR/scene of --out and --dump (OBJ + MTL + "
-               "textures + scene.json; OBJ triangle k is primitive id k)");
-    c.add_flag("--scalar", o.scalar,
-               "run every pass's scalar reference code, without its SIMD path (the same bits, "
-               "slower): a debugger's breakpoint in a per-pixel function then stops at every "
-               "pixel (`probe --debugger` adds it)");
-}
-
-namespace {
 
 // The case `render` renders, resolved once: its mode and scene, the frame count, the static
 // camera, the primary visibility.

@@ -1,6 +1,5 @@
 #include "tools/cli/commands/scene.h"
 
-#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -137,22 +136,6 @@ void print_scene_info(const Scene& scene, const Bounds& bounds, const LightCount
 }
 
 }  // namespace
-
-void add_scene_info_options(CLI::App& c, SceneInfoOptions& o) {
-    c.add_option("SCENE", o.scene,
-                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
-        ->required();
-    add_scene_load_options(c);
-    c.add_flag("--json", o.json, "machine-readable output");
-}
-
-void add_scene_export_options(CLI::App& c, SceneExportOptions& o) {
-    c.add_option("SCENE", o.scene,
-                 "procedural scene, scene file/directory, or model file (.obj, .gltf, .glb)")
-        ->required();
-    add_scene_load_options(c);
-    c.add_option("DIR", o.directory, "output directory (created)")->required();
-}
 
 int run_scene_info(const SceneInfoOptions& o) {
     const Scene scene = load_cli_scene(o.scene, /*report=*/false);

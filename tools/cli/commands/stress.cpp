@@ -1,6 +1,5 @@
 #include "tools/cli/commands/stress.h"
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -623,12 +622,6 @@ const Group groups[] = {{"camera rays", camera_rays},
                         {"injected NaN/Inf", injected_buffers}};
 
 }  // namespace
-
-void add_stress_options(CLI::App& c, StressOptions& o) {
-    c.add_flag("--fast", o.fast, "only the fast cases (what CI runs, a few seconds)");
-    c.add_option("--case", o.filter, "only the groups whose name contains this text");
-    c.add_option("--json", o.json, "also write every row as JSON to this file");
-}
 
 int run_stress(const StressOptions& o) {
     std::vector<Row> rows;

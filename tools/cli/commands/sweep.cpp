@@ -1,6 +1,5 @@
 #include "tools/cli/commands/sweep.h"
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -331,40 +330,6 @@ std::string csv_field(const std::string& text) {
 }  // namespace
 
 // ---- Commands ---------------------------------------------------------------------------------
-
-void add_sweep_plan_options(CLI::App& c, SweepOptions& o) {
-    c.add_option("FILE", o.file, "the sweep file (JSON; docs/sweeps.md)")->required();
-    c.add_option("OUT", o.out, "the sweep directory (plan.json, jobs.txt, results/)")->required();
-}
-
-void add_sweep_job_options(CLI::App& c, SweepOptions& o) {
-    c.add_option("OUT", o.out, "the sweep directory")->required();
-    c.add_option("INDEX", o.job, "the job's index in plan.json (0-based)")
-        ->required()
-        ->check(CLI::NonNegativeNumber);
-}
-
-void add_sweep_run_options(CLI::App& c, SweepOptions& o) {
-    c.add_option("OUT", o.out, "the sweep directory")->required();
-    c.add_option("--jobs,-j", o.jobs, "jobs at a time (each single-threaded)")
-        ->check(CLI::Range(1, 1024))
-        ->capture_default_str();
-}
-
-void add_sweep_merge_options(CLI::App& c, SweepOptions& o) {
-    c.add_option("OUT", o.out, "the sweep directory")->required();
-}
-
-void add_sweep_export_options(CLI::App& c, SweepOptions& o) {
-    c.add_option("OUT", o.out, "the sweep directory")->required();
-    c.add_option("--format", o.format, "parallel (GNU parallel), slurm or k8s")
-        ->required()
-        ->check(CLI::IsMember({"parallel", "slurm", "k8s"}));
-    c.add_option("--fovref", o.fovref, "the fovref command where the jobs run")
-        ->capture_default_str();
-    c.add_option("--image", o.image, "k8s: the container image holding fovref")
-        ->capture_default_str();
-}
 
 namespace {
 

@@ -32,7 +32,8 @@ struct SweepOptions {
     bool quiet = false;
 };
 
-/// The options of each subcommand of `sweep` (registered by tools/cli/fovref.cpp).
+/// The options of each subcommand of `sweep` (tools/cli/options/command_options.cpp; the
+/// subcommands are made by tools/cli/fovref.cpp).
 void add_sweep_plan_options(CLI::App& command, SweepOptions& options);
 void add_sweep_job_options(CLI::App& command, SweepOptions& options);
 void add_sweep_run_options(CLI::App& command, SweepOptions& options);

@@ -5,7 +5,6 @@
 // style), the table of configurations with the front they are on or the one that dominates them,
 // and the work each one skipped. Every plot is also written as DIR/plots/NAME.svg and, where
 // rsvg-convert (Debian librsvg2-bin) is installed, as NAME.png for slides.
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -166,18 +165,6 @@ const char* const page_style =
     "margin:.6em 0}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right;font-size:13px}"
     "td.l,th.l{text-align:left}tr.front td{background:#eef6ee}figure{display:inline-block;"
     "margin:.4em}figcaption{font-size:12px;text-align:center}h2{margin-top:1.6em}";
-
-}  // namespace
-
-void add_sweep_report_options(CLI::App& c, SweepOptions& o) {
-    c.add_option("OUT", o.out, "the sweep directory (after fovref sweep merge)")->required();
-    c.add_option("--html", o.html, "output directory (index.html, plots/*.svg, *.png)")->required();
-    c.add_option("--metric", o.metric, "the error of the Pareto fronts")
-        ->check(CLI::IsMember({"psnr", "ssim", "flip", "temporal"}))
-        ->capture_default_str();
-}
-
-namespace {
 
 // The finished results by group (scene, screen and gaze), the groups in the order of the plan.
 struct Groups {

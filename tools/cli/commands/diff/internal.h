@@ -1,7 +1,7 @@
 // The pieces of `fovref diff` its files share (tools/cli/commands/diff/): reading the golden and
 // the candidate into items (input.cpp), comparing them (compare.cpp), the probe hint of a differing
 // pixel (probe_hint.cpp) and the reports (console.cpp, json.cpp, html.cpp); diff.cpp runs them in
-// that order, options.cpp registers the command's options.
+// that order; tools/cli/options/command_options.cpp registers the command's options.
 #pragma once
 
 #include <string>
