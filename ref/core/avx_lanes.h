@@ -27,6 +27,17 @@ constexpr int lanes = 8;
 /// Changes no value; tools/scripts/check_vzeroupper.py looks for calls it should precede.
 FOVREF_AVX_INLINE void leave_for_scalar() { _mm256_zeroupper(); }
 
+/// The lanes a vector kernel could not do, redone by its scalar reference: out[k] = scalar(x[k])
+/// for each of the `count` lanes whose bit in `done` is clear, after leave_for_scalar(). Nothing
+/// runs when every lane is done. `x` holds the kernel's inputs (a copy when `out` may be `x`).
+template <class Scalar>
+FOVREF_AVX_INLINE void redo_lanes(int done, int count, const float* x, float* out, Scalar scalar) {
+    if (done == (1 << count) - 1) return;
+    leave_for_scalar();
+    for (int k = 0; k < count; ++k)
+        if (!(done & (1 << k))) out[k] = scalar(x[k]);
+}
+
 FOVREF_AVX_INLINE __m256 set(float v) { return _mm256_set1_ps(v); }
 FOVREF_AVX_INLINE __m256 zero() { return _mm256_setzero_ps(); }
 /// `yes` where the comparison mask is set, else `no`, bit for bit.

@@ -706,10 +706,7 @@ __attribute__((target("avx2"), always_inline)) inline void pow_groups(
     }
 #pragma GCC unroll 4
     for (int h = 0; h < G; ++h) pow_finish(p[h], kd[h], out + 4 * h);
-    if (good == (1 << (4 * G)) - 1) return;
-    avx::leave_for_scalar();
-    for (int lane = 0; lane < 4 * G; ++lane)
-        if (!(good & (1 << lane))) out[lane] = pow_fast(xs[lane], y);
+    avx::redo_lanes(good, 4 * G, xs, out, [y](float v) { return pow_fast(v, y); });
 }
 
 __attribute__((target("avx2"))) std::size_t pow_fast_avx2(const float* x, float y, float* out,
@@ -775,10 +772,7 @@ __attribute__((target("avx2"))) std::size_t log2_avx2(const float* x, float* out
         float xs[4];  // the inputs, kept: `out` may be `x`
         _mm_storeu_ps(xs, g.xf);
         _mm_storeu_ps(out + i, _mm256_cvtpd_ps(p));
-        if (good == 15) continue;
-        avx::leave_for_scalar();
-        for (int lane = 0; lane < 4; ++lane)
-            if (!(good & (1 << lane))) out[i + static_cast<std::size_t>(lane)] = log2(xs[lane]);
+        avx::redo_lanes(good, 4, xs, out + i, [](float v) { return log2(v); });
     }
     return i;
 }
@@ -816,10 +810,7 @@ __attribute__((target("avx2"))) std::size_t exp_avx2(const float* x, float* out,
         float xs[4];  // the inputs, kept: `out` may be `x`
         _mm_storeu_ps(xs, xf);
         _mm_storeu_ps(out + i, _mm256_cvtpd_ps(_mm256_mul_pd(v, scale)));
-        if (good == 15) continue;
-        avx::leave_for_scalar();
-        for (int lane = 0; lane < 4; ++lane)
-            if (!(good & (1 << lane))) out[i + static_cast<std::size_t>(lane)] = exp(xs[lane]);
+        avx::redo_lanes(good, 4, xs, out + i, [](float a) { return exp(a); });
     }
     return i;
 }
@@ -913,10 +904,7 @@ __attribute__((target("avx2"))) std::size_t PowFixed::apply_avx2(const float* x,
         const int good = _mm256_movemask_pd(_mm256_andnot_pd(_mm256_castsi256_pd(near), in_range)) &
                          _mm_movemask_ps(_mm_castsi128_ps(normal));
         _mm_storeu_ps(out + i, _mm256_cvtpd_ps(p));
-        if (good == 15) continue;
-        avx::leave_for_scalar();
-        for (std::size_t k = 0; k < 4; ++k)
-            if (!(good & (1 << k))) out[i + k] = (*this)(x[i + k]);
+        avx::redo_lanes(good, 4, x + i, out + i, [this](float v) { return (*this)(v); });
     }
     return i;
 }
