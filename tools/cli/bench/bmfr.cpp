@@ -12,8 +12,6 @@
 //          bmfr_block=64; the temporal error over all consecutive frames.
 #include "tools/cli/bench/bmfr.h"
 
-#include <malloc.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -225,9 +223,6 @@ void print_errors(const Scene& scene, const BenchBmfrOptions& o, Progress& progr
 }  // namespace
 
 int run_bench_bmfr(const BenchBmfrOptions& o) {
-    // Steady state, as a renderer that keeps its buffers (see bench foveation).
-    mallopt(M_MMAP_THRESHOLD, 1 << 30);
-    mallopt(M_TRIM_THRESHOLD, 1 << 30);
     if (o.every > o.frames)
         throw Error("--every " + std::to_string(o.every) + " is more than --frames " +
                     std::to_string(o.frames) + ": no frame would be compared");

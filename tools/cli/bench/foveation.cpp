@@ -7,8 +7,6 @@
 // rays / the mode's), and the share of the frame spent in pass 2 and the filters.
 #include "tools/cli/bench/foveation.h"
 
-#include <malloc.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -219,11 +217,6 @@ void print_row(const BenchFoveationOptions& o, const ModeRow& row, const ModeTim
 }  // namespace
 
 int run_bench_foveation(const BenchFoveationOptions& o) {
-    // Steady state, as a renderer that keeps its buffers from frame to frame: freed buffers stay
-    // in the heap instead of going back to the system, so a frame's buffers do not pay the page
-    // faults of fresh memory (which otherwise dominate the foveated modes' many buffers).
-    mallopt(M_MMAP_THRESHOLD, 1 << 30);
-    mallopt(M_TRIM_THRESHOLD, 1 << 30);
     std::vector<std::string> scenes = o.scenes;
     if (scenes.empty())
         for (const ProceduralSceneInfo& info : procedural_scenes()) scenes.push_back(info.name);

@@ -12,8 +12,6 @@
 //          rings, Lund §5.3.4), and the temporal error over all consecutive frames (SPEC §10).
 #include "tools/cli/bench/temporal.h"
 
-#include <malloc.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -221,9 +219,6 @@ void print_errors(const Scene& scene, const BenchTemporalOptions& o, Progress& p
 }  // namespace
 
 int run_bench_temporal(const BenchTemporalOptions& o) {
-    // Steady state, as a renderer that keeps its buffers (see bench foveation).
-    mallopt(M_MMAP_THRESHOLD, 1 << 30);
-    mallopt(M_TRIM_THRESHOLD, 1 << 30);
     const Scene scene = load_cli_scene(o.scene);
     std::printf("fovref bench temporal: TAA (SPEC §7) cost and error, one thread\n");
     Progress progress("bench temporal", o.quiet);

@@ -30,8 +30,6 @@
 //          includes its blur ramp, a deliberate loss of peripheral detail the reference lacks.
 #include "tools/cli/bench/visual_polar.h"
 
-#include <malloc.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -532,9 +530,6 @@ Size parse_size(const std::string& text, const std::string& option) {
 }  // namespace
 
 int run_bench_visual_polar(const BenchVisualPolarOptions& o) {
-    // Steady state, as a renderer that keeps its buffers (see bench foveation).
-    mallopt(M_MMAP_THRESHOLD, 1 << 30);
-    mallopt(M_TRIM_THRESHOLD, 1 << 30);
     if ((o.width == 0) != (o.height == 0))
         throw Error("--width and --height go together (one size for the cost part)");
     if (o.every > o.frames)
