@@ -45,10 +45,11 @@ echo "== clang++ -O0 -g: build (at $(elapsed))"
 cmake --build build/clang-O0 -j "$jobs" --target fovref_cli
 echo "== clang++ -O0 -g: tests, alongside the ASan build (from $(elapsed))"
 o0_log=build/clang-O0/ctest-ci.log
-ctest --test-dir build/clang-O0 --output-on-failure -j 2 -R '^cli\.(golden_verify|debugger)$' \
-  >"$o0_log" 2>&1 &
+# (setsid: a process group of their own, so that an early exit stops the tests too, not only ctest)
+setsid ctest --test-dir build/clang-O0 --output-on-failure -j 2 \
+  -R '^cli\.(golden_verify|debugger)$' >"$o0_log" 2>&1 &
 o0_tests=$!
-trap 'kill "$o0_tests" 2>/dev/null || true' EXIT
+trap 'kill -- -"$o0_tests" 2>/dev/null || true' EXIT
 configure asan
 echo "== clang++ ASan+UBSan: build (at $(elapsed))"
 cmake --build build/asan -j "$jobs"
