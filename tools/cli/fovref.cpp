@@ -364,10 +364,9 @@ void add_sweep_commands(CLI::App& app, Options& o, Commands& commands) {
 // Steady state, as a renderer that keeps its buffers from frame to frame: glibc's malloc serves
 // large blocks (image buffers) from mappings of their own, unmapped when freed, and trims the
 // heap's top, so the next frame's buffers fault in and zero their pages again (about 16,000 page
-// faults per 1280x720 frame of `basic`). The heap alone, and
-// freed memory kept for the next frame: none after the first frame (docs/speed.md). For every
-// command (the benches did it for themselves before). Changes no value; the process keeps its
-// largest footprint until it exits.
+// faults per 1280x720 frame of `basic`). The heap alone, and freed memory kept for the next
+// frame: none after the first frame (docs/speed.md). For every command (the benches did it for
+// themselves before). Changes no value; the process keeps its largest footprint until it exits.
 void keep_freed_memory() {
 #if defined(__GLIBC__)
     mallopt(M_MMAP_MAX, 0);
