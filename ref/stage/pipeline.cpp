@@ -100,7 +100,7 @@ const std::string& FrameContext::buffer_of(const std::string& slot) const {
     return input_buffer(*this, slot);
 }
 
-Image FrameContext::recycled(const std::string& slot, int width, int height, int channels) {
+Image FrameContext::carried(const std::string& slot) {
     FOVREF_CHECK(stage != nullptr && find_port(stage->outputs, slot) != nullptr,
                  "storage asked for '" + slot + "', which the running stage does not write");
     const std::string& name = buffer_of(slot);
@@ -109,6 +109,11 @@ Image FrameContext::recycled(const std::string& slot, int width, int height, int
     Image image;
     for (Buffer& b : spare)
         if (b.name == name) image = std::move(b.image);
+    return image;
+}
+
+Image FrameContext::recycled(const std::string& slot, int width, int height, int channels) {
+    Image image = carried(slot);
     keep_or_make(image, width, height, channels);
     return image;
 }
@@ -331,8 +336,8 @@ std::vector<std::string> render_each(const Scene* scene, const ModeInfo& mode,
 std::vector<FrameResult> render(const Scene* scene, const ModeInfo& mode,
                                 const RenderSettings& settings) {
     std::vector<FrameResult> frames;
-    render_each(scene, mode, settings,
-                [&frames](FrameResult& f) { frames.push_back(std::move(f)); });
+    // Copies: a stage may read its own buffers of a frame in the next one (carried()).
+    render_each(scene, mode, settings, [&frames](FrameResult& f) { frames.push_back(f); });
     return frames;
 }
 

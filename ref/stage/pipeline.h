@@ -124,11 +124,19 @@ struct FrameContext {
     /// read), else a new image of zeros. It saves the zero fill of a new image each frame (22 MB
     /// for clamp-buffer's taa_bounds). Asking marks the buffer for hand_back.
     Image recycled(const std::string& slot, int width, int height, int channels);
-    /// Keeps, for the next frame's recycled(), the buffers of `done` that recycled() has asked
-    /// for and its caller left in it (the rest goes with the frame). render_each calls it once
-    /// the frame's callback has returned, when nothing can read the frame's buffers any more.
+    /// Output `slot` of the running stage as the previous frame left it, values and all, for a
+    /// stage whose next frame reads what it wrote (TAA's output is its history): the frame's
+    /// buffer itself, not a copy, as hand_back kept it; an empty image when there is none (the
+    /// first frame, or a caller that took the buffer away). Asking marks the buffer for
+    /// hand_back. A frame's callback may read such a buffer and may copy it, but must neither
+    /// alter it nor move it out of the frame (render() keeps copies of its frames).
+    Image carried(const std::string& slot);
+    /// Keeps, for the next frame's recycled() and carried(), the buffers of `done` that they
+    /// have asked for and its caller left in it (the rest goes with the frame). render_each
+    /// calls it once the frame's callback has returned, when nothing can read the frame's
+    /// buffers any more.
     void hand_back(FrameResult& done);
-    std::vector<std::string> recyclable;  ///< the buffers recycled() has asked for
+    std::vector<std::string> recyclable;  ///< the buffers recycled() and carried() asked for
     std::vector<Buffer> spare;            ///< what hand_back kept
     /// Buffer `name` of frame F - 1 for a stage that carries state (`what`: "TAA", "BMFR") into
     /// the first frame F > 0 rendered, from RenderSettings::state_buffers (`fovref render

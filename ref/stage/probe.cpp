@@ -132,8 +132,8 @@ ProbeReport probe_pixel(const Scene* scene, const ModeInfo& mode, const RenderSe
     s.requested = {"all"};
     FrameResult last, previous;
     render_each(scene, mode, s, [&](FrameResult& f) {
-        if (f.frame == frame) last = std::move(f);
-        if (f.frame + 1 == frame) previous = std::move(f);
+        if (f.frame == frame) last = std::move(f);  // the last frame
+        if (f.frame + 1 == frame) previous = f;     // a copy: TAA reads it in the next frame
     });
 
     ProbeReport report;

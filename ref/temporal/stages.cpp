@@ -14,7 +14,10 @@ namespace {
 struct TaaStageState : StageState {
     TaaSettings taa;
     std::function<glm::vec2(const FrameContext&)> gaze;
-    TaaState history;  ///< what the previous frame handed on (invalid before the first frame)
+    /// What the previous frame handed on (invalid before the first frame). Its history colour
+    /// is not kept here between frames: it is the previous frame's output buffer itself, which
+    /// the pipeline hands back (FrameContext::carried), so that no frame copies its output.
+    TaaState history;
     /// The output and age storage of the frame before last, recycled for this frame's pass
     /// (which writes every pixel): no zero fill of 4 floats a pixel each frame.
     Image spare_output, spare_age;
@@ -75,6 +78,12 @@ void taa_stage(FrameContext& ctx) {
     const Image* bounds = ctx.has_input("bounds") ? &ctx.input("bounds") : nullptr;
     if (!state.history.valid && ctx.has_previous)
         state.history = resumed_taa_state(ctx, ctx.buffer_of("output"), ctx.buffer_of("depth"));
+    // The previous frame's output, handed back (a resumed history is already here)
+    if (Image carried = ctx.carried("output"); !carried.empty())
+        state.history.history = std::move(carried);
+    FOVREF_CHECK(!state.history.valid || !state.history.history.empty(),
+                 "TAA's history, the previous frame's buffer '" + ctx.buffer_of("output") +
+                     "', was not handed back: a frame's callback moved it away");
     const glm::vec2 gaze = state.gaze ? state.gaze(ctx)
                                       : glm::vec2(static_cast<float>(color.width) * 0.5f,
                                                   static_cast<float>(color.height) * 0.5f);
@@ -91,17 +100,16 @@ void taa_stage(FrameContext& ctx) {
                 : ctx.camera == state.history.camera ? ", stationary camera: no reprojection"
                                                      : ", reprojected") +
                (index < 0 ? ", no jitter" : ", Halton point " + std::to_string(index));
-    // The frame's buffers are copies; the state keeps these, and the previous history's
-    // storage becomes the next frame's. (Before ctx.output, which may move `depth`.) The age is
-    // copied only when wanted (`--dump all`, a request naming it): a plain render reads only
-    // the output.
-    Image frame_output = out;
+    // The output goes to the frame, which hands it back as the next frame's history; the state
+    // keeps the age and a copy of the depth, and the previous history's storage becomes the
+    // next frame's output. (Before ctx.output, which may move `depth`.) The age is copied only
+    // when wanted (`--dump all`, a request naming it): a plain render reads only the output.
     const bool ages = ctx.wants("age");
     Image frame_age = ages ? age : Image();
     state.spare_output = std::move(state.history.history);
     state.spare_age = std::move(state.history.age);
-    state.history = next_taa_state(std::move(out), std::move(age), depth, ctx.camera);
-    ctx.output("output", BufferKind::color, {"r", "g", "b"}, std::move(frame_output));
+    state.history = next_taa_state(Image(), std::move(age), depth, ctx.camera);
+    ctx.output("output", BufferKind::color, {"r", "g", "b"}, std::move(out));
     if (ages) ctx.output("age", BufferKind::scalar, {"age"}, std::move(frame_age));
     if (margins)
         ctx.output("margin", BufferKind::scalar, {"depth", "reprojection"}, std::move(margin));

@@ -502,8 +502,8 @@ TEST_CASE("pipeline: an output's storage is recycled from what the caller handed
                          doctest::Contains("storage asked for 'elsewhere'"), Error);
 }
 
-// render_each hands each frame back once its callback returned; render() keeps every frame, so
-// nothing is recycled there. Both give the same bits: TAA with clamp-buffer, whose taa_source
+// render_each hands each frame back once its callback returned; render() keeps a copy of every
+// frame. Both give the same bits: TAA with clamp-buffer, whose taa_source
 // recycles its depth and its bounds (every value written).
 TEST_CASE("render_each recycles the outputs its callback leaves, the frames' bits are unchanged") {
     const Scene scene = load_scene("checker-room");

@@ -156,6 +156,43 @@ TEST_CASE("TAA modes: resuming from the previous frame's buffers gives the seque
     }
 }
 
+// The history is the previous frame's output buffer itself (FrameContext::carried), not a copy:
+// render_each hands it back after the frame's callback, and the pass writes the next output into
+// the storage of the history before; the bits are those of render(), which keeps copies. A
+// callback that moves the output away leaves TAA without its history: a clear error.
+TEST_CASE("TAA modes: the history is the previous frame's output, handed back, never copied") {
+    for (const char* mode : {"basic", "cfov"}) {
+        CAPTURE(mode);
+        RenderSettings s;
+        s.width = 64;
+        s.height = 36;
+        s.frame_count = 4;
+        s.time_step = 0.0f;
+        s.params.set("taa", "depth");
+        const std::vector<FrameResult> kept = render(&scene_named("checker-room"), mode, s);
+        std::vector<const float*> storage;
+        render_each(&scene_named("checker-room"), find_mode(mode), s, [&](FrameResult& f) {
+            CAPTURE(f.frame);
+            const Image& out = buffer(f, "final");
+            CHECK(same_bits(out, buffer(kept.at(static_cast<std::size_t>(f.frame)), "final")));
+            storage.push_back(out.data.data());
+        });
+        REQUIRE(storage.size() == 4);
+        CHECK(storage[2] == storage[0]);  // two images take turns: output, then history
+        CHECK(storage[3] == storage[1]);
+        CHECK(storage[1] != storage[0]);
+        CHECK_THROWS_WITH_AS(
+            render_each(&scene_named("checker-room"), find_mode(mode), s,
+                        [](FrameResult& f) {
+                            for (Buffer& b : f.buffers)
+                                if (b.name == "final") Image taken = std::move(b.image);
+                        }),
+            doctest::Contains("TAA's history, the previous frame's buffer 'final', was not "
+                              "handed back"),
+            Error);
+    }
+}
+
 TEST_CASE("TAA modes: a disocclusion is rejected where the depth changes, kept where it does not") {
     // cornell with the camera moving 0.5 s of its path in one frame: the boxes uncover the walls
     // behind them. The primitive ids (which TAA never reads) say what the history shows: a
