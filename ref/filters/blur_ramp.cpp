@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -407,9 +408,12 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
     const int pad = vertical ? 0 : blur_ramp_max_radius;
     const std::size_t pitch = static_cast<std::size_t>(width + 2 * pad + (vertical ? 16 : 0));
     const std::size_t plane = pitch * static_cast<std::size_t>(height) + 16;
-    std::vector<float> planes(static_cast<std::size_t>(channels) * plane);
+    // Not zero-filled: every float a group reads is written below (the 16 floats after each
+    // vertical row and each plane are never read)
+    const auto planes =
+        std::make_unique_for_overwrite<float[]>(static_cast<std::size_t>(channels) * plane);
     for (int y = 0; y < height; ++y) {
-        float* start = planes.data() + static_cast<std::size_t>(y) * pitch;
+        float* start = planes.get() + static_cast<std::size_t>(y) * pitch;
         to_planes(&image.data[image.index(0, y)], channels, static_cast<std::size_t>(width),
                   start + pad, plane);
         for (int c = 0; c < channels; ++c) {
@@ -421,8 +425,8 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
     // Along y, rows in pairs whose groups alternate, the later row's group next: the second
     // row's taps are the first's rows but one, still in the cache. Each row the same sums.
     const int together = vertical ? 2 : 1;
-    std::vector<RowSums> rows(together, RowSums(ramp, geometry, image, table, vertical,
-                                                planes.data(), pitch, pad, plane));
+    std::vector<RowSums> rows(
+        together, RowSums(ramp, geometry, image, table, vertical, planes.get(), pitch, pad, plane));
     for (int y = 0; y < height; y += together) {
         const int count = std::min(together, height - y);
         for (int k = 0; k < count; ++k) rows[k].begin(y + k);
@@ -440,16 +444,20 @@ __attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
 /// One pass along x (`vertical` false) or y (true): the AVX groups where the CPU has AVX (the
 /// same bits), else blur_ramp_pixel pixel by pixel.
 Image blur_pass(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
-                bool vertical, bool simd, const BlurRampTable* table) {
+                bool vertical, bool simd, const BlurRampTable* table, Image storage) {
     check_inputs(ramp, geometry, image);
     FOVREF_CHECK(!table || table->made_for(ramp, geometry),
                  "a blur ramp table made for another ramp or geometry");
-    Image out = image;
     if (simd && image.channels >= 1 && image.channels <= max_avx_channels && simd_allowed() &&
         cpu_has_avx()) {
+        // The AVX pass writes every pixel (each row whole from its planes, copied pixels
+        // included): the storage as it is, no copy of the image first
+        Image out = std::move(storage);
+        keep_or_make(out, image.width, image.height, image.channels);
         blur_pass_avx(ramp, geometry, image, vertical, out, table);
         return out;
     }
+    Image out = image;  // blur_ramp_pixel leaves a copied pixel (radius 0) as it is
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < image.width; ++x)
             blur_ramp_pixel(ramp, geometry, image, vertical, out, x, y);
@@ -547,13 +555,14 @@ void blur_ramp_pixel(const BlurRamp& ramp, const BlurRampGeometry& geometry, con
 }
 
 Image blur_ramp_horizontal(const BlurRamp& ramp, const BlurRampGeometry& geometry,
-                           const Image& image, bool simd, const BlurRampTable* table) {
-    return blur_pass(ramp, geometry, image, false, simd, table);
+                           const Image& image, bool simd, const BlurRampTable* table,
+                           Image storage) {
+    return blur_pass(ramp, geometry, image, false, simd, table, std::move(storage));
 }
 
 Image blur_ramp_vertical(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
-                         bool simd, const BlurRampTable* table) {
-    return blur_pass(ramp, geometry, image, true, simd, table);
+                         bool simd, const BlurRampTable* table, Image storage) {
+    return blur_pass(ramp, geometry, image, true, simd, table, std::move(storage));
 }
 
 bool BlurRampTable::made_for(const BlurRamp& r, const BlurRampGeometry& g) const {

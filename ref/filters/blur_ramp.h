@@ -83,14 +83,17 @@ void blur_ramp_pixel(const BlurRamp& ramp, const BlurRampGeometry& geometry, con
 /// `simd` (the default) and a CPU with AVX, eight pixels at a time for up to 4 channels, each
 /// lane doing blur_ramp_pixel's operations in its order: the same bits as `simd` false, which
 /// runs blur_ramp_pixel pixel by pixel (the readable reference). `table` (optional, made for this
-/// ramp and geometry) gives the AVX groups each pixel's sigma and exp.
+/// ramp and geometry) gives the AVX groups each pixel's sigma and exp. `storage`: an image the
+/// output is written into when it has the image's shape (a stage recycles an earlier frame's);
+/// every value is written, none of its own is read; otherwise the output is made anew.
 Image blur_ramp_horizontal(const BlurRamp& ramp, const BlurRampGeometry& geometry,
                            const Image& image, bool simd = true,
-                           const BlurRampTable* table = nullptr);
+                           const BlurRampTable* table = nullptr, Image storage = {});
 /// The vertical pass on a W x H image (the geometry's screen size), any channel count (`simd`,
-/// `table`: as blur_ramp_horizontal).
+/// `table`, `storage`: as blur_ramp_horizontal).
 Image blur_ramp_vertical(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
-                         bool simd = true, const BlurRampTable* table = nullptr);
+                         bool simd = true, const BlurRampTable* table = nullptr,
+                         Image storage = {});
 /// Both passes: horizontal, then vertical.
 Image blur_ramp(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,
                 bool simd = true);

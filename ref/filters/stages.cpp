@@ -52,9 +52,13 @@ void run_blur_pass(FrameContext& ctx, bool vertical) {
                : made ? "sigma and exp per pixel computed (kept)"
                       : "sigma and exp per pixel kept";
     const Image& input = ctx.input("input");
+    // The pass writes every value (AVX; the scalar reference copies the image first): an
+    // earlier frame's storage saves the zero fill
+    Image storage = ctx.recycled("output", input.width, input.height, input.channels);
     ctx.output("output", BufferKind::color, rgb,
-               vertical ? blur_ramp_vertical(state.ramp, g, input, true, table)
-                        : blur_ramp_horizontal(state.ramp, g, input, true, table));
+               vertical
+                   ? blur_ramp_vertical(state.ramp, g, input, true, table, std::move(storage))
+                   : blur_ramp_horizontal(state.ramp, g, input, true, table, std::move(storage)));
 }
 
 std::shared_ptr<BlurState> blur_state(const BlurRamp& ramp, FrameBlurGeometry geometry) {

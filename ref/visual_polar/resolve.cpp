@@ -324,7 +324,7 @@ void resolve_vp_pixel(const VisualPolarMap& map, const VpMips& mips, Image& out,
 }
 
 Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, ResolveStats& stats,
-                           bool mip, const VpForwardTable* table) {
+                           bool mip, const VpForwardTable* table, Image storage) {
     FOVREF_CHECK(!table || table->map == map, "a forward table made for another map");
     FOVREF_CHECK(!mips.color.empty() && mips.color.size() == mips.valid.size(),
                  "an empty or inconsistent visual-polar pyramid");
@@ -339,7 +339,9 @@ Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, Resolv
     for (const int n : mips.column_rows) max_rows = std::max(max_rows, n);
     FOVREF_CHECK_EQ(mips.color.size(), static_cast<std::size_t>(vp_mip_last_level(max_rows) + 1),
                     "visual-polar pyramid levels");
-    Image out(map.screen_width, map.screen_height, mips.color[0].channels, 0.0f);
+    // Every pixel is written below (each lane and resolve_vp_pixel write all its channels)
+    Image out = std::move(storage);
+    keep_or_make(out, map.screen_width, map.screen_height, mips.color[0].channels);
     // Eight pixels at a time where the AVX2 path covers the resolve (the same bits:
     // resolve_avx.h); resolve_vp_pixel, the reference, does the rest.
     const bool avx = resolve_vp_avx_applies(map, mips, table);

@@ -138,8 +138,12 @@ void resolve_vp_pixel(const VisualPolarMap& map, const VpMips& mips, Image& out,
                       const VpForwardTable* table = nullptr);
 
 /// Pass 2 of the Visual-Polar modes: a W x H image with the buffer's channel count, row by row.
+/// `storage`: an image the output is written into when it has the output's shape (a stage
+/// recycles an earlier frame's): every pixel is written, none of its values is read; otherwise
+/// the output is made anew.
 Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, ResolveStats& stats,
-                           bool mip = true, const VpForwardTable* table = nullptr);
+                           bool mip = true, const VpForwardTable* table = nullptr,
+                           Image storage = {});
 
 /// The polar coordinates of screen pixel (x, y)'s centre as the resolve computes them: u
 /// (vp_forward's), the distance r from the gaze and theta.

@@ -148,7 +148,10 @@ void vp_resolve_stage(FrameContext& ctx) {
     frames.forward->map = map;
     ResolveStats stats;
     const bool mip = frames.params.mip_resolve;
-    Image out = resolve_visual_polar(map, mips, stats, mip, &*frames.forward);
+    // Every pixel is written: an earlier frame's storage saves the zero fill
+    Image out = resolve_visual_polar(
+        map, mips, stats, mip, &*frames.forward,
+        ctx.recycled("output", map.screen_width, map.screen_height, mips.color[0].channels));
     ctx.result->counters.add("screen_pixels_untraced_taps", stats.pixels_untraced_taps);
     ctx.note = (mip ? "phi mips, trilinear (" + std::to_string(mips.color.size()) + " levels)"
                     : std::string("bilinear")) +

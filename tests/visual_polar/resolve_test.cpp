@@ -689,6 +689,18 @@ TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits, with and without 
                                    : blur_ramp_horizontal(k.ramp, geometry, image, true, &table);
             CHECK(std::memcmp(kept.data.data(), scalar.data.data(),
                               scalar.data.size() * sizeof(float)) == 0);
+            // written into storage that holds a value no pixel takes (a stage's recycled
+            // output), with SIMD and without: every value is written
+            for (const bool with_simd : {true, false}) {
+                Image storage(k.width, k.height, k.channels, -7.25e30f);
+                const Image into = vertical
+                                       ? blur_ramp_vertical(k.ramp, geometry, image, with_simd,
+                                                            &table, std::move(storage))
+                                       : blur_ramp_horizontal(k.ramp, geometry, image, with_simd,
+                                                              &table, std::move(storage));
+                CHECK(std::memcmp(into.data.data(), scalar.data.data(),
+                                  scalar.data.size() * sizeof(float)) == 0);
+            }
             // the reference itself: every pixel as blur_ramp_pixel makes it
             Image by_pixel = image;
             for (int y = 0; y < k.height; ++y)
