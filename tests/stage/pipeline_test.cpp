@@ -436,6 +436,44 @@ TEST_CASE("pipeline: a stage leaves out the outputs nobody wants, and only those
 
 namespace {
 
+// A 1000-value buffer (the scan's AVX2 steps of 32 values in four chains, then its SSE2 and
+// scalar tail) and a stage that reads it.
+void make_long(FrameContext& ctx) {
+    ctx.result->add("long", BufferKind::scalar, {"v"}, Image(250, 4, 1, 1.5f));
+}
+void read_long(FrameContext& ctx) {
+    ctx.result->add("read", BufferKind::scalar, {"v"}, ctx.input("long"));
+}
+
+}  // namespace
+
+// The scan for non-finite inputs finds one wherever it lies: in each of the AVX2 path's four
+// chains, at the end of its last step, in the tail after it, and not in a clean buffer.
+TEST_CASE("pipeline: a non-finite input is found at every position of a long buffer") {
+    Pipeline p;
+    p.stages.push_back({"make_long", {}, {"long"}, make_long});
+    p.stages.push_back({"read_long", {"long"}, {"read"}, read_long});
+    RenderSettings settings;
+    FrameContext ctx;
+    ctx.settings = &settings;
+    for (const std::size_t at : {0, 7, 8, 15, 16, 24, 31, 32, 500, 991, 992, 995, 996, 999}) {
+        for (const float bad : {std::nanf(""), INFINITY, -INFINITY}) {
+            CAPTURE(at);
+            CAPTURE(bad);
+            settings.after_stage = [at, bad](const std::string& stage, FrameResult& result) {
+                if (stage == "make_long") result.buffers.at(0).image.data.at(at) = bad;
+            };
+            const FrameResult r = p.run_frame(ctx, {"read"});
+            CHECK(r.counters.get("nonfinite_stage_inputs") == 1);
+            CHECK(r.find("read")->image.data.at(at) == 0.0f);
+        }
+    }
+    settings.after_stage = nullptr;
+    CHECK(p.run_frame(ctx, {"read"}).counters.get("nonfinite_stage_inputs") == 0);
+}
+
+namespace {
+
 // A stage that writes every value of its output into recycled storage: it records what the
 // storage held and where it lies, then writes frame + 1 everywhere.
 struct RecycleState : StageState {
