@@ -17,9 +17,13 @@ struct BmfrState : StageState {
     std::function<VisualPolarMap(const FrameContext&, int frame)> map;     ///< empty: the screen
     std::function<ViewProjection(const FrameContext&, int frame)> camera;  ///< empty: ctx's
     std::function<glm::vec2(const FrameContext&)> pixel_offset;            ///< empty: centres
-    BmfrHistory history;  ///< what the previous frame handed on
-    BmfrHistory next;     ///< what this frame hands on (filled by the stages)
-    int frame = -1;       ///< the frame `next` belongs to
+    /// What the previous frame handed on. Its accumulated_noisy, spp, accumulated_filtered and
+    /// taa are not kept in `next`: they are the previous frame's output buffers themselves,
+    /// which the pipeline hands back to the stages that wrote them (take_carried), so that no
+    /// frame copies them.
+    BmfrHistory history;
+    BmfrHistory next;  ///< what this frame hands on (filled by the stages)
+    int frame = -1;    ///< the frame `next` belongs to
 };
 
 /// Where a stage's buffer goes: its output slot (the BMFR buffers' slots are their names).
@@ -81,6 +85,15 @@ void start_frame(const FrameContext& ctx, BmfrState& s) {
     s.frame = ctx.frame;
 }
 
+// The history image `slot` of this stage: its output of the previous frame, handed back (a
+// resumed history already holds it).
+void take_carried(FrameContext& ctx, const BmfrState& s, const std::string& slot, Image& history) {
+    if (Image carried = ctx.carried(slot); !carried.empty()) history = std::move(carried);
+    FOVREF_CHECK(!s.history.valid || !history.empty(),
+                 "BMFR's history, the previous frame's buffer '" + slot +
+                     "', was not handed back: a frame's callback moved it away");
+}
+
 // The directly seen emission when it is kept out of the fit, else an empty image.
 const Image& emission_input(const FrameContext& ctx, const BmfrState& s) {
     static const Image none;
@@ -128,15 +141,14 @@ void add_fit(const AddBuffer& add, Image weights, Image feature_range) {
 
 // What phase I hands on to the next frame.
 void hand_on_accumulation(const FrameContext& ctx, BmfrState& s, const BmfrSpace& space,
-                          const Image& world, const Image& normal, const BmfrAccumulation& a) {
+                          const Image& world, const Image& normal) {
     s.next.valid = true;
     s.next.view_projection = frame_view_projection(ctx, s, ctx.frame);
     s.next.map = space.map;
     if (space.valid) s.next.valid_texels = *space.valid;
     s.next.world_position = world;
     s.next.normal = normal;
-    s.next.accumulated_noisy = a.accumulated;
-    s.next.spp = a.spp;
+    // (its accumulation and counts go to the frame and come back: take_carried)
 }
 
 // The stage's ports: `names` with slot = buffer, plus the G-buffer channels the stage reads (slot
@@ -174,6 +186,8 @@ void bmfr_demodulate_stage(FrameContext& ctx) {
 void bmfr_accumulate_noisy_stage(FrameContext& ctx) {
     BmfrState& s = ctx.state<BmfrState>();
     start_frame(ctx, s);
+    take_carried(ctx, s, "bmfr_accumulated_noisy", s.history.accumulated_noisy);
+    take_carried(ctx, s, "bmfr_spp", s.history.spp);
     const Image& world = ctx.input("world_position");
     const Image& normal = ctx.input("shading_normal");
     const BmfrSpace space = frame_space(ctx, s);
@@ -185,7 +199,7 @@ void bmfr_accumulate_noisy_stage(FrameContext& ctx) {
     add_stats(ctx, stats);
     ctx.note = !s.history.valid ? "first frame: no history"
                                 : std::to_string(stats.history_accepted) + " pixels with history";
-    hand_on_accumulation(ctx, s, space, world, normal, a);
+    hand_on_accumulation(ctx, s, space, world, normal);
     add_accumulation(to_outputs(ctx), std::move(a));
 }
 
@@ -225,11 +239,11 @@ void bmfr_weighted_sum_stage(FrameContext& ctx) {
 
 void bmfr_accumulate_filtered_stage(FrameContext& ctx) {
     BmfrState& s = ctx.state<BmfrState>();
+    take_carried(ctx, s, "bmfr_accumulated_filtered", s.history.accumulated_filtered);
     Image out =
         bmfr_accumulate_filtered(s.settings.params, ctx.input("bmfr_fitted"), ctx.input("bmfr_spp"),
                                  ctx.input("bmfr_accept"), ctx.input("bmfr_previous_pixel"),
                                  s.history.accumulated_filtered, frame_space(ctx, s));
-    s.next.accumulated_filtered = out;
     ctx.output("bmfr_accumulated_filtered", BufferKind::color, rgb, std::move(out));
 }
 
@@ -245,12 +259,12 @@ void bmfr_remodulate_stage(FrameContext& ctx) {
 
 void bmfr_taa_stage(FrameContext& ctx) {
     BmfrState& s = ctx.state<BmfrState>();
+    take_carried(ctx, s, "bmfr_taa", s.history.taa);
     BmfrStats stats;
     Image out =
         bmfr_taa(s.settings.params, ctx.input("bmfr_display"), ctx.input("bmfr_previous_pixel"),
                  s.history.taa, stats, frame_space(ctx, s));
     add_stats(ctx, stats);
-    s.next.taa = out;
     ctx.output("bmfr_taa", BufferKind::scalar, rgb, std::move(out));
 }
 

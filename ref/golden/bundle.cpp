@@ -1,5 +1,6 @@
 #include "ref/golden/bundle.h"
 
+#include <algorithm>
 #include <bit>
 #include <cinttypes>
 #include <cmath>
@@ -318,7 +319,7 @@ BundleWriter::~BundleWriter() {
     }
 }
 
-void BundleWriter::add_frame(const FrameResult& frame) {
+void BundleWriter::add_frame(const FrameResult& frame, const std::vector<std::string>* only) {
     State& s = *state_;
     json jf;
     jf["frame"] = frame.frame;
@@ -338,6 +339,7 @@ void BundleWriter::add_frame(const FrameResult& frame) {
     }
     json buffers = json::array();
     for (const Buffer& buffer : frame.buffers) {
+        if (only && std::find(only->begin(), only->end(), buffer.name) == only->end()) continue;
         json jb;
         jb["name"] = buffer.name;
         jb["kind"] = buffer_kind_name(buffer.kind);

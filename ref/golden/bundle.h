@@ -85,7 +85,10 @@ public:
     BundleWriter(const BundleWriter&) = delete;
     BundleWriter& operator=(const BundleWriter&) = delete;
 
-    void add_frame(const FrameResult& frame);
+    /// Adds a frame's buffers (only those named in `only`, when given) and its counters and
+    /// stage runs. The frame is left as it is: its buffers go back to the stages that recycle or
+    /// carry them (FrameContext::hand_back).
+    void add_frame(const FrameResult& frame, const std::vector<std::string>* only = nullptr);
     /// Exports `scene` (OBJ + MTL + textures + scene.json, export_scene) into the bundle's
     /// `relative_directory`, recorded in the manifest as "scene_export": the geometry a GPU
     /// implementation loads to render the case (triangle k of the OBJ is primitive id k, MTL

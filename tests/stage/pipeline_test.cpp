@@ -570,3 +570,42 @@ TEST_CASE("render_each recycles the outputs its callback leaves, the frames' bit
     });
     CHECK(frames == 4);
 }
+
+// BMFR's stages take their history (phase I's accumulation and counts, phase III's output, its
+// TAA's output) back from the previous frame's buffers (FrameContext::carried) instead of
+// keeping copies: a render through render_each gives the bits of render(), on the screen and in
+// Visual-Polar space, and a callback that moves such a buffer away stops the next frame with a
+// clear error.
+TEST_CASE("BMFR's history comes back from the frame's own buffers, the bits unchanged") {
+    const Scene scene = load_scene("cornell");
+    for (const char* mode : {"pathtrace", "visual-polar"}) {
+        CAPTURE(mode);
+        RenderSettings s;
+        s.width = 64;
+        s.height = 36;
+        s.frame_count = 3;
+        s.params.set("denoise", "bmfr");
+        s.requested = {"final"};
+        const std::vector<FrameResult> kept = render(&scene, mode, s);
+        int frames = 0;
+        render_each(&scene, find_mode(mode), s, [&](FrameResult& f) {
+            INFO("frame " << f.frame);
+            CHECK(bit_equal(f.find("final")->image,
+                            kept.at(static_cast<std::size_t>(f.frame)).find("final")->image));
+            ++frames;
+        });
+        CHECK(frames == 3);
+        for (const char* taken : {"bmfr_spp", "bmfr_accumulated_filtered", "bmfr_taa"}) {
+            CAPTURE(taken);
+            const std::string message = "BMFR's history, the previous frame's buffer '" +
+                                        std::string(taken) + "', was not handed back";
+            CHECK_THROWS_WITH_AS(render_each(&scene, find_mode(mode), s,
+                                             [&](FrameResult& f) {
+                                                 for (Buffer& b : f.buffers)
+                                                     if (b.name == taken)
+                                                         Image gone = std::move(b.image);
+                                             }),
+                                 doctest::Contains(message.c_str()), Error);
+        }
+    }
+}

@@ -376,11 +376,9 @@ int run_denoise(const DenoiseOptions& o) {
     denoise_each(
         o, requested, [&](double f) { progress.update(f); },
         [&](FrameResult& frame) {
-            if (!all)
-                std::erase_if(frame.buffers, [&](const Buffer& b) {
-                    return std::find(o.outputs.begin(), o.outputs.end(), b.name) == o.outputs.end();
-                });
-            writer.add_frame(frame);
+            // Only the requested buffers are written; the frame keeps the others (BMFR's stages
+            // take their history back from it)
+            writer.add_frame(frame, all ? nullptr : &o.outputs);
         });
     writer.commit();
     progress.finish();

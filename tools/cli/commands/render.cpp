@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
-#include <iterator>
 #include <optional>
 
 #include "ref/core/error.h"
@@ -187,20 +186,9 @@ int run_render(const RenderOptions& given) {
     render_each(c.scene_or_null(), *c.mode, settings, [&](FrameResult& f) {
         lines.push_back(frame_line(f));
         if (writers.dump) writers.dump->add_frame(f);
-        if (!writers.out) return;
-        // --out writes the wanted buffers; the others are set aside, not dropped, and put back
-        // after, for render_each to hand back to the stages that recycle their storage.
-        const auto first_unwanted =
-            keep_all
-                ? f.buffers.end()
-                : std::stable_partition(f.buffers.begin(), f.buffers.end(), [&](const Buffer& b) {
-                      return std::find(wanted.begin(), wanted.end(), b.name) != wanted.end();
-                  });
-        std::vector<Buffer> aside(std::make_move_iterator(first_unwanted),
-                                  std::make_move_iterator(f.buffers.end()));
-        f.buffers.erase(first_unwanted, f.buffers.end());
-        writers.out->add_frame(f);
-        std::move(aside.begin(), aside.end(), std::back_inserter(f.buffers));
+        // --out writes the wanted buffers; the frame keeps the others, for render_each to hand
+        // back to the stages that recycle or carry them.
+        if (writers.out) writers.out->add_frame(f, keep_all ? nullptr : &wanted);
     });
     progress.finish();
     if (writers.dump) writers.dump->commit();
