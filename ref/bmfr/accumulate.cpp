@@ -1,6 +1,7 @@
 // Demodulation and the two temporal accumulations of BMFR (SPEC §9 items 1, 2 and 9).
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "ref/bmfr/accumulate_avx.h"
 #include "ref/bmfr/bmfr.h"
@@ -168,14 +169,15 @@ BmfrTaps bmfr_vp_taps(const VisualPolarMap& map, glm::vec2 q) {
 }
 
 Image bmfr_demodulate(const BmfrParams& params, const Image& radiance, const Image& albedo,
-                      const Image& emission, BmfrStats& stats) {
+                      const Image& emission, BmfrStats& stats, Image storage) {
     check_shape(albedo, radiance.width, radiance.height, 3, "albedo");
     check_shape(radiance, radiance.width, radiance.height, 3, "radiance");
     const bool separate = params.separate_emission && !emission.empty();
     if (separate) check_shape(emission, radiance.width, radiance.height, 3, "emission");
     FOVREF_CHECK(!(params.demodulated_input && separate),
                  "bmfr: a demodulated input colour cannot keep the emission apart");
-    Image out(radiance.width, radiance.height, 3);
+    Image out = std::move(storage);  // every value is written below
+    keep_or_make(out, radiance.width, radiance.height, 3);
     if (params.demodulated_input) {  // the illumination as given (the authors' input)
         for (std::size_t i = 0; i < out.data.size(); ++i)
             out.data[i] = std::clamp(finite_or_zero(radiance.data[i], stats.nonfinite_inputs),
@@ -306,19 +308,21 @@ void bmfr_accumulate_noisy_pixel(const BmfrParams& params, const Image& illumina
 BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& illumination,
                                        const Image& world_position, const Image& normal,
                                        const BmfrHistory& history, BmfrStats& stats,
-                                       const BmfrSpace& space, bool margins) {
+                                       const BmfrSpace& space, bool margins,
+                                       BmfrAccumulation storage) {
     const int width = illumination.width, height = illumination.height;
     check_shape(world_position, width, height, 3, "world_position");
     check_shape(normal, width, height, 3, "normal");
     const bool has_previous = history.valid && !history.accumulated_noisy.empty();
     if (has_previous) check_history(history, space, width, height);
     if (space.map) FOVREF_CHECK(space.valid, "bmfr: Visual-Polar space without a valid mask");
-    BmfrAccumulation out;
-    out.accumulated = Image(width, height, 3);
-    out.spp = Image(width, height, 1);
-    out.accept = Image(width, height, 1);
-    out.previous_pixel = Image(width, height, 2);
-    if (margins) out.accept_margin = Image(width, height, 3);
+    // Every value of the four outputs is written below (each pixel writes all of them)
+    BmfrAccumulation out = std::move(storage);
+    keep_or_make(out.accumulated, width, height, 3);
+    keep_or_make(out.spp, width, height, 1);
+    keep_or_make(out.accept, width, height, 1);
+    keep_or_make(out.previous_pixel, width, height, 2);
+    out.accept_margin = margins ? Image(width, height, 3) : Image();
     // Eight pixels at a time where the AVX path covers the frame (the same bits:
     // accumulate_avx.h); the reference does the rest of each row and every other frame.
     const bool avx = bmfr_accumulate_noisy_avx_applies(has_previous, space, illumination);
@@ -334,13 +338,14 @@ BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& il
 
 Image bmfr_accumulate_filtered(const BmfrParams& params, const Image& fitted, const Image& spp,
                                const Image& accept, const Image& previous_pixel,
-                               const Image& history, const BmfrSpace& space) {
+                               const Image& history, const BmfrSpace& space, Image storage) {
     const int width = fitted.width, height = fitted.height;
     check_shape(spp, width, height, 1, "spp");
     check_shape(accept, width, height, 1, "accept");
     check_shape(previous_pixel, width, height, 2, "previous_pixel");
     if (!history.empty()) check_shape(history, width, height, 3, "accumulated_filtered history");
-    Image out(width, height, 3);
+    Image out = std::move(storage);  // every pixel is written below
+    keep_or_make(out, width, height, 3);
     const bool avx = bmfr_accumulate_filtered_avx_applies(history, fitted);
     for (int y = 0; y < height; ++y)
         for (int x = avx ? bmfr_accumulate_filtered_row_avx(params, fitted, spp, accept,

@@ -186,8 +186,11 @@ struct BmfrStats {
 /// range the fit can store); a NaN or infinite radiance or albedo value is replaced by 0 first
 /// (counted).
 /// `emission` (empty: none) is subtracted from the radiance first (separate_emission).
+/// `storage` (here and in the passes below that take it): an image the output is written into
+/// when it has the output's shape (a stage's earlier frame's storage): every value is written,
+/// none of its own is read; otherwise the output is made anew.
 Image bmfr_demodulate(const BmfrParams& params, const Image& radiance, const Image& albedo,
-                      const Image& emission, BmfrStats& stats);
+                      const Image& emission, BmfrStats& stats, Image storage = {});
 
 // ---- phase I --------------------------------------------------------------------------------
 
@@ -238,10 +241,12 @@ BmfrTaps bmfr_vp_taps(const VisualPolarMap& map, glm::vec2 q);
 /// spp = min(round_half_even(spp_h) + 1, 255). No history (first frame, behind the camera, no
 /// tap accepted or their weights sum to 0): out = c, spp = 1. A NaN or infinite position or
 /// normal is taken as 0 (counted). `margins` false: accept_margin is left empty (not wanted).
+/// `storage`: accumulated, spp, accept and previous_pixel written into, as bmfr_demodulate's.
 BmfrAccumulation bmfr_accumulate_noisy(const BmfrParams& params, const Image& illumination,
                                        const Image& world_position, const Image& normal,
                                        const BmfrHistory& history, BmfrStats& stats,
-                                       const BmfrSpace& space = {}, bool margins = true);
+                                       const BmfrSpace& space = {}, bool margins = true,
+                                       BmfrAccumulation storage = {});
 /// Per-pixel work of phase I: pixel (x, y) of `out` (whose images have the frame's size);
 /// `has_previous`: the history holds a previous frame.
 void bmfr_accumulate_noisy_pixel(const BmfrParams& params, const Image& illumination,
@@ -393,7 +398,8 @@ void bmfr_weighted_sum_pixel(const BmfrFit& fit, const Image& world_position, co
 /// alpha = max(1 / spp, filtered_alpha_min), out = alpha fit + (1 - alpha) history.
 Image bmfr_accumulate_filtered(const BmfrParams& params, const Image& fitted, const Image& spp,
                                const Image& accept, const Image& previous_pixel,
-                               const Image& history, const BmfrSpace& space = {});
+                               const Image& history, const BmfrSpace& space = {},
+                               Image storage = {});
 /// Per-pixel work of phase III: pixel (x, y) of `out` (W x H x 3).
 void bmfr_accumulate_filtered_pixel(const BmfrParams& params, const Image& fitted, const Image& spp,
                                     const Image& accept, const Image& previous_pixel,
@@ -403,7 +409,7 @@ void bmfr_accumulate_filtered_pixel(const BmfrParams& params, const Image& fitte
 /// display = clamp((max(albedo, floor) max(0, x) + e)^(1/2.2), 0, 1) per channel, e the emission
 /// (empty: 0).
 Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Image& albedo,
-                      const Image& emission);
+                      const Image& emission, Image storage = {});
 
 /// The authors' TAA in display space (SPEC §9 item 10): 3x3 neighbourhood in unnormalised
 /// YCoCg (Y = R + 2G + B, Co = 2R - 2B, Cg = -R + 2G - B; neighbours outside the image are
@@ -419,7 +425,8 @@ Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Ima
 /// (traced texels only); the reprojection is on the buffer when floor(q.x) lies in [-1, w - 1];
 /// the history's taps are bmfr_vp_taps on traced texels of the previous frame.
 Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& previous_pixel,
-               const Image& history, BmfrStats& stats, const BmfrSpace& space = {});
+               const Image& history, BmfrStats& stats, const BmfrSpace& space = {},
+               Image storage = {});
 /// `display` in unnormalised YCoCg, per pixel (what the TAA's neighbourhoods read).
 Image bmfr_ycocg(const Image& display);
 /// Per-pixel work of the TAA: pixel (x, y) of `out` (W x H x 3); `ycocg` = bmfr_ycocg(display)
@@ -429,7 +436,7 @@ bool bmfr_taa_pixel(const BmfrParams& params, const Image& display, const Image&
                     Image& out, int x, int y);
 
 /// The linear value of a display-space output: x^2.2 (the `final` buffer of a denoised frame).
-Image bmfr_linearize(const Image& display);
+Image bmfr_linearize(const Image& display, Image storage = {});
 
 // ---- the whole frame ------------------------------------------------------------------------
 

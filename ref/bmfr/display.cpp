@@ -1,6 +1,7 @@
 // BMFR's last steps: remodulation and tone mapping, the authors' YCoCg TAA (SPEC §9 items 9-10).
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "ref/bmfr/bmfr.h"
@@ -93,12 +94,13 @@ bool vp_taa_pixel(const BmfrParams& params, const Image& display, const Image& y
 }  // namespace
 
 Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Image& albedo,
-                      const Image& emission) {
+                      const Image& emission, Image storage) {
     const bool separate = params.separate_emission && !emission.empty();
     FOVREF_CHECK(albedo.same_shape(filtered) && filtered.channels == 3 &&
                      (!separate || emission.same_shape(filtered)),
                  "bmfr_remodulate: the albedo or emission does not match the image");
-    Image out(filtered.width, filtered.height, 3);
+    Image out = std::move(storage);  // every value is written below
+    keep_or_make(out, filtered.width, filtered.height, 3);
     // the base b per value, then b^g for all at once (pow_fast_array: pow_fast's bits)
     for (std::size_t i = 0; i < out.data.size(); ++i) {
         const float a = std::isfinite(albedo.data[i]) ? albedo.data[i] : 0.0f;
@@ -106,8 +108,8 @@ Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Ima
         if (separate && std::isfinite(emission.data[i])) linear = linear + emission.data[i];
         out.data[i] = std::max(0.0f, linear);
     }
-    std::vector<float> powered(out.data.size());
-    dm::pow_fast_array(out.data.data(), params.display_exponent, powered.data(), powered.size());
+    const auto powered = std::make_unique_for_overwrite<float[]>(out.data.size());
+    dm::pow_fast_array(out.data.data(), params.display_exponent, powered.get(), out.data.size());
     for (std::size_t i = 0; i < out.data.size(); ++i)
         // b >= 1 gives b^g >= 1, clamped to 1 (its power is not used)
         out.data[i] = out.data[i] >= 1.0f ? 1.0f : std::clamp(powered[i], 0.0f, 1.0f);
@@ -115,14 +117,15 @@ Image bmfr_remodulate(const BmfrParams& params, const Image& filtered, const Ima
 }
 
 Image bmfr_taa(const BmfrParams& params, const Image& display, const Image& previous_pixel,
-               const Image& history, BmfrStats& stats, const BmfrSpace& space) {
+               const Image& history, BmfrStats& stats, const BmfrSpace& space, Image storage) {
     const int width = display.width, height = display.height;
     FOVREF_CHECK(previous_pixel.width == width && previous_pixel.height == height &&
                      previous_pixel.channels == 2 &&
                      (history.empty() || (history.width == width && history.height == height &&
                                           history.channels == 3)),
                  "bmfr_taa: buffers of different shapes");
-    Image out(width, height, 3);
+    Image out = std::move(storage);  // every pixel is written below (the new colour first)
+    keep_or_make(out, width, height, 3);
     const Image ycocg = history.empty() ? Image() : bmfr_ycocg(display);
     // The span of each row that the AVX2 path covers eight pixels at a time (the same bits:
     // display_avx.h); the reference does the rest of each row and every other frame.
@@ -185,8 +188,9 @@ bool bmfr_taa_pixel(const BmfrParams& params, const Image& display, const Image&
         o);
 }
 
-Image bmfr_linearize(const Image& display) {
-    Image out(display.width, display.height, display.channels);
+Image bmfr_linearize(const Image& display, Image storage) {
+    Image out = std::move(storage);  // every value is written below
+    keep_or_make(out, display.width, display.height, display.channels);
     for (std::size_t i = 0; i < out.data.size(); ++i) out.data[i] = std::max(display.data[i], 0.0f);
     dm::pow_fast_array(out.data.data(), 2.2f, out.data.data(), out.data.size());
     return out;

@@ -23,7 +23,11 @@ struct BmfrState : StageState {
     /// frame copies them.
     BmfrHistory history;
     BmfrHistory next;  ///< what this frame hands on (filled by the stages)
-    int frame = -1;    ///< the frame `next` belongs to
+    /// The storage of the carried buffers of the frame before last, once this frame's passes
+    /// have read them as history: written over by the next frame's passes (which write every
+    /// value), so that no zero fill precedes them.
+    BmfrHistory spare;
+    int frame = -1;  ///< the frame `next` belongs to
 };
 
 /// Where a stage's buffer goes: its output slot (the BMFR buffers' slots are their names).
@@ -177,8 +181,11 @@ void add_bmfr_counters(Counters& counters, const BmfrStats& s) {
 void bmfr_demodulate_stage(FrameContext& ctx) {
     const BmfrState& s = ctx.state<BmfrState>();
     BmfrStats stats;
-    Image out = bmfr_demodulate(s.settings.params, ctx.input("radiance"), ctx.input("albedo"),
-                                emission_input(ctx, s), stats);
+    const Image& radiance = ctx.input("radiance");
+    // The pass writes every value: an earlier frame's storage saves the zero fill
+    Image out = bmfr_demodulate(
+        s.settings.params, radiance, ctx.input("albedo"), emission_input(ctx, s), stats,
+        ctx.recycled("bmfr_illumination", radiance.width, radiance.height, 3));
     add_stats(ctx, stats);
     ctx.output("bmfr_illumination", BufferKind::color, rgb, std::move(out));
 }
@@ -192,10 +199,19 @@ void bmfr_accumulate_noisy_stage(FrameContext& ctx) {
     const Image& normal = ctx.input("shading_normal");
     const BmfrSpace space = frame_space(ctx, s);
     BmfrStats stats;
+    // The pass writes every value of its outputs: the storage of earlier frames' (the carried
+    // ones from the frame before last, the others recycled)
+    BmfrAccumulation storage;
+    storage.accumulated = std::move(s.spare.accumulated_noisy);
+    storage.spp = std::move(s.spare.spp);
+    storage.accept = ctx.recycled("bmfr_accept", world.width, world.height, 1);
+    storage.previous_pixel = ctx.recycled("bmfr_previous_pixel", world.width, world.height, 2);
     // The accept margins only when asked for (diff, probe, --dump all).
-    BmfrAccumulation a =
-        bmfr_accumulate_noisy(frame_params(ctx, s), ctx.input("bmfr_illumination"), world, normal,
-                              s.history, stats, space, ctx.wants("bmfr_accept_margin"));
+    BmfrAccumulation a = bmfr_accumulate_noisy(frame_params(ctx, s), ctx.input("bmfr_illumination"),
+                                               world, normal, s.history, stats, space,
+                                               ctx.wants("bmfr_accept_margin"), std::move(storage));
+    s.spare.accumulated_noisy = std::move(s.history.accumulated_noisy);
+    s.spare.spp = std::move(s.history.spp);
     add_stats(ctx, stats);
     ctx.note = !s.history.valid ? "first frame: no history"
                                 : std::to_string(stats.history_accepted) + " pixels with history";
@@ -240,17 +256,20 @@ void bmfr_weighted_sum_stage(FrameContext& ctx) {
 void bmfr_accumulate_filtered_stage(FrameContext& ctx) {
     BmfrState& s = ctx.state<BmfrState>();
     take_carried(ctx, s, "bmfr_accumulated_filtered", s.history.accumulated_filtered);
-    Image out =
-        bmfr_accumulate_filtered(s.settings.params, ctx.input("bmfr_fitted"), ctx.input("bmfr_spp"),
-                                 ctx.input("bmfr_accept"), ctx.input("bmfr_previous_pixel"),
-                                 s.history.accumulated_filtered, frame_space(ctx, s));
+    Image out = bmfr_accumulate_filtered(
+        s.settings.params, ctx.input("bmfr_fitted"), ctx.input("bmfr_spp"),
+        ctx.input("bmfr_accept"), ctx.input("bmfr_previous_pixel"), s.history.accumulated_filtered,
+        frame_space(ctx, s), std::move(s.spare.accumulated_filtered));
+    s.spare.accumulated_filtered = std::move(s.history.accumulated_filtered);
     ctx.output("bmfr_accumulated_filtered", BufferKind::color, rgb, std::move(out));
 }
 
 void bmfr_remodulate_stage(FrameContext& ctx) {
     const BmfrState& s = ctx.state<BmfrState>();
-    Image out = bmfr_remodulate(s.settings.params, ctx.input("bmfr_accumulated_filtered"),
-                                ctx.input("albedo"), emission_input(ctx, s));
+    const Image& filtered = ctx.input("bmfr_accumulated_filtered");
+    Image out =
+        bmfr_remodulate(s.settings.params, filtered, ctx.input("albedo"), emission_input(ctx, s),
+                        ctx.recycled("bmfr_display", filtered.width, filtered.height, 3));
     ctx.note = std::string("display space: clamp(x^") +
                (s.settings.params.display_exponent == 0.454545f ? "0.454545" : "(1/2.2)") +
                ", 0, 1)" + (s.settings.params.separate_emission ? ", emission added back" : "");
@@ -263,14 +282,17 @@ void bmfr_taa_stage(FrameContext& ctx) {
     BmfrStats stats;
     Image out =
         bmfr_taa(s.settings.params, ctx.input("bmfr_display"), ctx.input("bmfr_previous_pixel"),
-                 s.history.taa, stats, frame_space(ctx, s));
+                 s.history.taa, stats, frame_space(ctx, s), std::move(s.spare.taa));
+    s.spare.taa = std::move(s.history.taa);
     add_stats(ctx, stats);
     ctx.output("bmfr_taa", BufferKind::scalar, rgb, std::move(out));
 }
 
 void bmfr_output_stage(FrameContext& ctx) {
     ctx.note = "linear: bmfr_taa^2.2";
-    ctx.output("output", BufferKind::color, rgb, bmfr_linearize(ctx.input("bmfr_taa")));
+    const Image& taa = ctx.input("bmfr_taa");
+    ctx.output("output", BufferKind::color, rgb,
+               bmfr_linearize(taa, ctx.recycled("output", taa.width, taa.height, taa.channels)));
 }
 
 void add_bmfr_stages(Pipeline& p, const BmfrWiring& w) {

@@ -86,6 +86,47 @@ BmfrAccumulation accumulate(const BmfrParams& params, const Image& illumination,
     return a;
 }
 
+// A value no output takes: storage holding it shows a value a pass did not write.
+constexpr float unwritten = -7.25e30f;
+
+// Phase I written into storage full of `unwritten` (a stage's recycled storage), with the AVX
+// path and without: every value of its four outputs as `expected` has it.
+void check_storage_written(const BmfrParams& params, const Image& illumination, const Image& world,
+                           const Image& normal, const BmfrHistory& history, const BmfrSpace& space,
+                           const BmfrAccumulation& expected) {
+    const int w = illumination.width, h = illumination.height;
+    for (const bool simd : {true, false}) {
+        BmfrAccumulation storage;
+        storage.accumulated = Image(w, h, 3, unwritten);
+        storage.spp = Image(w, h, 1, unwritten);
+        storage.accept = Image(w, h, 1, unwritten);
+        storage.previous_pixel = Image(w, h, 2, unwritten);
+        BmfrStats stats;
+        set_simd_allowed(simd);
+        const BmfrAccumulation into = bmfr_accumulate_noisy(
+            params, illumination, world, normal, history, stats, space, true, std::move(storage));
+        set_simd_allowed(true);
+        CHECK(test::same_bits_nan_aside(into.accumulated, expected.accumulated));
+        CHECK(test::same_bits_nan_aside(into.spp, expected.spp));
+        CHECK(test::same_bits_nan_aside(into.accept, expected.accept));
+        CHECK(test::same_bits_nan_aside(into.previous_pixel, expected.previous_pixel));
+    }
+}
+
+// Phase III written into storage full of `unwritten`, with the AVX path and without.
+void check_filtered_storage(const BmfrParams& params, const Image& fitted, const Image& spp,
+                            const Image& accept, const Image& previous_pixel, const Image& history,
+                            const BmfrSpace& space, const Image& expected) {
+    for (const bool simd : {true, false}) {
+        set_simd_allowed(simd);
+        const Image into =
+            bmfr_accumulate_filtered(params, fitted, spp, accept, previous_pixel, history, space,
+                                     Image(fitted.width, fitted.height, 3, unwritten));
+        set_simd_allowed(true);
+        CHECK(test::same_bits_nan_aside(into, expected));
+    }
+}
+
 }  // namespace
 
 TEST_CASE(
@@ -124,6 +165,7 @@ TEST_CASE(
         REQUIRE(test::same_bits_nan_aside(fast.accept, reference.accept));
         REQUIRE(test::same_bits_nan_aside(fast.previous_pixel, reference.previous_pixel));
         REQUIRE(test::same_bits_nan_aside(fast.accept_margin, reference.accept_margin));
+        check_storage_written(params, illumination, world, normal, history, BmfrSpace{}, reference);
         CHECK(fast_stats.nonfinite_inputs == reference_stats.nonfinite_inputs);
         CHECK(fast_stats.history_accepted == reference_stats.history_accepted);
         CHECK(fast_stats.history_rejected == reference_stats.history_rejected);
@@ -146,6 +188,8 @@ TEST_CASE(
             set_simd_allowed(true);
         }
         REQUIRE(test::same_bits_nan_aside(filtered[0], filtered[1]));
+        check_filtered_storage(params, fitted, reference.spp, accept, previous_pixel,
+                               filtered_history, BmfrSpace{}, filtered[1]);
         for (std::size_t i = 0; i < fitted.data.size(); ++i)
             if (!bit_equal_value(filtered[1].data[i], fitted.data[i])) ++blended;
 
@@ -269,6 +313,7 @@ TEST_CASE("bmfr phases I and III in Visual-Polar space: the AVX paths give the r
         REQUIRE(test::same_bits_nan_aside(runs[0].accept, runs[1].accept));
         REQUIRE(test::same_bits_nan_aside(runs[0].previous_pixel, runs[1].previous_pixel));
         REQUIRE(test::same_bits_nan_aside(runs[0].accept_margin, runs[1].accept_margin));
+        check_storage_written(params, illumination, world, normal, history, space, runs[1]);
         CHECK(fast_stats.nonfinite_inputs == reference_stats.nonfinite_inputs);
         CHECK(fast_stats.history_accepted == reference_stats.history_accepted);
         CHECK(fast_stats.history_rejected == reference_stats.history_rejected);
@@ -296,6 +341,8 @@ TEST_CASE("bmfr phases I and III in Visual-Polar space: the AVX paths give the r
             set_simd_allowed(true);
         }
         REQUIRE(test::same_bits_nan_aside(filtered[0], filtered[1]));
+        check_filtered_storage(params, fitted, runs[1].spp, accept, previous_pixel,
+                               filtered_history, space, filtered[1]);
         for (std::size_t i = 0; i < fitted.data.size(); ++i)
             if (!bit_equal_value(filtered[1].data[i], fitted.data[i])) ++blended;
     }

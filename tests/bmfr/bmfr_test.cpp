@@ -638,6 +638,37 @@ TEST_CASE(
                       from_radiance.data.size() * sizeof(float)) == 0);
 }
 
+// The per-value passes written into storage that holds a value none of them takes (a stage's
+// recycled storage): every value is written, the bits those of fresh storage; storage of another
+// shape is not used.
+TEST_CASE("bmfr: demodulation, remodulation and linearisation write every value of their storage") {
+    test::SplitMix64 rng(77);
+    Image radiance(19, 7, 3), albedo(19, 7, 3), emission(19, 7, 3);
+    for (Image* image : {&radiance, &albedo, &emission})
+        for (float& v : image->data) v = rng.uniform(-0.5f, 3.0f);
+    radiance.data[5] = std::nanf("");
+    albedo.data[11] = INFINITY;
+    const float unwritten = -7.25e30f;
+    for (const bool separate : {false, true}) {
+        CAPTURE(separate);
+        BmfrParams params;
+        params.separate_emission = separate;
+        const Image& e = separate ? emission : Image();
+        BmfrStats stats;
+        const Image fresh = bmfr_demodulate(params, radiance, albedo, e, stats);
+        const Image into =
+            bmfr_demodulate(params, radiance, albedo, e, stats, Image(19, 7, 3, unwritten));
+        CHECK(test::same_bits_nan_aside(into, fresh));
+        CHECK(test::same_bits_nan_aside(
+            bmfr_demodulate(params, radiance, albedo, e, stats, Image(3, 3, 3, unwritten)), fresh));
+        const Image display = bmfr_remodulate(params, fresh, albedo, e);
+        CHECK(test::same_bits_nan_aside(
+            bmfr_remodulate(params, fresh, albedo, e, Image(19, 7, 3, unwritten)), display));
+        CHECK(test::same_bits_nan_aside(bmfr_linearize(display, Image(19, 7, 3, unwritten)),
+                                        bmfr_linearize(display)));
+    }
+}
+
 TEST_CASE(
     "bmfr phase I: the accept margins (bmfr_accept_margin) measure each test's distance "
     "from its limit, a tap exactly beyond the limit is rejected") {

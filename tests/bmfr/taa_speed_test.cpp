@@ -50,6 +50,16 @@ std::int64_t taa_both_ways(const BmfrParams& params, const Image& display,
     }
     REQUIRE(test::same_bits_nan_aside(out[0], out[1]));
     CHECK(stats[0].taa_history_used == stats[1].taa_history_used);
+    // written into storage holding a value no pixel takes (a stage's recycled storage): every
+    // pixel is written, with the AVX2 path and without
+    for (const bool simd : {true, false}) {
+        BmfrStats into_stats;
+        set_simd_allowed(simd);
+        const Image into = bmfr_taa(params, display, previous_pixel, history, into_stats, space,
+                                    Image(display.width, display.height, 3, -7.25e30f));
+        set_simd_allowed(true);
+        CHECK(test::same_bits_nan_aside(into, out[1]));
+    }
     return stats[1].taa_history_used;
 }
 
