@@ -34,22 +34,11 @@ void check_inputs(const BlurRamp& ramp, const BlurRampGeometry& geometry, const 
 float blur_ramp_a(float sigma) { return dm::exp(-1.0f / (2.0f * sigma * sigma)); }
 
 constexpr int lanes = 8;  // pixels per AVX group
-constexpr int max_avx_channels = 4;
 
 /// Lane by lane: `yes` where `mask` (a comparison's all-ones or zero lanes) is set, else `no`,
 /// bit for bit.
 __attribute__((target("avx"))) inline __m256 select(__m256 mask, __m256 yes, __m256 no) {
     return _mm256_or_ps(_mm256_and_ps(mask, yes), _mm256_andnot_ps(mask, no));
-}
-
-/// sum + w source (the product rounded first) where `active`, else sum; in every lane when
-/// `Every` (no blend in the sum's dependency chain).
-template <bool Every>
-__attribute__((target("avx"))) inline __m256 add_tap(__m256 active, __m256 sum, __m256 w,
-                                                     const float* source) {
-    const __m256 added = _mm256_add_ps(sum, _mm256_mul_ps(w, _mm256_loadu_ps(source)));
-    if constexpr (Every) return added;
-    return select(active, added, sum);
 }
 
 /// blur_ramp_weights for eight pixels, lane by lane: a = exp(-1 / (2 sigma^2)) of each lane
@@ -90,99 +79,67 @@ __attribute__((target("avx"))) void weights_avx(const float* a, const float* rad
         _mm256_store_ps(weights[d], _mm256_mul_ps(_mm256_load_ps(weights[d]), inverse));
 }
 
-/// The weighted sums of eight pixels over their taps d = -Rmax .. Rmax, for C channels in
-/// planes `plane` floats apart; lane 0's source of tap d is base + offsets[d] (offsets points at
-/// d = 0's entry; the lanes' sources follow it). A lane adds w_|d| c_d only for |d| <= its radius
-/// (select). Writes the sums to dest + c dest_plane in the lanes whose radius is not 0 (the
-/// others keep what dest holds: the copied pixels).
-template <int C, bool Uniform>
-__attribute__((target("avx"))) void weighted_sums_avx(const float* base, std::size_t plane,
-                                                      const std::ptrdiff_t* offsets,
-                                                      const float (*weights)[lanes],
-                                                      const float* radius_f, int radius_max,
-                                                      float* dest, std::size_t dest_plane) {
-    const __m256 radius = _mm256_load_ps(radius_f);
-    // the channels' sums in registers (named: GCC keeps an array of them in memory)
-    __m256 s0 = _mm256_setzero_ps(), s1 = s0, s2 = s0, s3 = s0;
-    for (int d = -radius_max; d <= radius_max; ++d) {
-        const int ad = d < 0 ? -d : d;
-        const __m256 w = _mm256_load_ps(weights[ad]);
-        // every lane's radius is radius_max (Uniform): every tap is active
-        const __m256 active =
-            Uniform ? _mm256_castsi256_ps(_mm256_set1_epi32(-1))
-                    : _mm256_cmp_ps(_mm256_set1_ps(static_cast<float>(ad)), radius, _CMP_LE_OQ);
-        const float* source = base + offsets[d];
-        s0 = add_tap<Uniform>(active, s0, w, source);
-        if constexpr (C > 1) s1 = add_tap<Uniform>(active, s1, w, source + plane);
-        if constexpr (C > 2) s2 = add_tap<Uniform>(active, s2, w, source + 2 * plane);
-        if constexpr (C > 3) s3 = add_tap<Uniform>(active, s3, w, source + 3 * plane);
-    }
-    const __m256 sum[4] = {s0, s1, s2, s3};
-    const __m256 blurred = _mm256_cmp_ps(radius, _mm256_setzero_ps(), _CMP_NEQ_UQ);
-    for (int c = 0; c < C; ++c) {
-        float* to = dest + c * dest_plane;
-        _mm256_storeu_ps(to, select(blurred, sum[c], _mm256_loadu_ps(to)));
-    }
-}
-
-/// weighted_sums_avx<3, true> of G groups side by side (lane 0's sources base + 8 k + offsets[d]
-/// for group k) with the same weights: each lane's sum in its order, the groups' 3 G sums in
-/// flight together. Every lane is blurred (its radius is radius_max > 0).
+/// The sums of a run of G groups (8 G pixels of three interleaved channels: 3 G registers) whose
+/// pixels all have the same weights and radius R (one sigma: beyond full_deg every pixel has it),
+/// every tap active: each float's sum starts at 0 and adds w_|d| c_d (the product rounded, no
+/// FMA) for d = -R .. R, blur_ramp_pixel's operations in its order. Tap d of the run's first
+/// float lies at base + offsets[d], the run's other floats after it; the sums go to dest.
 template <int G>
-__attribute__((target("avx"))) void weighted_sums_run3_avx(const float* base, std::size_t plane,
-                                                           const std::ptrdiff_t* offsets,
-                                                           const float (*weights)[lanes],
-                                                           int radius_max, float* dest,
-                                                           std::size_t dest_plane) {
+__attribute__((target("avx2"))) void sums_alike(const float* base, const std::ptrdiff_t* offsets,
+                                                int radius, const float (*weights)[lanes],
+                                                float* dest) {
     __m256 sums[3 * G];
     for (__m256& sum : sums) sum = _mm256_setzero_ps();
-    const __m256 every = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
-    for (int d = -radius_max; d <= radius_max; ++d) {
-        const __m256 w = _mm256_load_ps(weights[d < 0 ? -d : d]);
+    for (int d = -radius; d <= radius; ++d) {
+        const __m256 w = _mm256_set1_ps(weights[d < 0 ? -d : d][0]);  // every lane's
         const float* source = base + offsets[d];
 #pragma GCC unroll 12
         for (int k = 0; k < 3 * G; ++k)
-            sums[k] = add_tap<true>(every, sums[k], w, source + (k / G) * plane + (k % G) * lanes);
+            sums[k] = _mm256_add_ps(sums[k], _mm256_mul_ps(w, _mm256_loadu_ps(source + lanes * k)));
     }
 #pragma GCC unroll 12
-    for (int k = 0; k < 3 * G; ++k)
-        _mm256_storeu_ps(dest + (k / G) * dest_plane + (k % G) * lanes, sums[k]);
+    for (int k = 0; k < 3 * G; ++k) _mm256_storeu_ps(dest + lanes * k, sums[k]);
 }
 
-/// `count` pixels of `channels` interleaved channels at `from` as planes `plane` floats apart at
-/// `to`, and back: plain copies of the same floats (three channels: eight pixels at a time with
-/// AVX2 where the CPU has it).
-__attribute__((target("avx2"))) void to_planes3_avx2(const float* from, std::size_t count,
-                                                     float* to, std::size_t plane) {
-    std::size_t k = 0;
-    for (; k + lanes <= count; k += lanes) {
-        __m256 rgb[3];
-        avx::split3_lanes(from + 3 * k, rgb);
-        for (int c = 0; c < 3; ++c) _mm256_storeu_ps(to + c * plane + k, rgb[c]);
+/// The sums of one group of eight pixels with weights of their own (the ramp's pixels), over
+/// d = -Rmax .. Rmax of the group's largest radius: a float of pixel l adds w_|d|(l) c_d only for
+/// |d| <= its radius (a blend, so that no value outside its own taps reaches it; in every lane
+/// when `Every`, all radii being Rmax); the pixel's weights and masks spread to its three floats
+/// (spread3_lanes). A pixel whose radius is 0 keeps its input value (`input`: the group's 24
+/// input floats). Taps as sums_alike's.
+template <bool Every>
+__attribute__((target("avx2"))) void sums_lanes(const float* base, const std::ptrdiff_t* offsets,
+                                                int radius_max, const float (*weights)[lanes],
+                                                const float* radius_f, const float* input,
+                                                float* dest) {
+    const __m256 radius = _mm256_load_ps(radius_f);
+    __m256 s0 = _mm256_setzero_ps(), s1 = s0, s2 = s0;
+    for (int d = -radius_max; d <= radius_max; ++d) {
+        const int ad = d < 0 ? -d : d;
+        __m256 w[3], active[3];
+        avx::spread3_lanes(_mm256_load_ps(weights[ad]), w);
+        if constexpr (!Every)
+            avx::spread3_lanes(
+                _mm256_cmp_ps(_mm256_set1_ps(static_cast<float>(ad)), radius, _CMP_LE_OQ), active);
+        const float* source = base + offsets[d];
+        const __m256 added[3] = {
+            _mm256_add_ps(s0, _mm256_mul_ps(w[0], _mm256_loadu_ps(source))),
+            _mm256_add_ps(s1, _mm256_mul_ps(w[1], _mm256_loadu_ps(source + lanes))),
+            _mm256_add_ps(s2, _mm256_mul_ps(w[2], _mm256_loadu_ps(source + 2 * lanes)))};
+        if constexpr (Every) {
+            s0 = added[0], s1 = added[1], s2 = added[2];
+        } else {
+            s0 = select(active[0], added[0], s0);
+            s1 = select(active[1], added[1], s1);
+            s2 = select(active[2], added[2], s2);
+        }
     }
-    for (; k < count; ++k)
-        for (int c = 0; c < 3; ++c) to[c * plane + k] = from[3 * k + c];
-}
-__attribute__((target("avx2"))) void from_planes3_avx2(const float* from, std::size_t plane,
-                                                       std::size_t count, float* to) {
-    std::size_t k = 0;
-    for (; k + lanes <= count; k += lanes) {
-        const __m256 rgb[3] = {_mm256_loadu_ps(from + k), _mm256_loadu_ps(from + plane + k),
-                               _mm256_loadu_ps(from + 2 * plane + k)};
-        avx::merge3_lanes(rgb, to + 3 * k);
-    }
-    for (; k < count; ++k)
-        for (int c = 0; c < 3; ++c) to[3 * k + c] = from[c * plane + k];
-}
-void to_planes(const float* from, int channels, std::size_t count, float* to, std::size_t plane) {
-    if (channels == 3 && cpu_has_avx2()) return to_planes3_avx2(from, count, to, plane);
-    for (std::size_t k = 0; k < count; ++k)
-        for (int c = 0; c < channels; ++c) to[c * plane + k] = from[k * channels + c];
-}
-void from_planes(const float* from, std::size_t plane, int channels, std::size_t count, float* to) {
-    if (channels == 3 && cpu_has_avx2()) return from_planes3_avx2(from, plane, count, to);
-    for (std::size_t k = 0; k < count; ++k)
-        for (int c = 0; c < channels; ++c) to[k * channels + c] = from[c * plane + k];
+    __m256 blurred[3];
+    avx::spread3_lanes(_mm256_cmp_ps(radius, _mm256_setzero_ps(), _CMP_NEQ_UQ), blurred);
+    const __m256 sums[3] = {s0, s1, s2};
+    for (int k = 0; k < 3; ++k)
+        _mm256_storeu_ps(dest + lanes * k,
+                         select(blurred[k], sums[k], _mm256_loadu_ps(input + lanes * k)));
 }
 
 /// blur_ramp_radius of eight sigmas, lane by lane (as floats): 0 where !(sigma > 0), else
@@ -275,73 +232,28 @@ int groups_alike(const BlurRamp& ramp, const BlurRampGeometry& geometry, const f
     return 1;
 }
 
-/// The sums of `run` groups (1, 2 or 4; 2 and 4 uniform, three channels) into dest.
-void sum_groups(int run, bool uniform, int channels, const float* base, std::size_t plane,
-                const std::ptrdiff_t* offsets, const float (*weights)[lanes], const float* radius_f,
-                int radius_max, float* dest, std::size_t dest_plane) {
-    if (run == 4)
-        return weighted_sums_run3_avx<4>(base, plane, offsets, weights, radius_max, dest,
-                                         dest_plane);
-    if (run == 2)
-        return weighted_sums_run3_avx<2>(base, plane, offsets, weights, radius_max, dest,
-                                         dest_plane);
-    using SumsOf = void (*)(const float*, std::size_t, const std::ptrdiff_t*, const float(*)[lanes],
-                            const float*, int, float*, std::size_t);
-    static constexpr SumsOf kernels[8] = {weighted_sums_avx<1, false>, weighted_sums_avx<1, true>,
-                                          weighted_sums_avx<2, false>, weighted_sums_avx<2, true>,
-                                          weighted_sums_avx<3, false>, weighted_sums_avx<3, true>,
-                                          weighted_sums_avx<4, false>, weighted_sums_avx<4, true>};
-    kernels[(channels - 1) * 2 + (uniform ? 1 : 0)](base, plane, offsets, weights, radius_f,
-                                                    radius_max, dest, dest_plane);
-}
-
-/// One output row of a pass, its groups summed one (or one run) at a time from the left
-/// (blur_pass_avx): the row's tap offsets, its output in planes (the input's row, the groups'
-/// sums written over it, then interleaved into `out` before the pixels that blur_ramp_pixel
-/// writes there itself), and the weights and exp kept from one group to the next.
-struct RowSums {
-    RowSums(const BlurRamp& r, const BlurRampGeometry& g, const Image& i, const BlurRampTable* t,
-            bool v, const float* p, std::size_t row_pitch, int row_pad, std::size_t plane_floats)
-        : ramp(r),
-          geometry(g),
-          image(i),
-          table(t),
-          vertical(v),
-          planes(p),
-          pitch(row_pitch),
-          pad(static_cast<std::size_t>(row_pad)),
-          plane(plane_floats) {}
+/// One row of a pass, eight pixels (one group, or a run of alike groups) at a time from the left
+/// (blur_pass_avx): the taps' offsets from a group's first float, where the row's taps lie
+/// (`base`: the input's row itself along y, a copy with the clamped pixels around it along x),
+/// and the weights and exp kept from one group to the next.
+struct RowPass {
+    RowPass(const BlurRamp& r, const BlurRampGeometry& g, const BlurRampTable* t)
+        : ramp(r), geometry(g), table(t) {}
     const BlurRamp& ramp;
     const BlurRampGeometry& geometry;
-    const Image& image;
     const BlurRampTable* table;
-    bool vertical;
-    const float* planes;
-    std::size_t pitch, pad, plane;
-    int y = 0, x0 = 0;
-    std::vector<float> row = std::vector<float>(static_cast<std::size_t>(image.channels) *
-                                                static_cast<std::size_t>(image.width));
-    // The taps' offsets from lane 0's pixel, indexed by d = -Rmax .. Rmax around the middle: d
-    // pixels along x, or rows y + d clamped to the image along y
+    const float* base = nullptr;  ///< pixel 0's first float of the taps' row
+    const float* input = nullptr;
+    float* output = nullptr;
+    int y = 0, width = 0;
+    // Indexed by d = -Rmax .. Rmax around the middle: d pixels along x, or rows y + d clamped to
+    // the image along y
     std::ptrdiff_t offsets[2 * blur_ramp_max_radius + 1] = {};
     KeptWeights weights;
     KeptExp exp;
 
-    void begin(int row_y) {
-        y = row_y, x0 = 0;
-        const int width = image.width, height = image.height;
-        for (int d = -blur_ramp_max_radius; d <= blur_ramp_max_radius; ++d)
-            offsets[d + blur_ramp_max_radius] =
-                vertical ? static_cast<std::ptrdiff_t>(std::clamp(y + d, 0, height - 1) - y) *
-                               static_cast<std::ptrdiff_t>(pitch)
-                         : d;
-        for (int c = 0; c < image.channels; ++c)
-            std::copy_n(planes + c * plane + start(), width, row.data() + c * width);
-    }
-    std::size_t start() const { return static_cast<std::size_t>(y) * pitch + pad; }
-    bool done() const { return x0 + lanes > image.width; }
-    /// The group (or run of groups) at x0, then x0 past it.
-    __attribute__((target("avx"))) void step() {
+    /// The group (or run of groups) at x0; returns the pixels done.
+    __attribute__((target("avx2"))) int step(int x0) {
         alignas(32) float radius_f[lanes], sigma[lanes], a[lanes];
         const float* kept = table ? &table->sigma_a.data[table->sigma_a.index(x0, y)] : nullptr;
         __m256 sigma_lanes, kept_a = _mm256_setzero_ps();
@@ -354,11 +266,12 @@ struct RowSums {
                 sigma[lane] = blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + lane, y));
             sigma_lanes = _mm256_load_ps(sigma);
         }
+        const std::size_t first = 3 * static_cast<std::size_t>(x0);
         bool uniform = false;  // every lane of the group has the radius radius_max
         const float radius_max_f = group_radii(sigma_lanes, radius_f, uniform);
         if (radius_max_f == 0.0f) {  // all copied
-            x0 += lanes;
-            return;
+            std::copy_n(input + first, 3 * lanes, output + first);
+            return lanes;
         }
         const int radius_max = static_cast<int>(radius_max_f);
         if (kept) {  // group_a with the table's a
@@ -369,75 +282,81 @@ struct RowSums {
             group_a(sigma, radius_f, exp, a);
         }
         weights.make(a, radius_f, radius_max);
-        // The next groups with the same sigma in every lane (beyond full_deg) have the same
-        // weights: four or two groups' sums together (three channels)
-        const int channels = image.channels, width = image.width;
-        if (!kept && channels == 3 && uniform) avx::leave_for_scalar();  // blur_ramp_sigma_px
-        const int run =
-            channels == 3 && uniform ? groups_alike(ramp, geometry, kept, sigma, x0, y, width) : 1;
-        sum_groups(run, uniform, channels, planes + start() + x0, plane,
-                   offsets + blur_ramp_max_radius, weights.w, radius_f, radius_max, row.data() + x0,
-                   static_cast<std::size_t>(width));
-        x0 += run * lanes;
-    }
-    void finish(Image& out) {
-        const auto width = static_cast<std::size_t>(image.width);
-        from_planes(row.data(), width, image.channels, width, &out.data[out.index(0, y)]);
-        for (int x = x0; x < image.width; ++x)
-            blur_ramp_pixel(ramp, geometry, image, vertical, out, x, y);
+        const std::ptrdiff_t* middle = offsets + blur_ramp_max_radius;
+        if (!uniform) {
+            sums_lanes<false>(base + first, middle, radius_max, weights.w, radius_f, input + first,
+                              output + first);
+            return lanes;
+        }
+        // Every lane with one sigma (beyond full_deg): the weights alike, and so those of the
+        // next groups with it (four or two groups' sums together)
+        if (!kept) avx::leave_for_scalar();  // blur_ramp_sigma_px
+        switch (groups_alike(ramp, geometry, kept, sigma, x0, y, width)) {
+            case 4:
+                sums_alike<4>(base + first, middle, radius_max, weights.w, output + first);
+                return 4 * lanes;
+            case 2:
+                sums_alike<2>(base + first, middle, radius_max, weights.w, output + first);
+                return 2 * lanes;
+            default: break;
+        }
+        bool alike = true;
+        for (int lane = 1; lane < lanes; ++lane) alike = alike && sigma[lane] == sigma[0];
+        if (alike)
+            sums_alike<1>(base + first, middle, radius_max, weights.w, output + first);
+        else
+            sums_lanes<true>(base + first, middle, radius_max, weights.w, radius_f, input + first,
+                             output + first);
+        return lanes;
     }
 };
 
-/// The pass on eight pixels at a time (AVX; used only where the CPU has it, `channels` <= 4).
-/// Each lane does its own pixel's scalar operations in blur_ramp_pixel's order: the sum starts
-/// at 0 and adds w_d c_d (the product rounded, no FMA) for d = -R .. R of that pixel's R. A
-/// group runs d over -Rmax .. Rmax of its largest radius, and a lane whose |d| > R keeps its
-/// sum unchanged (a blend, not a zero weight, so that no value read outside a lane's own taps
-/// can reach it): the same bits as blur_ramp_pixel, lane by lane. A tap beyond the image reads
-/// the pixel the reference's clamp gives (the rows along y by the offsets, the pixels along x from
-/// the copies around each plane row). The last W mod 8 pixels of a row run blur_ramp_pixel
-/// itself.
-__attribute__((target("avx"))) void blur_pass_avx(const BlurRamp& ramp,
-                                                  const BlurRampGeometry& geometry,
-                                                  const Image& image, bool vertical, Image& out,
-                                                  const BlurRampTable* table) {
-    const int width = image.width, height = image.height, channels = image.channels;
-    // The image in planes, so that a lane's taps along x or y are one unaligned load per channel.
-    // Along x each plane row has the largest radius's pixels before and after it, copies of the
-    // row's first and last pixel: a tap beyond the row reads the pixel its clamp gives.
-    const int pad = vertical ? 0 : blur_ramp_max_radius;
-    const std::size_t pitch = static_cast<std::size_t>(width + 2 * pad + (vertical ? 16 : 0));
-    const std::size_t plane = pitch * static_cast<std::size_t>(height) + 16;
-    // Not zero-filled: every float a group reads is written below (the 16 floats after each
-    // vertical row and each plane are never read)
-    const auto planes =
-        std::make_unique_for_overwrite<float[]>(static_cast<std::size_t>(channels) * plane);
+/// The pass on eight pixels at a time (AVX2; used only where the CPU has it, three channels),
+/// on the interleaved image itself: a group's 24 floats are three registers, each float's lane
+/// doing its own pixel's scalar operations in blur_ramp_pixel's order (the sum starts at 0 and
+/// adds w_d c_d, the product rounded, no FMA, for d = -R .. R of that pixel's R), the pixel's
+/// weights spread to its three floats. A group runs d over -Rmax .. Rmax of its largest radius,
+/// and a lane whose |d| > R keeps its sum unchanged (a blend, not a zero weight, so that no value
+/// read outside a lane's own taps can reach it): the same bits as blur_ramp_pixel, lane by lane.
+/// A tap beyond the image reads the pixel the reference's clamp gives (the rows along y by the
+/// offsets, the pixels along x from a copy of the row with its first and last pixel repeated
+/// around it). The last W mod 8 pixels of a row are copied, then run blur_ramp_pixel itself.
+__attribute__((target("avx2"))) void blur_pass_avx(const BlurRamp& ramp,
+                                                   const BlurRampGeometry& geometry,
+                                                   const Image& image, bool vertical, Image& out,
+                                                   const BlurRampTable* table) {
+    const int width = image.width, height = image.height;
+    const std::size_t row_floats = 3 * static_cast<std::size_t>(width);
+    constexpr int pad = blur_ramp_max_radius;
+    // Along x, the row with `pad` copies of its first and last pixel on either side
+    std::vector<float> line(vertical ? 0 : row_floats + 6 * pad);
+    RowPass row(ramp, geometry, table);
+    row.width = width;
+    for (int d = -pad; d <= pad; ++d) row.offsets[d + pad] = 3 * d;
     for (int y = 0; y < height; ++y) {
-        float* start = planes.get() + static_cast<std::size_t>(y) * pitch;
-        to_planes(&image.data[image.index(0, y)], channels, static_cast<std::size_t>(width),
-                  start + pad, plane);
-        for (int c = 0; c < channels; ++c) {
-            float* row_c = start + static_cast<std::size_t>(c) * plane;
-            std::fill_n(row_c, pad, row_c[pad]);
-            std::fill_n(row_c + pad + width, pad, row_c[pad + width - 1]);
+        row.y = y;
+        row.input = &image.data[image.index(0, y)];
+        row.output = &out.data[out.index(0, y)];
+        if (vertical) {
+            row.base = row.input;
+            for (int d = -pad; d <= pad; ++d)
+                row.offsets[d + pad] =
+                    static_cast<std::ptrdiff_t>(std::clamp(y + d, 0, height - 1) - y) *
+                    static_cast<std::ptrdiff_t>(row_floats);
+        } else {
+            std::copy_n(row.input, row_floats, line.data() + 3 * pad);
+            for (int k = 0; k < pad; ++k) {
+                std::copy_n(row.input, 3, line.data() + 3 * k);
+                std::copy_n(row.input + row_floats - 3, 3, line.data() + 3 * (pad + width + k));
+            }
+            row.base = line.data() + 3 * pad;
         }
-    }
-    // Along y, rows in pairs whose groups alternate, the later row's group next: the second
-    // row's taps are the first's rows but one, still in the cache. Each row the same sums.
-    const int together = vertical ? 2 : 1;
-    std::vector<RowSums> rows(
-        together, RowSums(ramp, geometry, image, table, vertical, planes.get(), pitch, pad, plane));
-    for (int y = 0; y < height; y += together) {
-        const int count = std::min(together, height - y);
-        for (int k = 0; k < count; ++k) rows[k].begin(y + k);
-        for (;;) {
-            RowSums* next = nullptr;  // the row whose next group lies furthest left
-            for (int k = 0; k < count; ++k)
-                if (!rows[k].done() && (!next || rows[k].x0 < next->x0)) next = &rows[k];
-            if (!next) break;
-            next->step();
+        int x = 0;
+        while (x + lanes <= width) x += row.step(x);
+        for (; x < width; ++x) {  // blur_ramp_pixel leaves a copied pixel (radius 0) as it is
+            std::copy_n(row.input + 3 * x, 3, row.output + 3 * x);
+            blur_ramp_pixel(ramp, geometry, image, vertical, out, x, y);
         }
-        for (int k = 0; k < count; ++k) rows[k].finish(out);
     }
 }
 
@@ -448,10 +367,9 @@ Image blur_pass(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Im
     check_inputs(ramp, geometry, image);
     FOVREF_CHECK(!table || table->made_for(ramp, geometry),
                  "a blur ramp table made for another ramp or geometry");
-    if (simd && image.channels >= 1 && image.channels <= max_avx_channels && simd_allowed() &&
-        cpu_has_avx()) {
-        // The AVX pass writes every pixel (each row whole from its planes, copied pixels
-        // included): the storage as it is, no copy of the image first
+    if (simd && image.channels == 3 && simd_allowed() && cpu_has_avx2()) {
+        // The AVX pass writes every pixel (each group's floats, copied pixels included): the
+        // storage as it is, no copy of the image first
         Image out = std::move(storage);
         keep_or_make(out, image.width, image.height, image.channels);
         blur_pass_avx(ramp, geometry, image, vertical, out, table);

@@ -645,11 +645,11 @@ TEST_CASE(
     }
 }
 
-// The AVX groups (eight pixels, each lane with its own radius) give blur_ramp_pixel's bits, pixel
-// by pixel: sizes that are not multiples of 8, 1 to 5 channels (5: the scalar path only), the
-// gaze inside and off the screen, radii from 1 to the cap of 64 (edge groups fall back to the
-// scalar pixel), non-finite values, which a lane outside its own taps must never see, and -0
-// in copied pixels.
+// The AVX2 groups (eight pixels of three channels, each lane with its own radius) give
+// blur_ramp_pixel's bits, pixel by pixel: sizes that are not multiples of 8, the gaze inside and
+// off the screen, radii from 1 to the cap of 64, runs of alike groups, non-finite values, which a
+// lane outside its own taps must never see, and -0 in copied pixels; other channel counts (1, 2,
+// 4, 5) take the scalar path, and so do --scalar runs.
 TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits, with and without the kept table") {
     struct Case {
         int width, height, channels;
@@ -661,6 +661,9 @@ TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits, with and without 
         {77, 45, 3, {30.0f, 20.0f}, 3.0f, 2.0f, BlurRamp{}},
         {64, 33, 1, {-40.0f, 70.0f}, 5.0f, 1.0f, BlurRamp{2.0f, 12.0f}},
         {131, 70, 4, {65.0f, 35.0f}, 40.0f, 0.2f, BlurRamp{1.0f, 1.5f}},  // radius capped at 64
+        {131, 70, 3, {65.0f, 35.0f}, 40.0f, 0.2f, BlurRamp{1.0f, 1.5f}},
+        {64, 33, 3, {-40.0f, 70.0f}, 5.0f, 1.0f, BlurRamp{2.0f, 12.0f}},  // gaze off the screen
+        {200, 9, 3, {100.0f, 4.0f}, 1.0f, 3.0f, BlurRamp{0.9f, 60.0f}},
         {41, 29, 5, {10.0f, 10.0f}, 4.0f, 0.5f, BlurRamp{1.0f, 5.0f}},
         {200, 9, 2, {100.0f, 4.0f}, 1.0f, 3.0f, BlurRamp{0.9f, 60.0f}},
         // sigma constant beyond 12 px from the gaze: runs of four and of two groups together
