@@ -218,18 +218,25 @@ __attribute__((target("avx"))) void split_sigma_a(const float* kept, __m256& sig
 
 /// How many groups from x0 on are summed with this uniform one (4, 2, or 1): the next groups
 /// whose pixels all have sigma[0], as this group's do (beyond full_deg), so the same weights.
-int groups_alike(const BlurRamp& ramp, const BlurRampGeometry& geometry, const float* kept,
-                 const float* sigma, int x0, int y, int width) {
+/// `sigma_at(x)`: the sigma of pixel x of the row.
+template <class SigmaAt>
+int groups_alike(const float* sigma, int x0, int width, SigmaAt sigma_at) {
     for (int lane = 0; lane < lanes; ++lane)
         if (!(sigma[lane] == sigma[0])) return 1;
     int same = lanes;  // pixels from x0 on with sigma[0]
-    while (same < 4 * lanes && x0 + same < width &&
-           (kept ? kept[2 * same]
-                 : blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + same, y))) == sigma[0])
-        ++same;
+    while (same < 4 * lanes && x0 + same < width && sigma_at(x0 + same) == sigma[0]) ++same;
     for (const int groups : {4, 2})
         if (same >= groups * lanes) return groups;
     return 1;
+}
+
+/// groups_alike with each pixel's sigma computed (no table): legacy-SSE code in a function of its
+/// own, so that its caller's vzeroupper comes right before the call.
+[[gnu::noinline]] int groups_alike_computed(const BlurRamp& ramp, const BlurRampGeometry& geometry,
+                                            const float* sigma, int x0, int y, int width) {
+    return groups_alike(sigma, x0, width, [&](int x) {
+        return blur_ramp_sigma_px(ramp, geometry, pixel_centre(x, y));
+    });
 }
 
 /// One row of a pass, eight pixels (one group, or a run of alike groups) at a time from the left
@@ -290,8 +297,14 @@ struct RowPass {
         }
         // Every lane with one sigma (beyond full_deg): the weights alike, and so those of the
         // next groups with it (four or two groups' sums together)
-        if (!kept) avx::leave_for_scalar();  // blur_ramp_sigma_px
-        switch (groups_alike(ramp, geometry, kept, sigma, x0, y, width)) {
+        int run = 1;
+        if (kept) {
+            run = groups_alike(sigma, x0, width, [&](int x) { return kept[2 * (x - x0)]; });
+        } else {
+            avx::leave_for_scalar();  // blur_ramp_sigma_px
+            run = groups_alike_computed(ramp, geometry, sigma, x0, y, width);
+        }
+        switch (run) {
             case 4:
                 sums_alike<4>(base + first, middle, radius_max, weights.w, output + first);
                 return 4 * lanes;
