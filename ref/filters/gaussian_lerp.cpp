@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "ref/core/avx_lanes.h"
 #include "ref/core/simd.h"
@@ -94,8 +95,9 @@ __attribute__((target("avx2"))) void lerp_group(const Image& in, glm::vec2 gaze,
 
 }  // namespace
 
-Image gaussian_lerp(const Image& in, glm::vec2 gaze) {
-    Image out(in.width, in.height, in.channels, 0.0f);
+Image gaussian_lerp(const Image& in, glm::vec2 gaze, Image storage) {
+    Image out = std::move(storage);  // every pixel is written below
+    keep_or_make(out, in.width, in.height, in.channels);
     const LerpRamp ramp = gaussian_lerp_ramp(in.width, in.height, gaze);
     // Eight pixels at a time (lerp_group, AVX2, the same bits) from column 1 while the group's
     // right neighbour lies on the image; gaussian_lerp_pixel, the reference, does the rest.

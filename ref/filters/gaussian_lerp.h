@@ -30,8 +30,10 @@ LerpRamp gaussian_lerp_ramp(int width, int height, glm::vec2 gaze);
 void gaussian_lerp_pixel(const Image& in, glm::vec2 gaze, const LerpRamp& ramp, Image& out, int x,
                          int y);
 
-/// The filter: an image of `in`'s size and channels.
-Image gaussian_lerp(const Image& in, glm::vec2 gaze);
+/// The filter: an image of `in`'s size and channels. `storage`: an image the output is written into
+/// when it has the output's shape (a stage recycles an earlier frame's): every pixel is written,
+/// none of its values is read; otherwise the output is made anew.
+Image gaussian_lerp(const Image& in, glm::vec2 gaze, Image storage = {});
 
 /// t of the blend at screen point p (0: unfiltered, 1: the full 3x3 Gaussian).
 float gaussian_lerp_amount(const LerpRamp& ramp, glm::vec2 gaze, glm::vec2 p);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
@@ -270,12 +271,14 @@ bool PostAaSizes::made_for(glm::vec2 g, float r, int w, int h) const {
     return !eta.empty() && gaze == g && radius_max == r && width == w && height == h;
 }
 
-Image post_aa(const Image& in, glm::vec2 gaze, float radius_max, bool simd, PostAaSizes* sizes) {
+Image post_aa(const Image& in, glm::vec2 gaze, float radius_max, bool simd, PostAaSizes* sizes,
+              Image storage) {
     FOVREF_CHECK(in.channels <= 4, "post anti-aliasing of more than 4 channels");
     std::vector<std::vector<float>> weights(max_eta + 1);
     for (int eta = 3; eta <= max_eta; eta += 2)
         weights[static_cast<std::size_t>(eta)] = post_aa_weights(eta);
-    Image out(in.width, in.height, in.channels, 0.0f);
+    Image out = std::move(storage);  // every pixel is written below
+    keep_or_make(out, in.width, in.height, in.channels);
     std::vector<PostAaRowCache> cache(max_eta + 1);
     if (simd && in.channels >= 1 && simd_allowed() && cpu_has_avx()) {
         post_aa_rows_avx(in, gaze, radius_max, weights, cache, out, sizes);

@@ -58,9 +58,11 @@ struct PostAaSizes {
 /// neighbours), each lane doing post_aa_cached_pixel's operations in its order: the same bits as
 /// `simd` false (the readable reference), NaN payloads aside (docs/determinism.md). `sizes`
 /// (optional, AVX pass only): read when made for this gaze, R and size, else made as the pass
-/// computes the sizes (the next frame with the same gaze reads them).
+/// computes the sizes (the next frame with the same gaze reads them). `storage`: an image the
+/// output is written into when it has the output's shape (a stage recycles an earlier frame's):
+/// every pixel is written, none of its values is read; otherwise the output is made anew.
 Image post_aa(const Image& in, glm::vec2 gaze, float radius_max, bool simd = true,
-              PostAaSizes* sizes = nullptr);
+              PostAaSizes* sizes = nullptr, Image storage = {});
 
 /// The row sums (post_aa_row) of one kernel size eta, kept for the last eta rows each column
 /// asked for: the entry of (x, yy) lives in slot yy mod eta of column x. A window of eta rows

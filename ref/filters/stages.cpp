@@ -86,7 +86,11 @@ StageDef internal_aa_stage_def(const std::string& color, const std::string& vali
 
 void gaussian_lerp_stage(FrameContext& ctx) {
     const glm::vec2 gaze = ctx.state<LerpState>().gaze(ctx);
-    ctx.output("output", BufferKind::color, rgb, gaussian_lerp(ctx.input("input"), gaze));
+    const Image& input = ctx.input("input");
+    // The filter writes every pixel: an earlier frame's storage saves the zero fill
+    ctx.output("output", BufferKind::color, rgb,
+               gaussian_lerp(input, gaze,
+                             ctx.recycled("output", input.width, input.height, input.channels)));
 }
 
 StageDef gaussian_lerp_stage_def(const std::string& input, const std::string& output,
@@ -99,8 +103,11 @@ StageDef gaussian_lerp_stage_def(const std::string& input, const std::string& ou
 void post_aa_stage(FrameContext& ctx) {
     const PostAaGeometry g = ctx.state<PostAaState>().geometry(ctx);
     PostAaState& state = ctx.state<PostAaState>();
+    const Image& input = ctx.input("input");
+    // The filter writes every pixel: an earlier frame's storage saves the zero fill
     ctx.output("output", BufferKind::color, rgb,
-               post_aa(ctx.input("input"), g.gaze, g.radius_max, true, &state.sizes));
+               post_aa(input, g.gaze, g.radius_max, true, &state.sizes,
+                       ctx.recycled("output", input.width, input.height, input.channels)));
 }
 
 StageDef post_aa_stage_def(const std::string& input, const std::string& output,

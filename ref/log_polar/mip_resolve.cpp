@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "ref/core/dmath.h"
 #include "ref/core/error.h"
@@ -94,13 +95,15 @@ void resolve_mip_pixel(const LogPolarMap& map, const std::vector<MipLevel>& mips
 }
 
 Image resolve_log_polar_mip(const LogPolarMap& map, const std::vector<MipLevel>& mips,
-                            const GazeInput& gaze, ResolveStats& stats, const ForwardTable* table) {
+                            const GazeInput& gaze, ResolveStats& stats, const ForwardTable* table,
+                            Image storage) {
     FOVREF_CHECK(!mips.empty(), "an empty mip pyramid");
     if (table)
         FOVREF_CHECK(table->map == map && table->mip_levels == static_cast<int>(mips.size()),
                      "a forward table made for another map or pyramid");
     FOVREF_CHECK_EQ(mips[0].color.width, map.width, "log-polar buffer width");
-    Image out(map.screen_width, map.screen_height, mips[0].color.channels, 0.0f);
+    Image out = std::move(storage);  // every pixel is written below
+    keep_or_make(out, map.screen_width, map.screen_height, mips[0].color.channels);
     // Eight pixels at a time where the AVX2 path covers the resolve (the same bits:
     // resolve_avx.h); resolve_mip_pixel, the reference, does the rest.
     const bool avx = resolve_mip_avx_applies(map, mips, table);

@@ -53,9 +53,11 @@ void resolve_mip_pixel(const LogPolarMap& map, const std::vector<MipLevel>& mips
 
 /// Pass 2 with the mip resolve: a W x H image with the buffer's channel count. `table` (made
 /// for this map with mip_levels = the pyramid's size) replaces the per-pixel forward map and
-/// level: the same bits.
+/// level: the same bits. `storage`: an image the output is written into when it has the output's
+/// shape (a stage recycles an earlier frame's): every pixel is written, none of its values is read;
+/// otherwise the output is made anew.
 Image resolve_log_polar_mip(const LogPolarMap& map, const std::vector<MipLevel>& mips,
                             const GazeInput& gaze, ResolveStats& stats,
-                            const ForwardTable* table = nullptr);
+                            const ForwardTable* table = nullptr, Image storage = {});
 
 }  // namespace fovref

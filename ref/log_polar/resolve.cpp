@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "ref/core/error.h"
 #include "ref/core/vec.h"
@@ -171,13 +172,14 @@ void resolve_pixel(const LogPolarMap& map, const ResolveInputs& in, Image& out, 
 }
 
 Image resolve_log_polar(const LogPolarMap& map, const ResolveInputs& in, ResolveStats& stats,
-                        const ForwardTable* table) {
+                        const ForwardTable* table, Image storage) {
     if (table) FOVREF_CHECK(table->map == map, "a forward table made for another map");
     FOVREF_CHECK_EQ(in.buffer.width, map.width, "log-polar buffer width");
     FOVREF_CHECK_EQ(in.buffer.height, map.height, "log-polar buffer height");
     FOVREF_CHECK_EQ(in.buffer_valid.width, map.width, "validity mask width");
     if (in.gaze.image) FOVREF_CHECK(in.gaze.window == gaze_window(map), "a gaze buffer's window");
-    Image out(map.screen_width, map.screen_height, in.buffer.channels, 0.0f);
+    Image out = std::move(storage);  // every pixel is written below
+    keep_or_make(out, map.screen_width, map.screen_height, in.buffer.channels);
     // Eight pixels at a time where the AVX path covers the resolve (the same bits:
     // resolve_avx.h); resolve_pixel, the reference, does the rest.
     const bool avx = resolve_avx_applies(map, in, table);

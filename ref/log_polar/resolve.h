@@ -107,9 +107,11 @@ void resolve_pixel(const LogPolarMap& map, const ResolveInputs& in, Image& out, 
                    ResolveStats& stats, BilinearLookup* lookup = nullptr,
                    const ForwardTable* table = nullptr);
 
-/// Pass 2: a W x H image with the buffer's channel count.
+/// Pass 2: a W x H image with the buffer's channel count. `storage`: an image the output is written
+/// into when it has the output's shape (a stage recycles an earlier frame's): every pixel is
+/// written, none of its values is read; otherwise the output is made anew.
 Image resolve_log_polar(const LogPolarMap& map, const ResolveInputs& in, ResolveStats& stats,
-                        const ForwardTable* table = nullptr);
+                        const ForwardTable* table = nullptr, Image storage = {});
 
 /// The texels pass 2 reads for screen pixel (x, y), traced or not (a mip resolve's level 0): with
 /// a gaze buffer and the centre inside the gaze circle, that buffer's pixel (x - x0, y - y0)

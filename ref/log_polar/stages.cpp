@@ -205,8 +205,11 @@ void resolve_stage(FrameContext& ctx) {
     if (mip) mips = build_lp_mips(color, valid);
     bool reused = false;
     const ForwardTable& table = frames.forward_table(map, static_cast<int>(mips.size()), &reused);
-    Image out = mip ? resolve_log_polar_mip(map, mips, gaze, stats, &table)
-                    : resolve_log_polar(map, {color, valid, gaze}, stats, &table);
+    // The pass writes every pixel: an earlier frame's storage saves the zero fill
+    Image storage = ctx.recycled("output", map.screen_width, map.screen_height, color.channels);
+    Image out =
+        mip ? resolve_log_polar_mip(map, mips, gaze, stats, &table, std::move(storage))
+            : resolve_log_polar(map, {color, valid, gaze}, stats, &table, std::move(storage));
     ctx.result->counters.add("screen_pixels_untraced_taps", stats.pixels_untraced_taps);
     ctx.note = std::string(mip ? "mip" : "bilinear") +
                (reused ? ", forward map reused" : ", forward map computed") + ": " +

@@ -201,6 +201,14 @@ TEST_CASE("post AA: the pass (row sums kept) equals post_aa_pixel bit for bit at
                 const Image scalar = post_aa(in, gaze, radius, false);
                 CHECK(std::memcmp(out.data.data(), scalar.data.data(),
                                   out.data.size() * sizeof(float)) == 0);
+                // written into storage holding a value no pixel takes (a stage's recycled
+                // output), with SIMD and without: every pixel is written
+                for (const bool simd : {true, false}) {
+                    const Image into =
+                        post_aa(in, gaze, radius, simd, nullptr, Image(w, h, channels, -7.25e30f));
+                    CHECK(std::memcmp(into.data.data(), scalar.data.data(),
+                                      into.data.size() * sizeof(float)) == 0);
+                }
                 // The sizes kept by the stage: made by a first frame, read by a second with the
                 // same gaze, made again for another gaze; the same image each time.
                 PostAaSizes sizes;
