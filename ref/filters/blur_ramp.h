@@ -80,8 +80,9 @@ void blur_ramp_pixel(const BlurRamp& ramp, const BlurRampGeometry& geometry, con
                      bool vertical, Image& out, int x, int y);
 
 /// The horizontal pass on a W x H image (the geometry's screen size), any channel count. With
-/// `simd` (the default) and a CPU with AVX, eight pixels at a time for up to 4 channels, each
-/// lane doing blur_ramp_pixel's operations in its order: the same bits as `simd` false, which
+/// `simd` (the default), a CPU with AVX2 and three channels, eight pixels at a time on the
+/// interleaved floats, each float's lane doing its pixel's blur_ramp_pixel operations in their
+/// order: the same bits as `simd` false (and as other channel counts, which always run it), which
 /// runs blur_ramp_pixel pixel by pixel (the readable reference). `table` (optional, made for this
 /// ramp and geometry) gives the AVX groups each pixel's sigma and exp. `storage`: an image the
 /// output is written into when it has the image's shape (a stage recycles an earlier frame's);
