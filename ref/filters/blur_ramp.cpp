@@ -387,7 +387,10 @@ Image blur_pass(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Im
         blur_pass_avx(ramp, geometry, image, vertical, out, table);
         return out;
     }
-    Image out = image;  // blur_ramp_pixel leaves a copied pixel (radius 0) as it is
+    // blur_ramp_pixel leaves a copied pixel (radius 0) as it is: the image copied first (into
+    // the storage's memory where it has the image's size)
+    Image out = std::move(storage);
+    out = image;
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < image.width; ++x)
             blur_ramp_pixel(ramp, geometry, image, vertical, out, x, y);

@@ -91,6 +91,10 @@ const Image& FrameContext::input(const std::string& slot) const {
         checked_inputs.push_back(name);
         std::vector<float>& data = buffer->image.data;
         if (any_nonfinite(data.data(), data.size())) {
+            // A carried buffer comes back to its stage as the stage wrote it
+            if (std::find(carried_buffers.begin(), carried_buffers.end(), name) !=
+                carried_buffers.end())
+                unsanitized.push_back(*buffer);
             std::int64_t replaced = 0;
             for (float& v : data)
                 if (!std::isfinite(v)) {
@@ -134,6 +138,12 @@ Image FrameContext::carried(const std::string& slot) {
     const std::string& name = buffer_of(slot);
     if (std::find(recyclable.begin(), recyclable.end(), name) == recyclable.end())
         recyclable.push_back(name);
+    if (std::find(carried_buffers.begin(), carried_buffers.end(), name) == carried_buffers.end())
+        carried_buffers.push_back(name);
+    return take_spare(name);
+}
+
+Image FrameContext::take_spare(const std::string& name) {
     Image image;
     for (Buffer& b : spare)
         if (b.name == name) image = std::move(b.image);
@@ -141,17 +151,28 @@ Image FrameContext::carried(const std::string& slot) {
 }
 
 Image FrameContext::recycled(const std::string& slot, int width, int height, int channels) {
-    Image image = carried(slot);
+    FOVREF_CHECK(stage != nullptr && find_port(stage->outputs, slot) != nullptr,
+                 "storage asked for '" + slot + "', which the running stage does not write");
+    const std::string& name = buffer_of(slot);
+    if (std::find(recyclable.begin(), recyclable.end(), name) == recyclable.end())
+        recyclable.push_back(name);
+    Image image = take_spare(name);
     keep_or_make(image, width, height, channels);
     return image;
 }
 
 void FrameContext::hand_back(FrameResult& done) {
     spare.clear();
-    for (Buffer& b : done.buffers)
-        if (!b.image.empty() &&
-            std::find(recyclable.begin(), recyclable.end(), b.name) != recyclable.end())
-            spare.push_back(std::move(b));
+    for (Buffer& b : done.buffers) {
+        if (b.image.empty() ||
+            std::find(recyclable.begin(), recyclable.end(), b.name) == recyclable.end())
+            continue;
+        // a carried buffer whose non-finite values a stage's read replaced: as it was written
+        const auto original = std::find_if(unsanitized.begin(), unsanitized.end(),
+                                           [&](const Buffer& u) { return u.name == b.name; });
+        spare.push_back(original != unsanitized.end() ? std::move(*original) : std::move(b));
+    }
+    unsanitized.clear();
 }
 
 const Image& FrameContext::resumed(const std::string& name, int channels, const std::string& what,
@@ -257,6 +278,7 @@ FrameResult Pipeline::run_frame(FrameContext& context,
     result.time = context.time;
     context.result = &result;
     context.checked_inputs.clear();
+    context.unsanitized.clear();  // (a frame not handed back)
     std::vector<std::string> wanted;
     const std::vector<bool> needed = plan_walk(*this, requested, wanted);
     context.all_wanted = wanted.size() == 1 && wanted[0] == "all";

@@ -129,15 +129,23 @@ struct FrameContext {
     /// buffer itself, not a copy, as hand_back kept it; an empty image when there is none (the
     /// first frame, or a caller that took the buffer away). Asking marks the buffer for
     /// hand_back. A frame's callback may read such a buffer and may copy it, but must neither
-    /// alter it nor move it out of the frame (render() keeps copies of its frames).
+    /// alter it nor move it out of the frame (render() keeps copies of its frames). Where a
+    /// later stage's input() replaces non-finite values of such a buffer, the buffer as it was
+    /// before is what comes back (`unsanitized`): the stage gets what it wrote.
     Image carried(const std::string& slot);
     /// Keeps, for the next frame's recycled() and carried(), the buffers of `done` that they
     /// have asked for and its caller left in it (the rest goes with the frame). render_each
     /// calls it once the frame's callback has returned, when nothing can read the frame's
     /// buffers any more.
     void hand_back(FrameResult& done);
-    std::vector<std::string> recyclable;  ///< the buffers recycled() and carried() asked for
-    std::vector<Buffer> spare;            ///< what hand_back kept
+    /// What hand_back kept of frame buffer `name` (taken out of `spare`), or an empty image.
+    Image take_spare(const std::string& name);
+    std::vector<std::string> recyclable;       ///< the buffers recycled() and carried() asked for
+    std::vector<std::string> carried_buffers;  ///< the buffers carried() asked for
+    /// Copies of carried buffers taken by input() before it replaced their non-finite values
+    /// (the frame's; handed back instead of the replaced buffers).
+    mutable std::vector<Buffer> unsanitized;
+    std::vector<Buffer> spare;  ///< what hand_back kept
     /// Buffer `name` of frame F - 1 for a stage that carries state (`what`: "TAA", "BMFR") into
     /// the first frame F > 0 rendered, from RenderSettings::state_buffers (`fovref render
     /// --resume DIR`). Throws fovref::Error naming --resume when it is missing or not

@@ -55,12 +55,15 @@ TEST_CASE("resolve speed: the AVX pass 2 gives resolve_pixel's bits") {
                 REQUIRE(test::same_bits_nan_aside(out[0], out[1]));
                 // written into storage holding a value no pixel takes (a stage's recycled
                 // output): every pixel is written
-                ResolveStats into_stats;
-                CHECK(test::same_bits_nan_aside(
-                    resolve_log_polar(
+                for (const bool simd : {true, false}) {
+                    ResolveStats into_stats;
+                    set_simd_allowed(simd);
+                    const Image into = resolve_log_polar(
                         map, in, into_stats, &table,
-                        Image(map.screen_width, map.screen_height, in.buffer.channels, -7.25e30f)),
-                    out[0]));
+                        Image(map.screen_width, map.screen_height, in.buffer.channels, -7.25e30f));
+                    set_simd_allowed(true);
+                    CHECK(test::same_bits_nan_aside(into, out[0]));
+                }
                 CHECK(stats[0].pixels_from_gaze == stats[1].pixels_from_gaze);
                 CHECK(stats[0].pixels_from_buffer == stats[1].pixels_from_buffer);
                 CHECK(stats[0].pixels_untraced_taps == stats[1].pixels_untraced_taps);
@@ -121,12 +124,15 @@ TEST_CASE("resolve speed: the AVX mip resolve gives resolve_mip_pixel's bits") {
         }
         REQUIRE(test::same_bits_nan_aside(out[0], out[1]));
         // written into storage holding a value no pixel takes: every pixel is written
-        ResolveStats into_stats;
-        CHECK(test::same_bits_nan_aside(
-            resolve_log_polar_mip(
+        for (const bool simd : {true, false}) {
+            ResolveStats into_stats;
+            set_simd_allowed(simd);
+            const Image into = resolve_log_polar_mip(
                 map, mips, gaze, into_stats, &table,
-                Image(map.screen_width, map.screen_height, mips[0].color.channels, -7.25e30f)),
-            out[0]));
+                Image(map.screen_width, map.screen_height, mips[0].color.channels, -7.25e30f));
+            set_simd_allowed(true);
+            CHECK(test::same_bits_nan_aside(into, out[0]));
+        }
         CHECK(stats[0].pixels_from_gaze == stats[1].pixels_from_gaze);
         CHECK(stats[0].pixels_from_buffer == stats[1].pixels_from_buffer);
         CHECK(stats[0].pixels_untraced_taps == stats[1].pixels_untraced_taps);

@@ -540,9 +540,11 @@ TEST_CASE("pipeline: an output's storage is recycled from what the caller handed
                          doctest::Contains("storage asked for 'elsewhere'"), Error);
 }
 
-// render_each hands each frame back once its callback returned; render() keeps a copy of every
-// frame. Both give the same bits: TAA with clamp-buffer, whose taa_source
-// recycles its depth and its bounds (every value written).
+// render_each hands each frame back once its callback returned, and the stages write into what
+// came back; a callback that takes every buffer away but the one TAA carries (`final`) leaves
+// nothing to recycle, so that render runs on fresh storage. Both give the same bits: TAA with
+// clamp-buffer, whose taa_source recycles its depth and its bounds, pass 2 its output (every
+// value written).
 TEST_CASE("render_each recycles the outputs its callback leaves, the frames' bits are unchanged") {
     const Scene scene = load_scene("checker-room");
     RenderSettings s;
@@ -551,7 +553,11 @@ TEST_CASE("render_each recycles the outputs its callback leaves, the frames' bit
     s.frame_count = 4;
     s.requested = {"all"};
     s.params.set("taa", "clamp-buffer");
-    const std::vector<FrameResult> kept = render(&scene, "cfov", s);
+    std::vector<FrameResult> kept;  // on fresh storage
+    render_each(&scene, find_mode("cfov"), s, [&](FrameResult& f) {
+        kept.push_back(f);
+        std::erase_if(f.buffers, [](const Buffer& b) { return b.name != "final"; });
+    });
     int frames = 0;
     const float* bounds = nullptr;  // where frame f - 1's taa_bounds lay
     render_each(&scene, find_mode("cfov"), s, [&](FrameResult& f) {
@@ -573,9 +579,11 @@ TEST_CASE("render_each recycles the outputs its callback leaves, the frames' bit
 
 // BMFR's stages take their history (phase I's accumulation and counts, phase III's output, its
 // TAA's output) back from the previous frame's buffers (FrameContext::carried) instead of
-// keeping copies: a render through render_each gives the bits of render(), on the screen and in
-// Visual-Polar space, and a callback that moves such a buffer away stops the next frame with a
-// clear error.
+// keeping copies, and write their other outputs into recycled storage: a render whose callback
+// leaves every buffer gives the bits of one whose callback takes all but the carried ones away
+// (fresh storage for the others), on the screen and in Visual-Polar space; a callback that moves
+// a carried buffer away stops the next frame with a clear error. (That the carried history gives
+// the bits of the copies kept before is the goldens' check: they were made with the copies.)
 TEST_CASE("BMFR's history comes back from the frame's own buffers, the bits unchanged") {
     const Scene scene = load_scene("cornell");
     for (const char* mode : {"pathtrace", "visual-polar"}) {
@@ -586,7 +594,15 @@ TEST_CASE("BMFR's history comes back from the frame's own buffers, the bits unch
         s.frame_count = 3;
         s.params.set("denoise", "bmfr");
         s.requested = {"final"};
-        const std::vector<FrameResult> kept = render(&scene, mode, s);
+        const std::vector<std::string> carried = {"bmfr_accumulated_noisy", "bmfr_spp",
+                                                  "bmfr_accumulated_filtered", "bmfr_taa"};
+        std::vector<FrameResult> kept;  // the others on fresh storage
+        render_each(&scene, find_mode(mode), s, [&](FrameResult& f) {
+            kept.push_back(f);
+            std::erase_if(f.buffers, [&](const Buffer& b) {
+                return std::find(carried.begin(), carried.end(), b.name) == carried.end();
+            });
+        });
         int frames = 0;
         render_each(&scene, find_mode(mode), s, [&](FrameResult& f) {
             INFO("frame " << f.frame);

@@ -158,8 +158,10 @@ TEST_CASE("TAA modes: resuming from the previous frame's buffers gives the seque
 
 // The history is the previous frame's output buffer itself (FrameContext::carried), not a copy:
 // render_each hands it back after the frame's callback, and the pass writes the next output into
-// the storage of the history before; the bits are those of render(), which keeps copies. A
-// callback that moves the output away leaves TAA without its history: a clear error.
+// the storage of the history before; the bits are those of render(), which keeps copies of the
+// frames (that they are those of the copies TAA kept before is the goldens' check: they were made
+// with them). A callback that moves the output away leaves TAA without its history: a clear
+// error.
 TEST_CASE("TAA modes: the history is the previous frame's output, handed back, never copied") {
     for (const char* mode : {"basic", "cfov"}) {
         CAPTURE(mode);
@@ -191,6 +193,33 @@ TEST_CASE("TAA modes: the history is the previous frame's output, handed back, n
                               "handed back"),
             Error);
     }
+}
+
+// A carried buffer comes back as its stage wrote it, not as a later stage's read left it: a NaN
+// and an infinity written into TAA's output after the stage (the render's after_stage hook, as a
+// blend that overflowed would write one) are replaced by 0 where the Gaussian lerp reads them,
+// yet the next frame's TAA finds them in its history and rejects those two pixels.
+TEST_CASE("TAA modes: the history is the output as TAA wrote it, not as the lerp's read left it") {
+    RenderSettings s;
+    s.width = 64;
+    s.height = 36;
+    s.frame_count = 2;
+    s.time_step = 0.0f;
+    s.params.set("taa", "depth");
+    s.params.set("filters", "lerp");
+    s.after_stage = [](const std::string& stage, FrameResult& result) {
+        if (stage != "taa" || result.frame != 0) return;
+        for (Buffer& b : result.buffers)
+            if (b.name == "taa_color") {
+                b.image.data[0] = std::nanf("");
+                b.image.data[3 * 10 + 1] = INFINITY;
+            }
+    };
+    const std::vector<FrameResult> frames = render(&scene_named("checker-room"), "cfov", s);
+    REQUIRE(frames.size() == 2);
+    CHECK(frames[0].counters.get("nonfinite_stage_inputs") == 2);  // the lerp read zeros
+    CHECK(frames[1].counters.get("taa_history_nonfinite") == 2);
+    CHECK(frames[1].counters.get("taa_history_rejected") == 2);
 }
 
 TEST_CASE("TAA modes: a disocclusion is rejected where the depth changes, kept where it does not") {

@@ -35,11 +35,15 @@ std::int64_t compare_resolves(const VisualPolarMap& map, const VpMips& mips,
     REQUIRE(test::same_bits_nan_aside(out[0], out[1]));
     // written into storage that holds a value no pixel takes (a stage's recycled output): every
     // value is written
-    ResolveStats into_stats;
-    const Image into = resolve_visual_polar(
-        map, mips, into_stats, mip, &table,
-        Image(map.screen_width, map.screen_height, mips.color[0].channels, -7.25e30f));
-    CHECK(test::same_bits_nan_aside(into, out[0]));
+    for (const bool simd : {true, false}) {
+        ResolveStats into_stats;
+        set_simd_allowed(simd);
+        const Image into = resolve_visual_polar(
+            map, mips, into_stats, mip, &table,
+            Image(map.screen_width, map.screen_height, mips.color[0].channels, -7.25e30f));
+        set_simd_allowed(true);
+        CHECK(test::same_bits_nan_aside(into, out[0]));
+    }
     CHECK(stats[0].pixels_from_buffer == stats[1].pixels_from_buffer);
     CHECK(stats[0].pixels_untraced_taps == stats[1].pixels_untraced_taps);
     if (plain_too) {
