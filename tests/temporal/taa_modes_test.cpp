@@ -36,6 +36,17 @@ std::vector<FrameResult> render_sequence(const std::string& scene, const std::st
 
 using test::same_bits;
 
+// 64 x 36, `frames` frames of a static camera, TAA with depth rejection (the render's settings).
+RenderSettings static_depth_taa(int frames) {
+    RenderSettings s;
+    s.width = 64;
+    s.height = 36;
+    s.frame_count = frames;
+    s.time_step = 0.0f;
+    s.params.set("taa", "depth");
+    return s;
+}
+
 }  // namespace
 
 TEST_CASE("TAA modes: a static camera converges to the mean of its 16 jittered frames") {
@@ -165,12 +176,7 @@ TEST_CASE("TAA modes: resuming from the previous frame's buffers gives the seque
 TEST_CASE("TAA modes: the history is the previous frame's output, handed back, never copied") {
     for (const char* mode : {"basic", "cfov"}) {
         CAPTURE(mode);
-        RenderSettings s;
-        s.width = 64;
-        s.height = 36;
-        s.frame_count = 4;
-        s.time_step = 0.0f;
-        s.params.set("taa", "depth");
+        const RenderSettings s = static_depth_taa(4);
         const std::vector<FrameResult> kept = render(&scene_named("checker-room"), mode, s);
         std::vector<const float*> storage;
         render_each(&scene_named("checker-room"), find_mode(mode), s, [&](FrameResult& f) {
@@ -200,12 +206,7 @@ TEST_CASE("TAA modes: the history is the previous frame's output, handed back, n
 // blend that overflowed would write one) are replaced by 0 where the Gaussian lerp reads them,
 // yet the next frame's TAA finds them in its history and rejects those two pixels.
 TEST_CASE("TAA modes: the history is the output as TAA wrote it, not as the lerp's read left it") {
-    RenderSettings s;
-    s.width = 64;
-    s.height = 36;
-    s.frame_count = 2;
-    s.time_step = 0.0f;
-    s.params.set("taa", "depth");
+    RenderSettings s = static_depth_taa(2);
     s.params.set("filters", "lerp");
     s.after_stage = [](const std::string& stage, FrameResult& result) {
         if (stage != "taa" || result.frame != 0) return;
