@@ -19,8 +19,8 @@ struct BmfrState : StageState {
     std::function<glm::vec2(const FrameContext&)> pixel_offset;            ///< empty: centres
     /// What the previous frame handed on. Its accumulated_noisy, spp, accumulated_filtered and
     /// taa are not kept in `next`: they are the previous frame's output buffers themselves,
-    /// which the pipeline hands back to the stages that wrote them (take_carried), so that no
-    /// frame copies them.
+    /// which the pipeline hands back to the stages that wrote them (FrameContext::carried), so that
+    /// no frame copies them.
     BmfrHistory history;
     BmfrHistory next;  ///< what this frame hands on (filled by the stages)
     /// The storage of the carried buffers of the frame before last, once this frame's passes
@@ -89,15 +89,6 @@ void start_frame(const FrameContext& ctx, BmfrState& s) {
     s.frame = ctx.frame;
 }
 
-// The history image `slot` of this stage: its output of the previous frame, handed back (a
-// resumed history already holds it).
-void take_carried(FrameContext& ctx, const BmfrState& s, const std::string& slot, Image& history) {
-    if (Image carried = ctx.carried(slot); !carried.empty()) history = std::move(carried);
-    FOVREF_CHECK(!s.history.valid || !history.empty(),
-                 "BMFR's history, the previous frame's buffer '" + slot +
-                     "', was not handed back: a frame's callback moved it away");
-}
-
 // The directly seen emission when it is kept out of the fit, else an empty image.
 const Image& emission_input(const FrameContext& ctx, const BmfrState& s) {
     static const Image none;
@@ -152,7 +143,7 @@ void hand_on_accumulation(const FrameContext& ctx, BmfrState& s, const BmfrSpace
     if (space.valid) s.next.valid_texels = *space.valid;
     s.next.world_position = world;
     s.next.normal = normal;
-    // (its accumulation and counts go to the frame and come back: take_carried)
+    // (its accumulation and counts go to the frame and come back: FrameContext::carried)
 }
 
 // The stage's ports: `names` with slot = buffer, plus the G-buffer channels the stage reads (slot
@@ -193,8 +184,8 @@ void bmfr_demodulate_stage(FrameContext& ctx) {
 void bmfr_accumulate_noisy_stage(FrameContext& ctx) {
     BmfrState& s = ctx.state<BmfrState>();
     start_frame(ctx, s);
-    take_carried(ctx, s, "bmfr_accumulated_noisy", s.history.accumulated_noisy);
-    take_carried(ctx, s, "bmfr_spp", s.history.spp);
+    ctx.carried("bmfr_accumulated_noisy", s.history.accumulated_noisy, s.history.valid, "BMFR");
+    ctx.carried("bmfr_spp", s.history.spp, s.history.valid, "BMFR");
     const Image& world = ctx.input("world_position");
     const Image& normal = ctx.input("shading_normal");
     const BmfrSpace space = frame_space(ctx, s);
@@ -255,7 +246,8 @@ void bmfr_weighted_sum_stage(FrameContext& ctx) {
 
 void bmfr_accumulate_filtered_stage(FrameContext& ctx) {
     BmfrState& s = ctx.state<BmfrState>();
-    take_carried(ctx, s, "bmfr_accumulated_filtered", s.history.accumulated_filtered);
+    ctx.carried("bmfr_accumulated_filtered", s.history.accumulated_filtered, s.history.valid,
+                "BMFR");
     Image out = bmfr_accumulate_filtered(
         s.settings.params, ctx.input("bmfr_fitted"), ctx.input("bmfr_spp"),
         ctx.input("bmfr_accept"), ctx.input("bmfr_previous_pixel"), s.history.accumulated_filtered,
@@ -278,7 +270,7 @@ void bmfr_remodulate_stage(FrameContext& ctx) {
 
 void bmfr_taa_stage(FrameContext& ctx) {
     BmfrState& s = ctx.state<BmfrState>();
-    take_carried(ctx, s, "bmfr_taa", s.history.taa);
+    ctx.carried("bmfr_taa", s.history.taa, s.history.valid, "BMFR");
     BmfrStats stats;
     Image out =
         bmfr_taa(s.settings.params, ctx.input("bmfr_display"), ctx.input("bmfr_previous_pixel"),

@@ -132,31 +132,31 @@ const std::string& FrameContext::buffer_of(const std::string& slot) const {
     return input_buffer(*this, slot);
 }
 
-Image FrameContext::carried(const std::string& slot) {
+Image FrameContext::take_spare(const std::string& slot) {
     FOVREF_CHECK(stage != nullptr && find_port(stage->outputs, slot) != nullptr,
                  "storage asked for '" + slot + "', which the running stage does not write");
     const std::string& name = buffer_of(slot);
     if (std::find(recyclable.begin(), recyclable.end(), name) == recyclable.end())
         recyclable.push_back(name);
-    if (std::find(carried_buffers.begin(), carried_buffers.end(), name) == carried_buffers.end())
-        carried_buffers.push_back(name);
-    return take_spare(name);
-}
-
-Image FrameContext::take_spare(const std::string& name) {
     Image image;
     for (Buffer& b : spare)
         if (b.name == name) image = std::move(b.image);
     return image;
 }
 
-Image FrameContext::recycled(const std::string& slot, int width, int height, int channels) {
-    FOVREF_CHECK(stage != nullptr && find_port(stage->outputs, slot) != nullptr,
-                 "storage asked for '" + slot + "', which the running stage does not write");
+void FrameContext::carried(const std::string& slot, Image& history, bool expected,
+                           const std::string& what) {
+    if (Image image = take_spare(slot); !image.empty()) history = std::move(image);
     const std::string& name = buffer_of(slot);
-    if (std::find(recyclable.begin(), recyclable.end(), name) == recyclable.end())
-        recyclable.push_back(name);
-    Image image = take_spare(name);
+    if (std::find(carried_buffers.begin(), carried_buffers.end(), name) == carried_buffers.end())
+        carried_buffers.push_back(name);
+    FOVREF_CHECK(!expected || !history.empty(),
+                 what + "'s history, the previous frame's buffer '" + name +
+                     "', was not handed back: a frame's callback moved it away");
+}
+
+Image FrameContext::recycled(const std::string& slot, int width, int height, int channels) {
+    Image image = take_spare(slot);
     keep_or_make(image, width, height, channels);
     return image;
 }

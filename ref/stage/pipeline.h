@@ -126,20 +126,23 @@ struct FrameContext {
     Image recycled(const std::string& slot, int width, int height, int channels);
     /// Output `slot` of the running stage as the previous frame left it, values and all, for a
     /// stage whose next frame reads what it wrote (TAA's output is its history): the frame's
-    /// buffer itself, not a copy, as hand_back kept it; an empty image when there is none (the
-    /// first frame, or a caller that took the buffer away). Asking marks the buffer for
-    /// hand_back. A frame's callback may read such a buffer and may copy it, but must neither
-    /// alter it nor move it out of the frame (render() keeps copies of its frames). Where a
-    /// later stage's input() replaces non-finite values of such a buffer, the buffer as it was
-    /// before is what comes back (`unsanitized`): the stage gets what it wrote.
-    Image carried(const std::string& slot);
+    /// buffer itself, not a copy, as hand_back kept it, moved into `history`; when there is none
+    /// (the first frame, or a caller that took the buffer away) `history` is left as it is
+    /// (empty, or a resumed render's copy). Throws fovref::Error naming `what` ("TAA") and the
+    /// buffer when `expected` (the stage has a history) and `history` is still empty. Asking
+    /// marks the buffer for hand_back. A frame's callback may read such a buffer and may copy
+    /// it, but must neither alter it nor move it out of the frame (render() keeps copies of its
+    /// frames). Where a later stage's input() replaces non-finite values of such a buffer, the
+    /// buffer as it was before is what comes back (`unsanitized`): the stage gets what it wrote.
+    void carried(const std::string& slot, Image& history, bool expected, const std::string& what);
     /// Keeps, for the next frame's recycled() and carried(), the buffers of `done` that they
     /// have asked for and its caller left in it (the rest goes with the frame). render_each
     /// calls it once the frame's callback has returned, when nothing can read the frame's
     /// buffers any more.
     void hand_back(FrameResult& done);
-    /// What hand_back kept of frame buffer `name` (taken out of `spare`), or an empty image.
-    Image take_spare(const std::string& name);
+    /// What hand_back kept of output `slot`'s buffer (taken out of `spare`), or an empty image;
+    /// the buffer is marked for hand_back.
+    Image take_spare(const std::string& slot);
     std::vector<std::string> recyclable;       ///< the buffers recycled() and carried() asked for
     std::vector<std::string> carried_buffers;  ///< the buffers carried() asked for
     /// Copies of carried buffers taken by input() before it replaced their non-finite values

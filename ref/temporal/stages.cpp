@@ -79,11 +79,7 @@ void taa_stage(FrameContext& ctx) {
     if (!state.history.valid && ctx.has_previous)
         state.history = resumed_taa_state(ctx, ctx.buffer_of("output"), ctx.buffer_of("depth"));
     // The previous frame's output, handed back (a resumed history is already here)
-    if (Image carried = ctx.carried("output"); !carried.empty())
-        state.history.history = std::move(carried);
-    FOVREF_CHECK(!state.history.valid || !state.history.history.empty(),
-                 "TAA's history, the previous frame's buffer '" + ctx.buffer_of("output") +
-                     "', was not handed back: a frame's callback moved it away");
+    ctx.carried("output", state.history.history, state.history.valid, "TAA");
     const glm::vec2 gaze = state.gaze ? state.gaze(ctx)
                                       : glm::vec2(static_cast<float>(color.width) * 0.5f,
                                                   static_cast<float>(color.height) * 0.5f);

@@ -86,10 +86,7 @@ BmfrAccumulation accumulate(const BmfrParams& params, const Image& illumination,
     return a;
 }
 
-// A value no output takes: storage holding it shows a value a pass did not write.
-constexpr float unwritten = -7.25e30f;
-
-// Phase I written into storage full of `unwritten` (a stage's recycled storage), with the AVX
+// Phase I written into unwritten_storage (a stage's recycled storage), with the AVX
 // path and without: every value of its four outputs as `expected` has it.
 void check_storage_written(const BmfrParams& params, const Image& illumination, const Image& world,
                            const Image& normal, const BmfrHistory& history, const BmfrSpace& space,
@@ -97,10 +94,10 @@ void check_storage_written(const BmfrParams& params, const Image& illumination, 
     const int w = illumination.width, h = illumination.height;
     for (const bool simd : {true, false}) {
         BmfrAccumulation storage;
-        storage.accumulated = Image(w, h, 3, unwritten);
-        storage.spp = Image(w, h, 1, unwritten);
-        storage.accept = Image(w, h, 1, unwritten);
-        storage.previous_pixel = Image(w, h, 2, unwritten);
+        storage.accumulated = test::unwritten_storage(w, h, 3);
+        storage.spp = test::unwritten_storage(w, h, 1);
+        storage.accept = test::unwritten_storage(w, h, 1);
+        storage.previous_pixel = test::unwritten_storage(w, h, 2);
         BmfrStats stats;
         set_simd_allowed(simd);
         const BmfrAccumulation into = bmfr_accumulate_noisy(
@@ -113,7 +110,7 @@ void check_storage_written(const BmfrParams& params, const Image& illumination, 
     }
 }
 
-// Phase III written into storage full of `unwritten`, with the AVX path and without.
+// Phase III written into unwritten_storage, with the AVX path and without.
 void check_filtered_storage(const BmfrParams& params, const Image& fitted, const Image& spp,
                             const Image& accept, const Image& previous_pixel, const Image& history,
                             const BmfrSpace& space, const Image& expected) {
@@ -121,7 +118,7 @@ void check_filtered_storage(const BmfrParams& params, const Image& fitted, const
         set_simd_allowed(simd);
         const Image into =
             bmfr_accumulate_filtered(params, fitted, spp, accept, previous_pixel, history, space,
-                                     Image(fitted.width, fitted.height, 3, unwritten));
+                                     test::unwritten_storage(fitted.width, fitted.height, 3));
         set_simd_allowed(true);
         CHECK(test::same_bits_nan_aside(into, expected));
     }

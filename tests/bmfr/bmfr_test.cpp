@@ -648,7 +648,6 @@ TEST_CASE("bmfr: demodulation, remodulation and linearisation write every value 
         for (float& v : image->data) v = rng.uniform(-0.5f, 3.0f);
     radiance.data[5] = std::nanf("");
     albedo.data[11] = INFINITY;
-    const float unwritten = -7.25e30f;
     for (const bool separate : {false, true}) {
         CAPTURE(separate);
         BmfrParams params;
@@ -657,14 +656,15 @@ TEST_CASE("bmfr: demodulation, remodulation and linearisation write every value 
         BmfrStats stats;
         const Image fresh = bmfr_demodulate(params, radiance, albedo, e, stats);
         const Image into =
-            bmfr_demodulate(params, radiance, albedo, e, stats, Image(19, 7, 3, unwritten));
+            bmfr_demodulate(params, radiance, albedo, e, stats, test::unwritten_storage(19, 7, 3));
         CHECK(test::same_bits_nan_aside(into, fresh));
         CHECK(test::same_bits_nan_aside(
-            bmfr_demodulate(params, radiance, albedo, e, stats, Image(3, 3, 3, unwritten)), fresh));
+            bmfr_demodulate(params, radiance, albedo, e, stats, test::unwritten_storage(3, 3, 3)),
+            fresh));
         const Image display = bmfr_remodulate(params, fresh, albedo, e);
         CHECK(test::same_bits_nan_aside(
-            bmfr_remodulate(params, fresh, albedo, e, Image(19, 7, 3, unwritten)), display));
-        CHECK(test::same_bits_nan_aside(bmfr_linearize(display, Image(19, 7, 3, unwritten)),
+            bmfr_remodulate(params, fresh, albedo, e, test::unwritten_storage(19, 7, 3)), display));
+        CHECK(test::same_bits_nan_aside(bmfr_linearize(display, test::unwritten_storage(19, 7, 3)),
                                         bmfr_linearize(display)));
     }
 }

@@ -37,6 +37,12 @@ struct TempDir {
     std::string write(const std::string& name, const std::string& bytes) const;
 };
 
+/// Storage for a pass that writes every value (a stage's recycled output), filled with a value no
+/// output takes, so that a value the pass leaves unwritten shows in a comparison.
+inline Image unwritten_storage(int width, int height, int channels) {
+    return Image(width, height, channels, -7.25e30f);
+}
+
 /// bit_equal, NaN payloads aside: the same shape, every value bit for bit or NaN in both (where
 /// two different NaNs meet in an addition the result's payload depends on the operand order a
 /// compiler chose, docs/determinism.md "SIMD paths").

@@ -204,8 +204,8 @@ TEST_CASE("post AA: the pass (row sums kept) equals post_aa_pixel bit for bit at
                 // written into storage holding a value no pixel takes (a stage's recycled
                 // output), with SIMD and without: every pixel is written
                 for (const bool simd : {true, false}) {
-                    const Image into =
-                        post_aa(in, gaze, radius, simd, nullptr, Image(w, h, channels, -7.25e30f));
+                    const Image into = post_aa(in, gaze, radius, simd, nullptr,
+                                               test::unwritten_storage(w, h, channels));
                     CHECK(std::memcmp(into.data.data(), scalar.data.data(),
                                       into.data.size() * sizeof(float)) == 0);
                 }

@@ -60,7 +60,8 @@ TEST_CASE("resolve speed: the AVX pass 2 gives resolve_pixel's bits") {
                     set_simd_allowed(simd);
                     const Image into = resolve_log_polar(
                         map, in, into_stats, &table,
-                        Image(map.screen_width, map.screen_height, in.buffer.channels, -7.25e30f));
+                        test::unwritten_storage(map.screen_width, map.screen_height,
+                                                in.buffer.channels));
                     set_simd_allowed(true);
                     CHECK(test::same_bits_nan_aside(into, out[0]));
                 }
@@ -127,9 +128,10 @@ TEST_CASE("resolve speed: the AVX mip resolve gives resolve_mip_pixel's bits") {
         for (const bool simd : {true, false}) {
             ResolveStats into_stats;
             set_simd_allowed(simd);
-            const Image into = resolve_log_polar_mip(
-                map, mips, gaze, into_stats, &table,
-                Image(map.screen_width, map.screen_height, mips[0].color.channels, -7.25e30f));
+            const Image into =
+                resolve_log_polar_mip(map, mips, gaze, into_stats, &table,
+                                      test::unwritten_storage(map.screen_width, map.screen_height,
+                                                              mips[0].color.channels));
             set_simd_allowed(true);
             CHECK(test::same_bits_nan_aside(into, out[0]));
         }

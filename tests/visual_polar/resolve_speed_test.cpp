@@ -40,7 +40,7 @@ std::int64_t compare_resolves(const VisualPolarMap& map, const VpMips& mips,
         set_simd_allowed(simd);
         const Image into = resolve_visual_polar(
             map, mips, into_stats, mip, &table,
-            Image(map.screen_width, map.screen_height, mips.color[0].channels, -7.25e30f));
+            test::unwritten_storage(map.screen_width, map.screen_height, mips.color[0].channels));
         set_simd_allowed(true);
         CHECK(test::same_bits_nan_aside(into, out[0]));
     }

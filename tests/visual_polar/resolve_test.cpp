@@ -21,6 +21,7 @@
 #include "ref/filters/blur_ramp.h"
 #include "ref/visual_polar/map.h"
 #include "ref/visual_polar/resolve.h"
+#include "tests/image/image_test_util.h"
 
 using namespace fovref;
 
@@ -695,7 +696,7 @@ TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits, with and without 
             // written into storage that holds a value no pixel takes (a stage's recycled
             // output), with SIMD and without: every value is written
             for (const bool with_simd : {true, false}) {
-                Image storage(k.width, k.height, k.channels, -7.25e30f);
+                Image storage = test::unwritten_storage(k.width, k.height, k.channels);
                 const Image into = vertical
                                        ? blur_ramp_vertical(k.ramp, geometry, image, with_simd,
                                                             &table, std::move(storage))
