@@ -238,7 +238,8 @@ struct PacketEntry {
 /// The children of a wide node that `lanes` hit, nearest first for the lowest of `lanes` (the
 /// children it misses after those it hits; ties in slot order): the nearest becomes `current`,
 /// the others are pushed farthest first. False when no lane hits a child.
-FOVREF_AVX_INLINE bool packet_children(const BvhWideNode& node, const Packet& p, unsigned lanes,
+FOVREF_AVX_INLINE bool packet_children(const BvhWideNode* nodes, const BvhTriangleBlock* blocks,
+                                       const BvhWideNode& node, const Packet& p, unsigned lanes,
                                        PacketEntry* stack, int& stack_size, PacketEntry& current) {
     PacketEntry hit[4];
     float keys[4];
@@ -248,6 +249,8 @@ FOVREF_AVX_INLINE bool packet_children(const BvhWideNode& node, const Packet& p,
         __m256 entry;
         const unsigned mask = packet_box(node, i, p, entry) & lanes;
         if (mask == 0) continue;
+        // its first cache lines asked for now: a pushed child is then in cache when popped
+        bvh_internal::prefetch_child(nodes, blocks, node.first[i], node.count[i]);
         alignas(32) float entries[packet_lanes];
         _mm256_store_ps(entries, entry);
         const float key = ((mask >> lead) & 1u) != 0 ? entries[lead] : inf;
@@ -291,8 +294,8 @@ __attribute__((target("avx"))) unsigned walk_packet(const Bvh& bvh, const Packet
                 active &= ~hit;
             }
         } else {
-            next =
-                packet_children(nodes[current.first], p, current.lanes, stack, stack_size, current);
+            next = packet_children(nodes, blocks, nodes[current.first], p, current.lanes, stack,
+                                   stack_size, current);
         }
         // Pop the next child that some lane still without a hit reached.
         while (!next && stack_size > 0 && active != 0) {

@@ -250,22 +250,6 @@ FOVREF_FORCE_INLINE ChildRef child(const BvhWideNode& node, int i) {
     return {node.first[i], node.count[i]};
 }
 
-/// Asks for the first two cache lines of a child (a wide node is two; a leaf's first triangle
-/// block starts there) ahead of its use. A hint only: results never depend on it.
-FOVREF_FORCE_INLINE void prefetch_child(const BvhWideNode* nodes, const BvhTriangleBlock* blocks,
-                                        ChildRef c) {
-#if FOVREF_BVH_SSE
-    const char* p = c.count > 0 ? reinterpret_cast<const char*>(blocks + c.first / 4)
-                                : reinterpret_cast<const char*>(nodes + c.first);
-    _mm_prefetch(p, _MM_HINT_T0);
-    _mm_prefetch(p + 64, _MM_HINT_T0);
-#else
-    (void)nodes;
-    (void)blocks;
-    (void)c;
-#endif
-}
-
 /// Two children hit (slots i0 < i1): the nearer is returned, the other pushed; on equal entries
 /// the lower slot is nearer (as in the general insertion sort).
 FOVREF_FORCE_INLINE ChildRef nearer_of_two(const BvhWideNode& node, const float entries[4], int i0,
@@ -305,8 +289,10 @@ FOVREF_FORCE_INLINE bool traverse_step(const BvhWideNode* nodes, const BvhTriang
         // below, a child's load then starts as soon as the mask is known, and a pushed child is
         // in cache when it is popped (measured: +10-20 % on incoherent rays, -4 % on coherent
         // ones, where the loads were already under way).
-        for (unsigned m = mask; m != 0; m &= m - 1)
-            prefetch_child(nodes, blocks, child(node, std::countr_zero(m)));
+        for (unsigned m = mask; m != 0; m &= m - 1) {
+            const int i = std::countr_zero(m);
+            bvh_internal::prefetch_child(nodes, blocks, node.first[i], node.count[i]);
+        }
         // The children hit, by mask. One or two children (the common cases) branch to code with
         // constant slots, so the next node's address waits for a predicted branch, not for the
         // box test (a coherent ray stream predicts well).
