@@ -66,11 +66,12 @@ __attribute__((target("avx"))) void weights_avx(const float* a, const float* rad
         for (int d = -radius_max; d <= radius_max; ++d)
             sum = _mm256_add_ps(sum, _mm256_load_ps(weights[d < 0 ? -d : d]));
     } else {
+        // a lane beyond its radius adds +0, which leaves its sum as it is (see sums_lanes)
         for (int d = -radius_max; d <= radius_max; ++d) {
             const int ad = d < 0 ? -d : d;
             const __m256 active =
                 _mm256_cmp_ps(_mm256_set1_ps(static_cast<float>(ad)), radius, _CMP_LE_OQ);
-            sum = select(active, _mm256_add_ps(sum, _mm256_load_ps(weights[ad])), sum);
+            sum = _mm256_add_ps(sum, _mm256_and_ps(active, _mm256_load_ps(weights[ad])));
         }
     }
     const __m256 inverse = _mm256_div_ps(_mm256_set1_ps(1.0f), sum);
@@ -101,11 +102,15 @@ __attribute__((target("avx2"))) void sums_alike(const float* base, const std::pt
 }
 
 /// The sums of one group of eight pixels with weights of their own (the ramp's pixels), over
-/// d = -Rmax .. Rmax of the group's largest radius: a float of pixel l adds w_|d|(l) c_d only for
-/// |d| <= its radius (a blend, so that no value outside its own taps reaches it; in every lane
-/// when `Every`, all radii being Rmax); the pixel's weights and masks spread to its three floats
-/// (spread3_lanes). A pixel whose radius is 0 keeps its input value (`input`: the group's 24
-/// input floats). Taps as sums_alike's.
+/// d = -Rmax .. Rmax of the group's largest radius: a float of pixel l adds w_|d|(l) c_d for
+/// |d| <= its radius, and +0 beyond it (the product masked to +0, so that no value outside its
+/// own taps reaches it, not even a NaN or an infinity; every lane adds its product when `Every`,
+/// all radii being Rmax); the pixel's weights and masks spread to its three floats
+/// (spread3_lanes). Adding +0 leaves a sum's bits as they are, because a sum is never -0: it
+/// starts at +0, and a sum in round-to-nearest is -0 only when both terms are. So each float's
+/// sum is blur_ramp_pixel's, and the masking stays off the chain of dependent additions (a
+/// blend of the sum after each addition made those chains twice as long). A pixel whose radius
+/// is 0 keeps its input value (`input`: the group's 24 input floats). Taps as sums_alike's.
 template <bool Every>
 __attribute__((target("avx2"))) void sums_lanes(const float* base, const std::ptrdiff_t* offsets,
                                                 int radius_max, const float (*weights)[lanes],
@@ -121,17 +126,14 @@ __attribute__((target("avx2"))) void sums_lanes(const float* base, const std::pt
             avx::spread3_lanes(
                 _mm256_cmp_ps(_mm256_set1_ps(static_cast<float>(ad)), radius, _CMP_LE_OQ), active);
         const float* source = base + offsets[d];
-        const __m256 added[3] = {
-            _mm256_add_ps(s0, _mm256_mul_ps(w[0], _mm256_loadu_ps(source))),
-            _mm256_add_ps(s1, _mm256_mul_ps(w[1], _mm256_loadu_ps(source + lanes))),
-            _mm256_add_ps(s2, _mm256_mul_ps(w[2], _mm256_loadu_ps(source + 2 * lanes)))};
-        if constexpr (Every) {
-            s0 = added[0], s1 = added[1], s2 = added[2];
-        } else {
-            s0 = select(active[0], added[0], s0);
-            s1 = select(active[1], added[1], s1);
-            s2 = select(active[2], added[2], s2);
-        }
+        __m256 products[3] = {_mm256_mul_ps(w[0], _mm256_loadu_ps(source)),
+                              _mm256_mul_ps(w[1], _mm256_loadu_ps(source + lanes)),
+                              _mm256_mul_ps(w[2], _mm256_loadu_ps(source + 2 * lanes))};
+        if constexpr (!Every)
+            for (int k = 0; k < 3; ++k) products[k] = _mm256_and_ps(active[k], products[k]);
+        s0 = _mm256_add_ps(s0, products[0]);
+        s1 = _mm256_add_ps(s1, products[1]);
+        s2 = _mm256_add_ps(s2, products[2]);
     }
     __m256 blurred[3];
     avx::spread3_lanes(_mm256_cmp_ps(radius, _mm256_setzero_ps(), _CMP_NEQ_UQ), blurred);
