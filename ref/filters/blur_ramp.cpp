@@ -330,8 +330,9 @@ struct RowPass {
 /// doing its own pixel's scalar operations in blur_ramp_pixel's order (the sum starts at 0 and
 /// adds w_d c_d, the product rounded, no FMA, for d = -R .. R of that pixel's R), the pixel's
 /// weights spread to its three floats. A group runs d over -Rmax .. Rmax of its largest radius,
-/// and a lane whose |d| > R keeps its sum unchanged (a blend, not a zero weight, so that no value
-/// read outside a lane's own taps can reach it): the same bits as blur_ramp_pixel, lane by lane.
+/// and a lane whose |d| > R adds +0, its product masked by a bitwise and (not a zero weight, so
+/// that no value read outside a lane's own taps can reach it), which leaves its sum's bits as
+/// they are (sums_lanes): the same bits as blur_ramp_pixel, lane by lane.
 /// A tap beyond the image reads the pixel the reference's clamp gives (the rows along y by the
 /// offsets, the pixels along x from a copy of the row with its first and last pixel repeated
 /// around it). The last W mod 8 pixels of a row are copied, then run blur_ramp_pixel itself.
