@@ -51,7 +51,7 @@ inline float scene_abs_max(const Bvh& bvh) {
 }
 
 /// Asks for a child's memory ahead of its use: both cache lines of the wide node `first` (count
-/// 0), or the lines of a leaf's first triangle block (the leaf's triangles [first, first +
+/// 0), or the three lines of a leaf's first triangle block (the leaf's triangles [first, first +
 /// count)). A hint only: results never depend on it.
 inline __attribute__((always_inline)) void prefetch_child(const BvhWideNode* nodes,
                                                           const BvhTriangleBlock* blocks,
@@ -61,10 +61,9 @@ inline __attribute__((always_inline)) void prefetch_child(const BvhWideNode* nod
                               : reinterpret_cast<const char*>(nodes + first);
     __builtin_prefetch(p, 0, 3);
     __builtin_prefetch(p + 64, 0, 3);
-    if (count > 0) {  // 144 bytes, 16-byte aligned: three or four lines
-        __builtin_prefetch(p + 128, 0, 3);
-        __builtin_prefetch(p + sizeof(BvhTriangleBlock) - 1, 0, 3);
-    }
+    // a block: 144 bytes at 16-byte alignment (offset 0, 16, 32 or 48 in its first line), so
+    // always three lines
+    if (count > 0) __builtin_prefetch(p + 128, 0, 3);
 }
 
 /// Each wide node pushes at most 3 children and is at most bvh_max_depth + 1 levels deep.

@@ -107,7 +107,9 @@ __attribute__((target("avx2"))) void sums_alike(const float* base, const std::pt
 /// own taps reaches it, not even a NaN or an infinity; every lane adds its product when `Every`,
 /// all radii being Rmax); the pixel's weights and masks spread to its three floats
 /// (spread3_lanes). Adding +0 leaves a sum's bits as they are, because a sum is never -0: it
-/// starts at +0, and a sum in round-to-nearest is -0 only when both terms are. So each float's
+/// starts at +0, and a sum in round-to-nearest is -0 only when both terms are (with the default
+/// MXCSR, which nothing in fovref changes: under flush-to-zero a cancelling subnormal sum could
+/// round to -0). So each float's
 /// sum is blur_ramp_pixel's, and the masking stays off the chain of dependent additions (a
 /// blend of the sum after each addition made those chains twice as long). A pixel whose radius
 /// is 0 keeps its input value (`input`: the group's 24 input floats). Taps as sums_alike's.
