@@ -39,8 +39,12 @@ contains "w-target" "bench work column"
 contains "    gaze_trace" "bench --stages lists the stages"
 contains "1.5x basic" "bench flags issue 33's kfr target"
 printf 'frame,x,y\n0,30,18\n1,34,20\n' > "$TMP/track.csv"
-expect 0 "bench foveation with a moving gaze" -- "$FOVREF" bench foveation --scene cornell --mode cfov --width 64 --height 36 --repeats 1 --gaze-track "$TMP/track.csv" -q
+expect 0 "bench foveation with a moving gaze, two rounds" -- "$FOVREF" bench foveation --scene cornell --mode cfov --width 64 --height 36 --repeats 1 --rounds 2 --gaze-track "$TMP/track.csv" -q
 contains "gaze moving along" "the header names the gaze track"
+contains "fastest of 2 frames (the first frame, which builds the BVH, is not timed), over 2 rounds" "the header counts the rounds"
+contains "  cfov " "the row printed after its last round"
+expect 2 "bench foveation: no rounds" -- "$FOVREF" bench foveation --rounds 0 --width 16 --height 9
+contains "--rounds" "the option named"
 expect 2 "bench foveation: a missing gaze track" -- "$FOVREF" bench foveation --gaze-track "$TMP/none.csv" --width 16 --height 9
 expect 2 "bench foveation: unknown mode" -- "$FOVREF" bench foveation --mode nope --width 16 --height 9
 # probe --texel I,J,EYE explains one texel of one eye of stereo-lp.

@@ -55,7 +55,9 @@ expect 0 "bench smoke run" -- "$FOVREF" bench rays --scene cornell --width 32 --
 contains "| cornell      | primary" "bench table"
 contains "raster gbuf" "bench table"
 expect 2 "bench unknown scene" -- "$FOVREF" bench rays --scene nope
-expect 0 "bench --explain" -- "$FOVREF" bench rays --scene cornell --width 32 --height 18 --repeats 1 --explain 2
+expect 0 "bench --explain, two rounds" -- "$FOVREF" bench rays --scene cornell --width 32 --height 18 --repeats 1 --rounds 2 --explain 2
+contains "fastest of 2 runs (2 rounds, fovref and Embree in turn)" "bench rays counts the rounds"
+contains "| cornell      | shadow" "bench rays: the rows after the rounds"
 if grep -q "comparison: Embree" <<<"$OUT"; then
   contains "hit/miss disagreements with Embree: none" "cornell agrees with Embree on every ray"
 else

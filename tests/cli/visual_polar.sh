@@ -84,9 +84,11 @@ contains "RMSE per ring" "bench: ring errors"
 contains "LP      log-polar + BMFR" "bench: P5's log-polar method"
 # ... with a moving gaze (a gaze track), and a missing track refused by name
 printf 'frame,x,y\n0,20,30\n1,40,35\n2,60,40\n' > "$TMP/track.csv"
-expect 0 "bench visual-polar, moving gaze" -- "$FOVREF" bench visual-polar --width 96 --height 96 \
-  --repeats 1 --no-error --gaze-track "$TMP/track.csv"
+expect 0 "bench visual-polar, moving gaze, two rounds" -- "$FOVREF" bench visual-polar --width 96 --height 96 \
+  --repeats 1 --rounds 2 --no-error --gaze-track "$TMP/track.csv"
 contains "gaze moving along" "bench: the moving gaze named"
+contains "fastest of 2 frames after an untimed first (2 rounds, the methods in turn)" "bench: the rounds counted"
+contains "speed-up screen / VP" "bench: the speed-up row after the rounds"
 contains "this size is not the target's" "bench: the target judged only at 1280x1440"
 expect 2 "bench visual-polar, a missing gaze track" -- "$FOVREF" bench visual-polar --no-error \
   --gaze-track "$TMP/no-such-track.csv"

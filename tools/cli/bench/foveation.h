@@ -20,6 +20,10 @@ struct BenchFoveationOptions {
     /// Frames timed per mode after a first one (which builds the BVH and is left out); each
     /// stage's time is the fastest over them.
     int repeats = 3;
+    /// Times every row this many times in turn (basic, each mode, then basic again, ...) and
+    /// keeps each figure's fastest over all of them: on a shared machine a slow spell then spoils
+    /// one round, not one side of a speed-up.
+    int rounds = 1;
     /// empty: fov, kfov, cfov, ckfov, kfr, stereo-lp and cfov with filters=lerp
     std::vector<std::string> modes;
     /// Also print each stage's own fastest time under its mode's row (where the time goes).

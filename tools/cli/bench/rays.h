@@ -16,7 +16,11 @@ struct BenchRaysOptions {
     std::vector<std::string> scenes;  ///< empty: every procedural scene
     int width = 1280;                 ///< primary rays: one through each pixel centre
     int height = 720;
-    int repeats = 3;     ///< each timing is the fastest of this many runs
+    int repeats = 3;  ///< each timing is the fastest of this many runs
+    /// The ray rows' timings this many times in turn (fovref's, then Embree's, then fovref's
+    /// again, ...), each figure the fastest over all rounds: a slow spell of a shared machine
+    /// then spoils one round, not one side of a ratio.
+    int rounds = 1;
     bool quiet = false;  ///< only the table
     /// With Embree: list up to this many hit/miss disagreements per row after the table, each
     /// with the ray, both answers, the brute force's and how close the hit is to an edge.

@@ -81,6 +81,16 @@ struct MethodCost {
     double trace = 0.0, bmfr = 0.0, rest = 0.0, total = 0.0;
 };
 
+/// The group sums of c's stage times (trace, BMFR, the rest, total).
+void sum_groups(MethodCost& c) {
+    c.trace = c.bmfr = c.rest = c.total = 0.0;
+    for (const std::string& name : c.order) {
+        const double t = c.best[name];
+        c.total += t;
+        (is_bmfr_phase(name) ? c.bmfr : is_trace_stage(name) ? c.trace : c.rest) += t;
+    }
+}
+
 MethodCost time_method(const Scene& scene, const std::string& mode, const ParamMap& params,
                        Size size, int repeats, const std::function<void(double)>& progress) {
     RenderSettings s;
@@ -102,12 +112,16 @@ MethodCost time_method(const Scene& scene, const std::string& mode, const ParamM
         }
         c.counters = f.counters;
     });
-    for (const std::string& name : c.order) {
-        const double t = c.best[name];
-        c.total += t;
-        (is_bmfr_phase(name) ? c.bmfr : is_trace_stage(name) ? c.trace : c.rest) += t;
-    }
+    sum_groups(c);
     return c;
+}
+
+/// The fastest of two rounds of one method: each stage's minimum, the groups summed again.
+MethodCost fastest(MethodCost a, const MethodCost& b) {
+    for (auto& [name, seconds] : a.best)
+        if (b.best.count(name) != 0) seconds = std::min(seconds, b.best.at(name));
+    sum_groups(a);
+    return a;
 }
 
 std::string stage_list(const MethodCost& c) {
@@ -185,26 +199,38 @@ void print_cost(const Scene& scene, const BenchVisualPolarOptions& o,
     const std::string gaze =
         o.gaze_track.empty() ? "gaze at the screen centre" : "gaze moving along " + o.gaze_track;
     std::printf(
-        "\ncost: %s, one thread, fastest of %d frames after an untimed first, camera moving along "
-        "the path, %s; times in ms per frame\n",
-        o.scene.c_str(), o.repeats, gaze.c_str());
+        "\ncost: %s, one thread, fastest of %d frames after an untimed first%s, camera moving "
+        "along the path, %s; times in ms per frame\n",
+        o.scene.c_str(), o.repeats * o.rounds,
+        o.rounds > 1 ? (" (" + std::to_string(o.rounds) + " rounds, the methods in turn)").c_str()
+                     : "",
+        gaze.c_str());
     double all_pixels = 0.0;
     for (const Size& size : sizes) all_pixels += size.pixels();
     double done = 0.0;
     for (const Size& size : sizes) {
+        const double parts = 3.0 * o.rounds;
         const auto part = [&](double offset) {
             return [&, offset](double f) {
-                progress.update((done + size.pixels() * (offset + f) / 3.0) / all_pixels);
+                progress.update((done + size.pixels() * (offset + f) / parts) / all_pixels);
             };
         };
-        const MethodCost screen =
-            time_method(scene, "pathtrace", {{"denoise", "bmfr"}}, size, o.repeats, part(0.0));
         ParamMap gaze_params;
         if (!o.gaze_track.empty()) gaze_params["gaze_track"] = o.gaze_track;
-        const MethodCost vp =
-            time_method(scene, "visual-polar", gaze_params, size, o.repeats, part(1.0));
-        const MethodCost lp =
-            time_method(scene, "log-polar-pathtrace", gaze_params, size, o.repeats, part(2.0));
+        // The three methods in turn, once per round; each stage's fastest over the rounds
+        MethodCost screen, vp, lp;
+        for (int round = 0; round < o.rounds; ++round) {
+            const double at = 3.0 * round;
+            const MethodCost s =
+                time_method(scene, "pathtrace", {{"denoise", "bmfr"}}, size, o.repeats, part(at));
+            const MethodCost v =
+                time_method(scene, "visual-polar", gaze_params, size, o.repeats, part(at + 1.0));
+            const MethodCost l = time_method(scene, "log-polar-pathtrace", gaze_params, size,
+                                             o.repeats, part(at + 2.0));
+            screen = round == 0 ? s : fastest(screen, s);
+            vp = round == 0 ? v : fastest(vp, v);
+            lp = round == 0 ? l : fastest(lp, l);
+        }
         done += size.pixels();
         progress.clear();
 
@@ -530,6 +556,8 @@ Size parse_size(const std::string& text, const std::string& option) {
 }  // namespace
 
 int run_bench_visual_polar(const BenchVisualPolarOptions& o) {
+    if (o.repeats < 1 || o.rounds < 1)
+        throw Error("bench visual-polar: --repeats and --rounds must be at least 1");
     if ((o.width == 0) != (o.height == 0))
         throw Error("--width and --height go together (one size for the cost part)");
     if (o.every > o.frames)

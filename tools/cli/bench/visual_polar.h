@@ -19,7 +19,11 @@ struct BenchVisualPolarOptions {
     std::string scene = "checker-room";
     /// The cost part: 0 x 0 = the pair 1280x1440 and 1280x720; --width and --height give one size.
     int width = 0, height = 0;
-    int repeats = 3;                     ///< timed frames after an untimed first one
+    int repeats = 3;  ///< timed frames after an untimed first one
+    /// The cost part times its three methods this many times in turn and keeps each stage's
+    /// fastest over all of them (a slow spell of a shared machine spoils one round, not one side
+    /// of a ratio).
+    int rounds = 1;
     std::string error_size = "320x180";  ///< the error part, WxH
     int frames = 8;                      ///< frames of the error sequence
     int every = 4;                       ///< compare every K-th frame (K - 1, 2K - 1, ...)

@@ -6,6 +6,8 @@
 // the benchmark's run function.
 #include <CLI/CLI.hpp>
 
+#include <string>
+
 #include "tools/cli/bench/bmfr.h"
 #include "tools/cli/bench/foveation.h"
 #include "tools/cli/bench/frustum.h"
@@ -49,6 +51,16 @@ void add_cost_error_options(CLI::App& c, Options& o, const CostErrorHelp& help) 
         ->capture_default_str();
 }
 
+// --rounds of the benches whose figures are ratios of timings made one after the other.
+void add_rounds_option(CLI::App& c, int& rounds, const char* what) {
+    c.add_option("--rounds", rounds,
+                 std::string("time every ") + what +
+                     " N times in turn and keep each figure's fastest over all rounds (on a "
+                     "shared machine a slow spell then spoils one round, not one side of a ratio)")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
+}
+
 }  // namespace
 
 // fovref bench rays (tools/cli/bench/rays.cpp)
@@ -58,6 +70,7 @@ void add_bench_rays_options(CLI::App& c, BenchRaysOptions& o) {
     c.add_option("--repeats", o.repeats, "each timing is the fastest of N runs")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
+    add_rounds_option(c, o.rounds, "ray row's fovref and Embree timings");
     c.add_option("--explain", o.explain,
                  "list up to N hit/miss disagreements with Embree per row: the ray, both "
                  "answers, the brute force's, the distance to an edge")
@@ -80,6 +93,7 @@ void add_bench_foveation_options(CLI::App& c, BenchFoveationOptions& o) {
     c.add_option("--repeats", o.repeats, "timed frames per mode (after an untimed first one)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
+    add_rounds_option(c, o.rounds, "row");
     c.add_option("--mode", o.modes,
                  "foveated mode (repeatable; default: fov, kfov, cfov, ckfov, kfr, stereo-lp, "
                  "visual-polar-basic (as vp-basic) and cfov with the lerp filter)");
@@ -146,6 +160,7 @@ void add_bench_visual_polar_options(CLI::App& c, BenchVisualPolarOptions& o) {
     c.add_option("--repeats", o.repeats, "timed frames (after an untimed first one)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
+    add_rounds_option(c, o.rounds, "method of the cost part");
     c.add_option("--error-size", o.error_size, "screen size WxH of the error part")
         ->capture_default_str();
     c.add_option("--frames", o.frames, "frames of the error sequence")
