@@ -34,11 +34,7 @@ float blur_ramp_a(float sigma) { return dm::exp(-1.0f / (2.0f * sigma * sigma));
 
 constexpr int lanes = 8;  // pixels per AVX group
 
-/// Lane by lane: `yes` where `mask` (a comparison's all-ones or zero lanes) is set, else `no`,
-/// bit for bit.
-__attribute__((target("avx"))) inline __m256 select(__m256 mask, __m256 yes, __m256 no) {
-    return _mm256_or_ps(_mm256_and_ps(mask, yes), _mm256_andnot_ps(mask, no));
-}
+using avx::select;  // a comparison mask's lanes: `yes` where set, else `no`, bit for bit
 
 /// blur_ramp_weights for eight pixels, lane by lane: a = exp(-1 / (2 sigma^2)) of each lane
 /// (0 where its radius is 0), its radius, and the group's largest radius Rmax; fills

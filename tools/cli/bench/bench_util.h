@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <string>
 
 namespace fovref {
 
@@ -22,6 +23,11 @@ double best_time(int repeats, F&& f) {
         best = std::min(best, seconds_since(start));
     }
     return best;
+}
+
+/// What a bench's header adds for `--rounds`: nothing for one round, else before + N + after.
+inline std::string rounds_note(int rounds, const char* before, const char* after) {
+    return rounds > 1 ? before + std::to_string(rounds) + after : std::string();
 }
 
 }  // namespace fovref

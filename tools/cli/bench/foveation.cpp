@@ -14,6 +14,7 @@
 #include "ref/core/error.h"
 #include "ref/modes/modes.h"
 #include "ref/scene/procedural.h"
+#include "tools/cli/bench/bench_util.h"
 #include "tools/cli/common/cli_common.h"
 #include "tools/cli/common/progress.h"
 
@@ -152,10 +153,7 @@ void print_header(const BenchFoveationOptions& o) {
         "fovref bench foveation: %dx%d, %s, one thread; each stage the fastest of %d frames (the "
         "first frame, which builds the BVH, is not timed)%s\n",
         o.width, o.height, gaze.c_str(), o.repeats * o.rounds,
-        o.rounds > 1
-            ? (", over " + std::to_string(o.rounds) + " rounds (every row timed in turn in each)")
-                  .c_str()
-            : "");
+        rounds_note(o.rounds, ", over ", " rounds (every row timed in turn in each)").c_str());
     std::printf(
         "trace = ray generation + tracing of the buffers; target = 0.8 x (basic's primary "
         "rays / the mode's); pass 2 + filters share: target <= 15%% (issue 33: <= 12%% for "

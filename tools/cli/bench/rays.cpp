@@ -394,12 +394,10 @@ void bench_scene(const std::string& name, const Scene& scene, const BenchRaysOpt
 
 void print_header(const BenchRaysOptions& options) {
     if (!options.quiet) {
-        std::printf("fovref bench rays: %dx%d, one thread, fastest of %d runs%s; Mrays/s\n",
-                    options.width, options.height, options.repeats * options.rounds,
-                    options.rounds > 1 ? (" (" + std::to_string(options.rounds) +
-                                          " rounds, fovref and Embree in turn)")
-                                             .c_str()
-                                       : "");
+        std::printf(
+            "fovref bench rays: %dx%d, one thread, fastest of %d runs%s; Mrays/s\n", options.width,
+            options.height, options.repeats * options.rounds,
+            rounds_note(options.rounds, " (", " rounds, fovref and Embree in turn)").c_str());
         std::printf("%s\n", have_embree
                                 ? "comparison: Embree 3 (one thread, build quality high): "
                                   "rtcIntersect1 / rtcOccluded1 one ray at a time, and all the "

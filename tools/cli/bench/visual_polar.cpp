@@ -49,6 +49,7 @@
 #include "ref/scene/scene_file.h"
 #include "ref/visual_polar/map.h"
 #include "ref/visual_polar/sparse_sampling.h"
+#include "tools/cli/bench/bench_util.h"
 #include "tools/cli/common/cli_common.h"
 #include "tools/cli/common/progress.h"
 
@@ -202,9 +203,7 @@ void print_cost(const Scene& scene, const BenchVisualPolarOptions& o,
         "\ncost: %s, one thread, fastest of %d frames after an untimed first%s, camera moving "
         "along the path, %s; times in ms per frame\n",
         o.scene.c_str(), o.repeats * o.rounds,
-        o.rounds > 1 ? (" (" + std::to_string(o.rounds) + " rounds, the methods in turn)").c_str()
-                     : "",
-        gaze.c_str());
+        rounds_note(o.rounds, " (", " rounds, the methods in turn)").c_str(), gaze.c_str());
     double all_pixels = 0.0;
     for (const Size& size : sizes) all_pixels += size.pixels();
     double done = 0.0;
