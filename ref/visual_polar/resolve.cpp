@@ -345,9 +345,9 @@ Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, Resolv
     // Eight pixels at a time where the AVX2 path covers the resolve (the same bits:
     // resolve_avx.h); resolve_vp_pixel, the reference, does the rest.
     const bool avx = resolve_vp_avx_applies(map, mips, table);
-    const std::vector<int> last_levels = avx ? vp_last_levels(mips) : std::vector<int>{};
+    const VpResolveAvxInputs avx_inputs = avx ? vp_resolve_avx_inputs(mips) : VpResolveAvxInputs{};
     for (int y = 0; y < map.screen_height; ++y)
-        for (int x = avx ? resolve_vp_row_avx(map, mips, last_levels, *table, mip, out, y, stats)
+        for (int x = avx ? resolve_vp_row_avx(map, mips, avx_inputs, *table, mip, out, y, stats)
                          : 0;
              x < map.screen_width; ++x)
             resolve_vp_pixel(map, mips, out, x, y, stats, nullptr, mip, table);

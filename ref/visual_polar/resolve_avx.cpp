@@ -1,5 +1,6 @@
 #include "ref/visual_polar/resolve_avx.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -34,21 +35,37 @@ struct ColumnLanes {
     __m256 last;
 };
 
-/// sample_vp_phi at pyramid level `level` in the lanes of `wanted`, each on its own column of
-/// n_c rows at level 0 (rows ceil(n_c / 2^level) there), at v_c * 2^-level: the lanes' values
-/// into out[0 .. 2] (0 where no tap is traced). Returns the lanes with a traced tap; the lanes
-/// whose lookup lies outside the range sample_vp_phi accepts, or whose row needs more than one
-/// wrap, are added to `reference` (the reference's to do).
-FOVREF_AVX2_INLINE int phi_lanes(const VpMips& mips, int level, const ColumnLanes& col, __m256 v,
-                                 int wanted, __m256* out, int& reference) {
-    const std::size_t k = static_cast<std::size_t>(level);
-    const Image& color = mips.color[k];
-    const Image& valid = mips.valid[k];
+/// The first packed texel of each lane's level in the lanes of `on` (0 in the others): from a
+/// register of the first eight levels' starts where the lanes' levels are below 8 (a lambda of 8
+/// or more is a column with 256 texels or more per screen pixel), else gathered.
+FOVREF_AVX2_INLINE __m256i level_starts(const VpResolveAvxInputs& in, __m256i level, __m256 on) {
+    const __m256i on_i = _mm256_castps_si256(on);
+    if (_mm256_testz_si256(_mm256_and_si256(level, _mm256_set1_epi32(~7)), on_i))
+        return _mm256_and_si256(
+            _mm256_permutevar8x32_epi32(
+                _mm256_load_si256(reinterpret_cast<const __m256i*>(in.first_starts)), level),
+            on_i);
+    return _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), in.level_start.data(), level, on_i,
+                                       4);
+}
+
+/// sample_vp_phi in the lanes of `wanted`, each lane at its own pyramid level `level` (an
+/// integer) and on its own column of n_c rows at level 0 (rows ceil(n_c / 2^level) there), at
+/// v_c * 2^-level: the lanes' values into out[0 .. 2] (0 where no tap is traced). Returns the
+/// lanes with a traced tap; the lanes whose lookup lies outside the range sample_vp_phi accepts,
+/// or whose row needs more than one wrap, are added to `reference` (the reference's to do). Each
+/// tap's colours and mask are one load from the packed pyramid (VpResolveAvxInputs).
+FOVREF_AVX2_INLINE int phi_lanes(const VpResolveAvxInputs& in, __m256i level,
+                                 const ColumnLanes& col, __m256 v, int wanted, __m256* out,
+                                 int& reference) {
     // vp_mip_rows: ceil-halved `level` times = ceil(n / 2^level) (exact in binary32: n <= 2^24)
-    const __m256 rows = _mm256_cvtepi32_ps(_mm256_srl_epi32(
-        _mm256_add_epi32(col.rows, _mm256_set1_epi32((1 << level) - 1)), _mm_cvtsi32_si128(level)));
-    const float scale = 1.0f / static_cast<float>(1 << level);  // exact: 2^-level
-    const __m256 vl = _mm256_mul_ps(v, set(scale));
+    const __m256i one = _mm256_set1_epi32(1);
+    const __m256 rows = _mm256_cvtepi32_ps(_mm256_srlv_epi32(
+        _mm256_sub_epi32(_mm256_add_epi32(col.rows, _mm256_sllv_epi32(one, level)), one), level));
+    // 2^-level exactly (exponent 127 - level; level <= 24)
+    const __m256 scale =
+        _mm256_castsi256_ps(_mm256_slli_epi32(_mm256_sub_epi32(_mm256_set1_epi32(127), level), 23));
+    const __m256 vl = _mm256_mul_ps(v, scale);
     const __m256 mask = mask_of(wanted);
     const __m256 in_range =
         both(at_least(vl, negate(rows)), at_most(vl, _mm256_mul_ps(set(2.0f), rows)));
@@ -64,51 +81,52 @@ FOVREF_AVX2_INLINE int phi_lanes(const VpMips& mips, int level, const ColumnLane
     reference |= wanted & ~bits(ok);
     const __m256 j0_next = _mm256_add_ps(j0, set(1.0f));
     const __m256 j1 = select(equal(j0_next, rows), zero(), j0_next);
-    // The taps' texels j w + c, inside the level in the lanes of `ok` (the others read texel 0,
-    // whose value they never use)
-    const int w = color.width;
-    const __m256i taps[2] = {row_major(col.column, _mm256_cvttps_epi32(select(ok, j0, zero())), w),
-                             row_major(col.column, _mm256_cvttps_epi32(select(ok, j1, zero())), w)};
     const __m256 second = both(ok, greater(fv, zero()));  // weight fv > 0
-    const __m256 traced0 = both(ok, not_equal(load_lanes(valid.data.data(), taps[0], ok), zero()));
-    const __m256 traced1 =
-        both(second, not_equal(load_lanes(valid.data.data(), taps[1], second), zero()));
-    __m256 c0[3], c1[3];
-    load3_lanes(color.data.data(), taps[0], traced0, c0);
-    load3_lanes(color.data.data(), taps[1], traced1, c1);
+    // The taps' texels: the level's first texel + j w + c, in the lanes of `ok` (`second` for
+    // tap j1); the others read texel 0, whose value they never use
+    const __m256i start = level_starts(in, level, ok);
+    const int w = in.width;
+    alignas(32) int at[2][lanes];
+    _mm256_store_si256(
+        reinterpret_cast<__m256i*>(at[0]),
+        _mm256_and_si256(_mm256_add_epi32(start, row_major(col.column, _mm256_cvttps_epi32(j0), w)),
+                         _mm256_castps_si256(ok)));
+    _mm256_store_si256(
+        reinterpret_cast<__m256i*>(at[1]),
+        _mm256_and_si256(_mm256_add_epi32(start, row_major(col.column, _mm256_cvttps_epi32(j1), w)),
+                         _mm256_castps_si256(second)));
+    __m256 taps[2][4];  // per tap: R, G, B, mask of every lane
+    for (int k = 0; k < 2; ++k) {
+        __m128 q[lanes];
+        for (int l = 0; l < lanes; ++l)
+            q[l] = _mm_loadu_ps(in.texels.data() + 4 * static_cast<std::size_t>(at[k][l]));
+        transpose4_lanes(q, taps[k]);
+    }
+    const __m256 traced0 = both(ok, not_equal(taps[0][3], zero()));
+    const __m256 traced1 = both(second, not_equal(taps[1][3], zero()));
     const __m256 both_taps = both(traced0, traced1);
     for (int c = 0; c < 3; ++c) {
-        const __m256 value = select(both_taps, lerp(c0[c], c1[c], fv),
-                                    select(traced0, c0[c], select(traced1, c1[c], zero())));
+        const __m256 c0 = taps[0][c], c1 = taps[1][c];
+        const __m256 value =
+            select(both_taps, lerp(c0, c1, fv), select(traced0, c0, select(traced1, c1, zero())));
         out[c] = select(ok, value, out[c]);
     }
     return bits(either(traced0, traced1));
 }
 
-/// phi_lanes with each lane of `wanted` at its own `level` (a small integer in binary32): the
-/// lanes of one level together. Returns the lanes with a traced tap.
-FOVREF_AVX2_INLINE int level_lanes(const VpMips& mips, __m256 level, const ColumnLanes& col,
-                                   __m256 v, int wanted, __m256* out, int& reference) {
-    int traced = 0;
-    for (int todo = wanted; todo != 0;) {
-        float this_level = 0.0f;
-        const int in_level = take_equal_lanes(level, todo, this_level);
-        traced |= phi_lanes(mips, static_cast<int>(this_level), col, v, in_level, out, reference);
-    }
-    return traced;
-}
-
 /// sample_column in the lanes of `wanted`: level floor(lambda) and, where lambda has a fraction
-/// and a next level exists, that level, lerped. Returns the lanes with a value.
-FOVREF_AVX2_INLINE int column_lanes(const VpMips& mips, const ColumnLanes& col, __m256 v,
+/// and a next level exists, that level, lerped (each lane at its own levels). Returns the lanes
+/// with a value.
+FOVREF_AVX2_INLINE int column_lanes(const VpResolveAvxInputs& in, const ColumnLanes& col, __m256 v,
                                     __m256 lambda, int wanted, __m256* out, int& reference) {
     const __m256 l0 = floor(lambda);
     const __m256 l1 = std_min(_mm256_add_ps(l0, set(1.0f)), col.last);
     const __m256 f = _mm256_sub_ps(lambda, l0);
     __m256 a[3] = {zero(), zero(), zero()}, b[3] = {zero(), zero(), zero()};
-    const int have_a = level_lanes(mips, l0, col, v, wanted, a, reference);
+    const int have_a = phi_lanes(in, _mm256_cvttps_epi32(l0), col, v, wanted, a, reference);
     const int second = bits(both(not_equal(l1, l0), greater(f, zero()))) & wanted;
-    const int have_b = level_lanes(mips, l1, col, v, second, b, reference);
+    const int have_b =
+        second == 0 ? 0 : phi_lanes(in, _mm256_cvttps_epi32(l1), col, v, second, b, reference);
     const __m256 two = mask_of(have_a & have_b), only_a = mask_of(have_a);
     for (int c = 0; c < 3; ++c)
         out[c] = select(two, lerp(a[c], b[c], f), select(only_a, a[c], b[c]));
@@ -127,20 +145,19 @@ FOVREF_AVX_INLINE void split4_lanes(const float* p, __m256* out) {
 /// its last level (constants where every lane lies beyond the fovea, whose columns all have the
 /// last column's h rows).
 FOVREF_AVX2_INLINE ColumnLanes column_of(const VisualPolarMap& map, const VpMips& mips,
-                                         const std::vector<int>& last_levels, __m256 column,
-                                         int wanted) {
+                                         const VpResolveAvxInputs& in, __m256 column, int wanted) {
     ColumnLanes col;
     col.column = _mm256_cvttps_epi32(column);
     if (bits(at_least(column, set(static_cast<float>(map.fovea_columns)))) == 0xff) {
         col.rows = _mm256_set1_epi32(mips.column_rows.back());
-        col.last = set(static_cast<float>(last_levels.back()));
+        col.last = set(static_cast<float>(in.last_levels.back()));
         return col;
     }
     const __m256i mask = _mm256_castps_si256(mask_of(wanted));
     col.rows = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), mips.column_rows.data(),
                                            col.column, mask, 4);
     col.last = _mm256_cvtepi32_ps(_mm256_mask_i32gather_epi32(
-        _mm256_setzero_si256(), last_levels.data(), col.column, mask, 4));
+        _mm256_setzero_si256(), in.last_levels.data(), col.column, mask, 4));
     return col;
 }
 
@@ -164,7 +181,7 @@ FOVREF_AVX2_INLINE __m256 level_of(__m256 n, __m256 r, __m256 table_n, __m256 ta
 
 // Pixels x .. x + 7 of row y; the lanes the reference must do are done by resolve_vp_pixel.
 __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, const VpMips& mips,
-                                                   const std::vector<int>& last_levels,
+                                                   const VpResolveAvxInputs& in,
                                                    const VpForwardTable& table, bool mip,
                                                    Image& out, int x, int y, ResolveStats& stats) {
     const std::size_t pixel = static_cast<std::size_t>(y) * map.screen_width + x;
@@ -197,7 +214,7 @@ __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, co
     int have[2] = {0, 0};
     for (int k = 0; k < 2; ++k) {
         if (wanted[k] == 0) continue;
-        const ColumnLanes col = column_of(map, mips, last_levels, columns[k], wanted[k]);
+        const ColumnLanes col = column_of(map, mips, in, columns[k], wanted[k]);
         const __m256 n = _mm256_cvtepi32_ps(col.rows);
         const __m256 v = _mm256_div_ps(_mm256_mul_ps(n, theta), set(two_pi));
         const __m256 lambda =
@@ -206,7 +223,7 @@ __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, co
         // never be matched by level_lanes: the reference's)
         const int bad = wanted[k] & ~bits(finite(lambda));
         reference |= bad;
-        have[k] = column_lanes(mips, col, v, lambda, wanted[k] & ~bad, values[k], reference);
+        have[k] = column_lanes(in, col, v, lambda, wanted[k] & ~bad, values[k], reference);
     }
 
     // Lerp of the columns over those with a value
@@ -229,15 +246,16 @@ __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, co
 
 bool resolve_vp_avx_applies(const VisualPolarMap& map, const VpMips& mips,
                             const VpForwardTable* table) {
-    // The lanes read every level and its one-channel mask directly (the reference checks the
-    // shapes as it reads, and throws); the gathers' indices 3 (j w + i) are int32, and the rows
-    // and columns are computed in binary32 (exact up to 2^24).
-    const std::int64_t texels = static_cast<std::int64_t>(map.width) * map.height;
+    // The lanes read every level and its one-channel mask (packed: the reference checks the
+    // shapes as it reads, and throws); the packed texels' indices (all levels: at most
+    // w (2 h + 25) texels) are int32, and the rows and columns are computed in binary32 (exact up
+    // to 2^24).
+    const std::int64_t texels = static_cast<std::int64_t>(map.width) * (2 * map.height + 25);
     if (!table || mips.color.empty() || mips.color.size() != mips.valid.size() ||
         mips.column_rows.size() != static_cast<std::size_t>(map.width) ||
         mips.color[0].height != map.height || table->polar.channels != 3 ||
         table->levels.channels != 4 || map.width > (1 << 24) || map.height > (1 << 24) ||
-        3 * texels > std::numeric_limits<std::int32_t>::max() || !simd_allowed() || !cpu_has_avx2())
+        texels > std::numeric_limits<std::int32_t>::max() || !simd_allowed() || !cpu_has_avx2())
         return false;
     for (std::size_t k = 0; k < mips.color.size(); ++k) {
         const Image &color = mips.color[k], &valid = mips.valid[k];
@@ -248,19 +266,37 @@ bool resolve_vp_avx_applies(const VisualPolarMap& map, const VpMips& mips,
     return true;
 }
 
-std::vector<int> vp_last_levels(const VpMips& mips) {
-    std::vector<int> last;
-    last.reserve(mips.column_rows.size());
-    for (const int n : mips.column_rows) last.push_back(vp_mip_last_level(n));
-    return last;
+VpResolveAvxInputs vp_resolve_avx_inputs(const VpMips& mips) {
+    VpResolveAvxInputs in;
+    in.width = mips.color[0].width;
+    in.last_levels.reserve(mips.column_rows.size());
+    for (const int n : mips.column_rows) in.last_levels.push_back(vp_mip_last_level(n));
+    std::size_t texels = 0;
+    for (const Image& level : mips.valid) {
+        in.level_start.push_back(static_cast<std::int32_t>(texels));
+        texels += level.data.size();
+    }
+    std::copy_n(in.level_start.begin(), std::min<std::size_t>(lanes, in.level_start.size()),
+                in.first_starts);
+    in.texels.resize(4 * texels);
+    float* packed = in.texels.data();
+    for (std::size_t k = 0; k < mips.color.size(); ++k) {
+        const float* color = mips.color[k].data.data();
+        const float* valid = mips.valid[k].data.data();
+        for (std::size_t t = 0; t < mips.valid[k].data.size(); ++t, packed += 4) {
+            packed[0] = color[3 * t], packed[1] = color[3 * t + 1], packed[2] = color[3 * t + 2];
+            packed[3] = valid[t];
+        }
+    }
+    return in;
 }
 
-int resolve_vp_row_avx(const VisualPolarMap& map, const VpMips& mips,
-                       const std::vector<int>& last_levels, const VpForwardTable& table, bool mip,
-                       Image& out, int y, ResolveStats& stats) {
+int resolve_vp_row_avx(const VisualPolarMap& map, const VpMips& mips, const VpResolveAvxInputs& in,
+                       const VpForwardTable& table, bool mip, Image& out, int y,
+                       ResolveStats& stats) {
     const int groups = map.screen_width / lanes;
     for (int group = 0; group < groups; ++group)
-        resolve_group(map, mips, last_levels, table, mip, out, group * lanes, y, stats);
+        resolve_group(map, mips, in, table, mip, out, group * lanes, y, stats);
     return groups * lanes;
 }
 

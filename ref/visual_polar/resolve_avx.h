@@ -2,13 +2,14 @@
 // resolve_vp_pixel, which stays the readable reference (docs/visual-polar.md, "The resolve eight
 // pixels at a time"). Each lane reads its (u, r, theta) and its columns' levels from the forward
 // table, finds its two columns along rho, and on each column samples level floor(lambda) and,
-// where resolve_vp_pixel does, the next one along phi (the lanes of one level together, the
-// taps' masks and colours loaded lane by lane). The reference's choices between traced and
-// untraced taps are made per lane by masks, and its lerps in its order. A lane whose phi lookup
-// lies outside the range sample_vp_phi accepts, and every group with a non-finite table entry,
-// runs the reference.
+// where resolve_vp_pixel does, the next one along phi (each lane at its own levels, each tap's
+// colours and mask one load from a packed copy of the pyramid). The reference's choices between
+// traced and untraced taps are made per lane by masks, and its lerps in its order. A lane whose
+// phi lookup lies outside the range sample_vp_phi accepts, and every group with a non-finite
+// table entry, runs the reference.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "ref/visual_polar/resolve.h"
@@ -21,16 +22,26 @@ namespace fovref {
 bool resolve_vp_avx_applies(const VisualPolarMap& map, const VpMips& mips,
                             const VpForwardTable* table);
 
-/// Each column's last pyramid level, vp_mip_last_level(n_i), computed once per resolve for
-/// resolve_vp_row_avx.
-std::vector<int> vp_last_levels(const VpMips& mips);
+/// What resolve_vp_row_avx reads of a pyramid, made once per resolve (vp_resolve_avx_inputs):
+/// each column's last level vp_mip_last_level(n_i), and the pyramid's texels packed with each
+/// texel's three colours and its mask side by side (R, G, B, mask: 16 bytes, so that a lane reads
+/// a tap with one load), level after level, each level row-major as in VpMips (texel (i, j) of
+/// level k at level_start[k] + j w + i): the same floats.
+struct VpResolveAvxInputs {
+    int width = 0;
+    std::vector<int> last_levels;
+    std::vector<std::int32_t> level_start;
+    alignas(32) std::int32_t first_starts[8] = {};  ///< level_start[0 .. 7] (0 beyond the last)
+    std::vector<float> texels;
+};
+VpResolveAvxInputs vp_resolve_avx_inputs(const VpMips& mips);
 
 /// Pixels 0 .. 8 floor(W / 8) - 1 of screen row y as resolve_vp_pixel computes them (with `mip`
 /// and `table`; the counters in `stats`); returns the pixels done. Only where
-/// resolve_vp_avx_applies; `last_levels` from vp_last_levels(mips).
-int resolve_vp_row_avx(const VisualPolarMap& map, const VpMips& mips,
-                       const std::vector<int>& last_levels, const VpForwardTable& table, bool mip,
-                       Image& out, int y, ResolveStats& stats);
+/// resolve_vp_avx_applies; `in` from vp_resolve_avx_inputs(mips).
+int resolve_vp_row_avx(const VisualPolarMap& map, const VpMips& mips, const VpResolveAvxInputs& in,
+                       const VpForwardTable& table, bool mip, Image& out, int y,
+                       ResolveStats& stats);
 
 /// vp_forward_table's per-pixel arguments of a row, eight pixels at a time with AVX2 (where
 /// simd_allowed()): for pixels k < n with their u and r, the columns i0, i1 of
