@@ -179,6 +179,95 @@ FOVREF_AVX2_INLINE __m256 level_of(__m256 n, __m256 r, __m256 table_n, __m256 ta
     return _mm256_load_ps(lambdas);
 }
 
+/// Eight lanes of eight floats each (rows[l]: lane l) as one register per float: out[e] holds
+/// float e of every lane (the same floats, moved by shuffles).
+FOVREF_AVX_INLINE void transpose8_lanes(const __m256* rows, __m256* out) {
+    __m256 t[8], q[8];
+    for (int k = 0; k < 4; ++k) {
+        t[2 * k] = _mm256_unpacklo_ps(rows[2 * k], rows[2 * k + 1]);
+        t[2 * k + 1] = _mm256_unpackhi_ps(rows[2 * k], rows[2 * k + 1]);
+    }
+    for (int h = 0; h < 2; ++h) {  // lanes 0..3, then 4..7
+        q[4 * h] = _mm256_shuffle_ps(t[4 * h], t[4 * h + 2], _MM_SHUFFLE(1, 0, 1, 0));
+        q[4 * h + 1] = _mm256_shuffle_ps(t[4 * h], t[4 * h + 2], _MM_SHUFFLE(3, 2, 3, 2));
+        q[4 * h + 2] = _mm256_shuffle_ps(t[4 * h + 1], t[4 * h + 3], _MM_SHUFFLE(1, 0, 1, 0));
+        q[4 * h + 3] = _mm256_shuffle_ps(t[4 * h + 1], t[4 * h + 3], _MM_SHUFFLE(3, 2, 3, 2));
+    }
+    for (int e = 0; e < 4; ++e) {
+        out[e] = _mm256_permute2f128_ps(q[e], q[4 + e], 0x20);
+        out[4 + e] = _mm256_permute2f128_ps(q[e], q[4 + e], 0x31);
+    }
+}
+
+/// One column's sample_vp_phi at level 0 from the taps' colours and masks (c0, m0: row j0; c1,
+/// m1: row j1) in the lanes of `on`: both traced: the lerp; one: that tap; none: 0. Returns the
+/// lanes with a traced tap.
+FOVREF_AVX2_INLINE int phi_value(const __m256* c0, __m256 m0, const __m256* c1, __m256 m1,
+                                 __m256 fv, __m256 on, __m256 second, __m256* out) {
+    const __m256 traced0 = both(on, not_equal(m0, zero()));
+    const __m256 traced1 = both(both(on, second), not_equal(m1, zero()));
+    const __m256 both_taps = both(traced0, traced1);
+    for (int c = 0; c < 3; ++c)
+        out[c] = select(both_taps, lerp(c0[c], c1[c], fv),
+                        select(traced0, c0[c], select(traced1, c1[c], zero())));
+    return bits(either(traced0, traced1));
+}
+
+/// The columns' values of a group in the periphery, where the reference's steps come down to
+/// one lookup at level 0 shared by both columns: every lane's columns i0 and i1 = i0 + 1 lie
+/// beyond the fovea (both have the pyramid's h rows, so the same v = (h theta) / two_pi, rows
+/// j0, j1 and fv), level 0 only (`mip` false, or the table's lambda 0 for both, made for h rows:
+/// f = 0, no second level) and every lane's lookup in range. Column i1's texel then lies right
+/// after column i0's in each row of the packed level 0, so that one 32-byte load per lane and
+/// row reads both columns' taps. values and have as resolve_group's; false (nothing done) where
+/// a lane does not qualify: the general lanes'.
+FOVREF_AVX2_INLINE bool periphery_lanes(const VisualPolarMap& map, const VpMips& mips,
+                                        const VpResolveAvxInputs& in, bool mip, __m256 i0,
+                                        __m256 fx, __m256 theta, const __m256* levels,
+                                        __m256 (*values)[3], int* have) {
+    const float h = static_cast<float>(mips.column_rows.back());
+    const __m256 rows = set(h);
+    if (bits(both(at_least(i0, set(static_cast<float>(map.fovea_columns))),
+                  less(i0, set(static_cast<float>(map.width - 1))))) != 0xff)
+        return false;
+    if (mip && bits(both(both(equal(levels[0], rows), equal(levels[2], rows)),
+                         both(equal(levels[1], zero()), equal(levels[3], zero())))) != 0xff)
+        return false;
+    // phi_lanes at level 0 (scale 1: v itself) on h rows
+    const __m256 v = _mm256_div_ps(_mm256_mul_ps(rows, theta), set(two_pi));
+    const __m256 in_range =
+        both(at_least(v, negate(rows)), at_most(v, _mm256_mul_ps(set(2.0f), rows)));
+    const __m256 t = _mm256_sub_ps(v, set(0.5f));
+    const __m256 j0_raw = floor(t);
+    const __m256 fv = _mm256_sub_ps(t, j0_raw);
+    const __m256 j0 = select(less(j0_raw, zero()), _mm256_add_ps(j0_raw, rows),
+                             select(at_least(j0_raw, rows), _mm256_sub_ps(j0_raw, rows), j0_raw));
+    const __m256 wrapped = both(at_least(j0, zero()), less(j0, rows));
+    if (bits(both(in_range, wrapped)) != 0xff) return false;
+    const __m256 j0_next = _mm256_add_ps(j0, set(1.0f));
+    const __m256 j1 = select(equal(j0_next, rows), zero(), j0_next);
+    const __m256 second = greater(fv, zero());  // weight fv > 0
+    const __m256i column = _mm256_cvttps_epi32(i0);
+    alignas(32) int at[2][lanes];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(at[0]),
+                       row_major(column, _mm256_cvttps_epi32(j0), in.width));
+    _mm256_store_si256(reinterpret_cast<__m256i*>(at[1]),
+                       row_major(column, _mm256_cvttps_epi32(j1), in.width));
+    __m256 taps[2][8];  // per row: R, G, B, mask of column i0, then of column i1
+    for (int k = 0; k < 2; ++k) {
+        __m256 pair[lanes];
+        for (int l = 0; l < lanes; ++l)
+            pair[l] = _mm256_loadu_ps(in.texels.data() + 4 * static_cast<std::size_t>(at[k][l]));
+        transpose8_lanes(pair, taps[k]);
+    }
+    const __m256 column1 = greater(fx, zero());  // wanted[1]: i1 != i0 for every lane here
+    have[0] =
+        phi_value(taps[0], taps[0][3], taps[1], taps[1][3], fv, mask_of(0xff), second, values[0]);
+    have[1] =
+        phi_value(taps[0] + 4, taps[0][7], taps[1] + 4, taps[1][7], fv, column1, second, values[1]);
+    return true;
+}
+
 // Pixels x .. x + 7 of row y; the lanes the reference must do are done by resolve_vp_pixel.
 __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, const VpMips& mips,
                                                    const VpResolveAvxInputs& in,
@@ -212,15 +301,17 @@ __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, co
     // Each column at the pixel's angle on its own rows, at its own phi level
     __m256 values[2][3] = {{zero(), zero(), zero()}, {zero(), zero(), zero()}};
     int have[2] = {0, 0};
-    for (int k = 0; k < 2; ++k) {
+    const bool periphery =
+        reference == 0 && periphery_lanes(map, mips, in, mip, i0, fx, theta, levels, values, have);
+    for (int k = 0; k < 2 && !periphery; ++k) {
         if (wanted[k] == 0) continue;
         const ColumnLanes col = column_of(map, mips, in, columns[k], wanted[k]);
         const __m256 n = _mm256_cvtepi32_ps(col.rows);
         const __m256 v = _mm256_div_ps(_mm256_mul_ps(n, theta), set(two_pi));
         const __m256 lambda =
             mip ? level_of(n, r, levels[2 * k], levels[2 * k + 1], wanted[k]) : zero();
-        // (a level that is not finite, which no table made by vp_forward_table holds, would
-        // never be matched by level_lanes: the reference's)
+        // (a level that is not finite, which no table made by vp_forward_table holds, has no
+        // pyramid level: the reference's)
         const int bad = wanted[k] & ~bits(finite(lambda));
         reference |= bad;
         have[k] = column_lanes(in, col, v, lambda, wanted[k] & ~bad, values[k], reference);

@@ -92,57 +92,82 @@ TEST_CASE("VP resolve speed: the AVX resolve gives resolve_vp_pixel's bits") {
     // r of every size (every level, and the clamp at the last; with 300 rows, levels 8 and 9,
     // whose packed starts the lanes gather), theta past a turn either way (rows that wrap once;
     // below -n_c - 1 twice: those lanes are the reference's), and rows at exactly v = j + 1/2
-    // (fv = 0: row j1 must not be read into the result)
-    for (const int rows : {33, 300}) {
-        CAPTURE(rows);
-        const VisualPolarMap map = make_visual_polar_map(83, 50, {40.0f, 20.0f}, 55, rows);
-        VpForwardTable table = vp_forward_table(map);
-        const float two_pi = 6.28318530717958647692f;
-        int centred = 0;  // pixels whose first column's v is a row centre
-        int high = 0;     // pixels whose first column's level is 8 or more
-        for (int y = 0; y < map.screen_height; ++y)
-            for (int x = 0; x < map.screen_width; ++x) {
-                float* p = &table.polar.data[table.polar.index(x, y)];
-                const std::uint64_t kind = rng.below(16);
-                p[0] = kind == 0   ? std::numeric_limits<float>::infinity()
-                       : kind == 1 ? -5.0f
-                                   : rng.uniform(-3.0f, static_cast<float>(map.width) + 3.0f);
-                p[1] = rng.below(4) == 0 ? rng.uniform(0.0f, 0.01f) : rng.uniform(0.0f, 200.0f);
-                p[2] = kind == 3 ? rng.uniform(-two_pi, 0.0f) : rng.uniform(0.0f, 2.0f * two_pi);
-                const VpColumns rho = vp_rho_columns(map.width, p[0]);
-                if (kind == 2) {
-                    // theta nudged float by float until column i0's v = (n theta) / two_pi is
-                    // j + 1/2 exactly (where a few steps find it)
-                    const int n = vp_column_rows(map, rho.i0);
-                    const float j = static_cast<float>(rng.below(static_cast<std::size_t>(n)));
-                    float theta = two_pi * (j + 0.5f) / static_cast<float>(n);
-                    for (int step = 0; step < 8; ++step) {
-                        const float v = static_cast<float>(n) * theta / two_pi;
-                        if (v == j + 0.5f) break;
-                        theta = std::nextafter(theta, v < j + 0.5f ? 10.0f : -10.0f);
+    // (fv = 0: row j1 must not be read into the result). Then the periphery's groups (u beyond
+    // the fovea, r large: level 0, one lookup for both columns), with lanes at a column centre
+    // (fx = 0: column i1 is not read), beyond the last column's centre (the group is not the
+    // periphery's), at a row centre, and with v near -n and 2 n (the range's edges, rows that
+    // wrap twice: the reference's)
+    for (const bool periphery : {false, true})
+        for (const int rows : {33, 300}) {
+            CAPTURE(periphery);
+            CAPTURE(rows);
+            const VisualPolarMap map = make_visual_polar_map(83, 50, {40.0f, 20.0f}, 55, rows);
+            REQUIRE(map.fovea_columns + 4 < map.width);
+            VpForwardTable table = vp_forward_table(map);
+            const float two_pi = 6.28318530717958647692f;
+            const auto w = static_cast<float>(map.width);
+            const auto fovea = static_cast<float>(map.fovea_columns);
+            int centred = 0;  // pixels whose first column's v is a row centre
+            int high = 0;     // pixels whose first column's level is 8 or more
+            for (int y = 0; y < map.screen_height; ++y)
+                for (int x = 0; x < map.screen_width; ++x) {
+                    float* p = &table.polar.data[table.polar.index(x, y)];
+                    const std::uint64_t kind = rng.below(16);
+                    if (!periphery) {
+                        p[0] = kind == 0   ? std::numeric_limits<float>::infinity()
+                               : kind == 1 ? -5.0f
+                                           : rng.uniform(-3.0f, w + 3.0f);
+                        p[1] = rng.below(4) == 0 ? rng.uniform(0.0f, 0.01f)
+                                                 : rng.uniform(0.0f, 200.0f);
+                        p[2] = kind == 3 ? rng.uniform(-two_pi, 0.0f)
+                                         : rng.uniform(0.0f, 2.0f * two_pi);
+                    } else {
+                        const auto column = static_cast<float>(
+                            rng.below(static_cast<std::size_t>(map.width - map.fovea_columns - 1)));
+                        p[0] = kind == 0   ? fovea + column + 0.5f
+                               : kind == 1 ? w + 1.0f
+                                           : rng.uniform(fovea + 0.5f, w - 1.5f);
+                        p[1] = rng.uniform(100.0f, 200.0f);
+                        // (v within [-n, 2 n], which sample_vp_phi accepts)
+                        p[2] = kind == 3 ? rng.uniform(-two_pi + 0.001f, -two_pi + 0.05f)
+                               : kind == 4
+                                   ? rng.uniform(2.0f * two_pi - 0.05f, 2.0f * two_pi - 0.001f)
+                                   : rng.uniform(0.0f, two_pi);
                     }
-                    p[2] = theta;
-                    centred += static_cast<float>(n) * theta / two_pi == j + 0.5f;
+                    const VpColumns rho = vp_rho_columns(map.width, p[0]);
+                    if (kind == 2) {
+                        // theta nudged float by float until column i0's v = (n theta) / two_pi
+                        // is j + 1/2 exactly (where a few steps find it)
+                        const int n = vp_column_rows(map, rho.i0);
+                        const float j = static_cast<float>(rng.below(static_cast<std::size_t>(n)));
+                        float theta = two_pi * (j + 0.5f) / static_cast<float>(n);
+                        for (int step = 0; step < 8; ++step) {
+                            const float v = static_cast<float>(n) * theta / two_pi;
+                            if (v == j + 0.5f) break;
+                            theta = std::nextafter(theta, v < j + 0.5f ? 10.0f : -10.0f);
+                        }
+                        p[2] = theta;
+                        centred += static_cast<float>(n) * theta / two_pi == j + 0.5f;
+                    }
+                    // the levels as vp_forward_table makes them from the edited (u, r)
+                    float* level = &table.levels.data[table.levels.index(x, y)];
+                    for (int k = 0; k < 2; ++k) {
+                        const int n = vp_column_rows(map, k == 0 ? rho.i0 : rho.i1);
+                        level[2 * k] = static_cast<float>(n);
+                        level[2 * k + 1] = vp_mip_level(n, p[1]);
+                    }
+                    high += std::isfinite(p[0]) && level[1] >= 8.0f;
                 }
-                // the levels as vp_forward_table makes them from the edited (u, r)
-                float* level = &table.levels.data[table.levels.index(x, y)];
-                for (int k = 0; k < 2; ++k) {
-                    const int n = vp_column_rows(map, k == 0 ? rho.i0 : rho.i1);
-                    level[2 * k] = static_cast<float>(n);
-                    level[2 * k + 1] = vp_mip_level(n, p[1]);
-                }
-                high += std::isfinite(p[0]) && level[1] >= 8.0f;
-            }
-        Image color(map.width, map.height, 3), valid(map.width, map.height, 1);
-        for (float& v : color.data)
-            v = rng.below(5) == 0 ? std::numeric_limits<float>::infinity()
-                                  : rng.uniform(-1.0f, 1.0f);
-        for (float& v : valid.data) v = rng.below(3) == 0 ? 0.0f : 1.0f;
-        const VpMips mips = build_vp_mips(map, color, valid);
-        CHECK(centred > 50);
-        CHECK((rows < 256 || high > 50));
-        for (const bool mip : {true, false}) compare_resolves(map, mips, table, mip, false);
-    }
+            Image color(map.width, map.height, 3), valid(map.width, map.height, 1);
+            for (float& v : color.data)
+                v = rng.below(5) == 0 ? std::numeric_limits<float>::infinity()
+                                      : rng.uniform(-1.0f, 1.0f);
+            for (float& v : valid.data) v = rng.below(3) == 0 ? 0.0f : 1.0f;
+            const VpMips mips = build_vp_mips(map, color, valid);
+            CHECK(centred > 50);
+            CHECK((periphery || rows < 256 || high > 50));
+            for (const bool mip : {true, false}) compare_resolves(map, mips, table, mip, false);
+        }
 }
 
 // The pyramid's levels eight columns at a time (downsample_group_avx) give the reference's bits:
