@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -119,7 +121,7 @@ __attribute__((target("avx2"))) void sums_lanes(const float* base, const std::pt
     for (int d = -radius_max; d <= radius_max; ++d) {
         const int ad = d < 0 ? -d : d;
         __m256 w[3], active[3];
-        avx::spread3_lanes(_mm256_load_ps(weights[ad]), w);
+        avx::spread3_lanes(_mm256_loadu_ps(weights[ad]), w);  // (a plan pool: unaligned)
         if constexpr (!Every)
             avx::spread3_lanes(
                 _mm256_cmp_ps(_mm256_set1_ps(static_cast<float>(ad)), radius, _CMP_LE_OQ), active);
@@ -159,12 +161,14 @@ struct KeptWeights {
     alignas(32) float w[blur_ramp_max_radius + 1][lanes];
     float a[lanes] = {}, radius[lanes] = {};  ///< what `w` was made for
     int radius_max = -1;                      ///< -1: nothing made yet
+    int made = 0;                             ///< sets of weights made so far
     __attribute__((target("avx"))) void make(const float* lane_a, const float* lane_radius,
                                              int group_radius_max) {
         bool same = group_radius_max == radius_max;
         for (int lane = 0; lane < lanes; ++lane)
             same = same && lane_a[lane] == a[lane] && lane_radius[lane] == radius[lane];
         if (same) return;
+        ++made;
         weights_avx(lane_a, lane_radius, group_radius_max, w);
         radius_max = group_radius_max;
         for (int lane = 0; lane < lanes; ++lane) {
@@ -238,10 +242,38 @@ int groups_alike(const float* sigma, int x0, int width, SigmaAt sigma_at) {
     });
 }
 
+}  // namespace
+
+/// What a pass does to a group of eight pixels (or a run of alike groups), decided from its
+/// sigmas (RowPass::decide): copied (every radius 0), summed alike (sums_alike of `groups`
+/// groups) or lane by lane (sums_lanes, every lane at Rmax or not), with its lanes' radii.
+struct BlurRampJob {
+    enum Kind : std::uint8_t { copied, alike, by_lane, by_lane_every } kind = copied;
+    std::uint8_t groups = 1;
+    std::uint8_t radius_max = 0;
+    int x0 = 0;
+    std::uint32_t weights = 0;  ///< in a plan: its weights' first float in the plan's pool
+    alignas(32) float radius[lanes] = {};
+    int pixels() const { return kind == alike ? lanes * groups : lanes; }
+};
+
+/// The AVX passes' decisions for every group of a table's ramp and geometry (a static gaze),
+/// made once with the table: each row's jobs, and the weights they use (each set once, rows
+/// 0 .. Rmax of eight floats). The horizontal and the vertical pass have the same groups with the
+/// same sigmas, so both replay the same plan; the bits are those of deciding again.
+struct BlurRampPlan {
+    std::vector<BlurRampJob> jobs;     ///< row by row, from the left
+    std::vector<std::size_t> row_end;  ///< row y's jobs end at row_end[y]
+    std::vector<float> weights;
+};
+
+namespace {
+
 /// One row of a pass, eight pixels (one group, or a run of alike groups) at a time from the left
 /// (blur_pass_avx): the taps' offsets from a group's first float, where the row's taps lie
 /// (`base`: the input's row itself along y, a copy with the clamped pixels around it along x),
-/// and the weights and exp kept from one group to the next.
+/// and the weights and exp kept from one group to the next. A group is decided (decide), then
+/// summed (execute); a table's plan replays decisions made once.
 struct RowPass {
     RowPass(const BlurRamp& r, const BlurRampGeometry& g, const BlurRampTable* t)
         : ramp(r), geometry(g), table(t) {}
@@ -258,9 +290,10 @@ struct RowPass {
     KeptWeights weights;
     KeptExp exp;
 
-    /// The group (or run of groups) at x0; returns the pixels done.
-    __attribute__((target("avx2"))) int step(int x0) {
-        alignas(32) float radius_f[lanes], sigma[lanes], a[lanes];
+    /// The job of the group (or run of groups) at x0, its weights made (or kept) in `weights`.
+    __attribute__((target("avx2"))) void decide(int x0, BlurRampJob& job) {
+        alignas(32) float sigma[lanes], a[lanes];
+        job.x0 = x0;
         const float* kept = table ? &table->sigma_a.data[table->sigma_a.index(x0, y)] : nullptr;
         __m256 sigma_lanes, kept_a = _mm256_setzero_ps();
         if (kept) {
@@ -272,27 +305,25 @@ struct RowPass {
                 sigma[lane] = blur_ramp_sigma_px(ramp, geometry, pixel_centre(x0 + lane, y));
             sigma_lanes = _mm256_load_ps(sigma);
         }
-        const std::size_t first = 3 * static_cast<std::size_t>(x0);
         bool uniform = false;  // every lane of the group has the radius radius_max
-        const float radius_max_f = group_radii(sigma_lanes, radius_f, uniform);
+        const float radius_max_f = group_radii(sigma_lanes, job.radius, uniform);
         if (radius_max_f == 0.0f) {  // all copied
-            std::copy_n(input + first, 3 * lanes, output + first);
-            return lanes;
+            job.kind = BlurRampJob::copied;
+            return;
         }
         const int radius_max = static_cast<int>(radius_max_f);
+        job.radius_max = static_cast<std::uint8_t>(radius_max);
         if (kept) {  // group_a with the table's a
             const __m256 copied =
-                _mm256_cmp_ps(_mm256_load_ps(radius_f), _mm256_setzero_ps(), _CMP_EQ_OQ);
+                _mm256_cmp_ps(_mm256_load_ps(job.radius), _mm256_setzero_ps(), _CMP_EQ_OQ);
             _mm256_store_ps(a, select(copied, _mm256_set1_ps(0.5f), kept_a));
         } else {
-            group_a(sigma, radius_f, exp, a);
+            group_a(sigma, job.radius, exp, a);
         }
-        weights.make(a, radius_f, radius_max);
-        const std::ptrdiff_t* middle = offsets + blur_ramp_max_radius;
+        weights.make(a, job.radius, radius_max);
         if (!uniform) {
-            sums_lanes<false>(base + first, middle, radius_max, weights.w, radius_f, input + first,
-                              output + first);
-            return lanes;
+            job.kind = BlurRampJob::by_lane;
+            return;
         }
         // Every lane with one sigma (beyond full_deg): the weights alike, and so those of the
         // next groups with it (four or two groups' sums together)
@@ -303,25 +334,76 @@ struct RowPass {
             avx::leave_for_scalar();  // blur_ramp_sigma_px
             run = groups_alike_computed(ramp, geometry, sigma, x0, y, width);
         }
-        switch (run) {
-            case 4:
-                sums_alike<4>(base + first, middle, radius_max, weights.w, output + first);
-                return 4 * lanes;
-            case 2:
-                sums_alike<2>(base + first, middle, radius_max, weights.w, output + first);
-                return 2 * lanes;
-            default: break;
-        }
         bool alike = true;
         for (int lane = 1; lane < lanes; ++lane) alike = alike && sigma[lane] == sigma[0];
-        if (alike)
-            sums_alike<1>(base + first, middle, radius_max, weights.w, output + first);
-        else
-            sums_lanes<true>(base + first, middle, radius_max, weights.w, radius_f, input + first,
-                             output + first);
-        return lanes;
+        job.kind = run > 1 || alike ? BlurRampJob::alike : BlurRampJob::by_lane_every;
+        job.groups = static_cast<std::uint8_t>(run);
+    }
+
+    /// The sums of a job with its weights w[0 .. Rmax][lane].
+    __attribute__((target("avx2"))) void execute(const BlurRampJob& job, const float (*w)[lanes]) {
+        const std::size_t first = 3 * static_cast<std::size_t>(job.x0);
+        const std::ptrdiff_t* middle = offsets + blur_ramp_max_radius;
+        const int radius = job.radius_max;
+        switch (job.kind) {
+            case BlurRampJob::copied: std::copy_n(input + first, 3 * lanes, output + first); return;
+            case BlurRampJob::by_lane:
+                sums_lanes<false>(base + first, middle, radius, w, job.radius, input + first,
+                                  output + first);
+                return;
+            case BlurRampJob::by_lane_every:
+                sums_lanes<true>(base + first, middle, radius, w, job.radius, input + first,
+                                 output + first);
+                return;
+            case BlurRampJob::alike: break;
+        }
+        switch (job.groups) {
+            case 4: sums_alike<4>(base + first, middle, radius, w, output + first); return;
+            case 2: sums_alike<2>(base + first, middle, radius, w, output + first); return;
+            default: sums_alike<1>(base + first, middle, radius, w, output + first); return;
+        }
+    }
+
+    /// The group (or run of groups) at x0, decided and summed; returns the pixels done.
+    __attribute__((target("avx2"))) int step(int x0) {
+        BlurRampJob job;
+        decide(x0, job);
+        execute(job, weights.w);
+        return job.pixels();
     }
 };
+
+/// The plan of a table (BlurRampPlan): every row's groups decided as the AVX passes decide them
+/// with the table, each new set of weights appended to the pool.
+__attribute__((target("avx2"))) std::shared_ptr<const BlurRampPlan> make_plan(
+    const BlurRampTable& table) {
+    auto plan = std::make_shared<BlurRampPlan>();
+    const int width = table.geometry.screen_width;
+    plan->jobs.reserve(static_cast<std::size_t>(width / lanes) *
+                       static_cast<std::size_t>(table.geometry.screen_height));
+    RowPass row(table.ramp, table.geometry, &table);
+    row.width = width;
+    int made = 0;  // the sets of weights made when the pool's last was appended
+    for (int y = 0; y < table.geometry.screen_height; ++y) {
+        row.y = y;
+        for (int x = 0; x + lanes <= width;) {
+            BlurRampJob& job = plan->jobs.emplace_back();
+            row.decide(x, job);
+            x += job.pixels();
+            if (job.kind == BlurRampJob::copied) continue;
+            if (row.weights.made != made) {
+                made = row.weights.made;
+                const auto rows = static_cast<std::size_t>(job.radius_max) + 1;
+                plan->weights.insert(plan->weights.end(), &row.weights.w[0][0],
+                                     &row.weights.w[0][0] + rows * lanes);
+            }
+            job.weights = static_cast<std::uint32_t>(
+                plan->weights.size() - (static_cast<std::size_t>(job.radius_max) + 1) * lanes);
+        }
+        plan->row_end.push_back(plan->jobs.size());
+    }
+    return plan;
+}
 
 /// The pass on eight pixels at a time (AVX2; used only where the CPU has it, three channels),
 /// on the interleaved image itself: a group's 24 floats are three registers, each float's lane
@@ -345,6 +427,7 @@ __attribute__((target("avx2"))) void blur_pass_avx(const BlurRamp& ramp,
     std::vector<float> line(vertical ? 0 : row_floats + 6 * pad);
     RowPass row(ramp, geometry, table);
     row.width = width;
+    const BlurRampPlan* plan = table ? table->plan.get() : nullptr;
     for (int d = -pad; d <= pad; ++d) row.offsets[d + pad] = 3 * d;
     for (int y = 0; y < height; ++y) {
         row.y = y;
@@ -365,7 +448,24 @@ __attribute__((target("avx2"))) void blur_pass_avx(const BlurRamp& ramp,
             row.base = line.data() + 3 * pad;
         }
         int x = 0;
-        while (x + lanes <= width) x += row.step(x);
+        if (plan) {
+            const auto& jobs = plan->jobs;
+            const std::size_t end = plan->row_end[static_cast<std::size_t>(y)];
+            for (std::size_t k = y == 0 ? 0 : plan->row_end[static_cast<std::size_t>(y) - 1];
+                 k < end; ++k) {
+                // the next job's weights on their way to the cache while this one sums
+                if (k + 1 < jobs.size()) {
+                    const float* next = plan->weights.data() + jobs[k + 1].weights;
+                    for (int d = 0; d <= jobs[k + 1].radius_max + 1; d += 2)  // (lines of 2 rows)
+                        _mm_prefetch(reinterpret_cast<const char*>(next + lanes * d), _MM_HINT_T0);
+                }
+                row.execute(jobs[k], reinterpret_cast<const float(*)[lanes]>(plan->weights.data() +
+                                                                             jobs[k].weights));
+                x += jobs[k].pixels();
+            }
+        } else {
+            while (x + lanes <= width) x += row.step(x);
+        }
         for (; x < width; ++x) {  // blur_ramp_pixel leaves a copied pixel (radius 0) as it is
             std::copy_n(row.input + 3 * x, 3, row.output + 3 * x);
             blur_ramp_pixel(ramp, geometry, image, vertical, out, x, y);
@@ -542,7 +642,8 @@ __attribute__((target("avx"))) void table_sigma_group(const BlurRamp& ramp,
 }  // namespace
 
 BlurRampTable blur_ramp_table(const BlurRamp& ramp, const BlurRampGeometry& geometry) {
-    BlurRampTable table{ramp, geometry, Image(geometry.screen_width, geometry.screen_height, 2)};
+    BlurRampTable table{ramp, geometry, Image(geometry.screen_width, geometry.screen_height, 2),
+                        nullptr};
     // Row by row: each pixel's sigma (eight at a time with AVX, the same bits), then
     // blur_ramp_a's exp of the row's arguments -1 / ((2 sigma) sigma) at once (dm::exp_array,
     // the same bits); 0 where the radius is 0
@@ -564,6 +665,10 @@ BlurRampTable blur_ramp_table(const BlurRamp& ramp, const BlurRampGeometry& geom
             row[2 * x] = sigmas[x], row[2 * x + 1] = blur_ramp_radius(sigmas[x]) > 0 ? a[x] : 0.0f;
     }
     return table;
+}
+
+void add_blur_ramp_plan(BlurRampTable& table) {
+    if (!table.plan && simd_allowed() && cpu_has_avx2()) table.plan = make_plan(table);
 }
 
 Image blur_ramp(const BlurRamp& ramp, const BlurRampGeometry& geometry, const Image& image,

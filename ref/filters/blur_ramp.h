@@ -27,6 +27,8 @@
 // blur_ramp = blur_ramp_vertical(blur_ramp_horizontal(image)). Any channel count.
 #pragma once
 
+#include <memory>
+
 #include <glm/glm.hpp>
 
 #include "ref/image/image.h"
@@ -50,16 +52,27 @@ struct BlurRampGeometry {
     bool operator==(const BlurRampGeometry&) const = default;
 };
 
+struct BlurRampPlan;  // blur_ramp.cpp
+
 /// Each pixel's sigma_px and a = dm::exp(-1 / (2 sigma_px^2)) (0 where the radius is 0) for one
 /// ramp and geometry, which the blur stages keep while both stay the same (a static gaze): the
-/// AVX passes then read them instead of computing an exp per pixel, the same bits.
+/// AVX passes then read them instead of computing an exp per pixel, the same bits. A table kept
+/// for more than one frame can also hold the AVX passes' plan (add_blur_ramp_plan): each
+/// group's decision (copied, summed alike, summed lane by lane, with its radii) and the weights
+/// it uses, made once, which both passes then replay (the same bits as deciding and making them
+/// again, group by group, which a pass does without a plan).
 struct BlurRampTable {
     BlurRamp ramp;
     BlurRampGeometry geometry;
-    Image sigma_a;  ///< W x H x 2: sigma_px, a
+    Image sigma_a;                             ///< W x H x 2: sigma_px, a
+    std::shared_ptr<const BlurRampPlan> plan;  ///< the AVX passes' plan, or null
     bool made_for(const BlurRamp& ramp, const BlurRampGeometry& geometry) const;
 };
 BlurRampTable blur_ramp_table(const BlurRamp& ramp, const BlurRampGeometry& geometry);
+/// Adds the AVX passes' plan to `table` where the CPU has AVX2 and simd_allowed() (else, or when
+/// it has one, nothing). Worth it for a table used by more passes than the two of one frame (a
+/// static gaze): making the plan costs about what the decisions of one pass do.
+void add_blur_ramp_plan(BlurRampTable& table);
 
 inline constexpr int blur_ramp_max_radius = 64;  ///< cap on the kernel radius, pixels
 

@@ -29,15 +29,19 @@ struct BlurState : StageState {
     FrameBlurGeometry geometry;
     // The table of each pixel's sigma and exp for the last geometry seen: made by a frame's
     // first pass whose geometry differs (a moving gaze: every frame; its exps eight at a time),
-    // read by its second pass and kept while the gaze is static
+    // read by its second pass and kept while the gaze is static, with the passes' plan added
+    // by the first pass of a later frame that keeps it
     std::optional<BlurRampTable> table;
     /// The table for this frame's geometry, made if it was made for another; none under
     /// `--scalar` (only the AVX groups read it).
-    const BlurRampTable* table_for(const BlurRampGeometry& g, bool& made) {
+    const BlurRampTable* table_for(const BlurRampGeometry& g, bool vertical, bool& made) {
         made = false;
         if (!simd_allowed()) return nullptr;
         made = !table || !table->made_for(ramp, g);
-        if (made) table = blur_ramp_table(ramp, g);
+        if (made)
+            table = blur_ramp_table(ramp, g);
+        else if (!vertical)
+            add_blur_ramp_plan(*table);
         return &*table;
     }
 };
@@ -47,10 +51,11 @@ void run_blur_pass(FrameContext& ctx, bool vertical) {
     BlurState& state = ctx.state<BlurState>();
     const BlurRampGeometry g = state.geometry(ctx);
     bool made = false;
-    const BlurRampTable* table = state.table_for(g, made);
-    ctx.note = !table ? "sigma and exp per pixel computed"
-               : made ? "sigma and exp per pixel computed (kept)"
-                      : "sigma and exp per pixel kept";
+    const BlurRampTable* table = state.table_for(g, vertical, made);
+    ctx.note = !table         ? "sigma and exp per pixel computed"
+               : made         ? "sigma and exp per pixel computed (kept)"
+               : !table->plan ? "sigma and exp per pixel kept"
+                              : "sigma and exp per pixel kept, with the groups' plan";
     const Image& input = ctx.input("input");
     // The pass writes every value (AVX; the scalar reference copies the image first): an
     // earlier frame's storage saves the zero fill

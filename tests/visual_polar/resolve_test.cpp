@@ -686,13 +686,18 @@ TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits, with and without 
                                           : blur_ramp_horizontal(k.ramp, geometry, image, false);
             CHECK(std::memcmp(simd.data.data(), scalar.data.data(),
                               scalar.data.size() * sizeof(float)) == 0);
-            // with the per-pixel sigma and exp kept (a static gaze)
-            const BlurRampTable table = blur_ramp_table(k.ramp, geometry);
-            const Image kept = vertical
-                                   ? blur_ramp_vertical(k.ramp, geometry, image, true, &table)
-                                   : blur_ramp_horizontal(k.ramp, geometry, image, true, &table);
-            CHECK(std::memcmp(kept.data.data(), scalar.data.data(),
-                              scalar.data.size() * sizeof(float)) == 0);
+            // with the per-pixel sigma and exp kept (a static gaze), then with the groups'
+            // plan as well (replayed instead of deciding group by group)
+            BlurRampTable table = blur_ramp_table(k.ramp, geometry);
+            for (const bool planned : {false, true}) {
+                if (planned) add_blur_ramp_plan(table);
+                CHECK(static_cast<bool>(table.plan) == (planned && cpu_has_avx2()));
+                const Image kept =
+                    vertical ? blur_ramp_vertical(k.ramp, geometry, image, true, &table)
+                             : blur_ramp_horizontal(k.ramp, geometry, image, true, &table);
+                CHECK(std::memcmp(kept.data.data(), scalar.data.data(),
+                                  scalar.data.size() * sizeof(float)) == 0);
+            }
             // written into storage that holds a value no pixel takes (a stage's recycled
             // output), with SIMD and without: every value is written
             for (const bool with_simd : {true, false}) {
