@@ -96,6 +96,16 @@ bool sample_column(const VpMips& mips, int column, float v, float lambda, int ch
     return have_a || have_b;
 }
 
+/// Every row: eight pixels at a time in AVX2 lanes (resolve_vp_row_avx, the same bits), the last
+/// W mod 8 pixels by resolve_vp_pixel, the reference.
+void resolve_rows(const VisualPolarMap& map, VpMipsSource& mips, const VpResolveAvxInputs& in,
+                  bool mip, const VpForwardTable* table, Image& out, ResolveStats& stats) {
+    for (int y = 0; y < map.screen_height; ++y)
+        for (int x = resolve_vp_row_avx(map, mips, in, *table, mip, out, y, stats);
+             x < map.screen_width; ++x)
+            resolve_vp_pixel(map, mips.get(), out, x, y, stats, nullptr, mip, table);
+}
+
 }  // namespace
 
 int vp_mip_rows(int rows, int level) {
@@ -107,6 +117,12 @@ int vp_mip_last_level(int rows) {
     int level = 0;
     for (; rows > 1; ++level) rows = (rows + 1) / 2;
     return level;
+}
+
+int vp_mip_levels(const VisualPolarMap& map) {
+    int max_rows = 1;
+    for (int i = 0; i < map.width; ++i) max_rows = std::max(max_rows, vp_column_rows(map, i));
+    return vp_mip_last_level(max_rows) + 1;
 }
 
 int vp_mip_column_rows(const VpMips& mips, int column, int level) {
@@ -344,13 +360,31 @@ Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, Resolv
     keep_or_make(out, map.screen_width, map.screen_height, mips.color[0].channels);
     // Eight pixels at a time where the AVX2 path covers the resolve (the same bits:
     // resolve_avx.h); resolve_vp_pixel, the reference, does the rest.
-    const bool avx = resolve_vp_avx_applies(map, mips, table);
-    const VpResolveAvxInputs avx_inputs = avx ? vp_resolve_avx_inputs(mips) : VpResolveAvxInputs{};
+    VpMipsSource source(mips);
+    if (resolve_vp_avx_applies(map, mips, table)) {
+        resolve_rows(map, source, vp_resolve_avx_inputs(mips), mip, table, out, stats);
+        return out;
+    }
     for (int y = 0; y < map.screen_height; ++y)
-        for (int x = avx ? resolve_vp_row_avx(map, mips, avx_inputs, *table, mip, out, y, stats)
-                         : 0;
-             x < map.screen_width; ++x)
+        for (int x = 0; x < map.screen_width; ++x)
             resolve_vp_pixel(map, mips, out, x, y, stats, nullptr, mip, table);
+    return out;
+}
+
+Image resolve_visual_polar(const VisualPolarMap& map, const Image& color, const Image& valid,
+                           ResolveStats& stats, bool mip, const VpForwardTable* table,
+                           Image storage, VpResolveAvxInputs* packed) {
+    if (!resolve_vp_avx_applies(map, color, valid, table))
+        return resolve_visual_polar(map, build_vp_mips(map, color, valid), stats, mip, table,
+                                    std::move(storage));
+    FOVREF_CHECK(table->map == map, "a forward table made for another map");
+    VpResolveAvxInputs own;
+    VpResolveAvxInputs& in = packed ? *packed : own;
+    vp_resolve_avx_inputs(map, color, valid, in);
+    Image out = std::move(storage);  // every pixel is written below
+    keep_or_make(out, map.screen_width, map.screen_height, color.channels);
+    VpMipsSource source(map, color, valid);  // built only for the reference's pixels
+    resolve_rows(map, source, in, mip, table, out, stats);
     return out;
 }
 

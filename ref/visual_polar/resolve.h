@@ -76,6 +76,8 @@ struct VpMips {
 int vp_mip_rows(int rows, int level);
 /// The first level at which a column of `rows` rows has one row: ceil(log2(rows)).
 int vp_mip_last_level(int rows);
+/// The pyramid's levels for `map`: 1 + vp_mip_last_level of its largest column.
+int vp_mip_levels(const VisualPolarMap& map);
 /// Rows of column `column` at level `level` of `mips`.
 int vp_mip_column_rows(const VpMips& mips, int column, int level);
 
@@ -144,6 +146,18 @@ void resolve_vp_pixel(const VisualPolarMap& map, const VpMips& mips, Image& out,
 Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, ResolveStats& stats,
                            bool mip = true, const VpForwardTable* table = nullptr,
                            Image storage = {});
+
+struct VpResolveAvxInputs;  // resolve_avx.h
+
+/// resolve_visual_polar(map, build_vp_mips(map, color, valid), ...) from the buffer and its mask
+/// themselves: the same image and counters. Where the AVX2 lanes cover the resolve
+/// (resolve_avx.h) they read a packed pyramid built straight from the buffer (in `packed`, whose
+/// storage a stage keeps from frame to frame, when given), and the pyramid above is built only
+/// if a pixel needs the reference (the last W mod 8 of each row, or a lane the lanes leave).
+Image resolve_visual_polar(const VisualPolarMap& map, const Image& color, const Image& valid,
+                           ResolveStats& stats, bool mip = true,
+                           const VpForwardTable* table = nullptr, Image storage = {},
+                           VpResolveAvxInputs* packed = nullptr);
 
 /// The polar coordinates of screen pixel (x, y)'s centre as the resolve computes them: u
 /// (vp_forward's), the distance r from the gaze and theta.

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "ref/core/avx_lanes.h"
+#include "ref/core/error.h"
 #include "ref/core/simd.h"
 
 namespace fovref {
@@ -144,17 +145,17 @@ FOVREF_AVX_INLINE void split4_lanes(const float* p, __m256* out) {
 /// The lanes' column `column` (in binary32) in the lanes of `wanted`: its index, its rows and
 /// its last level (constants where every lane lies beyond the fovea, whose columns all have the
 /// last column's h rows).
-FOVREF_AVX2_INLINE ColumnLanes column_of(const VisualPolarMap& map, const VpMips& mips,
-                                         const VpResolveAvxInputs& in, __m256 column, int wanted) {
+FOVREF_AVX2_INLINE ColumnLanes column_of(const VisualPolarMap& map, const VpResolveAvxInputs& in,
+                                         __m256 column, int wanted) {
     ColumnLanes col;
     col.column = _mm256_cvttps_epi32(column);
     if (bits(at_least(column, set(static_cast<float>(map.fovea_columns)))) == 0xff) {
-        col.rows = _mm256_set1_epi32(mips.column_rows.back());
+        col.rows = _mm256_set1_epi32(in.column_rows.back());
         col.last = set(static_cast<float>(in.last_levels.back()));
         return col;
     }
     const __m256i mask = _mm256_castps_si256(mask_of(wanted));
-    col.rows = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), mips.column_rows.data(),
+    col.rows = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), in.column_rows.data(),
                                            col.column, mask, 4);
     col.last = _mm256_cvtepi32_ps(_mm256_mask_i32gather_epi32(
         _mm256_setzero_si256(), in.last_levels.data(), col.column, mask, 4));
@@ -221,11 +222,10 @@ FOVREF_AVX2_INLINE int phi_value(const __m256* c0, __m256 m0, const __m256* c1, 
 /// after column i0's in each row of the packed level 0, so that one 32-byte load per lane and
 /// row reads both columns' taps. values and have as resolve_group's; false (nothing done) where
 /// a lane does not qualify: the general lanes'.
-FOVREF_AVX2_INLINE bool periphery_lanes(const VisualPolarMap& map, const VpMips& mips,
-                                        const VpResolveAvxInputs& in, bool mip, __m256 i0,
-                                        __m256 fx, __m256 theta, const __m256* levels,
-                                        __m256 (*values)[3], int* have) {
-    const float h = static_cast<float>(mips.column_rows.back());
+FOVREF_AVX2_INLINE bool periphery_lanes(const VisualPolarMap& map, const VpResolveAvxInputs& in,
+                                        bool mip, __m256 i0, __m256 fx, __m256 theta,
+                                        const __m256* levels, __m256 (*values)[3], int* have) {
+    const float h = static_cast<float>(in.column_rows.back());
     const __m256 rows = set(h);
     if (bits(both(at_least(i0, set(static_cast<float>(map.fovea_columns))),
                   less(i0, set(static_cast<float>(map.width - 1))))) != 0xff)
@@ -269,7 +269,7 @@ FOVREF_AVX2_INLINE bool periphery_lanes(const VisualPolarMap& map, const VpMips&
 }
 
 // Pixels x .. x + 7 of row y; the lanes the reference must do are done by resolve_vp_pixel.
-__attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, const VpMips& mips,
+__attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, VpMipsSource& mips,
                                                    const VpResolveAvxInputs& in,
                                                    const VpForwardTable& table, bool mip,
                                                    Image& out, int x, int y, ResolveStats& stats) {
@@ -280,7 +280,7 @@ __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, co
     int reference = 0xff & ~bits(both(finite(u), both(finite(r), finite(theta))));
     if (reference == 0xff) {
         for (int l = 0; l < lanes; ++l)
-            resolve_vp_pixel(map, mips, out, x + l, y, stats, nullptr, mip, &table);
+            resolve_vp_pixel(map, mips.get(), out, x + l, y, stats, nullptr, mip, &table);
         return;
     }
     __m256 levels[4];
@@ -302,10 +302,10 @@ __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, co
     __m256 values[2][3] = {{zero(), zero(), zero()}, {zero(), zero(), zero()}};
     int have[2] = {0, 0};
     const bool periphery =
-        reference == 0 && periphery_lanes(map, mips, in, mip, i0, fx, theta, levels, values, have);
+        reference == 0 && periphery_lanes(map, in, mip, i0, fx, theta, levels, values, have);
     for (int k = 0; k < 2 && !periphery; ++k) {
         if (wanted[k] == 0) continue;
-        const ColumnLanes col = column_of(map, mips, in, columns[k], wanted[k]);
+        const ColumnLanes col = column_of(map, in, columns[k], wanted[k]);
         const __m256 n = _mm256_cvtepi32_ps(col.rows);
         const __m256 v = _mm256_div_ps(_mm256_mul_ps(n, theta), set(two_pi));
         const __m256 lambda =
@@ -330,7 +330,21 @@ __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, co
         __builtin_popcount(static_cast<unsigned>(done & ~(have[0] | have[1])));
     for (int l = 0; l < lanes; ++l)
         if (reference >> l & 1)
-            resolve_vp_pixel(map, mips, out, x + l, y, stats, nullptr, mip, &table);
+            resolve_vp_pixel(map, mips.get(), out, x + l, y, stats, nullptr, mip, &table);
+}
+
+}  // namespace
+
+namespace {
+
+/// What the lanes need of any pyramid: a forward table, a map whose packed texels' indices (all
+/// levels: at most w (2 h + 25) texels) are int32 and whose rows and columns are exact in
+/// binary32 (up to 2^24), simd_allowed() and AVX2.
+bool avx_covers(const VisualPolarMap& map, const VpForwardTable* table, bool need_table = true) {
+    const std::int64_t texels = static_cast<std::int64_t>(map.width) * (2 * map.height + 25);
+    return (!need_table || (table && table->polar.channels == 3 && table->levels.channels == 4)) &&
+           map.width <= (1 << 24) && map.height <= (1 << 24) &&
+           texels <= std::numeric_limits<std::int32_t>::max() && simd_allowed() && cpu_has_avx2();
 }
 
 }  // namespace
@@ -338,15 +352,10 @@ __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, co
 bool resolve_vp_avx_applies(const VisualPolarMap& map, const VpMips& mips,
                             const VpForwardTable* table) {
     // The lanes read every level and its one-channel mask (packed: the reference checks the
-    // shapes as it reads, and throws); the packed texels' indices (all levels: at most
-    // w (2 h + 25) texels) are int32, and the rows and columns are computed in binary32 (exact up
-    // to 2^24).
-    const std::int64_t texels = static_cast<std::int64_t>(map.width) * (2 * map.height + 25);
-    if (!table || mips.color.empty() || mips.color.size() != mips.valid.size() ||
+    // shapes as it reads, and throws)
+    if (!avx_covers(map, table) || mips.color.empty() || mips.color.size() != mips.valid.size() ||
         mips.column_rows.size() != static_cast<std::size_t>(map.width) ||
-        mips.color[0].height != map.height || table->polar.channels != 3 ||
-        table->levels.channels != 4 || map.width > (1 << 24) || map.height > (1 << 24) ||
-        texels > std::numeric_limits<std::int32_t>::max() || !simd_allowed() || !cpu_has_avx2())
+        mips.color[0].height != map.height)
         return false;
     for (std::size_t k = 0; k < mips.color.size(); ++k) {
         const Image &color = mips.color[k], &valid = mips.valid[k];
@@ -357,32 +366,156 @@ bool resolve_vp_avx_applies(const VisualPolarMap& map, const VpMips& mips,
     return true;
 }
 
+bool resolve_vp_avx_applies(const VisualPolarMap& map, const Image& color, const Image& valid,
+                            const VpForwardTable* table, bool need_table) {
+    return avx_covers(map, table, need_table) && color.channels == 3 && valid.channels == 1 &&
+           color.width == map.width && color.height == map.height && valid.width == map.width &&
+           valid.height == map.height;
+}
+
+namespace {
+
+/// The levels' first texels (level k of height heights[k], all of width w) into in.level_start
+/// and in.first_starts; returns the texels of all levels.
+std::size_t start_levels(VpResolveAvxInputs& in, const std::vector<int>& heights) {
+    in.level_start.clear();
+    std::size_t texels = 0;
+    for (const int height : heights) {
+        in.level_start.push_back(static_cast<std::int32_t>(texels));
+        texels += static_cast<std::size_t>(in.width) * static_cast<std::size_t>(height);
+    }
+    std::fill(std::begin(in.first_starts), std::end(in.first_starts), 0);
+    std::copy_n(in.level_start.begin(), std::min<std::size_t>(lanes, in.level_start.size()),
+                in.first_starts);
+    return texels;
+}
+
+/// `texels` texels of a 3-channel level and its mask packed (R, G, B, mask): eight at a time
+/// with AVX2 (the same floats, moved by shuffles), then one by one.
+__attribute__((target("avx2"))) void pack_level(const float* color, const float* valid,
+                                                std::size_t texels, float* packed) {
+    std::size_t t = 0;
+    for (; t + lanes <= texels; t += lanes) {
+        __m256 channels[3];
+        split3_lanes(color + 3 * t, channels);
+        const __m256 mask = _mm256_loadu_ps(valid + t);
+        for (int half = 0; half < 2; ++half) {  // texels t .. t + 3, then t + 4 .. t + 7
+            __m128 q[4] = {
+                half ? _mm256_extractf128_ps(channels[0], 1) : _mm256_castps256_ps128(channels[0]),
+                half ? _mm256_extractf128_ps(channels[1], 1) : _mm256_castps256_ps128(channels[1]),
+                half ? _mm256_extractf128_ps(channels[2], 1) : _mm256_castps256_ps128(channels[2]),
+                half ? _mm256_extractf128_ps(mask, 1) : _mm256_castps256_ps128(mask)};
+            _MM_TRANSPOSE4_PS(q[0], q[1], q[2], q[3]);
+            for (int k = 0; k < 4; ++k) _mm_storeu_ps(packed + 4 * (t + 4 * half + k), q[k]);
+        }
+    }
+    for (; t < texels; ++t) {
+        float* p = packed + 4 * t;
+        p[0] = color[3 * t], p[1] = color[3 * t + 1], p[2] = color[3 * t + 2], p[3] = valid[t];
+    }
+}
+
+/// downsample_texel (resolve.cpp) on packed texels: texel (i, j) of level k + 1 (`out`) from
+/// level k (`in`, w texels a row) whose column i has n rows: a column of one row carried down
+/// (its colours where traced, its mask as 1 or 0), else the running mean of the traced ones of
+/// rows 2j and (2j + 1) mod n, the reference's operations in its order; j >= ceil(n / 2): 0.
+void downsample_packed_texel(const float* in, int w, int n, int i, int j, float* out) {
+    std::fill_n(out, 4, 0.0f);
+    const auto at = [&](int row) { return in + 4 * (static_cast<std::size_t>(row) * w + i); };
+    if (n == 1) {
+        if (j == 0 && at(0)[3] != 0.0f) {
+            std::copy_n(at(0), 3, out);
+            out[3] = 1.0f;
+        }
+        return;
+    }
+    if (j >= (n + 1) / 2) return;
+    int count = 0;
+    for (const int row : {2 * j, (2 * j + 1) % n}) {
+        const float* texel = at(row);
+        if (texel[3] == 0.0f) continue;
+        ++count;
+        for (int c = 0; c < 3; ++c) out[c] += (texel[c] - out[c]) / static_cast<float>(count);
+    }
+    if (count > 0) out[3] = 1.0f;
+}
+
+/// downsample_packed_texel for texels (i, j) and (i + 1, j) whose columns both have n > 1 rows
+/// and j < ceil(n / 2): both texels' four floats in one register, each float's lane doing the
+/// reference's operations (its texel's mask spread to its four floats); the mask's lane then
+/// takes 1 or 0.
+__attribute__((target("avx2"))) void downsample_packed_pair(const float* in, int w, int n, int i,
+                                                            int j, float* out) {
+    const auto at = [&](int row) { return in + 4 * (static_cast<std::size_t>(row) * w + i); };
+    __m256 mean = zero(), count = zero();
+    for (const int row : {2 * j, (2 * j + 1) % n}) {
+        const __m256 texels = _mm256_loadu_ps(at(row));
+        const __m256 traced = not_equal(_mm256_permute_ps(texels, _MM_SHUFFLE(3, 3, 3, 3)), zero());
+        count = select(traced, _mm256_add_ps(count, set(1.0f)), count);
+        mean = select(traced,
+                      _mm256_add_ps(mean, _mm256_div_ps(_mm256_sub_ps(texels, mean), count)), mean);
+    }
+    const __m256 mask = select(greater(count, zero()), set(1.0f), zero());
+    _mm256_storeu_ps(out, _mm256_blend_ps(mean, mask, 0b10001000));
+}
+
+}  // namespace
+
 VpResolveAvxInputs vp_resolve_avx_inputs(const VpMips& mips) {
     VpResolveAvxInputs in;
     in.width = mips.color[0].width;
+    in.column_rows = mips.column_rows;
     in.last_levels.reserve(mips.column_rows.size());
     for (const int n : mips.column_rows) in.last_levels.push_back(vp_mip_last_level(n));
-    std::size_t texels = 0;
-    for (const Image& level : mips.valid) {
-        in.level_start.push_back(static_cast<std::int32_t>(texels));
-        texels += level.data.size();
-    }
-    std::copy_n(in.level_start.begin(), std::min<std::size_t>(lanes, in.level_start.size()),
-                in.first_starts);
-    in.texels.resize(4 * texels);
-    float* packed = in.texels.data();
-    for (std::size_t k = 0; k < mips.color.size(); ++k) {
-        const float* color = mips.color[k].data.data();
-        const float* valid = mips.valid[k].data.data();
-        for (std::size_t t = 0; t < mips.valid[k].data.size(); ++t, packed += 4) {
-            packed[0] = color[3 * t], packed[1] = color[3 * t + 1], packed[2] = color[3 * t + 2];
-            packed[3] = valid[t];
-        }
-    }
+    std::vector<int> heights;
+    for (const Image& level : mips.valid) heights.push_back(level.height);
+    in.texels.resize(4 * start_levels(in, heights));
+    for (std::size_t k = 0; k < mips.color.size(); ++k)
+        pack_level(mips.color[k].data.data(), mips.valid[k].data.data(), mips.valid[k].data.size(),
+                   in.texels.data() + 4 * in.level_start[k]);
     return in;
 }
 
-int resolve_vp_row_avx(const VisualPolarMap& map, const VpMips& mips, const VpResolveAvxInputs& in,
+void vp_resolve_avx_inputs(const VisualPolarMap& map, const Image& color, const Image& valid,
+                           VpResolveAvxInputs& in) {
+    FOVREF_CHECK(resolve_vp_avx_applies(map, color, valid, nullptr, false),
+                 "a packed pyramid of another buffer's shape");
+    const auto w = static_cast<std::size_t>(map.width);
+    in.width = map.width;
+    in.column_rows.resize(w);
+    in.last_levels.resize(w);
+    for (std::size_t i = 0; i < w; ++i) {
+        in.column_rows[i] = vp_column_rows(map, static_cast<int>(i));
+        in.last_levels[i] = vp_mip_last_level(in.column_rows[i]);
+    }
+    // build_vp_mips's levels: level 0 the buffer, then ceil-halved heights
+    std::vector<int> heights = {map.height};
+    for (int level = 1; level < vp_mip_levels(map); ++level)
+        heights.push_back((heights.back() + 1) / 2);
+    in.texels.resize(4 * start_levels(in, heights));  // every float is written below
+    pack_level(color.data.data(), valid.data.data(), w * static_cast<std::size_t>(map.height),
+               in.texels.data());
+    std::vector<int> rows = in.column_rows;  // at level k
+    for (std::size_t k = 0; k + 1 < heights.size(); ++k) {
+        const float* from = in.texels.data() + 4 * static_cast<std::size_t>(in.level_start[k]);
+        float* to = in.texels.data() + 4 * static_cast<std::size_t>(in.level_start[k + 1]);
+        for (int j = 0; j < heights[k + 1]; ++j)
+            for (int i = 0; i < map.width; ++i) {
+                const auto col = static_cast<std::size_t>(i);
+                const int n = rows[col];
+                float* out = to + 4 * (static_cast<std::size_t>(j) * w + col);
+                if (n > 1 && j < (n + 1) / 2 && col + 1 < w && rows[col + 1] == n) {
+                    downsample_packed_pair(from, map.width, n, i, j, out);
+                    ++i;
+                } else {
+                    downsample_packed_texel(from, map.width, n, i, j, out);
+                }
+            }
+        for (int& n : rows) n = (n + 1) / 2;
+    }
+}
+
+int resolve_vp_row_avx(const VisualPolarMap& map, VpMipsSource& mips, const VpResolveAvxInputs& in,
                        const VpForwardTable& table, bool mip, Image& out, int y,
                        ResolveStats& stats) {
     const int groups = map.screen_width / lanes;

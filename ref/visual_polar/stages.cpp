@@ -140,7 +140,8 @@ StageDef vp_trace_stage_def(std::shared_ptr<SparseFrames> frames, std::shared_pt
 void vp_resolve_stage(FrameContext& ctx) {
     SparseFrames& frames = *ctx.state<SparseState>().frames;
     const VisualPolarMap map = frames.map(ctx, ctx.frame);
-    const VpMips mips = build_vp_mips(map, ctx.input("color"), ctx.input("valid"));
+    const Image& color = ctx.input("color");
+    const Image& valid = ctx.input("valid");
     // The table holds (u, r, theta), which BMFR's staircase does not change: kept when only the
     // clip moved, with the frame's map
     const bool reused = frames.forward && frames.forward->map.same_forward(map);
@@ -150,10 +151,11 @@ void vp_resolve_stage(FrameContext& ctx) {
     const bool mip = frames.params.mip_resolve;
     // Every pixel is written: an earlier frame's storage saves the zero fill
     Image out = resolve_visual_polar(
-        map, mips, stats, mip, &*frames.forward,
-        ctx.recycled("output", map.screen_width, map.screen_height, mips.color[0].channels));
+        map, color, valid, stats, mip, &*frames.forward,
+        ctx.recycled("output", map.screen_width, map.screen_height, color.channels),
+        &frames.packed);
     ctx.result->counters.add("screen_pixels_untraced_taps", stats.pixels_untraced_taps);
-    ctx.note = (mip ? "phi mips, trilinear (" + std::to_string(mips.color.size()) + " levels)"
+    ctx.note = (mip ? "phi mips, trilinear (" + std::to_string(vp_mip_levels(map)) + " levels)"
                     : std::string("bilinear")) +
                (reused ? ", forward map reused" : ", forward map computed");
     ctx.output("output", BufferKind::color, rgb, std::move(out));

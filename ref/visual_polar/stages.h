@@ -29,6 +29,7 @@
 #include "ref/stage/pipeline.h"
 #include "ref/visual_polar/params.h"
 #include "ref/visual_polar/resolve.h"
+#include "ref/visual_polar/resolve_avx.h"
 #include "ref/visual_polar/trace.h"
 
 namespace fovref {
@@ -42,6 +43,8 @@ struct SparseFrames {
     /// The trace's texel statuses and points (not under `--scalar`), made for the frame's forward
     /// map and kept while it stays the same (VisualPolarMap::same_forward).
     std::optional<VpTexelTable> texels;
+    /// The resolve's packed pyramid, its storage kept from frame to frame.
+    VpResolveAvxInputs packed;
     /// The Visual-Polar map of frame `frame` (the screen of `context`).
     VisualPolarMap map(const FrameContext& context, int frame) const;
 };

@@ -6,6 +6,8 @@
 // table edited by hand so that lanes leave for the reference, and the same counters.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -20,11 +22,14 @@ using namespace fovref;
 
 namespace {
 
-/// The resolve with the SIMD path and without it (and, with `plain_too`, without the table):
-/// the same bits and counters. Returns the untraced pixels.
-std::int64_t compare_resolves(const VisualPolarMap& map, const VpMips& mips,
+/// The resolve with the SIMD path and without it (and, with `plain_too`, without the table),
+/// from the pyramid and from the buffer itself (the packed pyramid built straight from it): the
+/// same bits and counters. Returns the untraced pixels.
+std::int64_t compare_resolves(const VisualPolarMap& map, const Image& color, const Image& valid,
                               const VpForwardTable& table, bool mip, bool plain_too) {
+    const VpMips mips = build_vp_mips(map, color, valid);
     CHECK(resolve_vp_avx_applies(map, mips, &table) == cpu_has_avx2());
+    CHECK(resolve_vp_avx_applies(map, color, valid, &table) == cpu_has_avx2());
     Image out[2];
     ResolveStats stats[2];
     for (const bool simd : {true, false}) {
@@ -46,6 +51,17 @@ std::int64_t compare_resolves(const VisualPolarMap& map, const VpMips& mips,
     }
     CHECK(stats[0].pixels_from_buffer == stats[1].pixels_from_buffer);
     CHECK(stats[0].pixels_untraced_taps == stats[1].pixels_untraced_taps);
+    // from the buffer, into a stage's kept packed storage (once fresh, once reused)
+    VpResolveAvxInputs packed;
+    for (int round = 0; round < 2; ++round) {
+        ResolveStats buffer_stats;
+        const Image from_buffer = resolve_visual_polar(
+            map, color, valid, buffer_stats, mip, &table,
+            test::unwritten_storage(map.screen_width, map.screen_height, color.channels), &packed);
+        CHECK(test::same_bits_nan_aside(from_buffer, out[0]));
+        CHECK(buffer_stats.pixels_from_buffer == stats[1].pixels_from_buffer);
+        CHECK(buffer_stats.pixels_untraced_taps == stats[1].pixels_untraced_taps);
+    }
     if (plain_too) {
         ResolveStats plain;
         REQUIRE(test::same_bits_nan_aside(resolve_visual_polar(map, mips, plain, mip), out[1]));
@@ -81,9 +97,8 @@ TEST_CASE("VP resolve speed: the AVX resolve gives resolve_vp_pixel's bits") {
                     color.data[5] = std::numeric_limits<float>::quiet_NaN();
                     color.data[9] = std::numeric_limits<float>::infinity();
                     for (float& v : valid.data) v = rng.below(untraced_rate) == 0 ? 0.0f : 1.0f;
-                    const VpMips mips = build_vp_mips(map, color, valid);
                     for (const bool mip : {true, false})
-                        untraced += compare_resolves(map, mips, table, mip, true);
+                        untraced += compare_resolves(map, color, valid, table, mip, true);
                 }
             }
     CHECK(untraced > 100);
@@ -163,10 +178,10 @@ TEST_CASE("VP resolve speed: the AVX resolve gives resolve_vp_pixel's bits") {
                 v = rng.below(5) == 0 ? std::numeric_limits<float>::infinity()
                                       : rng.uniform(-1.0f, 1.0f);
             for (float& v : valid.data) v = rng.below(3) == 0 ? 0.0f : 1.0f;
-            const VpMips mips = build_vp_mips(map, color, valid);
             CHECK(centred > 50);
             CHECK((periphery || rows < 256 || high > 50));
-            for (const bool mip : {true, false}) compare_resolves(map, mips, table, mip, false);
+            for (const bool mip : {true, false})
+                compare_resolves(map, color, valid, table, mip, false);
         }
 }
 
@@ -178,32 +193,67 @@ TEST_CASE("VP resolve speed: the AVX pyramid gives build_vp_mips's bits") {
     if (!cpu_has_avx2()) MESSAGE("no AVX2 on this CPU: both builds take the reference");
     test::SplitMix64 rng(5);
     for (const int block : {0, 8})
-        for (const int height : {60, 45}) {
-            CAPTURE(block);
-            CAPTURE(height);
-            VisualPolarMap map = make_visual_polar_map(120, 90, {50.0f, 40.0f}, 83, height);
-            map.staircase_block = block;
-            Image color(map.width, map.height, 3), valid(map.width, map.height, 1);
-            for (float& v : color.data) {
-                const std::size_t kind = rng.below(30);
-                v = kind == 0   ? -0.0f
-                    : kind == 1 ? std::numeric_limits<float>::infinity()
-                    : kind == 2 ? std::numeric_limits<float>::quiet_NaN()
-                                : static_cast<float>(rng.below(1 << 20)) * 0x1p-19f - 1.0f;
+        for (const int height : {60, 45})
+            for (const std::size_t untraced : {3u, 2u}) {  // one texel in 3, one in 2
+                CAPTURE(block);
+                CAPTURE(height);
+                CAPTURE(untraced);
+                VisualPolarMap map = make_visual_polar_map(120, 90, {50.0f, 40.0f}, 83, height);
+                map.staircase_block = block;
+                Image color(map.width, map.height, 3), valid(map.width, map.height, 1);
+                for (float& v : color.data) {
+                    const std::size_t kind = rng.below(30);
+                    v = kind == 0   ? -0.0f
+                        : kind == 1 ? std::numeric_limits<float>::infinity()
+                        : kind == 2 ? std::numeric_limits<float>::quiet_NaN()
+                                    : static_cast<float>(rng.below(1 << 20)) * 0x1p-19f - 1.0f;
+                }
+                // any non-zero mask is traced (level 0 keeps it, the next levels hold 1); the
+                // columns of one row (the first without the staircase) carry their texel down,
+                // traced or not
+                for (float& v : valid.data) {
+                    const std::size_t kind = rng.below(untraced * 4);
+                    v = kind < 4    ? 0.0f
+                        : kind == 4 ? 2.5f
+                        : kind == 5 ? -1.0f
+                        : kind == 6 ? std::numeric_limits<float>::quiet_NaN()
+                                    : 1.0f;
+                }
+                valid.at(0, 0) = height == 45 ? 0.0f : 1.0f;
+                VpMips mips[2];
+                for (const bool simd : {true, false}) {
+                    set_simd_allowed(simd);
+                    mips[simd ? 0 : 1] = build_vp_mips(map, color, valid);
+                    set_simd_allowed(true);
+                }
+                CHECK(mips[0].column_rows == mips[1].column_rows);
+                REQUIRE(mips[0].color.size() == mips[1].color.size());
+                CHECK(mips[1].color.size() == static_cast<std::size_t>(vp_mip_levels(map)));
+                for (std::size_t k = 0; k < mips[0].color.size(); ++k) {
+                    CAPTURE(k);
+                    CHECK(test::same_bits_nan_aside(mips[0].color[k], mips[1].color[k]));
+                    CHECK(test::same_bits_nan_aside(mips[0].valid[k], mips[1].valid[k]));
+                }
+                // the packed pyramid built straight from the buffer (level 0 packed, each next
+                // level downsampled from the packed one, two texels at a time in lanes): the packed
+                // copy of the reference's levels, float for float
+                if (!cpu_has_avx2()) continue;
+                const VpResolveAvxInputs copy = vp_resolve_avx_inputs(mips[1]);
+                VpResolveAvxInputs direct;
+                vp_resolve_avx_inputs(map, color, valid, direct);
+                CHECK(direct.width == copy.width);
+                CHECK(direct.column_rows == copy.column_rows);
+                CHECK(direct.last_levels == copy.last_levels);
+                CHECK(direct.level_start == copy.level_start);
+                CHECK(std::equal(std::begin(direct.first_starts), std::end(direct.first_starts),
+                                 std::begin(copy.first_starts)));
+                REQUIRE(direct.texels.size() == copy.texels.size());
+                std::size_t differ = 0;
+                for (std::size_t t = 0; t < copy.texels.size(); ++t) {
+                    const float a = direct.texels[t], b = copy.texels[t];
+                    differ += !(std::isnan(a) && std::isnan(b)) &&
+                              std::bit_cast<std::uint32_t>(a) != std::bit_cast<std::uint32_t>(b);
+                }
+                CHECK(differ == 0);
             }
-            for (float& v : valid.data) v = rng.below(3) == 0 ? 0.0f : 1.0f;
-            VpMips mips[2];
-            for (const bool simd : {true, false}) {
-                set_simd_allowed(simd);
-                mips[simd ? 0 : 1] = build_vp_mips(map, color, valid);
-                set_simd_allowed(true);
-            }
-            CHECK(mips[0].column_rows == mips[1].column_rows);
-            REQUIRE(mips[0].color.size() == mips[1].color.size());
-            for (std::size_t k = 0; k < mips[0].color.size(); ++k) {
-                CAPTURE(k);
-                CHECK(test::same_bits_nan_aside(mips[0].color[k], mips[1].color[k]));
-                CHECK(test::same_bits_nan_aside(mips[0].valid[k], mips[1].valid[k]));
-            }
-        }
 }
