@@ -453,10 +453,10 @@ __attribute__((target("avx2"))) void blur_pass_avx(const BlurRamp& ramp,
             const std::size_t end = plan->row_end[static_cast<std::size_t>(y)];
             for (std::size_t k = y == 0 ? 0 : plan->row_end[static_cast<std::size_t>(y) - 1];
                  k < end; ++k) {
-                // the next job's weights on their way to the cache while this one sums
-                if (k + 1 < jobs.size()) {
-                    const float* next = plan->weights.data() + jobs[k + 1].weights;
-                    for (int d = 0; d <= jobs[k + 1].radius_max + 1; d += 2)  // (lines of 2 rows)
+                // the weights of the job after next on their way to the cache while this sums
+                if (k + 2 < jobs.size()) {
+                    const float* next = plan->weights.data() + jobs[k + 2].weights;
+                    for (int d = 0; d <= jobs[k + 2].radius_max + 1; d += 2)  // (lines of 2 rows)
                         _mm_prefetch(reinterpret_cast<const char*>(next + lanes * d), _MM_HINT_T0);
                 }
                 row.execute(jobs[k], reinterpret_cast<const float(*)[lanes]>(plan->weights.data() +
