@@ -22,13 +22,6 @@ FOVREF_AVX_INLINE __m256 lerp(__m256 a, __m256 b, __m256 t) {
     return _mm256_add_ps(a, _mm256_mul_ps(t, _mm256_sub_ps(b, a)));
 }
 
-/// The three interleaved channels of pixels `pixel` of `rgb` into out[0 .. 2] in the lanes of
-/// `mask`, as load_lanes.
-FOVREF_AVX2_INLINE void load3_lanes(const float* rgb, __m256i pixel, __m256 mask, __m256* out) {
-    const __m256i first = _mm256_add_epi32(_mm256_add_epi32(pixel, pixel), pixel);
-    for (int c = 0; c < 3; ++c) out[c] = load_lanes(rgb + c, first, mask);
-}
-
 /// The lanes' column along rho: its index, its rows n_c at level 0 and its last level.
 struct ColumnLanes {
     __m256i column;
