@@ -287,7 +287,25 @@ VpForwardTable vp_forward_table(const VisualPolarMap& map) {
             }
         }
     }
+    vp_mark_level0_groups(t);
     return t;
+}
+
+void vp_mark_level0_groups(VpForwardTable& table) {
+    const int width = table.map.screen_width, height = table.map.screen_height, groups = width / 8;
+    table.level0_rows = vp_column_rows(table.map, table.map.width - 1);
+    const auto n = static_cast<float>(table.level0_rows);
+    table.level0.assign(static_cast<std::size_t>(groups) * static_cast<std::size_t>(height), 0);
+    for (int y = 0; y < height; ++y)
+        for (int g = 0; g < groups; ++g) {
+            bool level0 = true;
+            for (int x = 8 * g; x < 8 * g + 8; ++x) {
+                const float* l = &table.levels.data[table.levels.index(x, y)];
+                level0 = level0 && l[0] == n && l[2] == n && l[1] == 0.0f && l[3] == 0.0f;
+            }
+            table.level0[static_cast<std::size_t>(y) * static_cast<std::size_t>(groups) +
+                         static_cast<std::size_t>(g)] = level0 ? 1 : 0;
+        }
 }
 
 void resolve_vp_pixel(const VisualPolarMap& map, const VpMips& mips, Image& out, int x, int y,

@@ -53,6 +53,7 @@
 // constant and a fully traced neighbourhood gives plain trilinear filtering.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -125,12 +126,21 @@ bool sample_vp_phi(const Image& color, const Image& valid, int column, int rows,
 /// vp_mip_level(n_k, r) (two logarithms per pixel): the resolve uses lambda_k where the
 /// pyramid's column still has n_k rows (a BMFR staircase changes the fovea's rows between
 /// frames) and computes it otherwise, the same bits either way.
+/// level0: per group of eight pixels from the left of a row (row-major, floor(W / 8) a row), 1
+/// where each of the eight pixels has n_0 = n_1 = level0_rows (the last column's rows) and
+/// lambda_0 = lambda_1 = 0 (level 0 only, both columns), else 0: the resolve's AVX lanes then
+/// skip reading those levels in the periphery (vp_mark_level0_groups; a table whose levels are
+/// edited must be marked again).
 struct VpForwardTable {
     VisualPolarMap map;
     Image polar;
     Image levels;
+    std::vector<std::uint8_t> level0;
+    int level0_rows = 0;
 };
 VpForwardTable vp_forward_table(const VisualPolarMap& map);
+/// table.level0 and table.level0_rows from table.levels and table.map (vp_forward_table calls it).
+void vp_mark_level0_groups(VpForwardTable& table);
 
 /// Per-pixel work of the Visual-Polar resolve: screen pixel (x, y) of `out` (the screen's size,
 /// the buffer's channel count). `lambda` (optional) receives the level lambda_c of column i0.

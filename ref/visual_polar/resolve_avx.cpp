@@ -213,8 +213,10 @@ FOVREF_AVX2_INLINE int phi_value(const __m256* c0, __m256 m0, const __m256* c1, 
 /// j0, j1 and fv), level 0 only (`mip` false, or the table's lambda 0 for both, made for h rows:
 /// f = 0, no second level) and every lane's lookup in range. Column i1's texel then lies right
 /// after column i0's in each row of the packed level 0, so that one 32-byte load per lane and
-/// row reads both columns' taps. values and have as resolve_group's; false (nothing done) where
-/// a lane does not qualify: the general lanes'.
+/// row reads both columns' taps. `levels`: the lanes' (n_0, lambda_0, n_1, lambda_1) from the
+/// table, or null where the table marks the group level 0 (VpForwardTable::level0). values and
+/// have as resolve_group's; false (nothing done) where a lane does not qualify: the general
+/// lanes'.
 FOVREF_AVX2_INLINE bool periphery_lanes(const VisualPolarMap& map, const VpResolveAvxInputs& in,
                                         bool mip, __m256 i0, __m256 fx, __m256 theta,
                                         const __m256* levels, __m256 (*values)[3], int* have) {
@@ -223,8 +225,9 @@ FOVREF_AVX2_INLINE bool periphery_lanes(const VisualPolarMap& map, const VpResol
     if (bits(both(at_least(i0, set(static_cast<float>(map.fovea_columns))),
                   less(i0, set(static_cast<float>(map.width - 1))))) != 0xff)
         return false;
-    if (mip && bits(both(both(equal(levels[0], rows), equal(levels[2], rows)),
-                         both(equal(levels[1], zero()), equal(levels[3], zero())))) != 0xff)
+    if (mip && levels &&
+        bits(both(both(equal(levels[0], rows), equal(levels[2], rows)),
+                  both(equal(levels[1], zero()), equal(levels[3], zero())))) != 0xff)
         return false;
     // phi_lanes at level 0 (scale 1: v itself) on h rows
     const __m256 v = _mm256_div_ps(_mm256_mul_ps(rows, theta), set(two_pi));
@@ -276,8 +279,13 @@ __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, Vp
             resolve_vp_pixel(map, mips.get(), out, x + l, y, stats, nullptr, mip, &table);
         return;
     }
-    __m256 levels[4];
-    split4_lanes(&table.levels.data[4 * pixel], levels);
+    // The columns' levels: not read where the table marks the group level 0 (the periphery's
+    // lanes need no more), else read
+    __m256 levels[4] = {zero(), zero(), zero(), zero()};
+    const std::size_t group = static_cast<std::size_t>(y) * (map.screen_width / lanes) + x / lanes;
+    const bool level0 = group < table.level0.size() && table.level0[group] != 0 &&
+                        table.level0_rows == in.column_rows.back();
+    if (!level0) split4_lanes(&table.levels.data[4 * pixel], levels);
 
     // vp_rho_columns: s = clamp(u, 1/2, w - 1/2) - 1/2, i0 = floor(s), i1 = min(i0 + 1, w - 1)
     const float wf = static_cast<float>(map.width);
@@ -295,7 +303,9 @@ __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, Vp
     __m256 values[2][3] = {{zero(), zero(), zero()}, {zero(), zero(), zero()}};
     int have[2] = {0, 0};
     const bool periphery =
-        reference == 0 && periphery_lanes(map, in, mip, i0, fx, theta, levels, values, have);
+        reference == 0 &&
+        periphery_lanes(map, in, mip, i0, fx, theta, level0 ? nullptr : levels, values, have);
+    if (!periphery && level0) split4_lanes(&table.levels.data[4 * pixel], levels);
     for (int k = 0; k < 2 && !periphery; ++k) {
         if (wanted[k] == 0) continue;
         const ColumnLanes col = column_of(map, in, columns[k], wanted[k]);

@@ -171,8 +171,16 @@ TEST_CASE("VP resolve speed: the AVX resolve gives resolve_vp_pixel's bits") {
                         level[2 * k] = static_cast<float>(n);
                         level[2 * k + 1] = vp_mip_level(n, p[1]);
                     }
+                    // in the periphery, one column's level edited to a fraction (the other's
+                    // 0): the pixel's group is not level 0 (VpForwardTable::level0)
+                    if (periphery && (kind == 5 || kind == 6)) level[kind == 5 ? 1 : 3] = 0.5f;
                     high += std::isfinite(p[0]) && level[1] >= 8.0f;
                 }
+            // the groups whose levels were edited to level 0 everywhere, marked again
+            vp_mark_level0_groups(table);
+            std::size_t marked = 0;
+            for (const std::uint8_t m : table.level0) marked += m;
+            CHECK((!periphery || marked > 20));
             Image color(map.width, map.height, 3), valid(map.width, map.height, 1);
             for (float& v : color.data)
                 v = rng.below(5) == 0 ? std::numeric_limits<float>::infinity()
