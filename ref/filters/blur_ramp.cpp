@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -397,8 +398,11 @@ __attribute__((target("avx2"))) std::shared_ptr<const BlurRampPlan> make_plan(
                 plan->weights.insert(plan->weights.end(), &row.weights.w[0][0],
                                      &row.weights.w[0][0] + rows * lanes);
             }
-            job.weights = static_cast<std::uint32_t>(
-                plan->weights.size() - (static_cast<std::size_t>(job.radius_max) + 1) * lanes);
+            const std::size_t first =
+                plan->weights.size() - (static_cast<std::size_t>(job.radius_max) + 1) * lanes;
+            FOVREF_CHECK(first <= std::numeric_limits<std::uint32_t>::max(),
+                         "a blur plan's weights beyond 2^32 floats");
+            job.weights = static_cast<std::uint32_t>(first);
         }
         plan->row_end.push_back(plan->jobs.size());
     }

@@ -313,9 +313,9 @@ __attribute__((target("avx2"))) void resolve_group(const VisualPolarMap& map, Vp
         const __m256 v = _mm256_div_ps(_mm256_mul_ps(n, theta), set(two_pi));
         const __m256 lambda =
             mip ? level_of(n, r, levels[2 * k], levels[2 * k + 1], wanted[k]) : zero();
-        // (a level that is not finite, which no table made by vp_forward_table holds, has no
-        // pyramid level: the reference's)
-        const int bad = wanted[k] & ~bits(finite(lambda));
+        // (a level that is not finite or is negative, which no table made by vp_forward_table
+        // holds, has no pyramid level: the reference's)
+        const int bad = wanted[k] & ~bits(both(finite(lambda), at_least(lambda, zero())));
         reference |= bad;
         have[k] = column_lanes(in, col, v, lambda, wanted[k] & ~bad, values[k], reference);
     }

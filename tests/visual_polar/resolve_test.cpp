@@ -710,6 +710,19 @@ TEST_CASE("VP blur: the AVX pass gives the scalar pass's bits, with and without 
                 CHECK(std::memcmp(into.data.data(), scalar.data.data(),
                                   scalar.data.size() * sizeof(float)) == 0);
             }
+            // both passes from one table and its plan, as the stages share them: the
+            // horizontal pass's output blurred vertically
+            if (vertical) {
+                BlurRampTable shared = blur_ramp_table(k.ramp, geometry);
+                add_blur_ramp_plan(shared);
+                const Image both_passes = blur_ramp_vertical(
+                    k.ramp, geometry, blur_ramp_horizontal(k.ramp, geometry, image, true, &shared),
+                    true, &shared);
+                const Image reference = blur_ramp_vertical(
+                    k.ramp, geometry, blur_ramp_horizontal(k.ramp, geometry, image, false), false);
+                CHECK(std::memcmp(both_passes.data.data(), reference.data.data(),
+                                  reference.data.size() * sizeof(float)) == 0);
+            }
             // the reference itself: every pixel as blur_ramp_pixel makes it
             Image by_pixel = image;
             for (int y = 0; y < k.height; ++y)
