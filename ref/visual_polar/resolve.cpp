@@ -378,8 +378,8 @@ Image resolve_visual_polar(const VisualPolarMap& map, const VpMips& mips, Resolv
     keep_or_make(out, map.screen_width, map.screen_height, mips.color[0].channels);
     // Eight pixels at a time where the AVX2 path covers the resolve (the same bits:
     // resolve_avx.h); resolve_vp_pixel, the reference, does the rest.
-    VpMipsSource source(mips);
     if (resolve_vp_avx_applies(map, mips, table)) {
+        VpMipsSource source(mips);
         resolve_rows(map, source, vp_resolve_avx_inputs(mips), mip, table, out, stats);
         return out;
     }

@@ -43,9 +43,46 @@ FOVREF_AVX2_INLINE __m256i level_starts(const VpResolveAvxInputs& in, __m256i le
                                        4);
 }
 
+/// vp_phi_rows in lanes, for row coordinates v on columns of `rows` rows: t = v - 1/2, j0 =
+/// floor(t) wrapped into [0, rows) by one step of rows (exact), j1 = (j0 + 1) mod rows, fv = t -
+/// floor(t); `usable`: the lanes whose v lies in the range sample_vp_phi accepts ([-rows,
+/// 2 rows]) and whose j0 needed at most that one step (the others are the reference's).
+struct PhiRows {
+    __m256 j0, j1, fv, usable;
+};
+FOVREF_AVX_INLINE PhiRows phi_rows(__m256 v, __m256 rows) {
+    PhiRows p;
+    const __m256 in_range =
+        both(at_least(v, negate(rows)), at_most(v, _mm256_mul_ps(set(2.0f), rows)));
+    const __m256 t = _mm256_sub_ps(v, set(0.5f));
+    const __m256 j0_raw = floor(t);
+    p.fv = _mm256_sub_ps(t, j0_raw);
+    p.j0 = select(less(j0_raw, zero()), _mm256_add_ps(j0_raw, rows),
+                  select(at_least(j0_raw, rows), _mm256_sub_ps(j0_raw, rows), j0_raw));
+    p.usable = both(in_range, both(at_least(p.j0, zero()), less(p.j0, rows)));
+    const __m256 j0_next = _mm256_add_ps(p.j0, set(1.0f));
+    p.j1 = select(equal(j0_next, rows), zero(), j0_next);
+    return p;
+}
+
+/// sample_vp_phi's value from the taps' colours and masks (c0, m0: row j0; c1, m1: row j1) in
+/// the lanes of `on` (row j1 only where `second`, its weight fv > 0): both traced: the lerp; one:
+/// that tap; none, or a lane not `on`: 0. Returns the lanes with a traced tap.
+FOVREF_AVX2_INLINE int phi_value(const __m256* c0, __m256 m0, const __m256* c1, __m256 m1,
+                                 __m256 fv, __m256 on, __m256 second, __m256* out) {
+    const __m256 traced0 = both(on, not_equal(m0, zero()));
+    const __m256 traced1 = both(both(on, second), not_equal(m1, zero()));
+    const __m256 both_taps = both(traced0, traced1);
+    for (int c = 0; c < 3; ++c)
+        out[c] = select(both_taps, lerp(c0[c], c1[c], fv),
+                        select(traced0, c0[c], select(traced1, c1[c], zero())));
+    return bits(either(traced0, traced1));
+}
+
 /// sample_vp_phi in the lanes of `wanted`, each lane at its own pyramid level `level` (an
 /// integer) and on its own column of n_c rows at level 0 (rows ceil(n_c / 2^level) there), at
-/// v_c * 2^-level: the lanes' values into out[0 .. 2] (0 where no tap is traced). Returns the
+/// v_c * 2^-level: the lanes' values into out[0 .. 2] (0 where no tap is traced and in the other
+/// lanes). Returns the
 /// lanes with a traced tap; the lanes whose lookup lies outside the range sample_vp_phi accepts,
 /// or whose row needs more than one wrap, are added to `reference` (the reference's to do). Each
 /// tap's colours and mask are one load from the packed pyramid (VpResolveAvxInputs).
@@ -59,23 +96,10 @@ FOVREF_AVX2_INLINE int phi_lanes(const VpResolveAvxInputs& in, __m256i level,
     // 2^-level exactly (exponent 127 - level; level <= 24)
     const __m256 scale =
         _mm256_castsi256_ps(_mm256_slli_epi32(_mm256_sub_epi32(_mm256_set1_epi32(127), level), 23));
-    const __m256 vl = _mm256_mul_ps(v, scale);
-    const __m256 mask = mask_of(wanted);
-    const __m256 in_range =
-        both(at_least(vl, negate(rows)), at_most(vl, _mm256_mul_ps(set(2.0f), rows)));
-    // vp_phi_rows: t = v - 1/2, j0 = floor(t) wrapped into [0, rows) (one step of rows, exact),
-    // j1 = (j0 + 1) mod rows, fv = t - floor(t)
-    const __m256 t = _mm256_sub_ps(vl, set(0.5f));
-    const __m256 j0_raw = floor(t);
-    const __m256 fv = _mm256_sub_ps(t, j0_raw);
-    const __m256 j0 = select(less(j0_raw, zero()), _mm256_add_ps(j0_raw, rows),
-                             select(at_least(j0_raw, rows), _mm256_sub_ps(j0_raw, rows), j0_raw));
-    const __m256 wrapped = both(at_least(j0, zero()), less(j0, rows));
-    const __m256 ok = both(mask, both(in_range, wrapped));
+    const PhiRows phi = phi_rows(_mm256_mul_ps(v, scale), rows);
+    const __m256 ok = both(mask_of(wanted), phi.usable);
     reference |= wanted & ~bits(ok);
-    const __m256 j0_next = _mm256_add_ps(j0, set(1.0f));
-    const __m256 j1 = select(equal(j0_next, rows), zero(), j0_next);
-    const __m256 second = both(ok, greater(fv, zero()));  // weight fv > 0
+    const __m256 second = both(ok, greater(phi.fv, zero()));  // weight fv > 0
     // The taps' texels: the level's first texel + j w + c, in the lanes of `ok` (`second` for
     // tap j1); the others read texel 0, whose value they never use
     const __m256i start = level_starts(in, level, ok);
@@ -83,12 +107,14 @@ FOVREF_AVX2_INLINE int phi_lanes(const VpResolveAvxInputs& in, __m256i level,
     alignas(32) int at[2][lanes];
     _mm256_store_si256(
         reinterpret_cast<__m256i*>(at[0]),
-        _mm256_and_si256(_mm256_add_epi32(start, row_major(col.column, _mm256_cvttps_epi32(j0), w)),
-                         _mm256_castps_si256(ok)));
+        _mm256_and_si256(
+            _mm256_add_epi32(start, row_major(col.column, _mm256_cvttps_epi32(phi.j0), w)),
+            _mm256_castps_si256(ok)));
     _mm256_store_si256(
         reinterpret_cast<__m256i*>(at[1]),
-        _mm256_and_si256(_mm256_add_epi32(start, row_major(col.column, _mm256_cvttps_epi32(j1), w)),
-                         _mm256_castps_si256(second)));
+        _mm256_and_si256(
+            _mm256_add_epi32(start, row_major(col.column, _mm256_cvttps_epi32(phi.j1), w)),
+            _mm256_castps_si256(second)));
     __m256 taps[2][4];  // per tap: R, G, B, mask of every lane
     for (int k = 0; k < 2; ++k) {
         __m128 q[lanes];
@@ -96,16 +122,7 @@ FOVREF_AVX2_INLINE int phi_lanes(const VpResolveAvxInputs& in, __m256i level,
             q[l] = _mm_loadu_ps(in.texels.data() + 4 * static_cast<std::size_t>(at[k][l]));
         transpose4_lanes(q, taps[k]);
     }
-    const __m256 traced0 = both(ok, not_equal(taps[0][3], zero()));
-    const __m256 traced1 = both(second, not_equal(taps[1][3], zero()));
-    const __m256 both_taps = both(traced0, traced1);
-    for (int c = 0; c < 3; ++c) {
-        const __m256 c0 = taps[0][c], c1 = taps[1][c];
-        const __m256 value =
-            select(both_taps, lerp(c0, c1, fv), select(traced0, c0, select(traced1, c1, zero())));
-        out[c] = select(ok, value, out[c]);
-    }
-    return bits(either(traced0, traced1));
+    return phi_value(taps[0], taps[0][3], taps[1], taps[1][3], phi.fv, ok, second, out);
 }
 
 /// sample_column in the lanes of `wanted`: level floor(lambda) and, where lambda has a fraction
@@ -193,20 +210,6 @@ FOVREF_AVX_INLINE void transpose8_lanes(const __m256* rows, __m256* out) {
     }
 }
 
-/// One column's sample_vp_phi at level 0 from the taps' colours and masks (c0, m0: row j0; c1,
-/// m1: row j1) in the lanes of `on`: both traced: the lerp; one: that tap; none: 0. Returns the
-/// lanes with a traced tap.
-FOVREF_AVX2_INLINE int phi_value(const __m256* c0, __m256 m0, const __m256* c1, __m256 m1,
-                                 __m256 fv, __m256 on, __m256 second, __m256* out) {
-    const __m256 traced0 = both(on, not_equal(m0, zero()));
-    const __m256 traced1 = both(both(on, second), not_equal(m1, zero()));
-    const __m256 both_taps = both(traced0, traced1);
-    for (int c = 0; c < 3; ++c)
-        out[c] = select(both_taps, lerp(c0[c], c1[c], fv),
-                        select(traced0, c0[c], select(traced1, c1[c], zero())));
-    return bits(either(traced0, traced1));
-}
-
 /// The columns' values of a group in the periphery, where the reference's steps come down to
 /// one lookup at level 0 shared by both columns: every lane's columns i0 and i1 = i0 + 1 lie
 /// beyond the fovea (both have the pyramid's h rows, so the same v = (h theta) / two_pi, rows
@@ -230,25 +233,15 @@ FOVREF_AVX2_INLINE bool periphery_lanes(const VisualPolarMap& map, const VpResol
                   both(equal(levels[1], zero()), equal(levels[3], zero())))) != 0xff)
         return false;
     // phi_lanes at level 0 (scale 1: v itself) on h rows
-    const __m256 v = _mm256_div_ps(_mm256_mul_ps(rows, theta), set(two_pi));
-    const __m256 in_range =
-        both(at_least(v, negate(rows)), at_most(v, _mm256_mul_ps(set(2.0f), rows)));
-    const __m256 t = _mm256_sub_ps(v, set(0.5f));
-    const __m256 j0_raw = floor(t);
-    const __m256 fv = _mm256_sub_ps(t, j0_raw);
-    const __m256 j0 = select(less(j0_raw, zero()), _mm256_add_ps(j0_raw, rows),
-                             select(at_least(j0_raw, rows), _mm256_sub_ps(j0_raw, rows), j0_raw));
-    const __m256 wrapped = both(at_least(j0, zero()), less(j0, rows));
-    if (bits(both(in_range, wrapped)) != 0xff) return false;
-    const __m256 j0_next = _mm256_add_ps(j0, set(1.0f));
-    const __m256 j1 = select(equal(j0_next, rows), zero(), j0_next);
-    const __m256 second = greater(fv, zero());  // weight fv > 0
+    const PhiRows phi = phi_rows(_mm256_div_ps(_mm256_mul_ps(rows, theta), set(two_pi)), rows);
+    if (bits(phi.usable) != 0xff) return false;
+    const __m256 second = greater(phi.fv, zero());  // weight fv > 0
     const __m256i column = _mm256_cvttps_epi32(i0);
     alignas(32) int at[2][lanes];
     _mm256_store_si256(reinterpret_cast<__m256i*>(at[0]),
-                       row_major(column, _mm256_cvttps_epi32(j0), in.width));
+                       row_major(column, _mm256_cvttps_epi32(phi.j0), in.width));
     _mm256_store_si256(reinterpret_cast<__m256i*>(at[1]),
-                       row_major(column, _mm256_cvttps_epi32(j1), in.width));
+                       row_major(column, _mm256_cvttps_epi32(phi.j1), in.width));
     __m256 taps[2][8];  // per row: R, G, B, mask of column i0, then of column i1
     for (int k = 0; k < 2; ++k) {
         __m256 pair[lanes];
@@ -257,10 +250,10 @@ FOVREF_AVX2_INLINE bool periphery_lanes(const VisualPolarMap& map, const VpResol
         transpose8_lanes(pair, taps[k]);
     }
     const __m256 column1 = greater(fx, zero());  // wanted[1]: i1 != i0 for every lane here
-    have[0] =
-        phi_value(taps[0], taps[0][3], taps[1], taps[1][3], fv, mask_of(0xff), second, values[0]);
-    have[1] =
-        phi_value(taps[0] + 4, taps[0][7], taps[1] + 4, taps[1][7], fv, column1, second, values[1]);
+    have[0] = phi_value(taps[0], taps[0][3], taps[1], taps[1][3], phi.fv, mask_of(0xff), second,
+                        values[0]);
+    have[1] = phi_value(taps[0] + 4, taps[0][7], taps[1] + 4, taps[1][7], phi.fv, column1, second,
+                        values[1]);
     return true;
 }
 
